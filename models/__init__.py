@@ -1,0 +1,1 @@
+"""Built-in pinmob models (installed as ``pinmob.models``); regenerate with ``python -m pinmob.catalog``."""

@@ -1,0 +1,130 @@
+"""Command line: ``pinmob models``, ``pinmob analyze``.
+
+Errors are printed as one line on stderr (``pinmob: error: ...``) with exit
+status 2, never with a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+import warnings
+from collections.abc import Callable, Sequence
+
+from .exceptions import PinmobError
+
+COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {}
+
+
+def command(name: str) -> Callable[[Callable[[argparse.Namespace], int]], Callable[[argparse.Namespace], int]]:
+    def deco(fn: Callable[[argparse.Namespace], int]) -> Callable[[argparse.Namespace], int]:
+        COMMANDS[name] = fn
+        return fn
+
+    return deco
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("models", help="list the built-in mechanisms")
+    p.add_argument("--json", action="store_true", help="print JSON")
+
+    p = sub.add_parser("analyze", help="mobility of the platform at a configuration")
+    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.add_argument("--paper-view", action="store_true", help="also show the seed paper's view: generic limb wrenches carried to the configuration")
+    p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    return parser
+
+
+@command("models")
+def _models(args: argparse.Namespace) -> int:
+    from .mechanism_file import builtin_models, load
+
+    rows = []
+    for name in builtin_models():
+        mech = load(name)
+        rows.append(
+            {
+                "name": name,
+                "limbs": [{"name": b.name, "joints": list(b.joints)} for b in mech.limbs],
+                "configurations": {
+                    c: {"expected": ({"dof": mech.expected[c].dof, "motion_type": mech.expected[c].motion_type} if c in mech.expected else None)}
+                    for c in mech.configurations
+                },
+                "description": mech.description,
+            }
+        )
+    if args.json:
+        print(json.dumps(rows, indent=2))
+        return 0
+    for row in rows:
+        limbs = ", ".join(f"{b['name']} ({len(b['joints'])} joints)" for b in row["limbs"])
+        print(f"{row['name']}: limbs {limbs}")
+        for c, info in row["configurations"].items():
+            exp = info["expected"]
+            print(f"    {c}" + (f": expected {exp['dof']} DoF {exp['motion_type']}" if exp else ""))
+    return 0
+
+
+@command("analyze")
+def _analyze(args: argparse.Namespace) -> int:
+    from .exceptions import ConfigurationError
+    from .mechanism_file import load
+    from .mobility import analyze, paper_view
+    from .report import format_expectation
+    from .screw import RTOL
+
+    mech = load(args.mechanism)
+    config = args.config
+    if config is None:
+        if not mech.configurations:
+            raise ConfigurationError(f"{mech.name!r} declares no configuration; name one in the mechanism file")
+        config = next(iter(mech.configurations))
+    rtol = RTOL if args.rtol is None else args.rtol
+    if not 0 < rtol < 1:
+        raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
+    q = mech.configuration(config)
+    mob = analyze(mech, q, configuration=config, rtol=rtol)
+    paper = paper_view(mech, config, rtol=rtol) if args.paper_view else None
+    if args.json:
+        out = mob.to_dict()
+        if config in mech.expected:
+            exp = mech.expected[config]
+            out["expected"] = {"dof": exp.dof, "motion_type": exp.motion_type, "source": exp.source, "agrees": exp.dof == mob.dof and exp.motion_type == mob.motion_type}
+        if paper is not None:
+            out["paper_view"] = paper.to_dict()
+        print(json.dumps(out, indent=2, allow_nan=False))
+        return 0
+    print(mob)
+    if config in mech.expected:
+        print(format_expectation(mob, mech.expected[config]))
+    if paper is not None:
+        print()
+        print(paper)
+        if (paper.dof, paper.motion_type) != (mob.dof, mob.motion_type):
+            print(
+                f"difference: the paper's view gives {paper.motion_type} ({paper.dof} DoF), the wrenches at the "
+                f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
+                f"{', '.join(mob.serially_singular_limbs) or 'none'}"
+            )
+    return 0
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``pinmob`` console script."""
+    args = build_parser().parse_args(argv)
+    warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
+    warnings.formatwarning = lambda msg, cat, *a, **k: f"pinmob: warning: {msg}\n"  # type: ignore[assignment]
+    try:
+        return COMMANDS[args.command](args)
+    except PinmobError as exc:
+        print(f"pinmob: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("pinmob: interrupted", file=sys.stderr)
+        return 130

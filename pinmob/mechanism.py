@@ -1,0 +1,304 @@
+"""The Mechanism: one Pinocchio model (a tree), its limbs, platform and actuation.
+
+A limb is the serial chain of joints that supports its tip frame. At a closed
+configuration every limb tip has the same pose: the platform's. Loading from
+files lives in :mod:`pinmob.mechanism_file`; closing configurations in
+:mod:`pinmob.closure`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from .exceptions import ConfigurationError, FrameError, choices
+from .screw import RTOL, Array
+
+
+@dataclass(frozen=True)
+class Limb:
+    """A serial chain from the base to the platform.
+
+    Attributes:
+        name: limb name.
+        tip: name of the frame at the end of the chain.
+        tip_id: Pinocchio frame index of ``tip``.
+        joints: names of the joints supporting ``tip``, base to tip.
+        v_indices: (nv_limb,) velocity indices of those joints in the model.
+        actuated: names of this limb's actuated joints.
+        generic_twist_rank: rank of the limb's joint screws at generic
+            (random) joint values; a lower rank at a configuration is a serial
+            singularity.
+    """
+
+    name: str
+    tip: str
+    tip_id: int
+    joints: tuple[str, ...]
+    v_indices: Array = field(repr=False)
+    actuated: tuple[str, ...] = ()
+    generic_twist_rank: int = 0
+
+
+@dataclass(frozen=True)
+class NamedConfiguration:
+    """A named configuration: joint values, or a platform pose to assemble.
+
+    Attributes:
+        name: configuration name.
+        joints: joint values by joint name [m or rad]; omitted joints are neutral.
+        pose: platform pose (``pin.SE3``) to be assembled, or ``None``.
+        seed: joint values that start the closure solver (select the assembly mode).
+        approach: joint-space direction by joint name used by the paper's view
+            (:func:`pinmob.mobility.paper_view`); empty when not declared.
+    """
+
+    name: str
+    joints: Mapping[str, float] = field(default_factory=dict)
+    pose: pin.SE3 | None = None
+    seed: Mapping[str, float] = field(default_factory=dict)
+    approach: Mapping[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Expectation:
+    """Mobility stated by the literature for a named configuration."""
+
+    dof: int
+    motion_type: str
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A closed-chain mechanism: a Pinocchio tree plus limbs meeting at a platform.
+
+    Build one with :func:`pinmob.load` or :func:`Mechanism.from_model`.
+
+    Attributes:
+        name: mechanism name.
+        model: the Pinocchio model holding every limb as a branch.
+        limbs: the limbs; their tips coincide at a closed configuration.
+        platform: name of the frame reported as platform.
+        length_scale: characteristic length L [m] used to make ranks unit-invariant.
+        configurations: named configurations.
+        expected: literature mobility per configuration name.
+        description: free text.
+        source: the file it was loaded from, if any.
+        visual_model: Pinocchio visual geometry, if loaded.
+        collision_model: Pinocchio collision geometry, if loaded.
+    """
+
+    name: str
+    model: pin.Model = field(repr=False)
+    limbs: tuple[Limb, ...]
+    platform: str
+    length_scale: float
+    configurations: Mapping[str, NamedConfiguration] = field(default_factory=dict, repr=False)
+    expected: Mapping[str, Expectation] = field(default_factory=dict, repr=False)
+    description: str = ""
+    source: Path | None = None
+    visual_model: pin.GeometryModel | None = field(default=None, repr=False)
+    collision_model: pin.GeometryModel | None = field(default=None, repr=False)
+
+    # ------------------------------------------------------------------ build
+
+    @classmethod
+    def from_model(
+        cls,
+        model: pin.Model,
+        limbs: Mapping[str, str] | list[tuple[str, str]],
+        *,
+        name: str = "mechanism",
+        platform: str | None = None,
+        actuated: Mapping[str, list[str]] | None = None,
+        length_scale: float | None = None,
+        configurations: Mapping[str, NamedConfiguration] | None = None,
+        expected: Mapping[str, Expectation] | None = None,
+        description: str = "",
+        source: Path | None = None,
+        visual_model: pin.GeometryModel | None = None,
+        collision_model: pin.GeometryModel | None = None,
+    ) -> Mechanism:
+        """Build a mechanism from a model and ``{limb name: tip frame}``.
+
+        Raises:
+            FrameError: a tip or platform frame does not exist.
+            ConfigurationError: two limbs share a joint, or a limb has no joint.
+        """
+        pairs = list(limbs.items()) if isinstance(limbs, Mapping) else list(limbs)
+        if not pairs:
+            raise ConfigurationError(f"mechanism {name!r} has no limb; give at least one")
+        actuated = dict(actuated or {})
+        built: list[Limb] = []
+        owner: dict[str, str] = {}
+        for limb_name, tip in pairs:
+            tip_id = frame_id(model, tip)
+            joint_ids = [j for j in model.supports[model.frames[tip_id].parentJoint] if j > 0]
+            if not joint_ids:
+                raise ConfigurationError(f"limb {limb_name!r}: tip frame {tip!r} is fixed to the base (no joint)")
+            joints = tuple(model.names[j] for j in joint_ids)
+            for j in joints:
+                if j in owner:
+                    raise ConfigurationError(
+                        f"limbs {owner[j]!r} and {limb_name!r} share joint {j!r}: each limb must be its own "
+                        "branch from the base (close shared parts with closures instead)"
+                    )
+                owner[j] = limb_name
+            acts = tuple(actuated.get(limb_name, ()))
+            for a in acts:
+                if a not in joints:
+                    raise FrameError(
+                        f"limb {limb_name!r}: actuated joint {a!r} is not in its chain; valid: {choices(joints)}"
+                    )
+            v_idx = np.concatenate(
+                [np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv) for j in joint_ids]
+            )
+            built.append(Limb(limb_name, tip, tip_id, joints, v_idx, acts, _generic_rank(model, tip_id, v_idx)))
+        platform = platform or pairs[0][1]
+        frame_id(model, platform)
+        scale = float(length_scale) if length_scale else characteristic_length(model, [b.tip_id for b in built])
+        if not np.isfinite(scale) or scale <= 0:
+            raise ConfigurationError(f"length_scale must be a positive number of metres, got {length_scale!r}")
+        return cls(
+            name=name,
+            model=model,
+            limbs=tuple(built),
+            platform=platform,
+            length_scale=scale,
+            configurations=dict(configurations or {}),
+            expected=dict(expected or {}),
+            description=description,
+            source=source,
+            visual_model=visual_model,
+            collision_model=collision_model,
+        )
+
+    # ------------------------------------------------------------------ queries
+
+    @property
+    def platform_id(self) -> int:
+        """Pinocchio frame index of the platform frame."""
+        return self.model.getFrameId(self.platform)
+
+    @property
+    def actuated(self) -> tuple[str, ...]:
+        """All actuated joint names, limb by limb."""
+        return tuple(a for limb in self.limbs for a in limb.actuated)
+
+    def limb(self, name: str) -> Limb:
+        """The limb called ``name``."""
+        for limb in self.limbs:
+            if limb.name == name:
+                return limb
+        raise ConfigurationError(f"no limb {name!r} in {self.name!r}; valid: {choices(b.name for b in self.limbs)}")
+
+    def neutral(self) -> Array:
+        """Pinocchio's neutral configuration, shape (nq,)."""
+        return pin.neutral(self.model)
+
+    def q_from_joints(self, values: Mapping[str, float], base: Array | None = None) -> Array:
+        """Configuration vector from joint values by name; others from ``base`` (default neutral).
+
+        One-degree joints take a value [m or rad]; continuous joints take an angle.
+        """
+        q = np.array(self.neutral() if base is None else base, float)
+        for jname, value in values.items():
+            if not self.model.existJointName(jname):
+                raise FrameError(
+                    f"unknown joint {jname!r} in {self.name!r}; valid: {choices(list(self.model.names)[1:])}"
+                )
+            try:
+                x = float(value)
+            except (TypeError, ValueError):
+                raise ConfigurationError(f"joint {jname!r}: value {value!r} is not a number") from None
+            if not np.isfinite(x):
+                raise ConfigurationError(f"joint {jname!r}: value {value!r} is not finite")
+            joint = self.model.joints[self.model.getJointId(jname)]
+            if joint.nq == 1:
+                q[joint.idx_q] = x
+            elif joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
+                q[joint.idx_q : joint.idx_q + 2] = (np.cos(x), np.sin(x))
+            else:
+                raise ConfigurationError(
+                    f"joint {jname!r} ({joint.shortname()}) has {joint.nq} coordinates: give the whole "
+                    "configuration vector instead of a value by name"
+                )
+        return q
+
+    def configuration(self, name: str, **solver_options: float) -> Array:
+        """A named configuration as a closed configuration vector, shape (nq,).
+
+        Joint values are checked for closure; a pose is assembled by
+        :func:`pinmob.closure.assemble_pose`. Raises :class:`ClosureError` when
+        the configuration does not close.
+        """
+        from .closure import assemble_pose, check_closed
+
+        if name not in self.configurations:
+            raise ConfigurationError(
+                f"no configuration {name!r} in {self.name!r}; valid: {choices(self.configurations)}"
+            )
+        conf = self.configurations[name]
+        if conf.pose is not None:
+            seed = self.q_from_joints(conf.seed)
+            return assemble_pose(self, conf.pose, seed, **solver_options)
+        q = self.q_from_joints(conf.joints)
+        check_closed(self, q, what=f"configuration {name!r}")
+        return q
+
+    def check_q(self, q: object) -> Array:
+        """Validate a configuration vector: shape (nq,), finite, normalised where needed."""
+        arr = np.asarray(q, dtype=float) if not isinstance(q, np.ndarray) else q.astype(float)
+        if arr.shape != (self.model.nq,):
+            raise ConfigurationError(
+                f"configuration has shape {arr.shape}; {self.name!r} needs shape ({self.model.nq},) "
+                f"(nq = {self.model.nq}: joints {', '.join(list(self.model.names)[1:])})"
+            )
+        bad = np.flatnonzero(~np.isfinite(arr))
+        if bad.size:
+            raise ConfigurationError(f"configuration has non-finite values (NaN or inf) at indices {bad.tolist()}")
+        if not pin.isNormalized(self.model, arr, 1e-6):
+            raise ConfigurationError("configuration is not normalised (a quaternion or (cos, sin) pair is off the unit sphere)")
+        return arr
+
+
+def frame_id(model: pin.Model, name: str) -> int:
+    """Index of frame ``name``; a :class:`FrameError` listing the frames otherwise."""
+    if not model.existFrame(name):
+        raise FrameError(f"no frame {name!r} in model {model.name!r}; valid frames: {choices(f.name for f in model.frames)}")
+    return model.getFrameId(name)
+
+
+def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
+    """Default L [m]: root mean square of the model's non-zero link offsets.
+
+    Uses the joint placements (link vectors) and the given frames' placements;
+    it scales with the model's units and does not depend on the configuration.
+    Falls back to 1 m for a model with no offset at all.
+    """
+    offsets = [np.linalg.norm(model.jointPlacements[j].translation) for j in range(1, model.njoints)]
+    offsets += [np.linalg.norm(model.frames[f].placement.translation) for f in frame_ids]
+    nonzero = np.array([o for o in offsets if o > 1e-12])
+    return float(np.sqrt(np.mean(nonzero**2))) if nonzero.size else 1.0
+
+
+def _generic_rank(model: pin.Model, tip_id: int, v_idx: Array, samples: int = 3) -> int:
+    """Rank of a chain's joint screws at random joint values (seeded)."""
+    from .screw import decide_rank, twist_scaling
+
+    data = model.createData()
+    rng = np.random.default_rng(0)
+    length = characteristic_length(model, [tip_id])
+    best = 0
+    for _ in range(samples):
+        q = pin.integrate(model, pin.neutral(model), rng.uniform(-1.0, 1.0, model.nv))
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        jac = pin.getFrameJacobian(model, data, tip_id, pin.LOCAL_WORLD_ALIGNED)[:, v_idx]
+        best = max(best, decide_rank((twist_scaling(length)[:, None] * jac).T, RTOL).rank)
+    return best

@@ -1,0 +1,450 @@
+"""Platform mobility at a closed configuration (the seed paper's method, done right).
+
+For each limb i with joint screws ``T_i`` (6, n_i) -- the columns of its tip
+frame's ``LOCAL_WORLD_ALIGNED`` Jacobian, carried to the platform origin -- the
+constraint wrenches are a basis ``W_i`` of ``{w : w^T T_i = 0}``. Stacking them,
+``C = [W_1 ... W_k]^T``, an SVD gives the constraint space (rank d) and the free
+twists ``{t : C t = 0}`` (dimension 6 - d). All on dimensionless matrices
+(:mod:`pinmob.screw`), so the answer does not depend on units.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from .closure import CLOSURE_TOL, check_closed, compute_kinematics
+from .exceptions import ConfigurationError
+from .mechanism import Mechanism
+from .screw import (
+    RTOL,
+    Array,
+    MotionKind,
+    ScrewSystem,
+    axis_label,
+    classify_twists,
+    classify_wrenches,
+    decide_rank,
+    motion_type,
+    reciprocal_twists,
+    reciprocal_wrenches,
+    shift_twists,
+    twist_scaling,
+    wrench_scaling,
+)
+
+VIEWS = ("configuration", "paper")
+
+
+def _vec(a: Array | None) -> list[float] | None:
+    return None if a is None else [float(x) for x in a]
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One free motion of the platform (SI units, Pinocchio order).
+
+    Attributes:
+        kind: T (translation), R (rotation) or H (screw).
+        direction: (3,) unit direction (of translation, or of the axis).
+        point: (3,) axis point closest to the platform origin [m] (None for T).
+        pitch: [m/rad] (None for T, 0 for R).
+        twist: (6,) unit twist ``[v; w]`` at the platform origin.
+        label: short name such as ``T1 x`` or ``R1 z``.
+    """
+
+    kind: MotionKind
+    direction: Array
+    point: Array | None
+    pitch: float | None
+    twist: Array
+    label: str
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "kind": self.kind.value,
+            "label": self.label,
+            "direction": _vec(self.direction),
+            "point": _vec(self.point),
+            "pitch": self.pitch,
+        }
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """One canonical constraint wrench: a couple, a force (pitch 0) or a wrench."""
+
+    kind: str
+    direction: Array
+    point: Array | None
+    pitch: float | None
+    wrench: Array
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "kind": self.kind,
+            "direction": _vec(self.direction),
+            "point": _vec(self.point),
+            "pitch": self.pitch,
+            "wrench": _vec(self.wrench),
+        }
+
+
+@dataclass(frozen=True)
+class LimbMobility:
+    """What one limb contributes at the configuration.
+
+    Attributes:
+        name, joints: the limb.
+        twist_rank: rank of its joint screws here.
+        generic_twist_rank: rank at generic joint values; lower here = serial singularity.
+        wrenches: (6, 6 - twist_rank) its constraint wrenches ``[f; tau]``.
+    """
+
+    name: str
+    joints: tuple[str, ...]
+    twist_rank: int
+    generic_twist_rank: int
+    wrenches: Array = field(repr=False)
+
+    @property
+    def wrench_count(self) -> int:
+        return int(self.wrenches.shape[1])
+
+    @property
+    def serially_singular(self) -> bool:
+        return self.twist_rank < self.generic_twist_rank
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "name": self.name,
+            "joints": list(self.joints),
+            "twist_rank": self.twist_rank,
+            "generic_twist_rank": self.generic_twist_rank,
+            "wrench_count": self.wrench_count,
+            "serially_singular": self.serially_singular,
+        }
+
+
+@dataclass(frozen=True)
+class Mobility:
+    """Mobility of the platform at one configuration.
+
+    Attributes:
+        mechanism, configuration: names (configuration may be None).
+        dof: number of independent free motions, ``6 - constraint_rank``.
+        motion_type: label such as ``3T``, ``3T1R``, ``1T1R1H`` or ``rigid``.
+        motions: canonical free motions (translations, rotations, screws by pitch).
+        free_twists: (6, dof) the motions' unit twists as columns.
+        constraints: canonical constraint wrenches.
+        constraint_wrenches: (6, d) their wrenches ``[f; tau]`` as columns.
+        constraint_rank: d.
+        singular_values: (6,) of the stacked dimensionless limb wrenches (zero-padded).
+        tolerance: absolute threshold applied to ``singular_values``.
+        length_scale: L [m].
+        platform_origin: (3,) world position of the platform frame [m].
+        limbs: per-limb details.
+        view: ``configuration`` (wrenches at q) or ``paper`` (generic limb wrenches carried to q).
+    """
+
+    mechanism: str
+    configuration: str | None
+    dof: int
+    motion_type: str
+    motions: tuple[Motion, ...]
+    free_twists: Array = field(repr=False)
+    constraints: tuple[Constraint, ...] = field(repr=False)
+    constraint_wrenches: Array = field(repr=False)
+    constraint_rank: int = 0
+    singular_values: Array = field(default_factory=lambda: np.zeros(6), repr=False)
+    tolerance: float = 0.0
+    length_scale: float = 1.0
+    platform: str = ""
+    platform_origin: Array = field(default_factory=lambda: np.zeros(3), repr=False)
+    limbs: tuple[LimbMobility, ...] = field(default=(), repr=False)
+    view: str = "configuration"
+
+    @property
+    def translations(self) -> int:
+        return sum(m.kind is MotionKind.TRANSLATION for m in self.motions)
+
+    @property
+    def rotations(self) -> int:
+        return sum(m.kind is MotionKind.ROTATION for m in self.motions)
+
+    @property
+    def screws(self) -> int:
+        return sum(m.kind is MotionKind.SCREW for m in self.motions)
+
+    @property
+    def serially_singular_limbs(self) -> tuple[str, ...]:
+        return tuple(limb.name for limb in self.limbs if limb.serially_singular)
+
+    @property
+    def frame(self) -> str:
+        p = ", ".join(f"{x:.6g}" for x in self.platform_origin)
+        return (
+            f"twists [v; w] and wrenches [f; tau] at the origin of frame {self.platform!r} "
+            f"(world position [{p}] m), world-aligned axes (pin.LOCAL_WORLD_ALIGNED)"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-JSON dictionary (no NaN), keys as documented in the README."""
+        return {
+            "mechanism": self.mechanism,
+            "configuration": self.configuration,
+            "view": self.view,
+            "dof": self.dof,
+            "motion_type": self.motion_type,
+            "translations": self.translations,
+            "rotations": self.rotations,
+            "screws": self.screws,
+            "motions": [m.to_dict() for m in self.motions],
+            "free_twists": [_vec(c) for c in self.free_twists.T],
+            "constraints": [c.to_dict() for c in self.constraints],
+            "constraint_wrenches": [_vec(c) for c in self.constraint_wrenches.T],
+            "constraint_rank": self.constraint_rank,
+            "singular_values": _vec(self.singular_values),
+            "tolerance": self.tolerance,
+            "length_scale": self.length_scale,
+            "frame": self.frame,
+            "limbs": [limb.to_dict() for limb in self.limbs],
+        }
+
+    def __str__(self) -> str:
+        from .report import format_mobility
+
+        return format_mobility(self)
+
+
+# --------------------------------------------------------------------------- kinematics
+
+
+def limb_twists(mech: Mechanism, data: pin.Data) -> list[Array]:
+    """Joint screws of each limb, (6, n_i) each, at the platform origin, world axes.
+
+    Columns of ``getFrameJacobian(tip, LOCAL_WORLD_ALIGNED)`` for the limb's
+    joints, shifted from the tip origin to the platform origin (they coincide
+    at a closed configuration up to the residual). Kinematics must be computed.
+    """
+    p = data.oMf[mech.platform_id].translation
+    out = []
+    for limb in mech.limbs:
+        jac = pin.getFrameJacobian(mech.model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED)[:, limb.v_indices]
+        out.append(shift_twists(jac, p - data.oMf[limb.tip_id].translation))
+    return out
+
+
+def _motions(system: ScrewSystem) -> tuple[Motion, ...]:
+    out = []
+    counters = {k: 0 for k in MotionKind}
+    for s in system.all:
+        kind = MotionKind(s.kind)
+        counters[kind] += 1
+        out.append(Motion(kind, s.direction, s.point, s.pitch, s.vector, f"{kind.value}{counters[kind]} {axis_label(s.direction)}"))
+    return tuple(out)
+
+
+def _constraints(system: ScrewSystem) -> tuple[Constraint, ...]:
+    return tuple(Constraint(s.kind, s.direction, s.point, s.pitch, s.vector) for s in system.all)
+
+
+def _assemble(
+    mech: Mechanism,
+    configuration: str | None,
+    limb_rows: list[tuple[Array, int]],
+    platform_origin: Array,
+    rtol: float,
+    view: str,
+) -> Mobility:
+    """Stack limb wrenches, decide the constraint rank and classify both spaces."""
+    length = mech.length_scale
+    wrenches = [w for w, _ in limb_rows]
+    stacked = np.hstack(wrenches) if wrenches else np.zeros((6, 0))
+    free, dec = reciprocal_twists(stacked, length, rtol)
+    constraint_basis = dec.row_space.T / wrench_scaling(length)[:, None]
+    system = classify_twists(free, length, rtol)
+    motions = _motions(system)
+    cons = _constraints(classify_wrenches(constraint_basis, length, rtol))
+    sv = np.zeros(6)
+    sv[: min(6, dec.singular_values.size)] = dec.singular_values[:6]
+    limbs = tuple(
+        LimbMobility(limb.name, limb.joints, rank, limb.generic_twist_rank, w)
+        for limb, (w, rank) in zip(mech.limbs, limb_rows)
+    )
+    return Mobility(
+        mechanism=mech.name,
+        configuration=configuration,
+        dof=6 - dec.rank,
+        motion_type=motion_type(system),
+        motions=motions,
+        free_twists=np.column_stack([m.twist for m in motions]) if motions else np.zeros((6, 0)),
+        constraints=cons,
+        constraint_wrenches=np.column_stack([c.wrench for c in cons]) if cons else np.zeros((6, 0)),
+        constraint_rank=dec.rank,
+        singular_values=sv,
+        tolerance=dec.tolerance,
+        length_scale=length,
+        platform=mech.platform,
+        platform_origin=np.array(platform_origin, float),
+        limbs=limbs,
+        view=view,
+    )
+
+
+def analyze(
+    mech: Mechanism,
+    q: Array | str,
+    *,
+    configuration: str | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+) -> Mobility:
+    """Mobility of the platform at a closed configuration.
+
+    Args:
+        mech: the mechanism.
+        q: configuration (nq,), or the name of one of ``mech.configurations``.
+        configuration: name reported with the result (set automatically when q is a name).
+        rtol: relative tolerance of every rank decision (singular values below
+            ``rtol * sigma_max`` count as zero).
+        closure_tol: closure tolerance (position / L and rotation [rad]).
+
+    Raises:
+        ConfigurationError: q has the wrong shape or non-finite values.
+        ClosureError: q does not close the loops.
+    """
+    if isinstance(q, str):
+        configuration = configuration or q
+        q = mech.configuration(q)
+    q = mech.check_q(q)
+    data = mech.model.createData()
+    compute_kinematics(mech.model, data, q)
+    check_closed(mech, q, closure_tol, data=data)
+    rows = []
+    for twists in limb_twists(mech, data):
+        w, dec = reciprocal_wrenches(twists, mech.length_scale, rtol)
+        rows.append((w, dec.rank))
+    return _assemble(mech, configuration, rows, data.oMf[mech.platform_id].translation, rtol, "configuration")
+
+
+# --------------------------------------------------------------------------- second method
+
+
+def closure_jacobian_twists(mech: Mechanism, q: Array, rtol: float = RTOL) -> Array:
+    """Free platform twists from the global loop-closure Jacobian (an independent method).
+
+    Closure rows ``K = [J_2 - J_1; ...; J_k - J_1]`` (tip Jacobians over all
+    joints, carried to the platform origin); the closed chain's joint velocities
+    are ``null(K)``; the platform twists are their image ``J_1 null(K)``.
+    Joint columns are scaled to comparable units before the rank decision.
+
+    Returns:
+        (6, m) orthonormal (dimensionless) basis, in SI, of the platform's free twists.
+    """
+    q = mech.check_q(q)
+    model = mech.model
+    data = model.createData()
+    compute_kinematics(model, data, q)
+    p = data.oMf[mech.platform_id].translation
+    scale = twist_scaling(mech.length_scale)[:, None]
+    full = [
+        scale * shift_twists(pin.getFrameJacobian(model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED), p - data.oMf[limb.tip_id].translation)
+        for limb in mech.limbs
+    ]
+    col = np.linalg.norm(np.sum(np.abs(np.stack(full)), axis=0), axis=0)
+    col = np.where(col > 0, 1.0 / np.where(col > 0, col, 1.0), 1.0)
+    if len(full) > 1:
+        k = np.vstack([f - full[0] for f in full[1:]]) * col
+        dq = decide_rank(k, rtol, n=model.nv).null_space.T * col[:, None]
+    else:
+        dq = np.diag(col)
+    image = decide_rank((full[0] @ dq).T, rtol, n=6).row_space.T
+    return image / scale
+
+
+# --------------------------------------------------------------------------- paper view
+
+
+def _direction(mech: Mechanism, approach: Array | Mapping[str, float]) -> Array:
+    if isinstance(approach, Mapping):
+        dv = np.zeros(mech.model.nv)
+        for name, value in approach.items():
+            if not mech.model.existJointName(name):
+                raise ConfigurationError(f"approach names unknown joint {name!r}")
+            j = mech.model.joints[mech.model.getJointId(name)]
+            dv[j.idx_v] = float(value)
+        return dv
+    dv = np.asarray(approach, float)
+    if dv.shape != (mech.model.nv,) or not np.all(np.isfinite(dv)):
+        raise ConfigurationError(f"approach direction must be finite with shape ({mech.model.nv},), got {dv.shape}")
+    return dv
+
+
+def paper_view(
+    mech: Mechanism,
+    q: Array | str,
+    approach: Array | Mapping[str, float] | None = None,
+    *,
+    configuration: str | None = None,
+    eps: float = 1e-3,
+    rtol: float = RTOL,
+) -> Mobility:
+    """Mobility allowed by each limb's *generic* constraint wrenches, carried to q.
+
+    This reproduces the seed paper's procedure: it derives each limb's
+    reciprocal screws at a generic configuration and substitutes the special
+    configuration into that formula (e.g. beta = 0 in its eq. 20). A limb at a
+    serial singularity has more wrenches at q than that limit; :func:`analyze`
+    counts them, this view does not.
+
+    Each limb's wrench space is followed along ``q(s) = integrate(q, s * dv)``
+    (limbs are serial chains, so q(s) need not close) and its limit for
+    s -> 0+ is taken by Richardson extrapolation of the projectors:
+    ``P0 = 2 P(eps/2) - P(eps)``, keeping as many wrenches as the limb has at
+    ``q(eps)``.
+
+    Args:
+        approach: joint-space direction (nv,) or joint values by name; default:
+            the named configuration's declared ``approach``.
+        eps: step along the approach direction (the direction is normalised).
+    """
+    if isinstance(q, str):
+        configuration = configuration or q
+        if approach is None:
+            approach = mech.configurations[q].approach if q in mech.configurations else None
+        q = mech.configuration(q)
+    q = mech.check_q(q)
+    if not approach:
+        raise ConfigurationError(
+            "the paper's view needs an approach direction: pass approach=... or declare "
+            "'approach' for the configuration in the mechanism file"
+        )
+    dv = _direction(mech, approach)
+    dv /= np.linalg.norm(dv)
+    model = mech.model
+    data = model.createData()
+    length = mech.length_scale
+    sw = wrench_scaling(length)[:, None]
+
+    def limb_spaces(s: float) -> list[tuple[Array, int]]:
+        compute_kinematics(model, data, pin.integrate(model, q, s * dv))
+        return [
+            (lambda w, dec: (sw * w, dec.rank))(*reciprocal_wrenches(t, length, rtol))
+            for t in limb_twists(mech, data)
+        ]
+
+    at_eps, at_half = limb_spaces(eps), limb_spaces(eps / 2)
+    rows = []
+    for (w1, r1), (w2, _) in zip(at_eps, at_half):
+        k = w1.shape[1]
+        proj = 2 * w2 @ w2.T - w1 @ w1.T
+        vals, vecs = np.linalg.eigh(0.5 * (proj + proj.T))
+        basis = vecs[:, np.argsort(vals)[::-1][:k]]
+        rows.append((basis / sw, r1))
+    compute_kinematics(model, data, q)
+    return _assemble(mech, configuration, rows, data.oMf[mech.platform_id].translation, rtol, "paper")

@@ -1,0 +1,64 @@
+"""Readable text reports of mobility results."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from .mechanism import Expectation
+    from .mobility import Mobility
+
+KIND_WORDS = {"T": "translation", "R": "rotation", "H": "screw"}
+
+
+def _v(a: np.ndarray, digits: int = 4) -> str:
+    return "[" + ", ".join(f"{x: .{digits}g}" for x in np.asarray(a) + 0.0) + "]"
+
+
+def format_mobility(mob: Mobility) -> str:
+    """Multi-line report: DoF and type, each motion, the constraints, limbs and numbers."""
+    where = f" at {mob.configuration!r}" if mob.configuration else ""
+    view = " (paper's view: generic limb wrenches carried here)" if mob.view == "paper" else ""
+    lines = [f"{mob.mechanism}{where}{view}: {mob.dof} DoF, {mob.motion_type}"]
+    for m in mob.motions:
+        text = f"  {m.label:<8} {KIND_WORDS[m.kind.value]:<11} direction {_v(m.direction)}"
+        if m.point is not None:
+            text += f" through {_v(m.point)} m"
+        if m.kind.value == "H":
+            text += f", pitch {m.pitch:.4g} m/rad"
+        lines.append(text)
+    lines.append(f"constraint rank {mob.constraint_rank}:")
+    for c in mob.constraints:
+        text = f"  {c.kind:<7} direction {_v(c.direction)}"
+        if c.point is not None:
+            text += f" through {_v(c.point)} m"
+        if c.kind == "wrench":
+            text += f", pitch {c.pitch:.4g} m/rad"
+        lines.append(text)
+    lines.append("limbs:")
+    for limb in mob.limbs:
+        flag = "  <- serial singularity" if limb.serially_singular else ""
+        lines.append(
+            f"  {limb.name}: {len(limb.joints)} joints, twist rank {limb.twist_rank} "
+            f"(generic {limb.generic_twist_rank}), {limb.wrench_count} constraint wrench(es){flag}"
+        )
+    singular = mob.serially_singular_limbs
+    if singular and mob.view == "configuration":
+        lines.append(
+            f"note: limb(s) {', '.join(singular)} are at a serial singularity: their joint screws are dependent "
+            "here, so each has more constraint wrenches than at generic configurations. A method that carries "
+            "the generic limb wrenches to this configuration (as the seed paper does) misses them: see --paper-view."
+        )
+    lines.append(f"singular values {_v(mob.singular_values, 3)}, tolerance {mob.tolerance:.2e}, L = {mob.length_scale:.4g} m")
+    lines.append(f"frame: {mob.frame}")
+    return "\n".join(lines)
+
+
+def format_expectation(mob: Mobility, expected: Expectation) -> str:
+    """One line comparing a result with the mechanism file's expectation."""
+    ok = mob.dof == expected.dof and mob.motion_type == expected.motion_type
+    verdict = "agrees with" if ok else "DIFFERS from"
+    src = f" ({expected.source})" if expected.source else ""
+    return f"expected {expected.dof} DoF {expected.motion_type}{src}: analysis {verdict} it"

@@ -1,0 +1,428 @@
+"""Screw algebra: twists, wrenches, reciprocity, unit-invariant bases, pitch and axes.
+
+Pure numpy/scipy; this module does not import pinocchio.
+
+Conventions (used everywhere in pinmob, never switched silently):
+
+* A twist is ``t = [v; w]`` (linear velocity of the body point at the reference
+  origin first, angular velocity second), Pinocchio's ``Motion`` order.
+* A wrench is ``f = [f; tau]`` (force first, moment about the reference origin
+  second), Pinocchio's ``Force`` order.
+* The reciprocal product is the power ``f . v + tau . w``, i.e. the plain dot
+  product ``wrench @ twist`` in this order. A wrench is reciprocal to (constrains
+  nothing along) a twist when that product is zero.
+* The seed paper writes twists axis first, ``(w; v)``; convert with
+  :func:`twist_from_paper` only where comparing with its matrices.
+
+Unit invariance: with a characteristic length ``L`` [m], a twist is made
+dimensionless as ``[v / L; w]`` and a wrench as ``[f * L; tau]``. The product is
+unchanged, and a mechanism scaled by ``k`` with ``L`` scaled by ``k`` gives the
+same dimensionless matrices, hence the same ranks. Every rank decision here is
+taken on dimensionless matrices with a tolerance relative to the largest
+singular value.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import Enum
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+from scipy.linalg import eigh
+
+Array = NDArray[np.float64]
+
+#: Default relative tolerance on singular values for rank decisions.
+RTOL = 1e-6
+
+AXIS_NAMES = ("x", "y", "z")
+
+
+class MotionKind(str, Enum):
+    """Type of a free motion of the platform."""
+
+    TRANSLATION = "T"
+    ROTATION = "R"
+    SCREW = "H"
+
+
+class WrenchKind(str, Enum):
+    """Type of a constraint wrench (the dual of :class:`MotionKind`)."""
+
+    COUPLE = "couple"
+    FORCE = "force"
+    WRENCH = "wrench"
+
+
+# --------------------------------------------------------------------------- basics
+
+
+def reciprocal_product(wrench: ArrayLike, twist: ArrayLike) -> float:
+    """Power of a wrench on a twist: ``f . v + tau . w`` [W for SI units]."""
+    return float(np.dot(np.asarray(wrench, float), np.asarray(twist, float)))
+
+
+def twist_from_paper(s: ArrayLike) -> Array:
+    """Convert the seed paper's axis-first twist ``(w; v)`` to ``[v; w]``."""
+    s = np.asarray(s, float)
+    return np.concatenate([s[..., 3:], s[..., :3]], axis=-1)
+
+
+def shift_twists(twists: ArrayLike, r: ArrayLike) -> Array:
+    """Express twists at a point displaced by ``r`` from their reference point.
+
+    ``v' = v + w x r``, ``w' = w``.
+
+    Args:
+        twists: (6,) or (6, k) twists ``[v; w]``.
+        r: (3,) displacement from the old to the new reference point [m].
+    """
+    t = np.array(twists, float)
+    r = np.asarray(r, float)
+    t[:3] = t[:3] + np.cross(t[3:], r, axis=0)
+    return t
+
+
+def shift_wrenches(wrenches: ArrayLike, r: ArrayLike) -> Array:
+    """Express wrenches at a point displaced by ``r``: ``tau' = tau - r x f``."""
+    f = np.array(wrenches, float)
+    r = np.asarray(r, float)
+    f[3:] = f[3:] - np.cross(r, f[:3], axis=0)
+    return f
+
+
+def rotate(screws: ArrayLike, rotation: ArrayLike) -> Array:
+    """Rotate the axes of twists or wrenches (6,) or (6, k) by a (3, 3) rotation."""
+    s = np.array(screws, float)
+    rot = np.asarray(rotation, float)
+    s[:3] = rot @ s[:3]
+    s[3:] = rot @ s[3:]
+    return s
+
+
+def twist_scaling(length: float) -> Array:
+    """Diagonal (6,) that makes twists dimensionless: ``[v / L; w]``."""
+    return np.array([1 / length] * 3 + [1.0] * 3)
+
+
+def wrench_scaling(length: float) -> Array:
+    """Diagonal (6,) that makes wrenches dimensionless: ``[f * L; tau]``."""
+    return np.array([length] * 3 + [1.0] * 3)
+
+
+# --------------------------------------------------------------------------- rank
+
+
+@dataclass(frozen=True)
+class RankDecision:
+    """Outcome of a unit-invariant rank decision.
+
+    Attributes:
+        rank: number of singular values above ``tolerance``.
+        singular_values: all singular values, descending.
+        tolerance: absolute threshold used, ``rtol * max(singular_values)``.
+        row_space: (rank, n) orthonormal basis of the row space.
+        null_space: (n - rank, n) orthonormal basis of the null space.
+    """
+
+    rank: int
+    singular_values: Array
+    tolerance: float
+    row_space: Array
+    null_space: Array
+
+
+def decide_rank(matrix: ArrayLike, rtol: float = RTOL, n: int | None = None) -> RankDecision:
+    """SVD of a dimensionless (m, n) matrix with a tolerance relative to sigma_max.
+
+    An empty matrix (m = 0) has rank 0 and the whole space as null space.
+    """
+    a = np.asarray(matrix, float)
+    if a.ndim != 2:
+        raise ValueError(f"expected a 2-D matrix, got shape {a.shape}")
+    cols = a.shape[1] if n is None else n
+    if a.size == 0:
+        return RankDecision(0, np.zeros(0), 0.0, np.zeros((0, cols)), np.eye(cols))
+    _, s, vt = np.linalg.svd(a, full_matrices=True)
+    smax = float(s[0]) if s.size else 0.0
+    tol = rtol * smax
+    rank = int(np.sum(s > tol)) if smax > 0 else 0
+    return RankDecision(rank, s, tol, vt[:rank], vt[rank:])
+
+
+def reciprocal_wrenches(twists: ArrayLike, length: float, rtol: float = RTOL) -> tuple[Array, RankDecision]:
+    """Basis of the wrenches reciprocal to every twist given.
+
+    Solves ``W^T T = 0`` on the dimensionless matrices: the null space of
+    ``(D_t T)^T`` where ``D_t = diag(1/L, 1/L, 1/L, 1, 1, 1)``, mapped back by
+    ``f = f_hat / L``.
+
+    Args:
+        twists: (6, k) twists ``[v; w]`` [m/s, rad/s per unit joint rate].
+        length: characteristic length L [m].
+        rtol: relative tolerance on the singular values.
+
+    Returns:
+        (6, 6 - rank) wrenches ``[f; tau]`` (orthonormal when dimensionless),
+        and the rank decision on the twists.
+    """
+    t = np.asarray(twists, float).reshape(6, -1)
+    dec = decide_rank((twist_scaling(length)[:, None] * t).T, rtol, n=6)
+    w_hat = dec.null_space.T
+    return w_hat / wrench_scaling(length)[:, None], dec
+
+
+def reciprocal_twists(wrenches: ArrayLike, length: float, rtol: float = RTOL) -> tuple[Array, RankDecision]:
+    """Basis of the twists reciprocal to every wrench given (dual of :func:`reciprocal_wrenches`).
+
+    Returns:
+        (6, 6 - rank) twists ``[v; w]`` and the rank decision on the wrenches.
+    """
+    w = np.asarray(wrenches, float).reshape(6, -1)
+    dec = decide_rank((wrench_scaling(length)[:, None] * w).T, rtol, n=6)
+    return dec.null_space.T / twist_scaling(length)[:, None], dec
+
+
+def subspace_gap(a: ArrayLike, b: ArrayLike) -> float:
+    """Largest sine of the principal angles between the column spans of a and b.
+
+    0 when the spans are equal, 1 when one holds a direction orthogonal to the
+    other. Spans of different dimension give 1. Scale the inputs first when they
+    mix units.
+    """
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    if a.shape[1] != b.shape[1]:
+        return 1.0
+    if a.shape[1] == 0:
+        return 0.0
+    qa = np.linalg.qr(a)[0]
+    qb = np.linalg.qr(b)[0]
+    cos = np.linalg.svd(qa.T @ qb, compute_uv=False)
+    return float(np.sqrt(max(0.0, 1.0 - float(np.min(cos)) ** 2)))
+
+
+# --------------------------------------------------------------------------- canonical bases
+
+
+def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
+    """Canonical orthonormal basis of a subspace of R^3.
+
+    Greedy: at each step, project the world axes x, y, z onto what is left of
+    the subspace, take the axis with the largest projection (ties go to the
+    earlier axis), normalise the projection and remove it. The result is sorted
+    by that axis and each vector points along its axis, so the basis depends only
+    on the subspace, not on the input basis.
+
+    Args:
+        basis: (3, k) spanning vectors, k <= 3 (need not be orthonormal).
+
+    Returns:
+        (3, k) orthonormal canonical basis.
+    """
+    d = np.asarray(basis, float).reshape(3, -1)
+    if d.shape[1] == 0:
+        return np.zeros((3, 0))
+    u, s, _ = np.linalg.svd(d, full_matrices=False)
+    rest = u[:, s > tol * max(1.0, float(s[0]))]
+    picked: list[tuple[int, Array]] = []
+    while rest.shape[1]:
+        proj = rest @ rest.T
+        norms = np.linalg.norm(proj, axis=0)
+        axis = int(np.argmax(norms > norms.max() - tol))  # first axis within tol of the best
+        vec = proj[:, axis] / norms[axis]
+        picked.append((axis, vec))
+        rest = rest - np.outer(vec, vec @ rest)
+        uu, ss, _ = np.linalg.svd(rest, full_matrices=False)
+        rest = uu[:, ss > 1e-6]
+    picked.sort(key=lambda p: p[0])
+    return np.column_stack([clean(v) for _, v in picked])
+
+
+def axis_label(direction: ArrayLike, tol: float = 1e-9) -> str:
+    """``'x'``, ``'-y'``, ... for a world axis, else the rounded vector."""
+    u = np.asarray(direction, float)
+    for i, name in enumerate(AXIS_NAMES):
+        if abs(abs(u[i]) - 1.0) < tol:
+            return name if u[i] > 0 else "-" + name
+    return "[" + ", ".join(f"{c:.3g}" for c in u) + "]"
+
+
+def clean(a: Array, scale: float = 1.0, tol: float = 1e-12) -> Array:
+    """Zero the entries of ``a`` below ``tol * scale`` (numerical dust) and drop signed zeros."""
+    a = np.where(np.abs(a) < tol * scale, 0.0, a)
+    return a + 0.0
+
+
+def _positive(u: Array, tol: float = 1e-9) -> Array:
+    """Flip u so that its largest-magnitude component (first on ties) is positive."""
+    i = int(np.argmax(np.abs(u) > np.abs(u).max() - tol))
+    return u if u[i] >= 0 else -u
+
+
+# --------------------------------------------------------------------------- classification
+
+
+@dataclass(frozen=True)
+class Screw:
+    """One principal screw of a screw system, in SI units.
+
+    For a twist system: ``direction`` is the unit angular (or, for a
+    translation, linear) direction, ``point`` the axis point closest to the
+    reference origin (``None`` for a translation), ``pitch`` [m/rad] (``None``
+    for a translation), ``vector`` the unit twist ``[v; w]``. For a wrench system
+    the same fields describe couples, forces and wrenches; ``vector`` is
+    ``[f; tau]``.
+    """
+
+    kind: str
+    direction: Array
+    point: Array | None
+    pitch: float | None
+    vector: Array
+
+
+@dataclass(frozen=True)
+class ScrewSystem:
+    """Canonical description of a subspace of twists (or wrenches)."""
+
+    free_vectors: tuple[Screw, ...]  # pure translations (or pure couples)
+    lines: tuple[Screw, ...]  # zero-pitch screws: rotations (or forces)
+    screws: tuple[Screw, ...]  # finite non-zero pitch
+
+    @property
+    def all(self) -> tuple[Screw, ...]:
+        return self.free_vectors + self.lines + self.screws
+
+    def basis(self) -> Array:
+        """(6, k) matrix of the canonical vectors, in the order of :attr:`all`."""
+        vecs = [s.vector for s in self.all]
+        return np.column_stack(vecs) if vecs else np.zeros((6, 0))
+
+
+def principal_screws(
+    moment: ArrayLike, direction: ArrayLike, rtol: float = RTOL
+) -> tuple[Array, list[tuple[Array, Array, float]]]:
+    """Split a screw system into free vectors and principal screws.
+
+    The system is given as matching columns of ``moment`` (v for twists, tau for
+    wrenches) and ``direction`` (w for twists, f for wrenches), i.e. screws
+    ``[moment; direction]``, dimensionless (moment already divided by L).
+
+    1. Free vectors: the subspace with ``direction = 0``; their moments span
+       the translation (couple) directions T.
+    2. On a complement, remove from each moment its component in T (a change
+       within the system), then solve the generalised eigenproblem of the pitch
+       ``h = (w . v) / (w . w)``: ``sym(W^T V) x = h (W^T W) x``. Its eigenvalues
+       are the principal pitches, stationary values of h, and do not depend on
+       the basis. Equal pitches are made canonical with
+       :func:`canonical_directions`.
+
+    Returns:
+        (3, p) canonical free-vector directions, and per principal screw the unit
+        direction u, the axis point closest to the origin (modulo u and T), and
+        the pitch, both dimensionless (multiply by L for SI).
+    """
+    v = np.asarray(moment, float).reshape(3, -1)
+    w = np.asarray(direction, float).reshape(3, -1)
+    k = v.shape[1]
+    if k == 0:
+        return np.zeros((3, 0)), []
+    # orthonormalise the system as a whole (dimensionless) to fix its scale
+    q, r = np.linalg.qr(np.vstack([v, w]))
+    keep = np.abs(np.diag(r)) > rtol * max(1.0, float(np.abs(np.diag(r)).max()))
+    q = q[:, keep]
+    v, w = q[:3], q[3:]
+    _, s_w, vt_w = np.linalg.svd(w, full_matrices=True)
+    wr = int(np.sum(s_w > rtol * max(1.0, float(s_w[0]) if s_w.size else 0.0)))
+    null = vt_w[wr:].T  # coefficients of free vectors
+    comp = vt_w[:wr].T
+    trans = canonical_directions(v @ null) if null.shape[1] else np.zeros((3, 0))
+    gv, gw = v @ comp, w @ comp
+    if trans.shape[1]:
+        gv = gv - trans @ (trans.T @ gv)
+    if wr == 0:
+        return trans, []
+    a = 0.5 * (gw.T @ gv + gv.T @ gw)
+    b = gw.T @ gw
+    pitches, x = eigh(a, b)
+    out: list[tuple[Array, Array, float]] = []
+    pitch_tol = max(1e-9, 10 * rtol)
+    i = 0
+    while i < len(pitches):
+        j = i
+        while j + 1 < len(pitches) and abs(pitches[j + 1] - pitches[i]) <= pitch_tol:
+            j += 1
+        group = x[:, i : j + 1]
+        dirs = canonical_directions(gw @ group)
+        coeff = np.linalg.lstsq(gw @ group, dirs, rcond=None)[0]
+        for c in range(dirs.shape[1]):
+            xc = group @ coeff[:, c]
+            ww, vv = gw @ xc, gv @ xc
+            nw = np.linalg.norm(ww)
+            u = _positive(ww / nw)
+            vv = vv / nw * (1 if u @ ww > 0 else -1)
+            h = float(u @ vv)
+            point = np.cross(u, vv)
+            drop = np.column_stack([u, trans]) if trans.size else u[:, None]
+            qd = np.linalg.qr(drop)[0]
+            point = point - qd @ (qd.T @ point)
+            out.append((clean(u), clean(point), 0.0 if abs(h) <= pitch_tol else h))
+        i = j + 1
+    return trans, out
+
+
+def classify_twists(twists: ArrayLike, length: float, rtol: float = RTOL) -> ScrewSystem:
+    """Classify a twist system: translations, rotations (pitch ~ 0), screws.
+
+    Args:
+        twists: (6, k) basis ``[v; w]`` in SI units.
+        length: characteristic length L [m]; pitches and points are computed on
+            ``[v / L; w]`` and returned in metres.
+        rtol: relative tolerance for ranks and for a zero pitch (pitch/L).
+    """
+    t = np.asarray(twists, float).reshape(6, -1)
+    trans, prin = principal_screws(t[:3] / length, t[3:], rtol)
+    ts = tuple(
+        Screw(MotionKind.TRANSLATION.value, clean(d), None, None, np.concatenate([clean(d), np.zeros(3)]))
+        for d in trans.T
+    )
+    rot, scr = [], []
+    for u, p, h in prin:
+        point, pitch = p * length, h * length
+        vec = clean(np.concatenate([pitch * u + np.cross(point, u), u]), length)
+        kind = MotionKind.ROTATION if h == 0.0 else MotionKind.SCREW
+        (rot if h == 0.0 else scr).append(Screw(kind.value, u, point, pitch, vec))
+    scr.sort(key=lambda s: s.pitch)
+    return ScrewSystem(ts, tuple(rot), tuple(scr))
+
+
+def classify_wrenches(wrenches: ArrayLike, length: float, rtol: float = RTOL) -> ScrewSystem:
+    """Classify a wrench system: couples, forces (pitch ~ 0) and wrenches.
+
+    The dual of :func:`classify_twists`: a wrench ``[f; tau]`` is a screw of
+    direction f and moment tau; a couple has f = 0. Dimensionless form
+    ``[f L; tau]`` (moment divided by L relative to direction).
+    """
+    f = np.asarray(wrenches, float).reshape(6, -1)
+    couples, prin = principal_screws(f[3:] / length, f[:3], rtol)
+    cs = tuple(
+        Screw(WrenchKind.COUPLE.value, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)]))
+        for d in couples.T
+    )
+    forces, screws = [], []
+    for u, p, h in prin:
+        point, pitch = p * length, h * length
+        vec = clean(np.concatenate([u, pitch * u + np.cross(point, u)]), length)
+        kind = WrenchKind.FORCE if h == 0.0 else WrenchKind.WRENCH
+        (forces if h == 0.0 else screws).append(Screw(kind.value, u, point, pitch, vec))
+    screws.sort(key=lambda s: s.pitch)
+    return ScrewSystem(cs, tuple(forces), tuple(screws))
+
+
+def motion_type(system: ScrewSystem) -> str:
+    """Label such as ``3T``, ``1T2R``, ``1T1R1H``; ``rigid`` for no motion."""
+    counts = [(len(system.free_vectors), "T"), (len(system.lines), "R"), (len(system.screws), "H")]
+    label = "".join(f"{n}{c}" for n, c in counts if n)
+    return label or "rigid"

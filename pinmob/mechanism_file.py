@@ -29,8 +29,11 @@ LOADERS: dict[str, Callable[[Path], Mechanism]] = {}
 
 
 def builtin_dir() -> Path:
-    """Folder of the built-in models (``models/`` in the source tree, ``pinmob/models`` installed)."""
-    return Path(str(resources.files("pinmob.models")))
+    """Folder of the built-in models (``pinmob/models`` installed, ``models/`` in a source checkout)."""
+    try:
+        return Path(str(resources.files("pinmob.models")))
+    except ModuleNotFoundError:  # running from a source tree that is not installed
+        return Path(__file__).resolve().parent.parent / "models"
 
 
 def builtin_models() -> dict[str, Path]:

@@ -249,7 +249,7 @@ def axis_label(direction: ArrayLike, tol: float = 1e-9) -> str:
     return "[" + ", ".join(f"{c:.3g}" for c in u) + "]"
 
 
-def clean(a: Array, scale: float = 1.0, tol: float = 1e-12) -> Array:
+def clean(a: Array, scale: float = 1.0, tol: float = 1e-10) -> Array:
     """Zero the entries of ``a`` below ``tol * scale`` (numerical dust) and drop signed zeros."""
     a = np.where(np.abs(a) < tol * scale, 0.0, a)
     return a + 0.0
@@ -311,66 +311,95 @@ def principal_screws(
     ``[moment; direction]``, dimensionless (moment already divided by L).
 
     1. Free vectors: the subspace with ``direction = 0``; their moments span
-       the translation (couple) directions T.
-    2. On a complement, remove from each moment its component in T (a change
-       within the system), then solve the generalised eigenproblem of the pitch
-       ``h = (w . v) / (w . w)``: ``sym(W^T V) x = h (W^T W) x``. Its eigenvalues
-       are the principal pitches, stationary values of h, and do not depend on
-       the basis. Equal pitches are made canonical with
+       the free translation (couple) directions T. Every other screw is only
+       defined up to adding members of T to its moment.
+    2. Directions w with a component along T can have their pitch cancelled
+       by such an addition (``h = w.(v + T a) / w.w`` takes any value): they are
+       zero-pitch screws (rotations, forces), one per direction of the
+       orthogonal complement of ``W0 = span(w) ∩ T^perp`` in ``span(w)``.
+    3. On W0 the pitch does not depend on the representative; its stationary
+       values solve the generalised eigenproblem
+       ``sym(W^T V) x = h (W^T W) x`` (restricted to W0): the principal
+       pitches, independent of the basis and of the reference point.
+    4. Each axis point is the one closest to the origin:
+       ``min_a |P_u^perp (v + T a)|`` subject to ``u.(v + T a) = h``; the
+       point is ``u x (v + T a)``. Equal pitches are made canonical with
        :func:`canonical_directions`.
 
     Returns:
         (3, p) canonical free-vector directions, and per principal screw the unit
-        direction u, the axis point closest to the origin (modulo u and T), and
-        the pitch, both dimensionless (multiply by L for SI).
+        direction u, the axis point, and the pitch, both dimensionless (multiply
+        by L for SI).
     """
     v = np.asarray(moment, float).reshape(3, -1)
     w = np.asarray(direction, float).reshape(3, -1)
-    k = v.shape[1]
-    if k == 0:
+    if v.shape[1] == 0:
         return np.zeros((3, 0)), []
     # orthonormalise the system as a whole (dimensionless) to fix its scale
     q, r = np.linalg.qr(np.vstack([v, w]))
-    keep = np.abs(np.diag(r)) > rtol * max(1.0, float(np.abs(np.diag(r)).max()))
-    q = q[:, keep]
+    q = q[:, np.abs(np.diag(r)) > rtol * max(1.0, float(np.abs(np.diag(r)).max()))]
     v, w = q[:3], q[3:]
     _, s_w, vt_w = np.linalg.svd(w, full_matrices=True)
     wr = int(np.sum(s_w > rtol * max(1.0, float(s_w[0]) if s_w.size else 0.0)))
-    null = vt_w[wr:].T  # coefficients of free vectors
-    comp = vt_w[:wr].T
-    trans = canonical_directions(v @ null) if null.shape[1] else np.zeros((3, 0))
-    gv, gw = v @ comp, w @ comp
-    if trans.shape[1]:
-        gv = gv - trans @ (trans.T @ gv)
+    trans = canonical_directions(v @ vt_w[wr:].T) if wr < vt_w.shape[0] else np.zeros((3, 0))
     if wr == 0:
         return trans, []
-    a = 0.5 * (gw.T @ gv + gv.T @ gw)
-    b = gw.T @ gw
-    pitches, x = eigh(a, b)
-    out: list[tuple[Array, Array, float]] = []
+    gv, gw = v @ vt_w[:wr].T, w @ vt_w[:wr].T  # complement: span(gw) has dimension wr
     pitch_tol = max(1e-9, 10 * rtol)
-    i = 0
-    while i < len(pitches):
-        j = i
-        while j + 1 < len(pitches) and abs(pitches[j + 1] - pitches[i]) <= pitch_tol:
-            j += 1
-        group = x[:, i : j + 1]
-        dirs = canonical_directions(gw @ group)
-        coeff = np.linalg.lstsq(gw @ group, dirs, rcond=None)[0]
-        for c in range(dirs.shape[1]):
-            xc = group @ coeff[:, c]
+    # split span(gw) into W0 (perpendicular to T) and its orthogonal complement W1
+    if trans.shape[1]:
+        dec = decide_rank(trans.T @ gw, rtol, n=wr)
+        x0, x1 = dec.null_space.T, dec.row_space.T
+    else:
+        x0, x1 = np.eye(wr), np.zeros((wr, 0))
+    groups: list[tuple[Array, float]] = []
+    if x1.shape[1]:
+        # W1 directions, orthogonal to W0 in direction space, all with pitch 0
+        w0 = gw @ x0
+        u1 = canonical_directions(gw @ x1 - (w0 @ np.linalg.pinv(w0) @ (gw @ x1) if w0.size else 0))
+        groups.append((np.linalg.lstsq(gw, u1, rcond=None)[0], 0.0))
+    if x0.shape[1]:
+        a = x0.T @ (0.5 * (gw.T @ gv + gv.T @ gw)) @ x0
+        b = x0.T @ gw.T @ gw @ x0
+        pitches, y = eigh(a, b)
+        i = 0
+        while i < len(pitches):
+            j = i
+            while j + 1 < len(pitches) and abs(pitches[j + 1] - pitches[i]) <= pitch_tol:
+                j += 1
+            group = x0 @ y[:, i : j + 1]
+            dirs = canonical_directions(gw @ group)
+            groups.append((group @ np.linalg.lstsq(gw @ group, dirs, rcond=None)[0], float(np.mean(pitches[i : j + 1]))))
+            i = j + 1
+    out: list[tuple[Array, Array, float]] = []
+    for coeffs, pitch in groups:
+        h = 0.0 if abs(pitch) <= pitch_tol else pitch
+        for xc in coeffs.T:
             ww, vv = gw @ xc, gv @ xc
             nw = np.linalg.norm(ww)
             u = _positive(ww / nw)
-            vv = vv / nw * (1 if u @ ww > 0 else -1)
-            h = float(u @ vv)
-            point = np.cross(u, vv)
-            drop = np.column_stack([u, trans]) if trans.size else u[:, None]
-            qd = np.linalg.qr(drop)[0]
-            point = point - qd @ (qd.T @ point)
-            out.append((clean(u), clean(point), 0.0 if abs(h) <= pitch_tol else h))
-        i = j + 1
+            vv = vv / nw * (1.0 if u @ ww > 0 else -1.0)
+            vv = _closest_moment(u, vv, trans, h)
+            out.append((clean(u), clean(np.cross(u, vv)), h))
     return trans, out
+
+
+def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
+    """``v + T a`` minimising ``|P_u^perp (v + T a)|`` with ``u.(v + T a) = pitch`` where T allows it."""
+    if not trans.shape[1]:
+        return v
+    perp = np.eye(3) - np.outer(u, u)
+    c = trans.T @ u
+    if np.linalg.norm(c) > 1e-9:
+        a0 = c * (pitch - u @ v) / (c @ c)
+        null = np.linalg.svd(c[None, :])[2][1:].T
+    else:
+        a0, null = np.zeros(trans.shape[1]), np.eye(trans.shape[1])
+    base = v + trans @ a0
+    if null.shape[1]:
+        b = np.linalg.lstsq(perp @ trans @ null, -perp @ base, rcond=None)[0]
+        base = base + trans @ null @ b
+    return base
 
 
 def classify_twists(twists: ArrayLike, length: float, rtol: float = RTOL) -> ScrewSystem:

@@ -1,0 +1,155 @@
+"""Property tests of the pure screw algebra (no Pinocchio)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from numpy.testing import assert_allclose
+from scipy.spatial.transform import Rotation
+
+from pinmob import screw as S
+
+seeds = st.integers(min_value=0, max_value=2**32 - 1)
+
+
+def random_twists(rng: np.random.Generator, k: int, length: float = 1.0) -> np.ndarray:
+    """k random twists of revolute/prismatic type, axis points within a few L of the origin."""
+    cols = []
+    for _ in range(k):
+        u = rng.normal(size=3)
+        u /= np.linalg.norm(u)
+        if rng.random() < 0.25:
+            cols.append(np.r_[u, 0, 0, 0])
+        else:
+            p = rng.normal(size=3) * length
+            h = rng.choice([0.0, rng.normal() * length])
+            cols.append(np.r_[h * u + np.cross(p, u), u])
+    return np.column_stack(cols) if cols else np.zeros((6, 0))
+
+
+def transport_twists(t: np.ndarray, rot: np.ndarray, p: np.ndarray) -> np.ndarray:
+    """Twists in a new world frame: rotate the axes, then move the reference point to p."""
+    return S.shift_twists(S.rotate(t, rot), -p)
+
+
+def transport_wrenches(w: np.ndarray, rot: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return S.shift_wrenches(S.rotate(w, rot), -p)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=seeds, k=st.integers(0, 6))
+def test_reciprocal_wrenches_annihilate_twists(seed: int, k: int) -> None:
+    rng = np.random.default_rng(seed)
+    t = random_twists(rng, k, 0.3)
+    w, dec = S.reciprocal_wrenches(t, 0.3)
+    expected_rank = np.linalg.matrix_rank(S.twist_scaling(0.3)[:, None] * t, tol=1e-9) if k else 0
+    assert dec.rank == expected_rank
+    assert w.shape == (6, 6 - expected_rank)
+    # the power of every wrench on every twist is zero
+    assert_allclose(w.T @ t, 0.0, atol=1e-9)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=seeds, k=st.integers(1, 5))
+def test_free_space_is_invariant_under_change_of_world_frame(seed: int, k: int) -> None:
+    rng = np.random.default_rng(seed)
+    length = 0.5
+    wrenches = S.reciprocal_wrenches(random_twists(rng, k, length), length)[0]
+    free, dec = S.reciprocal_twists(wrenches, length)
+    rot = Rotation.random(random_state=seed % 2**31).as_matrix()
+    p = rng.normal(size=3) * length
+    free_moved, dec_moved = S.reciprocal_twists(transport_wrenches(wrenches, rot, p), length)
+    assert dec_moved.rank == dec.rank
+    scale = S.twist_scaling(length)[:, None]
+    assert S.subspace_gap(scale * free_moved, scale * transport_twists(free, rot, p)) < 1e-7
+    a = S.classify_twists(free, length)
+    b = S.classify_twists(free_moved, length)
+    assert S.motion_type(a) == S.motion_type(b)
+    assert_allclose(sorted(s.pitch for s in a.screws), sorted(s.pitch for s in b.screws), atol=1e-7 * length)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=seeds, k=st.integers(1, 5), factor=st.sampled_from([1e-3, 1.0, 1e3]))
+def test_units_do_not_change_the_answer(seed: int, k: int, factor: float) -> None:
+    rng = np.random.default_rng(seed)
+    length = 0.4
+    t = random_twists(rng, k, length)
+    scaled = t.copy()
+    scaled[:3] *= factor  # lengths x factor: linear velocities scale, angular ones do not
+    a = S.classify_twists(t, length)
+    b = S.classify_twists(scaled, length * factor)
+    assert S.motion_type(a) == S.motion_type(b)
+    assert_allclose([s.pitch * factor for s in a.screws], [s.pitch for s in b.screws], rtol=1e-6, atol=1e-9 * factor)
+    for sa, sb in zip(a.lines + a.screws, b.lines + b.screws):
+        assert_allclose(sa.point * factor, sb.point, atol=1e-7 * length * factor)
+    wa, da = S.reciprocal_wrenches(t, length)
+    wb, db = S.reciprocal_wrenches(scaled, length * factor)
+    assert da.rank == db.rank
+    assert_allclose(da.singular_values, db.singular_values, atol=1e-9)
+
+
+@settings(max_examples=40, deadline=None)
+@given(seed=seeds)
+def test_classification_does_not_depend_on_the_basis(seed: int) -> None:
+    rng = np.random.default_rng(seed)
+    k = int(rng.integers(1, 6))
+    t = random_twists(rng, k, 1.0)
+    mix = rng.normal(size=(k, k)) + 3 * np.eye(k)
+    a = S.classify_twists(t, 1.0).basis()
+    b = S.classify_twists(t @ mix, 1.0).basis()
+    assert_allclose(a, b, atol=1e-7)
+
+
+def test_hand_examples() -> None:
+    z = np.array([0.0, 0, 1])
+    c = np.array([0.1, -0.2, 0.3])
+    # a spherical joint at c: 3R through c
+    sph = np.column_stack([np.r_[np.cross(c, e), e] for e in np.eye(3)])
+    sys = S.classify_twists(sph, 0.3)
+    assert S.motion_type(sys) == "3R"
+    for s, e in zip(sys.lines, np.eye(3)):
+        assert_allclose(s.direction, e, atol=1e-12)
+        # closest point on the axis through c with direction e
+        assert_allclose(s.point, c - e * (c @ e), atol=1e-12)
+    # a screw of pitch 0.02 m/rad about z through (1, 2, 0)
+    p = np.array([1.0, 2, 0])
+    sys = S.classify_twists(np.r_[0.02 * z + np.cross(p, z), z][:, None], 1.0)
+    assert S.motion_type(sys) == "1H"
+    assert_allclose(sys.screws[0].pitch, 0.02, atol=1e-12)
+    assert_allclose(sys.screws[0].point, p, atol=1e-12)
+    # translation along z plus rotation about z: the pitch is ambiguous, reported as 1T1R
+    sys = S.classify_twists(np.column_stack([np.r_[z, 0, 0, 0], np.r_[0.05 * z + np.cross(p, z), z]]), 1.0)
+    assert S.motion_type(sys) == "1T1R"
+    assert_allclose(sys.lines[0].point, p, atol=1e-12)
+    # nothing free
+    assert S.motion_type(S.classify_twists(np.zeros((6, 0)), 1.0)) == "rigid"
+
+
+def test_wrench_classification_is_dual() -> None:
+    # a force along x through (0, 0, 1) and a couple about z
+    p = np.array([0.0, 0, 1])
+    x = np.array([1.0, 0, 0])
+    w = np.column_stack([np.r_[x, np.cross(p, x)], [0, 0, 0, 0, 0, 1]])
+    sys = S.classify_wrenches(w, 1.0)
+    assert [s.kind for s in sys.all] == ["couple", "force"]
+    assert_allclose(sys.lines[0].point, p, atol=1e-12)
+    # the couple and force annihilate a twist that is a rotation about x through p
+    assert abs(S.reciprocal_product(sys.lines[0].vector, np.r_[np.cross(p, x), x])) < 1e-12
+
+
+@pytest.mark.parametrize(
+    "basis,expected",
+    [
+        (np.eye(3)[:, :2], np.eye(3)[:, :2]),
+        (np.array([[1.0, 1, 0], [0, 1, 0]]).T, np.eye(3)[:, :2]),
+        (np.array([[0.0, 0, -2]]).T, np.array([[0.0, 0, 1]]).T),
+    ],
+)
+def test_canonical_directions(basis: np.ndarray, expected: np.ndarray) -> None:
+    assert_allclose(S.canonical_directions(basis), expected, atol=1e-12)
+
+
+def test_twist_from_paper_swaps_halves() -> None:
+    assert_allclose(S.twist_from_paper([1, 2, 3, 4, 5, 6]), [4, 5, 6, 1, 2, 3])

@@ -1,0 +1,152 @@
+"""The seed paper's 3-PUU: eq. 20 at generic configurations, and hand derivations at beta = 0 and pi/2.
+
+Geometry (pinmob/catalog.py): limb i at theta_i = 0, 120, 240 deg, slider on the
+vertical guide through R e_i, platform vertex at r e_i, platform hanging below.
+e_i = (cos theta_i, sin theta_i, 0), t_i = z x e_i.
+
+Note on the paper's labels: its sliders are P1 at 0 deg, P2 at 240 deg, P3 at
+120 deg, while eqs. 21-22 give limb 2 the couple at theta = 120 deg. As a set the
+three couples agree with the sliders; the tests pair each limb with the eq. 20
+couple at its own slider angle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import pinmob
+from pinmob.screw import subspace_gap, wrench_scaling
+
+THETAS = {"A": 0.0, "B": 2 * np.pi / 3, "C": 4 * np.pi / 3}
+Z = np.array([0.0, 0.0, 1.0])
+
+
+def radial(theta: float) -> np.ndarray:
+    return np.array([np.cos(theta), np.sin(theta), 0.0])
+
+
+def paper_couple(beta: float, theta: float) -> np.ndarray:
+    """Eq. 20 as a wrench [f; tau]: a pure couple (cos b cos t, cos b sin t, sin b)."""
+    return np.r_[0.0, 0.0, 0.0, np.cos(beta) * np.cos(theta), np.cos(beta) * np.sin(theta), np.sin(beta)]
+
+
+def same_span(a: np.ndarray, b: np.ndarray, length: float) -> bool:
+    s = wrench_scaling(length)[:, None]
+    return subspace_gap(s * a.reshape(6, -1), s * b.reshape(6, -1)) < 1e-7
+
+
+def test_generic_matches_paper_eq20_and_eq38(puu: pinmob.Mechanism) -> None:
+    """3T, constraint rank 3, each limb's only wrench the couple of eq. 20 (beta from the geometry)."""
+    mob = pinmob.analyze(puu, "generic")
+    big_r, small_r, link = 0.3, 0.15, 0.25  # the catalog's dimensions
+    beta = np.arctan2(np.sqrt(link**2 - (big_r - small_r) ** 2), big_r - small_r)
+    assert (mob.dof, mob.motion_type, mob.constraint_rank) == (3, "3T", 3)
+    for limb in mob.limbs:
+        assert limb.wrench_count == 1
+        assert same_span(limb.wrenches, paper_couple(beta, THETAS[limb.name]), puu.length_scale)
+    # eq. 38: the free space is the three translations
+    assert_allclose(mob.free_twists, np.vstack([np.eye(3), np.zeros((3, 3))]), atol=1e-9)
+    # eq. 23-25: |K| = (sqrt 3 / 2) * 3 sin b cos^2 b != 0 for equal betas
+    k = np.array([paper_couple(beta, THETAS[n])[3:] for n in "ABC"])
+    assert_allclose(np.linalg.det(k), np.sqrt(3) / 2 * 3 * np.sin(beta) * np.cos(beta) ** 2, rtol=1e-12)
+
+
+def test_offset_configuration_keeps_eq20_couples(puu: pinmob.Mechanism) -> None:
+    """At an asymmetric pose each limb's couple is still along t_i x n_i, in its radial plane."""
+    mob = pinmob.analyze(puu, "offset")
+    assert (mob.dof, mob.motion_type) == (3, "3T")
+    for limb in mob.limbs:
+        couple = limb.wrenches[3:, 0]
+        assert_allclose(limb.wrenches[:3, 0], 0.0, atol=1e-12)
+        # in the radial plane of the slider: perpendicular to t_i
+        t = np.cross(Z, radial(THETAS[limb.name]))
+        assert abs(couple @ t) < 1e-9 * np.linalg.norm(couple)
+
+
+def test_flat_hand_derivation(puu_flat: pinmob.Mechanism) -> None:
+    """beta = 0 (links horizontal, radial, length R - r), derived by hand.
+
+    Limb i, with P the slider point and M the vertex, d = M - P = -(R - r) e_i:
+    joint screws  P: [z; 0]   U1: rot t_i at P, rot z at P   U2: rot z at M, rot t_i at M.
+    rot(t_i at M) - rot(t_i at P) = [d x t_i; 0] = (R - r) [-z; 0]: the slider's translation
+    is a combination of the U joints, so the twist rank is 4, not 5 (serial singularity).
+    Twist space {T z, T t_i, R z, R t_i (through P)}; its reciprocal wrenches: f, tau with
+    f.z = f.t_i = 0 and tau (at P) . z = tau . t_i = 0, i.e. a couple along e_i and a
+    force along e_i through P -- a radial line through the platform centre.
+    Three limbs: couples along x, y and forces along x, y through the centre: rank 4.
+    Free: translation along z and rotation about z through the centre: 1T1R, 2 DoF.
+    """
+    mob = pinmob.analyze(puu_flat, "flat")
+    centre = np.zeros(3)
+    for limb in mob.limbs:
+        e = radial(THETAS[limb.name])
+        assert (limb.twist_rank, limb.generic_twist_rank, limb.wrench_count) == (4, 5, 2)
+        assert limb.serially_singular
+        expected = np.column_stack([np.r_[0, 0, 0, e], np.r_[e, np.cross(centre, e)]])
+        assert same_span(limb.wrenches, expected, puu_flat.length_scale)
+    assert (mob.dof, mob.motion_type, mob.constraint_rank) == (2, "1T1R", 4)
+    t, r = mob.motions
+    assert_allclose(t.direction, Z, atol=1e-12)
+    assert_allclose(r.direction, Z, atol=1e-12)
+    assert_allclose(r.point, centre, atol=1e-9)
+    assert mob.serially_singular_limbs == ("A", "B", "C")
+
+
+def test_flat_paper_view_reproduces_eq30_to_eq37(puu_flat: pinmob.Mechanism) -> None:
+    """The paper's substitution beta = 0 in eq. 20: couples along e_i (eq. 30), rank 2 (eq. 35),
+    constraint space = torques about x and y (eq. 34), free space 3T + R about z (eq. 37)."""
+    mob = pinmob.paper_view(puu_flat, "flat")
+    assert mob.view == "paper"
+    for limb in mob.limbs:
+        assert limb.wrench_count == 1
+        assert same_span(limb.wrenches, paper_couple(0.0, THETAS[limb.name]), puu_flat.length_scale)
+    assert (mob.dof, mob.motion_type, mob.constraint_rank) == (4, "3T1R", 2)
+    eq34 = np.array([[0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0]], float).T
+    assert same_span(mob.constraint_wrenches, eq34, puu_flat.length_scale)
+    # eq. 37 in the paper's axis-first order; converted to [v; w]
+    eq37_paper = np.array([[0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 1], [0, 0, 1, 0, 0, 0]], float)
+    eq37 = np.hstack([eq37_paper[:, 3:], eq37_paper[:, :3]]).T
+    assert subspace_gap(eq37, mob.free_twists) < 1e-7
+
+
+def test_paper_view_needs_a_direction(puu: pinmob.Mechanism) -> None:
+    with pytest.raises(pinmob.ConfigurationError, match="approach"):
+        pinmob.paper_view(puu, "generic")
+
+
+def test_vertical_hand_derivation(puu_vertical: pinmob.Mechanism) -> None:
+    """beta = pi/2 (R = r, links vertical, length l), derived by hand.
+
+    U axes t_i, n_i = -e_i at both ends, d = M - P = -l z:
+    rot(e_i at M) - rot(e_i at P) = [d x e_i; 0] ~ T t_i and rot(t_i at M) - rot(t_i at P) ~ T e_i,
+    so the limb spans 3T + R e_i + R t_i: rank 5 (no serial singularity), one wrench:
+    a couple along z (normal to e_i and t_i). The three couples coincide: rank 1,
+    free 3T2R (rotations about x and y), 5 DoF -- the paper's 'another singular case'.
+    """
+    mob = pinmob.analyze(puu_vertical, "vertical")
+    for limb in mob.limbs:
+        assert (limb.twist_rank, limb.wrench_count) == (5, 1)
+        assert same_span(limb.wrenches, np.r_[0, 0, 0, Z], puu_vertical.length_scale)
+    assert (mob.dof, mob.motion_type, mob.constraint_rank) == (5, "3T2R", 1)
+    rotations = [m for m in mob.motions if m.kind is pinmob.MotionKind.ROTATION]
+    assert_allclose(np.array([m.direction for m in rotations]), np.eye(3)[:2], atol=1e-12)
+    assert pinmob.analyze(puu_vertical, "generic").motion_type == "3T"
+
+
+def test_horizontal_links_do_not_close_with_longer_links(puu: pinmob.Mechanism) -> None:
+    """3-PUU's links (0.25 m) are longer than R - r (0.15 m): tilting every link to horizontal
+    (beta = 0) leaves each vertex 0.25 - 0.15 = 0.10 m from where the platform needs it.
+    The configuration is rejected with a per-limb residual, never analysed."""
+    beta = np.arctan2(0.2, 0.15)
+    rejected = 0
+    for sign in (1.0, -1.0):
+        values = {f"{x}_u1a": sign * beta for x in "ABC"} | {f"{x}_u2b": -sign * beta for x in "ABC"}
+        q = puu.q_from_joints(values)
+        with pytest.raises(pinmob.ClosureError) as err:
+            pinmob.analyze(puu, q)
+        res = err.value.residuals
+        assert set(res) == {"A", "B", "C"}
+        rejected += 1
+    assert rejected == 2

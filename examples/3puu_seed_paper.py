@@ -43,7 +43,8 @@ def main() -> None:
     print(f"  free space (eq. 37), DoF {paper.dof}: {paper.motion_type}")
     print("\nThe same configuration, wrenches computed from the Jacobians there:")
     for limb in real.limbs:
-        print(f"  limb {limb.name}: twist rank {limb.twist_rank} of {len(limb.joints)} joints, {limb.wrench_count} wrenches")
+        joints = len(limb.joints)
+        print(f"  limb {limb.name}: twist rank {limb.twist_rank} of {joints} joints, {limb.wrench_count} wrenches")
     print(f"  singular values {real.singular_values}")
     print(f"  constraint rank {real.constraint_rank}, DoF {real.dof}: {real.motion_type}")
     for m in real.motions:

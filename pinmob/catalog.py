@@ -109,8 +109,16 @@ def _three_puu_flat() -> Definition:
     tilt = {f"{x}_u1a": 1.0 for x in "ABC"} | {f"{x}_u2b": -1.0 for x in "ABC"}
     hand = "derived by hand in tests/test_three_puu.py (each limb twist rank 4 at beta = 0)"
     confs = {
-        "flat": {"joints": _sliders(0.0), "approach": tilt, "expected": {"dof": 2, "motion_type": "1T1R", "source": hand}},
-        "flat-raised": {"joints": _sliders(0.1), "approach": tilt, "expected": {"dof": 2, "motion_type": "1T1R", "source": hand}},
+        "flat": {
+            "joints": _sliders(0.0),
+            "approach": tilt,
+            "expected": {"dof": 2, "motion_type": "1T1R", "source": hand},
+        },
+        "flat-raised": {
+            "joints": _sliders(0.1),
+            "approach": tilt,
+            "expected": {"dof": 2, "motion_type": "1T1R", "source": hand},
+        },
     }
     return b, confs, None
 

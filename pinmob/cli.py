@@ -26,7 +26,9 @@ def command(name: str) -> Callable[[Callable[[argparse.Namespace], int]], Callab
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
+    parser = argparse.ArgumentParser(
+        prog="pinmob", description="Platform mobility of parallel and closed-chain robots."
+    )
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("models", help="list the built-in mechanisms")
@@ -36,7 +38,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
     p.add_argument("--json", action="store_true", help="print the result as JSON")
-    p.add_argument("--paper-view", action="store_true", help="also show the seed paper's view: generic limb wrenches carried to the configuration")
+    p.add_argument(
+        "--paper-view",
+        action="store_true",
+        help="also show the seed paper's view: generic limb wrenches carried to the configuration",
+    )
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
     return parser
 
@@ -53,7 +59,13 @@ def _models(args: argparse.Namespace) -> int:
                 "name": name,
                 "limbs": [{"name": b.name, "joints": list(b.joints)} for b in mech.limbs],
                 "configurations": {
-                    c: {"expected": ({"dof": mech.expected[c].dof, "motion_type": mech.expected[c].motion_type} if c in mech.expected else None)}
+                    c: {
+                        "expected": (
+                            {"dof": mech.expected[c].dof, "motion_type": mech.expected[c].motion_type}
+                            if c in mech.expected
+                            else None
+                        )
+                    }
                     for c in mech.configurations
                 },
                 "description": mech.description,
@@ -95,7 +107,12 @@ def _analyze(args: argparse.Namespace) -> int:
         out = mob.to_dict()
         if config in mech.expected:
             exp = mech.expected[config]
-            out["expected"] = {"dof": exp.dof, "motion_type": exp.motion_type, "source": exp.source, "agrees": exp.dof == mob.dof and exp.motion_type == mob.motion_type}
+            out["expected"] = {
+                "dof": exp.dof,
+                "motion_type": exp.motion_type,
+                "source": exp.source,
+                "agrees": exp.dof == mob.dof and exp.motion_type == mob.motion_type,
+            }
         if paper is not None:
             out["paper_view"] = paper.to_dict()
         print(json.dumps(out, indent=2, allow_nan=False))

@@ -263,14 +263,18 @@ class Mechanism:
         if bad.size:
             raise ConfigurationError(f"configuration has non-finite values (NaN or inf) at indices {bad.tolist()}")
         if not pin.isNormalized(self.model, arr, 1e-6):
-            raise ConfigurationError("configuration is not normalised (a quaternion or (cos, sin) pair is off the unit sphere)")
+            raise ConfigurationError(
+                "configuration is not normalised (a quaternion or (cos, sin) pair is off the unit sphere)"
+            )
         return arr
 
 
 def frame_id(model: pin.Model, name: str) -> int:
     """Index of frame ``name``; a :class:`FrameError` listing the frames otherwise."""
     if not model.existFrame(name):
-        raise FrameError(f"no frame {name!r} in model {model.name!r}; valid frames: {choices(f.name for f in model.frames)}")
+        raise FrameError(
+            f"no frame {name!r} in model {model.name!r}; valid frames: {choices(f.name for f in model.frames)}"
+        )
     return model.getFrameId(name)
 
 

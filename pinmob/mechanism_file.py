@@ -93,7 +93,11 @@ def _number_table(path: Path, where: str, table: Any, joint_names: set[str]) -> 
 
 
 def _vector3(path: Path, where: str, value: Any) -> np.ndarray:
-    if not isinstance(value, list) or len(value) != 3 or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in value):
+    if (
+        not isinstance(value, list)
+        or len(value) != 3
+        or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in value)
+    ):
         raise _fail(path, f"{where} must be a list of 3 numbers, got {value!r}")
     arr = np.array(value, float)
     if not np.isfinite(arr).all():
@@ -108,13 +112,18 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | No
     try:
         model = pin.buildModelFromUrdf(str(urdf))
     except Exception as exc:  # pinocchio raises RuntimeError/ValueError with parser text
-        raise _fail(path, f"urdf {str(urdf)!r} does not parse: {str(exc).strip().splitlines()[0] if str(exc).strip() else exc}") from None
+        raise _fail(
+            path, f"urdf {str(urdf)!r} does not parse: {str(exc).strip().splitlines()[0] if str(exc).strip() else exc}"
+        ) from None
     geoms: list[pin.GeometryModel | None] = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
         try:
             geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=[str(urdf.parent)]))
         except Exception as exc:
-            warnings.warn(f"{urdf.name}: {kind.name.lower()} geometry not loaded ({str(exc).strip()[:200]}); kinematics only", stacklevel=3)
+            warnings.warn(
+                f"{urdf.name}: {kind.name.lower()} geometry not loaded ({str(exc).strip()[:200]}); kinematics only",
+                stacklevel=3,
+            )
             geoms.append(None)
     return model, geoms[0], geoms[1]
 

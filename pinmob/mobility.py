@@ -245,7 +245,11 @@ def _motions(system: ScrewSystem) -> tuple[Motion, ...]:
     for s in system.all:
         kind = MotionKind(s.kind)
         counters[kind] += 1
-        out.append(Motion(kind, s.direction, s.point, s.pitch, s.vector, f"{kind.value}{counters[kind]} {axis_label(s.direction)}"))
+        out.append(
+            Motion(
+                kind, s.direction, s.point, s.pitch, s.vector, f"{kind.value}{counters[kind]} {axis_label(s.direction)}"
+            )
+        )
     return tuple(out)
 
 
@@ -353,7 +357,11 @@ def closure_jacobian_twists(mech: Mechanism, q: Array, rtol: float = RTOL) -> Ar
     p = data.oMf[mech.platform_id].translation
     scale = twist_scaling(mech.length_scale)[:, None]
     full = [
-        scale * shift_twists(pin.getFrameJacobian(model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED), p - data.oMf[limb.tip_id].translation)
+        scale
+        * shift_twists(
+            pin.getFrameJacobian(model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED),
+            p - data.oMf[limb.tip_id].translation,
+        )
         for limb in mech.limbs
     ]
     col = np.linalg.norm(np.sum(np.abs(np.stack(full)), axis=0), axis=0)
@@ -434,8 +442,7 @@ def paper_view(
     def limb_spaces(s: float) -> list[tuple[Array, int]]:
         compute_kinematics(model, data, pin.integrate(model, q, s * dv))
         return [
-            (lambda w, dec: (sw * w, dec.rank))(*reciprocal_wrenches(t, length, rtol))
-            for t in limb_twists(mech, data)
+            (lambda w, dec: (sw * w, dec.rank))(*reciprocal_wrenches(t, length, rtol)) for t in limb_twists(mech, data)
         ]
 
     at_eps, at_half = limb_spaces(eps), limb_spaces(eps / 2)

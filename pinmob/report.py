@@ -51,7 +51,9 @@ def format_mobility(mob: Mobility) -> str:
             "here, so each has more constraint wrenches than at generic configurations. A method that carries "
             "the generic limb wrenches to this configuration (as the seed paper does) misses them: see --paper-view."
         )
-    lines.append(f"singular values {_v(mob.singular_values, 3)}, tolerance {mob.tolerance:.2e}, L = {mob.length_scale:.4g} m")
+    lines.append(
+        f"singular values {_v(mob.singular_values, 3)}, tolerance {mob.tolerance:.2e}, L = {mob.length_scale:.4g} m"
+    )
     lines.append(f"frame: {mob.frame}")
     return "\n".join(lines)
 

@@ -25,7 +25,7 @@ singular value.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from enum import Enum
+from enum import StrEnum
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -39,7 +39,7 @@ RTOL = 1e-6
 AXIS_NAMES = ("x", "y", "z")
 
 
-class MotionKind(str, Enum):
+class MotionKind(StrEnum):
     """Type of a free motion of the platform."""
 
     TRANSLATION = "T"
@@ -47,7 +47,7 @@ class MotionKind(str, Enum):
     SCREW = "H"
 
 
-class WrenchKind(str, Enum):
+class WrenchKind(StrEnum):
     """Type of a constraint wrench (the dual of :class:`MotionKind`)."""
 
     COUPLE = "couple"
@@ -369,7 +369,9 @@ def principal_screws(
                 j += 1
             group = x0 @ y[:, i : j + 1]
             dirs = canonical_directions(gw @ group)
-            groups.append((group @ np.linalg.lstsq(gw @ group, dirs, rcond=None)[0], float(np.mean(pitches[i : j + 1]))))
+            groups.append(
+                (group @ np.linalg.lstsq(gw @ group, dirs, rcond=None)[0], float(np.mean(pitches[i : j + 1])))
+            )
             i = j + 1
     out: list[tuple[Array, Array, float]] = []
     for coeffs, pitch in groups:
@@ -437,8 +439,7 @@ def classify_wrenches(wrenches: ArrayLike, length: float, rtol: float = RTOL) ->
     f = np.asarray(wrenches, float).reshape(6, -1)
     couples, prin = principal_screws(f[3:] / length, f[:3], rtol)
     cs = tuple(
-        Screw(WrenchKind.COUPLE.value, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)]))
-        for d in couples.T
+        Screw(WrenchKind.COUPLE.value, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)])) for d in couples.T
     )
     forces, screws = [], []
     for u, p, h in prin:

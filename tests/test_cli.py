@@ -11,9 +11,22 @@ import pytest
 from pinmob.cli import main
 
 JSON_KEYS = {
-    "mechanism", "configuration", "dof", "motion_type", "translations", "rotations", "screws", "motions",
-    "free_twists", "constraint_wrenches", "constraint_rank", "singular_values", "tolerance", "length_scale",
-    "frame", "limbs",
+    "mechanism",
+    "configuration",
+    "dof",
+    "motion_type",
+    "translations",
+    "rotations",
+    "screws",
+    "motions",
+    "free_twists",
+    "constraint_wrenches",
+    "constraint_rank",
+    "singular_values",
+    "tolerance",
+    "length_scale",
+    "frame",
+    "limbs",
 }
 
 
@@ -59,6 +72,8 @@ def test_models_lists_builtins(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_console_script_runs() -> None:
-    proc = subprocess.run([sys.executable, "-m", "pinmob", "analyze", "3-PUU", "-c", "offset"], capture_output=True, text=True)
+    proc = subprocess.run(
+        [sys.executable, "-m", "pinmob", "analyze", "3-PUU", "-c", "offset"], capture_output=True, text=True
+    )
     assert proc.returncode == 0, proc.stderr
     assert "3 DoF, 3T" in proc.stdout

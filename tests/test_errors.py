@@ -125,9 +125,13 @@ def test_cli_subprocess_has_no_traceback(tmp_path: Path) -> None:
 
 
 def test_missing_meshes_warn_but_load(tmp_path: Path) -> None:
-    urdf = (MODELS / "3puu.urdf").read_text().replace(
-        '<link name="base"/>',
-        '<link name="base"><visual><geometry><mesh filename="package://nowhere/base.stl"/></geometry></visual></link>',
+    urdf = (
+        (MODELS / "3puu.urdf")
+        .read_text()
+        .replace(
+            '<link name="base"/>',
+            '<link name="base"><visual><geometry><mesh filename="package://nowhere/base.stl"/></geometry></visual></link>',
+        )
     )
     path = write_mechanism(tmp_path, GOOD)
     (tmp_path / "3puu.urdf").write_text(urdf)

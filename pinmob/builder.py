@@ -24,6 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .exceptions import ConfigurationError
 
@@ -56,8 +57,8 @@ class LimbBuilder:
         self,
         label: str,
         jtype: str,
-        at: Sequence[float],
-        axis: Sequence[float],
+        at: ArrayLike,
+        axis: ArrayLike,
         lower: float,
         upper: float,
         actuated: bool,
@@ -84,8 +85,8 @@ class LimbBuilder:
     def revolute(
         self,
         label: str,
-        at: Sequence[float],
-        axis: Sequence[float],
+        at: ArrayLike,
+        axis: ArrayLike,
         lower: float = -np.pi,
         upper: float = np.pi,
         actuated: bool = False,
@@ -96,8 +97,8 @@ class LimbBuilder:
     def prismatic(
         self,
         label: str,
-        at: Sequence[float],
-        axis: Sequence[float],
+        at: ArrayLike,
+        axis: ArrayLike,
         lower: float = -1.0,
         upper: float = 1.0,
         actuated: bool = False,
@@ -105,19 +106,17 @@ class LimbBuilder:
         """Add a prismatic joint along ``axis`` [m]; returns its full name."""
         return self._add(label, "prismatic", at, axis, lower, upper, actuated)
 
-    def universal(
-        self, label: str, at: Sequence[float], axis1: Sequence[float], axis2: Sequence[float]
-    ) -> tuple[str, str]:
+    def universal(self, label: str, at: ArrayLike, axis1: ArrayLike, axis2: ArrayLike) -> tuple[str, str]:
         """Two revolutes at one point: ``{label}a`` about axis1, then ``{label}b`` about axis2."""
         return self.revolute(label + "a", at, axis1), self.revolute(label + "b", at, axis2)
 
     def spherical(
-        self, label: str, at: Sequence[float], axes: Sequence[Sequence[float]] = ((1, 0, 0), (0, 1, 0), (0, 0, 1))
+        self, label: str, at: ArrayLike, axes: Sequence[ArrayLike] = ((1, 0, 0), (0, 1, 0), (0, 0, 1))
     ) -> tuple[str, ...]:
         """Three revolutes at one point: ``{label}a``, ``{label}b``, ``{label}c``."""
         return tuple(self.revolute(label + s, at, ax) for s, ax in zip("abc", axes))
 
-    def tip(self, at: Sequence[float], rotation: Sequence[Sequence[float]] | None = None) -> None:
+    def tip(self, at: ArrayLike, rotation: Sequence[ArrayLike] | None = None) -> None:
         """End the limb at a tip frame with world pose (at, rotation) at the reference configuration."""
         self.tip_position = tuple(np.asarray(at, float).tolist())  # type: ignore[assignment]
         self.tip_rotation = np.eye(3) if rotation is None else np.asarray(rotation, float)
@@ -139,8 +138,8 @@ def _f(x: float) -> str:
     return "0" if s == "-0" else s
 
 
-def _v(xs: Sequence[float]) -> str:
-    return " ".join(_f(x) for x in xs)
+def _v(xs: ArrayLike) -> str:
+    return " ".join(_f(float(x)) for x in np.asarray(xs, float).ravel())
 
 
 def toml_value(value: Any) -> str:

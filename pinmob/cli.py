@@ -11,6 +11,7 @@ import json
 import sys
 import warnings
 from collections.abc import Callable, Sequence
+from typing import Any
 
 from .exceptions import PinmobError
 
@@ -51,7 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
 def _models(args: argparse.Namespace) -> int:
     from .mechanism_file import builtin_models, load
 
-    rows = []
+    rows: list[dict[str, Any]] = []
     for name in builtin_models():
         mech = load(name)
         rows.append(

@@ -230,12 +230,13 @@ class Mechanism:
                 )
         return q
 
-    def configuration(self, name: str, **solver_options: float) -> Array:
+    def configuration(self, name: str, tol: float = 1e-6) -> Array:
         """A named configuration as a closed configuration vector, shape (nq,).
 
         Joint values are checked for closure; a pose is assembled by
         :func:`pinmob.closure.assemble_pose`. Raises :class:`ClosureError` when
-        the configuration does not close.
+        the configuration does not close within ``tol`` (position / L and
+        rotation [rad]; the default is ``pinmob.closure.CLOSURE_TOL``).
         """
         from .closure import assemble_pose, check_closed
 
@@ -246,9 +247,9 @@ class Mechanism:
         conf = self.configurations[name]
         if conf.pose is not None:
             seed = self.q_from_joints(conf.seed)
-            return assemble_pose(self, conf.pose, seed, **solver_options)
+            return assemble_pose(self, conf.pose, seed, tol)
         q = self.q_from_joints(conf.joints)
-        check_closed(self, q, what=f"configuration {name!r}")
+        check_closed(self, q, tol, f"configuration {name!r}")
         return q
 
     def check_q(self, q: object) -> Array:

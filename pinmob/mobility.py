@@ -441,9 +441,11 @@ def paper_view(
 
     def limb_spaces(s: float) -> list[tuple[Array, int]]:
         compute_kinematics(model, data, pin.integrate(model, q, s * dv))
-        return [
-            (lambda w, dec: (sw * w, dec.rank))(*reciprocal_wrenches(t, length, rtol)) for t in limb_twists(mech, data)
-        ]
+        out = []
+        for twists in limb_twists(mech, data):
+            w, dec = reciprocal_wrenches(twists, length, rtol)
+            out.append((sw * w, dec.rank))
+        return out
 
     at_eps, at_half = limb_spaces(eps), limb_spaces(eps / 2)
     rows = []

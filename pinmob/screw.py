@@ -419,13 +419,14 @@ def classify_twists(twists: ArrayLike, length: float, rtol: float = RTOL) -> Scr
         Screw(MotionKind.TRANSLATION.value, clean(d), None, None, np.concatenate([clean(d), np.zeros(3)]))
         for d in trans.T
     )
-    rot, scr = [], []
+    rot: list[Screw] = []
+    scr: list[Screw] = []
     for u, p, h in prin:
         point, pitch = p * length, h * length
         vec = clean(np.concatenate([pitch * u + np.cross(point, u), u]), length)
         kind = MotionKind.ROTATION if h == 0.0 else MotionKind.SCREW
         (rot if h == 0.0 else scr).append(Screw(kind.value, u, point, pitch, vec))
-    scr.sort(key=lambda s: s.pitch)
+    scr.sort(key=lambda s: s.pitch or 0.0)
     return ScrewSystem(ts, tuple(rot), tuple(scr))
 
 
@@ -441,13 +442,14 @@ def classify_wrenches(wrenches: ArrayLike, length: float, rtol: float = RTOL) ->
     cs = tuple(
         Screw(WrenchKind.COUPLE.value, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)])) for d in couples.T
     )
-    forces, screws = [], []
+    forces: list[Screw] = []
+    screws: list[Screw] = []
     for u, p, h in prin:
         point, pitch = p * length, h * length
         vec = clean(np.concatenate([u, pitch * u + np.cross(point, u)]), length)
         kind = WrenchKind.FORCE if h == 0.0 else WrenchKind.WRENCH
         (forces if h == 0.0 else screws).append(Screw(kind.value, u, point, pitch, vec))
-    screws.sort(key=lambda s: s.pitch)
+    screws.sort(key=lambda s: s.pitch or 0.0)
     return ScrewSystem(cs, tuple(forces), tuple(screws))
 
 

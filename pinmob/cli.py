@@ -9,11 +9,12 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+import tomllib
 import warnings
 from collections.abc import Callable, Sequence
 from typing import Any
 
-from .exceptions import PinmobError
+from .exceptions import PinmobError, choices
 
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {}
 
@@ -98,6 +99,10 @@ def _analyze(args: argparse.Namespace) -> int:
         if not mech.configurations:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; name one in the mechanism file")
         config = next(iter(mech.configurations))
+    if config not in mech.configurations:
+        raise ConfigurationError(
+            f"no configuration {config!r} in {mech.name!r}; valid: {choices(mech.configurations)}" + _elsewhere(config)
+        )
     rtol = RTOL if args.rtol is None else args.rtol
     if not 0 < rtol < 1:
         raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
@@ -131,6 +136,18 @@ def _analyze(args: argparse.Namespace) -> int:
                 f"{', '.join(mob.serially_singular_limbs) or 'none'}"
             )
     return 0
+
+
+def _elsewhere(config: str) -> str:
+    """Hint naming the built-in models that do have a configuration called ``config``."""
+    from .mechanism_file import builtin_models
+
+    owners = []
+    for name, path in builtin_models().items():
+        with path.open("rb") as fh:
+            if config in tomllib.load(fh).get("configurations", {}):
+                owners.append(name)
+    return f"; built-in model(s) with a configuration {config!r}: {choices(owners)}" if owners else ""
 
 
 def main(argv: Sequence[str] | None = None) -> int:

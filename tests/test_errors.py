@@ -115,6 +115,12 @@ def test_cli_error_is_one_line_exit_2(capsys: pytest.CaptureFixture[str]) -> Non
     assert "'generic'" in err
 
 
+def test_cli_points_to_the_model_that_has_the_configuration(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["analyze", "3-PUU", "--config", "flat"]) == 2
+    err = capsys.readouterr().err
+    assert "no configuration 'flat' in '3-PUU'" in err and "with a configuration 'flat': '3-PUU-flat'" in err
+
+
 def test_cli_subprocess_has_no_traceback(tmp_path: Path) -> None:
     path = write_mechanism(tmp_path, "name = [\n")
     proc = subprocess.run([sys.executable, "-m", "pinmob", "analyze", str(path)], capture_output=True, text=True)

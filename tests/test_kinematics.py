@@ -44,7 +44,7 @@ def test_limb_twists_match_finite_differences(name: str, rng: np.random.Generato
 
 @pytest.mark.parametrize(
     "name,config",
-    [(n, c) for n in ["3-PUU", "3-PUU-flat", "3-PUU-vertical"] for c in pinmob.load(n).configurations],
+    [(n, c) for n in pinmob.builtin_models() for c in pinmob.load(n).configurations],
 )
 def test_closure_jacobian_method_agrees_with_limb_wrenches(name: str, config: str) -> None:
     """Global loop-closure Jacobian (null space mapped through limb A) = limb-wise wrench result."""

@@ -131,10 +131,11 @@ class _SetControl:
         return {"type": "set_control", "name": self.name, "callback": self.callback, "value": self.value, "min": self.options, "path": ""}
 
 
-def _selector_callback(labels: list[str]) -> str:
+def _selector_callback(motions_path: list[str], labels: list[str]) -> str:
+    """JavaScript run by the motion menu: show the chosen copy only and restart the clips."""
     return (
         "(value) => { for (const n of " + json.dumps(labels) + ") { "
-        f'viewer.scene_tree.find(["{ROOT}", "motions", n]).set_property("visible", n === value); }} '
+        "viewer.scene_tree.find(" + json.dumps(motions_path) + '.concat([n])).set_property("visible", n === value); } '
         "viewer.animator.reset(); viewer.animator.play(); viewer.set_dirty(); }"
     )
 
@@ -251,7 +252,7 @@ def _build(
             points.extend(glyph.vertices)
     center, distance = _frame_camera(vis, np.array(points))
     if labels:
-        vis.window.send(_SetControl("motion", _selector_callback(labels), visible, labels))
+        vis.window.send(_SetControl("motion", _selector_callback(list(vis[f"{ROOT}/motions"].path.entries), labels), visible, labels))
         vis.set_animation(animation, play=True, repetitions=float("inf"))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(tuple(labels), visible, notes, generated, mob, paths, center, distance)

@@ -113,7 +113,9 @@ def _displacement(a: pin.SE3, b: pin.SE3) -> Array:
     return np.concatenate([rot @ local[:3], rot @ local[3:]])
 
 
-def _step(mech: Mechanism, q: Array, direction: Array, ds: float, motion: Motion, rtol: float, tol: float) -> tuple[Array | None, str]:
+def _step(
+    mech: Mechanism, q: Array, direction: Array, ds: float, motion: Motion, rtol: float, tol: float
+) -> tuple[Array | None, str]:
     """One continuation step of ``ds`` along ``direction``; (q_next, "") or (None, reason)."""
     model, data = mech.model, mech.model.createData()
     w = twist_scaling(mech.length_scale)
@@ -150,7 +152,10 @@ def _step(mech: Mechanism, q: Array, direction: Array, ds: float, motion: Motion
     wanted = w * projected * ds
     progress = float(achieved @ wanted / (wanted @ wanted))
     if progress < 0.5:
-        return None, f"re-closing the loops undoes the step there (the platform follows only {max(progress, 0):.0%} of it)"
+        return (
+            None,
+            f"re-closing the loops undoes the step there (the platform follows only {max(progress, 0):.0%} of it)",
+        )
     return q_next, ""
 
 
@@ -187,7 +192,9 @@ def follow_motion(
         raise ConfigurationError(f"steps must be at least 1, got {steps}")
     amp = default_amplitude(motion, mech.length_scale) if amplitude is None else float(amplitude)
     if not np.isfinite(amp) or amp <= 0:
-        raise ConfigurationError(f"amplitude must be a positive number (m for translations, rad otherwise), got {amplitude!r}")
+        raise ConfigurationError(
+            f"amplitude must be a positive number (m for translations, rad otherwise), got {amplitude!r}"
+        )
     q = mech.check_q(q)
     check_closed(mech, q, closure_tol, what="the configuration to animate")
     meas = _measure(motion)

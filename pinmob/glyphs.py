@@ -74,7 +74,9 @@ def cone(base: Array, tip: Array, radius: float, sides: int = 16) -> tuple[Array
     ang = np.linspace(0, 2 * np.pi, sides, endpoint=False)
     rim = base + radius * (np.cos(ang)[:, None] * u + np.sin(ang)[:, None] * v)
     verts = np.vstack([rim, tip, base])
-    faces = [(k, (k + 1) % sides, sides) for k in range(sides)] + [((k + 1) % sides, k, sides + 1) for k in range(sides)]
+    faces = [(k, (k + 1) % sides, sides) for k in range(sides)] + [
+        ((k + 1) % sides, k, sides + 1) for k in range(sides)
+    ]
     return verts, np.array(faces)
 
 
@@ -111,12 +113,18 @@ def pitch_color(pitch: float, length: float) -> int:
     return (r << 16) + (g << 8) + b
 
 
-def _ring(centre: Array, axis: Array, radius: float, tube_r: float, advance: float = 0.0, turns: float = 0.85) -> tuple[Array, Array]:
+def _ring(
+    centre: Array, axis: Array, radius: float, tube_r: float, advance: float = 0.0, turns: float = 0.85
+) -> tuple[Array, Array]:
     """Arc (or helix with ``advance`` [m] per turn) about ``axis`` with an arrow head at its end."""
     a = axis / np.linalg.norm(axis)
     u, v = _frame(a)
     ang = np.linspace(0, 2 * np.pi * turns, max(24, int(48 * turns)))
-    pts = centre + radius * (np.cos(ang)[:, None] * u + np.sin(ang)[:, None] * v) + (advance * ang / (2 * np.pi))[:, None] * a
+    pts = (
+        centre
+        + radius * (np.cos(ang)[:, None] * u + np.sin(ang)[:, None] * v)
+        + (advance * ang / (2 * np.pi))[:, None] * a
+    )
     tangent = pts[-1] - pts[-2]
     tangent /= np.linalg.norm(tangent)
     head = 4.0 * tube_r

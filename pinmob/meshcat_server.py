@@ -59,6 +59,7 @@ class ServerProcess:
             except subprocess.TimeoutExpired:
                 self.process.kill()
                 self.process.wait(timeout)
+        self.log.unlink(missing_ok=True)
 
 
 def _last_line(path: Path) -> str:
@@ -88,7 +89,9 @@ def start_server(port: int | None = None, zmq_port: int | None = None, timeout: 
     if zmq_port is not None:
         cmd += ["--zmq-port", str(int(zmq_port))]
     with log.open("wb") as err:
-        proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=err, stdin=subprocess.DEVNULL, start_new_session=True)
+        proc = subprocess.Popen(
+            cmd, stdout=subprocess.PIPE, stderr=err, stdin=subprocess.DEVNULL, start_new_session=True
+        )
     assert proc.stdout is not None
     sel = selectors.DefaultSelector()
     sel.register(proc.stdout, selectors.EVENT_READ)
@@ -125,7 +128,9 @@ def _read_urls(proc: subprocess.Popen, sel: selectors.BaseSelector, log: Path, t
                 if key in ("zmq_url", "web_url"):
                     found[key] = value
         elif proc.poll() is not None:
-            raise ViewerError(f"the meshcat server could not start: {_last_line(log) or f'exit status {proc.returncode}'}")
+            raise ViewerError(
+                f"the meshcat server could not start: {_last_line(log) or f'exit status {proc.returncode}'}"
+            )
     return found
 
 
@@ -166,6 +171,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"meshcat is not installed ({exc}); install it with: pip install meshcat", file=sys.stderr)
         return 3
     zmq_url = None if args.zmq_port is None else f"tcp://{HOST}:{args.zmq_port}"
+
     class Bridge(ZMQWebSocketBridge):
         """meshcat's bridge, also keeping ``set_control`` commands (pinmob's motion menu)."""
 
@@ -191,7 +197,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         bridge = Bridge(zmq_url=zmq_url, host=HOST, port=args.port)
     except OSError as exc:
-        print(f"web port {args.port} on {HOST} is in use ({exc.strerror}): choose another port, or none to take a free one", file=sys.stderr)
+        print(
+            f"web port {args.port} on {HOST} is in use ({exc.strerror}): "
+            "choose another port, or none to take a free one",
+            file=sys.stderr,
+        )
         return 4
     except Exception as exc:  # zmq.ZMQError: command port taken
         print(f"command port {args.zmq_port} on {HOST} is in use ({exc}): choose another, or none", file=sys.stderr)

@@ -104,7 +104,9 @@ def skeleton_geometry(mech: Mechanism, q: Array) -> pin.GeometryModel:
         s = axes[j]
         if s.shape[1] == 1 and np.linalg.norm(s[3:, 0]) > 1e-12 and np.linalg.norm(s[:3, 0]) < 1e-12:
             w = s[3:, 0]
-            geom.addGeometryObject(_segment(f"{name}/joint", j, -0.5 * joint_len * w, 0.5 * joint_len * w, joint_r, JOINT_COLOR))
+            geom.addGeometryObject(
+                _segment(f"{name}/joint", j, -0.5 * joint_len * w, 0.5 * joint_len * w, joint_r, JOINT_COLOR)
+            )
         elif s.shape[1] == 1 and np.linalg.norm(s[3:, 0]) < 1e-12:
             v = s[:3, 0] / np.linalg.norm(s[:3, 0])
             block = pin.SE3(_rotation_z_to(v), np.zeros(3))
@@ -117,15 +119,24 @@ def skeleton_geometry(mech: Mechanism, q: Array) -> pin.GeometryModel:
             centre = m0.translation + m0.rotation @ (v * value)
             d = m0.rotation @ v
             geom.addGeometryObject(
-                _segment(f"{name}/rail", parent, centre - 0.8 * length * d, centre + 0.8 * length * d, 0.4 * link_r, BASE_COLOR)
+                _segment(
+                    f"{name}/rail",
+                    parent,
+                    centre - 0.8 * length * d,
+                    centre + 0.8 * length * d,
+                    0.4 * link_r,
+                    BASE_COLOR,
+                )
             )
         else:
-            geom.addGeometryObject(_object(f"{name}/joint", j, pin.SE3.Identity(), coal.Sphere(1.2 * joint_r), JOINT_COLOR))
+            geom.addGeometryObject(
+                _object(f"{name}/joint", j, pin.SE3.Identity(), coal.Sphere(1.2 * joint_r), JOINT_COLOR)
+            )
 
     # base: bars between consecutive limb roots
     roots = [model.jointPlacements[j].translation for j in range(1, model.njoints) if model.parents[j] == 0]
     if len(roots) >= 3:
-        for k, (a, b) in enumerate(zip(roots, roots[1:] + roots[:1])):
+        for k, (a, b) in enumerate(zip(roots, roots[1:] + roots[:1], strict=True)):
             if np.linalg.norm(b - a) > eps:
                 geom.addGeometryObject(_segment(f"base/bar{k}", 0, a, b, 0.6 * link_r, BASE_COLOR))
 
@@ -136,11 +147,14 @@ def skeleton_geometry(mech: Mechanism, q: Array) -> pin.GeometryModel:
     frame = model.frames[pid]
     om_p = data.oMf[pid]
     reach = [
-        np.linalg.norm(om_p.actInv(data.oMi[model.frames[limb.tip_id].parentJoint]).translation[:2]) for limb in mech.limbs
+        np.linalg.norm(om_p.actInv(data.oMi[model.frames[limb.tip_id].parentJoint]).translation[:2])
+        for limb in mech.limbs
     ]
     radius = max([r for r in reach if r > eps], default=0.3 * length)
     geom.addGeometryObject(
-        _object("platform/disc", frame.parentJoint, frame.placement, coal.Cylinder(radius, 0.025 * length), PLATFORM_COLOR)
+        _object(
+            "platform/disc", frame.parentJoint, frame.placement, coal.Cylinder(radius, 0.025 * length), PLATFORM_COLOR
+        )
     )
     return geom
 

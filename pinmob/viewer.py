@@ -103,7 +103,9 @@ def _meshcat() -> Any:
             import meshcat.visualizer  # noqa: F401
             import umsgpack  # noqa: F401
     except ImportError as exc:
-        raise ViewerError(f"the viewer needs meshcat, which cannot be imported ({exc}); install it with: pip install meshcat") from None
+        raise ViewerError(
+            f"the viewer needs meshcat, which cannot be imported ({exc}); install it with: pip install meshcat"
+        ) from None
     return meshcat
 
 
@@ -128,7 +130,14 @@ class _SetControl:
         self.name, self.callback, self.value, self.options = name, callback, value, options
 
     def lower(self) -> dict[str, Any]:
-        return {"type": "set_control", "name": self.name, "callback": self.callback, "value": self.value, "min": self.options, "path": ""}
+        return {
+            "type": "set_control",
+            "name": self.name,
+            "callback": self.callback,
+            "value": self.value,
+            "min": self.options,
+            "path": "",
+        }
 
 
 def _selector_callback(motions_path: list[str], labels: list[str]) -> str:
@@ -252,7 +261,11 @@ def _build(
             points.extend(glyph.vertices)
     center, distance = _frame_camera(vis, np.array(points))
     if labels:
-        vis.window.send(_SetControl("motion", _selector_callback(list(vis[f"{ROOT}/motions"].path.entries), labels), visible, labels))
+        vis.window.send(
+            _SetControl(
+                "motion", _selector_callback(list(vis[f"{ROOT}/motions"].path.entries), labels), visible, labels
+            )
+        )
         vis.set_animation(animation, play=True, repetitions=float("inf"))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(tuple(labels), visible, notes, generated, mob, paths, center, distance)
@@ -355,7 +368,9 @@ def export_html(
         raise ViewerError(f"{str(target)!r} exists already; choose another file name or allow overwriting (--force)")
     if target.is_dir():
         raise ViewerError(f"{str(target)!r} is a directory; give a file name ending in .html")
-    html, scene = scene_html(mech, q, mobility, motion=motion, wrenches=wrenches, amplitude=amplitude, steps=steps, animate=animate)
+    html, scene = scene_html(
+        mech, q, mobility, motion=motion, wrenches=wrenches, amplitude=amplitude, steps=steps, animate=animate
+    )
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
         raise ViewerError(f"cannot write {str(target)!r}: folder {str(parent)!r} does not exist")

@@ -92,3 +92,26 @@ def test_follow_motion_rejects_bad_arguments(puu):
         follow_motion(puu, q, motion, amplitude=-1.0)
     with pytest.raises(pinmob.ClosureError):
         follow_motion(puu, puu.neutral() + 0.01, motion)
+
+
+def test_rotation_about_a_fixed_point_keeps_the_distance(tmp_path):
+    # A spherical joint (three revolutes through the origin) carrying the platform at
+    # (0, 0, 0.2): every free motion is a rotation about the origin, so following one
+    # keeps the platform origin 0.2 m from the origin and turns it by the amplitude.
+    from pinmob.builder import MechanismBuilder
+
+    b = MechanismBuilder("S", "one spherical joint")
+    b.limb("A").spherical("s", at=[0, 0, 0])
+    b.limbs[0].tip(at=[0, 0, 0.2])
+    path = b.write(tmp_path, "s", {"rest": {"joints": {"A_sa": 0.0}}})
+    mech = pinmob.load(path)
+    q = mech.configuration("rest")
+    mob = pinmob.analyze(mech, q)
+    assert mob.motion_type == "3R"
+    for motion in mob.motions:
+        result = follow_motion(mech, q, motion, amplitude=0.3, steps=6)
+        assert result.complete, result.notes
+        for qk in result.forward + result.backward:
+            assert_allclose(np.linalg.norm(platform_pose(mech, qk).translation), 0.2, atol=1e-9)
+        turned = pin.log3(platform_pose(mech, result.forward[-1]).rotation)
+        assert_allclose(turned, 0.3 * motion.direction, atol=1e-6)

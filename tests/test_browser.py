@@ -45,11 +45,17 @@ DOCS = Path(__file__).resolve().parent.parent / "docs"
 @pytest.fixture(scope="module")
 def browser():
     if not (Path(CHROMIUM).exists() or shutil.which(CHROMIUM)):
-        pytest.fail(f"Chromium not found at {CHROMIUM}: install Debian's package with .ci/browser-deps.sh (apt-get install chromium)")
+        pytest.fail(
+            f"Chromium not found at {CHROMIUM}: install Debian's package with .ci/browser-deps.sh "
+            "(apt-get install chromium)"
+        )
     try:
         from playwright.sync_api import sync_playwright
     except ImportError:
-        pytest.fail("Playwright for Python is missing: pip install -e '.[test]' (never 'playwright install'; Debian's chromium is used)")
+        pytest.fail(
+            "Playwright for Python is missing: pip install -e '.[test]' "
+            "(never 'playwright install'; Debian's chromium is used)"
+        )
     with sync_playwright() as p:
         b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS, headless=True)
         yield b
@@ -93,7 +99,9 @@ def platform_box(page, point: np.ndarray, half: int = 90) -> tuple[slice, slice]
 
 
 def set_visible(page, path: list[str], visible: bool) -> None:
-    page.evaluate("([p, v]) => { viewer.scene_tree.find(p).set_property('visible', v); viewer.set_dirty(); }", [path, visible])
+    page.evaluate(
+        "([p, v]) => { viewer.scene_tree.find(p).set_property('visible', v); viewer.set_dirty(); }", [path, visible]
+    )
     page.wait_for_timeout(300)
 
 
@@ -108,7 +116,13 @@ def check_scene(page, scene: viewer.Scene, name: str) -> None:
     clip_names = set(page.evaluate("viewer.animator.actions.map((a) => a.getClip().name)"))
     assert clip_names == set(scene.clips)
     for label in scene.clips:
-        assert page.evaluate("(l) => viewer.scene_tree.find(['meshcat', 'pinmob', 'motions', l, 'visuals']).object.children.length", label) > 0
+        assert (
+            page.evaluate(
+                "(l) => viewer.scene_tree.find(['meshcat', 'pinmob', 'motions', l, 'visuals']).object.children.length",
+                label,
+            )
+            > 0
+        )
     assert page.evaluate("viewer.animator.playing"), "the first clip should play on opening"
     assert page.evaluate("viewer.animator.actions.every((a) => a.repetitions === Infinity)")
 
@@ -135,7 +149,9 @@ def check_scene(page, scene: viewer.Scene, name: str) -> None:
     # the motion menu shows the other clip, alone
     page.evaluate("viewer.gui_controllers['motion'].setValue('R1 z')")
     page.wait_for_timeout(300)
-    shown = page.evaluate("['T1 z', 'R1 z'].map((l) => viewer.scene_tree.find(['meshcat', 'pinmob', 'motions', l]).object.visible)")
+    shown = page.evaluate(
+        "['T1 z', 'R1 z'].map((l) => viewer.scene_tree.find(['meshcat', 'pinmob', 'motions', l]).object.visible)"
+    )
     assert shown == [False, True]
     if os.environ.get("PINMOB_DOCS_SCREENSHOTS"):
         seek(page, 0.0)
@@ -168,7 +184,9 @@ def test_camera_frames_a_model_in_millimetres(browser, tmp_path):
     q = mech.configuration("generic")
     model = pin.Model(mech.model)
     for j in range(1, model.njoints):
-        model.jointPlacements[j] = pin.SE3(model.jointPlacements[j].rotation, 1000 * model.jointPlacements[j].translation)
+        model.jointPlacements[j] = pin.SE3(
+            model.jointPlacements[j].rotation, 1000 * model.jointPlacements[j].translation
+        )
     for f in model.frames:
         f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
     mm = pinmob.Mechanism.from_model(model, {b.name: b.tip for b in mech.limbs}, platform=mech.platform)

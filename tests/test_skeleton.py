@@ -45,7 +45,9 @@ def test_links_join_consecutive_joint_origins():
             axis = m.rotation[:, 2]
             ends[g.name] = sorted([tuple(np.round(m.translation + s * half * axis, 9)) for s in (-1, 1)])
     segments = sorted(ends.values())
-    assert_allclose(segments, [[(0.0, 0.0, 0.0), (small_r, 0.0, 0.0)], [(small_r, 0.0, 0.0), (big_r, 0.0, 0.0)]], atol=1e-9)
+    assert_allclose(
+        segments, [[(0.0, 0.0, 0.0), (small_r, 0.0, 0.0)], [(small_r, 0.0, 0.0), (big_r, 0.0, 0.0)]], atol=1e-9
+    )
     disc = geom.geometryObjects[geom.getGeometryId("platform/disc")].geometry
     assert isinstance(disc, coal.Cylinder)
     assert_allclose(disc.radius, small_r, atol=1e-12)
@@ -57,7 +59,9 @@ def test_sizes_scale_with_units():
     q = mech.configuration("generic")
     model_mm = pin.Model(mech.model)
     for j in range(1, model_mm.njoints):
-        model_mm.jointPlacements[j] = pin.SE3(model_mm.jointPlacements[j].rotation, 1000 * model_mm.jointPlacements[j].translation)
+        model_mm.jointPlacements[j] = pin.SE3(
+            model_mm.jointPlacements[j].rotation, 1000 * model_mm.jointPlacements[j].translation
+        )
     for f in model_mm.frames:
         f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
     idx = [mech.model.joints[mech.model.getJointId(f"{x}_slider")].idx_q for x in "ABC"]
@@ -65,7 +69,7 @@ def test_sizes_scale_with_units():
     q_mm[idx] *= 1000
     mm = pinmob.Mechanism.from_model(model_mm, {b.name: b.tip for b in mech.limbs}, platform=mech.platform)
     g_m, g_mm = skeleton_geometry(mech, q), skeleton_geometry(mm, q_mm)
-    for a, b in zip(g_m.geometryObjects, g_mm.geometryObjects):
+    for a, b in zip(g_m.geometryObjects, g_mm.geometryObjects, strict=True):
         assert a.name == b.name
         assert_allclose(1000 * a.placement.translation, b.placement.translation, atol=1e-6)
         if isinstance(a.geometry, coal.Cylinder):

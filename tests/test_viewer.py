@@ -68,7 +68,7 @@ def test_unknown_motion_is_named(flat, tmp_path):
 def test_mechanism_that_does_not_close(tmp_path):
     src = Path(pinmob.builtin_models()["3-PUU"])
     (tmp_path / "3puu.urdf").write_text((src.parent / "3puu.urdf").read_text())
-    text = src.read_text() + '\n[configurations.broken]\njoints = { A_slider = 0.05 }\n'
+    text = src.read_text() + "\n[configurations.broken]\njoints = { A_slider = 0.05 }\n"
     (tmp_path / "broken.toml").write_text(text)
     start = time.monotonic()
     out = run("show", str(tmp_path / "broken.toml"), "--config", "broken")
@@ -107,3 +107,19 @@ def test_meshcat_missing_is_a_clear_error(tmp_path):
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert out.returncode == 2 and "needs meshcat" in out.stderr and "pip install meshcat" in out.stderr
     assert not (tmp_path / "x.html").exists()
+
+
+def test_show_sends_to_a_running_server_and_returns():
+    from pinmob.meshcat_server import probe, start_server
+
+    server = start_server()
+    try:
+        start = time.monotonic()
+        out = run("show", "3-PUU", "--zmq-url", server.zmq_url, "--motion", "T2 y")
+        assert out.returncode == 0, out.stderr
+        assert f"open {server.web_url}" in out.stdout and "clip 'T2 y'" in out.stdout
+        assert time.monotonic() - start < 30  # returns: the server is not ours to wait on
+        assert probe(server.zmq_url) == server.web_url  # the server still runs
+    finally:
+        server.stop()
+    assert server.process.poll() is not None

@@ -97,6 +97,9 @@ def start_server(port: int | None = None, zmq_port: int | None = None, timeout: 
     sel.register(proc.stdout, selectors.EVENT_READ)
     try:
         found = _read_urls(proc, sel, log, timeout)
+    except ViewerError:
+        log.unlink(missing_ok=True)
+        raise
     finally:
         sel.close()
         proc.stdout.close()
@@ -114,7 +117,7 @@ def _read_urls(proc: subprocess.Popen, sel: selectors.BaseSelector, log: Path, t
         if left <= 0:
             proc.kill()
             proc.wait()
-            raise ViewerError(f"the meshcat server did not start within {timeout:g} s; its log: {log}")
+            raise ViewerError(f"the meshcat server did not start within {timeout:g} s")
         if sel.select(min(left, 0.2)):
             chunk = os.read(proc.stdout.fileno(), 4096)
             if not chunk:

@@ -46,3 +46,7 @@ def choices(names: Iterable[str], limit: int = 40) -> str:
     if len(items) > limit:
         shown += f", ... ({len(items) - limit} more)"
     return shown or "(none)"
+
+
+class ViewerError(PinmobError):
+    """The viewer cannot run: meshcat missing, a port in use, no server answering, a file in the way."""

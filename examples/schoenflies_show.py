@@ -1,0 +1,36 @@
+"""A Schoenflies parallel robot (4-RUU): three translations and one rotation about the vertical, animated.
+
+Needs the built-in model '4-RUU'; if this pinmob does not have it
+yet, the script says so and lists the models it has.
+
+Run::
+
+    python examples/schoenflies_show.py --html schoenflies.html
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pinmob
+
+MODEL = "4-RUU"
+
+_spec = importlib.util.spec_from_file_location("show_3puu", Path(__file__).with_name("3puu_show.py"))
+_base = importlib.util.module_from_spec(_spec)  # type: ignore[arg-type]
+_spec.loader.exec_module(_base)  # type: ignore[union-attr]
+
+
+def main(argv: list[str] | None = None) -> int:
+    models = pinmob.builtin_models()
+    if MODEL not in models:
+        print(f"error: this pinmob has no built-in model {MODEL!r}; it has: {', '.join(models)}", file=sys.stderr)
+        return 2
+    first = next(iter(pinmob.load(MODEL).configurations))
+    return _base.main(argv, model=MODEL, config=first)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

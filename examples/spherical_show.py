@@ -1,0 +1,36 @@
+"""A spherical parallel robot (3-RRR, all axes through one point): three rotations about that point, animated.
+
+Needs the built-in model '3-RRR-spherical'; if this pinmob does not have it
+yet, the script says so and lists the models it has.
+
+Run::
+
+    python examples/spherical_show.py --html spherical.html
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import sys
+from pathlib import Path
+
+import pinmob
+
+MODEL = "3-RRR-spherical"
+
+_spec = importlib.util.spec_from_file_location("show_3puu", Path(__file__).with_name("3puu_show.py"))
+_base = importlib.util.module_from_spec(_spec)  # type: ignore[arg-type]
+_spec.loader.exec_module(_base)  # type: ignore[union-attr]
+
+
+def main(argv: list[str] | None = None) -> int:
+    models = pinmob.builtin_models()
+    if MODEL not in models:
+        print(f"error: this pinmob has no built-in model {MODEL!r}; it has: {', '.join(models)}", file=sys.stderr)
+        return 2
+    first = next(iter(pinmob.load(MODEL).configurations))
+    return _base.main(argv, model=MODEL, config=first)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

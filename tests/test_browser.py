@@ -1,0 +1,204 @@
+"""The viewer in a real browser: headless Chromium (Debian's package) driven by Playwright.
+
+Against the live meshcat server page and the exported HTML file: the mechanism
+is drawn (enough pixels differ from the empty scene around the platform), two
+animation times differ there (the motion is visible), every clip is in the
+scene, and the motion menu switches clips. These tests never skip: without
+Chromium they fail and say how to install it (``.ci/browser-deps.sh``).
+
+Set ``PINMOB_DOCS_SCREENSHOTS=1`` to also write the screenshots of 3-PUU-flat
+to ``docs/``.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import shutil
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import pinmob
+from pinmob import viewer
+
+CHROMIUM = os.environ.get("PINMOB_CHROMIUM", "/usr/bin/chromium")
+FLAGS = [
+    "--headless",
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    # software WebGL (SwiftShader through ANGLE)
+    "--use-gl=angle",
+    "--use-angle=swiftshader",
+    "--enable-unsafe-swiftshader",
+]
+WIDTH, HEIGHT = 900, 650
+DOCS = Path(__file__).resolve().parent.parent / "docs"
+
+
+@pytest.fixture(scope="module")
+def browser():
+    if not (Path(CHROMIUM).exists() or shutil.which(CHROMIUM)):
+        pytest.fail(
+            f"Chromium not found at {CHROMIUM}: install Debian's package with .ci/browser-deps.sh "
+            "(apt-get install chromium)"
+        )
+    try:
+        from playwright.sync_api import sync_playwright
+    except ImportError:
+        pytest.fail(
+            "Playwright for Python is missing: pip install -e '.[test]' "
+            "(never 'playwright install'; Debian's chromium is used)"
+        )
+    with sync_playwright() as p:
+        b = p.chromium.launch(executable_path=CHROMIUM, args=FLAGS, headless=True)
+        yield b
+        b.close()
+
+
+@pytest.fixture(scope="module")
+def flat() -> pinmob.Mechanism:
+    return pinmob.load("3-PUU-flat")
+
+
+def open_page(browser, url: str):
+    page = browser.new_page(viewport={"width": WIDTH, "height": HEIGHT})
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.goto(url)
+    # the scene has arrived when the animation clips are loaded (the live page gets them by websocket)
+    page.wait_for_function("window.viewer && viewer.animator.actions.length > 0", timeout=20000)
+    page.wait_for_timeout(500)
+    assert errors == [], errors
+    return page
+
+
+def image(page) -> np.ndarray:
+    from PIL import Image
+
+    return np.asarray(Image.open(io.BytesIO(page.screenshot())).convert("RGB")).astype(int)
+
+
+def platform_box(page, point: np.ndarray, half: int = 90) -> tuple[slice, slice]:
+    """Pixel box (rows, cols) around the screen projection of a world point."""
+    x, y = page.evaluate(
+        "([x, y, z]) => { const v = viewer.camera.position.clone().set(x, y, z);"
+        " viewer.camera.updateMatrixWorld(); v.project(viewer.camera);"
+        " return [(v.x + 1) / 2 * window.innerWidth, (1 - v.y) / 2 * window.innerHeight]; }",
+        [float(c) for c in point],
+    )
+    assert 0 <= x < WIDTH and 0 <= y < HEIGHT, (x, y)
+    r, c = int(y), int(x)
+    return slice(max(r - half, 0), r + half), slice(max(c - half, 0), c + half)
+
+
+def set_visible(page, path: list[str], visible: bool) -> None:
+    page.evaluate(
+        "([p, v]) => { viewer.scene_tree.find(p).set_property('visible', v); viewer.set_dirty(); }", [path, visible]
+    )
+    page.wait_for_timeout(300)
+
+
+def seek(page, t: float) -> None:
+    page.evaluate("(t) => { viewer.animator.pause(); viewer.animator.seek(t); }", t)
+    page.wait_for_timeout(300)
+
+
+def check_scene(page, scene: viewer.Scene, name: str) -> None:
+    """The checks shared by the live page and the HTML file."""
+    # every clip is in the scene: an animation clip of that name and a scene node
+    clip_names = set(page.evaluate("viewer.animator.actions.map((a) => a.getClip().name)"))
+    assert clip_names == set(scene.clips)
+    for label in scene.clips:
+        assert (
+            page.evaluate(
+                "(l) => viewer.scene_tree.find(['meshcat', 'pinmob', 'motions', l, 'visuals']).object.children.length",
+                label,
+            )
+            > 0
+        )
+    assert page.evaluate("viewer.animator.playing"), "the first clip should play on opening"
+    assert page.evaluate("viewer.animator.actions.every((a) => a.repetitions === Infinity)")
+
+    box = platform_box(page, scene.mobility.platform_origin)
+    seek(page, 0.0)
+    drawn = image(page)
+    set_visible(page, ["meshcat", "pinmob"], False)
+    empty = image(page)
+    set_visible(page, ["meshcat", "pinmob"], True)
+    mechanism = np.abs(drawn - empty).max(axis=2) > 40
+    share = mechanism[box].mean()
+    assert share > 0.08, f"only {share:.1%} of the platform region shows the mechanism"
+    assert mechanism.mean() > 0.02
+
+    # the first clip (T1 z: +amplitude at a quarter of the clip) moves the platform on screen
+    quarter = 12 / viewer.FPS
+    seek(page, quarter)
+    moved = image(page)
+    changed = (np.abs(moved - drawn).max(axis=2) > 40)[box].mean()
+    assert changed > 0.01, f"animation times 0 and {quarter:.2f} s look the same ({changed:.2%} of pixels differ)"
+    if os.environ.get("PINMOB_DOCS_SCREENSHOTS"):
+        page.screenshot(path=str(DOCS / f"{name}_T1.png"))
+
+    # the motion menu shows the other clip, alone
+    page.evaluate("viewer.gui_controllers['motion'].setValue('R1 z')")
+    page.wait_for_timeout(300)
+    shown = page.evaluate(
+        "['T1 z', 'R1 z'].map((l) => viewer.scene_tree.find(['meshcat', 'pinmob', 'motions', l]).object.visible)"
+    )
+    assert shown == [False, True]
+    if os.environ.get("PINMOB_DOCS_SCREENSHOTS"):
+        seek(page, 0.0)
+        page.screenshot(path=str(DOCS / f"{name}_R1.png"))
+
+
+def test_exported_html_in_chromium(browser, flat, tmp_path):
+    scene = viewer.export_html(flat, "flat", tmp_path / "flat.html")
+    page = open_page(browser, (tmp_path / "flat.html").as_uri())
+    check_scene(page, scene, "3puu_flat")
+    page.close()
+
+
+def test_live_server_page_in_chromium(browser, flat):
+    scene = viewer.show(flat, "flat")
+    try:
+        assert scene.url.startswith("http://127.0.0.1:")
+        page = open_page(browser, scene.url)
+        check_scene(page, scene, "3puu_flat_live")
+        page.close()
+    finally:
+        scene.server.stop()
+
+
+def test_camera_frames_a_model_in_millimetres(browser, tmp_path):
+    # the same 3-PUU in millimetres fills the view the same way
+    import pinocchio as pin
+
+    mech = pinmob.load("3-PUU")
+    q = mech.configuration("generic")
+    model = pin.Model(mech.model)
+    for j in range(1, model.njoints):
+        model.jointPlacements[j] = pin.SE3(
+            model.jointPlacements[j].rotation, 1000 * model.jointPlacements[j].translation
+        )
+    for f in model.frames:
+        f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
+    mm = pinmob.Mechanism.from_model(model, {b.name: b.tip for b in mech.limbs}, platform=mech.platform)
+    shares = []
+    for m, name in ((mech, "m"), (mm, "mm")):
+        scene = viewer.export_html(m, q, tmp_path / f"{name}.html")
+        page = open_page(browser, (tmp_path / f"{name}.html").as_uri())
+        seek(page, 0.0)
+        drawn = image(page)
+        set_visible(page, ["meshcat", "pinmob"], False)
+        shares.append((np.abs(drawn - image(page)).max(axis=2) > 40).mean())
+        platform_box(page, scene.mobility.platform_origin)  # on screen
+        page.close()
+    assert shares[0] > 0.03
+    assert abs(shares[0] - shares[1]) < 0.25 * shares[0]

@@ -1,0 +1,125 @@
+"""Viewer without a browser: HTML export, files never overwritten by surprise, clear errors, no hang."""
+
+from __future__ import annotations
+
+import socket
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+import pinmob
+from pinmob import viewer
+from pinmob.exceptions import ViewerError
+
+PINMOB = [sys.executable, "-m", "pinmob"]
+
+
+@pytest.fixture(scope="module")
+def flat() -> pinmob.Mechanism:
+    return pinmob.load("3-PUU-flat")
+
+
+def run(*args: str, timeout: float = 60) -> subprocess.CompletedProcess:
+    return subprocess.run([*PINMOB, *args], capture_output=True, text=True, timeout=timeout)
+
+
+def test_import_pinmob_does_not_import_meshcat():
+    code = "import sys, pinmob, pinmob.animation, pinmob.skeleton, pinmob.glyphs; print('meshcat' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert out.stdout.strip() == "False", out.stderr
+
+
+def test_export_html_holds_every_clip(flat, tmp_path):
+    target = tmp_path / "flat.html"
+    scene = viewer.export_html(flat, "flat", target)
+    assert scene.clips == ("T1 z", "R1 z") and scene.visible == "T1 z"
+    assert scene.generated_geometry and scene.html == target
+    text = target.read_text()
+    assert "MeshCat.Viewer" in text and "handle_command_bytearray" in text
+    assert "ws://" not in text.split("pinmob_commands")[1]  # no server needed
+    assert any("R1 z" in n for n in scene.notes)
+
+
+def test_export_html_never_overwrites_without_permission(flat, tmp_path):
+    target = tmp_path / "mine.html"
+    target.write_text("user data")
+    with pytest.raises(ViewerError, match="exists already"):
+        viewer.export_html(flat, "flat", target)
+    assert target.read_text() == "user data"
+    out = run("show", "3-PUU-flat", "--config", "flat", "--html", str(target))
+    assert out.returncode == 2 and "exists already" in out.stderr and "Traceback" not in out.stderr
+    assert target.read_text() == "user data"
+    assert list(tmp_path.iterdir()) == [target]  # no temporary file left behind
+    out = run("show", "3-PUU-flat", "--config", "flat", "--html", str(target), "--force")
+    assert out.returncode == 0, out.stderr
+    assert "MeshCat.Viewer" in target.read_text()
+    assert f"wrote {target}" in out.stdout and "clip 'T1 z'" in out.stdout
+
+
+def test_unknown_motion_is_named(flat, tmp_path):
+    with pytest.raises(pinmob.ConfigurationError, match="'R1 z', 'T1 z'"):
+        viewer.export_html(flat, "flat", tmp_path / "x.html", motion="T9 q")
+    assert not (tmp_path / "x.html").exists()
+
+
+def test_mechanism_that_does_not_close(tmp_path):
+    src = Path(pinmob.builtin_models()["3-PUU"])
+    (tmp_path / "3puu.urdf").write_text((src.parent / "3puu.urdf").read_text())
+    text = src.read_text() + "\n[configurations.broken]\njoints = { A_slider = 0.05 }\n"
+    (tmp_path / "broken.toml").write_text(text)
+    start = time.monotonic()
+    out = run("show", str(tmp_path / "broken.toml"), "--config", "broken")
+    assert out.returncode == 2 and "does not close" in out.stderr and "Traceback" not in out.stderr
+    assert time.monotonic() - start < 30
+
+
+def test_port_in_use_is_a_clear_error():
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        start = time.monotonic()
+        out = run("show", "3-PUU", "--port", str(port))
+    assert out.returncode == 2, out.stdout
+    assert f"web port {port} on 127.0.0.1 is in use" in out.stderr and "Traceback" not in out.stderr
+    assert time.monotonic() - start < 30
+
+
+def test_no_server_at_zmq_url_is_a_clear_error():
+    with socket.socket() as s:  # a port nobody listens on
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    start = time.monotonic()
+    out = run("show", "3-PUU", "--zmq-url", f"tcp://127.0.0.1:{port}")
+    assert out.returncode == 2 and "no meshcat server answers" in out.stderr
+    assert time.monotonic() - start < 30
+
+
+def test_meshcat_missing_is_a_clear_error(tmp_path):
+    code = (
+        "import sys; sys.modules['meshcat'] = None\n"
+        "from pinmob.cli import main\n"
+        f"raise SystemExit(main(['show', '3-PUU', '--html', {str(tmp_path / 'x.html')!r}]))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 2 and "needs meshcat" in out.stderr and "pip install meshcat" in out.stderr
+    assert not (tmp_path / "x.html").exists()
+
+
+def test_show_sends_to_a_running_server_and_returns():
+    from pinmob.meshcat_server import probe, start_server
+
+    server = start_server()
+    try:
+        start = time.monotonic()
+        out = run("show", "3-PUU", "--zmq-url", server.zmq_url, "--motion", "T2 y")
+        assert out.returncode == 0, out.stderr
+        assert f"open {server.web_url}" in out.stdout and "clip 'T2 y'" in out.stdout
+        assert time.monotonic() - start < 30  # returns: the server is not ours to wait on
+        assert probe(server.zmq_url) == server.web_url  # the server still runs
+    finally:
+        server.stop()
+    assert server.process.poll() is not None

@@ -112,28 +112,26 @@ def plot_map(csv_path: str | Path, png_path: str | Path, title: str = "") -> Pat
             code[a, b] = types.index(t)
             dist[a, b] = max(d, 1e-12)
     sing = reach & (c["singularity"].astype(str) != "none")
-    extent = (vs[0], vs[-1], us[0], us[-1]) if us.size > 1 and vs.size > 1 else None
+    extent = (us[0], us[-1], vs[0], vs[-1]) if us.size > 1 and vs.size > 1 else None
     fig, axes = plt.subplots(1, 2, figsize=(12, 5))
     palette = plt.get_cmap("tab10")
-    cmap = ListedColormap([palette(k % 10) for k in range(max(1, len(types)))])
-    cmap.set_bad("white")
-    im = axes[0].imshow(code, origin="lower", extent=extent, aspect="auto", cmap=cmap,
+    cmap = ListedColormap([palette(k % 10) for k in range(max(1, len(types)))]).with_extremes(bad="white")
+    im = axes[0].imshow(code.T, origin="lower", extent=extent, aspect="auto", cmap=cmap,
                         norm=BoundaryNorm(np.arange(-0.5, len(types) + 0.5), cmap.N), interpolation="nearest")  # fmt: skip
     bar = fig.colorbar(im, ax=axes[0], ticks=range(len(types)))
     bar.ax.set_yticklabels(types)
     axes[0].set_title("motion type")
-    cm2 = plt.get_cmap("viridis").copy()
-    cm2.set_bad("white")
+    cm2 = plt.get_cmap("viridis").with_extremes(bad="white")
     finite = dist[np.isfinite(dist)]
     lo = max(1e-12, float(finite.min())) if finite.size else 1e-12
-    im2 = axes[1].imshow(dist, origin="lower", extent=extent, aspect="auto", cmap=cm2,
+    im2 = axes[1].imshow(dist.T, origin="lower", extent=extent, aspect="auto", cmap=cm2,
                          norm=LogNorm(vmin=min(lo, 0.99), vmax=1.0), interpolation="nearest")  # fmt: skip
     fig.colorbar(im2, ax=axes[1], label="distance to singularity (sigma_r / sigma_1)")
     axes[1].set_title("distance to singularity")
     for ax in axes:
-        ax.plot(v[sing], u[sing], "rx", ms=7, label="singular")
-        ax.set_xlabel(keys[1][5:])
-        ax.set_ylabel(keys[0][5:])
+        ax.plot(u[sing], v[sing], "rx", ms=7, label="singular")
+        ax.set_xlabel(keys[0][5:])
+        ax.set_ylabel(keys[1][5:])
         if sing.any():
             ax.legend(fontsize=7, loc="upper right")
     fig.suptitle(title or "scan over a workspace slice (blank: not assembled)")

@@ -145,11 +145,15 @@ class ScanSpec:
         return [("pose", pose_from_vector(base + t * (first - base))) for t in np.arange(1, steps) / steps]
 
 
+#: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
+MAX_ITER = 40
+
+
 def _assemble(mech: Mechanism, target: tuple[str, Any], seed: Array) -> Array:
     kind, value = target
     if kind == "pose":
-        return assemble_pose(mech, value, seed)
-    return assemble_joints(mech, value, seed)
+        return assemble_pose(mech, value, seed, max_iter=MAX_ITER)
+    return assemble_joints(mech, value, seed, max_iter=MAX_ITER)
 
 
 def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None) -> dict[str, Any]:

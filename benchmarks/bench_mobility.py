@@ -30,7 +30,7 @@ import scipy.linalg
 
 import pinmob
 from pinmob.batch import analyze_batch
-from pinmob.scan import pose_vector, platform_pose, path_spec, scan
+from pinmob.scan import path_spec, platform_pose, pose_vector, scan
 from pinmob.screw import twist_scaling
 
 CONFIG = {"3-PUU": "generic", "6-UPS": "generic"}

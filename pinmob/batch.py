@@ -30,7 +30,6 @@ import pinocchio as pin
 from .mechanism import Limb, Mechanism
 from .screw import RTOL, Array, twist_scaling
 
-
 #: Configurations per block of vectorised linear algebra (arrays stay in cache).
 BLOCK = 128
 

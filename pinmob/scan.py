@@ -30,7 +30,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from .closure import assemble_joints, assemble_pose, compute_kinematics
+from .closure import assemble_joints, assemble_pose
 from .exceptions import ConfigurationError, PinmobError, choices
 from .mechanism import Mechanism
 from .mobility import analyze

@@ -34,10 +34,10 @@ matrix is as well conditioned as it can be.
 
 from __future__ import annotations
 
+import weakref
 from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
-import weakref
 
 import numpy as np
 import pinocchio as pin
@@ -46,7 +46,7 @@ from .closure import CLOSURE_TOL, assemble_joints, check_closed, compute_kinemat
 from .exceptions import PinmobError
 from .mechanism import Mechanism
 from .mobility import Motion, _motions, limb_twists
-from .screw import RTOL, Array, classify_twists, decide_rank, reciprocal_twists, twist_scaling, wrench_scaling
+from .screw import RTOL, Array, classify_twists, decide_rank, twist_scaling, wrench_scaling
 
 #: Coefficient (relative to the largest) above which a joint or limb takes part in a dependency.
 PARTICIPATION = 1e-6 ** 0.5

@@ -1,4 +1,4 @@
-"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``.
+"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``, ``pinmob scan``.
 
 Errors are printed as one line on stderr (``pinmob: error: ...``) with exit
 status 2, never with a traceback.
@@ -68,6 +68,38 @@ def build_parser() -> argparse.ArgumentParser:
         "--amplitude", type=float, help="distance of each motion: m for translations, rad for rotations/screws"
     )
     p.add_argument("--steps", type=int, default=12, help="continuation steps per direction (default 12)")
+    p = sub.add_parser("scan", help="mobility and singularities along a path or over a workspace slice")
+    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p.add_argument(
+        "--from",
+        dest="start",
+        help="path start: configuration name or pose x,y,z,roll,pitch,yaw [m, rad] (default: first configuration)",
+    )
+    p.add_argument("--to", dest="end", help="path end: configuration name or pose (default: second configuration)")
+    p.add_argument(
+        "--joints",
+        action="store_true",
+        help="interpolate the actuated joint values from --from to --to (forward kinematics) instead of platform poses",
+    )
+    p.add_argument("--samples", "-n", type=int, default=21, help="samples along a path (default 21)")
+    p.add_argument(
+        "--grid",
+        nargs=2,
+        metavar="COORD:LO:HI:N",
+        help="scan a workspace slice: two pose coordinates (x, y, z [m], roll, pitch, yaw [rad]) instead of a path",
+    )
+    p.add_argument(
+        "--at",
+        help="grid: configuration whose platform pose fixes the other coordinates (default: first configuration)",
+    )
+    p.add_argument("--csv", help="write the samples to this CSV file")
+    p.add_argument("--json", dest="json_out", help="write the samples to this JSON file")
+    p.add_argument(
+        "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
+    )
+    p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
     return parser
 
 
@@ -123,6 +155,9 @@ def _analyze(args: argparse.Namespace) -> int:
     q = mech.configuration(config)
     mob = analyze(mech, q, configuration=config, rtol=rtol)
     paper = paper_view(mech, config, rtol=rtol) if args.paper_view else None
+    from .singularity import analyze_singularity, format_singularity
+
+    sing = analyze_singularity(mech, q, configuration=config, rtol=rtol)
     if args.json:
         out = mob.to_dict()
         if config in mech.expected:
@@ -135,9 +170,11 @@ def _analyze(args: argparse.Namespace) -> int:
             }
         if paper is not None:
             out["paper_view"] = paper.to_dict()
+        out["singularity"] = sing.to_dict()
         print(json.dumps(out, indent=2, allow_nan=False))
         return 0
     print(mob)
+    print(format_singularity(sing))
     if config in mech.expected:
         print(format_expectation(mob, mech.expected[config]))
     if paper is not None:
@@ -227,6 +264,93 @@ def _show(args: argparse.Namespace) -> int:
         pass
     finally:
         scene.server.stop()
+
+
+@command("scan")
+def _scan(args: argparse.Namespace) -> int:
+    import tempfile
+    import time
+    from collections import Counter
+    from pathlib import Path
+
+    from .exceptions import ConfigurationError
+    from .mechanism_file import load
+    from .plot import plot_map, plot_path
+    from .scan import RowWriter, grid_spec, path_spec, scan
+    from .screw import RTOL
+
+    mech = load(args.mechanism)
+    rtol = RTOL if args.rtol is None else args.rtol
+    if not 0 < rtol < 1:
+        raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
+    names = list(mech.configurations)
+    if args.grid:
+        axes = []
+        for text in args.grid:
+            parts = text.split(":")
+            try:
+                axes.append((parts[0], float(parts[1]), float(parts[2]), int(parts[3])))
+            except (IndexError, ValueError):
+                raise ConfigurationError(f"--grid {text!r}: expected COORD:LO:HI:N, e.g. x:-0.1:0.1:21") from None
+        if not names and not args.at:
+            raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
+        spec = grid_spec(mech, args.at or names[0], axes, rtol)
+        what = f"grid {args.grid[0]} x {args.grid[1]} at {args.at or names[0]!r}"
+    else:
+        start = args.start or (names[0] if names else None)
+        end = args.end or (names[1] if len(names) > 1 else None)
+        if start is None or end is None:
+            raise ConfigurationError(f"{mech.name!r} has fewer than two configurations; give --from and --to")
+        spec = path_spec(mech, start, end, args.samples, joints=args.joints, rtol=rtol)
+        what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {args.samples} samples"
+    csv_path = args.csv
+    tmp = None
+    if args.plot and not csv_path:
+        tmp = tempfile.NamedTemporaryFile(suffix=".csv", delete=False)
+        tmp.close()
+        csv_path = tmp.name
+    meta = {
+        "mechanism": mech.name,
+        "scan": what,
+        "generic_rank": spec.generic_rank,
+        "rtol": rtol,
+        "length_scale": mech.length_scale,
+    }
+    counts: Counter[str] = Counter()
+    singular = []
+    n_sing = 0
+    t0 = time.perf_counter()
+    with RowWriter(spec, meta, csv_path, args.json_out) as writer:
+        for row in scan(mech, spec, workers=args.workers, progress=False if args.no_progress else None):
+            writer.write(row)
+            counts[f"{row['dof']} DoF {row['motion_type']}" if row["reachable"] else "unreachable"] += 1
+            if row["reachable"] and row["singularity"] != "none":
+                n_sing += 1
+                if len(singular) < 20:
+                    singular.append(row)
+    elapsed = time.perf_counter() - t0
+    print(f"{mech.name}: {what}")
+    print(
+        f"{writer.count} samples in {elapsed:.2f} s ({writer.count / elapsed:.1f} samples/s, {args.workers} worker(s)); generic constraint rank {spec.generic_rank}"
+    )
+    for key, n in sorted(counts.items()):
+        print(f"  {n:5d} x {key}")
+    print(f"singular samples: {n_sing}" + (" (first 20 listed)" if n_sing > 20 else ""))
+    for row in singular:
+        params = ", ".join(f"{k} = {row[k]:.4g}" for k in row if k == "s" or k.startswith("grid_"))
+        limbs = f", limbs {row['singular_limbs']}" if row["singular_limbs"] else ""
+        unc = f", uncontrolled {row['uncontrolled']}" if row["uncontrolled"] else ""
+        print(
+            f"  #{row['index']} ({params}): {row['singularity']}{limbs}{unc}; {row['dof']} DoF {row['motion_type']}, distance {row['distance']:.2e}"
+        )
+    for label, path in (("csv", args.csv), ("json", args.json_out)):
+        if path:
+            print(f"{label}: {path}")
+    if args.plot:
+        (plot_map if args.grid else plot_path)(csv_path, args.plot, f"{mech.name}: {what}")
+        print(f"plot: {args.plot}")
+    if tmp is not None:
+        Path(tmp.name).unlink(missing_ok=True)
     return 0
 
 

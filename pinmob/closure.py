@@ -184,3 +184,62 @@ def assemble_pose(
             {**res, "pose": res_pose},
         )
     return result.q
+
+
+def assemble_joints(
+    mech: Mechanism, values: dict[str, float], seed: Array, tol: float = CLOSURE_TOL, max_iter: int = 200
+) -> Array:
+    """Closed configuration with the named one-degree joints held at ``values`` (e.g. the actuators).
+
+    Forward kinematics when ``values`` holds the actuated joints; with no value,
+    the closed configuration nearest (in the solver's sense) to ``seed``.
+    Residuals: every limb tip against the platform frame (position / L) and
+    ``q_j - value_j`` for each held joint (prismatic / L, revolute [rad]).
+
+    Raises:
+        ConfigurationError: a joint is unknown or has more than one coordinate.
+        ClosureError: the solver did not close the loops within ``tol``.
+    """
+    from .exceptions import ConfigurationError, choices
+
+    model = mech.model
+    data = model.createData()
+    scale = twist_scaling(mech.length_scale)
+    pid = mech.platform_id
+    tips = [limb.tip_id for limb in mech.limbs if limb.tip_id != pid]
+    held = []
+    for name, value in values.items():
+        if not model.existJointName(name):
+            raise ConfigurationError(
+                f"unknown joint {name!r} in {mech.name!r}; valid: {choices(list(model.names)[1:])}"
+            )
+        joint = model.joints[model.getJointId(name)]
+        if joint.nq != 1:
+            raise ConfigurationError(f"joint {name!r} has {joint.nq} coordinates; only one-degree joints can be held")
+        unit = 1.0 / mech.length_scale if joint.shortname().startswith("JointModelP") else 1.0
+        held.append((joint.idx_q, joint.idx_v, float(value), unit))
+
+    def residual(q: Array) -> tuple[Array, Array]:
+        compute_kinematics(model, data, q)
+        blocks = [relative_error(model, data, pid, t) for t in tips]
+        e = [scale * b[0] for b in blocks]
+        jac = [scale[:, None] * b[1] for b in blocks]
+        if held:
+            rows = np.zeros((len(held), model.nv))
+            for r, (_, iv, _, unit) in enumerate(held):
+                rows[r, iv] = unit
+            e.append(np.array([unit * (q[iq] - v) for iq, _, v, unit in held]))
+            jac.append(rows)
+        return np.concatenate(e), np.vstack(jac)
+
+    result = solve(model, residual, mech.check_q(seed), tol=min(1e-12, tol * 1e-3), max_iter=max_iter)
+    compute_kinematics(model, data, result.q)
+    res = tip_residuals(mech, data)
+    off = max((abs(result.q[iq] - v) * unit for iq, _, v, unit in held), default=0.0)
+    if not is_within(res, mech.length_scale, tol) or off > tol:
+        raise ClosureError(
+            f"could not close {mech.name!r} with joints held at {values}: after {result.iterations} iterations, "
+            f"limb tips {format_residuals(res)}, held joints off by {off:.2e}. The values may be out of reach.",
+            res,
+        )
+    return result.q

@@ -91,6 +91,9 @@ class Mechanism:
         source: the file it was loaded from, if any.
         visual_model: Pinocchio visual geometry, if loaded.
         collision_model: Pinocchio collision geometry, if loaded.
+        generic_rank: constraint rank at generic configurations, when declared
+            (else :mod:`pinmob.singularity` estimates it from random closed
+            configurations).
     """
 
     name: str
@@ -104,6 +107,7 @@ class Mechanism:
     source: Path | None = None
     visual_model: pin.GeometryModel | None = field(default=None, repr=False)
     collision_model: pin.GeometryModel | None = field(default=None, repr=False)
+    generic_rank: int | None = None
 
     # ------------------------------------------------------------------ build
 
@@ -123,6 +127,7 @@ class Mechanism:
         source: Path | None = None,
         visual_model: pin.GeometryModel | None = None,
         collision_model: pin.GeometryModel | None = None,
+        generic_rank: int | None = None,
     ) -> Mechanism:
         """Build a mechanism from a model and ``{limb name: tip frame}``.
 
@@ -164,6 +169,10 @@ class Mechanism:
         scale = float(length_scale) if length_scale else characteristic_length(model, [b.tip_id for b in built])
         if not np.isfinite(scale) or scale <= 0:
             raise ConfigurationError(f"length_scale must be a positive number of metres, got {length_scale!r}")
+        if generic_rank is not None and (
+            not isinstance(generic_rank, int) or isinstance(generic_rank, bool) or not 0 <= generic_rank <= 6
+        ):
+            raise ConfigurationError(f"generic_rank must be an integer from 0 to 6, got {generic_rank!r}")
         return cls(
             name=name,
             model=model,
@@ -176,6 +185,7 @@ class Mechanism:
             source=source,
             visual_model=visual_model,
             collision_model=collision_model,
+            generic_rank=generic_rank,
         )
 
     # ------------------------------------------------------------------ queries

@@ -18,7 +18,7 @@ import pinocchio as pin
 from .exceptions import MechanismFileError, PinmobError, choices
 from .mechanism import Expectation, Mechanism, NamedConfiguration
 
-TOP_KEYS = {"name", "description", "urdf", "platform", "length_scale", "limbs", "configurations"}
+TOP_KEYS = {"name", "description", "urdf", "platform", "length_scale", "limbs", "configurations", "generic_rank"}
 LIMB_KEYS = {"name", "tip", "actuated"}
 CONFIG_KEYS = {"joints", "pose", "seed", "approach", "expected"}
 POSE_KEYS = {"xyz", "rpy"}
@@ -214,6 +214,7 @@ def load_toml(path: str | Path) -> Mechanism:
             source=path,
             visual_model=visual,
             collision_model=collision,
+            generic_rank=doc.get("generic_rank"),
         )
     except PinmobError as exc:
         raise type(exc)(f"{path}: {exc}") from None

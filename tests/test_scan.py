@@ -1,0 +1,98 @@
+"""Scans find singularities where the literature puts them; workers == serial; CSV/JSON/PNG outputs."""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+
+import pytest
+
+import pinmob
+from pinmob.cli import main
+from pinmob.scan import grid_spec, path_spec, scan
+
+YAW_120 = f"0,0,0.4,0,0,{2 * math.pi / 3!r}"
+
+
+def test_gough_stewart_type2_found_at_90_degrees_only():
+    # Fichter (1986); the hand line-geometry check is in test_six_ups.py
+    mech = pinmob.load("6-UPS")
+    rows = list(scan(mech, path_spec(mech, "home", YAW_120, 13), progress=False))
+    assert all(r["reachable"] and r["dof"] == 6 and r["motion_type"] == "3T3R" for r in rows)
+    singular = [r["index"] for r in rows if r["singularity"] != "none"]
+    assert singular == [9]  # yaw = 9 * 10 deg
+    assert rows[9]["singularity"] == "actuation" and rows[9]["locked_dof"] == 1
+    assert rows[9]["yaw"] == pytest.approx(math.pi / 2, abs=1e-9)
+    assert rows[9]["distance"] < 1e-9 < min(r["distance"] for r in rows if r["index"] != 9)
+
+
+def test_three_puu_beta_zero_on_the_flat_model():
+    # 3-PUU-flat: links R - r, beta = 0 is the whole workspace: every sample of a slider path is at
+    # the limb singularity, with the 2-DoF 1T1R mobility derived by hand for beta = 0
+    mech = pinmob.load("3-PUU-flat")
+    rows = list(scan(mech, path_spec(mech, "flat", "flat-raised", 5, joints=True), progress=False))
+    assert [r["singular_limbs"] for r in rows] == ["A;B;C"] * 5
+    assert all((r["dof"], r["motion_type"]) == (2, "1T1R") for r in rows)
+    assert [r["z"] for r in rows] == pytest.approx([0.0, 0.025, 0.05, 0.075, 0.1], abs=1e-9)
+
+
+def test_three_puu_rank_drops_at_the_workspace_boundary_only():
+    # 3-PUU (R = 0.3, r = 0.15, links 0.25): limb A's link is horizontal (beta = 0) when the platform
+    # centre is |0.15 e_A - p| = 0.25 from its guide, i.e. at x = -0.1 on the x axis
+    mech = pinmob.load("3-PUU")
+    rows = list(scan(mech, path_spec(mech, "generic", "-0.1,0,-0.2,0,0,0", 11), progress=False))
+    assert [r["singularity"] for r in rows] == ["none"] * 10 + ["limb"]
+    assert rows[-1]["singular_limbs"] == "A" and rows[-1]["dof"] == 2
+    assert all((r["dof"], r["motion_type"]) == (3, "3T") for r in rows[:-1])
+    distances = [r["distance"] for r in rows]
+    assert all(a > b for a, b in zip(distances, distances[1:]))  # approaching the singularity
+
+
+def _same(a: list[dict], b: list[dict]) -> bool:
+    def norm(r: dict) -> dict:
+        return {k: ("nan" if isinstance(v, float) and math.isnan(v) else v) for k, v in r.items()}
+
+    return [norm(r) for r in a] == [norm(r) for r in b]
+
+
+def test_workers_give_the_serial_results():
+    mech = pinmob.load("3-PUU")
+    spec = path_spec(mech, "generic", "-0.09,0.05,-0.18,0,0,0", 70)  # three chunks
+    serial = list(scan(mech, spec, workers=1, progress=False))
+    parallel = list(scan(mech, spec, workers=2, progress=False))
+    assert len(serial) == 70 and _same(serial, parallel)
+    grid = grid_spec(mech, "generic", [("x", -0.1, 0.14, 7), ("y", -0.2, 0.2, 5)])
+    serial = list(scan(mech, grid, workers=1, progress=False))
+    parallel = list(scan(mech, grid, workers=2, progress=False))
+    assert _same(serial, parallel)
+    assert any(not r["reachable"] for r in serial) and any(r["reachable"] for r in serial)
+
+
+def test_cli_writes_csv_json_and_plots(tmp_path, capsys):
+    c, j, p = tmp_path / "s.csv", tmp_path / "s.json", tmp_path / "s.png"
+    assert main(["scan", "6-UPS", "--from", "home", "--to", YAW_120, "-n", "13", "--csv", str(c), "--json", str(j), "--plot", str(p)]) == 0
+    out = capsys.readouterr().out
+    assert "singular samples: 1" in out and "#9" in out
+    with c.open() as fh:
+        rows = list(csv.DictReader(fh))
+    assert len(rows) == 13 and rows[9]["singularity"] == "actuation"
+    doc = json.loads(j.read_text())
+    assert doc["scan"]["mechanism"] == "6-UPS" and len(doc["samples"]) == 13
+    assert doc["samples"][9]["locked_dof"] == 1
+    assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 20_000
+
+    m = tmp_path / "map.png"
+    assert main(["scan", "3-PUU", "--grid", "x:-0.1:0.14:7", "y:-0.12:0.12:5", "--plot", str(m), "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "35 samples" in out and "unreachable" in out
+    assert m.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and m.stat().st_size > 20_000
+
+
+def test_cli_errors_are_one_line(capsys):
+    assert main(["scan", "3-PUU", "--grid", "x:0:1", "y:0:1:3"]) == 2
+    assert "COORD:LO:HI:N" in capsys.readouterr().err
+    assert main(["scan", "3-PUU", "--grid", "w:0:1:3", "y:0:1:3"]) == 2
+    assert "valid" in capsys.readouterr().err
+    assert main(["scan", "3-PUU", "--from", "nowhere"]) == 2
+    assert "nowhere" in capsys.readouterr().err

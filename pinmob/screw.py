@@ -301,6 +301,25 @@ class ScrewSystem:
         return np.column_stack(vecs) if vecs else np.zeros((6, 0))
 
 
+def _axis_point(u: Array, v: Array, trans: Array) -> Array:
+    """Point of the axis of the screw ``[v; u]`` (|u| = 1) closest to the origin, modulo free translations.
+
+    The axis point is ``u x v``. Adding a free translation t normal to u keeps
+    the pitch and moves the axis by ``u x t``; the point returned has no
+    component along u nor along ``u x t`` for t in the free translations T
+    normal to u.
+    """
+    point = np.cross(u, v)
+    drop = [u]
+    if trans.shape[1]:
+        _, s_t, vt_t = np.linalg.svd((u @ trans)[None, :], full_matrices=True)
+        normal = trans @ vt_t[int(np.sum(s_t > 1e-9)) :].T  # free translations normal to u
+        drop += [np.cross(u, t) for t in normal.T]
+    qd, rd = np.linalg.qr(np.column_stack(drop))
+    qd = qd[:, np.abs(np.diag(rd)) > 1e-9]
+    return point - qd @ (qd.T @ point)
+
+
 def principal_screws(
     moment: ArrayLike, direction: ArrayLike, rtol: float = RTOL
 ) -> tuple[Array, list[tuple[Array, Array, float]]]:
@@ -313,15 +332,22 @@ def principal_screws(
     1. Free vectors: the subspace with ``direction = 0``; their moments span
        the translation (couple) directions T.
     2. On a complement, remove from each moment its component in T (a change
-       within the system), then solve the generalised eigenproblem of the pitch
-       ``h = (w . v) / (w . w)``: ``sym(W^T V) x = h (W^T W) x``. Its eigenvalues
-       are the principal pitches, stationary values of h, and do not depend on
-       the basis. Equal pitches are made canonical with
+       within the system). Adding a free translation t changes the pitch
+       ``h = (w . v) / (w . w)`` by ``(w . t) / (w . w)``, so h is defined modulo
+       T only for directions w normal to T. Directions of the system with a
+       component along T give pure rotations (a translation in T cancels their
+       pitch); they are the orthogonal complement, in the system's directions,
+       of those normal to T, made canonical with :func:`canonical_directions`.
+    3. On the screws whose direction is normal to T, solve the generalised
+       eigenproblem of the pitch: ``sym(W^T V) x = h (W^T W) x``. Its
+       eigenvalues are the principal pitches, stationary values of h, and do
+       not depend on the basis. Equal pitches are made canonical with
        :func:`canonical_directions`.
 
     Returns:
         (3, p) canonical free-vector directions, and per principal screw the unit
-        direction u, the axis point closest to the origin (modulo u and T), and
+        direction u, the axis point closest to the origin (modulo the axis and
+        the shifts ``u x t`` that free translations t allow), and
         the pitch, both dimensionless (multiply by L for SI).
     """
     v = np.asarray(moment, float).reshape(3, -1)
@@ -344,11 +370,39 @@ def principal_screws(
         gv = gv - trans @ (trans.T @ gv)
     if wr == 0:
         return trans, []
+    pitch_tol = max(1e-9, 10 * rtol)
+    out: list[tuple[Array, Array, float]] = []
+    # Adding a free translation t changes the pitch of a screw by (w . t) / (w . w): the pitch is only
+    # defined modulo T for directions w normal to T (coefficients ``inv``). Directions with a component
+    # along T are pure rotations once the right translation is added (coefficients ``rot``).
+    if trans.shape[1]:
+        _, s_b, vt_b = np.linalg.svd(trans.T @ gw, full_matrices=True)
+        rb = int(np.sum(s_b > rtol * max(1.0, float(s_b[0]) if s_b.size else 0.0)))
+        inv = vt_b[rb:].T
+        if rb:
+            w_inv = gw @ inv
+            w_all = np.linalg.svd(gw, full_matrices=False)[0]
+            if w_inv.shape[1]:
+                qi = np.linalg.svd(w_inv, full_matrices=False)[0]
+                w_all = w_all - qi @ (qi.T @ w_all)
+            dirs = canonical_directions(w_all, tol=1e-6)
+            coeff = np.linalg.lstsq(gw, dirs, rcond=None)[0]
+            for c in range(dirs.shape[1]):
+                ww, vv = gw @ coeff[:, c], gv @ coeff[:, c]
+                nw = np.linalg.norm(ww)
+                u = _positive(ww / nw)
+                vv = vv / nw * (1 if u @ ww > 0 else -1)
+                pu = trans @ (trans.T @ u)  # non-zero: u has a component along T
+                vv = vv - (u @ vv) / (u @ pu) * pu  # zero pitch: add a free translation
+                out.append((clean(u), clean(_axis_point(u, vv, trans)), 0.0))
+    else:
+        inv = np.eye(gw.shape[1])
+    if inv.shape[1] == 0:
+        return trans, out
+    gv, gw = gv @ inv, gw @ inv
     a = 0.5 * (gw.T @ gv + gv.T @ gw)
     b = gw.T @ gw
     pitches, x = eigh(a, b)
-    out: list[tuple[Array, Array, float]] = []
-    pitch_tol = max(1e-9, 10 * rtol)
     i = 0
     while i < len(pitches):
         j = i
@@ -364,11 +418,7 @@ def principal_screws(
             u = _positive(ww / nw)
             vv = vv / nw * (1 if u @ ww > 0 else -1)
             h = float(u @ vv)
-            point = np.cross(u, vv)
-            drop = np.column_stack([u, trans]) if trans.size else u[:, None]
-            qd = np.linalg.qr(drop)[0]
-            point = point - qd @ (qd.T @ point)
-            out.append((clean(u), clean(point), 0.0 if abs(h) <= pitch_tol else h))
+            out.append((clean(u), clean(_axis_point(u, vv, trans)), 0.0 if abs(h) <= pitch_tol else h))
         i = j + 1
     return trans, out
 

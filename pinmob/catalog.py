@@ -166,8 +166,6 @@ def close(builder: MechanismBuilder, fixed: dict[str, float], seed: dict[str, fl
     (position / L, rotation) and the rows ``q_j - fixed_j``, started at ``seed``.
     Used to write closed ``joints`` configurations; returns every non-zero joint value.
     """
-    import pinocchio as pin
-
     from .closure import compute_kinematics, relative_error, solve
     from .screw import twist_scaling
 
@@ -195,12 +193,11 @@ def close(builder: MechanismBuilder, fixed: dict[str, float], seed: dict[str, fl
         x = float(q[model.joints[j].idx_q])
         if abs(x) > 1e-13:
             out[model.names[j]] = round(x, 12)
-    del pin
     return out
 
 
 def _limb_pairs(names: str = "ABC") -> list[tuple[str, float]]:
-    return list(zip(names, symmetric_angles(len(names))))
+    return list(zip(names, symmetric_angles(len(names)), strict=True))
 
 
 @register("3upu")
@@ -625,7 +622,7 @@ def _ur5_path() -> Path:
     return Path(example_robot_data.getModelPath(UR5)) / UR5
 
 
-def _ik(builder_limb: Any, mech: Any, limb_name: str, target: np.ndarray, seed: np.ndarray) -> np.ndarray:
+def _ik(mech: Any, limb_name: str, target: np.ndarray, seed: np.ndarray) -> np.ndarray:
     """Joint values of one limb of ``mech`` putting its tip at ``target`` (4, 4), by damped least squares."""
     import pinocchio as pin
 
@@ -650,8 +647,6 @@ def _ik(builder_limb: Any, mech: Any, limb_name: str, target: np.ndarray, seed: 
 
 @register("3ur5")
 def _three_ur5() -> Definition:
-    import pinocchio as pin
-
     ring, height, grip = 0.75, 0.35, 0.12
     b = MechanismBuilder(
         "3-UR5",
@@ -677,7 +672,7 @@ def _three_ur5() -> Definition:
     q = mech.neutral()
     for limb in mech.limbs:
         q[limb.v_indices] = seed_arm
-        q = _ik(None, mech, limb.name, tool_frames[limb.name], q)
+        q = _ik(mech, limb.name, tool_frames[limb.name], q)
     # each tip frame: the object's frame (centre, world axes) seen from its tool flange
     for limb in b.limbs:
         offset = np.linalg.inv(tool_frames[limb.name])

@@ -96,7 +96,9 @@ def test_cli_analyze_reports_agreement(capsys):
 
 
 def test_cli_models_subprocess():
-    run = subprocess.run([sys.executable, "-m", "pinmob", "models", "--json"], capture_output=True, text=True, timeout=60)
+    run = subprocess.run(
+        [sys.executable, "-m", "pinmob", "models", "--json"], capture_output=True, text=True, timeout=60
+    )
     assert run.returncode == 0, run.stderr
     assert "3-RRR-spherical" in {r["name"] for r in json.loads(run.stdout)}
 
@@ -116,14 +118,16 @@ def test_layout_helpers():
 def test_builder_sketch_and_analyze():
     """A user's sketch: a planar 2-RRR (Sarrus-like check of the builder API) analysed without writing files."""
     b = MechanismBuilder("2-RRR", "two planar RRR limbs")
-    for name, theta in zip("AB", symmetric_angles(2)):
+    for name, theta in zip("AB", symmetric_angles(2), strict=True):
         limb = b.limb(name)
         limb.revolute("r1", at=polar(0.3, theta), axis=[0, 0, 1], actuated=True)
         limb.revolute("r2", at=polar(0.2, theta + 0.5), axis=[0, 0, 1])
         limb.revolute("r3", at=polar(0.05, theta), axis=[0, 0, 1])
         limb.tip(at=[0, 0, 0])
     mech = b.mechanism()
-    assert_mobility(mech, mech.neutral(), dof=3, motion_type="2T1R", directions={"T": [[1, 0, 0], [0, 1, 0]], "R": [[0, 0, 1]]})
+    assert_mobility(
+        mech, mech.neutral(), dof=3, motion_type="2T1R", directions={"T": [[1, 0, 0], [0, 1, 0]], "R": [[0, 0, 1]]}
+    )
 
 
 def test_urdf_limb_errors():
@@ -153,7 +157,9 @@ def test_assert_mobility_failure_message():
     assert "dof: expected 2, found 1" in msg
     assert "motion type: expected 1T1R, found 1T" in msg
     assert "T directions: expected span of ['[1, 0, 0]'], found ['[0, 0, 1]']" in msg
-    assert re.search(r"singular values of the constraint wrenches \[.*\], tolerance [0-9.e-]+ \(rtol 1e-06 x largest\)", msg)
+    assert re.search(
+        r"singular values of the constraint wrenches \[.*\], tolerance [0-9.e-]+ \(rtol 1e-06 x largest\)", msg
+    )
 
 
 def test_assert_mobility_through_and_bad_kind():

@@ -192,7 +192,9 @@ def test_3rrr_spherical_limb_a_stretched():
     its joint screws span only the rotations about O within that plane, so the platform keeps 2R, both axes in
     the plane of limb A's axes and through O."""
     plane = [joint_axis("3-RRR-spherical", "limb-A-stretched", f"A_r{i}") for i in (1, 3)]
-    check("3-RRR-spherical", "limb-A-stretched", dof=2, motion_type="2R", directions={"R": plane}, through=[0.0, 0.0, 0.0])
+    check(
+        "3-RRR-spherical", "limb-A-stretched", dof=2, motion_type="2R", directions={"R": plane}, through=[0.0, 0.0, 0.0]
+    )
 
 
 # --------------------------------------------------------------------------- 3-RRR planar

@@ -14,6 +14,12 @@ Example::
     a.tip(at=[0, 0.2, 0])
     ...
     b.write("models", configurations={...})
+
+Layout helpers: :func:`radial` (radial and tangential unit vectors at an
+angle), :func:`polar` (a point on a circle), :func:`symmetric_angles` (n
+angles evenly spread) and :func:`rotation` (axis-angle). Limbs taken from an
+existing robot URDF (with its meshes) are added by
+:meth:`MechanismBuilder.urdf_limb`.
 """
 
 from __future__ import annotations
@@ -21,14 +27,52 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
+from xml.etree import ElementTree
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .exceptions import ConfigurationError
 
+if TYPE_CHECKING:
+    from .mechanism import Mechanism
+
 JOINT_TYPES = ("revolute", "prismatic", "continuous")
+
+
+# --------------------------------------------------------------------------- layout helpers
+
+
+def radial(theta: float) -> tuple[np.ndarray, np.ndarray]:
+    """Radial unit vector ``e = (cos theta, sin theta, 0)`` and tangent ``t = z x e``.
+
+    Args:
+        theta: angle about the world z axis [rad].
+    """
+    e = np.array([np.cos(theta), np.sin(theta), 0.0])
+    return e, np.array([-e[1], e[0], 0.0])
+
+
+def polar(radius: float, theta: float, z: float = 0.0) -> np.ndarray:
+    """Point ``radius * e(theta) + z * z_hat`` [m], shape (3,)."""
+    return radius * radial(theta)[0] + np.array([0.0, 0.0, z])
+
+
+def symmetric_angles(n: int, offset: float = 0.0) -> list[float]:
+    """``n`` angles ``offset + 2 pi k / n`` [rad], k = 0..n-1 (limbs spread evenly about z)."""
+    return [offset + 2.0 * np.pi * k / n for k in range(n)]
+
+
+def rotation(axis: Sequence[float], angle: float) -> np.ndarray:
+    """Rotation matrix (3, 3) of ``angle`` [rad] about ``axis`` (Rodrigues' formula).
+
+    ``R = I + sin(a) [u]x + (1 - cos(a)) [u]x^2`` with ``u = axis / |axis|``.
+    """
+    u = np.asarray(axis, float)
+    u = u / np.linalg.norm(u)
+    k = np.array([[0.0, -u[2], u[1]], [u[2], 0.0, -u[0]], [-u[1], u[0], 0.0]])
+    return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
 
 
 @dataclass(frozen=True)
@@ -122,6 +166,110 @@ class LimbBuilder:
         self.tip_rotation = np.eye(3) if rotation is None else np.asarray(rotation, float)
 
 
+@dataclass
+class UrdfLimb:
+    """A limb copied from an existing robot URDF: its chain from ``root_link`` to ``tip_link``.
+
+    Links and joints are renamed ``{limb}_{original name}``; each link keeps its
+    visual, collision and inertial elements (meshes keep their ``package://``
+    paths, so a viewer shows the robot when the package folder is known to
+    :func:`pinmob.mechanism_file.package_dirs`). The root link is fixed to the
+    builder's ``base`` at ``base_pose``; the tip frame ``{limb}_tip`` is fixed to
+    the tip link at ``tip_offset`` (both ``(rotation (3, 3), position (3,) [m])``).
+    Create it with :meth:`MechanismBuilder.urdf_limb`.
+    """
+
+    name: str
+    source: Path
+    root_link: str
+    tip_link: str
+    base_pose: tuple[np.ndarray, np.ndarray]
+    tip_offset: tuple[np.ndarray, np.ndarray]
+    actuated: list[str] = field(default_factory=list)
+    links: list[ElementTree.Element] = field(default_factory=list, repr=False)
+    chain: list[ElementTree.Element] = field(default_factory=list, repr=False)
+
+    @classmethod
+    def read(
+        cls,
+        name: str,
+        source: str | Path,
+        root_link: str,
+        tip_link: str,
+        base_pose: tuple[np.ndarray, np.ndarray],
+        tip_offset: tuple[np.ndarray, np.ndarray],
+    ) -> UrdfLimb:
+        """Parse ``source`` and keep the links and joints from ``root_link`` to ``tip_link``."""
+        path = Path(source)
+        try:
+            robot = ElementTree.parse(path).getroot()
+        except (OSError, ElementTree.ParseError) as exc:
+            raise ConfigurationError(f"limb {name!r}: cannot read URDF {str(path)!r}: {exc}") from None
+        links = {el.get("name"): el for el in robot.findall("link")}
+        by_child = {el.find("child").get("link"): el for el in robot.findall("joint")}  # type: ignore[union-attr]
+        for link in (root_link, tip_link):
+            if link not in links:
+                raise ConfigurationError(
+                    f"limb {name!r}: no link {link!r} in {path.name}; valid: {', '.join(sorted(links))}"
+                )
+        chain, link = [], tip_link
+        while link != root_link:
+            if link not in by_child:
+                raise ConfigurationError(
+                    f"limb {name!r}: link {tip_link!r} does not descend from {root_link!r} in {path.name}"
+                )
+            chain.append(by_child[link])
+            link = by_child[link].find("parent").get("link")  # type: ignore[union-attr]
+        chain.reverse()
+        kept = [root_link] + [j.find("child").get("link") for j in chain]  # type: ignore[union-attr]
+        limb = cls(name, path, root_link, tip_link, base_pose, tip_offset)
+        limb.links = [_renamed(links[n], name) for n in kept]
+        limb.chain = [_renamed(j, name) for j in chain]
+        limb.actuated = [j.get("name") for j in limb.chain if j.get("type") != "fixed"]  # type: ignore[misc]
+        return limb
+
+    @property
+    def joints(self) -> list[str]:
+        """Names of the limb's movable joints (renamed), base to tip."""
+        return [j.get("name") for j in self.chain if j.get("type") != "fixed"]  # type: ignore[misc]
+
+    def urdf_lines(self) -> list[str]:
+        """URDF elements of this limb, indented for inclusion in a ``<robot>``."""
+        out = []
+        rot, pos = self.base_pose
+        root = f"{self.name}_{self.root_link}"
+        out.append(f'  <joint name="{self.name}_mount" type="fixed">')
+        out.append(f'    <parent link="base"/>\n    <child link="{root}"/>')
+        out.append(f'    <origin xyz="{_v(pos)}" rpy="{_v(_rpy(np.asarray(rot)))}"/>\n  </joint>')
+        for el in self.links + self.chain:
+            el = _copy(el)
+            ElementTree.indent(el, space="  ", level=1)
+            out.append("  " + ElementTree.tostring(el, encoding="unicode").rstrip())
+        rot, pos = self.tip_offset
+        tip = f"{self.name}_tip"
+        out.append(f'  <link name="{tip}"/>')
+        out.append(f'  <joint name="{tip}_fixed" type="fixed">')
+        out.append(f'    <parent link="{self.name}_{self.tip_link}"/>\n    <child link="{tip}"/>')
+        out.append(f'    <origin xyz="{_v(pos)}" rpy="{_v(_rpy(np.asarray(rot)))}"/>\n  </joint>')
+        return out
+
+
+def _copy(el: ElementTree.Element) -> ElementTree.Element:
+    return ElementTree.fromstring(ElementTree.tostring(el))
+
+
+def _renamed(el: ElementTree.Element, prefix: str) -> ElementTree.Element:
+    """Copy of a URDF link or joint with its name and link references prefixed."""
+    out = _copy(el)
+    out.tail = None
+    out.set("name", f"{prefix}_{out.get('name')}")
+    for tag in ("parent", "child"):
+        ref = out.find(tag)
+        if ref is not None:
+            ref.set("link", f"{prefix}_{ref.get('link')}")
+    return out
+
+
 def _rpy(rot: np.ndarray) -> tuple[float, float, float]:
     """URDF roll-pitch-yaw of a rotation matrix (R = Rz(y) Ry(p) Rx(r))."""
     pitch = float(np.arcsin(-np.clip(rot[2, 0], -1, 1)))
@@ -172,13 +320,48 @@ class MechanismBuilder:
         self.name = name
         self.description = description
         self.platform = platform
-        self.limbs: list[LimbBuilder] = []
+        self.limbs: list[LimbBuilder | UrdfLimb] = []
 
     def limb(self, name: str) -> LimbBuilder:
         """Start a new limb; its joints are named ``{name}_{label}``."""
         if any(b.name == name for b in self.limbs):
             raise ConfigurationError(f"limb {name!r} exists already")
         limb = LimbBuilder(name)
+        self.limbs.append(limb)
+        return limb
+
+    def urdf_limb(
+        self,
+        name: str,
+        urdf: str | Path,
+        root_link: str,
+        tip_link: str,
+        base_pose: tuple[Sequence[Sequence[float]], Sequence[float]],
+        tip_offset: tuple[Sequence[Sequence[float]], Sequence[float]] = (np.eye(3), (0.0, 0.0, 0.0)),
+        actuated: Sequence[str] | None = None,
+    ) -> UrdfLimb:
+        """Add a limb copied from a robot URDF (e.g. an arm of example-robot-data).
+
+        Args:
+            name: limb name; the arm's links and joints become ``{name}_{original}``.
+            urdf: path of the robot's URDF.
+            root_link, tip_link: the chain kept (e.g. ``base_link`` to ``tool0``).
+            base_pose: (rotation (3, 3), position (3,) [m]) of ``root_link`` in the world.
+            tip_offset: pose of the limb tip frame in ``tip_link`` (rotation, position [m]).
+            actuated: original names of the actuated joints (default: every movable joint).
+        """
+        if any(b.name == name for b in self.limbs):
+            raise ConfigurationError(f"limb {name!r} exists already")
+        pose = (np.asarray(base_pose[0], float), np.asarray(base_pose[1], float))
+        offset = (np.asarray(tip_offset[0], float), np.asarray(tip_offset[1], float))
+        limb = UrdfLimb.read(name, urdf, root_link, tip_link, pose, offset)
+        if actuated is not None:
+            limb.actuated = [f"{name}_{a}" for a in actuated]
+            unknown = set(limb.actuated) - set(limb.joints)
+            if unknown:
+                raise ConfigurationError(
+                    f"limb {name!r}: actuated joint(s) {sorted(unknown)} not in the chain; valid: {limb.joints}"
+                )
         self.limbs.append(limb)
         return limb
 
@@ -194,6 +377,9 @@ class MechanismBuilder:
             '  <link name="base"/>',
         ]
         for limb in self.limbs:
+            if isinstance(limb, UrdfLimb):
+                lines += limb.urdf_lines()
+                continue
             if limb.tip_position is None or limb.tip_rotation is None:
                 raise ConfigurationError(f"limb {limb.name!r} has no tip: call .tip(...)")
             if not limb.joints:
@@ -250,6 +436,25 @@ class MechanismBuilder:
             out += ["", f"[configurations.{_key(cname)}]"]
             out += [f"{_key(k)} = {toml_value(v)}" for k, v in conf.items()]
         return "\n".join(out) + "\n"
+
+    def mechanism(self) -> Mechanism:
+        """The mechanism as it would load from the written files (kinematics only, no files).
+
+        Lets a user sketch a mechanism and analyse it at once::
+
+            mech = b.mechanism()
+            pinmob.analyze(mech, mech.neutral())  # the reference configuration
+        """
+        import pinocchio as pin
+
+        from .mechanism import Mechanism
+
+        model = pin.buildModelFromXML(self.urdf())
+        actuated = {limb.name: list(limb.actuated) for limb in self.limbs}
+        tips = [(limb.name, f"{limb.name}_tip") for limb in self.limbs]
+        return Mechanism.from_model(
+            model, tips, name=self.name, platform=self.platform, actuated=actuated, description=self.description
+        )
 
     def write(
         self,

@@ -5,6 +5,7 @@ See the README for the format. Every error names the file and the key.
 
 from __future__ import annotations
 
+import os
 import tomllib
 import warnings
 from collections.abc import Callable, Mapping
@@ -105,6 +106,25 @@ def _vector3(path: Path, where: str, value: Any) -> np.ndarray:
     return arr
 
 
+def package_dirs(urdf: Path) -> list[str]:
+    """Folders searched for ``package://`` mesh paths of ``urdf``.
+
+    The URDF's own folder, then the folders of ``ROS_PACKAGE_PATH``, then the
+    ``share`` folder of the installed example-robot-data (whose URDFs name
+    their meshes ``package://example-robot-data/robots/...``), when importable.
+    """
+    dirs = [str(urdf.parent)]
+    dirs += [d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]
+    try:
+        import example_robot_data
+
+        robots = Path(example_robot_data.getModelPath("ur_description/urdf/ur5_robot.urdf"))
+        dirs.append(str((robots / ".." / "..").resolve()))
+    except Exception:  # not installed, or a layout without robots: meshes are optional
+        pass
+    return dirs
+
+
 def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | None, pin.GeometryModel | None]:
     """Kinematic model from a URDF; visual/collision geometry when its meshes load (else a warning)."""
     if not urdf.exists():
@@ -118,7 +138,7 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | No
     geoms: list[pin.GeometryModel | None] = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
         try:
-            geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=[str(urdf.parent)]))
+            geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=package_dirs(urdf)))
         except Exception as exc:
             warnings.warn(
                 f"{urdf.name}: {kind.name.lower()} geometry not loaded ({str(exc).strip()[:200]}); kinematics only",

@@ -371,8 +371,14 @@ def closure_jacobian_twists(mech: Mechanism, q: Array, rtol: float = RTOL) -> Ar
         dq = decide_rank(k, rtol, n=model.nv).null_space.T * col[:, None]
     else:
         dq = np.diag(col)
-    image = decide_rank((full[0] @ dq).T, rtol, n=6).row_space.T
-    return image / scale
+    # rank of the image against the size of the platform Jacobian itself: when every closed-chain motion
+    # leaves the platform still (e.g. limbs folding at a dead centre) the image is round-off only
+    image = full[0] @ dq
+    reference = float(np.linalg.norm(full[0] * col, 2))
+    if image.size == 0 or float(np.linalg.norm(image, 2)) <= rtol * reference:
+        return np.zeros((6, 0))
+    _, s_img, vt = np.linalg.svd(image.T, full_matrices=True)
+    return vt[: int(np.sum(s_img > rtol * reference))].T / scale
 
 
 # --------------------------------------------------------------------------- paper view

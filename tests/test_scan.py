@@ -71,7 +71,27 @@ def test_workers_give_the_serial_results():
 
 def test_cli_writes_csv_json_and_plots(tmp_path, capsys):
     c, j, p = tmp_path / "s.csv", tmp_path / "s.json", tmp_path / "s.png"
-    assert main(["scan", "6-UPS", "--from", "home", "--to", YAW_120, "-n", "13", "--csv", str(c), "--json", str(j), "--plot", str(p)]) == 0
+    assert (
+        main(
+            [
+                "scan",
+                "6-UPS",
+                "--from",
+                "home",
+                "--to",
+                YAW_120,
+                "-n",
+                "13",
+                "--csv",
+                str(c),
+                "--json",
+                str(j),
+                "--plot",
+                str(p),
+            ]
+        )
+        == 0
+    )
     out = capsys.readouterr().out
     assert "singular samples: 1" in out and "#9" in out
     with c.open() as fh:

@@ -88,7 +88,9 @@ def test_batch_agrees_with_single_analyses(name):
     pin.framesForwardKinematics(mech.model, data, q0)
     base = pin.SE3(data.oMf[mech.platform_id])
     for _ in range(6 if name in ("3-PUU", "6-UPS") else 0):
-        delta = np.concatenate([rng.uniform(-0.02, 0.02, 3), rng.uniform(-0.05, 0.05, 3) if name == "6-UPS" else np.zeros(3)])
+        delta = np.concatenate(
+            [rng.uniform(-0.02, 0.02, 3), rng.uniform(-0.05, 0.05, 3) if name == "6-UPS" else np.zeros(3)]
+        )
         qs.append(pinmob.assemble_pose(mech, base * pin.exp6(delta), q0))
     qs = np.array(qs)
     batch = analyze_batch(mech, qs, singular_values=True)

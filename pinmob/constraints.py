@@ -196,9 +196,9 @@ def _outputs(mech: Mechanism, data: pin.Data, frames: Sequence[str], col: Array)
         rows.append(twist_scaling(length)[:, None] * pin.getFrameJacobian(model, data, frame_id(mech.model, name), pin.LOCAL_WORLD_ALIGNED))
     for j in range(1, model.njoints):
         rows.append(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:3] / length)
-    for c in mech.all_closures:
-        for i in (c.frame_a_id, c.frame_b_id):
-            rows.append(pin.getFrameJacobian(model, data, i, pin.LOCAL_WORLD_ALIGNED)[:3] / length)
+    for c in mech.all_closures:  # a cut joint's centre; a 6d cut is inside one rigid body
+        if c.type != "6d":
+            rows.append(pin.getFrameJacobian(model, data, c.frame_a_id, pin.LOCAL_WORLD_ALIGNED)[:3] / length)
     return np.vstack(rows) * col if rows else np.zeros((0, model.nv))
 
 
@@ -221,7 +221,7 @@ def _joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
         if part.size and np.max(np.abs(part)) > 1e-6:
             k = int(np.argmax(np.abs(part)))
             out[model.names[j]] = round(float(part[k]), 6)
-    return out
+    return dict(sorted(out.items(), key=lambda kv: -abs(kv[1])))
 
 
 def _moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str, ...]:
@@ -235,8 +235,22 @@ def _moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[st
     )
 
 
+def _split(matrix: Array, rtol: float, n: int) -> tuple[int, Array]:
+    """Rank and (n, n - rank) orthonormal null-space basis of a dimensionless matrix.
+
+    Unlike the closure Jacobian's decision, the tolerance is ``rtol * max(1, sigma_max)``:
+    these matrices (joint rates and scaled twists of an orthonormal motion basis)
+    are O(1) when they are not zero, and a zero one must have rank 0.
+    """
+    if matrix.size == 0:
+        return 0, np.eye(n)
+    _, s, vt = np.linalg.svd(matrix, full_matrices=True)
+    rank = int(np.sum(s > rtol * max(1.0, float(s[0]))))
+    return rank, vt[rank:].T
+
+
 def _rank(matrix: Array, rtol: float) -> int:
-    return decide_rank(matrix, rtol).rank if matrix.size else 0
+    return _split(matrix, rtol, matrix.shape[1])[0] if matrix.size else 0
 
 
 # --------------------------------------------------------------------------- analysis
@@ -272,16 +286,12 @@ def _actuation(mech: Mechanism, cl: _Closed, actuated: Sequence[str], frames: Se
     idx = joint_velocity_indices(mech, list(actuated))
     a = _selector(model.nv, idx, cl.col) @ n
     out = _outputs(mech, cl.data, frames, cl.col) @ n
-    rank_a = _rank(a, rtol)
-    locked = decide_rank(a, rtol, n=m).null_space.T if a.size else np.eye(m)
-    idle = decide_rank(np.vstack([a, out]), rtol, n=m).null_space.T if m else np.zeros((0, 0))
-    # non-idle remaining motions: the part of `locked` orthogonal to `idle`
-    rest = locked - idle @ (idle.T @ locked) if idle.size else locked
-    rest_dec = decide_rank(rest.T, 1e-6, n=m) if rest.size else None
-    remaining = []
-    if rest_dec is not None:
-        for v in rest_dec.row_space:
-            remaining.append(_joint_rates(mech, cl.col * (n @ v)))
+    rank_a, locked = _split(a, rtol, m)
+    _, idle = _split(np.vstack([a, out]), rtol, m)
+    # non-idle remaining motions: an orthonormal basis of `locked` orthogonal to `idle`
+    rest = locked - idle @ (idle.T @ locked)
+    u, sv, _ = np.linalg.svd(rest, full_matrices=False) if rest.size else (np.zeros((m, 0)), np.zeros(0), None)
+    remaining = [_joint_rates(mech, cl.col * (n @ u[:, i])) for i in range(int(np.sum(sv > 0.5)))]
     frame_dof = {}
     for name in frames:
         t = twist_scaling(mech.length_scale)[:, None] * pin.getFrameJacobian(model, cl.data, frame_id(mech.model, name), pin.LOCAL_WORLD_ALIGNED)
@@ -296,7 +306,8 @@ def frame_mobility(mech: Mechanism, cl: _Closed, frame: str, rtol: float = RTOL)
     scale = twist_scaling(length)[:, None]
     t = scale * pin.getFrameJacobian(model, cl.data, frame_id(model, frame), pin.LOCAL_WORLD_ALIGNED) * cl.col
     image = t @ cl.null
-    basis = decide_rank(image.T, rtol, n=6).row_space.T / scale if image.size else np.zeros((6, 0))
+    rank, _ = _split(image.T, rtol, 6)
+    basis = (np.linalg.svd(image, full_matrices=False)[0][:, :rank] if rank else np.zeros((6, 0))) / scale
     system = classify_twists(basis, length, rtol)
     motions = _motions(system)
     twists = np.column_stack([mo.twist for mo in motions]) if motions else np.zeros((6, 0))
@@ -345,7 +356,7 @@ def analyze_mechanism(
     act = _actuation(mech, cl, actuated, frames, rtol)
     idx = joint_velocity_indices(mech, list(actuated))
     out = _outputs(mech, cl.data, frames, cl.col) @ cl.null
-    idle = decide_rank(np.vstack([_selector(mech.model.nv, idx, cl.col) @ cl.null, out]), rtol, n=cl.null.shape[1]).null_space.T
+    _, idle = _split(np.vstack([_selector(mech.model.nv, idx, cl.col) @ cl.null, out]), rtol, cl.null.shape[1])
     rows = int(cl.k_hat.shape[0])
     return MechanismMobility(
         mechanism=mech.name,

@@ -106,14 +106,20 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | No
         model = pin.buildModelFromUrdf(str(urdf))
     except Exception as exc:  # pinocchio raises RuntimeError/ValueError with parser text
         raise _fail(path, f"urdf {str(urdf)!r} does not parse: {str(exc).strip().splitlines()[0] if str(exc).strip() else exc}") from None
+    visual, collision = load_geometry(model, urdf)
+    return model, visual, collision
+
+
+def load_geometry(model: pin.Model, urdf: Path) -> tuple[pin.GeometryModel | None, pin.GeometryModel | None]:
+    """Visual and collision geometry of a URDF for ``model``; ``None`` with a warning when meshes are missing."""
     geoms: list[pin.GeometryModel | None] = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
         try:
             geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=[str(urdf.parent)]))
         except Exception as exc:
-            warnings.warn(f"{urdf.name}: {kind.name.lower()} geometry not loaded ({str(exc).strip()[:200]}); kinematics only", stacklevel=3)
+            warnings.warn(f"{urdf.name}: {kind.name.lower()} geometry not loaded ({str(exc).strip()[:200]}); kinematics only", stacklevel=4)
             geoms.append(None)
-    return model, geoms[0], geoms[1]
+    return geoms[0], geoms[1]
 
 
 def load_toml(path: str | Path) -> Mechanism:

@@ -216,9 +216,14 @@ def solve(
     err = float(np.max(np.abs(e))) if e.size else 0.0
     lam = damping
     it = 0
+    mark, mark_it = float(e @ e), 0  # stall detection: stop when 30 iterations gain < 0.1 %
     for it in range(1, max_iter + 1):
         if err <= tol:
             return SolverResult(q, err, it - 1, True)
+        if it - mark_it >= 30:
+            if float(e @ e) > 0.999 * mark:
+                break
+            mark, mark_it = float(e @ e), it
         jjt = jac @ jac.T
         dq = -jac.T @ np.linalg.solve(jjt + lam * np.eye(len(e)), e)
         step, accepted = 1.0, False
@@ -521,7 +526,7 @@ def relax(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Mechanism:
     return replace(mech, closures=closures, description=(mech.description + f" [closures relaxed to 3d: {', '.join(names)}]").strip())
 
 
-def find_closed_relaxed(mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 3) -> tuple[Mechanism, Assembly, tuple[str, ...]]:
+def find_closed_relaxed(mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 1) -> tuple[Mechanism, Assembly, tuple[str, ...]]:
     """Close ``mech``, relaxing over-constraining closures to ``3d`` only where it cannot be closed as declared.
 
     First :func:`find_closed` as declared; if that fails, relax the closures

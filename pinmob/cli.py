@@ -77,9 +77,9 @@ def _models(args: argparse.Namespace) -> int:
 
 @command("analyze")
 def _analyze(args: argparse.Namespace) -> int:
+    from .constraints import analyze_mechanism
     from .exceptions import ConfigurationError
     from .mechanism_file import load
-    from .constraints import analyze_mechanism
     from .mobility import analyze, paper_view
     from .report import format_expectation
     from .screw import RTOL

@@ -434,8 +434,9 @@ def find_closed(
 ) -> Assembly:
     """A closed configuration: projection from q0 (default neutral), then from seeded random restarts.
 
-    Returns the first that closes; its ``method`` says which (``neutral``,
-    ``given``, or ``random restart k (seed s)``).
+    Returns the first that closes; its ``method`` says which: ``neutral`` or
+    ``given`` (closed as it is), ``projection from neutral`` (or ``given``), or
+    ``projection from random restart k (seed s)``.
 
     Raises:
         ClosureError: nothing closed; carries the best residuals seen.
@@ -446,7 +447,8 @@ def find_closed(
     for k in range(restarts + 1):
         q_start, label = starts[0] if k == 0 else (random_configuration(mech, rng), f"random restart {k} (seed {seed})")
         try:
-            return project(mech, q_start, tol=tol, method=f"projection from {label}" if k else label)
+            found = project(mech, q_start, tol=tol, method=f"projection from {label}")
+            return found if found.iterations else replace(found, method=label)
         except ClosureError as exc:
             if best is None or _worst(exc) < _worst(best):
                 best = exc
@@ -526,7 +528,7 @@ def relax(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Mechanism:
     return replace(mech, closures=closures, description=(mech.description + f" [closures relaxed to 3d: {', '.join(names)}]").strip())
 
 
-def find_closed_relaxed(mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 1) -> tuple[Mechanism, Assembly, tuple[str, ...]]:
+def find_closed_relaxed(mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 0) -> tuple[Mechanism, Assembly, tuple[str, ...]]:
     """Close ``mech``, relaxing over-constraining closures to ``3d`` only where it cannot be closed as declared.
 
     First :func:`find_closed` as declared; if that fails, relax the closures

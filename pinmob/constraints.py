@@ -35,7 +35,14 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from .closure import CLOSURE_TOL, check_closed, compute_kinematics, joint_velocity_indices, linear_velocity_mask, stacked_error
+from .closure import (
+    CLOSURE_TOL,
+    check_closed,
+    compute_kinematics,
+    joint_velocity_indices,
+    linear_velocity_mask,
+    stacked_error,
+)
 from .exceptions import ConfigurationError
 from .mechanism import Mechanism, frame_id
 from .mobility import Motion, _motions
@@ -59,7 +66,13 @@ class ClosureRank:
         return self.rows - self.independent
 
     def to_dict(self) -> dict[str, Any]:
-        return {"name": self.name, "type": self.type, "rows": self.rows, "independent": self.independent, "redundant": self.redundant}
+        return {
+            "name": self.name,
+            "type": self.type,
+            "rows": self.rows,
+            "independent": self.independent,
+            "redundant": self.redundant,
+        }
 
 
 @dataclass(frozen=True)
@@ -73,7 +86,12 @@ class FrameMobility:
     free_twists: Array = field(repr=False)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"frame": self.frame, "dof": self.dof, "motion_type": self.motion_type, "motions": [m.to_dict() for m in self.motions]}
+        return {
+            "frame": self.frame,
+            "dof": self.dof,
+            "motion_type": self.motion_type,
+            "motions": [m.to_dict() for m in self.motions],
+        }
 
 
 @dataclass(frozen=True)
@@ -193,7 +211,10 @@ def _outputs(mech: Mechanism, data: pin.Data, frames: Sequence[str], col: Array)
     model, length = mech.model, mech.length_scale
     rows = []
     for name in frames:
-        rows.append(twist_scaling(length)[:, None] * pin.getFrameJacobian(model, data, frame_id(mech.model, name), pin.LOCAL_WORLD_ALIGNED))
+        rows.append(
+            twist_scaling(length)[:, None]
+            * pin.getFrameJacobian(model, data, frame_id(mech.model, name), pin.LOCAL_WORLD_ALIGNED)
+        )
     for j in range(1, model.njoints):
         rows.append(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:3] / length)
     for c in mech.all_closures:  # a cut joint's centre; a 6d cut is inside one rigid body
@@ -231,7 +252,10 @@ def _moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[st
     size = np.linalg.norm(basis, axis=1)
     top = float(size.max()) or 1.0
     return tuple(
-        model.names[j] for j in range(1, model.njoints) if model.joints[j].nv and size[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv].max() > tol * top
+        model.names[j]
+        for j in range(1, model.njoints)
+        if model.joints[j].nv
+        and size[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv].max() > tol * top
     )
 
 
@@ -294,10 +318,20 @@ def _actuation(mech: Mechanism, cl: _Closed, actuated: Sequence[str], frames: Se
     remaining = [_joint_rates(mech, cl.col * (n @ u[:, i])) for i in range(int(np.sum(sv > 0.5)))]
     frame_dof = {}
     for name in frames:
-        t = twist_scaling(mech.length_scale)[:, None] * pin.getFrameJacobian(model, cl.data, frame_id(mech.model, name), pin.LOCAL_WORLD_ALIGNED)
+        t = twist_scaling(mech.length_scale)[:, None] * pin.getFrameJacobian(
+            model, cl.data, frame_id(mech.model, name), pin.LOCAL_WORLD_ALIGNED
+        )
         frame_dof[name] = _rank((t * cl.col) @ n @ locked, rtol) if locked.size else 0
     locked_dof, idle_dof = locked.shape[1], idle.shape[1]
-    return Actuation(tuple(actuated), locked_dof == idle_dof and rank_a == len(idx), locked_dof, idle_dof, len(idx) - rank_a, frame_dof, tuple(remaining))
+    return Actuation(
+        tuple(actuated),
+        locked_dof == idle_dof and rank_a == len(idx),
+        locked_dof,
+        idle_dof,
+        len(idx) - rank_a,
+        frame_dof,
+        tuple(remaining),
+    )
 
 
 def frame_mobility(mech: Mechanism, cl: _Closed, frame: str, rtol: float = RTOL) -> FrameMobility:
@@ -400,7 +434,11 @@ def actuator_sets(
         ConfigurationError: size out of range or too many combinations.
     """
     model = mech.model
-    names = list(candidates) if candidates is not None else [model.names[j] for j in range(1, model.njoints) if model.joints[j].nv == 1]
+    names = (
+        list(candidates)
+        if candidates is not None
+        else [model.names[j] for j in range(1, model.njoints) if model.joints[j].nv == 1]
+    )
     if not 0 < size <= len(names):
         raise ConfigurationError(f"actuator set size must be in 1..{len(names)} (the candidate joints), got {size}")
     count = math.comb(len(names), size)

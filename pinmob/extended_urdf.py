@@ -23,7 +23,6 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pinocchio as pin
 
 from .exceptions import MechanismFileError, PinmobError, choices
@@ -67,8 +66,12 @@ def replace_joints(model: pin.Model, replacements: Mapping[str, str]) -> pin.Mod
         new.appendBodyToJoint(jid, model.inertias[j], pin.SE3.Identity())
         if kind is None or kind == "FIXED":
             src, dst = model.joints[j], new.joints[jid]
-            new.lowerPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.lowerPositionLimit[src.idx_q : src.idx_q + src.nq]
-            new.upperPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.upperPositionLimit[src.idx_q : src.idx_q + src.nq]
+            new.lowerPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.lowerPositionLimit[
+                src.idx_q : src.idx_q + src.nq
+            ]
+            new.upperPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.upperPositionLimit[
+                src.idx_q : src.idx_q + src.nq
+            ]
         if kind == "FIXED":
             locked.append(jid)
     for f in list(model.frames)[1:]:
@@ -105,7 +108,10 @@ def find_urdf(path: Path) -> Path:
     found = sorted(path.parent.glob("*.urdf"))
     if len(found) == 1:
         return found[0]
-    raise _fail(path, f"no URDF named {same.name!r} beside it, and {len(found)} other .urdf files: {choices(p.name for p in found)}")
+    raise _fail(
+        path,
+        f"no URDF named {same.name!r} beside it, and {len(found)} other .urdf files: {choices(p.name for p in found)}",
+    )
 
 
 def load_extended_urdf(path: str | Path) -> Mechanism:
@@ -115,14 +121,18 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
     if "closed_loop" not in doc:
         raise _fail(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")
     loops = doc.get("closed_loop") or []
-    if not isinstance(loops, list) or not all(isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) for x in p) for p in loops):
+    if not isinstance(loops, list) or not all(
+        isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) for x in p) for p in loops
+    ):
         raise _fail(path, f"'closed_loop' must be a list of [frame_a, frame_b] pairs, got {loops!r}")
     types = doc.get("type") or ["6d"] * len(loops)
     if not isinstance(types, list) or len(types) != len(loops):
         raise _fail(path, f"'type' must list one of '6d', '3d' per closed loop ({len(loops)}), got {types!r}")
     joint_names, joint_types = _names(path, doc, "joint_name"), _names(path, doc, "joint_type")
     if len(joint_names) != len(joint_types):
-        raise _fail(path, f"'joint_name' ({len(joint_names)}) and 'joint_type' ({len(joint_types)}) must have the same length")
+        raise _fail(
+            path, f"'joint_name' ({len(joint_names)}) and 'joint_type' ({len(joint_types)}) must have the same length"
+        )
     urdf = find_urdf(path)
     try:
         model = pin.buildModelFromUrdf(str(urdf))
@@ -130,7 +140,9 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
         raise _fail(path, f"urdf {str(urdf)!r} does not parse: {' '.join(str(exc).split())[:200]}") from None
     for jname, jtype in zip(joint_names, joint_types):
         if not model.existJointName(jname):
-            raise _fail(path, f"joint_name {jname!r} is not a joint of {urdf.name}; valid: {choices(list(model.names)[1:])}")
+            raise _fail(
+                path, f"joint_name {jname!r} is not a joint of {urdf.name}; valid: {choices(list(model.names)[1:])}"
+            )
         if str(jtype).upper() not in JOINT_TYPES:
             raise _fail(path, f"joint_type {jtype!r} of {jname!r} is not supported; valid: {choices(JOINT_TYPES)}")
     if joint_names:

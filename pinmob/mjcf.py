@@ -60,7 +60,9 @@ def load_mjcf(path: str | Path) -> Mechanism:
     equalities = [e for eq in root.findall("equality") for e in eq if e.tag in KINDS]
     unsupported = sorted({e.tag for eq in root.findall("equality") for e in eq if e.tag not in KINDS})
     if unsupported:
-        warnings.warn(f"{path.name}: equality constraints {unsupported} are not loop closures pinmob reads; ignored", stacklevel=3)
+        warnings.warn(
+            f"{path.name}: equality constraints {unsupported} are not loop closures pinmob reads; ignored", stacklevel=3
+        )
     actuated = [a.get("joint") for act in root.findall("actuator") for a in act if a.get("joint")]
     source = _wrapped(path, root)
     try:
@@ -68,7 +70,9 @@ def load_mjcf(path: str | Path) -> Mechanism:
     except Exception as exc:
         raise _fail(path, f"Pinocchio's MJCF parser failed: {' '.join(str(exc).split())[:300]}") from None
     if len(constraints) != len(equalities):
-        raise _fail(path, f"Pinocchio built {len(constraints)} constraints for {len(equalities)} connect/weld equalities")
+        raise _fail(
+            path, f"Pinocchio built {len(constraints)} constraints for {len(equalities)} connect/weld equalities"
+        )
     closures = []
     try:
         for i, (eq, c) in enumerate(zip(equalities, constraints)):
@@ -83,7 +87,10 @@ def load_mjcf(path: str | Path) -> Mechanism:
         try:
             visual = pin.buildGeomFromMJCF(model, str(source), pin.GeometryType.VISUAL)
         except Exception as exc:
-            warnings.warn(f"{path.name}: visual geometry not loaded ({' '.join(str(exc).split())[:200]}); kinematics only", stacklevel=3)
+            warnings.warn(
+                f"{path.name}: visual geometry not loaded ({' '.join(str(exc).split())[:200]}); kinematics only",
+                stacklevel=3,
+            )
         return Mechanism.from_model(
             model,
             [],

@@ -7,8 +7,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
-    from .mechanism import Expectation
     from .constraints import MechanismMobility
+    from .mechanism import Expectation
     from .mobility import Mobility
 
 KIND_WORDS = {"T": "translation", "R": "rotation", "H": "screw"}

@@ -19,7 +19,7 @@ from numpy.testing import assert_allclose
 
 import pinmob
 from pinmob.cli import main
-from pinmob.closure import ClosureError, assembly_modes, compute_kinematics, find_closed, project, solve_actuated
+from pinmob.closure import ClosureError, assembly_modes, find_closed, project, solve_actuated
 from pinmob.constraints import actuator_sets, analyze_mechanism
 from pinmob.screw import subspace_gap
 
@@ -71,7 +71,11 @@ def test_fourbar_6d_closure_counts():
 
 def test_fourbar_lower_closures_and_mjcf():
     """Revolute closure (5 rows, 3 joints): Grubler -2, DoF 1. MJCF connect (3 rows): Grubler 0, 1 redundant; weld: as the 6d one."""
-    for name, grubler, redundant in (("fourbar_revolute.toml", -2, 3), ("fourbar_connect.xml", 0, 1), ("fourbar_weld.xml", -2, 3)):
+    for name, grubler, redundant in (
+        ("fourbar_revolute.toml", -2, 3),
+        ("fourbar_connect.xml", 0, 1),
+        ("fourbar_weld.xml", -2, 3),
+    ):
         mech = load(name)
         mm = analyze_mechanism(mech, closed(mech))
         assert (mm.mechanism_dof, mm.grubler, mm.redundant_constraints) == (1, grubler, redundant), name
@@ -85,7 +89,9 @@ def test_fourbar_forward_kinematics_and_assembly_modes():
     rocker = sol.q[mech.model.joints[mech.model.getJointId("rocker")].idx_q]
     assert_allclose(rocker, rocker_angles(0.4)[0], atol=1e-9)
     modes = assembly_modes(mech, {"crank": 0.4}, seeds=12)
-    found = sorted(float(np.angle(np.exp(1j * m.q[mech.model.joints[mech.model.getJointId("rocker")].idx_q]))) for m in modes)
+    found = sorted(
+        float(np.angle(np.exp(1j * m.q[mech.model.joints[mech.model.getJointId("rocker")].idx_q]))) for m in modes
+    )
     assert len(found) == 2
     assert_allclose(found, sorted(np.angle(np.exp(1j * np.array(rocker_angles(0.4))))), atol=1e-8)
     for m in modes:
@@ -123,7 +129,13 @@ def test_fivebar(folder, nv, rows, redundant):
     """Planar five-bar: 2 DoF; a planar loop ranks 2 of a point closure and 3 of a weld."""
     mech = load(f"{folder}/robot.yaml")
     mm = analyze_mechanism(mech, closed(mech))
-    assert (mm.nv, mm.rows, mm.mechanism_dof, mm.grubler, mm.redundant_constraints) == (nv, rows, 2, nv - rows, redundant)
+    assert (mm.nv, mm.rows, mm.mechanism_dof, mm.grubler, mm.redundant_constraints) == (
+        nv,
+        rows,
+        2,
+        nv - rows,
+        redundant,
+    )
     assert mm.actuation.valid and set(mech.actuated) == {"mot1", "mot2"}
 
 
@@ -150,8 +162,9 @@ def test_delta_parallelograms():
     platform = mm.frames[0]
     assert (platform.frame, platform.dof, platform.motion_type) == ("platform", 3, "3T")
     assert mm.actuation.valid and mm.actuation.locked_dof == 6 and mm.actuation.frame_dof == {"platform": 0}
-    assert ("A_motor", "B_motor", "C_motor") in actuator_sets(mech, mech.configuration("home"), 3, candidates=[
-        "A_motor", "B_motor", "C_motor", "A_a_top_x", "B_a_top_x"])
+    assert ("A_motor", "B_motor", "C_motor") in actuator_sets(
+        mech, mech.configuration("home"), 3, candidates=["A_motor", "B_motor", "C_motor", "A_a_top_x", "B_a_top_x"]
+    )
 
 
 @pytest.mark.parametrize(("stem", "dof", "idle"), [("gough_stewart_ups", 6, 0), ("gough_stewart_sps", 12, 6)])
@@ -169,7 +182,16 @@ def test_gough_stewart(stem, dof, idle):
     assert mm.actuation.valid and mm.actuation.frame_dof == {"platform": 0}
 
 
-@pytest.mark.parametrize(("name", "config"), [("3-PUU", "generic"), ("3-PUU", "offset"), ("3-PUU-flat", "flat"), ("3-PUU-vertical", "vertical"), ("3-PUU-vertical", "generic")])
+@pytest.mark.parametrize(
+    ("name", "config"),
+    [
+        ("3-PUU", "generic"),
+        ("3-PUU", "offset"),
+        ("3-PUU-flat", "flat"),
+        ("3-PUU-vertical", "vertical"),
+        ("3-PUU-vertical", "generic"),
+    ],
+)
 def test_limbs_meeting_at_platform_match_limbwise_wrenches(name, config):
     """Limb tips welded to the platform are 6d closures: the platform motion of the closure Jacobian equals the wrench result."""
     mech = pinmob.load(name)
@@ -178,8 +200,13 @@ def test_limbs_meeting_at_platform_match_limbwise_wrenches(name, config):
     mm = analyze_mechanism(mech, q)
     plat = mm.frames[0]
     assert (plat.dof, plat.motion_type) == (limbwise.dof, limbwise.motion_type)
-    assert subspace_gap(plat.free_twists / np.r_[np.full(3, mech.length_scale), np.ones(3)][:, None],
-                        limbwise.free_twists / np.r_[np.full(3, mech.length_scale), np.ones(3)][:, None]) < 1e-8
+    assert (
+        subspace_gap(
+            plat.free_twists / np.r_[np.full(3, mech.length_scale), np.ones(3)][:, None],
+            limbwise.free_twists / np.r_[np.full(3, mech.length_scale), np.ones(3)][:, None],
+        )
+        < 1e-8
+    )
     # 15 joints, limb B and C tips welded to the platform on limb A: 12 rows -> Grubler 3
     assert mm.grubler == 3
 
@@ -200,7 +227,13 @@ def test_cli_json_without_configuration(name, capsys):
 def test_cli_limb_model_keeps_its_keys(capsys):
     assert main(["analyze", "3-PUU", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
-    assert (out["dof"], out["motion_type"], out["mechanism_dof"], out["grubler"], out["actuation"]["valid"]) == (3, "3T", 3, 3, True)
+    assert (out["dof"], out["motion_type"], out["mechanism_dof"], out["grubler"], out["actuation"]["valid"]) == (
+        3,
+        "3T",
+        3,
+        3,
+        True,
+    )
 
 
 def test_cli_error_is_one_line(capsys):

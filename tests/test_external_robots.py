@@ -19,8 +19,19 @@ import pinmob
 from pinmob.closure import ClosureError, find_closed, find_closed_relaxed
 from pinmob.constraints import analyze_mechanism
 
-ROBOTS = ["5bar_linkage", "5bar_linkage_iso3d", "5bar_linkage_iso6d", "battobot_6d", "cassie_like", "digit_like",
-          "disney_like", "kangaroo_like", "robot_delta", "talos_like", "wl16_like"]
+ROBOTS = [
+    "5bar_linkage",
+    "5bar_linkage_iso3d",
+    "5bar_linkage_iso6d",
+    "battobot_6d",
+    "cassie_like",
+    "digit_like",
+    "disney_like",
+    "kangaroo_like",
+    "robot_delta",
+    "talos_like",
+    "wl16_like",
+]
 
 
 def external_dir() -> Path:

@@ -151,7 +151,8 @@ def _analyze_closed_chain(args: argparse.Namespace, mech: object, rtol: float, q
                 hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
                 raise ClosureError(
                     f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {args.restarts} random restarts. "  # type: ignore[attr-defined]
-                    f"{hint}Rerun with --relax to turn the over-constraining closures into 3d (ball) closures. Best attempt: {exc}",
+                    f"{hint}Rerun with --relax to turn the over-constraining closures into 3d (ball) closures. Largest residual "
+                    f"of the best attempt: {max(max(r) for r in exc.residuals.values()):.2e} (m or rad)",
                     exc.residuals,
                 ) from None
         q, method = found.q, found.method

@@ -85,7 +85,11 @@ def format_mechanism(mm: MechanismMobility) -> str:
         lines.append("  remaining motion: " + ", ".join(f"{k} {v:+.3g}" for k, v in list(rates.items())[:8]) + (" ..." if len(rates) > 8 else ""))
     for f in mm.frames:
         rigid = act.frame_dof.get(f.frame)
-        lines.append(f"frame {f.frame!r}: {f.dof} DoF, {f.motion_type}" + (f"; {rigid} DoF with the actuators locked" if rigid is not None else ""))
+        lines.append(
+            f"frame {f.frame!r}: {f.dof} DoF, {f.motion_type}"
+            + (f"; {rigid} DoF with the actuators locked" if rigid is not None else "")
+            + " (axis points relative to its origin, world axes)"
+        )
         for m in f.motions:
             text = f"  {m.label:<8} {KIND_WORDS[m.kind.value]:<11} direction {_v(m.direction)}"
             if m.point is not None:

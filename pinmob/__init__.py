@@ -7,9 +7,11 @@
 '3T'
 """
 
-from .closure import assemble_pose, check_closed
+from . import extended_urdf, mjcf  # noqa: F401  (register the .yaml and .xml loaders)
+from .closure import Assembly, assemble_pose, assembly_modes, check_closed, find_closed, project, solve_actuated
+from .constraints import MechanismMobility, actuator_sets, analyze_mechanism
 from .exceptions import ClosureError, ConfigurationError, FrameError, MechanismFileError, PinmobError
-from .mechanism import Expectation, Limb, Mechanism, NamedConfiguration
+from .mechanism import Closure, Expectation, Limb, Mechanism, NamedConfiguration
 from .mechanism_file import builtin_models, load
 from .mobility import Constraint, LimbMobility, Mobility, Motion, analyze, closure_jacobian_twists, paper_view
 from .screw import MotionKind, WrenchKind
@@ -17,6 +19,15 @@ from .screw import MotionKind, WrenchKind
 __version__ = "0.1.0"
 
 __all__ = [
+    "Assembly",
+    "Closure",
+    "MechanismMobility",
+    "actuator_sets",
+    "analyze_mechanism",
+    "assembly_modes",
+    "find_closed",
+    "project",
+    "solve_actuated",
     "ClosureError",
     "ConfigurationError",
     "Constraint",

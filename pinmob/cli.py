@@ -50,6 +50,28 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
 
+    p.add_argument(
+        "--frame",
+        action="append",
+        default=None,
+        help="end frame whose motion is reported (repeatable; default: the platform, else the tree's free leaf bodies)",
+    )
+    p.add_argument(
+        "--relax",
+        action="store_true",
+        help="if the loops cannot be closed as declared, relax the over-constraining closures to 3d and say which",
+    )
+    p.add_argument(
+        "--restarts", type=int, default=20, help="random restarts when searching a closed configuration (default 20)"
+    )
+    p.add_argument(
+        "--search-actuators",
+        type=int,
+        default=None,
+        metavar="K",
+        help="also list every valid set of K actuated joints (exhaustive)",
+    )
+
     p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat")
     p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
@@ -141,6 +163,7 @@ def _models(args: argparse.Namespace) -> int:
 
 @command("analyze")
 def _analyze(args: argparse.Namespace) -> int:
+    from .constraints import analyze_mechanism
     from .exceptions import ConfigurationError
     from .mechanism_file import load
     from .mobility import analyze, paper_view
@@ -148,18 +171,25 @@ def _analyze(args: argparse.Namespace) -> int:
     from .screw import RTOL
 
     mech = load(args.mechanism)
-    config = _pick_configuration(mech, args.config)
+    config = args.config
     rtol = RTOL if args.rtol is None else args.rtol
     if not 0 < rtol < 1:
         raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
+    if config is None and not mech.configurations:
+        return _analyze_closed_chain(args, mech, rtol)
+    config = _pick_configuration(mech, config)
     q = mech.configuration(config)
+    if not mech.limbs:
+        return _analyze_closed_chain(args, mech, rtol, q, config)
     mob = analyze(mech, q, configuration=config, rtol=rtol)
+    mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)
     paper = paper_view(mech, config, rtol=rtol) if args.paper_view else None
     from .singularity import analyze_singularity, format_singularity
 
     sing = analyze_singularity(mech, q, configuration=config, rtol=rtol)
     if args.json:
         out = mob.to_dict()
+        out.update({k: v for k, v in mm.to_dict().items() if k in MECHANISM_KEYS})
         if config in mech.expected:
             exp = mech.expected[config]
             out["expected"] = {
@@ -177,6 +207,8 @@ def _analyze(args: argparse.Namespace) -> int:
     print(format_singularity(sing))
     if config in mech.expected:
         print(format_expectation(mob, mech.expected[config]))
+    print()
+    print(mm)
     if paper is not None:
         print()
         print(paper)
@@ -264,6 +296,7 @@ def _show(args: argparse.Namespace) -> int:
         pass
     finally:
         scene.server.stop()
+    return 0
 
 
 @command("scan")
@@ -351,6 +384,83 @@ def _scan(args: argparse.Namespace) -> int:
         print(f"plot: {args.plot}")
     if tmp is not None:
         Path(tmp.name).unlink(missing_ok=True)
+    return 0
+
+
+#: keys of the whole-mechanism result added to the JSON of a limb-and-platform analysis
+MECHANISM_KEYS = (
+    "nv",
+    "closure_rows",
+    "closure_rank",
+    "mechanism_dof",
+    "idle_dof",
+    "idle_joints",
+    "redundant_constraints",
+    "redundant_by_closure",
+    "grubler",
+    "actuation",
+    "closures",
+    "end_frames",
+    "frames",
+)
+
+
+def _analyze_closed_chain(
+    args: argparse.Namespace, mech: object, rtol: float, q: object = None, config: str | None = None
+) -> int:
+    """``pinmob analyze`` for a mechanism without limbs (Extended URDF, MJCF, TOML closures only)."""
+    from .closure import ClosureError, find_closed, find_closed_relaxed, unclosable
+    from .constraints import actuator_sets, analyze_mechanism
+
+    relaxed: tuple[str, ...] = ()
+    method = f"named configuration {config!r}"
+    if q is None:
+        if args.relax:
+            mech, found, relaxed = find_closed_relaxed(mech, restarts=args.restarts)  # type: ignore[arg-type]
+        else:
+            try:
+                found = find_closed(mech, restarts=args.restarts)  # type: ignore[arg-type]
+            except ClosureError as exc:
+                bad = unclosable(mech)  # type: ignore[arg-type]
+                hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
+                raise ClosureError(
+                    f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {args.restarts} random restarts. "  # type: ignore[attr-defined]
+                    f"{hint}Rerun with --relax to turn the over-constraining closures into 3d (ball) closures. Largest residual "
+                    f"of the best attempt: {max(max(r) for r in exc.residuals.values()):.2e} (m or rad)",
+                    exc.residuals,
+                ) from None
+        q, method = found.q, found.method
+        residual = found.residual
+    else:
+        residual = 0.0
+    mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)  # type: ignore[arg-type]
+    sets = (
+        actuator_sets(mech, q, args.search_actuators, frames=args.frame, rtol=rtol) if args.search_actuators else None
+    )  # type: ignore[arg-type]
+    if args.json:
+        out = mm.to_dict()
+        out["closed_configuration"] = {
+            "method": method,
+            "residual": residual,
+            "relaxed_closures": list(relaxed),
+            "q": [float(x) for x in q],
+        }  # type: ignore[union-attr]
+        if mech.has_platform and mm.frames:  # type: ignore[attr-defined]
+            out["platform"] = mm.frames[0].to_dict()
+        if sets is not None:
+            out["valid_actuator_sets"] = [list(x) for x in sets]
+        print(json.dumps(out, indent=2, allow_nan=False))
+        return 0
+    print(f"closed configuration: {method} (largest residual {residual:.1e})")
+    if relaxed:
+        print(f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(relaxed)}")
+    print(mm)
+    if sets is not None:
+        print(f"valid sets of {args.search_actuators} actuated joints: {len(sets)}")
+        for x in sets[:50]:
+            print("  " + ", ".join(x))
+        if len(sets) > 50:
+            print(f"  ... ({len(sets) - 50} more)")
     return 0
 
 

@@ -44,6 +44,90 @@ class Limb:
     generic_twist_rank: int = 0
 
 
+CLOSURE_TYPES = ("6d", "3d", "revolute", "universal", "cylindrical", "planar")
+
+
+@dataclass(frozen=True)
+class Closure:
+    """A loop closure: two frames of the tree that are joined when the loop is closed.
+
+    A closure is defined by the relative motion of frame b with respect to
+    frame a that it forbids, i.e. by the wrench subspace it transmits. With the
+    relative twist ``[v; w]`` of b w.r.t. a expressed in frame a, and ``u`` the
+    closure's axis in frame a:
+
+    - ``6d`` (6 rows): a weld, same pose; transmits every wrench.
+    - ``3d`` (3 rows): a ball joint, same origin; transmits forces through it.
+    - ``revolute`` (5 rows): a hinge about u; transmits forces and couples ⊥ u.
+    - ``universal`` (4 rows): hinges about u (fixed in a) and u_b (fixed in b);
+      transmits forces and the couple along ``u x u_b``.
+    - ``cylindrical`` (4 rows): turn about and slide along u; transmits forces
+      ⊥ u and couples ⊥ u.
+    - ``planar`` (3 rows): slide ⊥ u and turn about u (u the plane normal);
+      transmits the force along u and couples ⊥ u.
+
+    Attributes:
+        name: closure name.
+        frame_a, frame_b: frame names; ``frame_a_id``, ``frame_b_id`` their indices.
+        type: one of :data:`CLOSURE_TYPES`.
+        axis: (3,) unit axis u in frame a (revolute, cylindrical, universal) or
+            the plane normal (planar); ``None`` for 6d and 3d.
+        axis_b: (3,) second hinge axis of a universal closure, in frame b.
+    """
+
+    name: str
+    frame_a: str
+    frame_b: str
+    type: str = "6d"
+    axis: Array | None = field(default=None, repr=False)
+    axis_b: Array | None = field(default=None, repr=False)
+    frame_a_id: int = -1
+    frame_b_id: int = -1
+
+    @property
+    def rows(self) -> int:
+        """Number of scalar constraints (relative-motion components forbidden)."""
+        return CLOSURE_ROWS[self.type]
+
+
+CLOSURE_ROWS = {"6d": 6, "3d": 3, "revolute": 5, "universal": 4, "cylindrical": 4, "planar": 3}
+
+
+def make_closure(
+    model: pin.Model,
+    name: str,
+    frame_a: str,
+    frame_b: str,
+    type: str = "6d",
+    axis: object = None,
+    axis_b: object = None,
+) -> Closure:
+    """A validated :class:`Closure` on ``model`` (frames exist, axes present and unit).
+
+    Raises:
+        FrameError: a frame does not exist.
+        ConfigurationError: unknown type, or a missing / zero axis.
+    """
+    ctype = str(type).lower()
+    if ctype not in CLOSURE_TYPES:
+        raise ConfigurationError(f"closure {name!r}: unknown type {type!r}; valid: {choices(CLOSURE_TYPES)}")
+    ida, idb = frame_id(model, frame_a), frame_id(model, frame_b)
+    if ida == idb:
+        raise ConfigurationError(f"closure {name!r} joins frame {frame_a!r} to itself")
+
+    def unit(value: object, what: str) -> Array:
+        a = np.asarray(value, float) if value is not None else np.zeros(0)
+        if a.shape != (3,) or not np.isfinite(a).all() or np.linalg.norm(a) < 1e-12:
+            raise ConfigurationError(
+                f"closure {name!r} of type {ctype!r} needs {what} as a non-zero 3-vector, got {value!r}"
+            )
+        return a / np.linalg.norm(a)
+
+    u = unit(axis, "'axis' (in frame a)") if ctype in ("revolute", "universal", "cylindrical", "planar") else None
+    ub = unit(axis_b, "'axis_b' (second hinge axis, in frame b)") if ctype == "universal" else None
+    return Closure(name, frame_a, frame_b, ctype, u, ub, ida, idb)
+
+
 @dataclass(frozen=True)
 class NamedConfiguration:
     """A named configuration: joint values, or a platform pose to assemble.
@@ -82,8 +166,10 @@ class Mechanism:
     Attributes:
         name: mechanism name.
         model: the Pinocchio model holding every limb as a branch.
-        limbs: the limbs; their tips coincide at a closed configuration.
-        platform: name of the frame reported as platform.
+        limbs: the limbs; their tips coincide at a closed configuration (may be
+            empty for a mechanism described by closures only).
+        platform: name of the frame reported as platform; ``""`` when the
+            mechanism has none (e.g. an Extended URDF robot).
         length_scale: characteristic length L [m] used to make ranks unit-invariant.
         configurations: named configurations.
         expected: literature mobility per configuration name.
@@ -94,6 +180,10 @@ class Mechanism:
         generic_rank: constraint rank at generic configurations, when declared
             (else :mod:`pinmob.singularity` estimates it from random closed
             configurations).
+        closures: loop closures besides the limb tips meeting at the platform
+            (see :attr:`all_closures`).
+        extra_actuated: actuated joints not attached to a limb (mechanisms
+            described by closures only).
     """
 
     name: str
@@ -108,6 +198,8 @@ class Mechanism:
     visual_model: pin.GeometryModel | None = field(default=None, repr=False)
     collision_model: pin.GeometryModel | None = field(default=None, repr=False)
     generic_rank: int | None = None
+    closures: tuple[Closure, ...] = ()
+    extra_actuated: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------ build
 
@@ -128,17 +220,33 @@ class Mechanism:
         visual_model: pin.GeometryModel | None = None,
         collision_model: pin.GeometryModel | None = None,
         generic_rank: int | None = None,
+        closures: list[Closure] | tuple[Closure, ...] = (),
     ) -> Mechanism:
         """Build a mechanism from a model and ``{limb name: tip frame}``.
 
+        Without limbs the mechanism is described by ``closures`` alone; its
+        actuated joints are then given under the key ``""`` of ``actuated``
+        (joints anywhere in the model), and it has a platform only if
+        ``platform`` names one.
+
         Raises:
-            FrameError: a tip or platform frame does not exist.
-            ConfigurationError: two limbs share a joint, or a limb has no joint.
+            FrameError: a tip, platform or actuated joint does not exist.
+            ConfigurationError: two limbs share a joint, a limb has no joint, or
+                there is neither a limb nor a closure.
         """
         pairs = list(limbs.items()) if isinstance(limbs, Mapping) else list(limbs)
-        if not pairs:
-            raise ConfigurationError(f"mechanism {name!r} has no limb; give at least one")
+        if not pairs and not closures:
+            raise ConfigurationError(f"mechanism {name!r} has neither a limb nor a closure; give at least one")
         actuated = dict(actuated or {})
+        extra = tuple(actuated.pop("", ()))
+        for a in extra:
+            if not model.existJointName(a) or a == "universe":
+                raise FrameError(
+                    f"actuated joint {a!r} does not exist in {name!r}; valid: {choices(list(model.names)[1:])}"
+                )
+        names = [c.name for c in closures]
+        if len(set(names)) != len(names):
+            raise ConfigurationError(f"closure names must be unique in {name!r}, got {names}")
         built: list[Limb] = []
         owner: dict[str, str] = {}
         for limb_name, tip in pairs:
@@ -164,9 +272,11 @@ class Mechanism:
                 [np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv) for j in joint_ids]
             )
             built.append(Limb(limb_name, tip, tip_id, joints, v_idx, acts, _generic_rank(model, tip_id, v_idx)))
-        platform = platform or pairs[0][1]
-        frame_id(model, platform)
-        scale = float(length_scale) if length_scale else characteristic_length(model, [b.tip_id for b in built])
+        platform = platform or (pairs[0][1] if pairs else "")
+        if platform:
+            frame_id(model, platform)
+        frames = [b.tip_id for b in built] + [i for c in closures for i in (c.frame_a_id, c.frame_b_id)]
+        scale = float(length_scale) if length_scale else characteristic_length(model, frames)
         if not np.isfinite(scale) or scale <= 0:
             raise ConfigurationError(f"length_scale must be a positive number of metres, got {length_scale!r}")
         if generic_rank is not None and (
@@ -186,9 +296,34 @@ class Mechanism:
             visual_model=visual_model,
             collision_model=collision_model,
             generic_rank=generic_rank,
+            closures=tuple(closures),
+            extra_actuated=extra,
         )
 
     # ------------------------------------------------------------------ queries
+
+    @property
+    def has_platform(self) -> bool:
+        """True when a platform frame is named."""
+        return bool(self.platform)
+
+    @property
+    def all_closures(self) -> tuple[Closure, ...]:
+        """Every loop closure: each limb tip welded (6d) to the platform frame, then :attr:`closures`.
+
+        A limb whose tip is fixed to the platform frame's body (same parent
+        joint) closes nothing and is left out.
+        """
+        if not self.platform:
+            return self.closures
+        pid = self.platform_id
+        body = self.model.frames[pid].parentJoint
+        implicit = tuple(
+            Closure(f"limb {b.name}", self.platform, b.tip, "6d", None, None, pid, b.tip_id)
+            for b in self.limbs
+            if self.model.frames[b.tip_id].parentJoint != body
+        )
+        return implicit + self.closures
 
     @property
     def platform_id(self) -> int:
@@ -197,8 +332,8 @@ class Mechanism:
 
     @property
     def actuated(self) -> tuple[str, ...]:
-        """All actuated joint names, limb by limb."""
-        return tuple(a for limb in self.limbs for a in limb.actuated)
+        """All actuated joint names, limb by limb, then those outside limbs."""
+        return tuple(a for limb in self.limbs for a in limb.actuated) + self.extra_actuated
 
     def limb(self, name: str) -> Limb:
         """The limb called ``name``."""

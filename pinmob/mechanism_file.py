@@ -17,9 +17,21 @@ import numpy as np
 import pinocchio as pin
 
 from .exceptions import MechanismFileError, PinmobError, choices
-from .mechanism import Expectation, Mechanism, NamedConfiguration
+from .mechanism import Closure, Expectation, Mechanism, NamedConfiguration, make_closure
 
-TOP_KEYS = {"name", "description", "urdf", "platform", "length_scale", "limbs", "configurations", "generic_rank"}
+TOP_KEYS = {
+    "name",
+    "description",
+    "urdf",
+    "platform",
+    "length_scale",
+    "limbs",
+    "configurations",
+    "closures",
+    "actuated",
+    "generic_rank",
+}
+CLOSURE_KEYS = {"name", "frames", "type", "axis", "axis_b"}
 LIMB_KEYS = {"name", "tip", "actuated"}
 CONFIG_KEYS = {"joints", "pose", "seed", "approach", "expected"}
 POSE_KEYS = {"xyz", "rpy"}
@@ -135,6 +147,12 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | No
         raise _fail(
             path, f"urdf {str(urdf)!r} does not parse: {str(exc).strip().splitlines()[0] if str(exc).strip() else exc}"
         ) from None
+    visual, collision = load_geometry(model, urdf)
+    return model, visual, collision
+
+
+def load_geometry(model: pin.Model, urdf: Path) -> tuple[pin.GeometryModel | None, pin.GeometryModel | None]:
+    """Visual and collision geometry of a URDF for ``model``; ``None`` with a warning when meshes are missing."""
     geoms: list[pin.GeometryModel | None] = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
         try:
@@ -142,10 +160,10 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | No
         except Exception as exc:
             warnings.warn(
                 f"{urdf.name}: {kind.name.lower()} geometry not loaded ({str(exc).strip()[:200]}); kinematics only",
-                stacklevel=3,
+                stacklevel=4,
             )
             geoms.append(None)
-    return model, geoms[0], geoms[1]
+    return geoms[0], geoms[1]
 
 
 def load_toml(path: str | Path) -> Mechanism:
@@ -165,9 +183,10 @@ def load_toml(path: str | Path) -> Mechanism:
     model, visual, collision = load_urdf(path, path.parent / doc["urdf"])
     joint_names = set(list(model.names)[1:])
 
-    limbs_doc = doc.get("limbs")
-    if not isinstance(limbs_doc, list) or not limbs_doc:
-        raise _fail(path, "needs at least one [[limbs]] table with 'name' and 'tip'")
+    closures = _closures(path, doc.get("closures", []), model)
+    limbs_doc = doc.get("limbs", [])
+    if not isinstance(limbs_doc, list) or not (limbs_doc or closures):
+        raise _fail(path, "needs at least one [[limbs]] table with 'name' and 'tip', or one [[closures]] table")
     limbs, actuated = [], {}
     for i, limb in enumerate(limbs_doc):
         _check_keys(path, f"limbs[{i}]", limb, LIMB_KEYS)
@@ -178,6 +197,10 @@ def load_toml(path: str | Path) -> Mechanism:
         if not isinstance(acts, list) or not all(isinstance(a, str) for a in acts):
             raise _fail(path, f"limbs[{i}].actuated must be a list of joint names")
         actuated[limb["name"]] = acts
+    extra = doc.get("actuated", [])
+    if not isinstance(extra, list) or not all(isinstance(a, str) for a in extra):
+        raise _fail(path, "top-level 'actuated' must be a list of joint names (actuated joints outside limbs)")
+    actuated[""] = extra
 
     configurations, expected = {}, {}
     confs = doc.get("configurations", {})
@@ -235,6 +258,38 @@ def load_toml(path: str | Path) -> Mechanism:
             visual_model=visual,
             collision_model=collision,
             generic_rank=doc.get("generic_rank"),
+            closures=closures,
         )
     except PinmobError as exc:
         raise type(exc)(f"{path}: {exc}") from None
+
+
+def _closures(path: Path, table: Any, model: pin.Model) -> list[Closure]:
+    """``[[closures]]``: name, frames = [a, b], type (default 6d), axis (in frame a), axis_b (in frame b)."""
+    if not isinstance(table, list):
+        raise _fail(path, "'closures' must be an array of tables [[closures]]")
+    out = []
+    for i, c in enumerate(table):
+        where = f"closures[{i}]"
+        if not isinstance(c, Mapping):
+            raise _fail(path, f"{where} must be a table")
+        _check_keys(path, where, c, CLOSURE_KEYS)
+        frames = c.get("frames")
+        if not isinstance(frames, list) or len(frames) != 2 or not all(isinstance(f, str) for f in frames):
+            raise _fail(path, f"{where}.frames must be a list of two frame names, got {frames!r}")
+        axes = {k: _vector3(path, f"{where}.{k}", c[k]) for k in ("axis", "axis_b") if k in c}
+        try:
+            out.append(
+                make_closure(
+                    model,
+                    str(c.get("name", f"closure{i}")),
+                    frames[0],
+                    frames[1],
+                    str(c.get("type", "6d")),
+                    axes.get("axis"),
+                    axes.get("axis_b"),
+                )
+            )
+        except PinmobError as exc:
+            raise _fail(path, f"{where}: {exc}") from None
+    return out

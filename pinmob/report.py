@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 if TYPE_CHECKING:
+    from .constraints import MechanismMobility
     from .mechanism import Expectation
     from .mobility import Mobility
 
@@ -64,3 +65,48 @@ def format_expectation(mob: Mobility, expected: Expectation) -> str:
     verdict = "agrees with" if ok else "DIFFERS from"
     src = f" ({expected.source})" if expected.source else ""
     return f"expected {expected.dof} DoF {expected.motion_type}{src}: analysis {verdict} it"
+
+
+def format_mechanism(mm: MechanismMobility) -> str:
+    """Multi-line report of the whole closed chain: DoF, redundancy, idle motions, actuation, frames."""
+    where = f" at {mm.configuration!r}" if mm.configuration else ""
+    act = mm.actuation
+    lines = [
+        f"{mm.mechanism}{where}: mechanism DoF {mm.mechanism_dof} (nv {mm.nv} - closure rank {mm.rank}), "
+        f"Grubler-Kutzbach {mm.grubler} (nv {mm.nv} - {mm.rows} closure equations)",
+        f"redundant closure equations: {mm.redundant_constraints}"
+        + (
+            " (" + ", ".join(f"{k}: {v}" for k, v in mm.redundant_by_closure.items() if v) + ")"
+            if mm.redundant_constraints
+            else ""
+        ),
+        f"idle motions: {mm.idle_dof}" + (f" (joints {', '.join(mm.idle_joints)})" if mm.idle_dof else ""),
+    ]
+    verdict = "valid" if act.valid else "NOT valid"
+    lines.append(
+        f"actuation {verdict}: {len(act.actuated)} actuated joint(s); locked, {act.locked_dof} motion(s) remain "
+        f"({act.idle_dof} idle)"
+        + (f"; {act.redundant_actuators} actuator(s) over-determine the chain" if act.redundant_actuators else "")
+    )
+    for rates in act.remaining:
+        lines.append(
+            "  remaining motion: "
+            + ", ".join(f"{k} {v:+.3g}" for k, v in list(rates.items())[:8])
+            + (" ..." if len(rates) > 8 else "")
+        )
+    for f in mm.frames:
+        rigid = act.frame_dof.get(f.frame)
+        lines.append(
+            f"frame {f.frame!r}: {f.dof} DoF, {f.motion_type}"
+            + (f"; {rigid} DoF with the actuators locked" if rigid is not None else "")
+            + " (axis points relative to its origin, world axes)"
+        )
+        for m in f.motions:
+            text = f"  {m.label:<8} {KIND_WORDS[m.kind.value]:<11} direction {_v(m.direction)}"
+            if m.point is not None:
+                text += f" through {_v(m.point)} m"
+            if m.kind.value == "H":
+                text += f", pitch {m.pitch:.4g} m/rad"
+            lines.append(text)
+    lines.append(f"closure rank tolerance {mm.tolerance:.2e}, L = {mm.length_scale:.4g} m")
+    return "\n".join(lines)

@@ -26,6 +26,7 @@ from .screw import (
     MotionKind,
     ScrewSystem,
     axis_label,
+    clean,
     classify_twists,
     classify_wrenches,
     decide_rank,
@@ -186,7 +187,7 @@ class Mobility:
 
     @property
     def frame(self) -> str:
-        p = ", ".join(f"{x:.6g}" for x in self.platform_origin)
+        p = ", ".join(f"{x:.6g}" for x in clean(self.platform_origin, self.length_scale))
         return (
             f"twists [v; w] and wrenches [f; tau] at the origin of frame {self.platform!r} "
             f"(world position [{p}] m), world-aligned axes (pin.LOCAL_WORLD_ALIGNED)"

@@ -119,6 +119,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
+    p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
     p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
@@ -336,6 +337,7 @@ def _scan(args: argparse.Namespace) -> int:
             raise ConfigurationError(f"{mech.name!r} has fewer than two configurations; give --from and --to")
         spec = path_spec(mech, start, end, args.samples, joints=args.joints, rtol=rtol)
         what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {args.samples} samples"
+    _check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
     csv_path = args.csv
     tmp = None
     if args.plot and not csv_path:
@@ -385,6 +387,29 @@ def _scan(args: argparse.Namespace) -> int:
     if tmp is not None:
         Path(tmp.name).unlink(missing_ok=True)
     return 0
+
+
+def _check_outputs(paths: dict[str, str | None], force: bool) -> None:
+    """Refuse, before any work, output files that exist (unless ``force``), are folders, or lie in no folder."""
+    from pathlib import Path
+
+    from .exceptions import ConfigurationError
+
+    given = {option: Path(path).expanduser() for option, path in paths.items() if path}
+    if len({p.resolve() for p in given.values()}) < len(given):
+        raise ConfigurationError(
+            f"{', '.join(given)} must name different files, got {choices(map(str, given.values()))}"
+        )
+    for option, target in given.items():
+        if target.is_dir():
+            raise ConfigurationError(f"{option} {str(target)!r} is a folder; give a file name")
+        if target.exists() and not force:
+            raise ConfigurationError(
+                f"{option} {str(target)!r} exists already; choose another file name or allow overwriting (--force)"
+            )
+        parent = target.parent if str(target.parent) else Path(".")
+        if not parent.is_dir():
+            raise ConfigurationError(f"cannot write {option} {str(target)!r}: folder {str(parent)!r} does not exist")
 
 
 #: keys of the whole-mechanism result added to the JSON of a limb-and-platform analysis

@@ -173,3 +173,26 @@ def test_tsai_3upu_constraint_singularity_where_the_couples_are_coplanar(tmp_pat
     assert last["singularity"] == "constraint+actuation" and last["locked_dof"] == 2
     assert sorted(last["uncontrolled"].split(";")) == ["R1 z", "T1 z"]
     assert last["distance"] < 1e-9 < min(r["distance"] for r in generic)
+
+
+def test_cli_never_overwrites_outputs_unless_forced(tmp_path, capsys):
+    # like `pinmob show --html`: an existing file is kept unless --force, checked before the scan runs
+    c, j = tmp_path / "s.csv", tmp_path / "s.json"
+    c.write_text("mine\n")
+    args = ["scan", "3-UPU", "-n", "3", "--no-progress", "--csv", str(c), "--json", str(j)]
+    assert main(args) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--csv" in err and str(c) in err and "--force" in err
+    assert c.read_text() == "mine\n" and not j.exists()
+    assert main([*args, "--force"]) == 0
+    assert len(c.read_text().splitlines()) == 4 and len(json.loads(j.read_text())["samples"]) == 3
+    capsys.readouterr()
+    # a missing folder or a folder as file name is one line, exit 2 (it was a traceback)
+    missing = tmp_path / "nowhere" / "s.csv"
+    assert main(["scan", "3-UPU", "-n", "3", "--csv", str(missing)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "does not exist" in err and str(missing.parent) in err
+    assert main(["scan", "3-UPU", "-n", "3", "--plot", str(tmp_path)]) == 2
+    assert "is a folder" in capsys.readouterr().err
+    assert main(["scan", "3-UPU", "-n", "3", "--csv", str(c), "--json", str(c), "--force"]) == 2
+    assert "different files" in capsys.readouterr().err

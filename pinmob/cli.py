@@ -188,6 +188,7 @@ def _analyze(args: argparse.Namespace) -> int:
     from .singularity import analyze_singularity, format_singularity
 
     sing = analyze_singularity(mech, q, configuration=config, rtol=rtol)
+    sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
         out = mob.to_dict()
         out.update({k: v for k, v in mm.to_dict().items() if k in MECHANISM_KEYS})
@@ -202,6 +203,8 @@ def _analyze(args: argparse.Namespace) -> int:
         if paper is not None:
             out["paper_view"] = paper.to_dict()
         out["singularity"] = sing.to_dict()
+        if sets is not None:
+            out["valid_actuator_sets"] = [list(x) for x in sets]
         print(json.dumps(out, indent=2, allow_nan=False))
         return 0
     print(mob)
@@ -210,6 +213,7 @@ def _analyze(args: argparse.Namespace) -> int:
         print(format_expectation(mob, mech.expected[config]))
     print()
     print(mm)
+    _print_actuator_sets(args, sets)
     if paper is not None:
         print()
         print(paper)
@@ -435,7 +439,7 @@ def _analyze_closed_chain(
 ) -> int:
     """``pinmob analyze`` for a mechanism without limbs (Extended URDF, MJCF, TOML closures only)."""
     from .closure import ClosureError, find_closed, find_closed_relaxed, unclosable
-    from .constraints import actuator_sets, analyze_mechanism
+    from .constraints import analyze_mechanism
 
     relaxed: tuple[str, ...] = ()
     method = f"named configuration {config!r}"
@@ -459,9 +463,7 @@ def _analyze_closed_chain(
     else:
         residual = 0.0
     mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)  # type: ignore[arg-type]
-    sets = (
-        actuator_sets(mech, q, args.search_actuators, frames=args.frame, rtol=rtol) if args.search_actuators else None
-    )  # type: ignore[arg-type]
+    sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
         out = mm.to_dict()
         out["closed_configuration"] = {
@@ -480,13 +482,27 @@ def _analyze_closed_chain(
     if relaxed:
         print(f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(relaxed)}")
     print(mm)
-    if sets is not None:
-        print(f"valid sets of {args.search_actuators} actuated joints: {len(sets)}")
-        for x in sets[:50]:
-            print("  " + ", ".join(x))
-        if len(sets) > 50:
-            print(f"  ... ({len(sets) - 50} more)")
+    _print_actuator_sets(args, sets)
     return 0
+
+
+def _actuator_sets(args: argparse.Namespace, mech: Any, q: Any, rtol: float) -> list[tuple[str, ...]] | None:
+    """``--search-actuators K``: every valid set of K actuated joints, or None when not asked."""
+    from .constraints import actuator_sets
+
+    if args.search_actuators is None:
+        return None
+    return actuator_sets(mech, q, args.search_actuators, frames=args.frame, rtol=rtol)
+
+
+def _print_actuator_sets(args: argparse.Namespace, sets: list[tuple[str, ...]] | None) -> None:
+    if sets is None:
+        return
+    print(f"valid sets of {args.search_actuators} actuated joints: {len(sets)}")
+    for x in sets[:50]:
+        print("  " + ", ".join(x))
+    if len(sets) > 50:
+        print(f"  ... ({len(sets) - 50} more)")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

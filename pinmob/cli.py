@@ -342,6 +342,8 @@ def _scan(args: argparse.Namespace) -> int:
         spec = path_spec(mech, start, end, args.samples, joints=args.joints, rtol=rtol)
         what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {args.samples} samples"
     _check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     csv_path = args.csv
     tmp = None
     if args.plot and not csv_path:

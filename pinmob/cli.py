@@ -119,6 +119,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
+    p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
     p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
@@ -187,6 +188,7 @@ def _analyze(args: argparse.Namespace) -> int:
     from .singularity import analyze_singularity, format_singularity
 
     sing = analyze_singularity(mech, q, configuration=config, rtol=rtol)
+    sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
         out = mob.to_dict()
         out.update({k: v for k, v in mm.to_dict().items() if k in MECHANISM_KEYS})
@@ -201,6 +203,8 @@ def _analyze(args: argparse.Namespace) -> int:
         if paper is not None:
             out["paper_view"] = paper.to_dict()
         out["singularity"] = sing.to_dict()
+        if sets is not None:
+            out["valid_actuator_sets"] = [list(x) for x in sets]
         print(json.dumps(out, indent=2, allow_nan=False))
         return 0
     print(mob)
@@ -209,6 +213,7 @@ def _analyze(args: argparse.Namespace) -> int:
         print(format_expectation(mob, mech.expected[config]))
     print()
     print(mm)
+    _print_actuator_sets(args, sets)
     if paper is not None:
         print()
         print(paper)
@@ -336,6 +341,9 @@ def _scan(args: argparse.Namespace) -> int:
             raise ConfigurationError(f"{mech.name!r} has fewer than two configurations; give --from and --to")
         spec = path_spec(mech, start, end, args.samples, joints=args.joints, rtol=rtol)
         what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {args.samples} samples"
+    _check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     csv_path = args.csv
     tmp = None
     if args.plot and not csv_path:
@@ -387,6 +395,29 @@ def _scan(args: argparse.Namespace) -> int:
     return 0
 
 
+def _check_outputs(paths: dict[str, str | None], force: bool) -> None:
+    """Refuse, before any work, output files that exist (unless ``force``), are folders, or lie in no folder."""
+    from pathlib import Path
+
+    from .exceptions import ConfigurationError
+
+    given = {option: Path(path).expanduser() for option, path in paths.items() if path}
+    if len({p.resolve() for p in given.values()}) < len(given):
+        raise ConfigurationError(
+            f"{', '.join(given)} must name different files, got {choices(map(str, given.values()))}"
+        )
+    for option, target in given.items():
+        if target.is_dir():
+            raise ConfigurationError(f"{option} {str(target)!r} is a folder; give a file name")
+        if target.exists() and not force:
+            raise ConfigurationError(
+                f"{option} {str(target)!r} exists already; choose another file name or allow overwriting (--force)"
+            )
+        parent = target.parent if str(target.parent) else Path(".")
+        if not parent.is_dir():
+            raise ConfigurationError(f"cannot write {option} {str(target)!r}: folder {str(parent)!r} does not exist")
+
+
 #: keys of the whole-mechanism result added to the JSON of a limb-and-platform analysis
 MECHANISM_KEYS = (
     "nv",
@@ -410,7 +441,7 @@ def _analyze_closed_chain(
 ) -> int:
     """``pinmob analyze`` for a mechanism without limbs (Extended URDF, MJCF, TOML closures only)."""
     from .closure import ClosureError, find_closed, find_closed_relaxed, unclosable
-    from .constraints import actuator_sets, analyze_mechanism
+    from .constraints import analyze_mechanism
 
     relaxed: tuple[str, ...] = ()
     method = f"named configuration {config!r}"
@@ -434,9 +465,7 @@ def _analyze_closed_chain(
     else:
         residual = 0.0
     mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)  # type: ignore[arg-type]
-    sets = (
-        actuator_sets(mech, q, args.search_actuators, frames=args.frame, rtol=rtol) if args.search_actuators else None
-    )  # type: ignore[arg-type]
+    sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
         out = mm.to_dict()
         out["closed_configuration"] = {
@@ -455,13 +484,27 @@ def _analyze_closed_chain(
     if relaxed:
         print(f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(relaxed)}")
     print(mm)
-    if sets is not None:
-        print(f"valid sets of {args.search_actuators} actuated joints: {len(sets)}")
-        for x in sets[:50]:
-            print("  " + ", ".join(x))
-        if len(sets) > 50:
-            print(f"  ... ({len(sets) - 50} more)")
+    _print_actuator_sets(args, sets)
     return 0
+
+
+def _actuator_sets(args: argparse.Namespace, mech: Any, q: Any, rtol: float) -> list[tuple[str, ...]] | None:
+    """``--search-actuators K``: every valid set of K actuated joints, or None when not asked."""
+    from .constraints import actuator_sets
+
+    if args.search_actuators is None:
+        return None
+    return actuator_sets(mech, q, args.search_actuators, frames=args.frame, rtol=rtol)
+
+
+def _print_actuator_sets(args: argparse.Namespace, sets: list[tuple[str, ...]] | None) -> None:
+    if sets is None:
+        return
+    print(f"valid sets of {args.search_actuators} actuated joints: {len(sets)}")
+    for x in sets[:50]:
+        print("  " + ", ".join(x))
+    if len(sets) > 50:
+        print(f"  ... ({len(sets) - 50} more)")
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -460,7 +460,10 @@ def find_closed(
 
     Raises:
         ClosureError: nothing closed; carries the best residuals seen.
+        ConfigurationError: restarts is negative.
     """
+    if restarts < 0:
+        raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts}")
     rng = np.random.default_rng(seed)
     best: ClosureError | None = None
     starts = [(mech.neutral() if q0 is None else q0, "neutral" if q0 is None else "given")]

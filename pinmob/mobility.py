@@ -18,7 +18,7 @@ import numpy as np
 import pinocchio as pin
 
 from .closure import CLOSURE_TOL, check_closed, compute_kinematics
-from .exceptions import ConfigurationError
+from .exceptions import ConfigurationError, choices
 from .mechanism import Mechanism
 from .screw import (
     RTOL,
@@ -390,7 +390,9 @@ def _direction(mech: Mechanism, approach: Array | Mapping[str, float]) -> Array:
         dv = np.zeros(mech.model.nv)
         for name, value in approach.items():
             if not mech.model.existJointName(name):
-                raise ConfigurationError(f"approach names unknown joint {name!r}")
+                raise ConfigurationError(
+                    f"approach names unknown joint {name!r}; valid: {choices(list(mech.model.names)[1:])}"
+                )
             j = mech.model.joints[mech.model.getJointId(name)]
             dv[j.idx_v] = float(value)
         return dv
@@ -435,9 +437,12 @@ def paper_view(
         q = mech.configuration(q)
     q = mech.check_q(q)
     if not approach:
+        declared = [name for name, c in mech.configurations.items() if c.approach]
+        where = f"configuration {configuration!r}" if configuration else "this configuration"
         raise ConfigurationError(
-            "the paper's view needs an approach direction: pass approach=... or declare "
-            "'approach' for the configuration in the mechanism file"
+            f"the paper's view needs an approach direction and {where} of {mech.name!r} declares none: add "
+            f"'approach = {{ <joint> = <rate>, ... }}' to [configurations.<name>] in the mechanism file (in Python: "
+            f"paper_view(..., approach=...)); configurations of {mech.name!r} that declare one: {choices(declared)}"
         )
     dv = _direction(mech, approach)
     dv /= np.linalg.norm(dv)

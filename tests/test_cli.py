@@ -5,10 +5,16 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
+import pinmob
 from pinmob.cli import main
+from pinmob.exceptions import ConfigurationError
+from pinmob.mobility import paper_view
+
+DATA = Path(__file__).parent / "data"
 
 JSON_KEYS = {
     "mechanism",
@@ -77,3 +83,55 @@ def test_console_script_runs() -> None:
     )
     assert proc.returncode == 0, proc.stderr
     assert "3 DoF, 3T" in proc.stdout
+
+
+#: keys issue 4 adds to ``pinmob analyze --json`` (whole-mechanism mobility and actuation)
+MECHANISM_JSON_KEYS = {"mechanism_dof", "idle_dof", "redundant_constraints", "redundant_by_closure", "grubler"}
+ACTUATION_KEYS = {"valid", "locked_dof", "remaining"}
+#: keys issue 6 requires in the ``singularity`` entry
+SINGULARITY_KEYS = {"constraint", "actuation", "limbs", "locked_dof", "uncontrolled", "distance", "generic_rank"}
+
+
+def test_analyze_json_has_every_key_of_issues_2_4_and_6(capsys: pytest.CaptureFixture[str]) -> None:
+    # a limb-and-platform model: issue 2's mobility, issue 4's mechanism keys, issue 6's singularity
+    doc = json.loads(run(capsys, "analyze", "3-UPU", "--config", "constraint-singular", "--json"))
+    assert JSON_KEYS | MECHANISM_JSON_KEYS | {"actuation", "singularity"} <= set(doc)
+    assert ACTUATION_KEYS <= set(doc["actuation"]) and SINGULARITY_KEYS <= set(doc["singularity"])
+    for key in ("dof", "constraint_rank", "mechanism_dof", "idle_dof", "redundant_constraints", "grubler"):
+        assert type(doc[key]) is int, key
+    assert type(doc["actuation"]["valid"]) is bool and type(doc["actuation"]["locked_dof"]) is int
+    assert isinstance(doc["redundant_by_closure"], dict) and isinstance(doc["actuation"]["remaining"], list)
+    s = doc["singularity"]
+    assert (s["constraint"], s["actuation"], s["limbs"], s["generic_rank"]) == (True, True, [], 3)
+    assert type(s["locked_dof"]) is int and isinstance(s["distance"], float)
+    assert all({"kind", "direction"} <= set(m) for m in s["uncontrolled"])
+    # the Extended URDF and MJCF loaders' JSON carries issue 4's keys too
+    for path in (DATA / "fivebar" / "robot.yaml", DATA / "fourbar_connect.xml"):
+        doc = json.loads(run(capsys, "analyze", str(path), "--json"))
+        assert MECHANISM_JSON_KEYS | {"actuation"} <= set(doc), path
+        assert ACTUATION_KEYS <= set(doc["actuation"]), path
+
+
+def test_search_actuators_also_on_limb_models(capsys: pytest.CaptureFixture[str]) -> None:
+    # Tsai's 3-UPU translates only, so each limb's U angles obey u2a = -u1b and u2b = -u1a (parallel axes,
+    # no platform rotation): {A_u1a, A_u2b, ...} is a dependent set, while the three legs drive x, y, z
+    doc = json.loads(run(capsys, "analyze", "3-UPU", "--config", "generic", "--json", "--search-actuators", "3"))
+    sets = {frozenset(s) for s in doc["valid_actuator_sets"]}
+    assert frozenset({"A_leg", "B_leg", "C_leg"}) in sets
+    assert not any({"A_u1a", "A_u2b"} <= s or {"B_u1b", "B_u2a"} <= s for s in sets)
+    out = run(capsys, "analyze", "3-UPU", "--config", "generic", "--search-actuators", "3")
+    assert f"valid sets of 3 actuated joints: {len(sets)}" in out
+    assert main(["analyze", "3-UPU", "--search-actuators", "0"]) == 2
+    assert "1..15" in capsys.readouterr().err
+
+
+def test_paper_view_without_approach_says_how_to_declare_one(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["analyze", "3-UPU", "--config", "constraint-singular", "--paper-view"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "'constraint-singular'" in err and "'3-UPU'" in err
+    assert "approach = {" in err and "[configurations.<name>]" in err
+    mech = pinmob.load("3-PUU-flat")
+    with pytest.raises(ConfigurationError, match=r"declare one: 'flat', 'flat-raised'"):
+        paper_view(mech, mech.configuration("flat"))
+    with pytest.raises(ConfigurationError, match=r"unknown joint 'nope'; valid: .*'A_u1a'"):
+        paper_view(mech, "flat", {"nope": 1.0})

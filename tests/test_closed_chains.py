@@ -240,3 +240,10 @@ def test_cli_error_is_one_line(capsys):
     assert main(["analyze", str(DATA / "fourbar.toml"), "--frame", "nowhere"]) == 2
     err = capsys.readouterr().err
     assert err.startswith("pinmob: error:") and err.count("\n") == 1 and "valid frames" in err
+
+
+def test_negative_restarts_is_a_one_line_error(capsys):
+    # it was an AssertionError traceback
+    assert main(["analyze", str(DATA / "fivebar" / "robot.yaml"), "--restarts", "-3"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "--restarts" in err and "-3" in err

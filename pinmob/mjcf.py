@@ -36,7 +36,9 @@ def _fail(path: Path, msg: str) -> MechanismFileError:
 def _wrapped(path: Path, root: ET.Element) -> Path:
     """The path to parse: ``path``, or a temporary copy with the top-level bodies under one fixed body."""
     world = root.find("worldbody")
-    bodies = [] if world is None else world.findall("body")
+    if world is None:
+        return path
+    bodies = world.findall("body")
     if len(bodies) <= 1:
         return path
     wrapper = ET.SubElement(world, "body", {"name": "pinmob_world"})
@@ -63,7 +65,7 @@ def load_mjcf(path: str | Path) -> Mechanism:
         warnings.warn(
             f"{path.name}: equality constraints {unsupported} are not loop closures pinmob reads; ignored", stacklevel=3
         )
-    actuated = [a.get("joint") for act in root.findall("actuator") for a in act if a.get("joint")]
+    actuated = [a.get("joint", "") for act in root.findall("actuator") for a in act if a.get("joint")]
     source = _wrapped(path, root)
     try:
         model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(source))

@@ -41,6 +41,7 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from .closure import CLOSURE_TOL, assemble_joints, check_closed, compute_kinematics
 from .exceptions import PinmobError
@@ -144,7 +145,7 @@ def _padded(values: Array) -> Array:
     return out
 
 
-def _ratio(singular_values: Array, rank: int) -> float:
+def _ratio(singular_values: ArrayLike, rank: int) -> float:
     """``sigma_rank / sigma_1`` (1-based); 1 when rank is 0 (nothing to lose)."""
     if rank <= 0:
         return 1.0

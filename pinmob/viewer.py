@@ -260,7 +260,7 @@ def _build(
         else:
             points.extend(glyph.vertices)
     center, distance = _frame_camera(vis, np.array(points))
-    if labels:
+    if visible is not None:  # there are motions to choose from
         vis.window.send(
             _SetControl(
                 "motion", _selector_callback(list(vis[f"{ROOT}/motions"].path.entries), labels), visible, labels

@@ -149,6 +149,18 @@ def compute_kinematics(model: pin.Model, data: pin.Data, q: Array) -> None:
     pin.updateFramePlacements(model, data)
 
 
+def closed_kinematics(mech: Mechanism, q: Array, tol: float = CLOSURE_TOL) -> pin.Data:
+    """Fresh data with the kinematics at q (:func:`compute_kinematics`), once q is checked to close.
+
+    Raises:
+        ClosureError: q does not close within ``tol`` (:func:`check_closed`).
+    """
+    data = mech.model.createData()
+    compute_kinematics(mech.model, data, q)
+    check_closed(mech, q, tol, data=data)
+    return data
+
+
 def tip_residuals(mech: Mechanism, data: pin.Data) -> dict[str, tuple[float, float]]:
     """Per limb: (position [m], rotation [rad]) residual of its tip w.r.t. the platform frame."""
     if not mech.has_platform:

@@ -130,8 +130,7 @@ def prepare(
     animate: bool,
 ) -> tuple[Array, Mobility, dict[str, MotionPath]]:
     """Closed q, its mobility and the followed motions (everything that can fail before meshcat)."""
-    name = q if isinstance(q, str) else None
-    q = mech.configuration(q) if isinstance(q, str) else mech.check_q(q)
+    q, name = mech.resolve(q)
     mob = mobility if mobility is not None else analyze(mech, q, configuration=name)
     paths = {}
     for motion in mob.motions:

@@ -43,7 +43,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from .closure import CLOSURE_TOL, assemble_joints, check_closed, compute_kinematics
+from .closure import CLOSURE_TOL, assemble_joints, closed_kinematics
 from .exceptions import PinmobError
 from .mechanism import Mechanism
 from .mobility import Motion, _motions, limb_twists
@@ -270,16 +270,11 @@ def analyze_singularity(
     Raises:
         ClosureError: q does not close the loops.
     """
-    if isinstance(q, str):
-        configuration = configuration or q
-        q = mech.configuration(q)
-    q = mech.check_q(q)
+    q, configuration = mech.resolve(q, configuration)
     g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else int(generic_rank)
     length = mech.length_scale
     st, sw = twist_scaling(length)[:, None], wrench_scaling(length)[:, None]
-    data = mech.model.createData()
-    compute_kinematics(mech.model, data, q)
-    check_closed(mech, q, closure_tol, data=data)
+    data = closed_kinematics(mech, q, closure_tol)
     twists = limb_twists(mech, data)
 
     distances: dict[str, float] = {}

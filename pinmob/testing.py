@@ -82,7 +82,7 @@ def assert_mobility(
         AssertionError: listing every mismatch, the expected and found values,
             the singular values and the tolerance.
     """
-    mob = analyze(mech, q, configuration=q if isinstance(q, str) else None, rtol=rtol)
+    mob = analyze(mech, q, rtol=rtol)
     problems = []
     if dof is not None and mob.dof != dof:
         problems.append(f"dof: expected {dof}, found {mob.dof}")

@@ -20,7 +20,13 @@ import pinmob
 import pinmob.viewer
 
 
-def main(argv: list[str] | None = None, model: str = "3-PUU-flat", config: str = "flat") -> int:
+def main(argv: list[str] | None = None, model: str = "3-PUU-flat", config: str | None = "flat") -> int:
+    """Analyse ``model`` at ``config`` (default: its first named configuration) and show it."""
+    models = pinmob.builtin_models()
+    if model not in models:
+        print(f"error: this pinmob has no built-in model {model!r}; it has: {', '.join(models)}", file=sys.stderr)
+        return 2
+    config = config or next(iter(pinmob.load(model).configurations))
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--html", help="write this HTML file instead of starting a server")
     parser.add_argument("--force", action="store_true", help="overwrite the HTML file if it exists")

@@ -11,10 +11,7 @@ Run::
 from __future__ import annotations
 
 import importlib.util
-import sys
 from pathlib import Path
-
-import pinmob
 
 MODEL = "4-RUU"
 
@@ -24,12 +21,7 @@ _spec.loader.exec_module(_base)  # type: ignore[union-attr]
 
 
 def main(argv: list[str] | None = None) -> int:
-    models = pinmob.builtin_models()
-    if MODEL not in models:
-        print(f"error: this pinmob has no built-in model {MODEL!r}; it has: {', '.join(models)}", file=sys.stderr)
-        return 2
-    first = next(iter(pinmob.load(MODEL).configurations))
-    return _base.main(argv, model=MODEL, config=first)
+    return _base.main(argv, model=MODEL, config=None)  # its first named configuration
 
 
 if __name__ == "__main__":

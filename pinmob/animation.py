@@ -144,9 +144,10 @@ def _step(
     try:
         q_next = _assemble_pose(mech, target, q_pred, tol=tol, max_iter=60)
     except ClosureError:
-        q_next = _close_loops(mech, q_pred, tol)
-        if q_next is None:
+        reclosed = _close_loops(mech, q_pred, tol)
+        if reclosed is None:
             return None, "the loops do not close again after a step there"
+        q_next = reclosed
     compute_kinematics(model, data, q_next)
     achieved = w * _displacement(om_p, data.oMf[pid])
     wanted = w * projected * ds

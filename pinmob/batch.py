@@ -26,9 +26,11 @@ from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import NDArray
 
+from .exceptions import ConfigurationError
 from .mechanism import Limb, Mechanism
-from .screw import RTOL, Array, twist_scaling
+from .screw import RTOL, Array, Mask, twist_scaling
 
 #: Configurations per block of vectorised linear algebra (arrays stay in cache).
 BLOCK = 128
@@ -58,7 +60,7 @@ class BatchResult:
 
     def singular(
         self, generic_rank: int, generic_twist_rank: Array, generic_locked_dof: int | None
-    ) -> dict[str, Array]:
+    ) -> dict[str, Mask | None]:
         """Boolean (N,) arrays ``constraint``, ``actuation`` (None without actuators) and (N, k) ``limbs``."""
         return {
             "constraint": self.constraint_rank < generic_rank,
@@ -151,7 +153,7 @@ def _null_columns(a: Array, rtol: float) -> tuple[Array, Array, Array]:
     return u * mask[:, None, :], rank, s
 
 
-def _ratio(s: Array, rank: int) -> Array:
+def _ratio(s: NDArray[np.floating], rank: int) -> Array:
     if rank <= 0:
         return np.ones(s.shape[0])
     if s.shape[1] < rank:
@@ -161,7 +163,7 @@ def _ratio(s: Array, rank: int) -> Array:
 
 def analyze_batch(
     mech: Mechanism,
-    qs: Array,
+    qs: Array | None,
     *,
     rtol: float = RTOL,
     singular_values: bool = False,
@@ -184,7 +186,12 @@ def analyze_batch(
         singular_values: also compute the singular values (slower).
         jacobians: precomputed :func:`limb_jacobians`.
     """
-    jacs = limb_jacobians(mech, qs) if jacobians is None else jacobians
+    if jacobians is not None:
+        jacs = jacobians
+    elif qs is not None:
+        jacs = limb_jacobians(mech, qs)
+    else:
+        raise ConfigurationError("analyze_batch needs the configurations qs (N, nq) or their limb jacobians")
     n = jacs[0].shape[0]
     if n > BLOCK:  # blocks that stay in cache
         parts = [

@@ -75,6 +75,18 @@ def rotation(axis: Sequence[float], angle: float) -> np.ndarray:
     return np.eye(3) + np.sin(angle) * k + (1.0 - np.cos(angle)) * k @ k
 
 
+def _triple(v: ArrayLike) -> tuple[float, float, float]:
+    """A 3-vector as a tuple of Python floats."""
+    x, y, z = np.asarray(v, float)
+    return float(x), float(y), float(z)
+
+
+def _link_of(joint: ElementTree.Element, tag: str) -> str:
+    """The ``link`` attribute of a URDF joint's ``<parent>`` or ``<child>`` ("" when missing)."""
+    el = joint.find(tag)
+    return "" if el is None else el.get("link", "")
+
+
 @dataclass(frozen=True)
 class JointSpec:
     """One joint at the reference configuration (world coordinates)."""
@@ -121,7 +133,7 @@ class LimbBuilder:
         if any(j.name == name for j in self.joints):
             raise ConfigurationError(f"limb {self.name!r} already has a joint {label!r}")
         a = a / np.linalg.norm(a)
-        self.joints.append(JointSpec(name, jtype, tuple(p.tolist()), tuple(a.tolist()), lower, upper))  # type: ignore[arg-type]
+        self.joints.append(JointSpec(name, jtype, _triple(p), _triple(a), lower, upper))
         if actuated:
             self.actuated.append(name)
         return name
@@ -162,7 +174,7 @@ class LimbBuilder:
 
     def tip(self, at: ArrayLike, rotation: Sequence[ArrayLike] | None = None) -> None:
         """End the limb at a tip frame with world pose (at, rotation) at the reference configuration."""
-        self.tip_position = tuple(np.asarray(at, float).tolist())  # type: ignore[assignment]
+        self.tip_position = _triple(at)
         self.tip_rotation = np.eye(3) if rotation is None else np.asarray(rotation, float)
 
 
@@ -205,8 +217,8 @@ class UrdfLimb:
             robot = ElementTree.parse(path).getroot()
         except (OSError, ElementTree.ParseError) as exc:
             raise ConfigurationError(f"limb {name!r}: cannot read URDF {str(path)!r}: {exc}") from None
-        links = {el.get("name"): el for el in robot.findall("link")}
-        by_child = {el.find("child").get("link"): el for el in robot.findall("joint")}  # type: ignore[union-attr]
+        links = {el.get("name", ""): el for el in robot.findall("link")}
+        by_child = {_link_of(el, "child"): el for el in robot.findall("joint")}
         for link in (root_link, tip_link):
             if link not in links:
                 raise ConfigurationError(
@@ -219,19 +231,19 @@ class UrdfLimb:
                     f"limb {name!r}: link {tip_link!r} does not descend from {root_link!r} in {path.name}"
                 )
             chain.append(by_child[link])
-            link = by_child[link].find("parent").get("link")  # type: ignore[union-attr]
+            link = _link_of(by_child[link], "parent")
         chain.reverse()
-        kept = [root_link] + [j.find("child").get("link") for j in chain]  # type: ignore[union-attr]
+        kept = [root_link] + [_link_of(j, "child") for j in chain]
         limb = cls(name, path, root_link, tip_link, base_pose, tip_offset)
         limb.links = [_renamed(links[n], name) for n in kept]
         limb.chain = [_renamed(j, name) for j in chain]
-        limb.actuated = [j.get("name") for j in limb.chain if j.get("type") != "fixed"]  # type: ignore[misc]
+        limb.actuated = limb.joints
         return limb
 
     @property
     def joints(self) -> list[str]:
         """Names of the limb's movable joints (renamed), base to tip."""
-        return [j.get("name") for j in self.chain if j.get("type") != "fixed"]  # type: ignore[misc]
+        return [j.get("name", "") for j in self.chain if j.get("type") != "fixed"]
 
     def urdf_lines(self) -> list[str]:
         """URDF elements of this limb, indented for inclusion in a ``<robot>``."""
@@ -336,8 +348,8 @@ class MechanismBuilder:
         urdf: str | Path,
         root_link: str,
         tip_link: str,
-        base_pose: tuple[Sequence[Sequence[float]], Sequence[float]],
-        tip_offset: tuple[Sequence[Sequence[float]], Sequence[float]] = (np.eye(3), (0.0, 0.0, 0.0)),
+        base_pose: tuple[ArrayLike, ArrayLike],
+        tip_offset: tuple[ArrayLike, ArrayLike] = (np.eye(3), (0.0, 0.0, 0.0)),
         actuated: Sequence[str] | None = None,
     ) -> UrdfLimb:
         """Add a limb copied from a robot URDF (e.g. an arm of example-robot-data).

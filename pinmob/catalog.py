@@ -203,7 +203,7 @@ def _six_ups() -> Definition:
         height,
     )
     twist = {f"{x}_sa": 1.5 for x in "ABCDEF"}
-    confs = {
+    confs: dict[str, dict[str, Any]] = {
         "generic": {
             "pose": {"xyz": [0.03, -0.02, height + 0.02], "rpy": [0.05, -0.04, 0.1]},
             "expected": {
@@ -321,7 +321,7 @@ def _tsai_3upu() -> Definition:
         limb.prismatic("leg", at=base, axis=leg, actuated=True)
         limb.universal("u2", at=vertex, axis1=n, axis2=t)
         limb.tip(at=[0.0, 0.0, h])
-    confs = {
+    confs: dict[str, dict[str, Any]] = {
         "generic": {"pose": _pose([0.04, -0.03, 0.33]), "expected": _expect(3, "3T", TSAI)},
         "constraint-singular": {
             "pose": _pose([0.0, 0.0, 0.0]),
@@ -812,10 +812,10 @@ def _three_ur5() -> Definition:
     )
     urdf = _ur5_path()
     centre = np.array([0.0, 0.0, height])
-    tool_frames = {}
+    tool_frames, arms = {}, []
     for name, theta in _limb_pairs():
         e, _ = radial(theta)
-        b.urdf_limb(name, urdf, "base_link", "tool0", (rotation([0, 0, 1], theta + np.pi), ring * e))
+        arms.append(b.urdf_limb(name, urdf, "base_link", "tool0", (rotation([0, 0, 1], theta + np.pi), ring * e)))
         tool = np.eye(4)
         tool[:3, :3] = np.column_stack([radial(theta)[1], e, [0.0, 0.0, -1.0]])
         tool[:3, 3] = centre + grip * e
@@ -828,12 +828,12 @@ def _three_ur5() -> Definition:
         q[limb.v_indices] = seed_arm
         q = _ik(mech, limb.name, tool_frames[limb.name], q)
     # each tip frame: the object's frame (centre, world axes) seen from its tool flange
-    for limb in b.limbs:
-        offset = np.linalg.inv(tool_frames[limb.name])
+    for arm in arms:
+        offset = np.linalg.inv(tool_frames[arm.name])
         obj = np.eye(4)
         obj[:3, 3] = centre
         rel = offset @ obj
-        limb.tip_offset = (rel[:3, :3], rel[:3, 3])
+        arm.tip_offset = (rel[:3, :3], rel[:3, 3])
     mech = b.mechanism()
 
     def values(qv: np.ndarray) -> dict[str, float]:

@@ -18,6 +18,7 @@ from .exceptions import PinmobError, choices
 
 if TYPE_CHECKING:
     from .mechanism import Mechanism
+    from .screw import Array
 
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {}
 
@@ -358,7 +359,7 @@ def _scan(args: argparse.Namespace) -> int:
         "length_scale": mech.length_scale,
     }
     counts: Counter[str] = Counter()
-    singular = []
+    singular: list[dict[str, Any]] = []
     n_sing = 0
     t0 = time.perf_counter()
     with RowWriter(spec, meta, csv_path, args.json_out) as writer:
@@ -437,7 +438,7 @@ MECHANISM_KEYS = (
 
 
 def _analyze_closed_chain(
-    args: argparse.Namespace, mech: object, rtol: float, q: object = None, config: str | None = None
+    args: argparse.Namespace, mech: Mechanism, rtol: float, q: Array | None = None, config: str | None = None
 ) -> int:
     """``pinmob analyze`` for a mechanism without limbs (Extended URDF, MJCF, TOML closures only)."""
     from .closure import ClosureError, find_closed, find_closed_relaxed, unclosable
@@ -447,15 +448,15 @@ def _analyze_closed_chain(
     method = f"named configuration {config!r}"
     if q is None:
         if args.relax:
-            mech, found, relaxed = find_closed_relaxed(mech, restarts=args.restarts)  # type: ignore[arg-type]
+            mech, found, relaxed = find_closed_relaxed(mech, restarts=args.restarts)
         else:
             try:
-                found = find_closed(mech, restarts=args.restarts)  # type: ignore[arg-type]
+                found = find_closed(mech, restarts=args.restarts)
             except ClosureError as exc:
-                bad = unclosable(mech)  # type: ignore[arg-type]
+                bad = unclosable(mech)
                 hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
                 raise ClosureError(
-                    f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {args.restarts} random restarts. "  # type: ignore[attr-defined]
+                    f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {args.restarts} random restarts. "
                     f"{hint}Rerun with --relax to turn the over-constraining closures into 3d (ball) closures. Largest residual "
                     f"of the best attempt: {max(max(r) for r in exc.residuals.values()):.2e} (m or rad)",
                     exc.residuals,
@@ -464,7 +465,7 @@ def _analyze_closed_chain(
         residual = found.residual
     else:
         residual = 0.0
-    mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)  # type: ignore[arg-type]
+    mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)
     sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
         out = mm.to_dict()
@@ -473,8 +474,8 @@ def _analyze_closed_chain(
             "residual": residual,
             "relaxed_closures": list(relaxed),
             "q": [float(x) for x in q],
-        }  # type: ignore[union-attr]
-        if mech.has_platform and mm.frames:  # type: ignore[attr-defined]
+        }
+        if mech.has_platform and mm.frames:
             out["platform"] = mm.frames[0].to_dict()
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
@@ -488,7 +489,7 @@ def _analyze_closed_chain(
     return 0
 
 
-def _actuator_sets(args: argparse.Namespace, mech: Any, q: Any, rtol: float) -> list[tuple[str, ...]] | None:
+def _actuator_sets(args: argparse.Namespace, mech: Mechanism, q: Array, rtol: float) -> list[tuple[str, ...]] | None:
     """``--search-actuators K``: every valid set of K actuated joints, or None when not asked."""
     from .constraints import actuator_sets
 
@@ -507,11 +508,17 @@ def _print_actuator_sets(args: argparse.Namespace, sets: list[tuple[str, ...]] |
         print(f"  ... ({len(sets) - 50} more)")
 
 
+def _format_warning(
+    message: Warning | str, category: type[Warning], filename: str, lineno: int, line: str | None = None
+) -> str:
+    return f"pinmob: warning: {message}\n"
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``pinmob`` console script."""
     args = build_parser().parse_args(argv)
     warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
-    warnings.formatwarning = lambda msg, cat, *a, **k: f"pinmob: warning: {msg}\n"  # type: ignore[assignment]
+    warnings.formatwarning = _format_warning
     try:
         return COMMANDS[args.command](args)
     except PinmobError as exc:

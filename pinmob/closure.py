@@ -26,7 +26,7 @@ import pinocchio as pin
 
 from .exceptions import ClosureError, ConfigurationError, FrameError, choices
 from .mechanism import Closure, Mechanism
-from .screw import Array, twist_scaling
+from .screw import Array, Mask, twist_scaling
 
 #: Default closure tolerance: position residual / L and rotation residual [rad].
 CLOSURE_TOL = 1e-6
@@ -60,7 +60,7 @@ def _perp(u: Array) -> Array:
     return np.vstack([e1, np.cross(u, e1)])
 
 
-def _selection(c: Closure) -> tuple[Array, Array]:
+def _selection(c: Closure) -> tuple[Array, Mask]:
     """Rows S (k, 6) of ``log6(aMb)`` forbidden by a revolute/cylindrical/planar closure, and their linear mask."""
     u = np.asarray(c.axis, float)
     p, z = _perp(u), np.zeros((2, 3))
@@ -73,7 +73,7 @@ def _selection(c: Closure) -> tuple[Array, Array]:
     return np.vstack([lin, ang]), np.array([True] * lin.shape[0] + [False] * 2)
 
 
-def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Array]:
+def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
     """Residual of one closure, its Jacobian and which rows are lengths; kinematics must be computed.
 
     With ``M = oM_a^-1 oM_b`` (pose of b in a):
@@ -147,6 +147,18 @@ def compute_kinematics(model: pin.Model, data: pin.Data, q: Array) -> None:
     """Joint placements, joint Jacobians and frame placements at q (once per configuration)."""
     pin.computeJointJacobians(model, data, q)
     pin.updateFramePlacements(model, data)
+
+
+def closed_kinematics(mech: Mechanism, q: Array, tol: float = CLOSURE_TOL) -> pin.Data:
+    """Fresh data with the kinematics at q (:func:`compute_kinematics`), once q is checked to close.
+
+    Raises:
+        ClosureError: q does not close within ``tol`` (:func:`check_closed`).
+    """
+    data = mech.model.createData()
+    compute_kinematics(mech.model, data, q)
+    check_closed(mech, q, tol, data=data)
+    return data
 
 
 def tip_residuals(mech: Mechanism, data: pin.Data) -> dict[str, tuple[float, float]]:
@@ -325,7 +337,7 @@ class Assembly:
         }
 
 
-def linear_velocity_mask(model: pin.Model) -> Array:
+def linear_velocity_mask(model: pin.Model) -> Mask:
     """(nv,) True where a velocity component is a translation [m/s] (prismatic, free-flyer linear part).
 
     Read from each joint's motion subspace at the neutral configuration: a

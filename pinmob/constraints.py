@@ -37,8 +37,7 @@ import pinocchio as pin
 
 from .closure import (
     CLOSURE_TOL,
-    check_closed,
-    compute_kinematics,
+    closed_kinematics,
     joint_velocity_indices,
     linear_velocity_mask,
     stacked_error,
@@ -291,11 +290,8 @@ class _Closed:
 
 
 def _closed(mech: Mechanism, q: Array, rtol: float, closure_tol: float) -> tuple[_Closed, Any]:
-    q = mech.check_q(q)
     model = mech.model
-    data = model.createData()
-    compute_kinematics(model, data, q)
-    check_closed(mech, q, closure_tol, data=data)
+    data = closed_kinematics(mech, q, closure_tol)
     col = np.where(linear_velocity_mask(model), mech.length_scale, 1.0)
     _, jac = stacked_error(mech, model, data, mech.all_closures)
     k_hat = jac * col
@@ -371,14 +367,12 @@ def analyze_mechanism(
     Raises:
         ClosureError: q does not close the loops.
     """
-    if isinstance(q, str):
-        configuration = configuration or q
-        q = mech.configuration(q)
+    q, configuration = mech.resolve(q, configuration)
     actuated = tuple(mech.actuated if actuated is None else actuated)
     frames = tuple(default_end_frames(mech) if frames is None else frames)
     for name in frames:
         frame_id(mech.model, name)
-    cl, dec = _closed(mech, np.asarray(q, float), rtol, closure_tol)
+    cl, dec = _closed(mech, q, rtol, closure_tol)
     # redundancy closure by closure, with the global tolerance
     ranks, start, prev = [], 0, 0
     for c in mech.all_closures:

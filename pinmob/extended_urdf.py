@@ -25,17 +25,13 @@ from typing import Any
 
 import pinocchio as pin
 
-from .exceptions import MechanismFileError, PinmobError, choices
+from .exceptions import choices
 from .mechanism import Mechanism, make_closure
-from .mechanism_file import LOADERS, load_geometry
+from .mechanism_file import LOADERS, errors_at, file_error, load_geometry
 
 JOINT_TYPES = ("SPHERICAL", "CARDAN", "FIXED") + tuple(f"UJOINT_{a}{b}" for a in "XYZ" for b in "XYZ" if a != b)
 YAML_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
 _AXIS = {"X": pin.JointModelRX, "Y": pin.JointModelRY, "Z": pin.JointModelRZ}
-
-
-def _fail(path: Path, msg: str) -> MechanismFileError:
-    return MechanismFileError(f"{path}: {msg}")
 
 
 def _joint_model(kind: str) -> pin.JointModel:
@@ -87,16 +83,16 @@ def _read_yaml(path: Path) -> dict[str, Any]:
     try:
         doc = yaml.safe_load(path.read_text())
     except yaml.YAMLError as exc:
-        raise _fail(path, f"YAML syntax error: {' '.join(str(exc).split())}") from None
+        raise file_error(path, f"YAML syntax error: {' '.join(str(exc).split())}") from None
     if not isinstance(doc, Mapping):
-        raise _fail(path, f"must be a mapping with keys {choices(YAML_KEYS)}")
+        raise file_error(path, f"must be a mapping with keys {choices(YAML_KEYS)}")
     return dict(doc)
 
 
 def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
     value = doc.get(key) or []
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise _fail(path, f"{key!r} must be a list of names, got {value!r}")
+        raise file_error(path, f"{key!r} must be a list of names, got {value!r}")
     return value
 
 
@@ -108,7 +104,7 @@ def find_urdf(path: Path) -> Path:
     found = sorted(path.parent.glob("*.urdf"))
     if len(found) == 1:
         return found[0]
-    raise _fail(
+    raise file_error(
         path,
         f"no URDF named {same.name!r} beside it, and {len(found)} other .urdf files: {choices(p.name for p in found)}",
     )
@@ -119,40 +115,40 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
     path = Path(path)
     doc = _read_yaml(path)
     if "closed_loop" not in doc:
-        raise _fail(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")
+        raise file_error(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")
     loops = doc.get("closed_loop") or []
     if not isinstance(loops, list) or not all(
         isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) for x in p) for p in loops
     ):
-        raise _fail(path, f"'closed_loop' must be a list of [frame_a, frame_b] pairs, got {loops!r}")
+        raise file_error(path, f"'closed_loop' must be a list of [frame_a, frame_b] pairs, got {loops!r}")
     types = doc.get("type") or ["6d"] * len(loops)
     if not isinstance(types, list) or len(types) != len(loops):
-        raise _fail(path, f"'type' must list one of '6d', '3d' per closed loop ({len(loops)}), got {types!r}")
+        raise file_error(path, f"'type' must list one of '6d', '3d' per closed loop ({len(loops)}), got {types!r}")
     joint_names, joint_types = _names(path, doc, "joint_name"), _names(path, doc, "joint_type")
     if len(joint_names) != len(joint_types):
-        raise _fail(
+        raise file_error(
             path, f"'joint_name' ({len(joint_names)}) and 'joint_type' ({len(joint_types)}) must have the same length"
         )
     urdf = find_urdf(path)
     try:
         model = pin.buildModelFromUrdf(str(urdf))
     except Exception as exc:
-        raise _fail(path, f"urdf {str(urdf)!r} does not parse: {' '.join(str(exc).split())[:200]}") from None
+        raise file_error(path, f"urdf {str(urdf)!r} does not parse: {' '.join(str(exc).split())[:200]}") from None
     for jname, jtype in zip(joint_names, joint_types):
         if not model.existJointName(jname):
-            raise _fail(
+            raise file_error(
                 path, f"joint_name {jname!r} is not a joint of {urdf.name}; valid: {choices(list(model.names)[1:])}"
             )
         if str(jtype).upper() not in JOINT_TYPES:
-            raise _fail(path, f"joint_type {jtype!r} of {jname!r} is not supported; valid: {choices(JOINT_TYPES)}")
+            raise file_error(path, f"joint_type {jtype!r} of {jname!r} is not supported; valid: {choices(JOINT_TYPES)}")
     if joint_names:
         model = replace_joints(model, {n: str(t).upper() for n, t in zip(joint_names, joint_types)})
     visual, collision = load_geometry(model, urdf)
-    try:
+    with errors_at(path):
         closures = []
         for (a, b), t in zip(loops, types):
             if str(t).lower() not in ("6d", "3d"):
-                raise _fail(path, f"closed loop [{a!r}, {b!r}] has type {t!r}; valid: '3d', '6d'")
+                raise file_error(path, f"closed loop [{a!r}, {b!r}] has type {t!r}; valid: '3d', '6d'")
             closures.append(make_closure(model, f"{a}={b}", a, b, str(t).lower()))
         return Mechanism.from_model(
             model,
@@ -165,10 +161,6 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             collision_model=collision,
             closures=closures,
         )
-    except MechanismFileError:
-        raise
-    except PinmobError as exc:
-        raise type(exc)(f"{path}: {exc}") from None
 
 
 LOADERS[".yaml"] = load_extended_urdf

@@ -19,6 +19,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .mobility import Constraint, Motion
 from .screw import MotionKind, WrenchKind
@@ -50,7 +51,7 @@ def _frame(axis: Array) -> tuple[Array, Array]:
     return u, np.cross(a, u)
 
 
-def tube(points: Array, radius: float, sides: int = 12) -> tuple[Array, Array]:
+def tube(points: ArrayLike, radius: float, sides: int = 12) -> tuple[Array, Array]:
     """A tube of ``radius`` around the polyline ``points`` (k, 3), k >= 2."""
     pts = np.asarray(points, float)
     verts, faces = [], []

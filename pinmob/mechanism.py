@@ -397,6 +397,16 @@ class Mechanism:
         check_closed(self, q, tol, f"configuration {name!r}")
         return q
 
+    def resolve(self, q: Array | str, configuration: str | None = None) -> tuple[Array, str | None]:
+        """A checked configuration vector and the name to report with it.
+
+        A name is looked up (:meth:`configuration`) and becomes the reported
+        name unless ``configuration`` is given; a vector is checked (:meth:`check_q`).
+        """
+        if isinstance(q, str):
+            return self.check_q(self.configuration(q)), configuration or q
+        return self.check_q(q), configuration
+
     def check_q(self, q: object) -> Array:
         """Validate a configuration vector: shape (nq,), finite, normalised where needed."""
         arr = np.asarray(q, dtype=float) if not isinstance(q, np.ndarray) else q.astype(float)
@@ -439,6 +449,7 @@ def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
 
 def _generic_rank(model: pin.Model, tip_id: int, v_idx: Array, samples: int = 3) -> int:
     """Rank of a chain's joint screws at random joint values (seeded)."""
+    from .closure import compute_kinematics
     from .screw import decide_rank, twist_scaling
 
     data = model.createData()
@@ -447,8 +458,7 @@ def _generic_rank(model: pin.Model, tip_id: int, v_idx: Array, samples: int = 3)
     best = 0
     for _ in range(samples):
         q = pin.integrate(model, pin.neutral(model), rng.uniform(-1.0, 1.0, model.nv))
-        pin.computeJointJacobians(model, data, q)
-        pin.updateFramePlacements(model, data)
+        compute_kinematics(model, data, q)
         jac = pin.getFrameJacobian(model, data, tip_id, pin.LOCAL_WORLD_ALIGNED)[:, v_idx]
         best = max(best, decide_rank((twist_scaling(length)[:, None] * jac).T, RTOL).rank)
     return best

@@ -8,7 +8,8 @@ from __future__ import annotations
 import os
 import tomllib
 import warnings
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
 from importlib import resources
 from pathlib import Path
 from typing import Any
@@ -82,25 +83,37 @@ def load(name_or_path: str | Path) -> Mechanism:
     raise MechanismFileError(f"{text!r}: unknown mechanism file type {suffix!r}; valid: {choices(['.toml', *LOADERS])}")
 
 
-def _fail(path: Path, msg: str) -> MechanismFileError:
+def file_error(path: Path, msg: str) -> MechanismFileError:
+    """``MechanismFileError("<path>: <msg>")``: an error in a mechanism file, naming the file."""
     return MechanismFileError(f"{path}: {msg}")
+
+
+@contextmanager
+def errors_at(path: Path) -> Iterator[None]:
+    """Name ``path`` in any :class:`PinmobError` raised inside (a :class:`MechanismFileError` names it already)."""
+    try:
+        yield
+    except MechanismFileError:
+        raise
+    except PinmobError as exc:
+        raise type(exc)(f"{path}: {exc}") from None
 
 
 def _check_keys(path: Path, where: str, table: Mapping[str, Any], valid: set[str]) -> None:
     unknown = set(table) - valid
     if unknown:
-        raise _fail(path, f"unknown key(s) {choices(unknown)} in {where}; valid keys: {choices(valid)}")
+        raise file_error(path, f"unknown key(s) {choices(unknown)} in {where}; valid keys: {choices(valid)}")
 
 
 def _number_table(path: Path, where: str, table: Any, joint_names: set[str]) -> dict[str, float]:
     if not isinstance(table, Mapping):
-        raise _fail(path, f"{where} must be a table of joint values, got {type(table).__name__}")
+        raise file_error(path, f"{where} must be a table of joint values, got {type(table).__name__}")
     out = {}
     for k, v in table.items():
         if k not in joint_names:
-            raise _fail(path, f"{where} names unknown joint {k!r}; valid joints: {choices(joint_names)}")
+            raise file_error(path, f"{where} names unknown joint {k!r}; valid joints: {choices(joint_names)}")
         if isinstance(v, bool) or not isinstance(v, (int, float)) or not np.isfinite(v):
-            raise _fail(path, f"{where}.{k} must be a finite number [m or rad], got {v!r}")
+            raise file_error(path, f"{where}.{k} must be a finite number [m or rad], got {v!r}")
         out[k] = float(v)
     return out
 
@@ -111,10 +124,10 @@ def _vector3(path: Path, where: str, value: Any) -> np.ndarray:
         or len(value) != 3
         or not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in value)
     ):
-        raise _fail(path, f"{where} must be a list of 3 numbers, got {value!r}")
+        raise file_error(path, f"{where} must be a list of 3 numbers, got {value!r}")
     arr = np.array(value, float)
     if not np.isfinite(arr).all():
-        raise _fail(path, f"{where} must be finite, got {value!r}")
+        raise file_error(path, f"{where} must be finite, got {value!r}")
     return arr
 
 
@@ -140,11 +153,11 @@ def package_dirs(urdf: Path) -> list[str]:
 def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | None, pin.GeometryModel | None]:
     """Kinematic model from a URDF; visual/collision geometry when its meshes load (else a warning)."""
     if not urdf.exists():
-        raise _fail(path, f"urdf file {str(urdf)!r} does not exist")
+        raise file_error(path, f"urdf file {str(urdf)!r} does not exist")
     try:
         model = pin.buildModelFromUrdf(str(urdf))
     except Exception as exc:  # pinocchio raises RuntimeError/ValueError with parser text
-        raise _fail(
+        raise file_error(
             path, f"urdf {str(urdf)!r} does not parse: {str(exc).strip().splitlines()[0] if str(exc).strip() else exc}"
         ) from None
     visual, collision = load_geometry(model, urdf)
@@ -175,48 +188,48 @@ def load_toml(path: str | Path) -> Mechanism:
         with path.open("rb") as fh:
             doc = tomllib.load(fh)
     except tomllib.TOMLDecodeError as exc:
-        raise _fail(path, f"TOML syntax error: {exc}") from None
+        raise file_error(path, f"TOML syntax error: {exc}") from None
     _check_keys(path, "the top level", doc, TOP_KEYS)
     for key in ("name", "urdf"):
         if not isinstance(doc.get(key), str) or not doc[key]:
-            raise _fail(path, f"required key {key!r} must be a non-empty string")
+            raise file_error(path, f"required key {key!r} must be a non-empty string")
     model, visual, collision = load_urdf(path, path.parent / doc["urdf"])
     joint_names = set(list(model.names)[1:])
 
     closures = _closures(path, doc.get("closures", []), model)
     limbs_doc = doc.get("limbs", [])
     if not isinstance(limbs_doc, list) or not (limbs_doc or closures):
-        raise _fail(path, "needs at least one [[limbs]] table with 'name' and 'tip', or one [[closures]] table")
+        raise file_error(path, "needs at least one [[limbs]] table with 'name' and 'tip', or one [[closures]] table")
     limbs, actuated = [], {}
     for i, limb in enumerate(limbs_doc):
         _check_keys(path, f"limbs[{i}]", limb, LIMB_KEYS)
         if not isinstance(limb.get("name"), str) or not isinstance(limb.get("tip"), str):
-            raise _fail(path, f"limbs[{i}] needs string keys 'name' and 'tip'")
+            raise file_error(path, f"limbs[{i}] needs string keys 'name' and 'tip'")
         limbs.append((limb["name"], limb["tip"]))
         acts = limb.get("actuated", [])
         if not isinstance(acts, list) or not all(isinstance(a, str) for a in acts):
-            raise _fail(path, f"limbs[{i}].actuated must be a list of joint names")
+            raise file_error(path, f"limbs[{i}].actuated must be a list of joint names")
         actuated[limb["name"]] = acts
     extra = doc.get("actuated", [])
     if not isinstance(extra, list) or not all(isinstance(a, str) for a in extra):
-        raise _fail(path, "top-level 'actuated' must be a list of joint names (actuated joints outside limbs)")
+        raise file_error(path, "top-level 'actuated' must be a list of joint names (actuated joints outside limbs)")
     actuated[""] = extra
 
     configurations, expected = {}, {}
     confs = doc.get("configurations", {})
     if not isinstance(confs, Mapping):
-        raise _fail(path, "'configurations' must be a table of named configurations")
+        raise file_error(path, "'configurations' must be a table of named configurations")
     for cname, conf in confs.items():
         where = f"configurations.{cname}"
         if not isinstance(conf, Mapping):
-            raise _fail(path, f"{where} must be a table")
+            raise file_error(path, f"{where} must be a table")
         _check_keys(path, where, conf, CONFIG_KEYS)
         if ("joints" in conf) == ("pose" in conf):
-            raise _fail(path, f"{where} needs exactly one of 'joints' or 'pose'")
+            raise file_error(path, f"{where} needs exactly one of 'joints' or 'pose'")
         pose = None
         if "pose" in conf:
             if not isinstance(conf["pose"], Mapping):
-                raise _fail(path, f"{where}.pose must be a table with xyz and rpy")
+                raise file_error(path, f"{where}.pose must be a table with xyz and rpy")
             _check_keys(path, f"{where}.pose", conf["pose"], POSE_KEYS)
             xyz = _vector3(path, f"{where}.pose.xyz", conf["pose"].get("xyz", [0, 0, 0]))
             rpy = _vector3(path, f"{where}.pose.rpy", conf["pose"].get("rpy", [0, 0, 0]))
@@ -231,19 +244,19 @@ def load_toml(path: str | Path) -> Mechanism:
         if "expected" in conf:
             exp = conf["expected"]
             if not isinstance(exp, Mapping):
-                raise _fail(path, f"{where}.expected must be a table with dof and motion_type")
+                raise file_error(path, f"{where}.expected must be a table with dof and motion_type")
             _check_keys(path, f"{where}.expected", exp, EXPECTED_KEYS)
             if not isinstance(exp.get("dof"), int) or not isinstance(exp.get("motion_type"), str):
-                raise _fail(path, f"{where}.expected needs an integer 'dof' and a string 'motion_type'")
+                raise file_error(path, f"{where}.expected needs an integer 'dof' and a string 'motion_type'")
             expected[cname] = Expectation(exp["dof"], exp["motion_type"], str(exp.get("source", "")))
 
     length = doc.get("length_scale")
     if length is not None and (isinstance(length, bool) or not isinstance(length, (int, float)) or not length > 0):
-        raise _fail(path, f"length_scale must be a positive number [m], got {length!r}")
+        raise file_error(path, f"length_scale must be a positive number [m], got {length!r}")
     platform = doc.get("platform")
     if platform is not None and not isinstance(platform, str):
-        raise _fail(path, f"platform must be a frame name, got {platform!r}")
-    try:
+        raise file_error(path, f"platform must be a frame name, got {platform!r}")
+    with errors_at(path):
         return Mechanism.from_model(
             model,
             limbs,
@@ -260,23 +273,21 @@ def load_toml(path: str | Path) -> Mechanism:
             generic_rank=doc.get("generic_rank"),
             closures=closures,
         )
-    except PinmobError as exc:
-        raise type(exc)(f"{path}: {exc}") from None
 
 
 def _closures(path: Path, table: Any, model: pin.Model) -> list[Closure]:
     """``[[closures]]``: name, frames = [a, b], type (default 6d), axis (in frame a), axis_b (in frame b)."""
     if not isinstance(table, list):
-        raise _fail(path, "'closures' must be an array of tables [[closures]]")
+        raise file_error(path, "'closures' must be an array of tables [[closures]]")
     out = []
     for i, c in enumerate(table):
         where = f"closures[{i}]"
         if not isinstance(c, Mapping):
-            raise _fail(path, f"{where} must be a table")
+            raise file_error(path, f"{where} must be a table")
         _check_keys(path, where, c, CLOSURE_KEYS)
         frames = c.get("frames")
         if not isinstance(frames, list) or len(frames) != 2 or not all(isinstance(f, str) for f in frames):
-            raise _fail(path, f"{where}.frames must be a list of two frame names, got {frames!r}")
+            raise file_error(path, f"{where}.frames must be a list of two frame names, got {frames!r}")
         axes = {k: _vector3(path, f"{where}.{k}", c[k]) for k in ("axis", "axis_b") if k in c}
         try:
             out.append(
@@ -291,5 +302,5 @@ def _closures(path: Path, table: Any, model: pin.Model) -> list[Closure]:
                 )
             )
         except PinmobError as exc:
-            raise _fail(path, f"{where}: {exc}") from None
+            raise file_error(path, f"{where}: {exc}") from None
     return out

@@ -22,8 +22,12 @@ import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .exceptions import ViewerError
+
+if TYPE_CHECKING:
+    from tornado.websocket import WebSocketHandler
 
 HOST = "127.0.0.1"
 #: seconds to wait for a server to start or answer
@@ -145,7 +149,7 @@ def probe(zmq_url: str, timeout: float = 3.0) -> str:
     """
     import zmq
 
-    ctx = zmq.Context.instance()
+    ctx: zmq.Context[zmq.Socket[bytes]] = zmq.Context.instance()
     sock = ctx.socket(zmq.REQ)
     sock.setsockopt(zmq.LINGER, 0)
     sock.setsockopt(zmq.RCVTIMEO, int(timeout * 1000))
@@ -192,10 +196,10 @@ def main(argv: list[str] | None = None) -> int:
                     self.controls.clear()
                 super().handle_zmq(frames)
 
-        def send_scene(self, websocket: object) -> None:
+        def send_scene(self, websocket: WebSocketHandler) -> None:
             super().send_scene(websocket)
             for data in self.controls.values():
-                websocket.write_message(data, binary=True)  # type: ignore[attr-defined]
+                websocket.write_message(data, binary=True)
 
     try:
         bridge = Bridge(zmq_url=zmq_url, host=HOST, port=args.port)

@@ -22,21 +22,18 @@ from pathlib import Path
 
 import pinocchio as pin
 
-from .exceptions import MechanismFileError, PinmobError
 from .mechanism import Mechanism, make_closure
-from .mechanism_file import LOADERS
+from .mechanism_file import LOADERS, errors_at, file_error
 
 KINDS = {"connect": "3d", "weld": "6d"}
-
-
-def _fail(path: Path, msg: str) -> MechanismFileError:
-    return MechanismFileError(f"{path}: {msg}")
 
 
 def _wrapped(path: Path, root: ET.Element) -> Path:
     """The path to parse: ``path``, or a temporary copy with the top-level bodies under one fixed body."""
     world = root.find("worldbody")
-    bodies = [] if world is None else world.findall("body")
+    if world is None:
+        return path
+    bodies = world.findall("body")
     if len(bodies) <= 1:
         return path
     wrapper = ET.SubElement(world, "body", {"name": "pinmob_world"})
@@ -54,31 +51,33 @@ def load_mjcf(path: str | Path) -> Mechanism:
     try:
         root = ET.parse(path).getroot()
     except ET.ParseError as exc:
-        raise _fail(path, f"XML syntax error: {exc}") from None
+        raise file_error(path, f"XML syntax error: {exc}") from None
     if root.tag != "mujoco":
-        raise _fail(path, f"root element is <{root.tag}>, not <mujoco>: not an MJCF file")
+        raise file_error(path, f"root element is <{root.tag}>, not <mujoco>: not an MJCF file")
     equalities = [e for eq in root.findall("equality") for e in eq if e.tag in KINDS]
     unsupported = sorted({e.tag for eq in root.findall("equality") for e in eq if e.tag not in KINDS})
     if unsupported:
         warnings.warn(
             f"{path.name}: equality constraints {unsupported} are not loop closures pinmob reads; ignored", stacklevel=3
         )
-    actuated = [a.get("joint") for act in root.findall("actuator") for a in act if a.get("joint")]
+    actuated = [a.get("joint", "") for act in root.findall("actuator") for a in act if a.get("joint")]
     source = _wrapped(path, root)
     try:
         model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(source))
     except Exception as exc:
-        raise _fail(path, f"Pinocchio's MJCF parser failed: {' '.join(str(exc).split())[:300]}") from None
+        raise file_error(path, f"Pinocchio's MJCF parser failed: {' '.join(str(exc).split())[:300]}") from None
     if len(constraints) != len(equalities):
-        raise _fail(
+        raise file_error(
             path, f"Pinocchio built {len(constraints)} constraints for {len(equalities)} connect/weld equalities"
         )
     closures = []
-    try:
+    with errors_at(path):
         for i, (eq, c) in enumerate(zip(equalities, constraints)):
             kind = "3d" if c.type == pin.ContactType.CONTACT_3D else "6d"
             if kind != KINDS[eq.tag]:
-                raise _fail(path, f"equality {i} <{eq.tag}> became a {kind} constraint in Pinocchio; order mismatch")
+                raise file_error(
+                    path, f"equality {i} <{eq.tag}> became a {kind} constraint in Pinocchio; order mismatch"
+                )
             name = eq.get("name") or f"{eq.tag}{i}"
             fa = model.addFrame(pin.Frame(f"{name}_a", c.joint1_id, c.joint1_placement, pin.FrameType.OP_FRAME), False)
             fb = model.addFrame(pin.Frame(f"{name}_b", c.joint2_id, c.joint2_placement, pin.FrameType.OP_FRAME), False)
@@ -101,10 +100,6 @@ def load_mjcf(path: str | Path) -> Mechanism:
             visual_model=visual,
             closures=closures,
         )
-    except MechanismFileError:
-        raise
-    except PinmobError as exc:
-        raise type(exc)(f"{path}: {exc}") from None
 
 
 LOADERS[".xml"] = load_mjcf

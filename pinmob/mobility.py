@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from .closure import CLOSURE_TOL, check_closed, compute_kinematics
+from .closure import CLOSURE_TOL, closed_kinematics, compute_kinematics
 from .exceptions import ConfigurationError, choices
 from .mechanism import Mechanism
 from .screw import (
@@ -323,13 +323,8 @@ def analyze(
         ConfigurationError: q has the wrong shape or non-finite values.
         ClosureError: q does not close the loops.
     """
-    if isinstance(q, str):
-        configuration = configuration or q
-        q = mech.configuration(q)
-    q = mech.check_q(q)
-    data = mech.model.createData()
-    compute_kinematics(mech.model, data, q)
-    check_closed(mech, q, closure_tol, data=data)
+    q, configuration = mech.resolve(q, configuration)
+    data = closed_kinematics(mech, q, closure_tol)
     rows = []
     for twists in limb_twists(mech, data):
         w, dec = reciprocal_wrenches(twists, mech.length_scale, rtol)
@@ -430,12 +425,9 @@ def paper_view(
             the named configuration's declared ``approach``.
         eps: step along the approach direction (the direction is normalised).
     """
-    if isinstance(q, str):
-        configuration = configuration or q
-        if approach is None:
-            approach = mech.configurations[q].approach if q in mech.configurations else None
-        q = mech.configuration(q)
-    q = mech.check_q(q)
+    if isinstance(q, str) and approach is None:
+        approach = mech.configurations[q].approach if q in mech.configurations else None
+    q, configuration = mech.resolve(q, configuration)
     if not approach:
         declared = [name for name, c in mech.configurations.items() if c.approach]
         where = f"configuration {configuration!r}" if configuration else "this configuration"

@@ -29,6 +29,15 @@ def _pyplot() -> Any:
     return plt
 
 
+def _save(plt: Any, fig: Any, title: str, png_path: str | Path) -> Path:
+    """Title, lay out, write the PNG (110 dpi) and close the figure."""
+    fig.suptitle(title)
+    fig.tight_layout()
+    fig.savefig(png_path, dpi=110)
+    plt.close(fig)
+    return Path(png_path)
+
+
 def read_rows(csv_path: str | Path) -> dict[str, np.ndarray]:
     """Columns of a scan CSV: numbers as float arrays, text as object arrays."""
     with open(csv_path, newline="") as fh:
@@ -89,11 +98,7 @@ def plot_path(csv_path: str | Path, png_path: str | Path, title: str = "") -> Pa
     twin.set_ylabel("DoF", color="b")
     twin.set_ylim(-0.5, 6.5)
     ax.legend(fontsize=7, loc="lower left")
-    fig.suptitle(title or "scan along a path")
-    fig.tight_layout()
-    fig.savefig(png_path, dpi=110)
-    plt.close(fig)
-    return Path(png_path)
+    return _save(plt, fig, title or "scan along a path", png_path)
 
 
 def plot_map(csv_path: str | Path, png_path: str | Path, title: str = "") -> Path:
@@ -137,8 +142,4 @@ def plot_map(csv_path: str | Path, png_path: str | Path, title: str = "") -> Pat
         ax.set_ylabel(keys[1][5:])
         if sing.any():
             ax.legend(fontsize=7, loc="upper right")
-    fig.suptitle(title or "scan over a workspace slice (blank: not assembled)")
-    fig.tight_layout()
-    fig.savefig(png_path, dpi=110)
-    plt.close(fig)
-    return Path(png_path)
+    return _save(plt, fig, title or "scan over a workspace slice (blank: not assembled)", png_path)

@@ -9,7 +9,7 @@ import numpy as np
 if TYPE_CHECKING:
     from .constraints import MechanismMobility
     from .mechanism import Expectation
-    from .mobility import Mobility
+    from .mobility import Mobility, Motion
 
 KIND_WORDS = {"T": "translation", "R": "rotation", "H": "screw"}
 
@@ -18,18 +18,22 @@ def _v(a: np.ndarray, digits: int = 4) -> str:
     return "[" + ", ".join(f"{x: .{digits}g}" for x in np.asarray(a) + 0.0) + "]"
 
 
+def _motion_line(m: Motion) -> str:
+    """``  T1 x     translation direction [...]`` (+ ``through [...] m``, ``pitch ... m/rad``)."""
+    text = f"  {m.label:<8} {KIND_WORDS[m.kind.value]:<11} direction {_v(m.direction)}"
+    if m.point is not None:
+        text += f" through {_v(m.point)} m"
+    if m.kind.value == "H":
+        text += f", pitch {m.pitch:.4g} m/rad"
+    return text
+
+
 def format_mobility(mob: Mobility) -> str:
     """Multi-line report: DoF and type, each motion, the constraints, limbs and numbers."""
     where = f" at {mob.configuration!r}" if mob.configuration else ""
     view = " (paper's view: generic limb wrenches carried here)" if mob.view == "paper" else ""
     lines = [f"{mob.mechanism}{where}{view}: {mob.dof} DoF, {mob.motion_type}"]
-    for m in mob.motions:
-        text = f"  {m.label:<8} {KIND_WORDS[m.kind.value]:<11} direction {_v(m.direction)}"
-        if m.point is not None:
-            text += f" through {_v(m.point)} m"
-        if m.kind.value == "H":
-            text += f", pitch {m.pitch:.4g} m/rad"
-        lines.append(text)
+    lines.extend(_motion_line(m) for m in mob.motions)
     lines.append(f"constraint rank {mob.constraint_rank}:")
     for c in mob.constraints:
         text = f"  {c.kind:<7} direction {_v(c.direction)}"
@@ -101,12 +105,6 @@ def format_mechanism(mm: MechanismMobility) -> str:
             + (f"; {rigid} DoF with the actuators locked" if rigid is not None else "")
             + " (axis points relative to its origin, world axes)"
         )
-        for m in f.motions:
-            text = f"  {m.label:<8} {KIND_WORDS[m.kind.value]:<11} direction {_v(m.direction)}"
-            if m.point is not None:
-                text += f" through {_v(m.point)} m"
-            if m.kind.value == "H":
-                text += f", pitch {m.pitch:.4g} m/rad"
-            lines.append(text)
+        lines.extend(_motion_line(m) for m in f.motions)
     lines.append(f"closure rank tolerance {mm.tolerance:.2e}, L = {mm.length_scale:.4g} m")
     return "\n".join(lines)

@@ -25,6 +25,7 @@ import json
 import multiprocessing as mp
 from collections.abc import Iterator
 from dataclasses import dataclass, field
+from multiprocessing.context import BaseContext
 from typing import Any
 
 import numpy as np
@@ -270,7 +271,7 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
     if q.size == 0:
         q = assemble_pose(mech, pose, _nearest_seed(mech, pose))
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g)  # type: ignore[arg-type]
+    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g)
 
 
 def _nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:
@@ -292,11 +293,12 @@ def _nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:
 _WORKER: dict[str, Any] = {}
 
 
-def _init_worker(mech: Mechanism | None, source: str | None, spec: ScanSpec) -> None:
-    if mech is None:
+def _init_worker(mech: Mechanism | str, spec: ScanSpec) -> None:
+    """Worker set-up: the mechanism (forked workers) or the file to load it from (spawned workers)."""
+    if isinstance(mech, str):
         from .mechanism_file import load
 
-        mech = load(source)  # type: ignore[arg-type]
+        mech = load(mech)
     _WORKER.update(mech=mech, spec=spec)
 
 
@@ -325,13 +327,14 @@ def scan(mech: Mechanism, spec: ScanSpec, workers: int = 1, progress: bool | Non
                 bar.update(len(rows))
                 yield from rows
             return
-        methods = mp.get_all_start_methods()
-        if "fork" in methods:
-            ctx, init = mp.get_context("fork"), (mech, None, spec)
+        init: tuple[Mechanism | str, ScanSpec]
+        if "fork" in mp.get_all_start_methods():
+            ctx: BaseContext = mp.get_context("fork")
+            init = (mech, spec)
         else:
             if mech.source is None:
                 raise ConfigurationError("--workers > 1 needs a mechanism loaded from a file on this platform")
-            ctx, init = mp.get_context("spawn"), (None, str(mech.source), spec)
+            ctx, init = mp.get_context("spawn"), (str(mech.source), spec)
         with ctx.Pool(min(workers, len(chunks)), initializer=_init_worker, initargs=init) as pool:
             for rows in pool.imap(_work, chunks):
                 bar.update(len(rows))

@@ -32,6 +32,8 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.linalg import eigh
 
 Array = NDArray[np.float64]
+#: Boolean array, e.g. which rows of a residual are lengths.
+Mask = NDArray[np.bool_]
 
 #: Default relative tolerance on singular values for rank decisions.
 RTOL = 1e-6

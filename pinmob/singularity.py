@@ -41,8 +41,9 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
-from .closure import CLOSURE_TOL, assemble_joints, check_closed, compute_kinematics
+from .closure import CLOSURE_TOL, assemble_joints, closed_kinematics
 from .exceptions import PinmobError
 from .mechanism import Mechanism
 from .mobility import Motion, _motions, limb_twists
@@ -144,7 +145,7 @@ def _padded(values: Array) -> Array:
     return out
 
 
-def _ratio(singular_values: Array, rank: int) -> float:
+def _ratio(singular_values: ArrayLike, rank: int) -> float:
     """``sigma_rank / sigma_1`` (1-based); 1 when rank is 0 (nothing to lose)."""
     if rank <= 0:
         return 1.0
@@ -269,16 +270,11 @@ def analyze_singularity(
     Raises:
         ClosureError: q does not close the loops.
     """
-    if isinstance(q, str):
-        configuration = configuration or q
-        q = mech.configuration(q)
-    q = mech.check_q(q)
+    q, configuration = mech.resolve(q, configuration)
     g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else int(generic_rank)
     length = mech.length_scale
     st, sw = twist_scaling(length)[:, None], wrench_scaling(length)[:, None]
-    data = mech.model.createData()
-    compute_kinematics(mech.model, data, q)
-    check_closed(mech, q, closure_tol, data=data)
+    data = closed_kinematics(mech, q, closure_tol)
     twists = limb_twists(mech, data)
 
     distances: dict[str, float] = {}

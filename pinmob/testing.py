@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .mechanism import Mechanism
 from .mobility import Mobility, analyze
@@ -28,7 +29,7 @@ from .screw import RTOL, Array, subspace_gap
 KINDS = ("T", "R", "H")
 
 
-def _fmt(values: Array) -> str:
+def _fmt(values: ArrayLike) -> str:
     return "[" + ", ".join(f"{x:.3g}" for x in np.asarray(values, float)) + "]"
 
 
@@ -81,7 +82,7 @@ def assert_mobility(
         AssertionError: listing every mismatch, the expected and found values,
             the singular values and the tolerance.
     """
-    mob = analyze(mech, q, configuration=q if isinstance(q, str) else None, rtol=rtol)
+    mob = analyze(mech, q, rtol=rtol)
     problems = []
     if dof is not None and mob.dof != dof:
         problems.append(f"dof: expected {dof}, found {mob.dof}")

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from millimetres import in_millimetres
 
 import pinmob
 from pinmob import viewer
@@ -178,18 +179,9 @@ def test_live_server_page_in_chromium(browser, flat):
 
 def test_camera_frames_a_model_in_millimetres(browser, tmp_path):
     # the same 3-PUU in millimetres fills the view the same way
-    import pinocchio as pin
-
     mech = pinmob.load("3-PUU")
     q = mech.configuration("generic")
-    model = pin.Model(mech.model)
-    for j in range(1, model.njoints):
-        model.jointPlacements[j] = pin.SE3(
-            model.jointPlacements[j].rotation, 1000 * model.jointPlacements[j].translation
-        )
-    for f in model.frames:
-        f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
-    mm = pinmob.Mechanism.from_model(model, {b.name: b.tip for b in mech.limbs}, platform=mech.platform)
+    mm = in_millimetres(mech)
     shares = []
     for m, name in ((mech, "m"), (mm, "mm")):
         scene = viewer.export_html(m, q, tmp_path / f"{name}.html")

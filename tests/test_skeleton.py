@@ -6,6 +6,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 import pytest
+from millimetres import in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
@@ -57,17 +58,10 @@ def test_sizes_scale_with_units():
     # The same stick figure for a model in millimetres: every size times 1000.
     mech = pinmob.load("3-PUU")
     q = mech.configuration("generic")
-    model_mm = pin.Model(mech.model)
-    for j in range(1, model_mm.njoints):
-        model_mm.jointPlacements[j] = pin.SE3(
-            model_mm.jointPlacements[j].rotation, 1000 * model_mm.jointPlacements[j].translation
-        )
-    for f in model_mm.frames:
-        f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
     idx = [mech.model.joints[mech.model.getJointId(f"{x}_slider")].idx_q for x in "ABC"]
     q_mm = q.copy()
     q_mm[idx] *= 1000
-    mm = pinmob.Mechanism.from_model(model_mm, {b.name: b.tip for b in mech.limbs}, platform=mech.platform)
+    mm = in_millimetres(mech)
     g_m, g_mm = skeleton_geometry(mech, q), skeleton_geometry(mm, q_mm)
     for a, b in zip(g_m.geometryObjects, g_mm.geometryObjects, strict=True):
         assert a.name == b.name

@@ -337,10 +337,10 @@ def principal_screws(
     w = np.asarray(direction, float).reshape(3, -1)
     if v.shape[1] == 0:
         return np.zeros((3, 0)), []
-    # orthonormalise the system as a whole (dimensionless) to fix its scale
-    q, r = np.linalg.qr(np.vstack([v, w]))
-    q = q[:, np.abs(np.diag(r)) > rtol * max(1.0, float(np.abs(np.diag(r)).max()))]
-    v, w = q[:3], q[3:]
+    # orthonormal basis of the system's span (dimensionless), by SVD: an unpivoted QR would
+    # drop directions when an early column depends on the ones before it
+    span = decide_rank(np.vstack([v, w]).T, rtol, n=6).row_space.T
+    v, w = span[:3], span[3:]
     _, s_w, vt_w = np.linalg.svd(w, full_matrices=True)
     wr = int(np.sum(s_w > rtol * max(1.0, float(s_w[0]) if s_w.size else 0.0)))
     trans = canonical_directions(v @ vt_w[wr:].T) if wr < vt_w.shape[0] else np.zeros((3, 0))

@@ -153,3 +153,19 @@ def test_canonical_directions(basis: np.ndarray, expected: np.ndarray) -> None:
 
 def test_twist_from_paper_swaps_halves() -> None:
     assert_allclose(S.twist_from_paper([1, 2, 3, 4, 5, 6]), [4, 5, 6, 1, 2, 3])
+
+
+def test_dependent_early_columns_do_not_lose_the_span() -> None:
+    """Four translations (only three independent) before a rotation: the rotation must survive.
+
+    Regression for a basis-dependent answer found by hypothesis (seed 575382): an unpivoted QR
+    dropped the direction of the fourth, dependent column, which the fifth column still needed.
+    """
+    rng = np.random.default_rng(3)
+    translations = np.vstack([rng.normal(size=(3, 4)), np.zeros((3, 4))])
+    u = np.array([0.07508, -0.69892, 0.71125])
+    u /= np.linalg.norm(u)
+    rotation = np.r_[rng.normal(size=3), u]
+    system = S.classify_twists(np.column_stack([translations, rotation]), 1.0)
+    assert S.motion_type(system) == "3T1R"
+    assert_allclose(system.lines[0].direction, u, atol=1e-12)

@@ -40,6 +40,9 @@ from .screw import (
 
 VIEWS = ("configuration", "paper")
 
+#: name of the configuration the paper view comes from when none is declared
+GENERIC = "generic"
+
 
 def _vec(a: Array | None) -> list[float] | None:
     return None if a is None else [float(x) for x in a]
@@ -408,7 +411,9 @@ def paper_view(
 ) -> Mobility:
     """Mobility allowed by each limb's *generic* constraint wrenches, carried to q.
 
-    This reproduces the seed paper's procedure: it derives each limb's
+    Where no limb is serially singular at q, the generic wrenches are the
+    wrenches at q and this equals :func:`analyze`. Otherwise it reproduces the
+    seed paper's procedure: it derives each limb's
     reciprocal screws at a generic configuration and substitutes the special
     configuration into that formula (e.g. beta = 0 in its eq. 20). A limb at a
     serial singularity has more wrenches at q than that limit; :func:`analyze`
@@ -422,25 +427,36 @@ def paper_view(
 
     Args:
         approach: joint-space direction (nv,) or joint values by name; default:
-            the named configuration's declared ``approach``.
+            the named configuration's declared ``approach``, else the direction
+            from q toward the mechanism's ``generic`` configuration
+            (``pin.difference(model, q, q_generic)``).
         eps: step along the approach direction (the direction is normalised).
     """
     if isinstance(q, str) and approach is None:
         approach = mech.configurations[q].approach if q in mech.configurations else None
     q, configuration = mech.resolve(q, configuration)
-    if not approach:
-        declared = [name for name, c in mech.configurations.items() if c.approach]
-        where = f"configuration {configuration!r}" if configuration else "this configuration"
-        raise ConfigurationError(
-            f"the paper's view needs an approach direction and {where} of {mech.name!r} declares none: add "
-            f"'approach = {{ <joint> = <rate>, ... }}' to [configurations.<name>] in the mechanism file (in Python: "
-            f"paper_view(..., approach=...)); configurations of {mech.name!r} that declare one: {choices(declared)}"
-        )
-    dv = _direction(mech, approach)
-    dv /= np.linalg.norm(dv)
     model = mech.model
     data = model.createData()
     length = mech.length_scale
+    compute_kinematics(model, data, q)
+    here = [(w, dec.rank) for w, dec in (reciprocal_wrenches(t, length, rtol) for t in limb_twists(mech, data))]
+    if all(rank >= limb.generic_twist_rank for (_, rank), limb in zip(here, mech.limbs)):
+        # no limb is serially singular: its generic wrenches are its wrenches here
+        return _assemble(mech, configuration, here, data.oMf[mech.platform_id].translation, rtol, "paper")
+    if not approach and configuration != GENERIC and GENERIC in mech.configurations:
+        approach = pin.difference(mech.model, q, mech.configuration(GENERIC))  # from the generic configuration
+    dv = _direction(mech, approach) if approach is not None and len(approach) else np.zeros(0)
+    norm = float(np.linalg.norm(dv)) if dv.size else 0.0
+    if norm == 0.0:
+        declared = [name for name, c in mech.configurations.items() if c.approach]
+        where = f"configuration {configuration!r}" if configuration else "this configuration"
+        raise ConfigurationError(
+            f"the paper's view needs an approach direction and {where} of {mech.name!r} has none (no declared "
+            f"'approach' and no distinct '{GENERIC}' configuration to come from): add "
+            f"'approach = {{ <joint> = <rate>, ... }}' to [configurations.<name>] in the mechanism file (in Python: "
+            f"paper_view(..., approach=...)); configurations of {mech.name!r} that declare one: {choices(declared)}"
+        )
+    dv /= norm
     sw = wrench_scaling(length)[:, None]
 
     def limb_spaces(s: float) -> list[tuple[Array, int]]:

@@ -125,10 +125,19 @@ def test_search_actuators_also_on_limb_models(capsys: pytest.CaptureFixture[str]
     assert "1..15" in capsys.readouterr().err
 
 
-def test_paper_view_without_approach_says_how_to_declare_one(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["analyze", "3-UPU", "--config", "constraint-singular", "--paper-view"]) == 2
+def test_paper_view_without_approach_says_how_to_declare_one(
+    capsys: pytest.CaptureFixture[str], tmp_path: Path
+) -> None:
+    """Serially singular limbs, no declared approach and no 'generic' configuration to come from."""
+    models = pinmob.mechanism_file.builtin_dir()
+    (tmp_path / "3puu_flat.urdf").write_text((models / "3puu_flat.urdf").read_text())
+    text = "\n".join(
+        line for line in (models / "3puu_flat.toml").read_text().splitlines() if not line.startswith("approach")
+    )
+    (tmp_path / "m.toml").write_text(text + "\n")
+    assert main(["analyze", str(tmp_path / "m.toml"), "--config", "flat", "--paper-view"]) == 2
     err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "'constraint-singular'" in err and "'3-UPU'" in err
+    assert err.count("\n") == 1 and "'flat'" in err and "'3-PUU-flat'" in err
     assert "approach = {" in err and "[configurations.<name>]" in err
     mech = pinmob.load("3-PUU-flat")
     with pytest.raises(ConfigurationError, match=r"declare one: 'flat', 'flat-raised'"):

@@ -111,9 +111,27 @@ def test_flat_paper_view_reproduces_eq30_to_eq37(puu_flat: pinmob.Mechanism) -> 
     assert subspace_gap(eq37, mob.free_twists) < 1e-7
 
 
-def test_paper_view_needs_a_direction(puu: pinmob.Mechanism) -> None:
-    with pytest.raises(pinmob.ConfigurationError, match="approach"):
-        pinmob.paper_view(puu, "generic")
+def test_paper_view_equals_analysis_where_no_limb_is_serially_singular(puu: pinmob.Mechanism) -> None:
+    """At a generic configuration the generic limb wrenches are the wrenches there: both views agree."""
+    paper = pinmob.paper_view(puu, "offset")
+    real = pinmob.analyze(puu, "offset")
+    assert paper.view == "paper" and (paper.dof, paper.motion_type) == (real.dof, real.motion_type) == (3, "3T")
+    assert_allclose(paper.free_twists, real.free_twists, atol=1e-12)
+
+
+def test_paper_view_misses_sarrus_lock() -> None:
+    """Sarrus fully stretched: each limb's three parallel revolutes become coplanar with their axes'
+    common normal, so the limb loses a twist and gains a constraint; with both limbs so, nothing
+    is free (hand derivation in tests/test_models.py). The generic limb wrenches -- those of a
+    planar 3R chain, which forbid the two rotations normal to its axes and the translation along
+    them -- carried to that configuration still leave the translation normal to both limbs'
+    axes: the paper's procedure reports 1T where the mechanism is locked (to first order)."""
+    sarrus = pinmob.load("Sarrus")
+    real = pinmob.analyze(sarrus, "stretched")
+    paper = pinmob.paper_view(sarrus, "stretched")  # approached from the 'generic' configuration
+    assert (real.dof, real.motion_type) == (0, "rigid")
+    assert (paper.dof, paper.motion_type) == (1, "1T")
+    assert set(real.serially_singular_limbs) == {"A", "B"}
 
 
 def test_vertical_hand_derivation(puu_vertical: pinmob.Mechanism) -> None:

@@ -1,7 +1,7 @@
 """A Schoenflies parallel robot (4-RUU): three translations and one rotation about the vertical, animated.
 
-Needs the built-in model '4-RUU'; if this pinmob does not have it
-yet, the script says so and lists the models it has.
+Uses the built-in model '4-RUU' at its first named configuration, through
+the shared main of examples/3puu_show.py.
 
 Run::
 

@@ -1,7 +1,7 @@
 """A spherical parallel robot (3-RRR, all axes through one point): three rotations about that point, animated.
 
-Needs the built-in model '3-RRR-spherical'; if this pinmob does not have it
-yet, the script says so and lists the models it has.
+Uses the built-in model '3-RRR-spherical' at its first named configuration, through
+the shared main of examples/3puu_show.py.
 
 Run::
 

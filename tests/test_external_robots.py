@@ -1,14 +1,16 @@
 """The 11 Extended URDF robots of LAAS-CNRS's example-parallel-robots, read as they are.
 
-They live outside the repository, in ``<repo>/../shared/external/example-parallel-robots``
-(URDF + YAML, meshes not included). Every robot must load (missing meshes: a
-warning), close and be analysed. Identities checked on each: Grubler-Kutzbach
+A copy of them, unchanged (``SHA256SUMS`` lists the upstream files' digests, checked
+here), lives in ``tests/data/example-parallel-robots`` with its BSD-3-Clause licence, so
+the tests need nothing outside the repository (URDF + YAML, meshes not included). Every
+robot must load (missing meshes: a warning), close and be analysed. Identities checked on each: Grubler-Kutzbach
 = nv - closure rows (hand count from the YAML and the joint types), mechanism
 DoF = Grubler + redundant rows, idle <= locked <= mechanism DoF.
 """
 
 from __future__ import annotations
 
+import hashlib
 import warnings
 from pathlib import Path
 
@@ -34,19 +36,25 @@ ROBOTS = [
 ]
 
 
-def external_dir() -> Path:
-    """``shared/external/example-parallel-robots`` beside the repository (fails clearly when missing)."""
-    root = Path(__file__).resolve().parent.parent
-    for base in (root.parent, *root.parents):
-        candidate = base / "shared" / "external" / "example-parallel-robots"
-        if candidate.is_dir():
-            return candidate
-    pytest.fail(f"the external test robots are missing: expected shared/external/example-parallel-robots beside {root}")
+FOLDER = Path(__file__).resolve().parent / "data" / "example-parallel-robots"
+
+
+def test_the_copy_is_unchanged():
+    """Every file of the copy has the digest of the upstream file (read as they are, not edited)."""
+    listed = {}
+    for line in (FOLDER / "SHA256SUMS").read_text().splitlines():
+        digest, name = line.split(maxsplit=1)
+        listed[name.removeprefix("./")] = digest
+    present = {p.relative_to(FOLDER).as_posix() for p in FOLDER.rglob("*") if p.is_file()} - {"SHA256SUMS"}
+    assert present == set(listed)
+    assert {f"{r}/robot.{ext}" for r in ROBOTS for ext in ("urdf", "yaml")} <= present
+    for name, digest in listed.items():
+        assert hashlib.sha256((FOLDER / name).read_bytes()).hexdigest() == digest, name
 
 
 @pytest.fixture(scope="module")
 def folder() -> Path:
-    return external_dir()
+    return FOLDER
 
 
 @pytest.mark.parametrize("robot", ROBOTS)

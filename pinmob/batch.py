@@ -1,29 +1,28 @@
-"""Many configurations at once: DoF, ranks, singular values and singularity classes, vectorised.
+"""Many configurations at once: DoF, ranks, singular values and singularity classes.
 
 The same numbers as :func:`pinmob.mobility.analyze` and
 :func:`pinmob.singularity.analyze_singularity` (without classifying the
 motions), for N closed configurations. Pinocchio runs once per
 configuration (``computeJointJacobians`` and the platform frame's placement);
-all linear algebra runs on stacked arrays:
+the linear algebra runs in one compiled loop over the configurations
+(:func:`_ranks`, numba):
 
-* ``A_i = D_t T_i`` (N, 6, n_i), limb joint screws made dimensionless, and
-  their rank; the limb's constraint wrenches span the columns of
-  ``I - Q_i Q_i^T`` (Q_i an orthonormal basis of the span of A_i); for the
-  singular values, the left singular vectors beyond the rank, kept as masked
-  columns so that every sample has the same array shape (zero columns do not
-  change the non-zero singular values).
-* ``C = [W_1 ... W_k]``: its rank d gives ``dof = 6 - d``; the same with the
-  actuated columns removed gives the locked DoF.
+* ``A_i = D_t T_i`` (6, n_i), limb i's joint screws made dimensionless, an
+  orthonormal basis ``Q_i`` of their span and its rank (the limb's twist
+  rank), by Gram-Schmidt with column pivoting (:func:`_span`);
+* the limb's constraint wrenches span the columns of ``I - Q_i Q_i^T``;
+  stacked for all limbs, ``C = [I - Q_1 Q_1^T, ..., I - Q_k Q_k^T]`` (6, 6k)
+  has the rank d of the stacked wrenches: ``dof = 6 - d``;
+* the same with the actuated columns removed gives the locked DoF.
 
-Ranks are decided by a pivoted Gram-Schmidt vectorised over the N
-configurations (:func:`orthonormalize`), singular values (optional) by
-batched SVDs.
+Singular values (optional) come from batched LAPACK SVDs.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba
 import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
@@ -32,8 +31,8 @@ from .exceptions import ConfigurationError
 from .mechanism import Limb, Mechanism
 from .screw import RTOL, Array, Mask, twist_scaling
 
-#: Configurations per block of vectorised linear algebra (arrays stay in cache).
-BLOCK = 128
+#: Integer array (ranks, DoF).
+Ints = NDArray[np.int64]
 
 
 @dataclass(frozen=True)
@@ -50,12 +49,12 @@ class BatchResult:
         actuation_singular_values: (N, 6) of the stacked dimensionless locked-limb wrenches.
     """
 
-    dof: Array
-    constraint_rank: Array
+    dof: Ints
+    constraint_rank: Ints
     singular_values: Array
-    limb_twist_rank: Array
+    limb_twist_rank: Ints
     limb_ratio: Array
-    locked_dof: Array
+    locked_dof: Ints
     actuation_singular_values: Array
 
     def singular(
@@ -69,14 +68,14 @@ class BatchResult:
         }
 
 
-def limb_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) -> list[Array]:
-    """Joint screws of every limb at every configuration: a list of k arrays (N, 6, n_i).
+def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) -> tuple[Array, Array]:
+    """Every joint screw at every configuration, and the platform origins.
 
     One ``computeJointJacobians`` per configuration: its world Jacobian
-    ``data.J`` holds every joint screw at the world origin; carried to the
-    platform origin p by ``v += w x p`` (:func:`pinmob.screw.shift_twists`),
-    these are the columns of each limb tip's ``LOCAL_WORLD_ALIGNED`` Jacobian
-    carried to p, as in :func:`pinmob.mobility.limb_twists`.
+    ``data.J`` holds every joint screw ``[v; w]`` at the world origin, world axes.
+
+    Returns:
+        (N, 6, nv) world Jacobians and (N, 3) world positions of the platform frame [m].
     """
     model = mech.model
     data = model.createData() if data is None else data
@@ -86,55 +85,144 @@ def limb_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) -> 
     origin = np.empty((n, 3))
     pid = mech.platform_id
     for s in range(n):
-        pin.computeJointJacobians(model, data, qs[s])
-        full[s] = data.J
+        full[s] = pin.computeJointJacobians(model, data, qs[s])  # data.J
         origin[s] = pin.updateFramePlacement(model, data, pid).translation
-    full[:, :3] += np.cross(full[:, 3:], origin[:, :, None], axis=1)
-    return [full[:, :, limb.v_indices] for limb in mech.limbs]
+    return full, origin
 
 
-def orthonormalize(a: Array, rtol: float = RTOL, scale: float | None = None) -> tuple[Array, Array]:
-    """Orthonormal basis of the column span of each (6, m) slice of ``a`` (N, 6, m), and its rank.
+def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
+    """Joint screws of every limb at every configuration: a list of k arrays (N, 6, n_i).
 
-    Gram-Schmidt with column pivoting, vectorised over N: at each of at most
-    six steps the remaining column of largest norm is normalised and projected
-    out of the others; a step whose
-    largest remaining norm is below ``rtol * max_j |a_j|`` (``rtol * scale``
-    when a scale is given, e.g. 1 for columns of projectors) adds nothing. This
-    is the rank-revealing QR decision, which agrees with the SVD's
-    ``sigma_k > rtol * sigma_1`` except within a factor ``sqrt(m)`` of the
-    threshold.
+    The world screws of :func:`world_jacobians` carried to the platform origin p
+    by ``v += w x p`` (:func:`pinmob.screw.shift_twists`): the columns of each
+    limb tip's ``LOCAL_WORLD_ALIGNED`` Jacobian carried to p, as in
+    :func:`pinmob.mobility.limb_twists`.
+    """
+    shifted = full.copy()
+    shifted[:, :3] += np.cross(full[:, 3:], origin[:, :, None], axis=1)
+    return [shifted[:, :, limb.v_indices] for limb in mech.limbs]
+
+
+@numba.njit(cache=True)
+def _span(a: Array, cols: Ints, tol: float, r: Array, q: Array) -> int:
+    """Orthonormal basis of the span of the columns ``cols`` of a (6, m) matrix; returns the rank.
+
+    Gram-Schmidt with column pivoting on a copy ``r`` (6, len(cols)): at each of
+    at most six steps the remaining column of largest norm is normalised into
+    ``q[:, rank]`` and projected out of the others; the steps stop when the
+    largest remaining norm is at most ``tol``. This is the rank-revealing QR
+    decision, which agrees with the SVD's ``sigma_k > tol`` except within a
+    factor ``sqrt(m)`` of the threshold.
+    """
+    m = cols.size
+    for c in range(m):
+        for i in range(6):
+            r[i, c] = a[i, cols[c]]
+    rank = 0
+    for _ in range(min(6, m)):
+        best, j = 0.0, -1
+        for c in range(m):
+            norm = 0.0
+            for i in range(6):
+                norm += r[i, c] * r[i, c]
+            if norm > best:
+                best, j = norm, c
+        best = np.sqrt(best)
+        if j < 0 or best <= tol:
+            break
+        for i in range(6):
+            q[i, rank] = r[i, j] / best
+        for c in range(m):
+            dot = 0.0
+            for i in range(6):
+                dot += q[i, rank] * r[i, c]
+            for i in range(6):
+                r[i, c] -= dot * q[i, rank]
+        rank += 1
+    return rank
+
+
+@numba.njit(cache=True)
+def _wrench_columns(q: Array, rank: int, out: Array, first: int) -> None:
+    """``out[:, first:first + 6] = I - Q Q^T`` for ``Q = q[:, :rank]``: columns spanning the wrenches reciprocal to Q."""
+    for i in range(6):
+        for j in range(6):
+            dot = 0.0
+            for k in range(rank):
+                dot += q[i, k] * q[j, k]
+            out[i, first + j] = (1.0 if i == j else 0.0) - dot
+
+
+@numba.njit(cache=True)
+def _ranks(
+    full: Array,
+    origin: Array,
+    length: float,
+    columns: Ints,
+    offsets: Ints,
+    free: Ints,
+    free_offsets: Ints,
+    rtol: float,
+) -> tuple[Ints, Ints, Ints]:
+    """Limb twist ranks, constraint rank and locked constraint rank of N configurations.
+
+    Per configuration, the limbs' joint screws are carried to the platform origin
+    p and made dimensionless, ``[(v + w x p) / L; w]``, then ranked.
+
+    Args:
+        full: (N, 6, nv) world Jacobians (:func:`world_jacobians`).
+        origin: (N, 3) platform origins [m].
+        length: length scale L [m].
+        columns: (m,) velocity indices of every limb's joints, limb i's at
+            ``columns[offsets[i]:offsets[i + 1]]``.
+        offsets: (k + 1,) offsets of the limbs in ``columns``.
+        free: positions in ``columns`` of the joints that are not actuated, limb i's at
+            ``free[free_offsets[i]:free_offsets[i + 1]]``.
+        free_offsets: (k + 1,) offsets into ``free``.
+        rtol: a limb's columns count while above ``rtol`` times its largest
+            column norm; the stacked projector columns while above ``rtol``.
 
     Returns:
-        (N, 6, min(6, m)) basis with zero columns past the rank, and (N,) ranks.
+        (N, k) limb twist ranks, (N,) constraint ranks, (N,) locked constraint ranks.
     """
-    n, _, m = a.shape
-    steps = min(6, m)
-    q = np.zeros((n, 6, steps))
-    rank = np.zeros(n, dtype=int)
-    if m == 0:
-        return q, rank
-    r = a.copy()
-    if scale is None:
-        tol = rtol * np.sqrt(np.max(np.einsum("nij,nij->nj", a, a), axis=1))
-    else:
-        tol = np.full(n, rtol * scale)
-    rows = np.arange(n)
-    for k in range(steps):
-        norms = np.einsum("nij,nij->nj", r, r)
-        j = np.argmax(norms, axis=1)
-        best = np.sqrt(norms[rows, j])
-        ok = (best > tol) & (tol > 0)
-        v = r[rows, :, j] * (ok / np.where(ok, best, 1.0))[:, None]
-        q[:, :, k] = v
-        rank += ok
-        r -= v[:, :, None] * np.einsum("ni,nij->nj", v, r)[:, None, :]
-    return q, rank
-
-
-def _wrench_projectors(basis: Array) -> Array:
-    """``I - Q Q^T`` (N, 6, 6): columns spanning the wrenches reciprocal to the twists spanned by Q."""
-    return np.eye(6)[None] - basis @ basis.transpose(0, 2, 1)
+    n, k, m = full.shape[0], offsets.size - 1, columns.size
+    limb_rank = np.zeros((n, k), np.int64)
+    rank = np.zeros(n, np.int64)
+    locked_rank = np.zeros(n, np.int64)
+    a = np.zeros((6, m))
+    q = np.zeros((6, 6))
+    r = np.zeros((6, max(m, 6 * k)))
+    wrenches = np.zeros((6, 6 * k))
+    locked_wrenches = np.zeros((6, 6 * k))
+    every = np.arange(6 * k)
+    for s in range(n):
+        px, py, pz = origin[s, 0], origin[s, 1], origin[s, 2]
+        for c in range(m):
+            j = columns[c]
+            wx, wy, wz = full[s, 3, j], full[s, 4, j], full[s, 5, j]
+            a[0, c] = (full[s, 0, j] + wy * pz - wz * py) / length
+            a[1, c] = (full[s, 1, j] + wz * px - wx * pz) / length
+            a[2, c] = (full[s, 2, j] + wx * py - wy * px) / length
+            a[3, c], a[4, c], a[5, c] = wx, wy, wz
+        for i in range(k):
+            cols = np.arange(offsets[i], offsets[i + 1])
+            largest = 0.0
+            for c in cols:
+                norm = 0.0
+                for row in range(6):
+                    norm += a[row, c] * a[row, c]
+                largest = max(largest, np.sqrt(norm))
+            tol = rtol * largest
+            twist_rank = _span(a, cols, tol, r, q) if largest > 0 else 0
+            limb_rank[s, i] = twist_rank
+            _wrench_columns(q, twist_rank, wrenches, 6 * i)
+            kept = free[free_offsets[i] : free_offsets[i + 1]]
+            if kept.size < cols.size:
+                free_rank = _span(a, kept, tol, r, q) if largest > 0 else 0
+            _wrench_columns(q, free_rank if kept.size < cols.size else twist_rank, locked_wrenches, 6 * i)
+        rank[s] = _span(wrenches, every, rtol, r, q)
+        locked_rank[s] = _span(locked_wrenches, every, rtol, r, q)
+    return limb_rank, rank, locked_rank
 
 
 def _null_columns(a: Array, rtol: float) -> tuple[Array, Array, Array]:
@@ -163,67 +251,61 @@ def _ratio(s: NDArray[np.floating], rank: int) -> Array:
 
 def analyze_batch(
     mech: Mechanism,
-    qs: Array | None,
+    qs: Array,
     *,
     rtol: float = RTOL,
     singular_values: bool = False,
-    jacobians: list[Array] | None = None,
 ) -> BatchResult:
-    """Vectorised mobility and singularity numbers at N closed configurations.
+    """Mobility and singularity numbers at N closed configurations, fast.
 
-    Ranks come from :func:`orthonormalize` (no per-matrix LAPACK call): the
-    limb twist spans ``Q_i``, the limb wrench spaces as the columns of
-    ``I - Q_i Q_i^T`` (their span is that of ``W_i``), stacked for the
+    Ranks come from the compiled loop :func:`_ranks` (no per-matrix LAPACK
+    call): the limb twist spans ``Q_i``, the limb wrench spaces as the columns
+    of ``I - Q_i Q_i^T`` (their span is that of ``W_i``), stacked for the
     constraint rank; the same with the actuated columns removed for the locked
     DoF. With ``singular_values=True`` the singular values (as in
     :func:`pinmob.analyze`) and the limb ratios are computed too, by batched SVDs.
-    Closure is not checked (the caller assembles the configurations).
+    Closure is not checked (the caller assembles the configurations). The first
+    call in a new installation compiles the loop (seconds; cached on disk).
 
     Args:
         mech: the mechanism.
-        qs: (N, nq) closed configurations (unused when ``jacobians`` is given).
+        qs: (N, nq) closed configurations.
         rtol: relative tolerance of every rank decision.
         singular_values: also compute the singular values (slower).
-        jacobians: precomputed :func:`limb_jacobians`.
     """
-    if jacobians is not None:
-        jacs = jacobians
-    elif qs is not None:
-        jacs = limb_jacobians(mech, qs)
-    else:
-        raise ConfigurationError("analyze_batch needs the configurations qs (N, nq) or their limb jacobians")
-    n = jacs[0].shape[0]
-    if n > BLOCK:  # blocks that stay in cache
-        parts = [
-            analyze_batch(
-                mech, None, rtol=rtol, singular_values=singular_values, jacobians=[j[s : s + BLOCK] for j in jacs]
-            )
-            for s in range(0, n, BLOCK)
-        ]
-        return BatchResult(*(np.concatenate([getattr(p, f) for p in parts]) for f in BatchResult.__dataclass_fields__))
-    st = twist_scaling(mech.length_scale)[None, :, None]
-    projectors, locked, ranks = [], [], []
-    scaled = [st * jac for jac in jacs]
-    for limb, a in zip(mech.limbs, scaled):
-        q, rank = orthonormalize(a, rtol)
-        ranks.append(rank)
-        projectors.append(_wrench_projectors(q))
-        if limb.actuated:
-            keep = [c for c, name in enumerate(_column_joints(mech, limb)) if name not in limb.actuated]
-            locked.append(_wrench_projectors(orthonormalize(a[:, :, keep], rtol)[0]))
-        else:
-            locked.append(projectors[-1])
-    d = orthonormalize(np.concatenate(projectors, axis=2), rtol, scale=1.0)[1]
-    locked_rank = orthonormalize(np.concatenate(locked, axis=2), rtol, scale=1.0)[1]
+    qs = np.atleast_2d(np.asarray(qs, float))
+    if qs.ndim != 2 or qs.shape[1] != mech.model.nq or not np.all(np.isfinite(qs)):
+        raise ConfigurationError(
+            f"analyze_batch needs finite configurations of shape (N, {mech.model.nq}), got shape {qs.shape}"
+        )
+    n = qs.shape[0]
+    full, origin = world_jacobians(mech, qs)
+    columns = np.concatenate([np.asarray(limb.v_indices, np.int64) for limb in mech.limbs])
+    offsets = np.cumsum([0] + [len(limb.v_indices) for limb in mech.limbs]).astype(np.int64)
+    free, free_offsets = [], [0]
+    for limb, start in zip(mech.limbs, offsets):
+        free += [start + c for c, name in enumerate(_column_joints(mech, limb)) if name not in limb.actuated]
+        free_offsets.append(len(free))
+    limb_rank, d, locked_rank = _ranks(
+        full,
+        origin,
+        float(mech.length_scale),
+        columns,
+        offsets,
+        np.array(free, np.int64),
+        np.array(free_offsets, np.int64),
+        float(rtol),
+    )
     sv, asv = np.full((n, 6), np.nan), np.full((n, 6), np.nan)
     ratio = np.full((n, len(mech.limbs)), np.nan)
     if singular_values:
-        sv, asv, ratio = _singular_values(mech, scaled, rtol)
+        st = twist_scaling(mech.length_scale)[None, :, None]
+        sv, asv, ratio = _singular_values(mech, [st * jac for jac in limb_jacobians(mech, full, origin)], rtol)
     return BatchResult(
         dof=6 - d,
         constraint_rank=d,
         singular_values=sv,
-        limb_twist_rank=np.stack(ranks, axis=1),
+        limb_twist_rank=limb_rank,
         limb_ratio=ratio,
         locked_dof=6 - locked_rank,
         actuation_singular_values=asv,

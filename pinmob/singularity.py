@@ -46,7 +46,7 @@ from numpy.typing import ArrayLike
 from .closure import CLOSURE_TOL, assemble_joints, closed_kinematics
 from .exceptions import PinmobError
 from .mechanism import Mechanism
-from .mobility import Motion, _motions, limb_twists
+from .mobility import Motion, _motions, analyze, limb_twists
 from .screw import RTOL, Array, classify_twists, decide_rank, twist_scaling, wrench_scaling
 
 #: Coefficient (relative to the largest) above which a joint or limb takes part in a dependency.
@@ -210,8 +210,6 @@ def generic_constraint_rank(mech: Mechanism, samples: int = 4, seed: int = 0, rt
     cached = _GENERIC.get(id(mech))
     if cached is not None and cached[0]() is mech:
         return cached[1]
-    from .batch import analyze_batch
-
     rng = np.random.default_rng(seed)
     model = mech.model
     unit = np.array(
@@ -238,8 +236,7 @@ def generic_constraint_rank(mech: Mechanism, samples: int = 4, seed: int = 0, rt
             f"cannot estimate the generic constraint rank of {mech.name!r}: no named configuration closes; "
             "declare generic_rank in the mechanism file"
         )
-    ranks = analyze_batch(mech, np.array(closed), rtol=float(np.sqrt(rtol))).constraint_rank
-    counts = Counter(int(r) for r in ranks)
+    counts = Counter(analyze(mech, q, rtol=float(np.sqrt(rtol))).constraint_rank for q in closed)
     rank = max(counts, key=lambda r: (counts[r], r))
     _GENERIC[id(mech)] = (weakref.ref(mech), rank)
     return rank

@@ -10,9 +10,9 @@ the linear algebra runs in one compiled loop over the configurations
 * ``A_i = D_t T_i`` (6, n_i), limb i's joint screws made dimensionless, an
   orthonormal basis ``Q_i`` of their span and its rank (the limb's twist
   rank), by Gram-Schmidt with column pivoting (:func:`_span`);
-* the limb's constraint wrenches span the columns of ``I - Q_i Q_i^T``;
-  stacked for all limbs, ``C = [I - Q_1 Q_1^T, ..., I - Q_k Q_k^T]`` (6, 6k)
-  has the rank d of the stacked wrenches: ``dof = 6 - d``;
+* the limb's constraint wrenches ``W_i``: an orthonormal basis of the
+  complement of ``span(Q_i)`` (:func:`_complement`); stacked for all limbs,
+  ``C = [W_1, ..., W_k]`` has the rank d of the constraint space: ``dof = 6 - d``;
 * the same with the actuated columns removed gives the locked DoF.
 
 Singular values (optional) come from batched LAPACK SVDs.
@@ -79,15 +79,12 @@ def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) ->
     """
     model = mech.model
     data = model.createData() if data is None else data
-    qs = np.atleast_2d(np.asarray(qs, float))
-    n = qs.shape[0]
-    full = np.empty((n, 6, model.nv))
-    origin = np.empty((n, 3))
-    pid = mech.platform_id
-    for s in range(n):
-        full[s] = pin.computeJointJacobians(model, data, qs[s])  # data.J
-        origin[s] = pin.updateFramePlacement(model, data, pid).translation
-    return full, origin
+    jacobian, placement, pid = pin.computeJointJacobians, pin.updateFramePlacement, mech.platform_id
+    full, origin = [], []
+    for q in np.atleast_2d(np.asarray(qs, float)):
+        full.append(jacobian(model, data, q))  # data.J
+        origin.append(placement(model, data, pid).translation)
+    return np.array(full).reshape(-1, 6, model.nv), np.array(origin).reshape(-1, 3)
 
 
 def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
@@ -104,13 +101,13 @@ def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
 
 
 @numba.njit(cache=True)
-def _span(a: Array, cols: Ints, tol: float, r: Array, q: Array) -> int:
+def _span(a: Array, cols: Ints, tol: float, r: Array, q: Array, first: int) -> int:
     """Orthonormal basis of the span of the columns ``cols`` of a (6, m) matrix; returns the rank.
 
     Gram-Schmidt with column pivoting on a copy ``r`` (6, len(cols)): at each of
     at most six steps the remaining column of largest norm is normalised into
-    ``q[:, rank]`` and projected out of the others; the steps stop when the
-    largest remaining norm is at most ``tol``. This is the rank-revealing QR
+    ``q[:, first + rank]`` and projected out of the others; the steps stop when
+    the largest remaining norm is at most ``tol``. This is the rank-revealing QR
     decision, which agrees with the SVD's ``sigma_k > tol`` except within a
     factor ``sqrt(m)`` of the threshold.
     """
@@ -130,27 +127,35 @@ def _span(a: Array, cols: Ints, tol: float, r: Array, q: Array) -> int:
         best = np.sqrt(best)
         if j < 0 or best <= tol:
             break
+        col = first + rank
         for i in range(6):
-            q[i, rank] = r[i, j] / best
+            q[i, col] = r[i, j] / best
         for c in range(m):
             dot = 0.0
             for i in range(6):
-                dot += q[i, rank] * r[i, c]
+                dot += q[i, col] * r[i, c]
             for i in range(6):
-                r[i, c] -= dot * q[i, rank]
+                r[i, c] -= dot * q[i, col]
         rank += 1
     return rank
 
 
 @numba.njit(cache=True)
-def _wrench_columns(q: Array, rank: int, out: Array, first: int) -> None:
-    """``out[:, first:first + 6] = I - Q Q^T`` for ``Q = q[:, :rank]``: columns spanning the wrenches reciprocal to Q."""
+def _complement(q: Array, rank: int, proj: Array, r: Array, out: Array, first: int) -> int:
+    """Orthonormal basis of the complement of ``span(q[:, :rank])``, written to ``out[:, first:]``; returns 6 - rank.
+
+    The wrenches reciprocal to the twists Q: pivoted Gram-Schmidt on the
+    columns of the projector ``I - Q Q^T`` (6, 6), whose rank is 6 - rank. The
+    column norms of a projector of rank p sum to p, so while vectors are left
+    the largest norm is at least ``sqrt(1/6)``; 0.1 separates them from round-off.
+    """
     for i in range(6):
         for j in range(6):
             dot = 0.0
             for k in range(rank):
                 dot += q[i, k] * q[j, k]
-            out[i, first + j] = (1.0 if i == j else 0.0) - dot
+            proj[i, j] = (1.0 if i == j else 0.0) - dot
+    return _span(proj, np.arange(6), 0.1, r, out, first)
 
 
 @numba.njit(cache=True)
@@ -167,7 +172,9 @@ def _ranks(
     """Limb twist ranks, constraint rank and locked constraint rank of N configurations.
 
     Per configuration, the limbs' joint screws are carried to the platform origin
-    p and made dimensionless, ``[(v + w x p) / L; w]``, then ranked.
+    p and made dimensionless, ``[(v + w x p) / L; w]``; each limb's span and its
+    orthonormal complement (the limb's wrenches) are found by :func:`_span` and
+    :func:`_complement`; the stacked wrenches (orthonormal per limb) are ranked.
 
     Args:
         full: (N, 6, nv) world Jacobians (:func:`world_jacobians`).
@@ -180,7 +187,7 @@ def _ranks(
             ``free[free_offsets[i]:free_offsets[i + 1]]``.
         free_offsets: (k + 1,) offsets into ``free``.
         rtol: a limb's columns count while above ``rtol`` times its largest
-            column norm; the stacked projector columns while above ``rtol``.
+            column norm; the stacked unit wrenches while above ``rtol``.
 
     Returns:
         (N, k) limb twist ranks, (N,) constraint ranks, (N,) locked constraint ranks.
@@ -191,10 +198,11 @@ def _ranks(
     locked_rank = np.zeros(n, np.int64)
     a = np.zeros((6, m))
     q = np.zeros((6, 6))
+    proj = np.zeros((6, 6))
     r = np.zeros((6, max(m, 6 * k)))
     wrenches = np.zeros((6, 6 * k))
     locked_wrenches = np.zeros((6, 6 * k))
-    every = np.arange(6 * k)
+    every = np.arange(max(m, 6 * k))
     for s in range(n):
         px, py, pz = origin[s, 0], origin[s, 1], origin[s, 2]
         for c in range(m):
@@ -204,8 +212,9 @@ def _ranks(
             a[1, c] = (full[s, 1, j] + wz * px - wx * pz) / length
             a[2, c] = (full[s, 2, j] + wx * py - wy * px) / length
             a[3, c], a[4, c], a[5, c] = wx, wy, wz
+        used = locked_used = 0
         for i in range(k):
-            cols = np.arange(offsets[i], offsets[i + 1])
+            cols = every[offsets[i] : offsets[i + 1]]
             largest = 0.0
             for c in cols:
                 norm = 0.0
@@ -213,15 +222,15 @@ def _ranks(
                     norm += a[row, c] * a[row, c]
                 largest = max(largest, np.sqrt(norm))
             tol = rtol * largest
-            twist_rank = _span(a, cols, tol, r, q) if largest > 0 else 0
+            twist_rank = _span(a, cols, tol, r, q, 0) if largest > 0 else 0
             limb_rank[s, i] = twist_rank
-            _wrench_columns(q, twist_rank, wrenches, 6 * i)
+            used += _complement(q, twist_rank, proj, r, wrenches, used)
             kept = free[free_offsets[i] : free_offsets[i + 1]]
             if kept.size < cols.size:
-                free_rank = _span(a, kept, tol, r, q) if largest > 0 else 0
-            _wrench_columns(q, free_rank if kept.size < cols.size else twist_rank, locked_wrenches, 6 * i)
-        rank[s] = _span(wrenches, every, rtol, r, q)
-        locked_rank[s] = _span(locked_wrenches, every, rtol, r, q)
+                twist_rank = _span(a, kept, tol, r, q, 0) if largest > 0 else 0
+            locked_used += _complement(q, twist_rank, proj, r, locked_wrenches, locked_used)
+        rank[s] = _span(wrenches, every[:used], rtol, r, q, 0)
+        locked_rank[s] = _span(locked_wrenches, every[:locked_used], rtol, r, q, 0)
     return limb_rank, rank, locked_rank
 
 
@@ -259,10 +268,9 @@ def analyze_batch(
     """Mobility and singularity numbers at N closed configurations, fast.
 
     Ranks come from the compiled loop :func:`_ranks` (no per-matrix LAPACK
-    call): the limb twist spans ``Q_i``, the limb wrench spaces as the columns
-    of ``I - Q_i Q_i^T`` (their span is that of ``W_i``), stacked for the
-    constraint rank; the same with the actuated columns removed for the locked
-    DoF. With ``singular_values=True`` the singular values (as in
+    call): the limb twist spans ``Q_i``, the limb wrenches ``W_i`` as their
+    orthonormal complements, stacked for the constraint rank; the same with
+    the actuated columns removed for the locked DoF. With ``singular_values=True`` the singular values (as in
     :func:`pinmob.analyze`) and the limb ratios are computed too, by batched SVDs.
     Closure is not checked (the caller assembles the configurations). The first
     call in a new installation compiles the loop (seconds; cached on disk).

@@ -8,11 +8,12 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import sys
 import tomllib
 import warnings
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from .exceptions import PinmobError, choices
 
@@ -31,10 +32,15 @@ def command(name: str) -> Callable[[Callable[[argparse.Namespace], int]], Callab
     return deco
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"pinmob: error: {' '.join(message.split())}; see '{self.prog} --help'\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="pinmob", description="Platform mobility of parallel and closed-chain robots."
-    )
+    parser = Parser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("models", help="list the built-in mechanisms")
@@ -166,17 +172,14 @@ def _models(args: argparse.Namespace) -> int:
 @command("analyze")
 def _analyze(args: argparse.Namespace) -> int:
     from .constraints import analyze_mechanism
-    from .exceptions import ConfigurationError
     from .mechanism_file import load
-    from .mobility import analyze, paper_view
+    from .mobility import analyze, check_rtol, paper_view
     from .report import format_expectation
     from .screw import RTOL
 
     mech = load(args.mechanism)
     config = args.config
-    rtol = RTOL if args.rtol is None else args.rtol
-    if not 0 < rtol < 1:
-        raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
+    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
     if config is None and not mech.configurations:
         return _analyze_closed_chain(args, mech, rtol)
     config = _pick_configuration(mech, config)
@@ -314,14 +317,13 @@ def _scan(args: argparse.Namespace) -> int:
 
     from .exceptions import ConfigurationError
     from .mechanism_file import load
+    from .mobility import check_rtol
     from .plot import plot_map, plot_path
     from .scan import RowWriter, grid_spec, path_spec, scan
     from .screw import RTOL
 
     mech = load(args.mechanism)
-    rtol = RTOL if args.rtol is None else args.rtol
-    if not 0 < rtol < 1:
-        raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
+    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
     names = list(mech.configurations)
     if args.grid:
         axes = []
@@ -520,10 +522,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
     warnings.formatwarning = _format_warning
     try:
-        return COMMANDS[args.command](args)
+        status = COMMANDS[args.command](args)
+        sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+        return status
     except PinmobError as exc:
         print(f"pinmob: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # the reader went away (``pinmob ... | head -1``): stop quietly, as Unix tools do on SIGPIPE
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())  # nothing left to flush at exit
+            os.close(devnull)
+        except (OSError, ValueError):  # stdout is not a file (e.g. captured in tests)
+            pass
+        return 128 + 13
     except KeyboardInterrupt:
         print("pinmob: interrupted", file=sys.stderr)
         return 130

@@ -276,9 +276,12 @@ class Screw:
     for a translation), ``vector`` the unit twist ``[v; w]``. For a wrench system
     the same fields describe couples, forces and wrenches; ``vector`` is
     ``[f; tau]``.
+
+    Attributes:
+        kind: a :class:`MotionKind` in a twist system, a :class:`WrenchKind` in a wrench system.
     """
 
-    kind: str
+    kind: MotionKind | WrenchKind
     direction: Array
     point: Array | None
     pitch: float | None
@@ -418,8 +421,7 @@ def classify_twists(twists: ArrayLike, length: float, rtol: float = RTOL) -> Scr
     t = np.asarray(twists, float).reshape(6, -1)
     trans, prin = principal_screws(t[:3] / length, t[3:], rtol)
     ts = tuple(
-        Screw(MotionKind.TRANSLATION.value, clean(d), None, None, np.concatenate([clean(d), np.zeros(3)]))
-        for d in trans.T
+        Screw(MotionKind.TRANSLATION, clean(d), None, None, np.concatenate([clean(d), np.zeros(3)])) for d in trans.T
     )
     rot: list[Screw] = []
     scr: list[Screw] = []
@@ -427,7 +429,7 @@ def classify_twists(twists: ArrayLike, length: float, rtol: float = RTOL) -> Scr
         point, pitch = p * length, h * length
         vec = clean(np.concatenate([pitch * u + np.cross(point, u), u]), length)
         kind = MotionKind.ROTATION if h == 0.0 else MotionKind.SCREW
-        (rot if h == 0.0 else scr).append(Screw(kind.value, u, point, pitch, vec))
+        (rot if h == 0.0 else scr).append(Screw(kind, u, point, pitch, vec))
     scr.sort(key=lambda s: s.pitch or 0.0)
     return ScrewSystem(ts, tuple(rot), tuple(scr))
 
@@ -442,7 +444,7 @@ def classify_wrenches(wrenches: ArrayLike, length: float, rtol: float = RTOL) ->
     f = np.asarray(wrenches, float).reshape(6, -1)
     couples, prin = principal_screws(f[3:] / length, f[:3], rtol)
     cs = tuple(
-        Screw(WrenchKind.COUPLE.value, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)])) for d in couples.T
+        Screw(WrenchKind.COUPLE, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)])) for d in couples.T
     )
     forces: list[Screw] = []
     screws: list[Screw] = []
@@ -450,7 +452,7 @@ def classify_wrenches(wrenches: ArrayLike, length: float, rtol: float = RTOL) ->
         point, pitch = p * length, h * length
         vec = clean(np.concatenate([u, pitch * u + np.cross(point, u)]), length)
         kind = WrenchKind.FORCE if h == 0.0 else WrenchKind.WRENCH
-        (forces if h == 0.0 else screws).append(Screw(kind.value, u, point, pitch, vec))
+        (forces if h == 0.0 else screws).append(Screw(kind, u, point, pitch, vec))
     screws.sort(key=lambda s: s.pitch or 0.0)
     return ScrewSystem(cs, tuple(forces), tuple(screws))
 

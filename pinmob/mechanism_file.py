@@ -27,6 +27,7 @@ from .mechanism_schema import (
     check_table,
     file_error,
     joint_values,
+    toml_text,
     vector3,
 )
 from .urdf_file import load_geometry, read_urdf
@@ -155,7 +156,7 @@ def load_toml(path: str | Path) -> Mechanism:
 
     length = doc.get("length_scale")
     if length is not None and not (np.isfinite(length) and length > 0):
-        raise file_error(path, f"length_scale must be a positive number [m], got {length!r}")
+        raise file_error(path, f"length_scale must be a positive number [m], got {toml_text(length)}")
     generic_rank = doc.get("generic_rank")
     if generic_rank is not None and not 0 <= generic_rank <= 6:
         raise file_error(path, f"generic_rank must be an integer from 0 to 6, got {generic_rank!r}")

@@ -8,6 +8,8 @@ TOML booleans are not numbers here (``dof = true`` is an error).
 
 from __future__ import annotations
 
+import json
+import math
 from collections.abc import Callable, Mapping
 from enum import Enum
 from pathlib import Path
@@ -89,6 +91,23 @@ def _toml_type(value: object) -> str:
     return "table" if isinstance(value, Mapping) else type(value).__name__.replace("datetime", "date-time")
 
 
+def toml_text(value: object, limit: int = 80) -> str:
+    """A parsed value written back as TOML (``true``, ``"text"``, ``[1, 2]``, ``{ a = 1 }``), cut at ``limit``."""
+    if isinstance(value, bool):
+        text = "true" if value else "false"
+    elif isinstance(value, str):
+        text = json.dumps(value, ensure_ascii=False)
+    elif isinstance(value, float) and not math.isfinite(value):
+        text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    elif isinstance(value, list):
+        text = "[" + ", ".join(toml_text(v, limit) for v in value) + "]"
+    elif isinstance(value, Mapping):
+        text = "{ " + ", ".join(f"{k} = {toml_text(v, limit)}" for k, v in value.items()) + " }"
+    else:
+        text = str(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
 def check_table(path: Path, where: str, table: Any, spec: Mapping[str, Kind]) -> Mapping[str, Any]:
     """Check that ``table`` is a table whose keys are in ``spec``, each of the type ``spec`` gives.
 
@@ -100,7 +119,7 @@ def check_table(path: Path, where: str, table: Any, spec: Mapping[str, Kind]) ->
     """
     label = where or "the top level"
     if not isinstance(table, Mapping):
-        raise file_error(path, f"{label} must be a table, got {_toml_type(table)} {table!r}")
+        raise file_error(path, f"{label} must be a table, got {_toml_type(table)} {toml_text(table)}")
     unknown = set(table) - set(spec)
     if unknown:
         raise file_error(path, f"unknown key(s) {choices(unknown)} in {label}; valid keys: {choices(spec)}")
@@ -109,9 +128,11 @@ def check_table(path: Path, where: str, table: Any, spec: Mapping[str, Kind]) ->
         if kind is Kind.TABLES and isinstance(value, list):
             for i, item in enumerate(value):
                 if not isinstance(item, Mapping):
-                    raise file_error(path, f"{_key(where, key)}[{i}] must be a table, got {_toml_type(item)} {item!r}")
+                    raise file_error(
+                        path, f"{_key(where, key)}[{i}] must be a table, got {_toml_type(item)} {toml_text(item)}"
+                    )
         if not KIND_CHECKS[kind](value):
-            shown = repr(value) if len(repr(value)) <= 80 else repr(value)[:77] + "..."
+            shown = toml_text(value)
             raise file_error(path, f"{_key(where, key)} must be {kind.value}, got {_toml_type(value)} {shown}")
     return table
 
@@ -126,15 +147,17 @@ def joint_values(path: Path, where: str, table: Mapping[str, Any], joint_names: 
         if k not in joint_names:
             raise file_error(path, f"{where} names unknown joint {k!r}; valid joints: {choices(joint_names)}")
         if not _is_number(v) or not np.isfinite(v):
-            raise file_error(path, f"{where}.{k} must be a finite number [m or rad], got {_toml_type(v)} {v!r}")
+            raise file_error(
+                path, f"{where}.{k} must be a finite number [m or rad], got {_toml_type(v)} {toml_text(v)}"
+            )
         out[k] = float(v)
     return out
 
 
 def vector3(path: Path, where: str, value: list[float]) -> np.ndarray:
     if len(value) != 3:
-        raise file_error(path, f"{where} must be a list of 3 numbers, got {value!r}")
+        raise file_error(path, f"{where} must be a list of 3 numbers, got {toml_text(value)}")
     arr = np.array(value, float)
     if not np.isfinite(arr).all():
-        raise file_error(path, f"{where} must be finite, got {value!r}")
+        raise file_error(path, f"{where} must be finite, got {toml_text(value)}")
     return arr

@@ -133,7 +133,10 @@ def test_wrench_classification_is_dual() -> None:
     x = np.array([1.0, 0, 0])
     w = np.column_stack([np.r_[x, np.cross(p, x)], [0, 0, 0, 0, 0, 1]])
     sys = S.classify_wrenches(w, 1.0)
-    assert [s.kind for s in sys.all] == ["couple", "force"]
+    assert [s.kind for s in sys.all] == [S.WrenchKind.COUPLE, S.WrenchKind.FORCE]
+    assert all(isinstance(s.kind, S.WrenchKind) for s in sys.all)
+    twists = S.classify_twists(np.column_stack([[1.0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 1]]), 1.0)
+    assert [s.kind for s in twists.all] == [S.MotionKind.TRANSLATION, S.MotionKind.ROTATION]
     assert_allclose(sys.lines[0].point, p, atol=1e-12)
     # the couple and force annihilate a twist that is a rotation about x through p
     assert abs(S.reciprocal_product(sys.lines[0].vector, np.r_[np.cross(p, x), x])) < 1e-12

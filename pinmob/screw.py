@@ -66,9 +66,14 @@ def reciprocal_product(wrench: ArrayLike, twist: ArrayLike) -> float:
 
 
 def twist_from_paper(s: ArrayLike) -> Array:
-    """Convert the seed paper's axis-first twist ``(w; v)`` to ``[v; w]``."""
+    """Convert the seed paper's axis-first twist ``(w; v)`` to ``[v; w]``; rows of 6 (shape (..., 6))."""
     s = np.asarray(s, float)
     return np.concatenate([s[..., 3:], s[..., :3]], axis=-1)
+
+
+def twist_to_paper(t: ArrayLike) -> Array:
+    """Convert twists ``[v; w]`` to the seed paper's axis-first ``(w; v)``; rows of 6 (the inverse swap)."""
+    return twist_from_paper(t)
 
 
 def shift_twists(twists: ArrayLike, r: ArrayLike) -> Array:

@@ -12,6 +12,10 @@ couple at its own slider angle.
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -205,3 +209,31 @@ def test_horizontal_links_do_not_close_with_longer_links(puu: pinmob.Mechanism) 
     assert set(res) == {"A", "B", "C"}
     assert_allclose([res[x][0] for x in "ABC"], [0.0, 0.1 * np.sqrt(3), 0.1 * np.sqrt(3)], atol=1e-12)
     assert_allclose([res[x][1] for x in "ABC"], 0.0, atol=1e-12)
+
+
+def test_seed_paper_example_prints_the_papers_numbers() -> None:
+    """examples/3puu_seed_paper.py: the numbers it prints are the paper's, derived here from its equations.
+
+    Generic (R - r = 0.15, drop 0.2, link 0.25): cos beta = 0.6, sin beta = 0.8, so eq. 20 for limb B
+    (theta = 120 deg) is (0 0 0 -0.3 0.3 sqrt3 0.8), and pinmob's couple prints the same on the same line.
+    Flat: eq. 31's U has rows (sqrt6/3, 0, sqrt3/3), (-sqrt6/6, sqrt2/2, sqrt3/3), (-sqrt6/6, -sqrt2/2, sqrt3/3);
+    Sigma = diag(sqrt6/2, sqrt6/2, 0) (the Gram matrix of three unit couples 120 deg apart has eigenvalues
+    3/2, 3/2, 0); S_F (eq. 37) ends with the rotation about z, (0 0 1 0 0 0) axis-first.
+    """
+    script = Path(__file__).resolve().parent.parent / "examples" / "3puu_seed_paper.py"
+    out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+
+    def fmt(*xs: float) -> str:
+        return "(" + " ".join(f"{x + 0.0:7.4f}" for x in xs) + ")"
+
+    lines = out.stdout.splitlines()
+    b_line = next(line for line in lines if line.strip().startswith("B: beta"))
+    couple_b = fmt(0, 0, 0, -0.5 * 0.6, np.sqrt(3) / 2 * 0.6, 0.8)
+    assert b_line.count(couple_b) == 2 and "beta  53.13 deg" in b_line
+    for u_row in ((np.sqrt(6) / 3, 0, np.sqrt(3) / 3), (-np.sqrt(6) / 6, np.sqrt(2) / 2, np.sqrt(3) / 3)):
+        assert fmt(*u_row) in out.stdout
+    assert fmt(np.sqrt(6) / 2, 0, 0, 0, 0, 0) in out.stdout and fmt(0, np.sqrt(6) / 2, 0, 0, 0, 0) in out.stdout
+    s_f = lines.index("  paper's view: 4 DoF, 3T1R") - 1
+    assert lines[s_f].strip() == fmt(0, 0, 1, 0, 0, 0)
+    assert "constraint rank 4: 2 DoF, 1T1R (T1 z, R1 z)" in out.stdout and "limbs A, B, C" in out.stdout

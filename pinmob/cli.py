@@ -9,6 +9,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import re
 import sys
 import tomllib
 import warnings
@@ -240,13 +241,18 @@ def _pick_configuration(mech: Mechanism, config: str | None) -> str:
         return next(iter(mech.configurations))
     if config not in mech.configurations:
         raise ConfigurationError(
-            f"no configuration {config!r} in {mech.name!r}; valid: {choices(mech.configurations)}" + _elsewhere(config)
+            f"no configuration {config!r} in {mech.name!r}; valid: {choices(mech.configurations)}"
+            + _elsewhere(config, mech)
         )
     return config
 
 
-def _elsewhere(config: str) -> str:
-    """Hint naming the built-in models that do have a configuration called ``config``."""
+def _elsewhere(config: str, mech: Mechanism | None = None) -> str:
+    """Hint naming the built-in models that do have a configuration called ``config``, and why not ``mech``.
+
+    The why is the sentence of ``mech``'s description that names one of those models, if any (e.g. the
+    3-PUU's links are too long for beta = 0, which needs the geometry of 3-PUU-flat).
+    """
     from .mechanism_file import builtin_models
 
     owners = []
@@ -254,7 +260,15 @@ def _elsewhere(config: str) -> str:
         with path.open("rb") as fh:
             if config in tomllib.load(fh).get("configurations", {}):
                 owners.append(name)
-    return f"; built-in model(s) with a configuration {config!r}: {choices(owners)}" if owners else ""
+    if not owners:
+        return ""
+    why = ""
+    if mech is not None:
+        sentences = re.split(r"(?<=[.!?])\s+", mech.description)
+        others = [o for o in owners if o not in mech.name]  # '3-PUU' in "3-PUU-flat" is the family, not a pointer
+        named = [t for t in sentences if any(re.search(rf"(?<![\w-]){re.escape(o)}(?![\w-])", t) for o in others)]
+        why = f". Why not in {mech.name!r}: {named[0]}" if named else ""
+    return f"; built-in model(s) with a configuration {config!r}: {choices(owners)}{why}"
 
 
 @command("show")

@@ -215,6 +215,8 @@ def test_cli_points_to_the_model_that_has_the_configuration(capsys: pytest.Captu
     assert main(["analyze", "3-PUU", "--config", "flat"]) == 2
     err = capsys.readouterr().err
     assert "no configuration 'flat' in '3-PUU'" in err and "with a configuration 'flat': '3-PUU-flat'" in err
+    # and why, in a few words: the sentence of 3-PUU's description that points to 3-PUU-flat
+    assert "Why not in '3-PUU': Links longer than R - r, so beta = 0 cannot be assembled here" in err
 
 
 def test_cli_subprocess_has_no_traceback(tmp_path: Path) -> None:

@@ -67,18 +67,12 @@ def test_free_twists_are_reciprocal_to_constraints(puu) -> None:
         assert_allclose(limb.wrenches.T @ mob.free_twists, 0.0, atol=1e-9)
 
 
-SEEDS_TOML = """
-name = "seeds"
-urdf = "3puu.urdf"
-[[limbs]]
-name = "A"
-tip = "A_tip"
-[[limbs]]
-name = "B"
-tip = "B_tip"
-[[limbs]]
-name = "C"
-tip = "C_tip"
+LIMBS_TOML = 'name = "seeds"\nurdf = "3puu.urdf"\n' + "".join(
+    f'[[limbs]]\nname = "{x}"\ntip = "{x}_tip"\n' for x in "ABC"
+)
+SEEDS_TOML = (
+    LIMBS_TOML
+    + """
 [configurations.above]
 pose = { xyz = [0.03, -0.02, -0.17], rpy = [0.0, 0.0, 0.0] }
 [configurations.below]
@@ -94,6 +88,7 @@ A_u2b = -1.855
 B_u2b = -1.855
 C_u2b = -1.855
 """
+)
 
 
 def copy_model(tmp_path: Path, toml: str, urdf_edit=lambda text: text) -> pinmob.Mechanism:
@@ -146,7 +141,7 @@ def test_continuous_joint_takes_an_angle(tmp_path: Path) -> None:
     angle = values["A_u1a"]
     assert abs(angle) > 0.05  # a real angle, not zero
     joints = ", ".join(f"{k} = {v!r}" for k, v in values.items())
-    toml = SEEDS_TOML.split("[configurations.above]")[0] + f"[configurations.offset]\njoints = {{ {joints} }}\n"
+    toml = LIMBS_TOML + f"[configurations.offset]\njoints = {{ {joints} }}\n"
     mech = copy_model(
         tmp_path,
         toml,

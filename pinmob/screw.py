@@ -29,7 +29,7 @@ from enum import StrEnum
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import eigh
+from scipy.linalg import eigh, lapack
 
 Array = NDArray[np.float64]
 #: Boolean array, e.g. which rows of a residual are lengths.
@@ -87,7 +87,9 @@ def shift_twists(twists: ArrayLike, r: ArrayLike) -> Array:
     """
     t = np.array(twists, float)
     r = np.asarray(r, float)
-    t[:3] = t[:3] + np.cross(t[3:], r, axis=0)
+    if t.ndim == 2 and r.ndim == 1:
+        r = r[:, None]
+    t[:3] = t[:3] + cross_columns(t[3:], r)
     return t
 
 
@@ -95,7 +97,9 @@ def shift_wrenches(wrenches: ArrayLike, r: ArrayLike) -> Array:
     """Express wrenches at a point displaced by ``r``: ``tau' = tau - r x f``."""
     f = np.array(wrenches, float)
     r = np.asarray(r, float)
-    f[3:] = f[3:] - np.cross(r, f[:3], axis=0)
+    if f.ndim == 2 and r.ndim == 1:
+        r = r[:, None]
+    f[3:] = f[3:] - cross_columns(r, f[:3])
     return f
 
 
@@ -119,6 +123,27 @@ def wrench_scaling(length: float) -> Array:
 
 
 # --------------------------------------------------------------------------- rank
+
+
+def svd(a: Array, full_matrices: bool = True) -> tuple[Array, Array, Array]:
+    """``U, s, V^T`` of a small non-empty (m, n) matrix: LAPACK's ``dgesdd``, as ``np.linalg.svd`` calls it.
+
+    Called straight through SciPy's LAPACK wrapper: the same routine and results, without
+    ``np.linalg.svd``'s per-call overhead, which dominates for 6 x 6 matrices. Falls back to
+    ``np.linalg.svd`` (which raises ``LinAlgError``) if LAPACK reports a failure.
+    """
+    u, s, vt, info = lapack.dgesdd(a, compute_uv=1, full_matrices=int(full_matrices))
+    if info != 0:
+        return tuple(np.linalg.svd(a, full_matrices=full_matrices))  # type: ignore[return-value]
+    return u, s, vt
+
+
+def cross_columns(a: Array, b: Array) -> Array:
+    """Column-wise cross product of (3,) or (3, k) arrays, ``np.cross(a, b, axis=0)`` without its axis shuffling.
+
+    Same formula, ``(a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0)``, hence the same floating-point results.
+    """
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
 @dataclass(frozen=True)
@@ -151,7 +176,7 @@ def decide_rank(matrix: ArrayLike, rtol: float = RTOL, n: int | None = None) -> 
     cols = a.shape[1] if n is None else n
     if a.size == 0:
         return RankDecision(0, np.zeros(0), 0.0, np.zeros((0, cols)), np.eye(cols))
-    _, s, vt = np.linalg.svd(a, full_matrices=True)
+    _, s, vt = svd(a)
     smax = float(s[0]) if s.size else 0.0
     tol = rtol * smax
     rank = int(np.sum(s > tol)) if smax > 0 else 0
@@ -226,23 +251,24 @@ def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
         basis: (3, k) spanning vectors, k <= 3 (need not be orthonormal).
 
     Returns:
-        (3, k) orthonormal canonical basis.
+        (3, r) orthonormal canonical basis, r the rank of ``basis`` (singular
+        values above ``tol * max(1, sigma_max)``).
     """
     d = np.asarray(basis, float).reshape(3, -1)
     if d.shape[1] == 0:
         return np.zeros((3, 0))
-    u, s, _ = np.linalg.svd(d, full_matrices=False)
+    u, s, _ = svd(d, full_matrices=False)
     rest = u[:, s > tol * max(1.0, float(s[0]))]
     picked: list[tuple[int, Array]] = []
-    while rest.shape[1]:
-        proj = rest @ rest.T
-        norms = np.linalg.norm(proj, axis=0)
+    proj = rest @ rest.T  # projector onto what is left of the subspace
+    for _ in range(rest.shape[1]):
+        norms = np.sqrt((proj * proj).sum(axis=0))
         axis = int(np.argmax(norms > norms.max() - tol))  # first axis within tol of the best
         vec = proj[:, axis] / norms[axis]
         picked.append((axis, vec))
-        rest = rest - np.outer(vec, vec @ rest)
-        uu, ss, _ = np.linalg.svd(rest, full_matrices=False)
-        rest = uu[:, ss > 1e-6]
+        proj = proj - np.outer(vec, vec)  # vec lies in the subspace: P - vec vec^T projects onto the rest
+    if not picked:
+        return np.zeros((3, 0))
     picked.sort(key=lambda p: p[0])
     return np.column_stack([clean(v) for _, v in picked])
 
@@ -345,11 +371,11 @@ def principal_screws(
     w = np.asarray(direction, float).reshape(3, -1)
     if v.shape[1] == 0:
         return np.zeros((3, 0)), []
-    # orthonormal basis of the system's span (dimensionless), by SVD: an unpivoted QR would
-    # drop directions when an early column depends on the ones before it
-    span = decide_rank(np.vstack([v, w]).T, rtol, n=6).row_space.T
+    span = _orthonormal_span(np.vstack([v, w]), rtol)
+    if span.shape[1] == 0:
+        return np.zeros((3, 0)), []
     v, w = span[:3], span[3:]
-    _, s_w, vt_w = np.linalg.svd(w, full_matrices=True)
+    _, s_w, vt_w = svd(w)
     wr = int(np.sum(s_w > rtol * max(1.0, float(s_w[0]) if s_w.size else 0.0)))
     trans = canonical_directions(v @ vt_w[wr:].T) if wr < vt_w.shape[0] else np.zeros((3, 0))
     if wr == 0:
@@ -367,7 +393,7 @@ def principal_screws(
         # W1 directions, orthogonal to W0 in direction space, all with pitch 0
         w0 = gw @ x0
         u1 = canonical_directions(gw @ x1 - (w0 @ np.linalg.pinv(w0) @ (gw @ x1) if w0.size else 0))
-        groups.append((np.linalg.lstsq(gw, u1, rcond=None)[0], 0.0))
+        groups.append((np.asarray(np.linalg.lstsq(gw, u1, rcond=None)[0], dtype=np.float64), 0.0))
     if x0.shape[1]:
         a = x0.T @ (0.5 * (gw.T @ gv + gv.T @ gw)) @ x0
         b = x0.T @ gw.T @ gw @ x0
@@ -396,6 +422,21 @@ def principal_screws(
     return trans, out
 
 
+def _orthonormal_span(m: Array, rtol: float, tol: float = 1e-12) -> Array:
+    """(6, r) orthonormal basis of the column span of ``m`` (6, k), by SVD (rank decided with ``rtol``).
+
+    An unpivoted QR would drop directions when an early column depends on the ones
+    before it. Columns that are already orthogonal with one common length (``m^T m = c I``
+    to ``tol``: the bases :func:`reciprocal_twists` and :func:`reciprocal_wrenches` return)
+    span with rank k whatever ``rtol`` is, and are returned rescaled instead of decomposed again.
+    """
+    gram = m.T @ m
+    c = float(np.trace(gram)) / max(1, gram.shape[0])
+    if c > 0 and np.all(np.abs(gram / c - np.eye(gram.shape[0])) <= tol):
+        return np.asarray(m / np.sqrt(c), dtype=np.float64)
+    return decide_rank(m.T, rtol, n=6).row_space.T
+
+
 def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
     """``v + T a`` minimising ``|P_u^perp (v + T a)|`` with ``u.(v + T a) = pitch`` where T allows it."""
     if not trans.shape[1]:
@@ -404,7 +445,7 @@ def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
     c = trans.T @ u
     if np.linalg.norm(c) > 1e-9:
         a0 = c * (pitch - u @ v) / (c @ c)
-        null = np.linalg.svd(c[None, :])[2][1:].T
+        null = svd(c[None, :])[2][1:].T
     else:
         a0, null = np.zeros(trans.shape[1]), np.eye(trans.shape[1])
     base = v + trans @ a0

@@ -418,7 +418,7 @@ def principal_screws(
             u = _positive(ww / nw)
             vv = vv / nw * (1.0 if u @ ww > 0 else -1.0)
             vv = _closest_moment(u, vv, trans, h)
-            out.append((clean(u), clean(np.cross(u, vv)), h))
+            out.append((clean(u), clean(cross_columns(u, vv)), h))
     return trans, out
 
 
@@ -473,7 +473,7 @@ def classify_twists(twists: ArrayLike, length: float, rtol: float = RTOL) -> Scr
     scr: list[Screw] = []
     for u, p, h in prin:
         point, pitch = p * length, h * length
-        vec = clean(np.concatenate([pitch * u + np.cross(point, u), u]), length)
+        vec = clean(np.concatenate([pitch * u + cross_columns(point, u), u]), length)
         kind = MotionKind.ROTATION if h == 0.0 else MotionKind.SCREW
         (rot if h == 0.0 else scr).append(Screw(kind, u, point, pitch, vec))
     scr.sort(key=lambda s: s.pitch or 0.0)
@@ -496,7 +496,7 @@ def classify_wrenches(wrenches: ArrayLike, length: float, rtol: float = RTOL) ->
     screws: list[Screw] = []
     for u, p, h in prin:
         point, pitch = p * length, h * length
-        vec = clean(np.concatenate([u, pitch * u + np.cross(point, u)]), length)
+        vec = clean(np.concatenate([u, pitch * u + cross_columns(point, u)]), length)
         kind = WrenchKind.FORCE if h == 0.0 else WrenchKind.WRENCH
         (forces if h == 0.0 else screws).append(Screw(kind, u, point, pitch, vec))
     screws.sort(key=lambda s: s.pitch or 0.0)

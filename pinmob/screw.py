@@ -437,6 +437,17 @@ def _orthonormal_span(m: Array, rtol: float, tol: float = 1e-12) -> Array:
     return decide_rank(m.T, rtol, n=6).row_space.T
 
 
+def _orthogonal_complement(c: Array) -> Array:
+    """(k, k - 1) orthonormal basis of the vectors orthogonal to a non-zero c (k,): a Householder reflection.
+
+    ``H = I - 2 h h^T / h.h`` with ``h = c + sign(c_0) |c| e_0`` maps c onto the first axis; its other
+    columns are orthonormal and orthogonal to c (no SVD needed for one vector).
+    """
+    h = np.array(c, float)
+    h[0] += np.copysign(np.linalg.norm(c), c[0])
+    return (np.eye(c.size) - 2.0 * np.outer(h, h) / (h @ h))[:, 1:]
+
+
 def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
     """``v + T a`` minimising ``|P_u^perp (v + T a)|`` with ``u.(v + T a) = pitch`` where T allows it."""
     if not trans.shape[1]:
@@ -445,7 +456,7 @@ def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
     c = trans.T @ u
     if np.linalg.norm(c) > 1e-9:
         a0 = c * (pitch - u @ v) / (c @ c)
-        null = svd(c[None, :])[2][1:].T
+        null = _orthogonal_complement(c)
     else:
         a0, null = np.zeros(trans.shape[1]), np.eye(trans.shape[1])
     base = v + trans @ a0

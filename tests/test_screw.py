@@ -202,3 +202,12 @@ def test_canonical_directions_of_a_null_subspace() -> None:
     """Spanning vectors that are all zero span nothing: an empty (3, 0) basis (it used to raise)."""
     assert S.canonical_directions(np.zeros((3, 2))).shape == (3, 0)
     assert_allclose(S.canonical_directions(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 0.0]])), [[0.0], [1.0], [0.0]])
+
+
+@pytest.mark.parametrize("c", [[3.0, 4.0], [-1.0, 2.0, 2.0], [0.0, 0.0, 5.0], [1e-3, -2.0, 0.5, 7.0]])
+def test_orthogonal_complement_of_one_vector(c: list[float]) -> None:
+    """The Householder complement used by the axis-point search: k - 1 orthonormal columns, all normal to c."""
+    n = S._orthogonal_complement(np.array(c))
+    assert n.shape == (len(c), len(c) - 1)
+    assert_allclose(n.T @ n, np.eye(len(c) - 1), atol=1e-15)
+    assert_allclose(np.array(c) @ n, 0.0, atol=1e-14)

@@ -8,11 +8,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import re
 import sys
 import tomllib
 import warnings
 from collections.abc import Callable, Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 from .exceptions import PinmobError, choices
 
@@ -31,10 +33,15 @@ def command(name: str) -> Callable[[Callable[[argparse.Namespace], int]], Callab
     return deco
 
 
+class Parser(argparse.ArgumentParser):
+    """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"pinmob: error: {' '.join(message.split())}; see '{self.prog} --help'\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="pinmob", description="Platform mobility of parallel and closed-chain robots."
-    )
+    parser = Parser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
     sub = parser.add_subparsers(dest="command", required=True)
 
     p = sub.add_parser("models", help="list the built-in mechanisms")
@@ -166,17 +173,14 @@ def _models(args: argparse.Namespace) -> int:
 @command("analyze")
 def _analyze(args: argparse.Namespace) -> int:
     from .constraints import analyze_mechanism
-    from .exceptions import ConfigurationError
     from .mechanism_file import load
-    from .mobility import analyze, paper_view
+    from .mobility import analyze, check_rtol, paper_view
     from .report import format_expectation
     from .screw import RTOL
 
     mech = load(args.mechanism)
     config = args.config
-    rtol = RTOL if args.rtol is None else args.rtol
-    if not 0 < rtol < 1:
-        raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
+    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
     if config is None and not mech.configurations:
         return _analyze_closed_chain(args, mech, rtol)
     config = _pick_configuration(mech, config)
@@ -237,13 +241,18 @@ def _pick_configuration(mech: Mechanism, config: str | None) -> str:
         return next(iter(mech.configurations))
     if config not in mech.configurations:
         raise ConfigurationError(
-            f"no configuration {config!r} in {mech.name!r}; valid: {choices(mech.configurations)}" + _elsewhere(config)
+            f"no configuration {config!r} in {mech.name!r}; valid: {choices(mech.configurations)}"
+            + _elsewhere(config, mech)
         )
     return config
 
 
-def _elsewhere(config: str) -> str:
-    """Hint naming the built-in models that do have a configuration called ``config``."""
+def _elsewhere(config: str, mech: Mechanism | None = None) -> str:
+    """Hint naming the built-in models that do have a configuration called ``config``, and why not ``mech``.
+
+    The why is the sentence of ``mech``'s description that names one of those models, if any (e.g. the
+    3-PUU's links are too long for beta = 0, which needs the geometry of 3-PUU-flat).
+    """
     from .mechanism_file import builtin_models
 
     owners = []
@@ -251,7 +260,15 @@ def _elsewhere(config: str) -> str:
         with path.open("rb") as fh:
             if config in tomllib.load(fh).get("configurations", {}):
                 owners.append(name)
-    return f"; built-in model(s) with a configuration {config!r}: {choices(owners)}" if owners else ""
+    if not owners:
+        return ""
+    why = ""
+    if mech is not None:
+        sentences = re.split(r"(?<=[.!?])\s+", mech.description)
+        others = [o for o in owners if o not in mech.name]  # '3-PUU' in "3-PUU-flat" is the family, not a pointer
+        named = [t for t in sentences if any(re.search(rf"(?<![\w-]){re.escape(o)}(?![\w-])", t) for o in others)]
+        why = f". Why not in {mech.name!r}: {named[0]}" if named else ""
+    return f"; built-in model(s) with a configuration {config!r}: {choices(owners)}{why}"
 
 
 @command("show")
@@ -314,14 +331,13 @@ def _scan(args: argparse.Namespace) -> int:
 
     from .exceptions import ConfigurationError
     from .mechanism_file import load
+    from .mobility import check_rtol
     from .plot import plot_map, plot_path
     from .scan import RowWriter, grid_spec, path_spec, scan
     from .screw import RTOL
 
     mech = load(args.mechanism)
-    rtol = RTOL if args.rtol is None else args.rtol
-    if not 0 < rtol < 1:
-        raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
+    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
     names = list(mech.configurations)
     if args.grid:
         axes = []
@@ -520,10 +536,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
     warnings.formatwarning = _format_warning
     try:
-        return COMMANDS[args.command](args)
+        status = COMMANDS[args.command](args)
+        sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+        return status
     except PinmobError as exc:
         print(f"pinmob: error: {' '.join(str(exc).split())}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # the reader went away (``pinmob ... | head -1``): stop quietly, as Unix tools do on SIGPIPE
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())  # nothing left to flush at exit
+            os.close(devnull)
+        except (OSError, ValueError):  # stdout is not a file (e.g. captured in tests)
+            pass
+        return 128 + 13
     except KeyboardInterrupt:
         print("pinmob: interrupted", file=sys.stderr)
         return 130

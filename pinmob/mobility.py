@@ -25,6 +25,7 @@ from .screw import (
     Array,
     MotionKind,
     ScrewSystem,
+    WrenchKind,
     axis_label,
     classify_twists,
     classify_wrenches,
@@ -46,6 +47,36 @@ GENERIC = "generic"
 
 def _vec(a: Array | None) -> list[float] | None:
     return None if a is None else [float(x) for x in a]
+
+
+def check_rtol(rtol: object, name: str = "rtol") -> float:
+    """A validated relative rank tolerance: a finite real number with ``0 < rtol < 1``.
+
+    Singular values below ``rtol * sigma_max`` count as zero, so ``rtol <= 0``
+    would call round-off a motion and ``rtol >= 1`` would drop real ones.
+
+    Args:
+        rtol: the tolerance to check (dimensionless).
+        name: how the caller calls it in the message (``--rtol`` for the CLI).
+
+    Raises:
+        ConfigurationError: not a real number, not finite, or outside (0, 1).
+    """
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
+        raise ConfigurationError(f"{name} must be a number in (0, 1), got {rtol!r} ({type(rtol).__name__})")
+    value = float(rtol)
+    if not (np.isfinite(value) and 0.0 < value < 1.0):
+        raise ConfigurationError(f"{name} must be a finite number in (0, 1), e.g. {RTOL:g}; got {rtol!r}")
+    return value
+
+
+def resolve(
+    mech: Mechanism, q: Array | str, configuration: str | None, closure_tol: float = CLOSURE_TOL
+) -> tuple[Array, str | None]:
+    """:meth:`Mechanism.resolve` that assembles or checks a named configuration with ``closure_tol``."""
+    if isinstance(q, str):
+        return mech.resolve(mech.configuration(q, closure_tol), configuration or q)
+    return mech.resolve(q, configuration)
 
 
 @dataclass(frozen=True)
@@ -80,9 +111,17 @@ class Motion:
 
 @dataclass(frozen=True)
 class Constraint:
-    """One canonical constraint wrench: a couple, a force (pitch 0) or a wrench."""
+    """One canonical constraint wrench: a couple, a force (pitch 0) or a wrench (SI units, Pinocchio order).
 
-    kind: str
+    Attributes:
+        kind: couple, force or wrench.
+        direction: (3,) unit direction (of the couple's moment, or of the force).
+        point: (3,) point of the force's line closest to the platform origin [m] (None for a couple).
+        pitch: [m/rad] (None for a couple, 0 for a force).
+        wrench: (6,) unit wrench ``[f; tau]`` at the platform origin.
+    """
+
+    kind: WrenchKind
     direction: Array
     point: Array | None
     pitch: float | None
@@ -90,7 +129,7 @@ class Constraint:
 
     def to_dict(self) -> dict[str, Any]:
         return {
-            "kind": self.kind,
+            "kind": self.kind.value,
             "direction": _vec(self.direction),
             "point": _vec(self.point),
             "pitch": self.pitch,
@@ -258,7 +297,7 @@ def _motions(system: ScrewSystem) -> tuple[Motion, ...]:
 
 
 def _constraints(system: ScrewSystem) -> tuple[Constraint, ...]:
-    return tuple(Constraint(s.kind, s.direction, s.point, s.pitch, s.vector) for s in system.all)
+    return tuple(Constraint(WrenchKind(s.kind), s.direction, s.point, s.pitch, s.vector) for s in system.all)
 
 
 def _assemble(
@@ -323,10 +362,11 @@ def analyze(
         closure_tol: closure tolerance (position / L and rotation [rad]).
 
     Raises:
-        ConfigurationError: q has the wrong shape or non-finite values.
+        ConfigurationError: q has the wrong shape or non-finite values, or rtol is not in (0, 1).
         ClosureError: q does not close the loops.
     """
-    q, configuration = mech.resolve(q, configuration)
+    rtol = check_rtol(rtol)
+    q, configuration = resolve(mech, q, configuration, closure_tol)
     data = closed_kinematics(mech, q, closure_tol)
     rows = []
     for twists in limb_twists(mech, data):
@@ -338,7 +378,9 @@ def analyze(
 # --------------------------------------------------------------------------- second method
 
 
-def closure_jacobian_twists(mech: Mechanism, q: Array, rtol: float = RTOL) -> Array:
+def closure_jacobian_twists(
+    mech: Mechanism, q: Array | str, rtol: float = RTOL, *, closure_tol: float = CLOSURE_TOL
+) -> Array:
     """Free platform twists from the global loop-closure Jacobian (an independent method).
 
     Closure rows ``K = [J_2 - J_1; ...; J_k - J_1]`` (tip Jacobians over all
@@ -346,13 +388,23 @@ def closure_jacobian_twists(mech: Mechanism, q: Array, rtol: float = RTOL) -> Ar
     are ``null(K)``; the platform twists are their image ``J_1 null(K)``.
     Joint columns are scaled to comparable units before the rank decision.
 
+    Args:
+        mech: the mechanism.
+        q: closed configuration (nq,), or the name of one of ``mech.configurations``.
+        rtol: relative tolerance of the rank decisions, in (0, 1).
+        closure_tol: closure tolerance (position / L and rotation [rad]).
+
     Returns:
         (6, m) orthonormal (dimensionless) basis, in SI, of the platform's free twists.
+
+    Raises:
+        ConfigurationError: q has the wrong shape or non-finite values, or rtol is not in (0, 1).
+        ClosureError: q does not close the loops.
     """
-    q = mech.check_q(q)
+    rtol = check_rtol(rtol)
+    q, _ = resolve(mech, q, None, closure_tol)
     model = mech.model
-    data = model.createData()
-    compute_kinematics(model, data, q)
+    data = closed_kinematics(mech, q, closure_tol)
     p = data.oMf[mech.platform_id].translation
     scale = twist_scaling(mech.length_scale)[:, None]
     full = [
@@ -384,19 +436,36 @@ def closure_jacobian_twists(mech: Mechanism, q: Array, rtol: float = RTOL) -> Ar
 
 
 def _direction(mech: Mechanism, approach: Array | Mapping[str, float]) -> Array:
+    """Joint-space direction (nv,) from an array or from rates by joint name (one-dof joints)."""
+    model = mech.model
     if isinstance(approach, Mapping):
-        dv = np.zeros(mech.model.nv)
+        dv = np.zeros(model.nv)
         for name, value in approach.items():
-            if not mech.model.existJointName(name):
+            if not model.existJointName(name) or name == "universe":
                 raise ConfigurationError(
-                    f"approach names unknown joint {name!r}; valid: {choices(list(mech.model.names)[1:])}"
+                    f"approach names unknown joint {name!r}; valid: {choices(list(model.names)[1:])}"
                 )
-            j = mech.model.joints[mech.model.getJointId(name)]
-            dv[j.idx_v] = float(value)
-        return dv
-    dv = np.asarray(approach, float)
-    if dv.shape != (mech.model.nv,) or not np.all(np.isfinite(dv)):
-        raise ConfigurationError(f"approach direction must be finite with shape ({mech.model.nv},), got {dv.shape}")
+            joint = model.joints[model.getJointId(name)]
+            if joint.nv != 1:
+                raise ConfigurationError(
+                    f"approach: joint {name!r} has {joint.nv} velocity coordinates; give the whole (nv,) direction"
+                )
+            if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+                raise ConfigurationError(f"approach: rate of joint {name!r} must be a number, got {value!r}")
+            dv[joint.idx_v] = float(value)
+    else:
+        try:
+            dv = np.array(approach, dtype=float)
+        except (TypeError, ValueError):
+            raise ConfigurationError(
+                f"approach direction must be an array of {model.nv} numbers, got {approach!r}"
+            ) from None
+        if dv.shape != (model.nv,):
+            raise ConfigurationError(f"approach direction must have shape ({model.nv},), got {dv.shape}")
+    if not np.all(np.isfinite(dv)):
+        raise ConfigurationError(
+            f"approach direction must be finite, got non-finite values at {np.flatnonzero(~np.isfinite(dv)).tolist()}"
+        )
     return dv
 
 
@@ -408,6 +477,7 @@ def paper_view(
     configuration: str | None = None,
     eps: float = 1e-3,
     rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
 ) -> Mobility:
     """Mobility allowed by each limb's *generic* constraint wrenches, carried to q.
 
@@ -426,35 +496,53 @@ def paper_view(
     ``q(eps)``.
 
     Args:
-        approach: joint-space direction (nv,) or joint values by name; default:
-            the named configuration's declared ``approach``, else the direction
-            from q toward the mechanism's ``generic`` configuration
-            (``pin.difference(model, q, q_generic)``).
+        mech: the mechanism.
+        q: closed configuration (nq,), or the name of one of ``mech.configurations``.
+        approach: joint-space direction (nv,) or joint values by name; default
+            (None or an empty mapping): the named configuration's declared
+            ``approach``, else the direction from q toward the mechanism's
+            ``generic`` configuration (``pin.difference(model, q, q_generic)``).
+        configuration: name reported with the result (set automatically when q is a name).
         eps: step along the approach direction (the direction is normalised).
+        rtol: relative tolerance of every rank decision, in (0, 1).
+        closure_tol: closure tolerance (position / L and rotation [rad]).
+
+    Raises:
+        ConfigurationError: q or the approach direction is invalid, rtol is not in (0, 1),
+            or no approach direction is available where one is needed.
+        ClosureError: q does not close the loops.
     """
+    rtol = check_rtol(rtol)
+    if not (np.isfinite(eps) and eps > 0):
+        raise ConfigurationError(f"eps must be a positive step, got {eps!r}")
+    if isinstance(approach, Mapping) and not approach:
+        approach = None
     if isinstance(q, str) and approach is None:
-        approach = mech.configurations[q].approach if q in mech.configurations else None
-    q, configuration = mech.resolve(q, configuration)
+        declared = mech.configurations[q].approach if q in mech.configurations else None
+        approach = declared or None
+    given = approach is not None  # by the caller or declared by the configuration
+    q, configuration = resolve(mech, q, configuration, closure_tol)
     model = mech.model
-    data = model.createData()
     length = mech.length_scale
-    compute_kinematics(model, data, q)
+    data = closed_kinematics(mech, q, closure_tol)
     here = [(w, dec.rank) for w, dec in (reciprocal_wrenches(t, length, rtol) for t in limb_twists(mech, data))]
     if all(rank >= limb.generic_twist_rank for (_, rank), limb in zip(here, mech.limbs)):
         # no limb is serially singular: its generic wrenches are its wrenches here
         return _assemble(mech, configuration, here, data.oMf[mech.platform_id].translation, rtol, "paper")
-    if not approach and configuration != GENERIC and GENERIC in mech.configurations:
-        approach = pin.difference(mech.model, q, mech.configuration(GENERIC))  # from the generic configuration
-    dv = _direction(mech, approach) if approach is not None and len(approach) else np.zeros(0)
+    if approach is None and configuration != GENERIC and GENERIC in mech.configurations:
+        approach = pin.difference(model, q, mech.configuration(GENERIC, closure_tol))  # from the generic one
+    dv = np.zeros(0) if approach is None else _direction(mech, approach)
     norm = float(np.linalg.norm(dv)) if dv.size else 0.0
+    if given and norm == 0.0:
+        raise ConfigurationError("the approach direction is zero; give a non-zero joint-space direction")
     if norm == 0.0:
-        declared = [name for name, c in mech.configurations.items() if c.approach]
+        declared_in = [name for name, c in mech.configurations.items() if c.approach]
         where = f"configuration {configuration!r}" if configuration else "this configuration"
         raise ConfigurationError(
             f"the paper's view needs an approach direction and {where} of {mech.name!r} has none (no declared "
             f"'approach' and no distinct '{GENERIC}' configuration to come from): add "
             f"'approach = {{ <joint> = <rate>, ... }}' to [configurations.<name>] in the mechanism file (in Python: "
-            f"paper_view(..., approach=...)); configurations of {mech.name!r} that declare one: {choices(declared)}"
+            f"paper_view(..., approach=...)); configurations of {mech.name!r} that declare one: {choices(declared_in)}"
         )
     dv /= norm
     sw = wrench_scaling(length)[:, None]

@@ -6,6 +6,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .screw import MotionKind, WrenchKind
+
 if TYPE_CHECKING:
     from .constraints import MechanismMobility
     from .mechanism import Expectation
@@ -23,7 +25,7 @@ def _motion_line(m: Motion) -> str:
     text = f"  {m.label:<8} {KIND_WORDS[m.kind.value]:<11} direction {_v(m.direction)}"
     if m.point is not None:
         text += f" through {_v(m.point)} m"
-    if m.kind.value == "H":
+    if m.kind is MotionKind.SCREW:
         text += f", pitch {m.pitch:.4g} m/rad"
     return text
 
@@ -36,10 +38,10 @@ def format_mobility(mob: Mobility) -> str:
     lines.extend(_motion_line(m) for m in mob.motions)
     lines.append(f"constraint rank {mob.constraint_rank}:")
     for c in mob.constraints:
-        text = f"  {c.kind:<7} direction {_v(c.direction)}"
+        text = f"  {c.kind.value:<7} direction {_v(c.direction)}"
         if c.point is not None:
             text += f" through {_v(c.point)} m"
-        if c.kind == "wrench":
+        if c.kind is WrenchKind.WRENCH:
             text += f", pitch {c.pitch:.4g} m/rad"
         lines.append(text)
     lines.append("limbs:")

@@ -29,7 +29,7 @@ from enum import StrEnum
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.linalg import eigh
+from scipy.linalg import eigh, lapack
 
 Array = NDArray[np.float64]
 #: Boolean array, e.g. which rows of a residual are lengths.
@@ -66,9 +66,14 @@ def reciprocal_product(wrench: ArrayLike, twist: ArrayLike) -> float:
 
 
 def twist_from_paper(s: ArrayLike) -> Array:
-    """Convert the seed paper's axis-first twist ``(w; v)`` to ``[v; w]``."""
+    """Convert the seed paper's axis-first twist ``(w; v)`` to ``[v; w]``; rows of 6 (shape (..., 6))."""
     s = np.asarray(s, float)
     return np.concatenate([s[..., 3:], s[..., :3]], axis=-1)
+
+
+def twist_to_paper(t: ArrayLike) -> Array:
+    """Convert twists ``[v; w]`` to the seed paper's axis-first ``(w; v)``; rows of 6 (the inverse swap)."""
+    return twist_from_paper(t)
 
 
 def shift_twists(twists: ArrayLike, r: ArrayLike) -> Array:
@@ -82,7 +87,9 @@ def shift_twists(twists: ArrayLike, r: ArrayLike) -> Array:
     """
     t = np.array(twists, float)
     r = np.asarray(r, float)
-    t[:3] = t[:3] + np.cross(t[3:], r, axis=0)
+    if t.ndim == 2 and r.ndim == 1:
+        r = r[:, None]
+    t[:3] = t[:3] + cross_columns(t[3:], r)
     return t
 
 
@@ -90,7 +97,9 @@ def shift_wrenches(wrenches: ArrayLike, r: ArrayLike) -> Array:
     """Express wrenches at a point displaced by ``r``: ``tau' = tau - r x f``."""
     f = np.array(wrenches, float)
     r = np.asarray(r, float)
-    f[3:] = f[3:] - np.cross(r, f[:3], axis=0)
+    if f.ndim == 2 and r.ndim == 1:
+        r = r[:, None]
+    f[3:] = f[3:] - cross_columns(r, f[:3])
     return f
 
 
@@ -114,6 +123,27 @@ def wrench_scaling(length: float) -> Array:
 
 
 # --------------------------------------------------------------------------- rank
+
+
+def svd(a: Array, full_matrices: bool = True) -> tuple[Array, Array, Array]:
+    """``U, s, V^T`` of a small non-empty (m, n) matrix: LAPACK's ``dgesdd``, as ``np.linalg.svd`` calls it.
+
+    Called straight through SciPy's LAPACK wrapper: the same routine and results, without
+    ``np.linalg.svd``'s per-call overhead, which dominates for 6 x 6 matrices. Falls back to
+    ``np.linalg.svd`` (which raises ``LinAlgError``) if LAPACK reports a failure.
+    """
+    u, s, vt, info = lapack.dgesdd(a, compute_uv=1, full_matrices=int(full_matrices))
+    if info != 0:
+        return tuple(np.linalg.svd(a, full_matrices=full_matrices))  # type: ignore[return-value]
+    return u, s, vt
+
+
+def cross_columns(a: Array, b: Array) -> Array:
+    """Column-wise cross product of (3,) or (3, k) arrays, ``np.cross(a, b, axis=0)`` without its axis shuffling.
+
+    Same formula, ``(a1 b2 - a2 b1, a2 b0 - a0 b2, a0 b1 - a1 b0)``, hence the same floating-point results.
+    """
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
 @dataclass(frozen=True)
@@ -146,7 +176,7 @@ def decide_rank(matrix: ArrayLike, rtol: float = RTOL, n: int | None = None) -> 
     cols = a.shape[1] if n is None else n
     if a.size == 0:
         return RankDecision(0, np.zeros(0), 0.0, np.zeros((0, cols)), np.eye(cols))
-    _, s, vt = np.linalg.svd(a, full_matrices=True)
+    _, s, vt = svd(a)
     smax = float(s[0]) if s.size else 0.0
     tol = rtol * smax
     rank = int(np.sum(s > tol)) if smax > 0 else 0
@@ -221,23 +251,24 @@ def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
         basis: (3, k) spanning vectors, k <= 3 (need not be orthonormal).
 
     Returns:
-        (3, k) orthonormal canonical basis.
+        (3, r) orthonormal canonical basis, r the rank of ``basis`` (singular
+        values above ``tol * max(1, sigma_max)``).
     """
     d = np.asarray(basis, float).reshape(3, -1)
     if d.shape[1] == 0:
         return np.zeros((3, 0))
-    u, s, _ = np.linalg.svd(d, full_matrices=False)
+    u, s, _ = svd(d, full_matrices=False)
     rest = u[:, s > tol * max(1.0, float(s[0]))]
     picked: list[tuple[int, Array]] = []
-    while rest.shape[1]:
-        proj = rest @ rest.T
-        norms = np.linalg.norm(proj, axis=0)
+    proj = rest @ rest.T  # projector onto what is left of the subspace
+    for _ in range(rest.shape[1]):
+        norms = np.sqrt((proj * proj).sum(axis=0))
         axis = int(np.argmax(norms > norms.max() - tol))  # first axis within tol of the best
         vec = proj[:, axis] / norms[axis]
         picked.append((axis, vec))
-        rest = rest - np.outer(vec, vec @ rest)
-        uu, ss, _ = np.linalg.svd(rest, full_matrices=False)
-        rest = uu[:, ss > 1e-6]
+        proj = proj - np.outer(vec, vec)  # vec lies in the subspace: P - vec vec^T projects onto the rest
+    if not picked:
+        return np.zeros((3, 0))
     picked.sort(key=lambda p: p[0])
     return np.column_stack([clean(v) for _, v in picked])
 
@@ -276,9 +307,12 @@ class Screw:
     for a translation), ``vector`` the unit twist ``[v; w]``. For a wrench system
     the same fields describe couples, forces and wrenches; ``vector`` is
     ``[f; tau]``.
+
+    Attributes:
+        kind: a :class:`MotionKind` in a twist system, a :class:`WrenchKind` in a wrench system.
     """
 
-    kind: str
+    kind: MotionKind | WrenchKind
     direction: Array
     point: Array | None
     pitch: float | None
@@ -337,11 +371,11 @@ def principal_screws(
     w = np.asarray(direction, float).reshape(3, -1)
     if v.shape[1] == 0:
         return np.zeros((3, 0)), []
-    # orthonormal basis of the system's span (dimensionless), by SVD: an unpivoted QR would
-    # drop directions when an early column depends on the ones before it
-    span = decide_rank(np.vstack([v, w]).T, rtol, n=6).row_space.T
+    span = _orthonormal_span(np.vstack([v, w]), rtol)
+    if span.shape[1] == 0:
+        return np.zeros((3, 0)), []
     v, w = span[:3], span[3:]
-    _, s_w, vt_w = np.linalg.svd(w, full_matrices=True)
+    _, s_w, vt_w = svd(w)
     wr = int(np.sum(s_w > rtol * max(1.0, float(s_w[0]) if s_w.size else 0.0)))
     trans = canonical_directions(v @ vt_w[wr:].T) if wr < vt_w.shape[0] else np.zeros((3, 0))
     if wr == 0:
@@ -359,7 +393,7 @@ def principal_screws(
         # W1 directions, orthogonal to W0 in direction space, all with pitch 0
         w0 = gw @ x0
         u1 = canonical_directions(gw @ x1 - (w0 @ np.linalg.pinv(w0) @ (gw @ x1) if w0.size else 0))
-        groups.append((np.linalg.lstsq(gw, u1, rcond=None)[0], 0.0))
+        groups.append((np.asarray(np.linalg.lstsq(gw, u1, rcond=None)[0], dtype=np.float64), 0.0))
     if x0.shape[1]:
         a = x0.T @ (0.5 * (gw.T @ gv + gv.T @ gw)) @ x0
         b = x0.T @ gw.T @ gw @ x0
@@ -384,8 +418,34 @@ def principal_screws(
             u = _positive(ww / nw)
             vv = vv / nw * (1.0 if u @ ww > 0 else -1.0)
             vv = _closest_moment(u, vv, trans, h)
-            out.append((clean(u), clean(np.cross(u, vv)), h))
+            out.append((clean(u), clean(cross_columns(u, vv)), h))
     return trans, out
+
+
+def _orthonormal_span(m: Array, rtol: float, tol: float = 1e-12) -> Array:
+    """(6, r) orthonormal basis of the column span of ``m`` (6, k), by SVD (rank decided with ``rtol``).
+
+    An unpivoted QR would drop directions when an early column depends on the ones
+    before it. Columns that are already orthogonal with one common length (``m^T m = c I``
+    to ``tol``: the bases :func:`reciprocal_twists` and :func:`reciprocal_wrenches` return)
+    span with rank k whatever ``rtol`` is, and are returned rescaled instead of decomposed again.
+    """
+    gram = m.T @ m
+    c = float(np.trace(gram)) / max(1, gram.shape[0])
+    if c > 0 and np.all(np.abs(gram / c - np.eye(gram.shape[0])) <= tol):
+        return np.asarray(m / np.sqrt(c), dtype=np.float64)
+    return decide_rank(m.T, rtol, n=6).row_space.T
+
+
+def _orthogonal_complement(c: Array) -> Array:
+    """(k, k - 1) orthonormal basis of the vectors orthogonal to a non-zero c (k,): a Householder reflection.
+
+    ``H = I - 2 h h^T / h.h`` with ``h = c + sign(c_0) |c| e_0`` maps c onto the first axis; its other
+    columns are orthonormal and orthogonal to c (no SVD needed for one vector).
+    """
+    h = np.array(c, float)
+    h[0] += np.copysign(np.linalg.norm(c), c[0])
+    return (np.eye(c.size) - 2.0 * np.outer(h, h) / (h @ h))[:, 1:]
 
 
 def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
@@ -396,7 +456,7 @@ def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
     c = trans.T @ u
     if np.linalg.norm(c) > 1e-9:
         a0 = c * (pitch - u @ v) / (c @ c)
-        null = np.linalg.svd(c[None, :])[2][1:].T
+        null = _orthogonal_complement(c)
     else:
         a0, null = np.zeros(trans.shape[1]), np.eye(trans.shape[1])
     base = v + trans @ a0
@@ -418,16 +478,15 @@ def classify_twists(twists: ArrayLike, length: float, rtol: float = RTOL) -> Scr
     t = np.asarray(twists, float).reshape(6, -1)
     trans, prin = principal_screws(t[:3] / length, t[3:], rtol)
     ts = tuple(
-        Screw(MotionKind.TRANSLATION.value, clean(d), None, None, np.concatenate([clean(d), np.zeros(3)]))
-        for d in trans.T
+        Screw(MotionKind.TRANSLATION, clean(d), None, None, np.concatenate([clean(d), np.zeros(3)])) for d in trans.T
     )
     rot: list[Screw] = []
     scr: list[Screw] = []
     for u, p, h in prin:
         point, pitch = p * length, h * length
-        vec = clean(np.concatenate([pitch * u + np.cross(point, u), u]), length)
+        vec = clean(np.concatenate([pitch * u + cross_columns(point, u), u]), length)
         kind = MotionKind.ROTATION if h == 0.0 else MotionKind.SCREW
-        (rot if h == 0.0 else scr).append(Screw(kind.value, u, point, pitch, vec))
+        (rot if h == 0.0 else scr).append(Screw(kind, u, point, pitch, vec))
     scr.sort(key=lambda s: s.pitch or 0.0)
     return ScrewSystem(ts, tuple(rot), tuple(scr))
 
@@ -442,15 +501,15 @@ def classify_wrenches(wrenches: ArrayLike, length: float, rtol: float = RTOL) ->
     f = np.asarray(wrenches, float).reshape(6, -1)
     couples, prin = principal_screws(f[3:] / length, f[:3], rtol)
     cs = tuple(
-        Screw(WrenchKind.COUPLE.value, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)])) for d in couples.T
+        Screw(WrenchKind.COUPLE, clean(d), None, None, np.concatenate([np.zeros(3), clean(d)])) for d in couples.T
     )
     forces: list[Screw] = []
     screws: list[Screw] = []
     for u, p, h in prin:
         point, pitch = p * length, h * length
-        vec = clean(np.concatenate([u, pitch * u + np.cross(point, u)]), length)
+        vec = clean(np.concatenate([u, pitch * u + cross_columns(point, u)]), length)
         kind = WrenchKind.FORCE if h == 0.0 else WrenchKind.WRENCH
-        (forces if h == 0.0 else screws).append(Screw(kind.value, u, point, pitch, vec))
+        (forces if h == 0.0 else screws).append(Screw(kind, u, point, pitch, vec))
     screws.sort(key=lambda s: s.pitch or 0.0)
     return ScrewSystem(cs, tuple(forces), tuple(screws))
 

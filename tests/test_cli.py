@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -144,3 +146,114 @@ def test_paper_view_without_approach_says_how_to_declare_one(
         paper_view(mech, mech.configuration("flat"))
     with pytest.raises(ConfigurationError, match=r"unknown joint 'nope'; valid: .*'A_u1a'"):
         paper_view(mech, "flat", {"nope": 1.0})
+
+
+def reject_constant(name: str) -> float:
+    raise ValueError(f"JSON holds {name}, which is not plain JSON")
+
+
+@pytest.mark.parametrize(
+    "name,config", [(n, c) for n in pinmob.builtin_models() for c in pinmob.load(n).configurations]
+)
+def test_to_dict_is_plain_json_everywhere(name: str, config: str) -> None:
+    """Every built-in model and configuration: to_dict() dumps with allow_nan=False and reads back equal."""
+    mob = pinmob.analyze(pinmob.load(name), config)
+    doc = json.loads(json.dumps(mob.to_dict(), allow_nan=False), parse_constant=reject_constant)
+    assert (doc["dof"], doc["motion_type"]) == (mob.dof, mob.motion_type)
+    assert [c["kind"] for c in doc["constraints"]] == [c.kind.value for c in mob.constraints]
+    assert all(type(c["kind"]) is str for c in doc["constraints"] + doc["motions"])
+
+
+def test_cli_json_has_no_nan_or_infinity() -> None:
+    proc = subprocess.run(
+        [sys.executable, "-m", "pinmob", "analyze", "3-PUU-flat", "--config", "flat", "--json", "--paper-view"],
+        capture_output=True,
+        text=True,
+    )
+    assert proc.returncode == 0, proc.stderr
+    doc = json.loads(proc.stdout, parse_constant=reject_constant)
+    assert doc["motion_type"] == "1T1R" and doc["paper_view"]["motion_type"] == "3T1R"
+
+
+def cli(*args: str, cwd: Path | None = None) -> subprocess.CompletedProcess[str]:
+    return subprocess.run([sys.executable, "-m", "pinmob", *args], capture_output=True, text=True, cwd=cwd)
+
+
+def one_line_error(proc: subprocess.CompletedProcess[str]) -> str:
+    """The CLI's contract for bad input: exit 2, one line on stderr starting 'pinmob: error:', no traceback."""
+    assert proc.returncode == 2, proc.stderr
+    assert "Traceback" not in proc.stderr
+    assert proc.stderr.startswith("pinmob: error: ") and proc.stderr.count("\n") == 1, proc.stderr
+    return proc.stderr
+
+
+BAD_INPUT = {
+    # unknown frame: the message names the key path, the bad frame and lists the valid ones
+    "frame": ('tip = "B_tip"', 'tip = "B_tpi"', r"limbs\[1\]\.tip: no frame 'B_tpi'.*valid frames: .*'B_tip'"),
+    # a configuration that does not close: per-limb residuals
+    "closure": (
+        "A_slider = 0.0",
+        "B_slider = 0.05",
+        r"configuration 'home' of 'copy' does not close: residuals .*B: 5",
+    ),
+    # NaN in the file
+    "nan": ("A_slider = 0.0", "A_slider = nan", r"configurations\.home\.joints\.A_slider must be a finite number"),
+    # wrong number of values: a pose position with two numbers, a joint with a list
+    "count": ("joints = { A_slider = 0.0 }", "pose = { xyz = [0.0, 0.2] }", r"pose\.xyz must be a list of 3 numbers"),
+    "list": ("A_slider = 0.0", "A_slider = [0.0, 0.1]", r"joints\.A_slider must be a finite number .* got array"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_INPUT))
+def test_cli_bad_input_in_a_subprocess(tmp_path: Path, case: str) -> None:
+    old, new, message = BAD_INPUT[case]
+    models = pinmob.mechanism_file.builtin_dir()
+    (tmp_path / "3puu.urdf").write_text((models / "3puu.urdf").read_text())
+    text = (
+        'name = "copy"\nurdf = "3puu.urdf"\n[[limbs]]\nname = "A"\ntip = "A_tip"\n[[limbs]]\nname = "B"\n'
+        'tip = "B_tip"\n[configurations.home]\njoints = { A_slider = 0.0 }\n'
+    )
+    assert old in text
+    (tmp_path / "m.toml").write_text(text.replace(old, new))
+    err = one_line_error(cli("analyze", str(tmp_path / "m.toml"), "--config", "home"))
+    assert re.search(message, err), err
+    assert (tmp_path / "m.toml").read_text() == text.replace(old, new)  # nothing the user gave is changed
+
+
+def test_cli_urdf_parser_text_goes_into_the_one_line(tmp_path: Path) -> None:
+    """urdfdom prints 'Error: ... at line N in .../joint.cpp' on fd 2; pinmob captures it into its message."""
+    (tmp_path / "r.urdf").write_text(
+        '<robot name="r"><link name="a"/><link name="b"/>'
+        '<joint name="j" type="revolute"><parent link="a"/><child link="b"/></joint></robot>'
+    )
+    (tmp_path / "m.toml").write_text('name = "r"\nurdf = "r.urdf"\n[[limbs]]\nname = "A"\ntip = "b"\n')
+    err = one_line_error(cli("analyze", str(tmp_path / "m.toml")))
+    assert "does not parse" in err and "does not specify limits" in err and "joint.cpp" not in err
+
+
+def test_cli_usage_errors_are_one_line() -> None:
+    for args in (["analyze"], ["analyze", "3-PUU", "--rtol", "x"], ["nope"], []):
+        err = one_line_error(cli(*args))
+        assert "usage:" not in err and "--help" in err
+    proc = cli("analyze", "--help")
+    assert proc.returncode == 0 and proc.stdout.startswith("usage: pinmob analyze") and "--paper-view" in proc.stdout
+
+
+def test_cli_closed_pipe_is_quiet() -> None:
+    """`pinmob analyze ... | head -1`: the reader is gone before pinmob writes; no BrokenPipeError traceback.
+
+    The pipe's read end is closed before the child starts, so its first write fails with EPIPE for sure.
+    """
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        proc = subprocess.run(
+            [sys.executable, "-m", "pinmob", "analyze", "3-PUU-flat", "--config", "flat"],
+            stdout=write,
+            stderr=subprocess.PIPE,
+            text=True,
+        )
+    finally:
+        os.close(write)
+    assert proc.stderr == ""
+    assert proc.returncode == 128 + 13  # as a process killed by SIGPIPE reports itself to a shell

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import subprocess
 import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -47,15 +48,110 @@ def test_toml_syntax_error(tmp_path: Path) -> None:
         pinmob.load(path)
 
 
-def test_unknown_key_is_named(tmp_path: Path) -> None:
-    path = write_mechanism(tmp_path, GOOD + "colour = 'red'\n")
-    with pytest.raises(pinmob.MechanismFileError, match="unknown key.*'colour'.*valid keys"):
+def test_unknown_top_level_key_is_named(tmp_path: Path) -> None:
+    """The key goes first: after a [table] header a TOML key belongs to that table, not the top level."""
+    path = write_mechanism(tmp_path, "colour = 'red'\n" + GOOD)
+    with pytest.raises(
+        pinmob.MechanismFileError, match=r"mech.toml: unknown key\(s\) 'colour' in the top level; valid"
+    ):
+        pinmob.load(path)
+
+
+def test_unknown_key_in_a_table_is_named(tmp_path: Path) -> None:
+    path = write_mechanism(tmp_path, GOOD + "colour = 'red'\n")  # lands in [configurations.home]
+    with pytest.raises(pinmob.MechanismFileError, match=r"'colour' in configurations.home; valid keys: 'approach'"):
+        pinmob.load(path)
+
+
+@pytest.mark.parametrize(
+    ("edit", "message"),
+    [
+        (lambda t: "description = 5\n" + t, "description must be a string, got integer 5"),
+        (lambda t: "length_scale = '0.3'\n" + t, 'length_scale must be a number, got string "0.3"'),
+        (lambda t: "generic_rank = 3.0\n" + t, "generic_rank must be an integer, got float 3.0"),
+        (lambda t: "limbs = [1]\n" + t.split("[[limbs]]")[0], r"limbs\[0\] must be a table, got integer 1"),
+        (lambda t: t.replace('tip = "A_tip"', "tip = 7"), r"limbs\[0\].tip must be a string, got integer 7"),
+        (
+            lambda t: t.replace('tip = "A_tip"', 'tip = "A_tip"\nactuated = "A_slider"'),
+            r"limbs\[0\].actuated must be an array of strings",
+        ),
+        (
+            lambda t: t + 'expected = { dof = true, motion_type = "3T" }\n',
+            "configurations.home.expected.dof must be an integer, got boolean true",
+        ),
+        (
+            lambda t: t + "expected = { dof = 3, motion_type = 3 }\n",
+            "configurations.home.expected.motion_type must be a string",
+        ),
+        (
+            lambda t: t.replace("joints = { A_slider = 0.0 }", "joints = [0.0]"),
+            "configurations.home.joints must be a table, got array",
+        ),
+        (
+            lambda t: t.replace("A_slider = 0.0", "A_slider = '0.1'"),
+            "configurations.home.joints.A_slider must be a finite number .* got string",
+        ),
+        (
+            lambda t: t.replace("A_slider = 0.0", "A_slider = true"),
+            "configurations.home.joints.A_slider must be a finite number .* got boolean",
+        ),
+        (
+            lambda t: t.replace("joints = { A_slider = 0.0 }", "pose = { xyz = ['a', 0, 0] }"),
+            r"configurations.home.pose.xyz must be an array of numbers",
+        ),
+        (
+            lambda t: t.replace("[configurations.home]", "[configurations]\nhome = 1\n[configurations.other]"),
+            "configurations.home must be a table, got integer 1",
+        ),
+    ],
+)
+def test_wrong_types_name_the_key_and_the_file(tmp_path: Path, edit: Callable[[str], str], message: str) -> None:
+    path = write_mechanism(tmp_path, edit(GOOD))
+    with pytest.raises(pinmob.MechanismFileError, match="mech.toml: " + message):
+        pinmob.load(path)
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
+def test_non_finite_numbers_in_the_file(tmp_path: Path, value: str) -> None:
+    """TOML has nan and inf literals; a joint value, a pose and length_scale must be finite."""
+    for text, key in [
+        (GOOD.replace("A_slider = 0.0", f"A_slider = {value}"), "configurations.home.joints.A_slider"),
+        (
+            GOOD.replace("joints = { A_slider = 0.0 }", f"pose = {{ xyz = [0.0, {value}, 0.0] }}"),
+            "configurations.home.pose.xyz",
+        ),
+        (f"length_scale = {value}\n" + GOOD, "length_scale"),
+    ]:
+        path = write_mechanism(tmp_path, text)
+        with pytest.raises(pinmob.MechanismFileError, match=f"mech.toml: {key} must be .*{value.lstrip('-')}"):
+            pinmob.load(path)
+
+
+def test_duplicate_limb_names(tmp_path: Path) -> None:
+    path = write_mechanism(tmp_path, GOOD.replace('name = "B"', 'name = "A"'))
+    with pytest.raises(pinmob.MechanismFileError, match=r"mech.toml: limbs\[1\].name: duplicate limb name 'A'"):
+        pinmob.load(path)
+
+
+def test_folder_and_binary_files(tmp_path: Path) -> None:
+    (tmp_path / "dir.toml").mkdir()
+    with pytest.raises(pinmob.MechanismFileError, match="dir.toml' is a folder"):
+        pinmob.load(tmp_path / "dir.toml")
+    path = write_mechanism(tmp_path, "")
+    path.write_bytes(b'name = "caf\xe9"\n')  # Latin-1, not UTF-8
+    with pytest.raises(pinmob.MechanismFileError, match="mech.toml: not a UTF-8 text file"):
         pinmob.load(path)
 
 
 def test_unknown_frame_lists_frames(tmp_path: Path) -> None:
     path = write_mechanism(tmp_path, GOOD.replace('tip = "B_tip"', 'tip = "B_tpi"'))
-    with pytest.raises(pinmob.FrameError, match="no frame 'B_tpi'.*valid frames:.*'B_tip'"):
+    with pytest.raises(pinmob.FrameError, match=r"mech.toml: limbs\[1\].tip: no frame 'B_tpi'.*valid frames:.*'B_tip'"):
+        pinmob.load(path)
+    path = write_mechanism(tmp_path, 'platform = "plate"\n' + GOOD)
+    with pytest.raises(pinmob.FrameError, match=r"mech.toml: platform: no frame 'plate'.*valid frames:.*'platform'"):
+        pinmob.load(path)
+    path = write_mechanism(tmp_path, GOOD.replace('tip = "A_tip"', 'tip = "A_tip"\nactuated = ["A_sldr"]'))
+    with pytest.raises(pinmob.FrameError, match=r"limbs\[0\].actuated names unknown joint 'A_sldr'.*'A_slider'"):
         pinmob.load(path)
 
 
@@ -75,7 +171,7 @@ def test_missing_urdf(tmp_path: Path) -> None:
 def test_urdf_that_does_not_parse(tmp_path: Path) -> None:
     path = write_mechanism(tmp_path, GOOD)
     (tmp_path / "3puu.urdf").write_text("<robot name='x'><link name='a'></robot")
-    with pytest.raises(pinmob.MechanismFileError, match="does not parse"):
+    with pytest.raises(pinmob.MechanismFileError, match="does not parse.*parser: .*XML_ERROR"):
         pinmob.load(path)
 
 
@@ -119,6 +215,8 @@ def test_cli_points_to_the_model_that_has_the_configuration(capsys: pytest.Captu
     assert main(["analyze", "3-PUU", "--config", "flat"]) == 2
     err = capsys.readouterr().err
     assert "no configuration 'flat' in '3-PUU'" in err and "with a configuration 'flat': '3-PUU-flat'" in err
+    # and why, in a few words: the sentence of 3-PUU's description that points to 3-PUU-flat
+    assert "Why not in '3-PUU': Links longer than R - r, so beta = 0 cannot be assembled here" in err
 
 
 def test_cli_subprocess_has_no_traceback(tmp_path: Path) -> None:
@@ -144,3 +242,73 @@ def test_missing_meshes_warn_but_load(tmp_path: Path) -> None:
     with pytest.warns(UserWarning, match="geometry not loaded"):
         mech = pinmob.load(path)
     assert len(mech.limbs) == 2
+
+
+def test_pose_out_of_reach_is_a_closure_error_with_residuals(tmp_path: Path) -> None:
+    """A platform pose no limb A can reach, so the solver must fail and say by how much.
+
+    The platform frame is limb A's tip (the file names no platform). Limb A's vertex is at most
+    0.25 m (the link) horizontally from its guide, the vertical line through (0.3, 0), and the tip at
+    most r = 0.15 m from the vertex whatever the rotation: within 0.40 m of the guide. The target
+    (1.0, 0, -0.2) is 0.70 m from it, so the platform ends >= 0.30 m from the target; the linear part
+    of log6 is at least that long (p = V(w) v with ||V|| <= 1).
+    """
+    text = GOOD.replace("joints = { A_slider = 0.0 }", "pose = { xyz = [1.0, 0.0, -0.2], rpy = [0.0, 0.0, 0.0] }")
+    mech = pinmob.load(write_mechanism(tmp_path, text))
+    with pytest.raises(pinmob.ClosureError, match="could not assemble 'copy' at platform pose") as err:
+        mech.configuration("home")
+    res = err.value.residuals
+    assert set(res) == {"A", "B", "pose"}
+    assert all(len(r) == 2 and np.isfinite(r).all() for r in res.values())
+    assert res["pose"][0] >= 0.30 - 1e-9
+
+
+@pytest.mark.parametrize("rtol", [0, -1e-6, 1.0, 2.0, float("nan"), float("inf"), True, "1e-6"])
+def test_rtol_is_checked_everywhere(puu: pinmob.Mechanism, rtol: object) -> None:
+    """rtol = 0 used to raise numpy's ValueError, nan gave 'rigid' and -1 gave '3H': now one clear error."""
+    q = puu.configuration("generic")
+    for call in (pinmob.analyze, pinmob.paper_view, pinmob.closure_jacobian_twists):
+        with pytest.raises(pinmob.ConfigurationError, match=r"rtol must be .*number in \(0, 1\)"):
+            call(puu, q, rtol=rtol)  # type: ignore[operator]
+
+
+def test_cli_rejects_bad_rtol(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["analyze", "3-PUU", "--rtol", "nan"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pinmob: error: --rtol must be a finite number in (0, 1)") and err.count("\n") == 1
+
+
+def test_paper_view_and_second_method_check_closure(puu_flat: pinmob.Mechanism) -> None:
+    """Both used to answer for any q; a configuration that does not close is a ClosureError, as in analyze."""
+    q = puu_flat.q_from_joints({"B_slider": 0.05})
+    for call in (pinmob.paper_view, pinmob.closure_jacobian_twists):
+        with pytest.raises(pinmob.ClosureError, match="does not close.*B: 5.00e-02 m") as err:
+            call(puu_flat, q)  # type: ignore[operator]
+        assert err.value.residuals["B"][0] == pytest.approx(0.05)
+
+
+def test_paper_view_takes_an_array_approach(puu_flat: pinmob.Mechanism) -> None:
+    """The declared approach of 'flat' as an (nv,) array gives the paper's 3T1R, like the declared one."""
+    model = puu_flat.model
+    dv = np.zeros(model.nv)
+    for name, rate in puu_flat.configurations["flat"].approach.items():
+        dv[model.joints[model.getJointId(name)].idx_v] = rate
+    q = puu_flat.configuration("flat")
+    assert pinmob.paper_view(puu_flat, q, approach=dv).motion_type == "3T1R"
+    with pytest.raises(pinmob.ConfigurationError, match="approach direction is zero"):
+        pinmob.paper_view(puu_flat, q, approach=np.zeros(model.nv))
+    with pytest.raises(pinmob.ConfigurationError, match=r"shape \(15,\), got \(3,\)"):
+        pinmob.paper_view(puu_flat, q, approach=np.ones(3))
+    with pytest.raises(pinmob.ConfigurationError, match="must be finite"):
+        pinmob.paper_view(puu_flat, q, approach=np.full(model.nv, np.nan))
+
+
+def test_closure_tol_applies_to_named_configurations(tmp_path: Path) -> None:
+    """A named configuration 1e-5 m from closed: rejected at the default tolerance (1e-6 x L, L ~ 0.24 m),
+    accepted when the caller loosens closure_tol, whether q is given by name or as a vector."""
+    mech = pinmob.load(write_mechanism(tmp_path, GOOD.replace("A_slider = 0.0", "B_slider = 1e-5")))
+    with pytest.raises(pinmob.ClosureError, match="B: 1.00e-05 m"):
+        pinmob.analyze(mech, "home")
+    for call in (pinmob.analyze, pinmob.paper_view):
+        assert call(mech, "home", closure_tol=1e-3).configuration == "home"  # type: ignore[operator]
+    assert pinmob.closure_jacobian_twists(mech, "home", closure_tol=1e-3).shape[0] == 6

@@ -1,6 +1,9 @@
-"""Limb twists against finite differences, and the two mobility methods against each other."""
+"""Limb twists against finite differences, the two mobility methods against each other, assembly modes
+selected by the seed, and continuous joints."""
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -13,7 +16,7 @@ from pinmob.mobility import limb_twists
 from pinmob.screw import subspace_gap, twist_scaling
 
 
-@pytest.mark.parametrize("name", ["3-PUU", "3-PUU-flat", "3-PUU-vertical"])
+@pytest.mark.parametrize("name", sorted(pinmob.builtin_models()))
 def test_limb_twists_match_finite_differences(name: str, rng: np.random.Generator) -> None:
     """Column j of a limb's twists = d(platform-origin velocity, world angular velocity)/dq_j.
 
@@ -62,3 +65,93 @@ def test_free_twists_are_reciprocal_to_constraints(puu) -> None:
     assert_allclose(mob.constraint_wrenches.T @ mob.free_twists, 0.0, atol=1e-9)
     for limb in mob.limbs:
         assert_allclose(limb.wrenches.T @ mob.free_twists, 0.0, atol=1e-9)
+
+
+LIMBS_TOML = 'name = "seeds"\nurdf = "3puu.urdf"\n' + "".join(
+    f'[[limbs]]\nname = "{x}"\ntip = "{x}_tip"\n' for x in "ABC"
+)
+SEEDS_TOML = (
+    LIMBS_TOML
+    + """
+[configurations.above]
+pose = { xyz = [0.03, -0.02, -0.17], rpy = [0.0, 0.0, 0.0] }
+[configurations.below]
+pose = { xyz = [0.03, -0.02, -0.17], rpy = [0.0, 0.0, 0.0] }
+[configurations.below.seed]  # sliders low, links tilted up (u1a = 2 beta, beta = atan2(0.2, 0.15))
+A_slider = -0.35
+B_slider = -0.35
+C_slider = -0.35
+A_u1a = 1.855
+B_u1a = 1.855
+C_u1a = 1.855
+A_u2b = -1.855
+B_u2b = -1.855
+C_u2b = -1.855
+"""
+)
+
+
+def copy_model(tmp_path: Path, toml: str, urdf_edit=lambda text: text) -> pinmob.Mechanism:
+    models = pinmob.mechanism_file.builtin_dir()
+    (tmp_path / "3puu.urdf").write_text(urdf_edit((models / "3puu.urdf").read_text()))
+    (tmp_path / "m.toml").write_text(toml)
+    return pinmob.load(tmp_path / "m.toml")
+
+
+def test_seed_selects_the_assembly_mode(tmp_path: Path) -> None:
+    """One platform pose, two seeds, two closed configurations (the 3-PUU copy's geometry, by hand).
+
+    Platform centre c = (0.03, -0.02), z_p = -0.17, not rotated: vertex i at c + r e_i, z_p. Its guide is
+    the vertical through R e_i; the link (l = 0.25) spans the horizontal distance h_i = |c + (r - R) e_i|,
+    so the slider sits at z_p + s sqrt(l^2 - h_i^2) with s = +1 (above the vertex, the neutral-side mode)
+    or s = -1 (below: the seed puts the sliders low and the links pointing up).
+    Each configuration is checked closed here with Pinocchio directly, not with pinmob's closure check.
+    """
+    mech = copy_model(tmp_path, SEEDS_TOML)
+    model, data = mech.model, mech.model.createData()
+    c, z_p, big_r, small_r, link = np.array([0.03, -0.02, 0.0]), -0.17, 0.3, 0.15, 0.25
+    found = {}
+    for name, sign in (("above", 1.0), ("below", -1.0)):
+        q = mech.configuration(name)
+        pin.framesForwardKinematics(model, data, q)
+        platform = data.oMf[mech.platform_id]
+        assert_allclose(platform.translation, c + [0, 0, z_p], atol=1e-9)
+        assert_allclose(platform.rotation, np.eye(3), atol=1e-9)
+        for limb in mech.limbs:
+            tip = data.oMf[limb.tip_id]
+            assert_allclose(tip.translation, platform.translation, atol=1e-9)
+            assert_allclose(tip.rotation, platform.rotation, atol=1e-9)
+        for limb, theta in zip("ABC", (0.0, 2 * np.pi / 3, 4 * np.pi / 3)):
+            e = np.array([np.cos(theta), np.sin(theta), 0.0])
+            h = np.linalg.norm(c + (small_r - big_r) * e)
+            slider = q[model.joints[model.getJointId(f"{limb}_slider")].idx_q]
+            assert slider == pytest.approx(z_p + sign * np.sqrt(link**2 - h**2), abs=1e-9)
+        found[name] = q
+        assert pinmob.analyze(mech, q).motion_type == "3T"
+    assert np.linalg.norm(found["above"] - found["below"]) > 0.5
+
+
+def test_continuous_joint_takes_an_angle(tmp_path: Path) -> None:
+    """A_u1a made continuous: its q is (cos x, sin x), a value by name is an angle x, and the analysis is
+    that of the revolute original (same closed pose, same 3T)."""
+    original = pinmob.load("3-PUU")
+    q0 = original.configuration("offset")
+    model0 = original.model
+    values = {name: float(q0[model0.joints[model0.getJointId(name)].idx_q]) for name in list(model0.names)[1:]}
+    angle = values["A_u1a"]
+    assert abs(angle) > 0.05  # a real angle, not zero
+    joints = ", ".join(f"{k} = {v!r}" for k, v in values.items())
+    toml = LIMBS_TOML + f"[configurations.offset]\njoints = {{ {joints} }}\n"
+    mech = copy_model(
+        tmp_path,
+        toml,
+        lambda text: text.replace('<joint name="A_u1a" type="revolute">', '<joint name="A_u1a" type="continuous">'),
+    )
+    joint = mech.model.joints[mech.model.getJointId("A_u1a")]
+    assert (joint.nq, joint.nv, mech.model.nq) == (2, 1, model0.nq + 1)
+    q = mech.configuration("offset")  # checked closed: a wrong (cos, sin) would not close
+    assert_allclose(q[joint.idx_q : joint.idx_q + 2], [np.cos(angle), np.sin(angle)], atol=1e-15)
+    mob, mob0 = pinmob.analyze(mech, q), pinmob.analyze(original, q0)
+    assert (mob.dof, mob.motion_type) == (mob0.dof, mob0.motion_type) == (3, "3T")
+    assert_allclose(mob.free_twists, mob0.free_twists, atol=1e-9)
+    assert [limb.twist_rank for limb in mob.limbs] == [limb.twist_rank for limb in mob0.limbs]

@@ -133,7 +133,10 @@ def test_wrench_classification_is_dual() -> None:
     x = np.array([1.0, 0, 0])
     w = np.column_stack([np.r_[x, np.cross(p, x)], [0, 0, 0, 0, 0, 1]])
     sys = S.classify_wrenches(w, 1.0)
-    assert [s.kind for s in sys.all] == ["couple", "force"]
+    assert [s.kind for s in sys.all] == [S.WrenchKind.COUPLE, S.WrenchKind.FORCE]
+    assert all(isinstance(s.kind, S.WrenchKind) for s in sys.all)
+    twists = S.classify_twists(np.column_stack([[1.0, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0, 1]]), 1.0)
+    assert [s.kind for s in twists.all] == [S.MotionKind.TRANSLATION, S.MotionKind.ROTATION]
     assert_allclose(sys.lines[0].point, p, atol=1e-12)
     # the couple and force annihilate a twist that is a rotation about x through p
     assert abs(S.reciprocal_product(sys.lines[0].vector, np.r_[np.cross(p, x), x])) < 1e-12
@@ -169,3 +172,42 @@ def test_dependent_early_columns_do_not_lose_the_span() -> None:
     system = S.classify_twists(np.column_stack([translations, rotation]), 1.0)
     assert S.motion_type(system) == "3T1R"
     assert_allclose(system.lines[0].direction, u, atol=1e-12)
+
+
+def test_fast_small_matrix_helpers_match_numpy() -> None:
+    """screw.svd (LAPACK dgesdd called directly) and cross_columns give numpy's results (they replace
+    np.linalg.svd and np.cross on the hot path); shift_twists on one twist and on columns agree."""
+    rng = np.random.default_rng(7)
+    for shape in [(3, 6), (6, 6), (6, 3), (1, 3), (3, 1)]:
+        a = rng.standard_normal(shape)
+        for full in (True, False):
+            u, s, vt = S.svd(a, full_matrices=full)
+            u0, s0, vt0 = np.linalg.svd(a, full_matrices=full)
+            assert_allclose(s, s0, rtol=1e-14, atol=1e-15)
+            assert_allclose(np.abs(u), np.abs(u0), atol=1e-12)  # singular vectors up to sign
+            assert_allclose(np.abs(vt), np.abs(vt0), atol=1e-12)
+            assert_allclose((u[:, : s.size] * s) @ vt[: s.size], a, atol=1e-13)
+    a, b = rng.standard_normal((3, 5)), rng.standard_normal((3, 5))
+    assert np.array_equal(S.cross_columns(a, b), np.cross(a, b, axis=0))
+    t, r = rng.standard_normal((6, 4)), rng.standard_normal(3)
+    shifted = S.shift_twists(t, r)
+    for k in range(4):
+        assert_allclose(shifted[:, k], S.shift_twists(t[:, k], r), atol=1e-15)
+        assert_allclose(shifted[:3, k], t[:3, k] + np.cross(t[3:, k], r), atol=1e-15)
+    w = rng.standard_normal((6, 4))
+    assert_allclose(S.shift_wrenches(w, r)[3:], w[3:] - np.cross(r, w[:3].T).T, atol=1e-15)
+
+
+def test_canonical_directions_of_a_null_subspace() -> None:
+    """Spanning vectors that are all zero span nothing: an empty (3, 0) basis (it used to raise)."""
+    assert S.canonical_directions(np.zeros((3, 2))).shape == (3, 0)
+    assert_allclose(S.canonical_directions(np.array([[0.0, 0.0], [2.0, 0.0], [0.0, 0.0]])), [[0.0], [1.0], [0.0]])
+
+
+@pytest.mark.parametrize("c", [[3.0, 4.0], [-1.0, 2.0, 2.0], [0.0, 0.0, 5.0], [1e-3, -2.0, 0.5, 7.0]])
+def test_orthogonal_complement_of_one_vector(c: list[float]) -> None:
+    """The Householder complement used by the axis-point search: k - 1 orthonormal columns, all normal to c."""
+    n = S._orthogonal_complement(np.array(c))
+    assert n.shape == (len(c), len(c) - 1)
+    assert_allclose(n.T @ n, np.eye(len(c) - 1), atol=1e-15)
+    assert_allclose(np.array(c) @ n, 0.0, atol=1e-14)

@@ -12,12 +12,17 @@ couple at its own slider angle.
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
 import numpy as np
+import pinocchio as pin
 import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.screw import subspace_gap, wrench_scaling
+from pinmob.screw import subspace_gap, twist_from_paper, wrench_scaling
 
 THETAS = {"A": 0.0, "B": 2 * np.pi / 3, "C": 4 * np.pi / 3}
 Z = np.array([0.0, 0.0, 1.0])
@@ -53,16 +58,42 @@ def test_generic_matches_paper_eq20_and_eq38(puu: pinmob.Mechanism) -> None:
     assert_allclose(np.linalg.det(k), np.sqrt(3) / 2 * 3 * np.sin(beta) * np.cos(beta) ** 2, rtol=1e-12)
 
 
+def limb_angles(mech: pinmob.Mechanism, q: np.ndarray, limb: str) -> tuple[float, float]:
+    """beta_i, theta_i of eq. 20 from the link's direction (Pinocchio frame positions of the two U centres).
+
+    The couple is normal to the U-joint plane, spanned by the outer axis t_i (fixed to slider and platform,
+    so t_i = z x e_i at every configuration: the sliders translate and the platform does not rotate) and the
+    intermediate axis n_i (normal to t_i and to the link). It is therefore along t_i x n_i, the link's
+    component normal to t_i: d - (d . t_i) t_i with d = (U2 centre) - (U1 centre). Pointing it upward,
+    beta_i = atan2(|d_z|, |d . e_i|) (elevation above the xoy plane) and theta_i = the slider's angle.
+    """
+    model = mech.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    d = data.oMf[model.getFrameId(f"{limb}_u2a")].translation - data.oMf[model.getFrameId(f"{limb}_u1a")].translation
+    theta = THETAS[limb]
+    return float(np.arctan2(abs(d[2]), abs(d @ radial(theta)))), theta
+
+
 def test_offset_configuration_keeps_eq20_couples(puu: pinmob.Mechanism) -> None:
-    """At an asymmetric pose each limb's couple is still along t_i x n_i, in its radial plane."""
-    mob = pinmob.analyze(puu, "offset")
+    """At an asymmetric pose each limb's only wrench is eq. 20's couple at its own beta_i, theta_i.
+
+    The platform is off-centre, so the three links have different elevations (checked), and each couple
+    must follow its own link (the angles come from the geometry, see :func:`limb_angles`).
+    """
+    q = puu.configuration("offset")
+    mob = pinmob.analyze(puu, q)
     assert (mob.dof, mob.motion_type) == (3, "3T")
+    betas = []
     for limb in mob.limbs:
-        couple = limb.wrenches[3:, 0]
-        assert_allclose(limb.wrenches[:3, 0], 0.0, atol=1e-12)
-        # in the radial plane of the slider: perpendicular to t_i
-        t = np.cross(Z, radial(THETAS[limb.name]))
-        assert abs(couple @ t) < 1e-9 * np.linalg.norm(couple)
+        beta, theta = limb_angles(puu, q, limb.name)
+        betas.append(beta)
+        assert limb.wrench_count == 1
+        assert same_span(limb.wrenches, paper_couple(beta, theta), puu.length_scale)
+    assert np.ptp(betas) > 0.05  # the limbs really differ: one beta for all would fail the check above
+    # eq. 25's determinant at these betas is non-zero: constraint rank 3
+    k = np.array([paper_couple(b, THETAS[n])[3:] for b, n in zip(betas, "ABC")])
+    assert abs(np.linalg.det(k)) > 0.1
 
 
 def test_flat_hand_derivation(puu_flat: pinmob.Mechanism) -> None:
@@ -105,9 +136,9 @@ def test_flat_paper_view_reproduces_eq30_to_eq37(puu_flat: pinmob.Mechanism) -> 
     assert (mob.dof, mob.motion_type, mob.constraint_rank) == (4, "3T1R", 2)
     eq34 = np.array([[0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0]], float).T
     assert same_span(mob.constraint_wrenches, eq34, puu_flat.length_scale)
-    # eq. 37 in the paper's axis-first order; converted to [v; w]
+    # eq. 37 in the paper's axis-first order (w; v); converted to [v; w]
     eq37_paper = np.array([[0, 0, 0, 1, 0, 0], [0, 0, 0, 0, 1, 0], [0, 0, 0, 0, 0, 1], [0, 0, 1, 0, 0, 0]], float)
-    eq37 = np.hstack([eq37_paper[:, 3:], eq37_paper[:, :3]]).T
+    eq37 = twist_from_paper(eq37_paper).T
     assert subspace_gap(eq37, mob.free_twists) < 1e-7
 
 
@@ -154,17 +185,55 @@ def test_vertical_hand_derivation(puu_vertical: pinmob.Mechanism) -> None:
 
 
 def test_horizontal_links_do_not_close_with_longer_links(puu: pinmob.Mechanism) -> None:
-    """3-PUU's links (0.25 m) are longer than R - r (0.15 m): tilting every link to horizontal
-    (beta = 0) leaves each vertex 0.25 - 0.15 = 0.10 m from where the platform needs it.
-    The configuration is rejected with a per-limb residual, never analysed."""
-    beta = np.arctan2(0.2, 0.15)
-    rejected = 0
-    for sign in (1.0, -1.0):
-        values = {f"{x}_u1a": sign * beta for x in "ABC"} | {f"{x}_u2b": -sign * beta for x in "ABC"}
-        q = puu.q_from_joints(values)
-        with pytest.raises(pinmob.ClosureError) as err:
-            pinmob.analyze(puu, q)
-        res = err.value.residuals
-        assert set(res) == {"A", "B", "C"}
-        rejected += 1
-    assert rejected == 2
+    """3-PUU's links (l = 0.25 m) are longer than R - r (0.15 m): beta = 0 cannot be assembled.
+
+    Tilt every link to horizontal (u1a = +beta0 about t_i, beta0 = atan2(0.2, 0.15) its elevation at the
+    reference, u2b = -beta0 to keep the platform's orientation). Vertex i moves from (r e_i, -0.2) to
+    ((R - l) e_i, 0), so tip i moves by d_i = (R - l - r) e_i + 0.2 z = -0.10 e_i + 0.2 z. The platform
+    frame is limb A's tip, so the residual of limb i is |d_i - d_A| = 0.10 |e_i - e_A| = 0.10 sqrt(3) m
+    for B and C (0 for A), with no rotation: the configuration is rejected with these, never analysed.
+    """
+    beta0 = np.arctan2(0.2, 0.15)
+    q = puu.q_from_joints({f"{x}_u1a": beta0 for x in "ABC"} | {f"{x}_u2b": -beta0 for x in "ABC"})
+    data = puu.model.createData()
+    pin.framesForwardKinematics(puu.model, data, q)
+    for x in "ABC":  # the links are horizontal indeed
+        d = (
+            data.oMf[puu.model.getFrameId(f"{x}_u2a")].translation
+            - data.oMf[puu.model.getFrameId(f"{x}_u1a")].translation
+        )
+        assert abs(d[2]) < 1e-12 and np.linalg.norm(d) == pytest.approx(0.25)
+    with pytest.raises(pinmob.ClosureError, match="does not close") as err:
+        pinmob.analyze(puu, q)
+    res = err.value.residuals
+    assert set(res) == {"A", "B", "C"}
+    assert_allclose([res[x][0] for x in "ABC"], [0.0, 0.1 * np.sqrt(3), 0.1 * np.sqrt(3)], atol=1e-12)
+    assert_allclose([res[x][1] for x in "ABC"], 0.0, atol=1e-12)
+
+
+def test_seed_paper_example_prints_the_papers_numbers() -> None:
+    """examples/3puu_seed_paper.py: the numbers it prints are the paper's, derived here from its equations.
+
+    Generic (R - r = 0.15, drop 0.2, link 0.25): cos beta = 0.6, sin beta = 0.8, so eq. 20 for limb B
+    (theta = 120 deg) is (0 0 0 -0.3 0.3 sqrt3 0.8), and pinmob's couple prints the same on the same line.
+    Flat: eq. 31's U has rows (sqrt6/3, 0, sqrt3/3), (-sqrt6/6, sqrt2/2, sqrt3/3), (-sqrt6/6, -sqrt2/2, sqrt3/3);
+    Sigma = diag(sqrt6/2, sqrt6/2, 0) (the Gram matrix of three unit couples 120 deg apart has eigenvalues
+    3/2, 3/2, 0); S_F (eq. 37) ends with the rotation about z, (0 0 1 0 0 0) axis-first.
+    """
+    script = Path(__file__).resolve().parent.parent / "examples" / "3puu_seed_paper.py"
+    out = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stderr
+
+    def fmt(*xs: float) -> str:
+        return "(" + " ".join(f"{x + 0.0:7.4f}" for x in xs) + ")"
+
+    lines = out.stdout.splitlines()
+    b_line = next(line for line in lines if line.strip().startswith("B: beta"))
+    couple_b = fmt(0, 0, 0, -0.5 * 0.6, np.sqrt(3) / 2 * 0.6, 0.8)
+    assert b_line.count(couple_b) == 2 and "beta  53.13 deg" in b_line
+    for u_row in ((np.sqrt(6) / 3, 0, np.sqrt(3) / 3), (-np.sqrt(6) / 6, np.sqrt(2) / 2, np.sqrt(3) / 3)):
+        assert fmt(*u_row) in out.stdout
+    assert fmt(np.sqrt(6) / 2, 0, 0, 0, 0, 0) in out.stdout and fmt(0, np.sqrt(6) / 2, 0, 0, 0, 0) in out.stdout
+    s_f = lines.index("  paper's view: 4 DoF, 3T1R") - 1
+    assert lines[s_f].strip() == fmt(0, 0, 1, 0, 0, 0)
+    assert "constraint rank 4: 2 DoF, 1T1R (T1 z, R1 z)" in out.stdout and "limbs A, B, C" in out.stdout

@@ -52,7 +52,8 @@ class Assembly:
 
     Attributes:
         q: (nq,) the configuration.
-        residuals: per limb / closure, (position [m], rotation [rad]).
+        residuals: per limb / closure (and, from actuated values, ``joint <name>``: the held
+            joint's miss), (position [m], rotation [rad]).
         residual: largest dimensionless residual (position / L, rotation).
         iterations: solver iterations.
         method: how it was found, e.g. ``neutral``, ``given``, ``random restart 3``.
@@ -225,7 +226,8 @@ def solve_actuated(
         FrameError, ConfigurationError: an unknown or multi-degree joint, or a
             value that is not a finite number.
         ClosureError: no closed configuration with these values was reached
-            from the seed; its residuals hold every closure residual.
+            from the seed; its residuals hold every closure residual and, as
+            ``joint <name>``, each given joint's miss (zero: they are held).
     """
     model = mech.model
     idx = joint_velocity_indices(mech, list(values))
@@ -244,7 +246,10 @@ def solve_actuated(
     q = result.q.copy()
     q[held] = target[held]  # exactly the given values (the solver may have wrapped an angle by 2 pi)
     result = SolverResult(q, result.residual, result.iterations, result.converged, result.polish)
-    return _finish(mech, result, "actuated values", tol, "forward kinematics (actuated joint values)")
+    miss = np.abs(pin.difference(model, q, target)[idx])
+    lin = linear_velocity_mask(model)[idx]
+    misses = {f"joint {n}": (float(d), 0.0) if t else (0.0, float(d)) for n, d, t in zip(values, miss, lin)}
+    return _finish(mech, result, "actuated values", tol, "forward kinematics (actuated joint values)", misses)
 
 
 def assemble_pose(

@@ -13,7 +13,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from millimetres import in_millimetres
 from numpy.testing import assert_allclose
+from test_closed_chains import rocker_angles as rocker_angles_unwrapped
 
 import pinmob
 from pinmob.closure import (
@@ -34,6 +36,11 @@ from pinmob.scan import platform_pose
 from pinmob.singularity import analyze_singularity
 
 DATA = Path(__file__).resolve().parent / "data"
+
+
+def rocker_angles(crank: float) -> list[float]:
+    """The two rocker angles closing the four-bar at a crank angle (circle intersection), in (-pi, pi]."""
+    return [float(np.angle(np.exp(1j * a))) for a in rocker_angles_unwrapped(crank)]
 
 
 def load(path: Path | str) -> pinmob.Mechanism:
@@ -117,14 +124,8 @@ def test_projection_does_not_depend_on_units():
     and the sliders times 1000. (In raw joint units a 1 mm slider step would cost as much as 1 rad.)
     """
     mech = pinmob.load("3-PUU")
-    model = pin.Model(mech.model)
-    for j in range(1, model.njoints):
-        model.jointPlacements[j] = pin.SE3(
-            model.jointPlacements[j].rotation, 1000 * model.jointPlacements[j].translation
-        )
-    for f in model.frames:
-        f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
-    mm = pinmob.Mechanism.from_model(model, {b.name: b.tip for b in mech.limbs}, platform=mech.platform)
+    mm = in_millimetres(mech)
+    model = mm.model
     lin = np.array([model.joints[j].shortname().startswith("JointModelP") for j in range(1, model.njoints)])
     seed = mech.configuration("generic") + np.random.default_rng(0).uniform(-0.05, 0.05, model.nq)
     with warnings.catch_warnings():
@@ -192,26 +193,6 @@ def test_joint_outside_its_limits_warns():
 
 
 # --------------------------------------------------------------------------- forward kinematics
-
-
-def rocker_angles(crank: float) -> list[float]:
-    """Rocker rotations closing the four-bar O1 = 0, A = (0, .1), B = (.3, .2), O4 = (.3, 0) at a crank angle.
-
-    Crank end A(t) = R(t) (0, 0.1); B lies on the circles |B - A| = |(.3, .1)| and |B - O4| = 0.2; the
-    rocker angle is the rotation of (0, 0.2) onto B - O4 (wrapped into (-pi, pi]).
-    """
-    a = np.array([-0.1 * np.sin(crank), 0.1 * np.cos(crank)])
-    o4, r1, r2 = np.array([0.3, 0.0]), np.hypot(0.3, 0.1), 0.2
-    d = np.linalg.norm(o4 - a)
-    x = (d**2 + r1**2 - r2**2) / (2 * d)
-    h = np.sqrt(r1**2 - x**2)
-    u = (o4 - a) / d
-    out = []
-    for s in (1, -1):
-        b = a + x * u + s * h * np.array([-u[1], u[0]])
-        v = b - o4
-        out.append(float(np.angle(np.exp(1j * (np.arctan2(v[1], v[0]) - np.pi / 2)))))
-    return out
 
 
 def delta_platform_positions(motors: list[float]) -> list[np.ndarray]:

@@ -57,7 +57,7 @@ class Assembly:
         residual: largest dimensionless residual (position / L, rotation).
         iterations: solver iterations.
         method: how it was found, e.g. ``neutral``, ``given``, ``random restart 3``.
-        outside_limits: joints that ended outside their position limits.
+        outside_limits: joints that ended outside their position limits (``name [lower, upper]``).
     """
 
     q: Array
@@ -94,10 +94,14 @@ def joint_velocity_indices(mech: Mechanism, names: tuple[str, ...] | list[str]) 
 
 
 def warn_outside_limits(mech: Mechanism, q: Array, what: str) -> tuple[str, ...]:
-    """Warn (and return them) when joints of ``q`` are outside their position limits."""
+    """Warn (and return them, :func:`outside_limits`) when joints of ``q`` are outside their position limits.
+
+    The message names the joints and their limits, not the values, so that a
+    scan or an animation leaving the limits warns once, not at every sample.
+    """
     out = outside_limits(mech.model, q)
     if out:
-        warnings.warn(f"{what} of {mech.name!r}: joints outside their limits: {'; '.join(out)}", stacklevel=3)
+        warnings.warn(f"{what} of {mech.name!r}: joints outside their position limits: {', '.join(out)}", stacklevel=3)
     return out
 
 

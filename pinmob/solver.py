@@ -159,7 +159,7 @@ def wrap_angles(model: pin.Model, q: Array) -> Array:
 
 
 def outside_limits(model: pin.Model, q: Array, tol: float = 1e-9) -> tuple[str, ...]:
-    """``"name = value (limits [lower, upper])"`` for each one-coordinate joint outside its position limits.
+    """``"name [lower, upper]"`` for each one-coordinate joint of q outside its position limits [rad or m].
 
     Limits with ``lower >= upper`` count as none (see :func:`wrap_angles`).
 
@@ -174,7 +174,7 @@ def outside_limits(model: pin.Model, q: Array, tol: float = 1e-9) -> tuple[str, 
             continue
         for i in range(joint.idx_q, joint.idx_q + joint.nq):
             if lower[i] < upper[i] and (q[i] < lower[i] - tol or q[i] > upper[i] + tol):
-                out.append(f"{model.names[j]} = {q[i]:.6g} (limits [{lower[i]:.6g}, {upper[i]:.6g}])")
+                out.append(f"{model.names[j]} [{lower[i]:.6g}, {upper[i]:.6g}]")
     return tuple(out)
 
 

@@ -56,7 +56,7 @@ from .screw import Array, Mask
 IndexArray = NDArray[np.intp]
 
 #: Largest step per joint [rad, or L when a length is given].
-MAX_STEP = 0.5
+MAX_STEP = 1.0
 #: Singular values below RCOND times the largest are treated as zero.
 RCOND = 1e-13
 #: Unconverged stop: the cost gained less than this fraction over STALL_WINDOW iterations.

@@ -77,7 +77,7 @@ def test_three_formats_give_one_mechanism(name):
             assert_allclose(
                 q[mech.model.joints[mech.model.getJointId(name_j)].idx_q], q0[m0.model.joints[j].idx_q], atol=1e-9
             )
-        assert subspace_gap(w * t0, w * t) < 1e-9
+        assert subspace_gap(w * t0, w * t) < 1e-7  # its floor is sqrt(eps) ~ 1.5e-8
 
 
 def test_fourbar_coupler_turns_about_its_instantaneous_centre():

@@ -457,7 +457,7 @@ def _analyze_closed_chain(
     args: argparse.Namespace, mech: Mechanism, rtol: float, q: Array | None = None, config: str | None = None
 ) -> int:
     """``pinmob analyze`` for a mechanism without limbs (Extended URDF, MJCF, TOML closures only)."""
-    from .closure import ClosureError, find_closed, find_closed_relaxed, unclosable
+    from .closure import ClosureError, find_closed, find_closed_relaxed, unclosable, worst_residual
     from .constraints import analyze_mechanism
 
     relaxed: tuple[str, ...] = ()
@@ -474,7 +474,7 @@ def _analyze_closed_chain(
                 raise ClosureError(
                     f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {args.restarts} random restarts. "
                     f"{hint}Rerun with --relax to turn the over-constraining closures into 3d (ball) closures. Largest residual "
-                    f"of the best attempt: {max(max(r) for r in exc.residuals.values()):.2e} (m or rad)",
+                    f"of the best attempt: {worst_residual(exc.residuals, mech.length_scale):.2e} (m / L or rad)",
                     exc.residuals,
                 ) from None
         q, method = found.q, found.method

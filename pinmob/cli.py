@@ -55,7 +55,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--frame",
         action="append",
         default=None,
-        help="end frame whose motion is reported (repeatable; default: the platform, else the tree's free leaf bodies)",
+        help="frame whose motion is also reported (repeatable); the outputs that define idle motions and "
+        "actuation validity stay the platform, else the tree's free leaf bodies",
     )
     p.add_argument(
         "--relax",
@@ -464,7 +465,7 @@ def _analyze_closed_chain(
         q, method = found.q, found.method
         residual = found.residual
     else:
-        residual = 0.0
+        residual = _largest_residual(mech, q)
     mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)
     sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
@@ -489,13 +490,24 @@ def _analyze_closed_chain(
     return 0
 
 
+def _largest_residual(mech: Mechanism, q: Array) -> float:
+    """Largest closure residual at q, dimensionless (position / L, rotation [rad])."""
+    from .closure import check_closed
+
+    res = check_closed(mech, q)
+    return max([max(p / mech.length_scale, r) for p, r in res.values()], default=0.0)
+
+
 def _actuator_sets(args: argparse.Namespace, mech: Mechanism, q: Array, rtol: float) -> list[tuple[str, ...]] | None:
-    """``--search-actuators K``: every valid set of K actuated joints, or None when not asked."""
+    """``--search-actuators K``: every valid set of K actuated joints, or None when not asked.
+
+    The outputs are the default ones (the platform, else the free leaf bodies): ``--frame`` only reports.
+    """
     from .constraints import actuator_sets
 
     if args.search_actuators is None:
         return None
-    return actuator_sets(mech, q, args.search_actuators, frames=args.frame, rtol=rtol)
+    return actuator_sets(mech, q, args.search_actuators, rtol=rtol)
 
 
 def _print_actuator_sets(args: argparse.Namespace, sets: list[tuple[str, ...]] | None) -> None:

@@ -189,7 +189,8 @@ def _analyze(args: argparse.Namespace) -> int:
     paper = paper_view(mech, config, rtol=rtol) if args.paper_view else None
     from .singularity import analyze_singularity, format_singularity
 
-    sing = analyze_singularity(mech, q, configuration=config, rtol=rtol)
+    # the singularity classes are limb-wise: not defined when a closure couples limbs
+    sing = analyze_singularity(mech, q, configuration=config, rtol=rtol) if not mob.method_note else None
     sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
         out = mob.to_dict()
@@ -204,13 +205,13 @@ def _analyze(args: argparse.Namespace) -> int:
             }
         if paper is not None:
             out["paper_view"] = paper.to_dict()
-        out["singularity"] = sing.to_dict()
+        out["singularity"] = sing.to_dict() if sing is not None else None
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
         print(json.dumps(out, indent=2, allow_nan=False))
         return 0
     print(mob)
-    print(format_singularity(sing))
+    print(format_singularity(sing) if sing is not None else "singularity: not analysed (limb-wise classes)")
     if config in mech.expected:
         print(format_expectation(mob, mech.expected[config]))
     print()

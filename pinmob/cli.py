@@ -431,6 +431,7 @@ MECHANISM_KEYS = (
     "idle_joints",
     "redundant_constraints",
     "redundant_by_closure",
+    "redundant_by_closure_rule",
     "grubler",
     "actuation",
     "closures",

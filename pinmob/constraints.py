@@ -317,6 +317,10 @@ class _Locked:
     locked: Array  # (m, l) motions that move no locked joint
     idle: Array  # (m, i) motions that move no locked joint and no output (a subspace of `locked`)
 
+    def valid(self, count: int) -> bool:
+        """``count`` locked joints are independent and leave only idle motions (a valid actuation)."""
+        return self.rank_a == count and self.locked.shape[1] == self.idle.shape[1]
+
 
 def _lock(rates: Array, outputs: Array, rtol: float, m: int) -> _Locked:
     """Split closed-chain motions by locked-joint rates ``rates`` (k, m) and output rows ``outputs`` (o, m).
@@ -367,7 +371,7 @@ def _actuation(
     locked_dof, idle_dof = locked.shape[1], idle.shape[1]
     return Actuation(
         tuple(actuated),
-        locked_dof == idle_dof and split.rank_a == len(actuated),
+        split.valid(len(actuated)),
         locked_dof,
         idle_dof,
         len(actuated) - split.rank_a,
@@ -540,6 +544,6 @@ def actuator_sets(
     valid = []
     for combo in itertools.combinations(range(len(names)), size):
         split = _lock(rates[list(combo)], out, rtol, n.shape[1])
-        if split.rank_a == size and split.locked.shape[1] == split.idle.shape[1]:
+        if split.valid(size):
             valid.append(tuple(names[i] for i in combo))
     return valid

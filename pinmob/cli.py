@@ -62,7 +62,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--frame",
         action="append",
         default=None,
-        help="end frame whose motion is reported (repeatable; default: the platform, else the tree's free leaf bodies)",
+        help="frame whose motion is also reported (repeatable); the outputs that define idle motions and "
+        "actuation validity stay the platform, else the tree's free leaf bodies",
     )
     p.add_argument(
         "--relax",
@@ -192,7 +193,8 @@ def _analyze(args: argparse.Namespace) -> int:
     paper = paper_view(mech, config, rtol=rtol) if args.paper_view else None
     from .singularity import analyze_singularity, format_singularity
 
-    sing = analyze_singularity(mech, q, configuration=config, rtol=rtol)
+    # the singularity classes are limb-wise: not defined when a closure couples limbs
+    sing = analyze_singularity(mech, q, configuration=config, rtol=rtol) if not mob.method_note else None
     sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
         out = mob.to_dict()
@@ -207,13 +209,13 @@ def _analyze(args: argparse.Namespace) -> int:
             }
         if paper is not None:
             out["paper_view"] = paper.to_dict()
-        out["singularity"] = sing.to_dict()
+        out["singularity"] = sing.to_dict() if sing is not None else None
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
         print(json.dumps(out, indent=2, allow_nan=False))
         return 0
     print(mob)
-    print(format_singularity(sing))
+    print(format_singularity(sing) if sing is not None else "singularity: not analysed (limb-wise classes)")
     if config in mech.expected:
         print(format_expectation(mob, mech.expected[config]))
     print()
@@ -445,6 +447,7 @@ MECHANISM_KEYS = (
     "idle_joints",
     "redundant_constraints",
     "redundant_by_closure",
+    "redundant_by_closure_rule",
     "grubler",
     "actuation",
     "closures",
@@ -480,7 +483,7 @@ def _analyze_closed_chain(
         q, method = found.q, found.method
         residual = found.residual
     else:
-        residual = 0.0
+        residual = _largest_residual(mech, q)
     mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)
     sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
@@ -505,13 +508,24 @@ def _analyze_closed_chain(
     return 0
 
 
+def _largest_residual(mech: Mechanism, q: Array) -> float:
+    """Largest closure residual at q, dimensionless (position / L, rotation [rad])."""
+    from .closure import check_closed
+
+    res = check_closed(mech, q)
+    return max([max(p / mech.length_scale, r) for p, r in res.values()], default=0.0)
+
+
 def _actuator_sets(args: argparse.Namespace, mech: Mechanism, q: Array, rtol: float) -> list[tuple[str, ...]] | None:
-    """``--search-actuators K``: every valid set of K actuated joints, or None when not asked."""
+    """``--search-actuators K``: every valid set of K actuated joints, or None when not asked.
+
+    The outputs are the default ones (the platform, else the free leaf bodies): ``--frame`` only reports.
+    """
     from .constraints import actuator_sets
 
     if args.search_actuators is None:
         return None
-    return actuator_sets(mech, q, args.search_actuators, frames=args.frame, rtol=rtol)
+    return actuator_sets(mech, q, args.search_actuators, rtol=rtol)
 
 
 def _print_actuator_sets(args: argparse.Namespace, sets: list[tuple[str, ...]] | None) -> None:

@@ -8,15 +8,21 @@ decision (:func:`pinmob.screw.decide_rank`, tolerance relative to sigma_max)
 does not depend on units. Then
 
 - mechanism DoF ``m = nv - rank K``: the closed chain's joint velocities are ``null K``;
-- redundant (over-constraining) equations ``rows - rank K``; per closure, in
-  declaration order, the rows already implied by the closures before it;
+- redundant (over-constraining) equations ``rows - rank K``; per closure c,
+  independent of the order of declaration: ``essential_c = rank K - rank K_-c``
+  (``K_-c``: K without c's rows), the constraint directions only c provides
+  (removing c frees that many motions; 0 = c is not needed), and
+  ``redundant_c = rows_c - essential_c``, its equations implied by the rest
+  (its own other rows and the other closures). Two closures that repeat each
+  other both count theirs, so these add up to at least ``rows - rank K``;
 - Grubler-Kutzbach count ``sum f_joints - sum rows_closures = nv - rows``
   (``6 (n - 1 - j) + sum f`` with each closure as a joint of 6 - rows
   freedoms); it equals ``m`` only when no equation is redundant;
-- idle motions: closed-chain motions that move no actuated joint, no end frame
-  (the platform, the frames the user names, or by default the tree's leaf
-  bodies that carry no closure frame), no joint centre and no closure point;
-  e.g. a rod spinning about the line through its two ball joints;
+- idle motions: closed-chain motions that move no actuated joint, no output
+  frame (the platform, else the tree's leaf bodies that carry no closure
+  frame; frames named only to be reported are not outputs), no joint centre
+  and no closure point; e.g. a rod spinning about the line through its two
+  ball joints;
 - actuation: with the actuated joints locked, the motions left
   (``locked_dof``, idle ones included) are all idle when the actuation is valid;
   actuated rates that are not independent on the closed chain over-determine it;
@@ -53,24 +59,41 @@ SEARCH_LIMIT = 50_000
 
 @dataclass(frozen=True)
 class ClosureRank:
-    """Rows of one closure and how many of them are implied by the closures declared before it."""
+    """One closure's equations among all of them, independent of the order of declaration.
+
+    Attributes:
+        name, type: the closure.
+        rows: its scalar equations.
+        rank: rank of its own rows.
+        essential: ``rank K - rank K_-c``: constraint directions no other closure
+            provides; removing the closure frees this many motions.
+    """
 
     name: str
     type: str
     rows: int
-    independent: int
+    rank: int
+    essential: int
 
     @property
     def redundant(self) -> int:
-        return self.rows - self.independent
+        """Its equations implied by the rest (its own other rows and the other closures): ``rows - essential``."""
+        return self.rows - self.essential
+
+    @property
+    def needed(self) -> bool:
+        """Removing the closure changes the mechanism (``essential > 0``)."""
+        return self.essential > 0
 
     def to_dict(self) -> dict[str, Any]:
         return {
             "name": self.name,
             "type": self.type,
             "rows": self.rows,
-            "independent": self.independent,
+            "rank": self.rank,
+            "essential": self.essential,
             "redundant": self.redundant,
+            "needed": self.needed,
         }
 
 
@@ -131,7 +154,12 @@ class Actuation:
 
 @dataclass(frozen=True)
 class MechanismMobility:
-    """Mobility of the whole closed chain at one configuration (see the module docstring)."""
+    """Mobility of the whole closed chain at one configuration (see the module docstring).
+
+    ``end_frames`` are the output frames that idle motions leave at rest and
+    that the actuation must control; ``frames`` the reported frame motions
+    (the outputs first, then the frames named to be reported).
+    """
 
     mechanism: str
     configuration: str | None
@@ -157,6 +185,7 @@ class MechanismMobility:
 
     @property
     def redundant_by_closure(self) -> dict[str, int]:
+        """Per closure, its equations implied by the rest (:attr:`ClosureRank.redundant`); order-independent."""
         return {c.name: c.redundant for c in self.closures}
 
     def to_dict(self) -> dict[str, Any]:
@@ -173,6 +202,10 @@ class MechanismMobility:
             "redundant_by_closure": self.redundant_by_closure,
             "grubler": self.grubler,
             "actuation": self.actuation.to_dict(),
+            "redundant_by_closure_rule": (
+                "per closure: rows minus the rank it alone adds to all the others (rank K - rank K without it); "
+                "independent of the order of declaration"
+            ),
             "closures": [c.to_dict() for c in self.closures],
             "end_frames": list(self.end_frames),
             "frames": [f.to_dict() for f in self.frames],
@@ -276,6 +309,31 @@ def _rank(matrix: Array, rtol: float) -> int:
     return _split(matrix, rtol, matrix.shape[1])[0] if matrix.size else 0
 
 
+@dataclass(frozen=True)
+class _Locked:
+    """The closed-chain motions with some joints locked, and the idle ones among them (dimensionless bases)."""
+
+    rank_a: int  # rank of the locked joints' rates on the closed chain
+    locked: Array  # (m, l) motions that move no locked joint
+    idle: Array  # (m, i) motions that move no locked joint and no output (a subspace of `locked`)
+
+    def valid(self, count: int) -> bool:
+        """``count`` locked joints are independent and leave only idle motions (a valid actuation)."""
+        return self.rank_a == count and self.locked.shape[1] == self.idle.shape[1]
+
+
+def _lock(rates: Array, outputs: Array, rtol: float, m: int) -> _Locked:
+    """Split closed-chain motions by locked-joint rates ``rates`` (k, m) and output rows ``outputs`` (o, m).
+
+    ``locked = null(rates)``, ``idle = null([rates; outputs])``: the one
+    computation behind the actuation verdict, the idle joints and the
+    actuator search.
+    """
+    rank_a, locked = _split(rates, rtol, m)
+    _, idle = _split(np.vstack([rates, outputs]), rtol, m)
+    return _Locked(rank_a, locked, idle)
+
+
 # --------------------------------------------------------------------------- analysis
 
 
@@ -299,49 +357,84 @@ def _closed(mech: Mechanism, q: Array, rtol: float, closure_tol: float) -> tuple
     return _Closed(data, col, k_hat, dec.null_space.T), dec
 
 
-def _actuation(mech: Mechanism, cl: _Closed, actuated: Sequence[str], frames: Sequence[str], rtol: float) -> Actuation:
-    model = mech.model
+def _actuation(
+    mech: Mechanism, cl: _Closed, actuated: Sequence[str], split: _Locked, frames: Sequence[str], rtol: float
+) -> Actuation:
     n = cl.null
     m = n.shape[1]
-    idx = joint_velocity_indices(mech, list(actuated))
-    a = _selector(model.nv, idx, cl.col) @ n
-    out = _outputs(mech, cl.data, frames, cl.col) @ n
-    rank_a, locked = _split(a, rtol, m)
-    _, idle = _split(np.vstack([a, out]), rtol, m)
+    locked, idle = split.locked, split.idle
     # non-idle remaining motions: an orthonormal basis of `locked` orthogonal to `idle`
     rest = locked - idle @ (idle.T @ locked)
     u, sv, _ = np.linalg.svd(rest, full_matrices=False) if rest.size else (np.zeros((m, 0)), np.zeros(0), None)
     remaining = [_joint_rates(mech, cl.col * (n @ u[:, i])) for i in range(int(np.sum(sv > 0.5)))]
-    frame_dof = {}
-    for name in frames:
-        t = twist_scaling(mech.length_scale)[:, None] * pin.getFrameJacobian(
-            model, cl.data, frame_id(mech.model, name), pin.LOCAL_WORLD_ALIGNED
-        )
-        frame_dof[name] = _rank((t * cl.col) @ n @ locked, rtol) if locked.size else 0
+    frame_dof = {name: _rank(_frame_rows(mech, cl, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
     locked_dof, idle_dof = locked.shape[1], idle.shape[1]
     return Actuation(
         tuple(actuated),
-        locked_dof == idle_dof and rank_a == len(idx),
+        split.valid(len(actuated)),
         locked_dof,
         idle_dof,
-        len(idx) - rank_a,
+        len(actuated) - split.rank_a,
         frame_dof,
         tuple(remaining),
     )
 
 
-def frame_mobility(mech: Mechanism, cl: _Closed, frame: str, rtol: float = RTOL) -> FrameMobility:
-    """Free motions of ``frame`` on the closed chain, at its origin with world axes."""
-    model, length = mech.model, mech.length_scale
-    scale = twist_scaling(length)[:, None]
-    t = scale * pin.getFrameJacobian(model, cl.data, frame_id(model, frame), pin.LOCAL_WORLD_ALIGNED) * cl.col
-    image = t @ cl.null
+def _frame_rows(mech: Mechanism, cl: _Closed, frame: str) -> Array:
+    """(6, nv) dimensionless Jacobian of ``frame`` (twist per dimensionless joint rate)."""
+    jac = pin.getFrameJacobian(mech.model, cl.data, frame_id(mech.model, frame), pin.LOCAL_WORLD_ALIGNED)
+    return twist_scaling(mech.length_scale)[:, None] * jac * cl.col
+
+
+def _frame_mobility(mech: Mechanism, cl: _Closed, frame: str, rtol: float) -> FrameMobility:
+    length = mech.length_scale
+    image = _frame_rows(mech, cl, frame) @ cl.null
     rank, _ = _split(image.T, rtol, 6)
-    basis = (np.linalg.svd(image, full_matrices=False)[0][:, :rank] if rank else np.zeros((6, 0))) / scale
-    system = classify_twists(basis, length, rtol)
+    basis = np.linalg.svd(image, full_matrices=False)[0][:, :rank] if rank else np.zeros((6, 0))
+    system = classify_twists(basis / twist_scaling(length)[:, None], length, rtol)
     motions = _motions(system)
     twists = np.column_stack([mo.twist for mo in motions]) if motions else np.zeros((6, 0))
     return FrameMobility(frame, basis.shape[1], motion_type(system), motions, twists)
+
+
+def frame_mobility(
+    mech: Mechanism, q: Array | str, frame: str, *, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
+) -> FrameMobility:
+    """Free motions of ``frame`` on the closed chain at q, at its origin with world axes.
+
+    The image ``J_frame null(K)`` of every closed-chain motion (all closures,
+    limb tips welded to the platform included), classified like the
+    platform's (:func:`pinmob.screw.classify_twists`).
+
+    Args:
+        mech: the mechanism.
+        q: configuration (nq,), or the name of one of ``mech.configurations``.
+        frame: a frame of ``mech.model``.
+
+    Raises:
+        FrameError: no such frame (the message lists them).
+        ClosureError: q does not close the loops.
+    """
+    q, _ = mech.resolve(q)
+    frame_id(mech.model, frame)
+    cl, _ = _closed(mech, q, rtol, closure_tol)
+    return _frame_mobility(mech, cl, frame, rtol)
+
+
+def _closure_ranks(mech: Mechanism, k_hat: Array, tolerance: float) -> tuple[ClosureRank, ...]:
+    """Per closure: own rank and ``rank K - rank K_-c``, all with the absolute tolerance of K's decision."""
+
+    def rank(rows: Array) -> int:
+        return int(np.sum(np.linalg.svd(rows, compute_uv=False) > tolerance)) if rows.size and tolerance > 0 else 0
+
+    total = rank(k_hat)
+    out, start = [], 0
+    for c in mech.all_closures:
+        own = np.arange(start, start + c.rows)
+        others = np.delete(k_hat, own, axis=0)
+        out.append(ClosureRank(c.name, c.type, c.rows, rank(k_hat[own]), total - rank(others)))
+        start += c.rows
+    return tuple(out)
 
 
 def analyze_mechanism(
@@ -350,6 +443,7 @@ def analyze_mechanism(
     *,
     actuated: Sequence[str] | None = None,
     frames: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
     configuration: str | None = None,
     rtol: float = RTOL,
     closure_tol: float = CLOSURE_TOL,
@@ -360,31 +454,31 @@ def analyze_mechanism(
         mech: the mechanism.
         q: configuration (nq,), or the name of one of ``mech.configurations``.
         actuated: actuated joints (default: the mechanism's declared ones).
-        frames: end frames whose motion is reported and which idle motions
-            must leave at rest (default :func:`default_end_frames`).
+        frames: frames whose motion is reported besides the outputs; naming
+            them changes no count or verdict.
+        outputs: frames that idle motions must leave at rest and that the
+            actuation must control (default :func:`default_end_frames`: the
+            platform, else the tree's free leaf bodies).
         rtol: relative tolerance of every rank decision.
 
     Raises:
         ClosureError: q does not close the loops.
+        FrameError: a frame does not exist.
     """
     q, configuration = mech.resolve(q, configuration)
     actuated = tuple(mech.actuated if actuated is None else actuated)
-    frames = tuple(default_end_frames(mech) if frames is None else frames)
-    for name in frames:
+    outs = tuple(default_end_frames(mech) if outputs is None else outputs)
+    reported = outs + tuple(f for f in dict.fromkeys(frames or ()) if f not in outs)
+    for name in reported:
         frame_id(mech.model, name)
     cl, dec = _closed(mech, q, rtol, closure_tol)
-    # redundancy closure by closure, with the global tolerance
-    ranks, start, prev = [], 0, 0
-    for c in mech.all_closures:
-        block = cl.k_hat[: start + c.rows]
-        s = np.linalg.svd(block, compute_uv=False) if block.size else np.zeros(0)
-        now = int(np.sum(s > dec.tolerance)) if dec.tolerance > 0 else 0
-        ranks.append(ClosureRank(c.name, c.type, c.rows, now - prev))
-        start, prev = start + c.rows, now
-    act = _actuation(mech, cl, actuated, frames, rtol)
     idx = joint_velocity_indices(mech, list(actuated))
-    out = _outputs(mech, cl.data, frames, cl.col) @ cl.null
-    _, idle = _split(np.vstack([_selector(mech.model.nv, idx, cl.col) @ cl.null, out]), rtol, cl.null.shape[1])
+    split = _lock(
+        _selector(mech.model.nv, idx, cl.col) @ cl.null,
+        _outputs(mech, cl.data, outs, cl.col) @ cl.null,
+        rtol,
+        cl.null.shape[1],
+    )
     rows = int(cl.k_hat.shape[0])
     return MechanismMobility(
         mechanism=mech.name,
@@ -394,12 +488,12 @@ def analyze_mechanism(
         rank=dec.rank,
         mechanism_dof=mech.model.nv - dec.rank,
         grubler=mech.model.nv - rows,
-        closures=tuple(ranks),
-        idle_dof=act.idle_dof,
-        idle_joints=_moving_joints(mech, cl.null @ idle if idle.size else np.zeros((mech.model.nv, 0))),
-        actuation=act,
-        frames=tuple(frame_mobility(mech, cl, f, rtol) for f in frames),
-        end_frames=frames,
+        closures=_closure_ranks(mech, cl.k_hat, dec.tolerance),
+        idle_dof=split.idle.shape[1],
+        idle_joints=_moving_joints(mech, cl.null @ split.idle),
+        actuation=_actuation(mech, cl, actuated, split, reported, rtol),
+        frames=tuple(_frame_mobility(mech, cl, f, rtol) for f in reported),
+        end_frames=outs,
         singular_values=dec.singular_values,
         tolerance=dec.tolerance,
         length_scale=mech.length_scale,
@@ -413,16 +507,18 @@ def actuator_sets(
     size: int,
     *,
     candidates: Sequence[str] | None = None,
-    frames: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
     rtol: float = RTOL,
     limit: int = SEARCH_LIMIT,
 ) -> list[tuple[str, ...]]:
     """Every valid set of ``size`` actuated joints among ``candidates`` (default: all one-degree joints).
 
     A set is valid when its joints are independent on the closed chain and
-    locking them leaves only idle motions. Exhaustive: C(n, size) sets are
-    tried, each with one SVD of a (size + outputs, m) matrix; more than
-    ``limit`` sets is refused (name fewer candidates).
+    locking them leaves only idle motions (those that move no output frame,
+    default :func:`default_end_frames`; the same split as
+    :func:`analyze_mechanism`'s actuation verdict). Exhaustive: C(n, size)
+    sets are tried, each with SVDs of (size, m) and (size + outputs, m)
+    matrices; more than ``limit`` sets is refused (name fewer candidates).
 
     Raises:
         ConfigurationError: size out of range or too many combinations.
@@ -440,21 +536,14 @@ def actuator_sets(
         raise ConfigurationError(
             f"{count} sets of {size} among {len(names)} joints exceed the search limit {limit}; name fewer candidate joints"
         )
-    frames = tuple(default_end_frames(mech) if frames is None else frames)
-    cl, _ = _closed(mech, np.asarray(q, float), rtol, CLOSURE_TOL)
+    outs = tuple(default_end_frames(mech) if outputs is None else outputs)
+    cl, _ = _closed(mech, mech.check_q(q), rtol, CLOSURE_TOL)
     n = cl.null
-    m = n.shape[1]
-    idx = joint_velocity_indices(mech, names)
-    rates = _selector(model.nv, idx, cl.col) @ n  # (len(names), m)
-    out = _outputs(mech, cl.data, frames, cl.col) @ n
+    rates = _selector(model.nv, joint_velocity_indices(mech, names), cl.col) @ n  # (len(names), m)
+    out = _outputs(mech, cl.data, outs, cl.col) @ n
     valid = []
     for combo in itertools.combinations(range(len(names)), size):
-        a = rates[list(combo)]
-        rank_a = _rank(a, rtol)
-        if rank_a < size:
-            continue
-        locked = m - rank_a
-        idle = m - _rank(np.vstack([a, out]), rtol)
-        if locked == idle:
+        split = _lock(rates[list(combo)], out, rtol, n.shape[1])
+        if split.valid(size):
             valid.append(tuple(names[i] for i in combo))
     return valid

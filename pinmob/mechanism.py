@@ -9,7 +9,7 @@ files lives in :mod:`pinmob.mechanism_file`; closing configurations in
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -31,8 +31,13 @@ class Limb:
         v_indices: (nv_limb,) velocity indices of those joints in the model.
         actuated: names of this limb's actuated joints.
         generic_twist_rank: rank of the limb's joint screws at generic
-            (random) joint values; a lower rank at a configuration is a serial
-            singularity.
+            (random) joint values, with its internal loops closed; a lower
+            rank at a configuration is a serial singularity.
+        closures: names of the closures internal to this limb (loops such as
+            a parallelogram that involve its joints and no other limb's).
+        loop_joints: joints in no limb that those closures involve (e.g. the
+            second rod of a parallelogram), in model order.
+        loop_v_indices: velocity indices of ``loop_joints``.
     """
 
     name: str
@@ -42,6 +47,14 @@ class Limb:
     v_indices: Array = field(repr=False)
     actuated: tuple[str, ...] = ()
     generic_twist_rank: int = 0
+    closures: tuple[str, ...] = ()
+    loop_joints: tuple[str, ...] = ()
+    loop_v_indices: Array = field(default_factory=lambda: np.zeros(0, int), repr=False)
+
+    @property
+    def screw_v_indices(self) -> Array:
+        """Velocity indices of the joints whose rates move the limb: ``v_indices`` then ``loop_v_indices``."""
+        return np.concatenate([self.v_indices, self.loop_v_indices]).astype(int)
 
 
 CLOSURE_TYPES = ("6d", "3d", "revolute", "universal", "cylindrical", "planar")
@@ -91,6 +104,80 @@ class Closure:
 
 
 CLOSURE_ROWS = {"6d": 6, "3d": 3, "revolute": 5, "universal": 4, "cylindrical": 4, "planar": 3}
+
+
+def closure_joints(model: pin.Model, closure: Closure) -> set[int]:
+    """Indices of the joints a closure involves: those supporting either of its frames."""
+    return {
+        int(j)
+        for f in (closure.frame_a_id, closure.frame_b_id)
+        for j in model.supports[model.frames[f].parentJoint]
+        if j > 0
+    }
+
+
+@dataclass(frozen=True)
+class ClosureGroups:
+    """How the closures of a limb-and-platform mechanism sit among its limbs.
+
+    Closures that share a joint of no limb form one group (one loop system).
+    A group whose joints meet exactly one limb's joints is internal to that
+    limb; one that meets two or more limbs couples them (the limb-wise method
+    does not apply); one that meets no limb moves nothing of any limb.
+
+    Attributes:
+        internal: limb name -> names of its internal closures.
+        loop_joints: limb name -> indices of the joints in no limb that they involve.
+        coupling: closure name -> names of the limbs its group couples.
+        detached: names of the closures that meet no limb.
+    """
+
+    internal: dict[str, tuple[str, ...]]
+    loop_joints: dict[str, tuple[int, ...]]
+    coupling: dict[str, tuple[str, ...]]
+    detached: tuple[str, ...]
+
+
+def group_closures(model: pin.Model, limbs: tuple[Limb, ...], closures: tuple[Closure, ...]) -> ClosureGroups:
+    """Sort ``closures`` into internal-to-one-limb, coupling and detached groups (:class:`ClosureGroups`)."""
+    owner = {model.getJointId(j): limb.name for limb in limbs for j in limb.joints}
+    parent = list(range(len(closures)))  # union-find over closures sharing a joint of no limb
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    joints = [closure_joints(model, c) for c in closures]
+    first: dict[int, int] = {}
+    for i, js in enumerate(joints):
+        for j in js - owner.keys():
+            if j in first:
+                parent[root(i)] = root(first[j])
+            else:
+                first[j] = i
+    members: dict[int, list[int]] = {}
+    for i in range(len(closures)):
+        members.setdefault(root(i), []).append(i)
+    internal: dict[str, tuple[str, ...]] = {}
+    loop: dict[str, tuple[int, ...]] = {}
+    coupling: dict[str, tuple[str, ...]] = {}
+    detached: list[str] = []
+    order = [limb.name for limb in limbs]
+    for group in members.values():
+        touched = {owner[j] for i in group for j in joints[i] if j in owner}
+        names = tuple(closures[i].name for i in group)
+        if not touched:
+            detached.extend(names)
+        elif len(touched) > 1:
+            coupling.update({n: tuple(x for x in order if x in touched) for n in names})
+        else:
+            (limb_name,) = touched
+            internal[limb_name] = internal.get(limb_name, ()) + names
+            free = {j for i in group for j in joints[i]} - owner.keys()
+            loop[limb_name] = tuple(sorted(set(loop.get(limb_name, ())) | free))
+    return ClosureGroups(internal, loop, coupling, tuple(detached))
 
 
 def make_closure(
@@ -268,10 +355,17 @@ class Mechanism:
                     raise FrameError(
                         f"limb {limb_name!r}: actuated joint {a!r} is not in its chain; valid: {choices(joints)}"
                     )
-            v_idx = np.concatenate(
-                [np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv) for j in joint_ids]
+            built.append(Limb(limb_name, tip, tip_id, joints, _velocity_indices(model, joint_ids), acts))
+        groups = group_closures(model, tuple(built), tuple(closures))
+        built = [
+            replace(
+                b,
+                closures=groups.internal.get(b.name, ()),
+                loop_joints=tuple(model.names[j] for j in groups.loop_joints.get(b.name, ())),
+                loop_v_indices=_velocity_indices(model, groups.loop_joints.get(b.name, ())),
             )
-            built.append(Limb(limb_name, tip, tip_id, joints, v_idx, acts, _generic_rank(model, tip_id, v_idx)))
+            for b in built
+        ]
         platform = platform or (pairs[0][1] if pairs else "")
         if platform:
             frame_id(model, platform)
@@ -283,7 +377,7 @@ class Mechanism:
             not isinstance(generic_rank, int) or isinstance(generic_rank, bool) or not 0 <= generic_rank <= 6
         ):
             raise ConfigurationError(f"generic_rank must be an integer from 0 to 6, got {generic_rank!r}")
-        return cls(
+        mech = cls(
             name=name,
             model=model,
             limbs=tuple(built),
@@ -299,6 +393,7 @@ class Mechanism:
             closures=tuple(closures),
             extra_actuated=extra,
         )
+        return replace(mech, limbs=tuple(replace(b, generic_twist_rank=_generic_twist_rank(mech, b)) for b in built))
 
     # ------------------------------------------------------------------ queries
 
@@ -324,6 +419,15 @@ class Mechanism:
             if self.model.frames[b.tip_id].parentJoint != body
         )
         return implicit + self.closures
+
+    @property
+    def coupling_closures(self) -> dict[str, tuple[str, ...]]:
+        """Closures whose loops involve the joints of two or more limbs: closure name -> those limbs.
+
+        The limb-wise method cannot treat them (:func:`pinmob.mobility.analyze`
+        then uses the closure Jacobian of the whole mechanism).
+        """
+        return group_closures(self.model, self.limbs, self.closures).coupling
 
     @property
     def platform_id(self) -> int:
@@ -447,18 +551,38 @@ def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
     return float(np.sqrt(np.mean(nonzero**2))) if nonzero.size else 1.0
 
 
-def _generic_rank(model: pin.Model, tip_id: int, v_idx: Array, samples: int = 3) -> int:
-    """Rank of a chain's joint screws at random joint values (seeded)."""
-    from .closure import compute_kinematics
+def _velocity_indices(model: pin.Model, joint_ids: list[int] | tuple[int, ...]) -> Array:
+    """Velocity indices of the given joints, in the given order."""
+    parts = [np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv) for j in joint_ids]
+    return np.concatenate(parts).astype(int) if parts else np.zeros(0, int)
+
+
+def _generic_twist_rank(mech: Mechanism, limb: Limb, samples: int = 3) -> int:
+    """Largest rank of a limb's joint screws over seeded random configurations (its generic rank).
+
+    The screws are :func:`pinmob.mobility.limb_screws` (with the limb's
+    internal loops closed: each sample is first projected onto them, and used
+    as it is only where that fails), scaled by ``mech.length_scale`` as in
+    every rank decision of the analysis.
+    """
+    from .closure import ClosureError, compute_kinematics, project, random_configuration
+    from .mobility import limb_screws
     from .screw import decide_rank, twist_scaling
 
+    model = mech.model
     data = model.createData()
     rng = np.random.default_rng(0)
-    length = characteristic_length(model, [tip_id])
+    loops = tuple(c for c in mech.closures if c.name in limb.closures)
+    alone = replace(mech, limbs=(), platform="", closures=loops)
     best = 0
     for _ in range(samples):
-        q = pin.integrate(model, pin.neutral(model), rng.uniform(-1.0, 1.0, model.nv))
+        q = random_configuration(mech, rng, spread=1.0)
+        if loops:
+            try:
+                q = project(alone, q).q
+            except ClosureError:
+                pass
         compute_kinematics(model, data, q)
-        jac = pin.getFrameJacobian(model, data, tip_id, pin.LOCAL_WORLD_ALIGNED)[:, v_idx]
-        best = max(best, decide_rank((twist_scaling(length)[:, None] * jac).T, RTOL).rank)
+        t = twist_scaling(mech.length_scale)[:, None] * limb_screws(mech, data, limb)
+        best = max(best, decide_rank(t.T, RTOL).rank)
     return best

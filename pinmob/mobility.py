@@ -12,14 +12,15 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from enum import StrEnum
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
-from .closure import CLOSURE_TOL, closed_kinematics, compute_kinematics
+from .closure import CLOSURE_TOL, closed_kinematics, compute_kinematics, linear_velocity_mask, stacked_error
 from .exceptions import ConfigurationError, choices
-from .mechanism import Mechanism
+from .mechanism import Limb, Mechanism
 from .screw import (
     RTOL,
     Array,
@@ -40,6 +41,14 @@ from .screw import (
 )
 
 VIEWS = ("configuration", "paper")
+
+
+class Method(StrEnum):
+    """How the platform's constraint space was obtained."""
+
+    LIMB_WISE = "limb-wise"  # stacked limb wrenches (the seed paper's method)
+    CLOSURE_JACOBIAN = "closure Jacobian"  # image of the whole closed chain's motions
+
 
 #: name of the configuration the paper view comes from when none is declared
 GENERIC = "generic"
@@ -143,9 +152,11 @@ class LimbMobility:
 
     Attributes:
         name, joints: the limb.
-        twist_rank: rank of its joint screws here.
+        twist_rank: rank of its joint screws here (with its internal loops closed).
         generic_twist_rank: rank at generic joint values; lower here = serial singularity.
         wrenches: (6, 6 - twist_rank) its constraint wrenches ``[f; tau]``.
+        closures: its internal closures (:attr:`pinmob.mechanism.Limb.closures`).
+        loop_joints: the joints in no limb that they involve.
     """
 
     name: str
@@ -153,6 +164,8 @@ class LimbMobility:
     twist_rank: int
     generic_twist_rank: int
     wrenches: Array = field(repr=False)
+    closures: tuple[str, ...] = ()
+    loop_joints: tuple[str, ...] = ()
 
     @property
     def wrench_count(self) -> int:
@@ -170,6 +183,8 @@ class LimbMobility:
             "generic_twist_rank": self.generic_twist_rank,
             "wrench_count": self.wrench_count,
             "serially_singular": self.serially_singular,
+            "closures": list(self.closures),
+            "loop_joints": list(self.loop_joints),
         }
 
 
@@ -186,12 +201,17 @@ class Mobility:
         constraints: canonical constraint wrenches.
         constraint_wrenches: (6, d) their wrenches ``[f; tau]`` as columns.
         constraint_rank: d.
-        singular_values: (6,) of the stacked dimensionless limb wrenches (zero-padded).
+        singular_values: (6,) of the stacked dimensionless limb wrenches (zero-padded);
+            with the closure-Jacobian method, of an orthonormal basis of the
+            constraint space (ones, then zeros).
         tolerance: absolute threshold applied to ``singular_values``.
         length_scale: L [m].
         platform_origin: (3,) world position of the platform frame [m].
         limbs: per-limb details.
         view: ``configuration`` (wrenches at q) or ``paper`` (generic limb wrenches carried to q).
+        method: :class:`Method` used; ``closure Jacobian`` when a closure couples
+            limbs or there is no limb (``limbs`` is then empty).
+        method_note: why that method was used (empty for the limb-wise method).
     """
 
     mechanism: str
@@ -210,6 +230,8 @@ class Mobility:
     platform_origin: Array = field(default_factory=lambda: np.zeros(3), repr=False)
     limbs: tuple[LimbMobility, ...] = field(default=(), repr=False)
     view: str = "configuration"
+    method: Method = Method.LIMB_WISE
+    method_note: str = ""
 
     @property
     def translations(self) -> int:
@@ -241,6 +263,8 @@ class Mobility:
             "mechanism": self.mechanism,
             "configuration": self.configuration,
             "view": self.view,
+            "method": self.method.value,
+            "method_note": self.method_note,
             "dof": self.dof,
             "motion_type": self.motion_type,
             "translations": self.translations,
@@ -267,19 +291,51 @@ class Mobility:
 # --------------------------------------------------------------------------- kinematics
 
 
-def limb_twists(mech: Mechanism, data: pin.Data) -> list[Array]:
+def limb_screws(mech: Mechanism, data: pin.Data, limb: Limb, rtol: float = RTOL, locked: tuple[str, ...] = ()) -> Array:
+    """Twists the limb can give its tip, (6, k), at the tip origin, world axes. Kinematics must be computed.
+
+    A limb without internal loops: the columns of
+    ``getFrameJacobian(tip, LOCAL_WORLD_ALIGNED)`` for its joints (one per
+    joint velocity, per unit rate), without those of the ``locked`` joints. A
+    limb with internal closures (e.g. a parallelogram closed by a ``3d``
+    closure): ``T = J_tip[:, E] N`` where E are its joints and its loop joints
+    (:attr:`Limb.screw_v_indices`) and N an orthonormal basis of the
+    dimensionless rates that keep those loops closed and the ``locked``
+    (one-degree) joints still, ``N = null([K_hat[:, E]; S_locked])`` (closure
+    rows per L, prismatic rates times L; rank decided with ``rtol``); the
+    columns are then per unit dimensionless rate.
+    """
+    model = mech.model
+    jac = pin.getFrameJacobian(model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED)
+    held = {model.joints[model.getJointId(j)].idx_v for j in locked}
+    if not limb.closures:
+        return jac[:, [int(v) for v in limb.v_indices if v not in held]]
+    idx = limb.screw_v_indices
+    col = np.where(linear_velocity_mask(model)[idx], mech.length_scale, 1.0)
+    loops = tuple(c for c in mech.closures if c.name in limb.closures)
+    _, k = stacked_error(mech, model, data, loops)
+    rows = np.vstack([k[:, idx] * col, np.eye(idx.size)[[i for i, v in enumerate(idx) if v in held]]])
+    null = decide_rank(rows, rtol, n=idx.size).null_space.T
+    return jac[:, idx] @ (col[:, None] * null)
+
+
+def limb_twists(mech: Mechanism, data: pin.Data, rtol: float = RTOL, lock_actuated: bool = False) -> list[Array]:
     """Joint screws of each limb, (6, n_i) each, at the platform origin, world axes.
 
-    Columns of ``getFrameJacobian(tip, LOCAL_WORLD_ALIGNED)`` for the limb's
-    joints, shifted from the tip origin to the platform origin (they coincide
-    at a closed configuration up to the residual). Kinematics must be computed.
+    :func:`limb_screws` of each limb (its tip Jacobian's columns for its
+    joints, restricted to the rates that keep its internal loops closed; with
+    ``lock_actuated``, also its actuated joints still), shifted from the tip
+    origin to the platform origin (they coincide at a closed configuration up
+    to the residual). Kinematics must be computed.
     """
     p = data.oMf[mech.platform_id].translation
-    out = []
-    for limb in mech.limbs:
-        jac = pin.getFrameJacobian(mech.model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED)[:, limb.v_indices]
-        out.append(shift_twists(jac, p - data.oMf[limb.tip_id].translation))
-    return out
+    return [
+        shift_twists(
+            limb_screws(mech, data, limb, rtol, limb.actuated if lock_actuated else ()),
+            p - data.oMf[limb.tip_id].translation,
+        )
+        for limb in mech.limbs
+    ]
 
 
 def _motions(system: ScrewSystem) -> tuple[Motion, ...]:
@@ -307,11 +363,18 @@ def _assemble(
     platform_origin: Array,
     rtol: float,
     view: str,
+    *,
+    method: Method = Method.LIMB_WISE,
+    note: str = "",
+    wrenches: Array | None = None,
 ) -> Mobility:
-    """Stack limb wrenches, decide the constraint rank and classify both spaces."""
+    """Stack limb wrenches (or take ``wrenches``, (6, d)), decide the constraint rank and classify both spaces."""
     length = mech.length_scale
-    wrenches = [w for w, _ in limb_rows]
-    stacked = np.hstack(wrenches) if wrenches else np.zeros((6, 0))
+    if wrenches is None:
+        blocks = [w for w, _ in limb_rows]
+        stacked = np.hstack(blocks) if blocks else np.zeros((6, 0))
+    else:
+        stacked = wrenches
     free, dec = reciprocal_twists(stacked, length, rtol)
     constraint_basis = dec.row_space.T / wrench_scaling(length)[:, None]
     system = classify_twists(free, length, rtol)
@@ -320,7 +383,7 @@ def _assemble(
     sv = np.zeros(6)
     sv[: min(6, dec.singular_values.size)] = dec.singular_values[:6]
     limbs = tuple(
-        LimbMobility(limb.name, limb.joints, rank, limb.generic_twist_rank, w)
+        LimbMobility(limb.name, limb.joints, rank, limb.generic_twist_rank, w, limb.closures, limb.loop_joints)
         for limb, (w, rank) in zip(mech.limbs, limb_rows)
     )
     return Mobility(
@@ -340,7 +403,19 @@ def _assemble(
         platform_origin=np.array(platform_origin, float),
         limbs=limbs,
         view=view,
+        method=method,
+        method_note=note,
     )
+
+
+def _limbwise_obstacle(mech: Mechanism) -> str:
+    """Why the limb-wise method cannot be used on ``mech`` ("" when it can)."""
+    if not mech.limbs:
+        return f"{mech.name!r} is described by closures only (no limbs)"
+    coupling = mech.coupling_closures
+    if not coupling:
+        return ""
+    return "; ".join(f"closure {c!r} couples limbs {', '.join(limbs)}" for c, limbs in coupling.items())
 
 
 def analyze(
@@ -353,6 +428,15 @@ def analyze(
 ) -> Mobility:
     """Mobility of the platform at a closed configuration.
 
+    The limb-wise method: each limb's wrenches are reciprocal to its
+    :func:`limb_twists` (internal loops closed), stacked and ranked. When a
+    closure couples two or more limbs (its loop involves the joints of
+    several limbs), or the mechanism has no limbs, no limb has wrenches of
+    its own: the platform's free twists are then the image of the whole
+    closed chain's motions, ``J_platform null(K)``
+    (:func:`pinmob.constraints.frame_mobility`), its constraint wrenches their
+    reciprocal, and the result says so (``method``, ``method_note``).
+
     Args:
         mech: the mechanism.
         q: configuration (nq,), or the name of one of ``mech.configurations``.
@@ -362,17 +446,45 @@ def analyze(
         closure_tol: closure tolerance (position / L and rotation [rad]).
 
     Raises:
-        ConfigurationError: q has the wrong shape or non-finite values, or rtol is not in (0, 1).
+        ConfigurationError: q has the wrong shape or non-finite values, rtol is not
+            in (0, 1), or the mechanism has no platform frame.
         ClosureError: q does not close the loops.
     """
     rtol = check_rtol(rtol)
     q, configuration = resolve(mech, q, configuration, closure_tol)
+    if not mech.has_platform:
+        raise ConfigurationError(
+            f"{mech.name!r} has no platform frame: use pinmob.analyze_mechanism(mech, q, frames=[...]) "
+            "(or pinmob analyze --frame NAME) for the motion of any frame"
+        )
     data = closed_kinematics(mech, q, closure_tol)
+    origin = data.oMf[mech.platform_id].translation
+    obstacle = _limbwise_obstacle(mech)
+    if obstacle:
+        from .constraints import frame_mobility
+
+        free = frame_mobility(mech, q, mech.platform, rtol=rtol, closure_tol=closure_tol).free_twists
+        wrenches, _ = reciprocal_wrenches(free, mech.length_scale, rtol)
+        note = (
+            f"{obstacle}: the limb-wise method does not apply; the platform's motion is the image of the "
+            "closed chain's motions (closure Jacobian of the whole mechanism)"
+        )
+        return _assemble(
+            mech,
+            configuration,
+            [],
+            origin,
+            rtol,
+            "configuration",
+            method=Method.CLOSURE_JACOBIAN,
+            note=note,
+            wrenches=wrenches,
+        )
     rows = []
-    for twists in limb_twists(mech, data):
+    for twists in limb_twists(mech, data, rtol):
         w, dec = reciprocal_wrenches(twists, mech.length_scale, rtol)
         rows.append((w, dec.rank))
-    return _assemble(mech, configuration, rows, data.oMf[mech.platform_id].translation, rtol, "configuration")
+    return _assemble(mech, configuration, rows, origin, rtol, "configuration")
 
 
 # --------------------------------------------------------------------------- second method

@@ -44,11 +44,16 @@ def format_mobility(mob: Mobility) -> str:
         if c.kind is WrenchKind.WRENCH:
             text += f", pitch {c.pitch:.4g} m/rad"
         lines.append(text)
-    lines.append("limbs:")
+    if mob.method_note:
+        lines.append(f"method: {mob.method.value} ({mob.method_note})")
+    lines.append("limbs:" if mob.limbs else "limbs: none used")
     for limb in mob.limbs:
         flag = "  <- serial singularity" if limb.serially_singular else ""
+        loops = (
+            f" + {len(limb.loop_joints)} loop joint(s), closed by {', '.join(limb.closures)}" if limb.closures else ""
+        )
         lines.append(
-            f"  {limb.name}: {len(limb.joints)} joints, twist rank {limb.twist_rank} "
+            f"  {limb.name}: {len(limb.joints)} joints{loops}, twist rank {limb.twist_rank} "
             f"(generic {limb.generic_twist_rank}), {limb.wrench_count} constraint wrench(es){flag}"
         )
     singular = mob.serially_singular_limbs
@@ -82,12 +87,21 @@ def format_mechanism(mm: MechanismMobility) -> str:
         f"Grubler-Kutzbach {mm.grubler} (nv {mm.nv} - {mm.rows} closure equations)",
         f"redundant closure equations: {mm.redundant_constraints}"
         + (
-            " (" + ", ".join(f"{k}: {v}" for k, v in mm.redundant_by_closure.items() if v) + ")"
+            " (equations implied by the rest, per closure: "
+            + ", ".join(f"{k}: {v}" for k, v in mm.redundant_by_closure.items() if v)
+            + ")"
             if mm.redundant_constraints
             else ""
         ),
-        f"idle motions: {mm.idle_dof}" + (f" (joints {', '.join(mm.idle_joints)})" if mm.idle_dof else ""),
     ]
+    unneeded = [c.name for c in mm.closures if not c.needed]
+    if unneeded:
+        lines.append(f"closures that add no constraint (removing one changes nothing): {', '.join(unneeded)}")
+    lines.append(
+        f"idle motions: {mm.idle_dof}"
+        + (f" (joints {', '.join(mm.idle_joints)})" if mm.idle_dof else "")
+        + f"; outputs: {', '.join(mm.end_frames) or 'none'} (and every joint centre and closure point)"
+    )
     verdict = "valid" if act.valid else "NOT valid"
     lines.append(
         f"actuation {verdict}: {len(act.actuated)} actuated joint(s); locked, {act.locked_dof} motion(s) remain "

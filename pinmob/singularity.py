@@ -175,12 +175,6 @@ def _column_names(mech: Mechanism, joints: tuple[str, ...]) -> list[str]:
     return names
 
 
-def _unactuated_columns(mech: Mechanism, limb_index: int) -> Array:
-    limb = mech.limbs[limb_index]
-    names = _column_names(mech, limb.joints)
-    return np.array([i for i, n in enumerate(names) if n not in limb.actuated], dtype=int)
-
-
 def generic_locked_dof(mech: Mechanism, generic_rank: int) -> int:
     """Platform DoF with the actuators locked at a generic configuration: ``max(0, 6 - g - n_actuated)``."""
     return max(0, 6 - generic_rank - len(mech.actuated))
@@ -273,6 +267,7 @@ def analyze_singularity(
     st, sw = twist_scaling(length)[:, None], wrench_scaling(length)[:, None]
     data = closed_kinematics(mech, q, closure_tol)
     twists = limb_twists(mech, data)
+    locked_twists = limb_twists(mech, data, rtol, lock_actuated=True)
 
     distances: dict[str, float] = {}
     wrench_blocks, locked_blocks, groups, act_wrenches = [], [], [], []
@@ -289,10 +284,13 @@ def analyze_singularity(
         if dec.rank < limb.generic_twist_rank:
             singular_limbs.append(limb.name)
             names = _column_names(mech, limb.joints)
-            limb_joints[limb.name] = _participants(st * t, [(n, slice(k, k + 1)) for k, n in enumerate(names)], rtol)
+            limb_joints[limb.name] = (
+                _participants(st * t, [(n, slice(k, k + 1)) for k, n in enumerate(names)], rtol)
+                if not limb.closures
+                else limb.joints + limb.loop_joints  # columns are loop-closing rate combinations, not joints
+            )
         if limb.actuated:
-            cols = _unactuated_columns(mech, i)
-            locked = decide_rank((st * t[:, cols]).T, rtol, n=6).null_space.T
+            locked = decide_rank((st * locked_twists[i]).T, rtol, n=6).null_space.T
             extra = locked - w_hat @ (w_hat.T @ locked)  # actuation wrenches: outside the limb's constraint space
             basis = decide_rank(extra.T, rtol, n=6).row_space.T if extra.size else np.zeros((6, 0))
             act_wrenches.append(basis / sw)

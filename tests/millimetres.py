@@ -2,13 +2,19 @@
 
 from __future__ import annotations
 
+import numpy as np
 import pinocchio as pin
 
 import pinmob
+from pinmob.closure import linear_velocity_mask
 
 
 def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:
-    """``mech`` with every joint and frame placement translation times 1000 (same limbs and platform)."""
+    """``mech`` with every joint and frame placement translation times 1000.
+
+    Same limbs, platform, closures (frame indices and axes are unchanged) and
+    actuated joints; no named configuration (convert one with :func:`q_in_millimetres`).
+    """
     model = pin.Model(mech.model)
     for j in range(1, model.njoints):
         model.jointPlacements[j] = pin.SE3(
@@ -16,4 +22,18 @@ def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:
         )
     for f in model.frames:
         f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
-    return pinmob.Mechanism.from_model(model, {b.name: b.tip for b in mech.limbs}, platform=mech.platform)
+    actuated = {b.name: list(b.actuated) for b in mech.limbs} | {"": list(mech.extra_actuated)}
+    return pinmob.Mechanism.from_model(
+        model,
+        {b.name: b.tip for b in mech.limbs},
+        name=mech.name,
+        platform=mech.platform,
+        closures=mech.closures,
+        actuated=actuated,
+    )
+
+
+def q_in_millimetres(mech: pinmob.Mechanism, q: np.ndarray) -> np.ndarray:
+    """The same configuration in millimetres: prismatic joint values times 1000."""
+    dv = pin.difference(mech.model, mech.neutral(), q)
+    return pin.integrate(mech.model, mech.neutral(), np.where(linear_velocity_mask(mech.model), 1000 * dv, dv))

@@ -30,7 +30,7 @@ from numpy.typing import NDArray
 from .exceptions import ConfigurationError
 from .mechanism import Mechanism
 from .screw import RTOL, Array, twist_scaling
-from .singularity import column_joints, ratio
+from .singularity import column_joints, ratio, unit_columns
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]
@@ -45,8 +45,8 @@ class BatchResult:
         constraint_rank: (N,) rank of the stacked limb wrenches.
         singular_values: (N, 6) of the stacked dimensionless limb wrenches.
         limb_twist_rank: (N, k) rank of each limb's joint screws.
-        limb_ratio: (N, k) ``sigma_r / sigma_1`` of each limb's dimensionless joint screws, r its generic
-            rank: the limb distances of :func:`pinmob.singularity.analyze_singularity`.
+        limb_ratio: (N, k) ``sigma_r / sigma_1`` of each limb's unit-normalised dimensionless joint screws, r
+            its generic rank: the limb distances of :func:`pinmob.singularity.analyze_singularity`.
         locked_dof: (N,) platform DoF with the actuated joints locked.
         actuation_singular_values: (N, 6) of the stacked dimensionless locked-limb wrenches.
     """
@@ -302,7 +302,7 @@ def _singular_values(mech: Mechanism, scaled: list[Array], rtol: float) -> tuple
     for limb, a in zip(mech.limbs, scaled):
         w, _, _ = _null_columns(a, rtol)
         wrench_blocks.append(w)
-        ratios.append(ratio(np.linalg.svd(a, compute_uv=False), limb.generic_twist_rank))
+        ratios.append(ratio(np.linalg.svd(unit_columns(a), compute_uv=False), limb.generic_twist_rank))
         if limb.actuated:
             keep = [c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
             locked_blocks.append(_null_columns(a[:, :, keep], rtol)[0])

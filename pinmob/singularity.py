@@ -3,11 +3,14 @@
 With ``T_i`` (6, n_i) the joint screws of limb i at the platform origin and
 ``W_i`` (6, 6 - rank T_i) the wrenches reciprocal to them (see
 :mod:`pinmob.mobility`), three questions are asked, each on dimensionless
-matrices (``A_i = [v / L; w]`` for twists, ``[f L; tau]`` for wrenches):
+matrices (``[v / L; w]`` for twists, ``[f L; tau]`` for wrenches):
 
-* **limb (Type I, serial) singularity**: ``rank A_i`` is below the limb's
-  generic twist rank. The joints taking part are those with a coefficient
-  above ``sqrt(rtol)`` in a unit vector of ``null(A_i)``.
+* **limb (Type I, serial) singularity**: ``rank U_i`` is below the limb's
+  generic twist rank, ``U_i`` being the dimensionless joint screws with each
+  column scaled to unit length (so that neither the unit of length nor the
+  unit of a joint's rate, rad/s or m/s or mm/s, matters). The joints taking
+  part are those with a coefficient above ``sqrt(rtol)`` in a unit vector of
+  ``null(U_i)``.
 * **constraint singularity**: ``d = rank [W_1 ... W_k]`` is below the
   mechanism's generic constraint rank ``g`` (declared as ``generic_rank`` in
   the mechanism file, else estimated from random closed configurations): the
@@ -26,7 +29,7 @@ matrices (``A_i = [v / L; w]`` for twists, ``[f L; tau]`` for wrenches):
 Distance to singularity (dimensionless, in [0, 1], unit-invariant): for each
 question, ``sigma_r / sigma_1`` of the very matrix whose rank is decided, ``r``
 being its generic rank: the stacked limb wrenches (r = g), the stacked
-locked-limb wrenches (r = 6 - generic locked dof) and each limb's ``A_i`` (its
+locked-limb wrenches (r = 6 - generic locked dof) and each limb's ``U_i`` (its
 generic twist rank). Ranks count the singular values above ``rtol * sigma_1``,
 so each class is present exactly when its distance is at most ``rtol``. A
 configuration with no class present but a distance below ``NEAR_FACTOR * rtol``
@@ -49,7 +52,16 @@ from .closure import CLOSURE_TOL, assemble_joints, closed_kinematics
 from .exceptions import ConfigurationError, PinmobError
 from .mechanism import Limb, Mechanism
 from .mobility import Mobility, Motion, _assemble, _motions, limb_twists
-from .screw import RTOL, Array, RankDecision, classify_twists, decide_rank, twist_scaling, wrench_scaling
+from .screw import (
+    RTOL,
+    Array,
+    RankDecision,
+    classify_twists,
+    decide_rank,
+    reciprocal_wrenches,
+    twist_scaling,
+    wrench_scaling,
+)
 
 #: Near-singular band: no class present but ``distance < NEAR_FACTOR * rtol``.
 NEAR_FACTOR = 1e3
@@ -207,9 +219,14 @@ def require_platform(mech: Mechanism, what: str = "a singularity report") -> Non
 
 
 def limb_decisions(mech: Mechanism, twists: list[Array], rtol: float) -> list[RankDecision]:
-    """Rank decision on each limb's dimensionless joint screws ``A_i = D_t T_i`` (its null space gives ``W_i``)."""
+    """Rank decision on each limb's joint screws ``U_i`` (dimensionless, unit columns), transposed.
+
+    Its rank is the limb's twist rank, its null space the limb's wrench basis
+    ``W_i`` (dimensionless, orthonormal; the span of :func:`pinmob.analyze`'s
+    wrenches, whose rank decision is made on the columns as they are).
+    """
     st = twist_scaling(mech.length_scale)[:, None]
-    return [decide_rank((st * t).T, rtol, n=6) for t in twists]
+    return [decide_rank(unit_columns(st * t).T, rtol, n=6) for t in twists]
 
 
 def _blocks(decisions: list[RankDecision]) -> list[Array]:
@@ -363,9 +380,15 @@ def dependent_limbs(
     return tuple(limb.name for i, limb in enumerate(mech.limbs) if i in union)
 
 
-def _participants(matrix: Array, names: list[str], rtol: float) -> tuple[str, ...]:
-    """Names of the columns with a coefficient above ``sqrt(rtol)`` in a unit null vector of ``matrix``."""
-    null = decide_rank(matrix, rtol).null_space  # (n - rank, n), orthonormal rows
+def unit_columns(matrix: Array) -> Array:
+    """The columns scaled to unit length (zero columns kept): ``A_i`` free of the joints' rate units."""
+    norms = np.linalg.norm(matrix, axis=-2, keepdims=True)
+    return matrix / np.where(norms > 0, norms, 1.0)
+
+
+def _participants(unit: Array, names: list[str], rtol: float) -> tuple[str, ...]:
+    """Names of the columns with a coefficient above ``sqrt(rtol)`` in a unit vector of ``null(unit)``."""
+    null = decide_rank(unit, rtol).null_space  # (n - rank, n), orthonormal rows
     weight = np.max(np.abs(null), axis=0, initial=0.0)
     return tuple(dict.fromkeys(n for n, w in zip(names, weight) if w > np.sqrt(rtol)))
 
@@ -394,7 +417,7 @@ def singularity_from_twists(
         limb_ranks[limb.name] = dec.rank
         distances[f"limb {limb.name}"] = _distance(dec.singular_values, limb.generic_twist_rank)
         if dec.rank < limb.generic_twist_rank:
-            limb_joints[limb.name] = _participants(st * t, column_joints(mech, limb), rtol)
+            limb_joints[limb.name] = _participants(unit_columns(st * t), column_joints(mech, limb), rtol)
         if limb.actuated:
             cols = [c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
             locked = decide_rank((st * t[:, cols]).T, rtol, n=6).null_space.T
@@ -485,11 +508,10 @@ def analyze_both(
         data: kinematics computed at a closed configuration (:func:`pinmob.closure.compute_kinematics`).
     """
     twists = limb_twists(mech, data)
-    decisions = limb_decisions(mech, twists, rtol)
-    sw = wrench_scaling(mech.length_scale)[:, None]
-    rows = [(d.null_space.T / sw, d.rank) for d in decisions]
+    rows = [reciprocal_wrenches(t, mech.length_scale, rtol) for t in twists]
     origin = data.oMf[mech.platform_id].translation
-    mob = _assemble(mech, configuration, rows, origin, rtol, "configuration")
+    mob = _assemble(mech, configuration, [(w, dec.rank) for w, dec in rows], origin, rtol, "configuration")
+    decisions = limb_decisions(mech, twists, rtol)
     sing = singularity_from_twists(mech, twists, decisions, generic_rank, configuration=configuration, rtol=rtol)
     return mob, sing
 

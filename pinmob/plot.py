@@ -86,7 +86,13 @@ PATH_COLUMNS = ["s", "refined", "reachable", "singularity", "near_singular", "di
 def plot_path(csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL) -> Path:
     """Singular values, distance and DoF along a path scan; returns the PNG path."""
     plt = _pyplot()
-    c = read_columns(csv_path, PATH_COLUMNS)
+    fig = path_figure(read_columns(csv_path, PATH_COLUMNS), rtol)
+    return _save(plt, fig, title or "scan along a path", png_path)
+
+
+def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL) -> Any:
+    """The figure of :func:`plot_path` from the columns ``PATH_COLUMNS`` of a path scan."""
+    plt = _pyplot()
     m = _classes(c)
     s, sample = c["s"], m["sample"]
     band = NEAR_FACTOR * rtol
@@ -133,7 +139,7 @@ def plot_path(csv_path: str | Path, png_path: str | Path, title: str = "", rtol:
     twin.set_ylabel("DoF (blue)", color="b")
     twin.set_ylim(-0.5, 6.5)
     ax.legend(fontsize=7, loc="lower left")
-    return _save(plt, fig, title or "scan along a path", png_path)
+    return fig
 
 
 def _edges(centres: np.ndarray, fallback: float) -> np.ndarray:
@@ -144,15 +150,23 @@ def _edges(centres: np.ndarray, fallback: float) -> np.ndarray:
     return np.concatenate([[2 * centres[0] - mid[0]], mid, [2 * centres[-1] - mid[-1]]])
 
 
+MAP_COLUMNS = ["refined", "reachable", "singularity", "near_singular", "distance", "motion_type"]
+
+
 def plot_map(csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL) -> Path:
     """A grid scan as two maps: motion type, and distance to singularity; returns the PNG path."""
+    plt = _pyplot()
+    keys = [k for k in header(csv_path) if k.startswith("grid_")]
+    fig = map_figure(read_columns(csv_path, keys + MAP_COLUMNS), keys, rtol)
+    return _save(plt, fig, title or "scan over a workspace slice (blank: not assembled)", png_path)
+
+
+def map_figure(c: dict[str, np.ndarray], keys: list[str], rtol: float = RTOL) -> Any:
+    """The figure of :func:`plot_map` from the columns ``keys`` (the two ``grid_`` ones) and ``MAP_COLUMNS``."""
     plt = _pyplot()
     from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
     from matplotlib.ticker import MaxNLocator
 
-    keys = [k for k in header(csv_path) if k.startswith("grid_")]
-    cols = ["refined", "reachable", "singularity", "near_singular", "distance", "motion_type"]
-    c = read_columns(csv_path, keys + cols)
     m = _classes(c)
     u, v = c[keys[0]], c[keys[1]]
     us, vs = np.unique(u[m["sample"]]), np.unique(v[m["sample"]])
@@ -196,4 +210,4 @@ def plot_map(csv_path: str | Path, png_path: str | Path, title: str = "", rtol: 
                 ax.plot(u[m[key]], v[m[key]], label=label, **_MARKS[key])
         if m["singular"].any() or m["near"].any() or m["refined"].any():
             ax.legend(fontsize=7, loc="upper right", framealpha=0.8)
-    return _save(plt, fig, title or "scan over a workspace slice (blank: not assembled)", png_path)
+    return fig

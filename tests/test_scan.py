@@ -5,6 +5,8 @@ from __future__ import annotations
 import csv
 import json
 import math
+import tempfile
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -14,8 +16,10 @@ from test_six_ups import pluecker, rel_sigma_min
 
 import pinmob
 import pinmob.scan as scan_module
+from pinmob import plot
 from pinmob.cli import main
-from pinmob.scan import STRIDE, ScanSpec, grid_spec, path_spec, scan
+from pinmob.scan import STRIDE, ScanSpec, columns, grid_spec, path_spec, scan
+from pinmob.scan_file import RowWriter, read_columns
 from pinmob.singularity import generic_constraint_rank
 
 YAW_120 = f"0,0,0.4,0,0,{2 * math.pi / 3!r}"
@@ -357,3 +361,86 @@ def test_cli_never_overwrites_outputs_unless_forced(tmp_path, capsys):
     assert main(["scan", "3-UPU", "-n", "3", "--plot", str(tmp_path / "p.txt")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "p.txt" in err and ".png" in err and not (tmp_path / "p.txt").exists()
+
+
+def test_cli_grid_and_path_options_are_not_mixed(capsys):
+    """A --grid axis has exactly four fields; path options with --grid (or --at without it) are refused by name."""
+    cases = [
+        (["--grid", "x:-0.1:0.1:3:7", "y:0:1:3"], ["x:-0.1:0.1:3:7", "four fields"]),
+        (["--grid", "x:-0.1:0.1:3", "y:0:1:3", "--from", "generic"], ["--from", "--grid"]),
+        (["--grid", "x:-0.1:0.1:3", "y:0:1:3", "--to", "offset", "-n", "5"], ["--to, -n"]),
+        (["--grid", "x:-0.1:0.1:3", "y:0:1:3", "--joints"], ["--joints"]),
+        (["--at", "generic", "-n", "3"], ["--at", "--grid"]),
+    ]
+    for extra, words in cases:
+        assert main(["scan", "3-PUU", *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and all(w in err for w in words), err
+
+
+def test_cli_lists_refined_and_near_singular_points(capsys):
+    assert main(["scan", "6-UPS", "--from", "home", "--to", "0,0,0.4,0,0,2.0944", "-n", "13", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "singular samples: 0; near-singular samples (distance < 1e-03): 1; refined singular points: 1" in out
+    assert "#8+ refined (s = 0.749998): actuation, uncontrolled H1 z" in out
+    assert "#9 (s = 0.75): near-singular (actuation)" in out
+
+
+def test_cli_scan_of_a_closed_chain_without_platform_says_why(capsys):
+    robot = Path(__file__).parent / "data" / "fivebar" / "robot.yaml"
+    assert main(["scan", str(robot), "--from", "0,0,0,0,0,0", "--to", "0,0,0,0,0,1", "-n", "3"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "platform frame" in err and "Extended URDF" in err
+
+
+def test_all_unreachable_grid_plots_and_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
+    """Nothing assembles 5 m away: the maps say so (it was a BoundaryNorm traceback), and the CSV written for the
+    plot alone is removed."""
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
+    png = tmp_path / "g.png"
+    assert main(["scan", "3-PUU", "--grid", "x:5:6:2", "y:5:6:2", "--plot", str(png), "--no-progress"]) == 0
+    assert "4 x unreachable" in capsys.readouterr().out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and list(scratch.iterdir()) == []
+
+
+def test_map_cells_are_centred_on_the_samples(tmp_path):
+    """Cell edges lie half a spacing around each sample, so the image and the markers share data coordinates,
+    also along an axis with a single sample (its cell is as wide as the other axis's spacing)."""
+    assert_allclose(plot._edges(np.array([0.0, 1.0, 2.0]), 7.0), [-0.5, 0.5, 1.5, 2.5])
+    assert_allclose(plot._edges(np.array([0.3]), 0.02), [0.29, 0.31])
+    mech = pinmob.load("3-PUU")
+    c = tmp_path / "row.csv"
+    spec = grid_spec(mech, "generic", [("x", -0.1, -0.1, 1), ("y", -0.02, 0.02, 3)])
+    with RowWriter(columns(spec), {}, str(c)) as writer:
+        for row in scan(mech, spec, progress=False):
+            writer.write(row)
+    fig = plot.map_figure(read_columns(c, ["grid_x", "grid_y", *plot.MAP_COLUMNS]), ["grid_x", "grid_y"])
+    ax = fig.axes[0]
+    assert_allclose(ax.get_xlim(), [-0.11, -0.09]) and assert_allclose(ax.get_ylim(), [-0.03, 0.03])
+    (mesh,) = ax.collections
+    assert_allclose(mesh.get_coordinates()[[0, -1], [0, -1], :], [[-0.11, -0.03], [-0.09, 0.03]])
+    (marks,) = [line for line in ax.lines if line.get_label() == "singular"]  # (-0.1, 0): limb A's link horizontal
+    assert_allclose(np.c_[marks.get_xdata(), marks.get_ydata()], [[-0.1, 0.0]], atol=1e-12)
+
+
+def test_path_plot_draws_only_present_singular_values(tmp_path):
+    """The 3-PUU stacks three wrenches: sigma_4..6 are absent (blank in the CSV), not zeros to be drawn at 1e-17;
+    the rank threshold rtol is drawn."""
+    mech = pinmob.load("3-PUU")
+    c = tmp_path / "p.csv"
+    spec = path_spec(mech, "generic", "offset", 5)
+    with RowWriter(columns(spec), {}, str(c)) as writer:
+        for row in scan(mech, spec, progress=False):
+            writer.write(row)
+    cols = read_columns(c, plot.PATH_COLUMNS)
+    assert set(cols) == set(plot.PATH_COLUMNS)  # only what is drawn was read
+    assert np.all(np.isnan(cols["sv4"])) and np.all(np.isfinite(cols["sv3"]))
+    fig = plot.path_figure(cols, rtol=1e-6)
+    constraint = fig.axes[1]
+    labels = [line.get_label() for line in constraint.lines]
+    assert [lab for lab in labels if lab.startswith("$")] == [f"$\\sigma_{k}/\\sigma_1$" for k in (1, 2, 3)]
+    assert any(
+        lab.startswith("rank threshold") and line.get_ydata()[0] == 1e-6 for lab, line in zip(labels, constraint.lines)
+    )

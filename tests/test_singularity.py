@@ -18,20 +18,12 @@ from pinmob.batch import analyze_batch
 from pinmob.cli import main
 from pinmob.closure import closed_kinematics
 from pinmob.exceptions import ConfigurationError
+from pinmob.generic import dependent_limbs, generic_configurations, generic_constraint_rank, limb_decisions
 from pinmob.mechanism import NamedConfiguration
 from pinmob.mechanism_file import builtin_models
 from pinmob.mobility import limb_twists
 from pinmob.screw import RTOL, twist_scaling
-from pinmob.singularity import (
-    NEAR_FACTOR,
-    analyze_both,
-    analyze_singularity,
-    dependent_limbs,
-    format_singularity,
-    generic_configurations,
-    generic_constraint_rank,
-    limb_decisions,
-)
+from pinmob.singularity import NEAR_FACTOR, analyze_both, analyze_singularity, format_singularity
 
 
 def test_three_puu_generic_is_not_singular():

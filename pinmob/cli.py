@@ -425,7 +425,7 @@ def _row_kind(row: dict[str, Any]) -> str:
 
 def _format_row(row: dict[str, Any]) -> str:
     """One listed row of ``pinmob scan``: where, class, limbs, uncontrolled motions, DoF, distance."""
-    params = ", ".join(f"{k} = {row[k]:.6g}" for k in row if k == "s" or k.startswith("grid_"))
+    params = ", ".join(f"{k} = {round(row[k], 12):.6g}" for k in row if k == "s" or k.startswith("grid_"))
     where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
     label = row["singularity"] if row["singularity"] != "none" else f"near-singular ({row['closest']})"
     limbs = f", limbs {row['singular_limbs']}" if row["singular_limbs"] else ""

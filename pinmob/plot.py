@@ -78,7 +78,7 @@ def _relative(c: dict[str, np.ndarray], prefix: str) -> np.ndarray:
     return np.where(np.isnan(rel), np.nan, np.maximum(rel, FLOOR))
 
 
-PATH_COLUMNS = ["s", "refined", "reachable", "singularity", "near_singular", "distance", "dof"] + [
+PATH_COLUMNS = ["s", "refined", "reachable", "singularity", "singular_limbs", "near_singular", "distance", "dof"] + [
     f"{p}{i}" for p in ("sv", "av") for i in range(1, 7)
 ]
 
@@ -129,8 +129,13 @@ def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL) -> Any:
     ):
         if mask.any():
             ax.plot(s[mask], dist[mask], label=label, **_MARKS[key])
-    for x, y, label in zip(s[m["refined"]], dist[m["refined"]], c["singularity"][m["refined"]]):
-        ax.annotate(f"{label}\ns = {x:.6g}", (x, y), textcoords="offset points", xytext=(6, 4), fontsize=7)
+    span = (float(np.nanmin(s)), float(np.nanmax(s))) if s.size else (0.0, 1.0)
+    for x, y, label, limbs in zip(s[m["refined"]], dist[m["refined"]], c["singularity"][m["refined"]],
+                                  c["singular_limbs"][m["refined"]]):  # fmt: skip
+        text = f"{label} {limbs.replace(';', ',')}".strip() + f"\ns = {x:.6g}"
+        right = x < span[0] + 0.75 * (span[1] - span[0])
+        ax.annotate(text, (x, y), textcoords="offset points", xytext=(8 if right else -8, 6), fontsize=7,
+                    ha="left" if right else "right")  # fmt: skip
     ax.set_ylabel("distance ($\\sigma_r / \\sigma_1$)")
     ax.set_xlabel("path parameter s")
     twin = ax.twinx()
@@ -139,6 +144,14 @@ def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL) -> Any:
     twin.set_ylabel("DoF (blue)", color="b")
     twin.set_ylim(-0.5, 6.5)
     ax.legend(fontsize=7, loc="lower left")
+    unreachable = sample & ~m["reach"]
+    if unreachable.any():
+        half = 0.5 * float(np.min(np.diff(np.unique(s[sample])))) if np.unique(s[sample]).size > 1 else 0.5
+        for a in axes:
+            for x in s[unreachable]:
+                a.axvspan(x - half, x + half, color="0.85", lw=0, zorder=0)
+        axes[0].text(0.99, 0.97, "grey: not assembled", ha="right", va="top", fontsize=7, transform=axes[0].transAxes)
+    axes[2].set_xlim(span[0] - 0.02 * (span[1] - span[0]), span[1] + 0.02 * (span[1] - span[0]))
     return fig
 
 

@@ -318,13 +318,14 @@ def _scan(args: argparse.Namespace) -> int:
     from .scan import columns, grid_spec, path_spec, scan
     from .scan_file import RowWriter
     from .screw import RTOL
-    from .singularity import NEAR_FACTOR
+    from .singularity import NEAR_FACTOR, require_platform
 
     rtol = RTOL if args.rtol is None else args.rtol
     if not 0 < rtol < 1:
         raise ConfigurationError(f"--rtol must be in (0, 1), got {rtol}")
     _check_scan_options(args)
     mech = load(args.mechanism)
+    require_platform(mech, "pinmob scan")
     names = list(mech.configurations)
     if args.grid:
         axes = [_grid_axis(text) for text in args.grid]

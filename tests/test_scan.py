@@ -388,9 +388,10 @@ def test_cli_lists_refined_and_near_singular_points(capsys):
 
 def test_cli_scan_of_a_closed_chain_without_platform_says_why(capsys):
     robot = Path(__file__).parent / "data" / "fivebar" / "robot.yaml"
-    assert main(["scan", str(robot), "--from", "0,0,0,0,0,0", "--to", "0,0,0,0,0,1", "-n", "3"]) == 2
-    err = capsys.readouterr().err
-    assert err.count("\n") == 1 and "platform frame" in err and "Extended URDF" in err
+    for extra in (["--from", "0,0,0,0,0,0", "--to", "0,0,0,0,0,1", "-n", "3"], [], ["--grid", "x:0:1:2", "y:0:1:2"]):
+        assert main(["scan", str(robot), *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "platform frame" in err and "Extended URDF" in err
 
 
 def test_all_unreachable_grid_plots_and_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):

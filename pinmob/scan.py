@@ -207,9 +207,9 @@ class _Chunk:
             return []
         left, right = done.get(k - 1) if k > first else None, done.get(k + 1) if k < last else None
         out = []
-        sides = [s for s in (left, right) if s is not None]
-        if any(s.q is None for s in sides) and all(s.q is None or s.distance > here.distance for s in sides):
-            out.append(self._search(k, done, ""))
+        for side, other in ((left, right), (right, left)):  # towards a neighbour that did not assemble
+            if side is not None and side.q is None and (other is None or other.distance > here.distance):
+                out.append(self._search(k, done, "", towards=-1 if side is left else 1))
         if left is not None and right is not None and left.q is not None and right.q is not None:
             for key, d in here.distances.items():
                 dl, dr = left.distances[key], right.distances[key]
@@ -219,8 +219,12 @@ class _Chunk:
                     out.append(self._search(k, done, key))
         return [s for s in out if s.q is not None and s.distance < self.band]
 
-    def _search(self, k: int, done: dict[int, _Sample], key: str) -> _Sample:
-        """Minimise the distance (of question ``key``; of all questions when empty) around sample k."""
+    def _search(self, k: int, done: dict[int, _Sample], key: str, towards: int = 0) -> _Sample:
+        """Minimise the distance (of question ``key``; of all questions when empty) around sample k.
+
+        With ``towards`` (-1 or 1), between k and that neighbour only when the other one did not assemble
+        either (each edge of an isolated reachable stretch is searched on its own).
+        """
         trials: dict[float, _Sample] = {float(j): s for j, s in done.items() if s.q is not None}
 
         def value(s: _Sample) -> float:
@@ -233,6 +237,8 @@ class _Chunk:
 
         lo = k - 1 if (k - 1) in done else k
         hi = k + 1 if (k + 1) in done else k
+        if towards and done[k - towards if k - towards in done else k].q is None:
+            lo, hi = (k - 1, k) if towards < 0 else (k, k + 1)
         best = minimise(f, lo, k, hi, value(done[lo]), value(done[k]), value(done[hi]),
                         stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
         if best.t == k:

@@ -28,8 +28,9 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from .exceptions import ConfigurationError
-from .mechanism import Limb, Mechanism
-from .screw import RTOL, Array, Mask, twist_scaling
+from .mechanism import Mechanism
+from .screw import RTOL, Array, twist_scaling
+from .singularity import column_joints, ratio, unit_columns
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]
@@ -44,7 +45,8 @@ class BatchResult:
         constraint_rank: (N,) rank of the stacked limb wrenches.
         singular_values: (N, 6) of the stacked dimensionless limb wrenches.
         limb_twist_rank: (N, k) rank of each limb's joint screws.
-        limb_ratio: (N, k) ``sigma_r / sigma_1`` of each limb's unit-normalised joint screws, r its generic rank.
+        limb_ratio: (N, k) ``sigma_r / sigma_1`` of each limb's unit-normalised dimensionless joint screws, r
+            its generic rank: the limb distances of :func:`pinmob.singularity.analyze_singularity`.
         locked_dof: (N,) platform DoF with the actuated joints locked.
         actuation_singular_values: (N, 6) of the stacked dimensionless locked-limb wrenches.
     """
@@ -56,16 +58,6 @@ class BatchResult:
     limb_ratio: Array
     locked_dof: Ints
     actuation_singular_values: Array
-
-    def singular(
-        self, generic_rank: int, generic_twist_rank: Array, generic_locked_dof: int | None
-    ) -> dict[str, Mask | None]:
-        """Boolean (N,) arrays ``constraint``, ``actuation`` (None without actuators) and (N, k) ``limbs``."""
-        return {
-            "constraint": self.constraint_rank < generic_rank,
-            "actuation": None if generic_locked_dof is None else self.locked_dof > generic_locked_dof,
-            "limbs": self.limb_twist_rank < np.asarray(generic_twist_rank)[None, :],
-        }
 
 
 def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) -> tuple[Array, Array]:
@@ -250,14 +242,6 @@ def _null_columns(a: Array, rtol: float) -> tuple[Array, Array, Array]:
     return u * mask[:, None, :], rank, s
 
 
-def _ratio(s: NDArray[np.floating], rank: int) -> Array:
-    if rank <= 0:
-        return np.ones(s.shape[0])
-    if s.shape[1] < rank:
-        return np.zeros(s.shape[0])
-    return np.where(s[:, 0] > 0, s[:, rank - 1] / np.where(s[:, 0] > 0, s[:, 0], 1.0), 0.0)
-
-
 def analyze_batch(
     mech: Mechanism,
     qs: Array,
@@ -292,7 +276,7 @@ def analyze_batch(
     offsets = np.cumsum([0] + [len(limb.v_indices) for limb in mech.limbs]).astype(np.int64)
     free, free_offsets = [], [0]
     for limb, start in zip(mech.limbs, offsets):
-        free += [start + c for c, name in enumerate(_column_joints(mech, limb)) if name not in limb.actuated]
+        free += [start + c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
         free_offsets.append(len(free))
     limb_rank, d, locked_rank = _ranks(
         full,
@@ -326,11 +310,9 @@ def _singular_values(mech: Mechanism, scaled: list[Array], rtol: float) -> tuple
     for limb, a in zip(mech.limbs, scaled):
         w, _, _ = _null_columns(a, rtol)
         wrench_blocks.append(w)
-        norms = np.linalg.norm(a, axis=1, keepdims=True)
-        unit_s = np.linalg.svd(a / np.where(norms > 0, norms, 1.0), compute_uv=False)
-        ratios.append(_ratio(unit_s, limb.generic_twist_rank))
+        ratios.append(ratio(np.linalg.svd(unit_columns(a), compute_uv=False), limb.generic_twist_rank))
         if limb.actuated:
-            keep = [c for c, name in enumerate(_column_joints(mech, limb)) if name not in limb.actuated]
+            keep = [c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
             locked_blocks.append(_null_columns(a[:, :, keep], rtol)[0])
         else:
             locked_blocks.append(w)
@@ -338,11 +320,3 @@ def _singular_values(mech: Mechanism, scaled: list[Array], rtol: float) -> tuple
     s = np.linalg.svd(np.concatenate(wrench_blocks, axis=2), compute_uv=False)[:, :6]
     ls = np.linalg.svd(np.concatenate(locked_blocks, axis=2), compute_uv=False)[:, :6]
     return pad(s), pad(ls), np.stack(ratios, axis=1)
-
-
-def _column_joints(mech: Mechanism, limb: Limb) -> list[str]:
-    """Joint name of every velocity column of the limb."""
-    out: list[str] = []
-    for name in limb.joints:
-        out += [name] * mech.model.joints[mech.model.getJointId(name)].nv
-    return out

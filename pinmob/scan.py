@@ -1,167 +1,128 @@
 """Scans: mobility and singularities along a path or over a workspace slice.
 
-Three kinds of scan, each a sequence of targets that are assembled one after
-the other with warm starts (the previous sample's configuration seeds the
-closure solver of the next):
+What is scanned, in which order, is a :class:`pinmob.scan_spec.ScanSpec`. Each
+target is assembled warm-started (the previous sample's configuration seeds
+the closure solver of the next). One coarse walk (:func:`chunk_seeds`, in this
+process) goes from the reference configuration through every ``STRIDE``-th
+sample of each line (a grid row by row, in a serpentine) and gives each chunk
+its seed; every chunk then runs from its seed, in this process or in a
+worker, so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
+``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
+the refinement). Each sample is analysed from one kinematics computation
+(:func:`pinmob.singularity.analyze_both`).
 
-* ``pose path``: platform poses ``M(s) = M_A exp(s log(M_A^-1 M_B))``, s in [0, 1];
-* ``joint path``: actuated joint values ``a(s) = (1 - s) a_A + s a_B``, assembled
-  by forward kinematics (:func:`pinmob.closure.assemble_joints`);
-* ``grid``: two platform pose coordinates (x, y, z [m], roll, pitch, yaw [rad])
-  on a grid, the other four fixed at a reference pose.
+Refinement (:mod:`pinmob.refine`): a singularity between samples is looked for
+where, along a line, a distance to singularity has a local minimum above
+``rtol`` (each question on its own: constraint, actuation, each limb) that is
+below the near-singular band or that the V through the three samples puts
+below half its value, and where a sample borders one that cannot be assembled
+(the edge of the reachable set, where a limb's inverse kinematics is singular).
+A sample that is already singular is not refined. The line parameter is refined
+(re-assembling warm-started at each trial, up to ``REFINE_ITER`` solver
+iterations) and the best point is reported as an extra row (``refined`` True,
+``index`` the sample before it) when its distance is below the near-singular
+band ``NEAR_FACTOR * rtol``; it may then be singular or only near-singular.
 
-Samples are split into chunks (fixed-size runs of a path, rows of a grid).
-Each chunk starts from the reference configuration, walks coarsely to its
-first target (every ``stride`` samples of a path; grid steps of at most two
-spacings), then runs warm-started. The serial run does exactly the same, so
-``workers=N`` gives results identical to ``workers=1``. Results are yielded
-one row at a time (memory flat in the number of samples); targets that cannot
-be assembled give a row with ``reachable = False``.
+Rows are yielded one at a time, in order of the line parameter (memory flat in
+the number of samples); targets that cannot be assembled give a row with
+``reachable = False``.
 """
 
 from __future__ import annotations
 
-import json
+import math
 import multiprocessing as mp
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from multiprocessing.context import BaseContext
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
-from .closure import assemble_joints, assemble_pose
-from .exceptions import ConfigurationError, PinmobError, choices
+from .closure import assemble_joints, assemble_pose, compute_kinematics
+from .exceptions import ConfigurationError, PinmobError
 from .mechanism import Mechanism
-from .mobility import analyze
+from .refine import minimise, v_vertex
+from .scan_spec import (
+    CHUNK,
+    KINDS,
+    POSE_COORDS,
+    STRIDE,
+    ScanSpec,
+    grid_spec,
+    path_spec,
+    platform_pose,
+    pose_from_vector,
+    pose_vector,
+    resolve_pose,
+)
 from .screw import RTOL, Array
-from .singularity import analyze_singularity, generic_constraint_rank
+from .singularity import NEAR_FACTOR, analyze_both, generic_constraint_rank
 
-POSE_COORDS = ("x", "y", "z", "roll", "pitch", "yaw")
-KINDS = ("pose", "joints", "grid")
+__all__ = ["CHUNK", "KINDS", "POSE_COORDS", "STRIDE", "ScanSpec", "chunk_seeds", "columns", "evaluate", "grid_spec",
+           "path_spec", "platform_pose", "pose_from_vector", "pose_vector", "resolve_pose", "run_chunk", "scan"]  # fmt: skip
+
 SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
-
-#: Samples per chunk of a path, and coarse step (in samples) of the walk to a chunk's start.
-CHUNK, STRIDE = 32, 8
-
-
-def platform_pose(mech: Mechanism, q: Array) -> pin.SE3:
-    """World pose of the platform frame at q."""
-    data = mech.model.createData()
-    pin.framesForwardKinematics(mech.model, data, q)
-    return pin.SE3(data.oMf[mech.platform_id])
-
-
-def pose_vector(pose: pin.SE3) -> Array:
-    """(6,) ``[x, y, z, roll, pitch, yaw]`` [m, rad] of a pose."""
-    return np.concatenate([pose.translation, pin.rpy.matrixToRpy(pose.rotation)])
-
-
-def pose_from_vector(v: Array) -> pin.SE3:
-    """Pose from ``[x, y, z, roll, pitch, yaw]`` [m, rad]."""
-    v = np.asarray(v, float)
-    return pin.SE3(pin.rpy.rpyToMatrix(v[3:]), v[:3])
-
-
-@dataclass(frozen=True)
-class ScanSpec:
-    """What to scan (picklable; see the module docstring).
-
-    Attributes:
-        kind: ``pose``, ``joints`` or ``grid``.
-        q_ref: (nq,) closed configuration the walk starts from.
-        a, b: path ends: (4, 4) homogeneous poses for ``pose``, (m,) actuated
-            values for ``joints``; unused for ``grid``.
-        samples: samples along a path.
-        joints: actuated joint names (``joints`` kind).
-        base: (6,) reference pose vector of a grid.
-        axes: two grid coordinates: (index in POSE_COORDS, low, high, count) each.
-        rtol: relative tolerance of rank decisions.
-        generic_rank: the mechanism's generic constraint rank.
-    """
-
-    kind: str
-    q_ref: Array = field(repr=False)
-    a: Array | None = field(default=None, repr=False)
-    b: Array | None = field(default=None, repr=False)
-    samples: int = 0
-    joints: tuple[str, ...] = ()
-    base: Array | None = field(default=None, repr=False)
-    axes: tuple[tuple[int, float, float, int], ...] = ()
-    rtol: float = RTOL
-    generic_rank: int = 0
-
-    @property
-    def size(self) -> int:
-        if self.kind == "grid":
-            return self.axes[0][3] * self.axes[1][3]
-        return self.samples
-
-    def params(self, k: int) -> dict[str, float]:
-        """Scan parameters of sample k: ``s`` on a path, ``grid_<coordinate>`` (two) on a grid."""
-        if self.kind == "grid":
-            (i, lo_i, hi_i, n_i), (j, lo_j, hi_j, n_j) = self.axes
-            r, c = divmod(k, n_j)
-            return {
-                "grid_" + POSE_COORDS[i]: float(np.linspace(lo_i, hi_i, n_i)[r]),
-                "grid_" + POSE_COORDS[j]: float(np.linspace(lo_j, hi_j, n_j)[c]),
-            }
-        return {"s": k / (self.samples - 1) if self.samples > 1 else 0.0}
-
-    def target(self, k: int) -> tuple[str, Any]:
-        """``("pose", SE3)`` or ``("joints", {name: value})`` for sample k."""
-        p = self.params(k)
-        if self.kind == "grid":
-            v = np.array(self.base, float)
-            for name, value in p.items():
-                v[POSE_COORDS.index(name[5:])] = value
-            return "pose", pose_from_vector(v)
-        s = p["s"]
-        if self.kind == "joints":
-            vals = (1 - s) * np.asarray(self.a) + s * np.asarray(self.b)
-            return "joints", dict(zip(self.joints, vals.tolist()))
-        ma, mb = pin.SE3(np.asarray(self.a)), pin.SE3(np.asarray(self.b))
-        return "pose", ma * pin.exp6(s * pin.log6(ma.actInv(mb)))
-
-    def chunks(self) -> list[tuple[int, int]]:
-        """(start, stop) sample ranges: rows of a grid, runs of CHUNK samples of a path."""
-        if self.kind == "grid":
-            n_j = self.axes[1][3]
-            return [(r * n_j, (r + 1) * n_j) for r in range(self.axes[0][3])]
-        return [(s, min(s + CHUNK, self.samples)) for s in range(0, self.samples, CHUNK)]
-
-    def approach(self, start: int) -> list[tuple[str, Any]]:
-        """Targets walked from ``q_ref`` before the first sample of the chunk starting at ``start``."""
-        if self.kind != "grid":
-            return [self.target(k) for k in range(0, start, STRIDE)]
-        (i, lo_i, hi_i, n_i), (j, lo_j, hi_j, n_j) = self.axes
-        first = np.array(self.base, float)
-        for name, value in self.params(start).items():
-            first[POSE_COORDS.index(name[5:])] = value
-        base = np.array(self.base, float)
-        spacing = np.array([(hi_i - lo_i) / max(1, n_i - 1), (hi_j - lo_j) / max(1, n_j - 1)])
-        delta = np.abs(np.array([first[i] - base[i], first[j] - base[j]]))
-        steps = int(np.ceil(np.max(delta / np.where(spacing > 0, 2 * spacing, np.inf), initial=0.0)))
-        return [("pose", pose_from_vector(base + t * (first - base))) for t in np.arange(1, steps) / steps]
-
 
 #: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
 MAX_ITER = 40
 
+#: Iterations per assembly while refining (the solver converges slowly next to a singularity).
+REFINE_ITER = 100
 
-def _assemble(mech: Mechanism, target: tuple[str, Any], seed: Array) -> Array:
+#: Evaluations per refinement, and bracket width (in samples) at which it stops.
+REFINE_EVALS, REFINE_XTOL = 60, 1e-12
+
+
+def _assemble(mech: Mechanism, target: tuple[str, Any], seed: Array, max_iter: int = MAX_ITER) -> Array:
     kind, value = target
     if kind == "pose":
-        return assemble_pose(mech, value, seed, max_iter=MAX_ITER)
-    return assemble_joints(mech, value, seed, max_iter=MAX_ITER)
+        return assemble_pose(mech, value, seed, max_iter=max_iter)
+    return assemble_joints(mech, value, seed, max_iter=max_iter)
 
 
-def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None) -> dict[str, Any]:
+def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Array]]:
+    """``(start, stop, seed)`` of every chunk, in order, from one coarse walk (:meth:`ScanSpec.waypoints`).
+
+    The seed is the walk's configuration at the chunk's first sample (or, when
+    that does not assemble, at the last waypoint that did).
+    """
+    stops = dict(spec.chunks())
+    order = list(stops)
+    found: dict[int, Array] = {}
+    q = np.array(spec.q_ref, float)
+    for target, k in spec.waypoints():
+        try:
+            q = _assemble(mech, target, q)
+        except PinmobError:
+            pass
+        if k in stops:
+            found[k] = q
+        while order and order[0] in found:
+            start = order.pop(0)
+            yield start, stops[start], found.pop(start)
+
+
+# --------------------------------------------------------------------------- rows
+
+
+def evaluate(
+    mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None, data: pin.Data | None = None
+) -> dict[str, Any]:
     """One scan row at a closed configuration: pose, DoF, motion type, singularity, singular values."""
-    mob = analyze(mech, q, rtol=rtol)
-    sing = analyze_singularity(mech, q, rtol=rtol, generic_rank=generic_rank)
-    row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(platform_pose(mech, q)).tolist()))
+    return _evaluate(mech, q, rtol, generic_rank, data)[0]
+
+
+def _evaluate(
+    mech: Mechanism, q: Array, rtol: float, generic_rank: int | None, data: pin.Data | None = None
+) -> tuple[dict[str, Any], dict[str, float]]:
+    """The row and the distance of each question, from one kinematics computation."""
+    g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else generic_rank
+    data = mech.model.createData() if data is None else data
+    compute_kinematics(mech.model, data, q)
+    mob, sing = analyze_both(mech, data, g, rtol=rtol)
+    row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(data.oMf[mech.platform_id]).tolist()))
     row.update(
         reachable=True,
         dof=mob.dof,
@@ -169,123 +130,150 @@ def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | 
         constraint_rank=mob.constraint_rank,
         locked_dof=sing.locked_dof,
         singularity=sing.label,
+        near_singular=sing.near_singular,
+        closest=sing.closest,
         singular_limbs=";".join(sing.limbs),
+        dependent_limbs=";".join(sing.dependent_limbs),
         uncontrolled=";".join(m.label for m in sing.uncontrolled),
         distance=sing.distance,
     )
     row.update(zip(SV_COLUMNS, [*sing.constraint_singular_values.tolist(), *sing.actuation_singular_values.tolist()]))
-    return row
+    return row, sing.distances
 
 
 def _unreachable(pose: Array | None) -> dict[str, Any]:
     row: dict[str, Any] = dict(zip(POSE_COORDS, [float("nan")] * 6 if pose is None else pose.tolist()))
-    row.update(
-        reachable=False,
-        dof=-1,
-        motion_type="unreachable",
-        constraint_rank=-1,
-        locked_dof=-1,
-        singularity="",
-        singular_limbs="",
-        uncontrolled="",
-        distance=float("nan"),
-    )
+    row.update(reachable=False, dof=-1, motion_type="unreachable", constraint_rank=-1, locked_dof=-1, singularity="",
+               near_singular=False, closest="", singular_limbs="", dependent_limbs="", uncontrolled="",
+               distance=float("nan"))  # fmt: skip
     row.update(dict.fromkeys(SV_COLUMNS, float("nan")))
     return row
 
 
-def run_chunk(mech: Mechanism, spec: ScanSpec, start: int, stop: int) -> list[dict[str, Any]]:
-    """Rows of samples ``start .. stop - 1`` (walk from ``q_ref`` to the chunk, then warm starts)."""
-    q = np.array(spec.q_ref, float)
-    for target in spec.approach(start):
+@dataclass
+class _Sample:
+    """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances."""
+
+    row: dict[str, Any]
+    q: Array | None
+    distances: dict[str, float]
+
+    @property
+    def distance(self) -> float:
+        return min(self.distances.values(), default=1.0) if self.q is not None else math.inf
+
+
+class _Chunk:
+    """Runs one chunk: its samples, their two neighbours on the line, and the refinements."""
+
+    def __init__(self, mech: Mechanism, spec: ScanSpec) -> None:
+        self.mech, self.spec = mech, spec
+        self.data = mech.model.createData()
+        self.band = NEAR_FACTOR * spec.rtol
+
+    def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER) -> _Sample:
+        target = self.spec.target(t)
+        head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
         try:
-            q = _assemble(mech, target, q)
+            q = _assemble(self.mech, target, seed, max_iter)
         except PinmobError:
-            continue
-    rows = []
-    for k in range(start, stop):
-        target = spec.target(k)
-        head = {"index": k, **spec.params(k)}
-        try:
-            q = _assemble(mech, target, q)
-        except PinmobError:
-            rows.append(head | _unreachable(pose_vector(target[1]) if target[0] == "pose" else None))
-            continue
-        rows.append(head | evaluate(mech, q, spec.rtol, spec.generic_rank))
-    return rows
+            return _Sample(head | _unreachable(pose_vector(target[1]) if target[0] == "pose" else None), None, {})
+        row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.data)
+        return _Sample(head | row, q, distances)
+
+    def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:
+        first, last = self.spec.line(start)
+        done: dict[int, _Sample] = {}
+        q = seed
+        for k in range(start, min(stop, last) + 1):
+            done[k] = self.sample(k, q)
+            q = _seed(done[k], q)
+        if start > first:
+            done[start - 1] = self.sample(start - 1, _seed(done[start], seed))
+        extra: list[_Sample] = []
+        for k in range(start, stop):
+            extra += self.refine(k, done, first, last)
+        rows = [(float(k), done[k].row) for k in range(start, stop)]
+        rows += [(float(e.row["_t"]), e.row) for e in _distinct(extra)]
+        rows.sort(key=lambda r: (r[0], r[1]["refined"]))
+        for _, row in rows:
+            row.pop("_t", None)
+        return [row for _, row in rows]
+
+    def refine(self, k: int, done: dict[int, _Sample], first: int, last: int) -> list[_Sample]:
+        """Refined points around sample k (see the module docstring)."""
+        here = done[k]
+        if here.q is None or here.distance <= self.spec.rtol:
+            return []
+        left, right = done.get(k - 1) if k > first else None, done.get(k + 1) if k < last else None
+        out = []
+        for side, other in ((left, right), (right, left)):  # towards a neighbour that did not assemble
+            if side is not None and side.q is None and (other is None or other.distance > here.distance):
+                out.append(self._search(k, done, "", towards=-1 if side is left else 1))
+        if left is not None and right is not None and left.q is not None and right.q is not None:
+            for key, d in here.distances.items():
+                dl, dr = left.distances[key], right.distances[key]
+                if d <= self.spec.rtol or not (min(dl, dr) >= d and max(dl, dr) > d):  # not a local minimum
+                    continue
+                if d < self.band or _vertex_below(k, d, dl, dr, 0.5 * d):
+                    out.append(self._search(k, done, key))
+        return [s for s in out if s.q is not None and s.distance < self.band]
+
+    def _search(self, k: int, done: dict[int, _Sample], key: str, towards: int = 0) -> _Sample:
+        """Minimise the distance (of question ``key``; of all questions when empty) around sample k.
+
+        With ``towards`` (-1 or 1), between k and that neighbour only when the other one did not assemble
+        either (each edge of an isolated reachable stretch is searched on its own).
+        """
+        trials: dict[float, _Sample] = {float(j): s for j, s in done.items() if s.q is not None}
+
+        def value(s: _Sample) -> float:
+            return (s.distances.get(key, math.inf) if key else s.distance) if s.q is not None else math.inf
+
+        def f(t: float) -> float:
+            near = min(trials, key=lambda u: abs(u - t))
+            trials[t] = self.sample(t, _seed(trials[near], self.spec.q_ref), REFINE_ITER)
+            return value(trials[t])
+
+        lo = k - 1 if (k - 1) in done else k
+        hi = k + 1 if (k + 1) in done else k
+        if towards and done[k - towards if k - towards in done else k].q is None:
+            lo, hi = (k - 1, k) if towards < 0 else (k, k + 1)
+        best = minimise(f, lo, k, hi, value(done[lo]), value(done[k]), value(done[hi]),
+                        stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
+        if best.t == k:
+            return _Sample({}, None, {})
+        return self._mark(trials[best.t], best.t)
+
+    @staticmethod
+    def _mark(s: _Sample, t: float) -> _Sample:
+        s.row.update(refined=True, _t=t)
+        return s
 
 
-# --------------------------------------------------------------------------- building specs
+def _seed(sample: _Sample, fallback: Array) -> Array:
+    """The sample's configuration, or ``fallback`` when it did not assemble."""
+    return fallback if sample.q is None else sample.q
 
 
-def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
-    """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, closed q)."""
-    if text in mech.configurations:
-        q = mech.configuration(text)
-        return platform_pose(mech, q), q
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) != 6 or not np.all(np.isfinite(values)):
-        raise ConfigurationError(
-            f"{text!r} is neither a configuration of {mech.name!r} ({choices(mech.configurations)}) "
-            "nor a pose 'x,y,z,roll,pitch,yaw' [m, rad]"
-        )
-    return pose_from_vector(np.array(values)), np.array([])
+def _vertex_below(k: int, d: float, dl: float, dr: float, level: float) -> bool:
+    """The V through the three samples (:func:`pinmob.refine.v_vertex`) predicts a minimum below ``level``."""
+    vertex = v_vertex(k - 1, k, k + 1, dl, d, dr)
+    return vertex is not None and vertex[1] < level
 
 
-def path_spec(
-    mech: Mechanism, start: str, end: str, samples: int, *, joints: bool = False, rtol: float = RTOL
-) -> ScanSpec:
-    """A path from ``start`` to ``end`` (configuration names or poses; joint paths need names)."""
-    if samples < 2:
-        raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
-    pa, qa = resolve_pose(mech, start)
-    pb, qb = resolve_pose(mech, end)
-    if qa.size == 0:
-        qa = assemble_pose(mech, pa, _nearest_seed(mech, pa))
-    g = generic_constraint_rank(mech, rtol=rtol)
-    if joints:
-        if not mech.actuated:
-            raise ConfigurationError(f"{mech.name!r} declares no actuated joint; a joint path needs some")
-        if qb.size == 0:
-            raise ConfigurationError("a joint path goes between two named configurations")
-        idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in mech.actuated]
-        return ScanSpec("joints", qa, qa[idx], qb[idx], samples, mech.actuated, rtol=rtol, generic_rank=g)
-    return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g)
+def _distinct(points: list[_Sample]) -> list[_Sample]:
+    """Refined points, one per location (within 1e-6 sample): the one with the smallest distance."""
+    out: list[_Sample] = []
+    for p in sorted(points, key=lambda s: s.distance):
+        if all(abs(p.row["_t"] - o.row["_t"]) > 1e-6 for o in out):
+            out.append(p)
+    return out
 
 
-def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]], rtol: float = RTOL) -> ScanSpec:
-    """A grid over two pose coordinates around the pose of ``at`` (a configuration name)."""
-    if len(axes) != 2 or axes[0][0] == axes[1][0]:
-        raise ConfigurationError(f"a grid needs two different coordinates, got {[a[0] for a in axes]}")
-    out = []
-    for name, lo, hi, n in axes:
-        if name not in POSE_COORDS:
-            raise ConfigurationError(f"unknown grid coordinate {name!r}; valid: {choices(POSE_COORDS)}")
-        if n < 1 or not (np.isfinite(lo) and np.isfinite(hi)):
-            raise ConfigurationError(f"grid axis {name}: need finite bounds and at least 1 sample, got {lo}, {hi}, {n}")
-        out.append((POSE_COORDS.index(name), float(lo), float(hi), int(n)))
-    pose, q = resolve_pose(mech, at)
-    if q.size == 0:
-        q = assemble_pose(mech, pose, _nearest_seed(mech, pose))
-    g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g)
-
-
-def _nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:
-    """The named configuration whose platform pose is nearest to ``pose`` (else neutral)."""
-    best, seed = np.inf, mech.neutral()
-    for name in mech.configurations:
-        try:
-            q = mech.configuration(name)
-        except PinmobError:
-            continue
-        d = float(np.linalg.norm(pin.log6(platform_pose(mech, q).actInv(pose)).vector))
-        if d < best:
-            best, seed = d, q
-    return seed
+def run_chunk(mech: Mechanism, spec: ScanSpec, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:
+    """Rows of samples ``start .. stop - 1`` warm-started from ``seed``, with their refined points."""
+    return _Chunk(mech, spec).run(start, stop, seed)
 
 
 # --------------------------------------------------------------------------- running
@@ -302,12 +290,12 @@ def _init_worker(mech: Mechanism | str, spec: ScanSpec) -> None:
     _WORKER.update(mech=mech, spec=spec)
 
 
-def _work(bounds: tuple[int, int]) -> list[dict[str, Any]]:
-    return run_chunk(_WORKER["mech"], _WORKER["spec"], *bounds)
+def _work(job: tuple[int, int, Array]) -> list[dict[str, Any]]:
+    return run_chunk(_WORKER["mech"], _WORKER["spec"], *job)
 
 
 def scan(mech: Mechanism, spec: ScanSpec, workers: int = 1, progress: bool | None = None) -> Iterator[dict[str, Any]]:
-    """Rows of the scan, in sample order, one at a time.
+    """Rows of the scan (samples and refined points), in order of the line parameter, one at a time.
 
     Args:
         workers: local processes (1 = in this process); the rows do not depend on it.
@@ -317,14 +305,14 @@ def scan(mech: Mechanism, spec: ScanSpec, workers: int = 1, progress: bool | Non
 
     if workers < 1:
         raise ConfigurationError(f"--workers must be at least 1, got {workers}")
-    chunks = spec.chunks()
+    jobs = chunk_seeds(mech, spec)
     disable = (None if spec.size >= 50 else True) if progress is None else not progress
     bar = tqdm(total=spec.size, disable=disable, unit="sample", desc=f"scan {mech.name}", leave=False)
     try:
-        if workers == 1 or len(chunks) == 1:
-            for bounds in chunks:
-                rows = run_chunk(mech, spec, *bounds)
-                bar.update(len(rows))
+        if workers == 1 or len(spec.chunks()) == 1:
+            for job in jobs:
+                rows = run_chunk(mech, spec, *job)
+                bar.update(job[1] - job[0])
                 yield from rows
             return
         init: tuple[Mechanism | str, ScanSpec]
@@ -335,9 +323,9 @@ def scan(mech: Mechanism, spec: ScanSpec, workers: int = 1, progress: bool | Non
             if mech.source is None:
                 raise ConfigurationError("--workers > 1 needs a mechanism loaded from a file on this platform")
             ctx, init = mp.get_context("spawn"), (str(mech.source), spec)
-        with ctx.Pool(min(workers, len(chunks)), initializer=_init_worker, initargs=init) as pool:
-            for rows in pool.imap(_work, chunks):
-                bar.update(len(rows))
+        with ctx.Pool(min(workers, len(spec.chunks())), initializer=_init_worker, initargs=init) as pool:
+            for rows in pool.imap(_work, jobs):
+                bar.update(sum(not r["refined"] for r in rows))
                 yield from rows
     finally:
         bar.close()
@@ -346,48 +334,6 @@ def scan(mech: Mechanism, spec: ScanSpec, workers: int = 1, progress: bool | Non
 def columns(spec: ScanSpec) -> list[str]:
     """CSV columns of a scan's rows, in order."""
     params = list(spec.params(0))
-    return ["index", *params, *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank", "locked_dof",
-            "singularity", "singular_limbs", "uncontrolled", "distance", *SV_COLUMNS]  # fmt: skip
-
-
-# --------------------------------------------------------------------------- output
-
-
-class RowWriter:
-    """Stream rows to a CSV file and/or a JSON file (``{"scan": {...}, "samples": [...]}``) as they come.
-
-    Use as a context manager; nothing is kept in memory but the current row.
-    """
-
-    def __init__(self, spec: ScanSpec, meta: dict[str, Any], csv_path: str | None = None, json_path: str | None = None):
-        self.cols = columns(spec)
-        self.meta = meta
-        self.csv_path, self.json_path = csv_path, json_path
-        self.count = 0
-
-    def __enter__(self) -> RowWriter:
-        import csv
-
-        self._csv_fh = open(self.csv_path, "w", newline="") if self.csv_path else None  # noqa: SIM115
-        self._csv = csv.DictWriter(self._csv_fh, self.cols) if self._csv_fh else None
-        if self._csv:
-            self._csv.writeheader()
-        self._json = open(self.json_path, "w") if self.json_path else None  # noqa: SIM115
-        if self._json:
-            self._json.write('{"scan": ' + json.dumps(self.meta) + ', "samples": [')
-        return self
-
-    def write(self, row: dict[str, Any]) -> None:
-        if self._csv:
-            self._csv.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
-        if self._json:
-            clean = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
-            self._json.write((",\n" if self.count else "\n") + json.dumps(clean, allow_nan=False))
-        self.count += 1
-
-    def __exit__(self, *exc: object) -> None:
-        if self._json:
-            self._json.write("\n]}\n")
-            self._json.close()
-        if self._csv_fh:
-            self._csv_fh.close()
+    return ["index", *params, "refined", *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank",
+            "locked_dof", "singularity", "near_singular", "closest", "singular_limbs", "dependent_limbs",
+            "uncontrolled", "distance", *SV_COLUMNS]  # fmt: skip

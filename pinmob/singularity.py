@@ -5,54 +5,70 @@ With ``T_i`` (6, n_i) the joint screws of limb i at the platform origin and
 :mod:`pinmob.mobility`), three questions are asked, each on dimensionless
 matrices (``[v / L; w]`` for twists, ``[f L; tau]`` for wrenches):
 
-* **limb (Type I, serial) singularity**: ``rank T_i`` is below the limb's
-  generic twist rank. The joints taking part are those with a non-zero
-  coefficient in ``null(T_i)`` (columns normalised).
+* **limb (Type I, serial) singularity**: ``rank U_i`` is below the limb's
+  generic twist rank, ``U_i`` being the dimensionless joint screws with each
+  column scaled to unit length (so that neither the unit of length nor the
+  unit of a joint's rate, rad/s or m/s or mm/s, matters). The joints taking
+  part are those with a coefficient above ``sqrt(rtol)`` in a unit vector of
+  ``null(U_i)``.
 * **constraint singularity**: ``d = rank [W_1 ... W_k]`` is below the
   mechanism's generic constraint rank ``g`` (declared as ``generic_rank`` in
   the mechanism file, else estimated from random closed configurations): the
-  platform gains freedom. The limbs whose wrenches became dependent are those
-  with a non-zero block in ``null([W_1 ... W_k])``.
+  platform gains freedom. The *dependent limbs* are the limbs of the minimal
+  sets S of limbs whose own stacked wrenches lost rank: ``rank [W_i, i in S]``
+  below its value at generic configurations (:func:`dependent_limbs`).
 * **actuation (Type II, parallel) singularity**: with the actuated joints
   locked, limb i keeps the screws ``T_i^u`` of its unactuated joints and is
   reciprocal to ``W_i^u = null((T_i^u)^T)``, which holds ``W_i`` plus one
-  actuation wrench per actuated joint (the wrench reciprocal to every other
-  joint screw of the limb but not to the actuated one). The platform keeps
+  actuation wrench per actuated joint. The platform keeps
   ``locked_dof = 6 - rank [W_1^u ... W_k^u]`` free motions, the *uncontrolled*
   twists. A configuration is actuation-singular when ``locked_dof`` exceeds its
-  generic value ``max(0, 6 - g - n_actuated)``.
+  generic value ``max(0, 6 - g - n_actuated)``. Without any actuated joint the
+  question does not apply (``actuation`` None, no uncontrolled motion).
 
 Distance to singularity (dimensionless, in [0, 1], unit-invariant): for each
-question, the ratio ``sigma_r / sigma_1`` of the relevant matrix, ``r`` being
-its generic rank: stacked limb wrenches (rank g), stacked locked-limb wrenches
-(rank 6 - generic locked dof), and each limb's joint screws with columns
-normalised to unit length (its generic twist rank). Wrench bases are
-orthonormal per limb, so these values do not depend on the bases chosen. The
-reported ``distance`` is the smallest of them; 0 means singular, 1 means the
-matrix is as well conditioned as it can be.
+question, ``sigma_r / sigma_1`` of the very matrix whose rank is decided, ``r``
+being its generic rank: the stacked limb wrenches (r = g), the stacked
+locked-limb wrenches (r = 6 - generic locked dof) and each limb's ``U_i`` (its
+generic twist rank). Ranks count the singular values above ``rtol * sigma_1``,
+so each class is present exactly when its distance is at most ``rtol``. A
+configuration with no class present but a distance below ``NEAR_FACTOR * rtol``
+is *near-singular*.
 """
 
 from __future__ import annotations
 
-import weakref
-from collections import Counter
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
-from .closure import CLOSURE_TOL, assemble_joints, closed_kinematics
-from .exceptions import PinmobError
-from .mechanism import Mechanism
-from .mobility import Motion, _motions, analyze, limb_twists
-from .screw import RTOL, Array, classify_twists, decide_rank, twist_scaling, wrench_scaling
+from .closure import CLOSURE_TOL, closed_kinematics
+from .exceptions import ConfigurationError
+from .generic import (
+    dependent_limbs,
+    generic_constraint_rank,
+    limb_decisions,
+    unit_columns,
+    wrench_blocks,
+)
+from .mechanism import Limb, Mechanism
+from .mobility import Mobility, Motion, _assemble, _motions, limb_twists
+from .screw import (
+    RTOL,
+    Array,
+    RankDecision,
+    classify_twists,
+    decide_rank,
+    reciprocal_wrenches,
+    twist_scaling,
+    wrench_scaling,
+)
 
-#: Coefficient (relative to the largest) above which a joint or limb takes part in a dependency.
-PARTICIPATION = 1e-6**0.5
-
-_GENERIC: dict[int, tuple[weakref.ref, int]] = {}
+#: Near-singular band: no class present but ``distance < NEAR_FACTOR * rtol``.
+NEAR_FACTOR = 1e3
 
 
 @dataclass(frozen=True)
@@ -65,17 +81,19 @@ class Singularity:
         actuation: actuation (Type II) singularity; None when no joint is actuated.
         limbs: names of the serially singular (Type I) limbs.
         limb_joints: per serially singular limb, the joints taking part.
-        dependent_limbs: limbs whose wrenches became dependent (constraint singularity only).
+        dependent_limbs: limbs of the minimal limb sets whose wrenches lost rank (constraint singularity only).
         constraint_rank, generic_rank: d here and at generic configurations.
-        locked_dof: platform DoF with the actuated joints locked.
+        locked_dof: platform DoF with the actuated joints locked (the DoF when none is actuated).
         generic_locked_dof: its generic value ``max(0, 6 - generic_rank - n_actuated)``.
-        uncontrolled: canonical uncontrolled motions (the free motions with actuators locked).
-        uncontrolled_twists: (6, locked_dof) their unit twists ``[v; w]``.
+        uncontrolled: canonical uncontrolled motions (free motions with actuators locked; empty without actuators).
+        uncontrolled_twists: (6, len(uncontrolled)) their unit twists ``[v; w]``.
         actuation_wrenches: (6, m) the actuation wrenches ``[f; tau]`` [N, N m per unit] found.
         distance: smallest of ``distances`` (dimensionless, [0, 1]).
         distances: per question (``constraint``, ``actuation``, ``limb <name>``), ``sigma_r / sigma_1``.
-        constraint_singular_values: (6,) of the stacked dimensionless limb wrenches (zero-padded).
-        actuation_singular_values: (6,) of the stacked dimensionless locked-limb wrenches.
+        limb_ranks, generic_limb_ranks: twist rank of each limb here and at generic configurations.
+        constraint_singular_values: (6,) of the stacked dimensionless limb wrenches (NaN where absent).
+        actuation_singular_values: (6,) of the stacked dimensionless locked-limb wrenches (NaN where absent).
+        rtol: relative tolerance of the rank decisions.
     """
 
     mechanism: str
@@ -94,8 +112,11 @@ class Singularity:
     actuation_wrenches: Array = field(repr=False)
     distance: float = 1.0
     distances: dict[str, float] = field(default_factory=dict)
-    constraint_singular_values: Array = field(default_factory=lambda: np.zeros(6), repr=False)
-    actuation_singular_values: Array = field(default_factory=lambda: np.zeros(6), repr=False)
+    limb_ranks: dict[str, int] = field(default_factory=dict)
+    generic_limb_ranks: dict[str, int] = field(default_factory=dict)
+    constraint_singular_values: Array = field(default_factory=lambda: np.full(6, np.nan), repr=False)
+    actuation_singular_values: Array = field(default_factory=lambda: np.full(6, np.nan), repr=False)
+    rtol: float = RTOL
 
     @property
     def classes(self) -> tuple[str, ...]:
@@ -111,12 +132,25 @@ class Singularity:
         return "+".join(self.classes) or "none"
 
     @property
+    def near_singular(self) -> bool:
+        """No class present, but ``distance < NEAR_FACTOR * rtol``."""
+        return not self.classes and self.distance < NEAR_FACTOR * self.rtol
+
+    @property
+    def closest(self) -> str:
+        """The question with the smallest distance (``constraint``, ``actuation`` or ``limb <name>``)."""
+        return min(self.distances, key=self.distances.__getitem__) if self.distances else ""
+
+    @property
     def rank_gap(self) -> dict[str, int]:
-        """Rank lost per question: generic rank minus rank here (0 when not singular)."""
-        return {
+        """Rank lost per question (``constraint``, ``actuation``, ``limb <name>``): generic minus here, at least 0."""
+        gap = {
             "constraint": max(0, self.generic_rank - self.constraint_rank),
             "actuation": max(0, self.locked_dof - self.generic_locked_dof),
         }
+        for name, rank in self.limb_ranks.items():
+            gap[f"limb {name}"] = max(0, self.generic_limb_ranks[name] - rank)
+        return gap
 
     def to_dict(self) -> dict[str, Any]:
         """The ``singularity`` entry of ``pinmob analyze --json``."""
@@ -129,6 +163,7 @@ class Singularity:
             "distance": self.distance,
             "generic_rank": self.generic_rank,
             "classes": list(self.classes),
+            "near_singular": self.near_singular,
             "limb_joints": {k: list(v) for k, v in self.limb_joints.items()},
             "dependent_limbs": list(self.dependent_limbs),
             "rank_gap": self.rank_gap,
@@ -139,40 +174,54 @@ class Singularity:
 # --------------------------------------------------------------------------- helpers
 
 
+def ratio(singular_values: NDArray[np.floating], rank: int) -> Array:
+    """``sigma_rank / sigma_1`` (1-based) of each row of (N, m) singular values; 1 when rank is 0, 0 when m < rank."""
+    s = np.atleast_2d(np.asarray(singular_values, float))
+    if rank <= 0:
+        return np.ones(s.shape[0])
+    if s.shape[1] < rank:
+        return np.zeros(s.shape[0])
+    top = s[:, 0]
+    return np.where(top > 0, s[:, rank - 1] / np.where(top > 0, top, 1.0), 0.0)
+
+
+def _distance(singular_values: ArrayLike, rank: int) -> float:
+    return float(ratio(np.asarray(singular_values, float)[None, :], rank)[0])
+
+
 def _padded(values: Array) -> Array:
-    out = np.zeros(6)
+    out = np.full(6, np.nan)
     out[: min(6, values.size)] = values[:6]
     return out
 
 
-def _ratio(singular_values: ArrayLike, rank: int) -> float:
-    """``sigma_rank / sigma_1`` (1-based); 1 when rank is 0 (nothing to lose)."""
-    if rank <= 0:
-        return 1.0
-    s = np.asarray(singular_values, float)
-    if s.size < rank or s[0] <= 0:
-        return 0.0
-    return float(s[rank - 1] / s[0])
+def column_joints(mech: Mechanism, limb: Limb) -> list[str]:
+    """Joint name of every velocity column of the limb."""
+    out: list[str] = []
+    for name in limb.joints:
+        out += [name] * mech.model.joints[mech.model.getJointId(name)].nv
+    return out
 
 
-def _participants(matrix: Array, groups: list[tuple[str, slice]], rtol: float) -> tuple[str, ...]:
-    """Groups of columns with a coefficient in the null space of ``matrix`` (columns normalised)."""
-    if matrix.shape[1] == 0:
-        return ()
-    norms = np.linalg.norm(matrix, axis=0)
-    scaled = matrix / np.where(norms > 0, norms, 1.0)
-    null = decide_rank(scaled, rtol).null_space  # (n - rank, n)
-    if null.shape[0] == 0:
-        return ()
-    weight = np.max(np.abs(null), axis=0)
-    return tuple(name for name, cols in groups if np.max(weight[cols], initial=0.0) > PARTICIPATION)
+def require_platform(mech: Mechanism, what: str = "a singularity report") -> None:
+    """Raise unless the mechanism has limbs meeting at a platform frame.
 
-
-def _column_names(mech: Mechanism, joints: tuple[str, ...]) -> list[str]:
-    names = []
-    for j in joints:
-        names += [j] * mech.model.joints[mech.model.getJointId(j)].nv
-    return names
+    Raises:
+        ConfigurationError: no limbs or no platform frame (Extended URDF, MJCF, closures only), or a
+            closure couples limbs (limb-wise classes do not apply).
+    """
+    if mech.coupling_closures:
+        coupled = "; ".join(f"{c!r} couples limbs {', '.join(limbs)}" for c, limbs in mech.coupling_closures.items())
+        raise ConfigurationError(
+            f"{what} uses limb-wise singularity classes, which do not apply to {mech.name!r}: closure {coupled} "
+            "(no limb has wrenches of its own); `pinmob analyze` reports its mobility from the closure Jacobian"
+        )
+    if not mech.limbs or not mech.has_platform:
+        raise ConfigurationError(
+            f"{what} needs limbs meeting at a platform frame; {mech.name!r} is described by loop closures only "
+            "(Extended URDF, MJCF or a TOML file without limbs), so it has no platform to scan or classify: "
+            "`pinmob analyze` reports its mobility; to scan it, write a TOML mechanism file naming its limbs and platform"
+        )
 
 
 def generic_locked_dof(mech: Mechanism, generic_rank: int) -> int:
@@ -180,63 +229,95 @@ def generic_locked_dof(mech: Mechanism, generic_rank: int) -> int:
     return max(0, 6 - generic_rank - len(mech.actuated))
 
 
-# --------------------------------------------------------------------------- generic rank
-
-
-def generic_constraint_rank(mech: Mechanism, samples: int = 4, seed: int = 0, rtol: float = RTOL) -> int:
-    """The mechanism's constraint rank at generic configurations.
-
-    The declared ``generic_rank`` when the mechanism file has one; otherwise the
-    most frequent constraint rank (ties: the larger) over random closed
-    configurations near each named configuration: joints perturbed by
-    ``N(0, 0.05)`` [rad, or L x 0.05 m for prismatic joints] and closed again
-    by :func:`pinmob.closure.assemble_joints`. These ranks are decided with the
-    looser tolerance ``sqrt(rtol)``: a mechanism whose whole workspace is
-    singular (3-PUU-flat) closes a hair's breadth off its singular manifold
-    (closure holds to second order there), and the tight tolerance would see
-    the hair. Cached per mechanism object.
-
-    Raises:
-        PinmobError: no closed configuration could be built.
-    """
-    if mech.generic_rank is not None:
-        return mech.generic_rank
-    cached = _GENERIC.get(id(mech))
-    if cached is not None and cached[0]() is mech:
-        return cached[1]
-    rng = np.random.default_rng(seed)
-    model = mech.model
-    unit = np.array(
-        [
-            mech.length_scale if model.joints[j].shortname().startswith("JointModelP") else 1.0
-            for j in range(1, model.njoints)
-            for _ in range(model.joints[j].nv)
-        ]
-    )
-    closed = []
-    for name in mech.configurations:
-        try:
-            q0 = mech.configuration(name)
-        except PinmobError:
-            continue
-        for _ in range(samples):
-            q = pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit)
-            try:
-                closed.append(assemble_joints(mech, {}, q))
-            except PinmobError:
-                continue
-    if not closed:
-        raise PinmobError(
-            f"cannot estimate the generic constraint rank of {mech.name!r}: no named configuration closes; "
-            "declare generic_rank in the mechanism file"
-        )
-    counts = Counter(analyze(mech, q, rtol=float(np.sqrt(rtol))).constraint_rank for q in closed)
-    rank = max(counts, key=lambda r: (counts[r], r))
-    _GENERIC[id(mech)] = (weakref.ref(mech), rank)
-    return rank
+def _participants(unit: Array, names: list[str], rtol: float) -> tuple[str, ...]:
+    """Names of the columns with a coefficient above ``sqrt(rtol)`` in a unit vector of ``null(unit)``."""
+    null = decide_rank(unit, rtol).null_space  # (n - rank, n), orthonormal rows
+    weight = np.max(np.abs(null), axis=0, initial=0.0)
+    return tuple(dict.fromkeys(n for n, w in zip(names, weight) if w > np.sqrt(rtol)))
 
 
 # --------------------------------------------------------------------------- analysis
+
+
+def singularity_from_twists(
+    mech: Mechanism,
+    twists: list[Array],
+    locked_twists: list[Array],
+    decisions: list[RankDecision],
+    generic_rank: int,
+    *,
+    configuration: str | None = None,
+    rtol: float = RTOL,
+) -> Singularity:
+    """The report from the limbs' joint screws and :func:`limb_decisions`.
+
+    Args:
+        twists: each limb's screws, :func:`pinmob.mobility.limb_twists`.
+        locked_twists: the same with the actuated joints still
+            (``limb_twists(..., lock_actuated=True)``; loops inside a limb stay closed).
+    """
+    g = int(generic_rank)
+    length = mech.length_scale
+    st, sw = twist_scaling(length)[:, None], wrench_scaling(length)[:, None]
+    blocks = wrench_blocks(decisions)
+    distances: dict[str, float] = {}
+    locked_blocks, act_wrenches = [], []
+    limb_joints, limb_ranks = {}, {}
+    for limb, t, t_locked, dec, w_hat in zip(mech.limbs, twists, locked_twists, decisions, blocks):
+        limb_ranks[limb.name] = dec.rank
+        distances[f"limb {limb.name}"] = _distance(dec.singular_values, limb.generic_twist_rank)
+        if dec.rank < limb.generic_twist_rank:
+            limb_joints[limb.name] = (
+                _participants(unit_columns(st * t), column_joints(mech, limb), rtol)
+                if not limb.closures
+                else limb.joints + limb.loop_joints  # columns are loop-closing rate combinations, not joints
+            )
+        if limb.actuated:
+            locked = decide_rank((st * t_locked).T, rtol, n=6).null_space.T
+            extra = locked - w_hat @ (w_hat.T @ locked)  # actuation wrenches: outside the limb's constraint space
+            basis = decide_rank(extra.T, rtol, n=6).row_space.T if extra.size else np.zeros((6, 0))
+            act_wrenches.append(basis / sw)
+            locked_blocks.append(locked)
+        else:
+            locked_blocks.append(w_hat)
+
+    cdec = decide_rank(np.hstack(blocks).T, rtol, n=6)
+    constraint = cdec.rank < g
+    if g > 0:
+        distances["constraint"] = _distance(cdec.singular_values, g)
+    g_locked = generic_locked_dof(mech, g)
+    ldec = decide_rank(np.hstack(locked_blocks).T, rtol, n=6)
+    locked_dof = 6 - ldec.rank
+    actuation: bool | None = None
+    motions: tuple[Motion, ...] = ()
+    if mech.actuated:
+        actuation = locked_dof > g_locked
+        distances["actuation"] = _distance(ldec.singular_values, 6 - g_locked)
+        if locked_dof:
+            motions = _motions(classify_twists(ldec.null_space.T / st, length, rtol))
+    return Singularity(
+        mechanism=mech.name,
+        configuration=configuration,
+        constraint=bool(constraint),
+        actuation=actuation,
+        limbs=tuple(limb_joints),
+        limb_joints=limb_joints,
+        dependent_limbs=dependent_limbs(mech, blocks, rtol, g) if constraint else (),
+        constraint_rank=cdec.rank,
+        generic_rank=g,
+        locked_dof=locked_dof,
+        generic_locked_dof=g_locked,
+        uncontrolled=motions,
+        uncontrolled_twists=np.column_stack([m.twist for m in motions]) if motions else np.zeros((6, 0)),
+        actuation_wrenches=np.hstack(act_wrenches) if act_wrenches else np.zeros((6, 0)),
+        distance=min(distances.values(), default=1.0),
+        distances=distances,
+        limb_ranks=limb_ranks,
+        generic_limb_ranks={limb.name: limb.generic_twist_rank for limb in mech.limbs},
+        constraint_singular_values=_padded(cdec.singular_values),
+        actuation_singular_values=_padded(ldec.singular_values),
+        rtol=rtol,
+    )
 
 
 def analyze_singularity(
@@ -259,86 +340,42 @@ def analyze_singularity(
         closure_tol: closure tolerance (position / L and rotation [rad]).
 
     Raises:
+        ConfigurationError: the mechanism has no limbs or no platform frame.
         ClosureError: q does not close the loops.
     """
+    require_platform(mech)
     q, configuration = mech.resolve(q, configuration)
     g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else int(generic_rank)
-    length = mech.length_scale
-    st, sw = twist_scaling(length)[:, None], wrench_scaling(length)[:, None]
     data = closed_kinematics(mech, q, closure_tol)
-    twists = limb_twists(mech, data)
-    locked_twists = limb_twists(mech, data, rtol, lock_actuated=True)
-
-    distances: dict[str, float] = {}
-    wrench_blocks, locked_blocks, groups, act_wrenches = [], [], [], []
-    singular_limbs, limb_joints = [], {}
-    col = 0
-    for i, (limb, t) in enumerate(zip(mech.limbs, twists)):
-        dec = decide_rank((st * t).T, rtol, n=6)
-        w_hat = dec.null_space.T  # (6, 6 - r) dimensionless, orthonormal
-        wrench_blocks.append(w_hat)
-        groups.append((limb.name, slice(col, col + w_hat.shape[1])))
-        col += w_hat.shape[1]
-        unit_cols = st * t / np.where(np.linalg.norm(st * t, axis=0) > 0, np.linalg.norm(st * t, axis=0), 1.0)
-        distances[f"limb {limb.name}"] = _ratio(np.linalg.svd(unit_cols, compute_uv=False), limb.generic_twist_rank)
-        if dec.rank < limb.generic_twist_rank:
-            singular_limbs.append(limb.name)
-            names = _column_names(mech, limb.joints)
-            limb_joints[limb.name] = (
-                _participants(st * t, [(n, slice(k, k + 1)) for k, n in enumerate(names)], rtol)
-                if not limb.closures
-                else limb.joints + limb.loop_joints  # columns are loop-closing rate combinations, not joints
-            )
-        if limb.actuated:
-            locked = decide_rank((st * locked_twists[i]).T, rtol, n=6).null_space.T
-            extra = locked - w_hat @ (w_hat.T @ locked)  # actuation wrenches: outside the limb's constraint space
-            basis = decide_rank(extra.T, rtol, n=6).row_space.T if extra.size else np.zeros((6, 0))
-            act_wrenches.append(basis / sw)
-            locked_blocks.append(locked)
-        else:
-            locked_blocks.append(w_hat)
-
-    stacked = np.hstack(wrench_blocks)
-    cdec = decide_rank(stacked.T, rtol, n=6)
-    constraint = cdec.rank < g
-    if g > 0:
-        distances["constraint"] = _ratio(cdec.singular_values, g)
-    dependent = _participants(stacked, groups, rtol) if constraint else ()
-
-    g_locked = generic_locked_dof(mech, g)
-    ldec = decide_rank(np.hstack(locked_blocks).T, rtol, n=6)
-    locked_dof = 6 - ldec.rank
-    actuation: bool | None = None
-    if mech.actuated:
-        actuation = locked_dof > g_locked
-        distances["actuation"] = _ratio(ldec.singular_values, 6 - g_locked)
-    free = ldec.null_space.T / st
-    motions = _motions(classify_twists(free, length, rtol)) if locked_dof else ()
-    return Singularity(
-        mechanism=mech.name,
-        configuration=configuration,
-        constraint=bool(constraint),
-        actuation=actuation,
-        limbs=tuple(singular_limbs),
-        limb_joints=limb_joints,
-        dependent_limbs=dependent,
-        constraint_rank=cdec.rank,
-        generic_rank=g,
-        locked_dof=locked_dof,
-        generic_locked_dof=g_locked,
-        uncontrolled=motions,
-        uncontrolled_twists=np.column_stack([m.twist for m in motions]) if motions else np.zeros((6, 0)),
-        actuation_wrenches=np.hstack(act_wrenches) if act_wrenches else np.zeros((6, 0)),
-        distance=min(distances.values(), default=1.0),
-        distances=distances,
-        constraint_singular_values=_padded(cdec.singular_values),
-        actuation_singular_values=_padded(ldec.singular_values),
+    twists, locked = limb_twists(mech, data, rtol), limb_twists(mech, data, rtol, lock_actuated=True)
+    return singularity_from_twists(
+        mech, twists, locked, limb_decisions(mech, twists, rtol), g, configuration=configuration, rtol=rtol
     )
+
+
+def analyze_both(
+    mech: Mechanism, data: pin.Data, generic_rank: int, *, rtol: float = RTOL, configuration: str | None = None
+) -> tuple[Mobility, Singularity]:
+    """Mobility (as :func:`pinmob.analyze`) and singularity report from one kinematics computation.
+
+    Args:
+        data: kinematics computed at a closed configuration (:func:`pinmob.closure.compute_kinematics`).
+    """
+    twists, locked = limb_twists(mech, data, rtol), limb_twists(mech, data, rtol, lock_actuated=True)
+    rows = [reciprocal_wrenches(t, mech.length_scale, rtol) for t in twists]
+    origin = data.oMf[mech.platform_id].translation
+    mob = _assemble(mech, configuration, [(w, dec.rank) for w, dec in rows], origin, rtol, "configuration")
+    decisions = limb_decisions(mech, twists, rtol)
+    sing = singularity_from_twists(
+        mech, twists, locked, decisions, generic_rank, configuration=configuration, rtol=rtol
+    )
+    return mob, sing
 
 
 def format_singularity(sing: Singularity) -> str:
     """The singularity section of the text report."""
-    lines = [f"singularity: {sing.label} (distance {sing.distance:.3g}; 0 = singular, 1 = best conditioned)"]
+    near = f"; near-singular (below {NEAR_FACTOR * sing.rtol:.0e})" if sing.near_singular else ""
+    lines = [f"singularity: {sing.label} (distance {sing.distance:.3g}; 0 = singular, 1 = best conditioned{near})"]
     gap = sing.rank_gap
     lines.append(
         f"  constraint: {'SINGULAR' if sing.constraint else 'no'} (rank {sing.constraint_rank}, generic {sing.generic_rank}"
@@ -350,7 +387,7 @@ def format_singularity(sing: Singularity) -> str:
         + ")"
     )
     if sing.actuation is None:
-        lines.append("  actuation (Type II): no actuated joint declared")
+        lines.append("  actuation (Type II): not applicable (no actuated joint declared)")
     else:
         unc = ", ".join(m.label for m in sing.uncontrolled) or "none"
         lines.append(
@@ -359,7 +396,10 @@ def format_singularity(sing: Singularity) -> str:
         )
     if sing.limbs:
         for name in sing.limbs:
-            lines.append(f"  limb (Type I): {name} SINGULAR (joints {', '.join(sing.limb_joints[name])})")
+            lines.append(
+                f"  limb (Type I): {name} SINGULAR (rank {sing.limb_ranks[name]}, generic "
+                f"{sing.generic_limb_ranks[name]}; joints {', '.join(sing.limb_joints[name])})"
+            )
     else:
         lines.append("  limb (Type I): no")
     lines.append("  distances: " + ", ".join(f"{k} {v:.3g}" for k, v in sing.distances.items()))

@@ -5,14 +5,22 @@ from __future__ import annotations
 import csv
 import json
 import math
+import tempfile
+from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from numpy.testing import assert_allclose
+from test_six_ups import pluecker, rel_sigma_min
 
 import pinmob
+import pinmob.scan as scan_module
+from pinmob import plot
 from pinmob.cli import main
-from pinmob.scan import grid_spec, path_spec, scan
+from pinmob.scan import STRIDE, ScanSpec, columns, grid_spec, path_spec, scan
+from pinmob.scan_file import RowWriter, read_columns
+from pinmob.singularity import generic_constraint_rank
 
 YAW_120 = f"0,0,0.4,0,0,{2 * math.pi / 3!r}"
 
@@ -59,16 +67,169 @@ def _same(a: list[dict], b: list[dict]) -> bool:
 
 
 def test_workers_give_the_serial_results():
-    mech = pinmob.load("3-PUU")
-    spec = path_spec(mech, "generic", "-0.09,0.05,-0.18,0,0,0", 70)  # three chunks
+    """Chunks start from seeds of one walk in the parent, so 1, 2 or 3 workers give the same rows, refined
+    points included: a 6-UPS path over three chunks crossing the Type II pose between samples, and a one-row
+    3-PUU grid (a row is split into chunks too) running off the workspace on both sides."""
+    mech = pinmob.load("6-UPS")
+    spec = path_spec(mech, "home", "0,0,0.4,0,0,2.0944", 70)
     serial = list(scan(mech, spec, workers=1, progress=False))
-    parallel = list(scan(mech, spec, workers=2, progress=False))
-    assert len(serial) == 70 and _same(serial, parallel)
-    grid = grid_spec(mech, "generic", [("x", -0.1, 0.14, 7), ("y", -0.2, 0.2, 5)])
-    serial = list(scan(mech, grid, workers=1, progress=False))
-    parallel = list(scan(mech, grid, workers=2, progress=False))
-    assert _same(serial, parallel)
-    assert any(not r["reachable"] for r in serial) and any(r["reachable"] for r in serial)
+    assert sum(not r["refined"] for r in serial) == 70 and sum(r["refined"] for r in serial) == 1
+    assert [r["index"] for r in serial] == sorted(r["index"] for r in serial)
+    assert _same(serial, list(scan(mech, spec, workers=2, progress=False)))
+    assert _same(serial, list(scan(mech, spec, workers=3, progress=False)))
+    puu = pinmob.load("3-PUU")
+    grid = grid_spec(puu, "generic", [("x", 0.0, 0.0, 1), ("y", -0.115, 0.115, 66)])
+    assert len(grid.chunks()) == 3
+    serial = list(scan(puu, grid, workers=1, progress=False))
+    assert _same(serial, list(scan(puu, grid, workers=2, progress=False)))
+    assert any(not r["reachable"] for r in serial) and sum(r["refined"] for r in serial) == 2
+
+
+def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
+    """Count the assemblies a scan asks for (the real solver still runs)."""
+    calls = {"n": 0}
+    real = scan_module._assemble
+
+    def counted(*args, **kwargs):
+        calls["n"] += 1
+        return real(*args, **kwargs)
+
+    monkeypatch.setattr(scan_module, "_assemble", counted)
+    return calls
+
+
+def test_assemblies_per_sample_stay_bounded(monkeypatch):
+    """Each sample is assembled once, the walk seeding the chunks adds one per STRIDE samples and each chunk
+    two (its neighbours on the line, for the refinement): about 1.19 per sample whatever the length (walking
+    every chunk from the start cost 1.2 per sample at 100 samples, 1.8 at 400, 3.0 at 1000)."""
+    mech = pinmob.load("3-PUU")
+    calls = _counting(monkeypatch)
+    for n in (100, 400):
+        spec = path_spec(mech, "generic", "offset", n)
+        calls["n"] = 0
+        rows = list(scan(mech, spec, progress=False))
+        assert len(rows) == n and not any(r["refined"] for r in rows)
+        chunks = len(spec.chunks())
+        assert calls["n"] == n + math.ceil(n / STRIDE) + 2 * (chunks - 1)
+        assert calls["n"] / n < 1.2
+    # a grid of 40 short rows inside the workspace: each row walked at its ends only
+    grid = grid_spec(mech, "generic", [("x", -0.02, 0.02, 40), ("y", -0.02, 0.02, 4)])
+    calls["n"] = 0
+    assert len(list(scan(mech, grid, progress=False))) == 160
+    assert calls["n"] == 160 + 2 * 40 + len(grid.approach())
+
+
+def _five_bar_elbows(theta_a: float, theta_b: float) -> tuple[np.ndarray, np.ndarray]:
+    """Elbow joints of the five-bar (base joints at (-+0.1, 0), proximal links 0.2 m, end point at (0, 0.3)
+    at zero crank angles): at zero, the elbow of limb A is the outer intersection of the circles of radius 0.2
+    about (-0.1, 0) and 0.25 about (0, 0.3); limb B's is its mirror image. A crank angle turns it about z."""
+    base, end = np.array([-0.1, 0.0]), np.array([0.0, 0.3])
+    d = np.linalg.norm(end - base)
+    along = (0.2**2 - 0.25**2 + d**2) / (2 * d)
+    u = (end - base) / d
+    elbow_a0 = base + along * u + np.sqrt(0.2**2 - along**2) * np.array([-u[1], u[0]])  # the outer (x < -0.1) one
+    elbow_b0 = elbow_a0 * [-1, 1]
+
+    def turn(p: np.ndarray, about: np.ndarray, angle: float) -> np.ndarray:
+        c, s = math.cos(angle), math.sin(angle)
+        r = p - about
+        return about + np.array([c * r[0] - s * r[1], s * r[0] + c * r[1]])
+
+    return turn(elbow_a0, base, theta_a), turn(elbow_b0, -base, theta_b)
+
+
+def test_warm_starts_keep_the_assembly_mode():
+    """Both cranks of the five-bar turned by 3 rad: for each pair of crank angles the end point is one of the
+    two intersections of the 0.25 m circles about the elbows. Assembled warm-started along the path it stays on
+    the branch it starts on (sign of (e_B - e_A) x (p - e_A) constant), which the hand closure check confirms at
+    every sample; assembled from the start configuration at each sample, the solver lands on the other branch
+    at s = 0.8 .. 0.9."""
+    mech = pinmob.load("five-bar")
+    q = mech.configuration("generic")
+    idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in mech.actuated]
+    a = q[idx]
+    spec = ScanSpec("joints", q, a, a + 3.0, 21, mech.actuated, generic_rank=generic_constraint_rank(mech))
+    rows = [r for r in scan(mech, spec, progress=False) if not r["refined"]]
+    assert len(rows) == 21 and all(r["reachable"] for r in rows)
+    sides = []
+    for r in rows:
+        ea, eb = _five_bar_elbows(3.0 * r["s"], 3.0 * r["s"])
+        p = np.array([r["x"], r["y"]])
+        assert_allclose([np.linalg.norm(p - ea), np.linalg.norm(p - eb)], [0.25, 0.25], atol=1e-9)
+        (ux, uy), (vx, vy) = eb - ea, p - ea
+        sides.append(np.sign(ux * vy - uy * vx))
+    assert set(sides) == {sides[0]}
+
+
+def test_refinement_finds_the_type2_pose_between_samples():
+    """The yaw path to 2.0944 rad (not quite 2 pi / 3) has no sample exactly at yaw = pi/2, Fichter's Type II
+    pose (hand line geometry in test_six_ups.py): the sample at s = 0.75 is near-singular only, and the refined
+    point is at yaw = pi / 2, where the hand Pluecker matrix of the six legs is singular."""
+    mech = pinmob.load("6-UPS")
+    rows = list(scan(mech, path_spec(mech, "home", "0,0,0.4,0,0,2.0944", 13), progress=False))
+    samples = [r for r in rows if not r["refined"]]
+    refined = [r for r in rows if r["refined"]]
+    assert len(samples) == 13 and all(r["singularity"] == "none" for r in samples)
+    assert [r["index"] for r in samples if r["near_singular"]] == [9]
+    assert 1e-6 < samples[9]["distance"] < 1e-3 and samples[9]["closest"] == "actuation"
+    assert len(refined) == 1
+    (r,) = refined
+    assert r["singularity"] == "actuation" and r["uncontrolled"] == "H1 z" and r["index"] == 8
+    assert r["yaw"] == pytest.approx(math.pi / 2, abs=1e-9) and r["s"] == pytest.approx(math.pi / 2 / 2.0944, abs=1e-9)
+    rotation = pin.rpy.rpyToMatrix(np.array([r["roll"], r["pitch"], r["yaw"]]))
+    assert rel_sigma_min(pluecker(rotation, np.array([r["x"], r["y"], r["z"]]))) < 1e-9
+    assert [x["index"] for x in rows] == sorted(x["index"] for x in rows)  # refined row between samples 8 and 9
+
+
+def test_refinement_finds_tsai_constraint_singularity_between_samples():
+    """The 3-UPU path from 'generic' (0.04, -0.03, 0.33) to (0.04, -0.03, -0.1) crosses the base plane, where the
+    three couples are coplanar (see the test below), at s = 0.33 / 0.43; no sample lands there."""
+    mech = pinmob.load("3-UPU")
+    rows = list(scan(mech, path_spec(mech, "generic", "0.04,-0.03,-0.1,0,0,0", 12), progress=False))
+    assert all(r["singularity"] == "none" for r in rows if not r["refined"])
+    (r,) = [r for r in rows if r["refined"]]
+    assert r["s"] == pytest.approx(0.33 / 0.43, abs=1e-9) and r["z"] == pytest.approx(0.0, abs=1e-9)
+    assert r["singularity"] == "constraint+actuation" and r["dependent_limbs"] == "A;B;C"
+    assert (r["dof"], r["motion_type"], r["constraint_rank"]) == (4, "3T1R", 2)
+
+
+def _disk_gaps(x: float, y: float) -> np.ndarray:
+    """Built-in 3-PUU (guides at R = 0.3 m, platform vertices at r = 0.15 m, links l = 0.25 m), platform
+    translated to (x, y): limb i's link spans the horizontal distance h_i = |(x, y) - (R - r) e_i| from its guide
+    to its vertex, and sin(beta_i) = sqrt(1 - (h_i / l)^2). The pose assembles iff h_i <= l for every limb, and
+    beta_i = 0 (the link horizontal, limb i serially singular) on the circle h_i = l. Returns h_i - l [m]."""
+    p = np.array([x, y])
+    return np.array([np.linalg.norm(p - 0.15 * np.array([math.cos(a), math.sin(a)])) - 0.25
+                     for a in (0.0, 2 * math.pi / 3, 4 * math.pi / 3)])  # fmt: skip
+
+
+def test_three_puu_beta_zero_loci_in_a_workspace_slice():
+    """An x-y slice of the built-in 3-PUU at the generic height crossing the beta_i = 0 circles (hand
+    derivation in _disk_gaps). Reachability is exactly the hand one; the samples are flagged neither singular
+    nor near-singular (the nearest is 5 mm inside a circle, where sin(beta) ~ 0.2); and every pair of
+    neighbours on a row with one sample inside and one outside gets one refined point, on the circle of the
+    limb it names (to the closure tolerance): a rank drop of that limb (twist rank 5 -> 4, a force along its horizontal link),
+    3T -> 2T."""
+    mech = pinmob.load("3-PUU")
+    grid = grid_spec(mech, "generic", [("x", -0.08, 0.08, 3), ("y", -0.14, 0.14, 8)])
+    rows = list(scan(mech, grid, progress=False))
+    samples = [r for r in rows if not r["refined"]]
+    refined = [r for r in rows if r["refined"]]
+    crossings = 0
+    for k, r in enumerate(samples):
+        inside = bool(np.all(_disk_gaps(r["grid_x"], r["grid_y"]) <= 0))
+        assert r["reachable"] == inside
+        if inside:
+            assert (r["singularity"], r["near_singular"], r["dof"], r["motion_type"]) == ("none", False, 3, "3T")
+        if k % 8 < 7 and inside != bool(np.all(_disk_gaps(samples[k + 1]["grid_x"], samples[k + 1]["grid_y"]) <= 0)):
+            crossings += 1
+    assert crossings == 6 and len(refined) == crossings
+    for r in refined:
+        gaps = _disk_gaps(r["x"], r["y"])
+        limb = "ABC"[int(np.argmin(np.abs(gaps)))]
+        assert np.min(np.abs(gaps)) < 1e-6 and np.all(gaps < 1e-6)  # closure tolerance 1e-6 L = 3.7e-7 m
+        assert r["singularity"] == "limb" and r["singular_limbs"] == limb and r["distance"] < 1e-6
+        assert (r["dof"], r["motion_type"]) == (2, "2T")
 
 
 def test_cli_writes_csv_json_and_plots(tmp_path, capsys):
@@ -105,9 +266,9 @@ def test_cli_writes_csv_json_and_plots(tmp_path, capsys):
     assert p.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and p.stat().st_size > 20_000
 
     m = tmp_path / "map.png"
-    assert main(["scan", "3-PUU", "--grid", "x:-0.1:0.14:7", "y:-0.12:0.12:5", "--plot", str(m), "--no-progress"]) == 0
+    assert main(["scan", "3-PUU", "--grid", "x:0.1:0.14:3", "y:-0.05:0.05:3", "--plot", str(m), "--no-progress"]) == 0
     out = capsys.readouterr().out
-    assert "35 samples" in out and "unreachable" in out
+    assert "9 samples" in out and "7 x unreachable" in out and "refined singular points: 4" in out
     assert m.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and m.stat().st_size > 20_000
 
 
@@ -162,7 +323,7 @@ def test_tsai_3upu_constraint_singularity_where_the_couples_are_coplanar(tmp_pat
         couples = _tsai_couples(p)
         # the stacked (dimensionless, one unit wrench per limb) constraint matrix is [0; c_i]: same singular values
         assert_allclose([r["sv1"], r["sv2"], r["sv3"]], np.linalg.svd(couples, compute_uv=False), atol=1e-9)
-        assert_allclose([r["sv4"], r["sv5"], r["sv6"]], 0.0, atol=1e-12)
+        assert [r["sv4"], r["sv5"], r["sv6"]] == [None] * 3  # three wrenches: three singular values, no padding
         coplanar = abs(np.linalg.det(couples)) < 1e-9
         assert ("constraint" in r["singularity"].split("+")) == coplanar
         assert coplanar == (r["index"] == 11)
@@ -200,3 +361,87 @@ def test_cli_never_overwrites_outputs_unless_forced(tmp_path, capsys):
     assert main(["scan", "3-UPU", "-n", "3", "--plot", str(tmp_path / "p.txt")]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "p.txt" in err and ".png" in err and not (tmp_path / "p.txt").exists()
+
+
+def test_cli_grid_and_path_options_are_not_mixed(capsys):
+    """A --grid axis has exactly four fields; path options with --grid (or --at without it) are refused by name."""
+    cases = [
+        (["--grid", "x:-0.1:0.1:3:7", "y:0:1:3"], ["x:-0.1:0.1:3:7", "four fields"]),
+        (["--grid", "x:-0.1:0.1:3", "y:0:1:3", "--from", "generic"], ["--from", "--grid"]),
+        (["--grid", "x:-0.1:0.1:3", "y:0:1:3", "--to", "offset", "-n", "5"], ["--to, -n"]),
+        (["--grid", "x:-0.1:0.1:3", "y:0:1:3", "--joints"], ["--joints"]),
+        (["--at", "generic", "-n", "3"], ["--at", "--grid"]),
+    ]
+    for extra, words in cases:
+        assert main(["scan", "3-PUU", *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and all(w in err for w in words), err
+
+
+def test_cli_lists_refined_and_near_singular_points(capsys):
+    assert main(["scan", "6-UPS", "--from", "home", "--to", "0,0,0.4,0,0,2.0944", "-n", "13", "--no-progress"]) == 0
+    out = capsys.readouterr().out
+    assert "singular samples: 0; near-singular samples (distance < 1e-03): 1; refined singular points: 1" in out
+    assert "#8+ refined (s = 0.749998): actuation, uncontrolled H1 z" in out
+    assert "#9 (s = 0.75): near-singular (actuation)" in out
+
+
+def test_cli_scan_of_a_closed_chain_without_platform_says_why(capsys):
+    robot = Path(__file__).parent / "data" / "fivebar" / "robot.yaml"
+    for extra in (["--from", "0,0,0,0,0,0", "--to", "0,0,0,0,0,1", "-n", "3"], [], ["--grid", "x:0:1:2", "y:0:1:2"]):
+        assert main(["scan", str(robot), *extra]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "platform frame" in err and "Extended URDF" in err
+
+
+def test_all_unreachable_grid_plots_and_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
+    """Nothing assembles 5 m away: the maps say so (it was a BoundaryNorm traceback), and the CSV written for the
+    plot alone is removed."""
+    scratch = tmp_path / "tmp"
+    scratch.mkdir()
+    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
+    png = tmp_path / "g.png"
+    assert main(["scan", "3-PUU", "--grid", "x:5:6:2", "y:5:6:2", "--plot", str(png), "--no-progress"]) == 0
+    assert "4 x unreachable" in capsys.readouterr().out
+    assert png.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and list(scratch.iterdir()) == []
+
+
+def test_map_cells_are_centred_on_the_samples(tmp_path):
+    """Cell edges lie half a spacing around each sample, so the image and the markers share data coordinates,
+    also along an axis with a single sample (its cell is as wide as the other axis's spacing)."""
+    assert_allclose(plot._edges(np.array([0.0, 1.0, 2.0]), 7.0), [-0.5, 0.5, 1.5, 2.5])
+    assert_allclose(plot._edges(np.array([0.3]), 0.02), [0.29, 0.31])
+    mech = pinmob.load("3-PUU")
+    c = tmp_path / "row.csv"
+    spec = grid_spec(mech, "generic", [("x", -0.1, -0.1, 1), ("y", -0.02, 0.02, 3)])
+    with RowWriter(columns(spec), {}, str(c)) as writer:
+        for row in scan(mech, spec, progress=False):
+            writer.write(row)
+    fig = plot.map_figure(read_columns(c, ["grid_x", "grid_y", *plot.MAP_COLUMNS]), ["grid_x", "grid_y"])
+    ax = fig.axes[0]
+    assert_allclose(ax.get_xlim(), [-0.11, -0.09]) and assert_allclose(ax.get_ylim(), [-0.03, 0.03])
+    (mesh,) = ax.collections
+    assert_allclose(mesh.get_coordinates()[[0, -1], [0, -1], :], [[-0.11, -0.03], [-0.09, 0.03]])
+    (marks,) = [line for line in ax.lines if line.get_label() == "singular"]  # (-0.1, 0): limb A's link horizontal
+    assert_allclose(np.c_[marks.get_xdata(), marks.get_ydata()], [[-0.1, 0.0]], atol=1e-12)
+
+
+def test_path_plot_draws_only_present_singular_values(tmp_path):
+    """The 3-PUU stacks three wrenches: sigma_4..6 are absent (blank in the CSV), not zeros to be drawn at 1e-17;
+    the rank threshold rtol is drawn."""
+    mech = pinmob.load("3-PUU")
+    c = tmp_path / "p.csv"
+    spec = path_spec(mech, "generic", "offset", 5)
+    with RowWriter(columns(spec), {}, str(c)) as writer:
+        for row in scan(mech, spec, progress=False):
+            writer.write(row)
+    cols = read_columns(c, plot.PATH_COLUMNS)
+    assert set(cols) == set(plot.PATH_COLUMNS)  # only what is drawn was read
+    assert np.all(np.isnan(cols["sv4"])) and np.all(np.isfinite(cols["sv3"]))
+    fig = plot.path_figure(cols, rtol=1e-6)
+    constraint = fig.axes[1]
+    labels = [line.get_label() for line in constraint.lines]
+    assert [lab for lab in labels if lab.startswith("$")] == [f"$\\sigma_{k}/\\sigma_1$" for k in (1, 2, 3)]
+    assert any(
+        lab.startswith("rank threshold") and line.get_ydata()[0] == 1e-6 for lab, line in zip(labels, constraint.lines)
+    )

@@ -2,19 +2,28 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
+from millimetres import in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
 from pinmob.batch import analyze_batch
 from pinmob.cli import main
+from pinmob.closure import closed_kinematics
+from pinmob.exceptions import ConfigurationError
+from pinmob.generic import dependent_limbs, generic_configurations, generic_constraint_rank, limb_decisions
+from pinmob.mechanism import NamedConfiguration
 from pinmob.mechanism_file import builtin_models
-from pinmob.singularity import analyze_singularity, generic_constraint_rank
+from pinmob.mobility import limb_twists
+from pinmob.screw import RTOL, twist_scaling
+from pinmob.singularity import NEAR_FACTOR, analyze_both, analyze_singularity, format_singularity
 
 
 def test_three_puu_generic_is_not_singular():
@@ -102,4 +111,184 @@ def test_batch_agrees_with_single_analyses(name):
         assert list(batch.limb_twist_rank[i]) == [limb.twist_rank for limb in mob.limbs]
         assert batch.locked_dof[i] == sing.locked_dof
         assert_allclose(batch.singular_values[i], mob.singular_values, atol=1e-9)
-        assert_allclose(batch.actuation_singular_values[i], sing.actuation_singular_values, atol=1e-9)
+        assert_allclose(batch.actuation_singular_values[i], np.nan_to_num(sing.actuation_singular_values), atol=1e-9)
+        assert_allclose(batch.limb_ratio[i], [sing.distances[f"limb {b.name}"] for b in mech.limbs], atol=1e-9)
+        # the scan's single kinematics computation gives the same two results
+        data = mech.model.createData()
+        pin.computeJointJacobians(mech.model, data, q)
+        pin.updateFramePlacements(mech.model, data)
+        mob2, sing2 = analyze_both(mech, data, sing.generic_rank)
+        assert (mob2.dof, mob2.motion_type, sing2.label, sing2.distances) == (
+            mob.dof,
+            mob.motion_type,
+            sing.label,
+            sing.distances,
+        )
+
+
+def _tsai_at(x: float, y: float, z: float) -> tuple[pinmob.Mechanism, np.ndarray]:
+    mech = pinmob.load("3-UPU")
+    pose = pin.SE3(np.eye(3), np.array([x, y, z]))
+    return mech, pinmob.assemble_pose(mech, pose, mech.configuration("generic"))
+
+
+def test_dependent_limbs_of_tsai_3upu_by_hand():
+    """Tsai's 3-UPU translated to p: limb i exerts one couple c_i ~ (p.e_i - 0.15) e_i + p_z z (derivation in
+    test_scan._tsai_couples). With p.e_A = p.e_B = 0.15, i.e. p_x = 0.15, p_y = 0.225 / (sqrt(3) / 2), the
+    couples of A and B are both along z: the pair {A, B} lost a rank (1 instead of its generic 2), while
+    {A, C} and {B, C} keep rank 2. The dependent limbs are A and B, not C; the three couples span {z, e_C}
+    only (rank 2 < 3), and the platform gains the rotation about the horizontal axis normal to e_C. On the base
+    plane (p_z = 0) the three couples are the three horizontal a_i e_i, pairwise independent: the only
+    minimal deficient set is {A, B, C}."""
+    mech, q = _tsai_at(0.15, 0.225 / (np.sqrt(3) / 2), 0.33)
+    sing = analyze_singularity(mech, q)
+    assert sing.constraint and sing.constraint_rank == 2 and sing.dependent_limbs == ("A", "B")
+    assert sing.limbs == () and sing.rank_gap["constraint"] == 1
+    free = pinmob.analyze(mech, q)
+    rotations = [m for m in free.motions if m.kind.value == "R"]
+    assert len(rotations) == 1 and free.dof == 4
+    e_c = np.array([np.cos(4 * np.pi / 3), np.sin(4 * np.pi / 3), 0.0])
+    assert_allclose(abs(rotations[0].direction @ e_c) + abs(rotations[0].direction[2]), 0.0, atol=1e-9)
+    assert analyze_singularity(mech, "constraint-singular").dependent_limbs == ("A", "B", "C")
+
+
+@pytest.mark.parametrize("name", pinmob.builtin_models())
+def test_dependent_limbs_are_empty_at_generic_configurations(name):
+    """No limb set of any built-in model is deficient at its 'generic' configuration or at random closed
+    configurations (the old null-space rule named A, B, C, D of the 4-RUU, X, Y of Bennett, A, B of Sarrus)."""
+    mech = pinmob.load(name)
+    qs = generic_configurations(mech)[:3]
+    if "generic" in mech.configurations:
+        qs.append(mech.configuration("generic"))
+    for q in qs:
+        twists = limb_twists(mech, closed_kinematics(mech, q))
+        blocks = [d.null_space.T for d in limb_decisions(mech, twists, RTOL)]
+        assert dependent_limbs(mech, blocks, RTOL, generic_constraint_rank(mech)) == ()
+
+
+def _independent_screws(mech: pinmob.Mechanism, q: np.ndarray) -> list[np.ndarray]:
+    """Each limb's joint screws [v; w] at the platform origin, from Pinocchio's joint placements and motion
+    subspaces (not from frame Jacobians): S_j in the world at the joint, carried to the origin p: v += w x (-p)."""
+    model, data = mech.model, mech.model.createData()
+    pin.forwardKinematics(model, data, q)
+    pin.updateFramePlacements(model, data)
+    p = data.oMf[mech.platform_id].translation
+    out = []
+    for limb in mech.limbs:
+        cols = []
+        for name in limb.joints:
+            j = model.getJointId(name)
+            jd = model.joints[j].createData()
+            model.joints[j].calc(jd, q)
+            for s in np.asarray(jd.S).reshape(6, -1).T:
+                m = data.oMi[j].act(pin.Motion(s))
+                cols.append(np.concatenate([m.linear + np.cross(m.angular, p), m.angular]))
+        out.append(np.array(cols).T)
+    return out
+
+
+@pytest.mark.parametrize("name", pinmob.builtin_models())
+def test_each_class_is_present_exactly_when_its_distance_is_at_most_rtol(name):
+    """A class is decided on the very matrix its distance is read from (sigma_r / sigma_1 <= rtol <=> rank
+    below r); the limb distance is that of the dimensionless screws [v / L; w] with unit columns, recomputed here
+    from independent screws. Near-singular: no class, distance below 1e3 rtol. Moving rtol across a limb's
+    distance moves its decision with it (a decision on other columns than the distance's was up to 2x off)."""
+    mech = pinmob.load(name)
+    for config in mech.configurations:
+        q = mech.configuration(config)
+        sing = analyze_singularity(mech, q)
+        d = sing.distances
+        for limb, screws in zip(mech.limbs, _independent_screws(mech, q)):
+            a = twist_scaling(mech.length_scale)[:, None] * screws
+            s = np.linalg.svd(a / np.linalg.norm(a, axis=0), compute_uv=False)
+            r = limb.generic_twist_rank
+            assert d[f"limb {limb.name}"] == pytest.approx(s[r - 1] / s[0] if s.size >= r else 0.0, abs=1e-9)
+            assert (limb.name in sing.limbs) == (d[f"limb {limb.name}"] <= RTOL)
+            assert sing.rank_gap[f"limb {limb.name}"] == max(0, r - int(np.sum(s > RTOL * s[0])))
+        assert sing.constraint == (d.get("constraint", 1.0) <= RTOL)
+        assert sing.actuation == (d["actuation"] <= RTOL if mech.actuated else None)
+        assert sing.near_singular == (not sing.classes and sing.distance < NEAR_FACTOR * RTOL)
+    # with the tolerance just above / just below a limb's distance, that limb is flagged / not flagged
+    q = mech.configuration(next(iter(mech.configurations)))
+    base = analyze_singularity(mech, q)
+    for limb in mech.limbs:
+        value = base.distances[f"limb {limb.name}"]
+        if not 1e-9 < value < 0.8:  # a tolerance must lie in (0, 1)
+            continue
+        for rtol, present in ((1.2 * value, True), (value / 1.2, False)):
+            sing = analyze_singularity(mech, q, rtol=rtol, generic_rank=base.generic_rank)
+            assert (limb.name in sing.limbs) == present, (limb.name, value, rtol)
+            assert sing.distances[f"limb {limb.name}"] == pytest.approx(value, rel=1e-9)
+
+
+def _in_millimetres(mech: pinmob.Mechanism, q: np.ndarray) -> tuple[pinmob.Mechanism, np.ndarray]:
+    """The mechanism in millimetres (tests/millimetres.py) with its actuation, q with prismatic joints x 1000,
+    and its named configurations as joint values (the generic rank is then estimated from the millimetre model)."""
+    mm = in_millimetres(mech)
+    mm = dataclasses.replace(
+        mm, limbs=tuple(dataclasses.replace(b, actuated=a.actuated) for a, b in zip(mech.limbs, mm.limbs))
+    )
+    model = mech.model
+    prismatic = [
+        model.joints[j].idx_q for j in range(1, model.njoints) if model.joints[j].shortname().startswith("JointModelP")
+    ]
+
+    def scaled(x: np.ndarray) -> np.ndarray:
+        x = x.copy()
+        x[prismatic] *= 1000
+        return x
+
+    configurations = {}
+    for name in mech.configurations:
+        x = scaled(mech.configuration(name))
+        joints = {model.names[j]: float(x[model.joints[j].idx_q]) for j in range(1, model.njoints)}
+        configurations[name] = NamedConfiguration(name, joints=joints)
+    return dataclasses.replace(mm, configurations=configurations), scaled(q)
+
+
+@pytest.mark.parametrize(
+    ("name", "config"),
+    [("6-UPS", "type2"), ("6-UPS", "generic"), ("3-PUU", "generic"), ("3-UPU", "constraint-singular"),
+     ("3-UPU", "generic"), ("five-bar", "limb-B-stretched"), ("4-RUU", "generic"), ("3-UR5", "wrist-singular")],
+)  # fmt: skip
+def test_singularity_report_is_unit_invariant(name, config):
+    """The same mechanism drawn in millimetres gives the same classes, limbs, joints, uncontrolled motions and
+    distances (ratios of singular values of dimensionless matrices), and the same generic rank estimated again
+    from the millimetre model. Prismatic joint rates in mm/s make those screws 1000 times shorter relative to the
+    revolute ones: the unit columns make the limb decisions blind to that."""
+    mech = pinmob.load(name)
+    q = mech.configuration(config)
+    a = analyze_singularity(mech, q)
+    mm, q_mm = _in_millimetres(mech, q)
+    assert mm.length_scale == pytest.approx(1000 * mech.length_scale)
+    b = analyze_singularity(mm, q_mm)
+    assert (b.label, b.limbs, b.limb_joints, b.dependent_limbs) == (a.label, a.limbs, a.limb_joints, a.dependent_limbs)
+    assert (b.generic_rank, b.locked_dof, b.near_singular) == (a.generic_rank, a.locked_dof, a.near_singular)
+    assert [m.label for m in b.uncontrolled] == [m.label for m in a.uncontrolled]
+    assert b.distances.keys() == a.distances.keys()
+    assert_allclose(list(b.distances.values()), list(a.distances.values()), rtol=1e-6, atol=1e-10)
+
+
+def test_without_actuated_joints_actuation_does_not_apply(capsys):
+    """Bennett with its actuator removed: nothing is locked, so no motion is 'uncontrolled'."""
+    mech = pinmob.load("Bennett")
+    mech = dataclasses.replace(mech, limbs=tuple(dataclasses.replace(b, actuated=()) for b in mech.limbs))
+    sing = analyze_singularity(mech, "generic")
+    assert sing.actuation is None and sing.uncontrolled == () and "actuation" not in sing.distances
+    assert sing.locked_dof == 1 and sing.to_dict()["actuation"] is None
+    assert "not applicable" in format_singularity(sing)
+
+
+def test_generic_ranks_are_cached_per_tolerance():
+    """With rtol = 0.1 (loose tolerance 0.32) a 3-PUU limb's twist rank counts 4, two wrenches each: the estimate
+    is 5, not the 3 found with the default tolerance, whatever was asked first."""
+    mech = pinmob.load("3-PUU")
+    assert generic_constraint_rank(mech) == 3
+    assert generic_constraint_rank(mech, rtol=0.1) == 5
+    assert generic_constraint_rank(mech) == 3
+
+
+def test_mechanisms_without_platform_are_refused_clearly():
+    mech = pinmob.load(Path(__file__).parent / "data" / "fivebar" / "robot.yaml")
+    with pytest.raises(ConfigurationError, match="platform frame.*Extended URDF, MJCF"):
+        analyze_singularity(mech, mech.neutral())

@@ -1,0 +1,89 @@
+"""Scan results on disk: rows streamed to CSV and JSON, and columns read back from the CSV.
+
+Both directions keep memory flat in the number of samples: :class:`RowWriter`
+holds only the current row, :func:`read_columns` parses only the columns asked
+for, line by line, into arrays.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+from array import array
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+
+class RowWriter:
+    """Stream rows to a CSV file and/or a JSON file (``{"scan": {...}, "samples": [...]}``) as they come.
+
+    Use as a context manager; nothing is kept in memory but the current row.
+    """
+
+    def __init__(
+        self, cols: list[str], meta: dict[str, Any], csv_path: str | None = None, json_path: str | None = None
+    ):
+        self.cols = cols
+        self.meta = meta
+        self.csv_path, self.json_path = csv_path, json_path
+        self.count = 0
+
+    def __enter__(self) -> RowWriter:
+        self._csv_fh = open(self.csv_path, "w", newline="") if self.csv_path else None  # noqa: SIM115
+        self._csv = csv.DictWriter(self._csv_fh, self.cols) if self._csv_fh else None
+        if self._csv:
+            self._csv.writeheader()
+        self._json = open(self.json_path, "w") if self.json_path else None  # noqa: SIM115
+        if self._json:
+            self._json.write('{"scan": ' + json.dumps(self.meta) + ', "samples": [')
+        return self
+
+    def write(self, row: dict[str, Any]) -> None:
+        if self._csv:
+            self._csv.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
+        if self._json:
+            clean = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
+            self._json.write((",\n" if self.count else "\n") + json.dumps(clean, allow_nan=False))
+        self.count += 1
+
+    def __exit__(self, *exc: object) -> None:
+        if self._json:
+            self._json.write("\n]}\n")
+            self._json.close()
+        if self._csv_fh:
+            self._csv_fh.close()
+
+
+#: Columns read as text; every other column is read as float (blank: NaN; True/False: 1/0).
+TEXT_COLUMNS = frozenset({"motion_type", "singularity", "closest", "singular_limbs", "dependent_limbs", "uncontrolled"})
+
+
+def header(csv_path: str | Path) -> list[str]:
+    """The column names of a scan CSV."""
+    with open(csv_path, newline="") as fh:
+        return next(csv.reader(fh), [])
+
+
+def read_columns(csv_path: str | Path, names: Sequence[str]) -> dict[str, np.ndarray]:
+    """The named columns of a scan CSV: floats (NaN for blanks, 1/0 for True/False) or text arrays.
+
+    Columns the file does not have are left out.
+    """
+    with open(csv_path, newline="") as fh:
+        reader = csv.reader(fh)
+        header = next(reader, [])
+        wanted = [(n, header.index(n)) for n in names if n in header]
+        values: dict[str, Any] = {n: [] if n in TEXT_COLUMNS else array("d") for n, _ in wanted}
+        for line in reader:
+            for n, i in wanted:
+                values[n].append(line[i] if n in TEXT_COLUMNS else _number(line[i]))
+    return {n: np.array(v, dtype=object) if n in TEXT_COLUMNS else np.frombuffer(v, float) for n, v in values.items()}
+
+
+def _number(text: str) -> float:
+    if text in ("True", "False"):
+        return float(text == "True")
+    return float(text) if text else float("nan")

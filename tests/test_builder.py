@@ -171,7 +171,7 @@ def test_write_refuses_unclosed_configurations_and_foreign_files(tmp_path):
         limb = b.limb(name)
         limb.revolute("r", at=[0, y, 0], axis=[1, 0, 0])
         limb.tip(at=[0, 0, 0])
-    with pytest.raises(ConfigurationError, match="configuration 'bad' does not close"):
+    with pytest.raises(ConfigurationError, match="configuration .bad. of .two. does not close"):
         b.write(tmp_path, "two", {"bad": {"joints": {"A_r": 0.3}}})
     assert list(tmp_path.iterdir()) == []
     (tmp_path / "two.urdf").write_text("<robot name='mine'/>\n")

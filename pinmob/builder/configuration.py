@@ -95,7 +95,7 @@ def write_files(name: str, directory: Path, texts: Mapping[str, str], toml: str,
                 try:
                     mech.configuration(cname)
                 except PinmobError as exc:
-                    raise ConfigurationError(f"{name!r}: configuration {cname!r} does not close: {exc}") from None
+                    raise ConfigurationError(f"{name!r}, configuration {cname!r}: {exc}") from None
     directory.mkdir(parents=True, exist_ok=True)
     for fname, text in texts.items():
         (directory / fname).write_text(text)

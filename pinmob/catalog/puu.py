@@ -6,7 +6,7 @@ import numpy as np
 
 from ..builder import MechanismBuilder, radial
 from .registry import Definition, register
-from .sources import PAPER
+from .sources import PAPER, limb_pairs
 
 
 def three_puu(name: str, description: str, big_r: float, small_r: float, drop: float) -> MechanismBuilder:
@@ -22,7 +22,7 @@ def three_puu(name: str, description: str, big_r: float, small_r: float, drop: f
     """
     b = MechanismBuilder(name, description)
     z = np.array([0.0, 0.0, 1.0])
-    for limb_name, theta in zip("ABC", (0.0, 2 * np.pi / 3, 4 * np.pi / 3)):
+    for limb_name, theta in limb_pairs():
         e, t = radial(theta)
         slider, vertex = big_r * e, small_r * e - drop * z
         link = vertex - slider

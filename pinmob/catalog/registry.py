@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import shutil
 import sys
+import tempfile
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -101,8 +103,13 @@ def main(argv: list[str] | None = None) -> int:
                 "pyproject.toml); give the folder to write into"
             )
         stale = check_target(target)
-        for path in write_all(target):
-            print(path)
+        with tempfile.TemporaryDirectory() as tmp:  # every model built and checked before any file is replaced
+            written = write_all(tmp)
+            target.mkdir(parents=True, exist_ok=True)
+            for path in sorted(Path(tmp).iterdir()):
+                shutil.copyfile(path, target / path.name)
+        for path in written:
+            print(target / path.name)
         for path in stale:
             path.unlink()
             print(f"removed stale {path} (written by an earlier catalogue, no entry writes it now)")

@@ -99,17 +99,18 @@ def _rps_confs(b: MechanismBuilder, fixed: dict[str, float], small_r: float, h: 
     condition both mechanisms put on the platform pose (derived in tests/test_models.py).
     """
     principal = (
-        f"{HAND}: principal screws (pinmob's convention): T along z, one free twist with horizontal angular "
-        "velocity which is a screw whose pitch (the parasitic motion) no free translation cancels, and one "
-        "rotation; the same twist space also has a basis of T z and two pure rotations with tilted axes, "
-        f"the 1T2R of {source}"
+        "principal screws (pinmob's convention): T along z, one free twist with horizontal angular velocity, a "
+        "screw whose pitch (the parasitic motion) no free translation cancels, and one rotation; the same twist "
+        f"space also has a basis of T z and two pure rotations with tilted axes, the 1T2R of {source}"
     )
     return {
-        "generic": {"joints": b.closed_joints(fixed), "expected": expect(3, "1T1R1H", principal)},
+        "generic": {"joints": b.closed_joints(fixed), "expected": expect(3, "1T1R1H", f"{HAND}: {principal}")},
         "home": {"joints": {}, "expected": expect(3, "1T2R", source)},
         "tilted-x": {
             "pose": pose([small_r * (1.0 - np.cos(TILT)) / 2.0, 0.0, h], [TILT, 0.0, 0.0]),
-            "expected": expect(3, "1T1R1H", f"{HAND}: screw about x of pitch r sin(20 deg) / 2; {principal}"),
+            "expected": expect(
+                3, "1T1R1H", f"{HAND}: the screw is about x through the centre, pitch r sin(20 deg) / 2; {principal}"
+            ),
         },
     }
 

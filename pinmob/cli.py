@@ -57,7 +57,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="also show the seed paper's view: generic limb wrenches carried to the configuration",
     )
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
-
+    p.add_argument(
+        "--check",
+        action="store_true",
+        help="exit 1 (one line on stderr) when the analysis differs from the file's expected table (for CI)",
+    )
     p.add_argument(
         "--frame",
         action="append",
@@ -145,7 +149,8 @@ def _models(args: argparse.Namespace) -> int:
         rows.append(
             {
                 "name": name,
-                "limbs": [{"name": b.name, "joints": list(b.joints)} for b in mech.limbs],
+                "limbs": [{"name": b.name, "joints": list(b.joints), "actuated": list(b.actuated)} for b in mech.limbs],
+                "closures": [{"name": c.name, "frames": [c.frame_a, c.frame_b], "type": c.type} for c in mech.closures],
                 "configurations": {
                     c: {
                         "expected": (
@@ -163,11 +168,16 @@ def _models(args: argparse.Namespace) -> int:
         print(json.dumps(rows, indent=2))
         return 0
     for row in rows:
-        limbs = ", ".join(f"{b['name']} ({len(b['joints'])} joints)" for b in row["limbs"])
-        print(f"{row['name']}: limbs {limbs}")
+        closures = ", ".join(f"{c['name']} ({c['type']})" for c in row["closures"])
+        print(f"{row['name']}: {len(row['limbs'])} limbs" + (f", closures {closures}" if closures else ""))
+        for b in row["limbs"]:
+            prefix = f"{b['name']}_"
+            short = [j.removeprefix(prefix) + ("*" if j in b["actuated"] else "") for j in b["joints"]]
+            print(f"    limb {b['name']}: {' '.join(short)}")
         for c, info in row["configurations"].items():
             exp = info["expected"]
             print(f"    {c}" + (f": expected {exp['dof']} DoF {exp['motion_type']}" if exp else ""))
+    print("(* actuated; joint names without the limb prefix)")
     return 0
 
 
@@ -182,9 +192,16 @@ def _analyze(args: argparse.Namespace) -> int:
     mech = load(args.mechanism)
     config = args.config
     rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
+    if args.check and not mech.expected:
+        raise ConfigurationError(f"--check: {mech.name!r} has no expected table in any configuration")
     if config is None and not mech.configurations:
         return _analyze_closed_chain(args, mech, rtol)
     config = _pick_configuration(mech, config)
+    if args.check and config not in mech.expected:
+        raise ConfigurationError(
+            f"--check: configuration {config!r} of {mech.name!r} has no expected table; configurations with one: "
+            f"{choices(mech.expected)}"
+        )
     q = mech.configuration(config)
     if not mech.limbs:
         return _analyze_closed_chain(args, mech, rtol, q, config)
@@ -213,7 +230,7 @@ def _analyze(args: argparse.Namespace) -> int:
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
         print(json.dumps(out, indent=2, allow_nan=False))
-        return 0
+        return _check_exit(args, mech, config, mob)
     print(mob)
     print(format_singularity(sing) if sing is not None else "singularity: not analysed (limb-wise classes)")
     if config in mech.expected:
@@ -230,7 +247,28 @@ def _analyze(args: argparse.Namespace) -> int:
                 f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
                 f"{', '.join(mob.serially_singular_limbs) or 'none'}"
             )
-    return 0
+    return _check_exit(args, mech, config, mob)
+
+
+def _check_exit(args: argparse.Namespace, mech: Mechanism, config: str | None, mob: Any) -> int:
+    """Exit status of ``analyze``: 1 with ``--check`` when the result differs from the file's expectation.
+
+    ``mob`` is the limb-wise result, or the platform frame's motion for a mechanism without limbs.
+    """
+    if args.check and (config is None or config not in mech.expected):
+        from .exceptions import ConfigurationError
+
+        raise ConfigurationError(f"--check: {mech.name!r} has no expected table for configuration {config!r}")
+    exp = mech.expected.get(config) if config is not None else None
+    if not args.check or exp is None or (mob is not None and (exp.dof, exp.motion_type) == (mob.dof, mob.motion_type)):
+        return 0
+    found = "no platform frame" if mob is None else f"{mob.dof} DoF {mob.motion_type}"
+    print(
+        f"pinmob: check failed: {mech.name} at {config!r}: analysis gives {found}, "
+        f"the file expects {exp.dof} DoF {exp.motion_type}",
+        file=sys.stderr,
+    )
+    return 1
 
 
 def _pick_configuration(mech: Mechanism, config: str | None) -> str:
@@ -538,13 +576,18 @@ def _analyze_closed_chain(
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
         print(json.dumps(out, indent=2, allow_nan=False))
-        return 0
+        return _check_exit(args, mech, config, _platform_frame(mech, mm))
     print(f"closed configuration: {method} (largest residual {residual:.1e})")
     if relaxed:
         print(f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(relaxed)}")
     print(mm)
     _print_actuator_sets(args, sets)
-    return 0
+    return _check_exit(args, mech, config, _platform_frame(mech, mm))
+
+
+def _platform_frame(mech: Mechanism, mm: Any) -> Any:
+    """The platform frame's entry of a whole-mechanism result, or None."""
+    return next((f for f in mm.frames if f.frame == mech.platform), None) if mech.has_platform else None
 
 
 def _largest_residual(mech: Mechanism, q: Array) -> float:

@@ -12,7 +12,13 @@ Example (pytest)::
 
 On failure an ``AssertionError`` says what was expected and what was found,
 with the singular values of the stacked constraint wrenches and the
-tolerance of the rank decision, so a near-miss is visible at once.
+tolerance of the rank decision, so a near-miss is visible at once. Bad
+arguments (an unknown kind, a zero or non-finite direction, an unknown
+method) raise a :class:`pinmob.ConfigurationError`.
+
+``method="mechanism"`` checks the platform frame's motion on the whole closed
+chain (:func:`pinmob.analyze_mechanism`) instead of the limb-wise wrenches
+(:func:`pinmob.analyze`); both agree on limbs-and-platform mechanisms.
 """
 
 from __future__ import annotations
@@ -22,29 +28,43 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .constraints import FrameMobility, analyze_mechanism
+from .exceptions import ConfigurationError
 from .mechanism import Mechanism
 from .mobility import Mobility, analyze
 from .screw import RTOL, Array, subspace_gap
 
 KINDS = ("T", "R", "H")
+METHODS = ("limbs", "mechanism")
 
 
 def _fmt(values: ArrayLike) -> str:
     return "[" + ", ".join(f"{x:.3g}" for x in np.asarray(values, float)) + "]"
 
 
-def _span(vectors: Sequence[Sequence[float]] | Array) -> Array:
-    a = np.asarray(vectors, float)
+def _span(kind: str, vectors: Sequence[Sequence[float]] | Array) -> Array:
+    """(3, k) unit columns of the directions given for ``kind``; a ConfigurationError for bad ones."""
+    try:
+        a = np.asarray(vectors, float)
+    except (TypeError, ValueError):
+        raise ConfigurationError(f"directions[{kind!r}] must be a list of 3-vectors, got {vectors!r}") from None
     if a.size == 0:
         return np.zeros((3, 0))
     if a.ndim == 1:
         a = a[None, :]
-    if a.shape[1] != 3:
-        raise ValueError(f"directions must be 3-vectors, got shape {a.shape}")
-    return (a / np.linalg.norm(a, axis=1, keepdims=True)).T
+    if a.ndim != 2 or a.shape[1] != 3:
+        raise ConfigurationError(f"directions[{kind!r}] must be 3-vectors, got shape {a.shape}")
+    norms = np.linalg.norm(a, axis=1)
+    bad = [i for i, (row, n) in enumerate(zip(a, norms)) if not np.isfinite(row).all() or n < 1e-12]
+    if bad:
+        raise ConfigurationError(
+            f"directions[{kind!r}][{bad[0]}] = {a[bad[0]].tolist()} is not a direction: give finite, non-zero "
+            "3-vectors (any length; they are normalised)"
+        )
+    return (a / norms[:, None]).T
 
 
-def found_directions(mob: Mobility, kind: str) -> Array:
+def found_directions(mob: Mobility | FrameMobility, kind: str) -> Array:
     """(3, k) unit directions of the motions of ``kind`` (``T``, ``R`` or ``H``) in ``mob``."""
     vecs = [m.direction for m in mob.motions if m.kind.value == kind]
     return np.column_stack(vecs) if vecs else np.zeros((3, 0))
@@ -58,10 +78,11 @@ def assert_mobility(
     motion_type: str | None = None,
     directions: Mapping[str, Sequence[Sequence[float]]] | None = None,
     through: Sequence[float] | None = None,
+    method: str = "limbs",
     rtol: float = RTOL,
     atol: float = 1e-6,
-) -> Mobility:
-    """Assert the platform's mobility at q; returns the :class:`Mobility` for further checks.
+) -> Mobility | FrameMobility:
+    """Assert the platform's mobility at q; returns the analysis result for further checks.
 
     Args:
         mech: the mechanism.
@@ -75,23 +96,39 @@ def assert_mobility(
         through: a world point [m] every rotation and screw axis must pass
             through (distance ``<= atol * L``), e.g. the centre of a spherical
             mechanism.
+        method: ``"limbs"`` (:func:`pinmob.analyze`, returns a :class:`Mobility`) or
+            ``"mechanism"`` (the platform frame of :func:`pinmob.analyze_mechanism`,
+            returns a :class:`FrameMobility`), e.g. for limbs with closures inside them.
         rtol: relative tolerance of the rank decisions (as in :func:`pinmob.analyze`).
         atol: tolerance of the direction and point comparisons.
 
     Raises:
         AssertionError: listing every mismatch, the expected and found values,
             the singular values and the tolerance.
+        ConfigurationError: an unknown kind or method, or a direction that is zero or not finite.
     """
-    mob = analyze(mech, q, rtol=rtol)
-    problems = []
-    if dof is not None and mob.dof != dof:
-        problems.append(f"dof: expected {dof}, found {mob.dof}")
-    if motion_type is not None and mob.motion_type != motion_type:
-        problems.append(f"motion type: expected {motion_type}, found {mob.motion_type}")
-    for kind, expected in (directions or {}).items():
+    if method not in METHODS:
+        raise ConfigurationError(f"method {method!r}; valid: {', '.join(METHODS)}")
+    for kind in directions or {}:
         if kind not in KINDS:
-            raise ValueError(f"directions key {kind!r}; valid: {', '.join(KINDS)}")
-        want, got = _span(expected), found_directions(mob, kind)
+            raise ConfigurationError(f"directions key {kind!r}; valid: {', '.join(KINDS)}")
+    wanted = {kind: _span(kind, vecs) for kind, vecs in (directions or {}).items()}
+    result: Mobility | FrameMobility
+    if method == "limbs":
+        mob = analyze(mech, q, rtol=rtol)
+        result, origin, configuration = mob, mob.platform_origin, mob.configuration
+        sv, tol, what = mob.singular_values, mob.tolerance, "the constraint wrenches"
+    else:
+        mm = analyze_mechanism(mech, q, frames=[mech.platform], rtol=rtol)
+        result, origin, configuration = mm.frames[0], _platform_origin(mech, q), mm.configuration
+        sv, tol, what = mm.singular_values, mm.tolerance, "the closure Jacobian"
+    problems = []
+    if dof is not None and result.dof != dof:
+        problems.append(f"dof: expected {dof}, found {result.dof}")
+    if motion_type is not None and result.motion_type != motion_type:
+        problems.append(f"motion type: expected {motion_type}, found {result.motion_type}")
+    for kind, want in wanted.items():
+        got = found_directions(result, kind)
         gap = subspace_gap(want, got)
         if gap > atol:
             problems.append(
@@ -99,24 +136,34 @@ def assert_mobility(
                 f"{[_fmt(c) for c in got.T]} (largest principal-angle sine {gap:.2e} > {atol:g})"
             )
     if through is not None:
-        p = np.asarray(through, float) - mob.platform_origin
-        for m in mob.motions:
+        p = np.asarray(through, float) - origin
+        for m in result.motions:
             if m.point is None:
                 continue
             off = (p - m.point) - np.dot(p - m.point, m.direction) * m.direction
             dist = float(np.linalg.norm(off))
-            if dist > atol * mob.length_scale:
+            if dist > atol * mech.length_scale:
                 problems.append(f"{m.label}: axis misses the point {_fmt(through)} m by {dist:.3g} m")
     if problems:
-        where = f" at {mob.configuration!r}" if mob.configuration else ""
+        where = f" at {configuration!r}" if configuration else ""
         motions = "; ".join(
-            f"{m.label}" + ("" if m.pitch in (None, 0.0) else f" (pitch {m.pitch:.4g} m/rad)") for m in mob.motions
+            f"{m.label}" + ("" if m.pitch in (None, 0.0) else f" (pitch {m.pitch:.4g} m/rad)") for m in result.motions
         )
         raise AssertionError(
-            f"mobility of {mech.name!r}{where} differs from the expectation:\n  "
+            f"mobility of {mech.name!r}{where} ({method} method) differs from the expectation:\n  "
             + "\n  ".join(problems)
             + f"\n  found motions: {motions or 'none'}"
-            + f"\n  singular values of the constraint wrenches {_fmt(mob.singular_values)}, "
-            f"tolerance {mob.tolerance:.3g} (rtol {rtol:g} x largest), L = {mob.length_scale:.4g} m"
+            + f"\n  singular values of {what} {_fmt(sv)}, "
+            f"tolerance {tol:.3g} (rtol {rtol:g} x largest), L = {mech.length_scale:.4g} m"
         )
-    return mob
+    return result
+
+
+def _platform_origin(mech: Mechanism, q: Array | str) -> Array:
+    """World position [m] of the platform frame at q (a vector or a configuration name)."""
+    import pinocchio as pin
+
+    qv, _ = mech.resolve(q)
+    data = mech.model.createData()
+    pin.framesForwardKinematics(mech.model, data, qv)
+    return np.array(data.oMf[mech.platform_id].translation)

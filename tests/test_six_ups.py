@@ -112,3 +112,17 @@ def test_actuation_wrenches_are_the_leg_lines(ups):
     for w in (sw * sing.actuation_wrenches).T:
         cos = np.abs((sw * lines).T @ w) / np.linalg.norm(sw * lines, axis=0) / np.linalg.norm(w)
         assert np.sum(cos > 1 - 1e-9) == 1
+
+
+@pytest.mark.parametrize("config,singular", [("generic", False), ("home", False), ("type2", True)])
+def test_cli_reports_the_type2_singularity(capsys, config, singular):
+    """``pinmob analyze 6-UPS --config C`` shows the free mobility the file expects (3T3R everywhere) and the
+    actuation (Type II) singularity exactly at Fichter's 90-degree twist, where the six leg lines are dependent
+    (test_fichter_pose_is_singular_by_line_geometry); home and generic are not singular (same line geometry)."""
+    from pinmob.cli import main
+
+    assert main(["analyze", "6-UPS", "--config", config, "--check"]) == 0
+    out = capsys.readouterr().out
+    assert f"6-UPS at '{config}': 6 DoF, 3T3R" in out and "analysis agrees with it" in out
+    assert ("actuation (Type II): SINGULAR" in out) is singular
+    assert ("actuation (Type II): no" in out) is not singular

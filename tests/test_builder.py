@@ -1,0 +1,191 @@
+"""The public builder: layout helpers, limbs, free chains, closures, number formatting and its errors."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from numpy.testing import assert_allclose
+
+import pinmob
+from pinmob.builder import MechanismBuilder, polar, radial, rotation, rpy, symmetric_angles, toml_value
+from pinmob.builder.text import vector
+from pinmob.catalog.arms import ur5_path
+from pinmob.exceptions import ConfigurationError
+from pinmob.testing import assert_mobility
+
+DATA = Path(__file__).resolve().parent / "data"
+Z = [0.0, 0.0, 1.0]
+
+
+def test_layout_helpers():
+    e, t = radial(np.pi / 2)
+    assert_allclose(e, [0, 1, 0], atol=1e-15)
+    assert_allclose(t, [-1, 0, 0], atol=1e-15)
+    assert_allclose(polar(2.0, np.pi, 0.5), [-2, 0, 0.5], atol=1e-15)
+    assert_allclose(symmetric_angles(4, 0.1), [0.1, 0.1 + np.pi / 2, 0.1 + np.pi, 0.1 + 1.5 * np.pi])
+    assert_allclose(rotation([0, 0, 2], np.pi / 2) @ [1, 0, 0], [0, 1, 0], atol=1e-15)
+    r = rotation([0.3, -0.2, 0.9], 0.7)
+    assert_allclose(pin.rpy.rpyToMatrix(np.array(rpy(r))), r, atol=1e-12)
+
+
+def test_builder_sketch_and_analyze():
+    """A user's sketch: a planar 2-RRR analysed without writing files. By hand: each limb's three revolutes about z
+    through non-collinear points span the planar twists {T x, T y, R z}; so do both: 2T1R."""
+    b = MechanismBuilder("2-RRR", "two planar RRR limbs")
+    for name, theta in zip("AB", symmetric_angles(2), strict=True):
+        limb = b.limb(name)
+        limb.revolute("r1", at=polar(0.3, theta), axis=Z, actuated=True)
+        limb.revolute("r2", at=polar(0.2, theta + 0.5), axis=Z)
+        limb.revolute("r3", at=polar(0.05, theta), axis=Z)
+        limb.tip(at=[0, 0, 0])
+    mech = b.mechanism()
+    assert_mobility(mech, mech.neutral(), dof=3, motion_type="2T1R", directions={"T": [[1, 0, 0], [0, 1, 0]], "R": [Z]})
+
+
+def four_bar() -> MechanismBuilder:
+    """tests/data/fourbar (written there by its own URDF writer) with the builder: two free chains, a 6d closure."""
+    b = MechanismBuilder("four-bar", "planar four-bar closed by a 6d weld")
+    left = b.chain("L")
+    left.revolute("crank", at=[0, 0, 0], axis=Z, actuated=True)
+    left.revolute("coupler", at=[0, 0.1, 0], axis=Z)
+    left.revolute("pin", at=[0.3, 0.2, 0], axis=Z)
+    end_l = left.frame("end", at=[0.3, 0.2, 0])
+    right = b.chain("R")
+    right.revolute("rocker", at=[0.3, 0, 0], axis=Z)
+    end_r = right.frame("end", at=[0.3, 0.2, 0])
+    b.closure("B", end_l, end_r, "6d")
+    return b
+
+
+def test_builder_expresses_the_test_data_four_bar(tmp_path):
+    """Free chains, frames and closures: the builder's four-bar has the same joints (placements, axes) and closure
+    frames as tests/data/fourbar.urdf, and the mobility derived by hand: 4 joint rates, a 6d weld (6 rows):
+    Grubler 4 - 6 = -2, but a planar loop has only 3 independent closure rows: DoF 1, 3 redundant."""
+    mine = pinmob.load(four_bar().write(tmp_path, "fourbar", {"home": {"joints": {}}}))
+    theirs = pinmob.load(DATA / "fourbar.toml")
+    assert mine.model.nv == theirs.model.nv == 4 and mine.platform == ""
+    for j in range(1, 5):
+        assert mine.model.joints[j].shortname() == theirs.model.joints[j].shortname() == "JointModelRZ"
+    placements = sorted(tuple(mine.model.jointPlacements[j].translation) for j in range(1, 5))
+    assert placements == sorted(tuple(theirs.model.jointPlacements[j].translation) for j in range(1, 5))
+    data = mine.model.createData()
+    pin.framesForwardKinematics(mine.model, data, mine.neutral())
+    for frame in ("L_end", "R_end"):
+        assert_allclose(data.oMf[mine.model.getFrameId(frame)].translation, [0.3, 0.2, 0], atol=1e-15)
+    mm = pinmob.analyze_mechanism(mine, "home")
+    assert (mm.mechanism_dof, mm.grubler, mm.redundant_constraints) == (1, -2, 3)
+    assert mine.actuated == ("L_crank",)
+
+
+def test_limb_branch_closure_and_top_level_actuation(tmp_path):
+    """A limb with a branch closed to its own tip body (the Delta's parallelogram pattern) writes the branch's
+    joints outside the limb, its actuated joints at the top level and the closure in [[closures]]."""
+    b = MechanismBuilder("branchy")
+    limb = b.limb("A")
+    limb.revolute("r", at=[0, 0, 0], axis=Z, actuated=True)
+    side = limb.branch("b")
+    side.revolute("s", at=[0.1, 0, 0], axis=Z, actuated=True)
+    end = side.frame("end", at=[0.2, 0, 0])
+    limb.revolute("t", at=[0.2, 0.1, 0], axis=Z)
+    pf = limb.frame("pf", at=[0.2, 0, 0])
+    limb.tip(at=[0.2, 0.1, 0])
+    b.closure("loop", pf, end, "revolute", axis=Z)
+    text = b.toml("x.urdf")
+    assert 'actuated = ["A_b_s"]' in text and '[[closures]]\nname = "loop"' in text and "axis = [0.0, 0.0, 1.0]" in text
+    mech = b.mechanism()
+    assert mech.limbs[0].joints == ("A_r", "A_t") and mech.actuated == ("A_r", "A_b_s")
+    assert [c.name for c in mech.closures] == ["loop"]
+
+
+def test_urdf_limb_errors():
+    ur5 = ur5_path()
+    b = MechanismBuilder("arm")
+    with pytest.raises(ConfigurationError, match="no link 'nope' in ur5_robot.urdf; valid: .*tool0"):
+        b.urdf_limb("A", ur5, "base_link", "nope", (np.eye(3), [0, 0, 0]))
+    with pytest.raises(ConfigurationError, match="not in the chain"):
+        b.urdf_limb("A", ur5, "base_link", "tool0", (np.eye(3), [0, 0, 0]), actuated=["elbow"])
+    with pytest.raises(ConfigurationError, match="base_pose: not a rotation matrix"):
+        b.urdf_limb("A", ur5, "base_link", "tool0", (2 * np.eye(3), [0, 0, 0]))
+    limb = b.urdf_limb("A", ur5, "base_link", "tool0", (np.eye(3), [0, 0, 0]), actuated=["elbow_joint"])
+    assert limb.joints[0] == "A_shoulder_pan_joint" and limb.actuated == ["A_elbow_joint"]
+
+
+# --------------------------------------------------------------------------- errors
+
+
+def one_limb(name: str = "m") -> MechanismBuilder:
+    b = MechanismBuilder(name)
+    b.limb("A").revolute("r", at=[0, 0, 0], axis=Z)
+    return b
+
+
+@pytest.mark.parametrize(
+    "build,message",
+    [
+        (lambda: MechanismBuilder("empty").urdf(), "is empty: add a limb"),
+        (lambda: MechanismBuilder("x").limb("A<B>"), "'A<B>' is not a valid name"),
+        (lambda: one_limb().limbs[0].revolute("a&b", at=[0, 0, 0], axis=Z), "'a&b' is not a valid name"),
+        (lambda: one_limb().limbs[0].tip(at=[0, 0, 0], rotation=np.diag([1.0, 1.0, -1.0])), "det R = -1"),
+        (lambda: one_limb().limbs[0].tip(at=[0, 0, 0], rotation=2 * np.eye(3)), "not a rotation matrix"),
+        (lambda: one_limb().limbs[0].universal("u", [0, 0, 0], [1, 0, 0], [-2, 0, 0]), "are parallel"),
+        (lambda: one_limb().limbs[0].spherical("s", [0, 0, 0], ([1, 0, 0], [0, 1, 0], [1, 1, 0])), "dependent"),
+        (lambda: one_limb().limbs[0].revolute("q", [0, 0, 0], Z, lower=1.0, upper=-1.0), "lower <= upper"),
+        (lambda: one_limb().limbs[0].revolute("q", [0, 0, 0], [0, 0, 0]), "axis must be a non-zero 3-vector"),
+        (lambda: one_limb().limbs[0].prismatic("q", [0, np.nan, 0], Z), "must be a finite 3-vector"),
+        (lambda: one_limb().closure("c", "A_r_link", "base", "hinge"), "unknown type 'hinge'"),
+        (lambda: one_limb().chain("C", parent="nowhere"), "no link 'nowhere'; valid: 'A_r_link', 'base'"),
+        (lambda: toml_value(float("nan")), "must be finite"),
+        (lambda: toml_value(float("inf")), "must be finite"),
+        (lambda: toml_value(object()), "cannot write a object"),
+    ],
+)
+def test_builder_errors_are_clear(build, message):
+    with pytest.raises(ConfigurationError, match=message):
+        build()
+
+
+def test_tips_must_coincide_at_the_reference():
+    b = MechanismBuilder("split")
+    for name, x in (("A", 0.0), ("B", 0.2)):
+        limb = b.limb(name)
+        limb.revolute("r", at=[x, 0, 0], axis=Z)
+        limb.tip(at=[x, 0.1, 0])
+    with pytest.raises(ConfigurationError, match="limb 'B' tip is 0.2 m and 0 .* away from limb 'A' tip"):
+        b.urdf()
+
+
+def test_robot_name_is_escaped():
+    b = one_limb('R&D "arm" <2>')
+    b.limbs[0].tip(at=[0, 0, 0])
+    model = pin.buildModelFromXML(b.urdf())
+    assert model.name == 'R&D_"arm"_<2>'
+
+
+def test_write_refuses_unclosed_configurations_and_foreign_files(tmp_path):
+    """Nothing is written when a configuration does not close; a file the builder did not write is not replaced."""
+    b = MechanismBuilder("two")
+    for name, y in (("A", 0.1), ("B", -0.1)):
+        limb = b.limb(name)
+        limb.revolute("r", at=[0, y, 0], axis=[1, 0, 0])
+        limb.tip(at=[0, 0, 0])
+    with pytest.raises(ConfigurationError, match="configuration .bad. of .two. does not close"):
+        b.write(tmp_path, "two", {"bad": {"joints": {"A_r": 0.3}}})
+    assert list(tmp_path.iterdir()) == []
+    (tmp_path / "two.urdf").write_text("<robot name='mine'/>\n")
+    with pytest.raises(ConfigurationError, match="was not written by pinmob.builder: not overwritten"):
+        b.write(tmp_path, "two", {"home": {"joints": {}}})
+    assert (tmp_path / "two.urdf").read_text() == "<robot name='mine'/>\n"
+    (tmp_path / "two.urdf").unlink()
+    b.write(tmp_path, "two", {"home": {"joints": {}}})
+    b.write(tmp_path, "two", {"home": {"joints": {}}})  # its own output is replaced
+
+
+def test_round_off_is_written_as_zero():
+    """Reproducible files: components below 1e-12 x max(1, largest) are written as 0, whatever their sign."""
+    assert vector([-6.73e-18, -0.12, 0.0]) == vector([8.01e-18, -0.12, -0.0]) == "0 -0.12 0"
+    assert vector([3e-13, 2.0]) == "0 2"
+    assert vector([3e-12, 0.5]) == "3e-12 0.5"
+    assert toml_value(-1e-17) == "0.0" and toml_value(0.25) == "0.25" and toml_value(2.0) == "2.0"

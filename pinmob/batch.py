@@ -27,10 +27,11 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
+from .closure import compute_kinematics
 from .exceptions import ConfigurationError
 from .mechanism import Mechanism
 from .screw import RTOL, Array, twist_scaling
-from .singularity import column_joints, ratio, unit_columns
+from .singularity import analyze_both, column_joints, ratio, require_platform, unit_columns
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]
@@ -258,18 +259,29 @@ def analyze_batch(
     :func:`pinmob.analyze`) and the limb ratios are computed too, by batched SVDs.
     Closure is not checked (the caller assembles the configurations). The first
     call in a new installation compiles the loop (seconds; cached on disk).
+    A mechanism with loops inside its limbs (the Delta's parallelograms) is
+    analysed one configuration at a time instead (loop-aware limb screws,
+    :func:`pinmob.singularity.analyze_both`): the same results, at the speed
+    of :func:`pinmob.analyze`.
 
     Args:
         mech: the mechanism.
         qs: (N, nq) closed configurations.
         rtol: relative tolerance of every rank decision.
         singular_values: also compute the singular values (slower).
+
+    Raises:
+        ConfigurationError: qs has the wrong shape or non-finite values, or the
+            mechanism has no platform or closures that couple its limbs.
     """
     qs = np.atleast_2d(np.asarray(qs, float))
     if qs.ndim != 2 or qs.shape[1] != mech.model.nq or not np.all(np.isfinite(qs)):
         raise ConfigurationError(
             f"analyze_batch needs finite configurations of shape (N, {mech.model.nq}), got shape {qs.shape}"
         )
+    require_platform(mech, "analyze_batch")
+    if any(limb.closures for limb in mech.limbs):
+        return _per_configuration(mech, qs, rtol, singular_values)
     n = qs.shape[0]
     full, origin = world_jacobians(mech, qs)
     columns = np.concatenate([np.asarray(limb.v_indices, np.int64) for limb in mech.limbs])
@@ -302,6 +314,25 @@ def analyze_batch(
         locked_dof=6 - locked_rank,
         actuation_singular_values=asv,
     )
+
+
+def _per_configuration(mech: Mechanism, qs: Array, rtol: float, singular_values: bool) -> BatchResult:
+    """:func:`analyze_batch` by :func:`pinmob.singularity.analyze_both`, one configuration at a time."""
+    model = mech.model
+    data = model.createData()
+    n, k = qs.shape[0], len(mech.limbs)
+    dof, rank, locked = (np.zeros(n, np.int64) for _ in range(3))
+    limb_rank = np.zeros((n, k), np.int64)
+    sv, asv, ratios = np.full((n, 6), np.nan), np.full((n, 6), np.nan), np.full((n, k), np.nan)
+    for i, q in enumerate(qs):
+        compute_kinematics(model, data, q)
+        mob, sing = analyze_both(mech, data, 0, rtol=rtol)  # no generic rank needed for these numbers
+        dof[i], rank[i], locked[i] = mob.dof, 6 - mob.dof, sing.locked_dof
+        limb_rank[i] = [limb.twist_rank for limb in mob.limbs]
+        if singular_values:
+            sv[i], asv[i] = mob.singular_values, np.nan_to_num(sing.actuation_singular_values)
+            ratios[i] = [sing.distances[f"limb {limb.name}"] for limb in mech.limbs]
+    return BatchResult(dof, rank, sv, limb_rank, ratios, locked, asv)
 
 
 def _singular_values(mech: Mechanism, scaled: list[Array], rtol: float) -> tuple[Array, Array, Array]:

@@ -16,7 +16,7 @@ import warnings
 from collections.abc import Callable, Sequence
 from typing import TYPE_CHECKING, Any, NoReturn
 
-from .exceptions import PinmobError, choices
+from .exceptions import ConfigurationError, PinmobError, choices
 
 if TYPE_CHECKING:
     from .mechanism import Mechanism
@@ -256,8 +256,6 @@ def _check_exit(args: argparse.Namespace, mech: Mechanism, config: str | None, m
     ``mob`` is the limb-wise result, or the platform frame's motion for a mechanism without limbs.
     """
     if args.check and (config is None or config not in mech.expected):
-        from .exceptions import ConfigurationError
-
         raise ConfigurationError(f"--check: {mech.name!r} has no expected table for configuration {config!r}")
     exp = mech.expected.get(config) if config is not None else None
     if not args.check or exp is None or (mob is not None and (exp.dof, exp.motion_type) == (mob.dof, mob.motion_type)):
@@ -273,7 +271,6 @@ def _check_exit(args: argparse.Namespace, mech: Mechanism, config: str | None, m
 
 def _pick_configuration(mech: Mechanism, config: str | None) -> str:
     """The named configuration to use: the one asked for, else the file's first."""
-    from .exceptions import ConfigurationError
 
     if config is None:
         if not mech.configurations:
@@ -313,7 +310,6 @@ def _elsewhere(config: str, mech: Mechanism | None = None) -> str:
 
 @command("show")
 def _show(args: argparse.Namespace) -> int:
-    from .exceptions import ConfigurationError
     from .mechanism_file import load
 
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
@@ -369,7 +365,6 @@ def _scan(args: argparse.Namespace) -> int:
     from collections import Counter
     from pathlib import Path
 
-    from .exceptions import ConfigurationError
     from .mechanism_file import load
     from .mobility import check_rtol
     from .plot import plot_map, plot_path
@@ -443,7 +438,6 @@ def _scan(args: argparse.Namespace) -> int:
 
 def _check_scan_options(args: argparse.Namespace) -> None:
     """A grid scan and a path scan take different options: refuse a mix."""
-    from .exceptions import ConfigurationError
 
     path_options = {"--from": args.start, "--to": args.end, "--joints": args.joints or None, "-n": args.samples}
     if args.grid:
@@ -458,7 +452,6 @@ def _check_scan_options(args: argparse.Namespace) -> None:
 
 def _grid_axis(text: str) -> tuple[str, float, float, int]:
     """``COORD:LO:HI:N`` -> (coordinate, low, high, count)."""
-    from .exceptions import ConfigurationError
 
     parts = text.split(":")
     try:
@@ -494,8 +487,6 @@ def _format_row(row: dict[str, Any]) -> str:
 def _check_outputs(paths: dict[str, str | None], force: bool) -> None:
     """Refuse, before any work, output files that exist (unless ``force``), are folders, or lie in no folder."""
     from pathlib import Path
-
-    from .exceptions import ConfigurationError
 
     given = {option: Path(path).expanduser() for option, path in paths.items() if path}
     if len({p.resolve() for p in given.values()}) < len(given):
@@ -537,7 +528,7 @@ def _analyze_closed_chain(
     args: argparse.Namespace, mech: Mechanism, rtol: float, q: Array | None = None, config: str | None = None
 ) -> int:
     """``pinmob analyze`` for a mechanism without limbs (Extended URDF, MJCF, TOML closures only)."""
-    from .closure import ClosureError, find_closed, find_closed_relaxed, unclosable, worst_residual
+    from .closure import ClosureError, check_closed, find_closed, find_closed_relaxed, unclosable, worst_residual
     from .constraints import analyze_mechanism
 
     relaxed: tuple[str, ...] = ()
@@ -560,7 +551,7 @@ def _analyze_closed_chain(
         q, method = found.q, found.method
         residual = found.residual
     else:
-        residual = _largest_residual(mech, q)
+        residual = worst_residual(check_closed(mech, q), mech.length_scale)
     mm = analyze_mechanism(mech, q, configuration=config, frames=args.frame, rtol=rtol)
     sets = _actuator_sets(args, mech, q, rtol)
     if args.json:
@@ -588,14 +579,6 @@ def _analyze_closed_chain(
 def _platform_frame(mech: Mechanism, mm: Any) -> Any:
     """The platform frame's entry of a whole-mechanism result, or None."""
     return next((f for f in mm.frames if f.frame == mech.platform), None) if mech.has_platform else None
-
-
-def _largest_residual(mech: Mechanism, q: Array) -> float:
-    """Largest closure residual at q, dimensionless (position / L, rotation [rad])."""
-    from .closure import check_closed
-
-    res = check_closed(mech, q)
-    return max([max(p / mech.length_scale, r) for p, r in res.values()], default=0.0)
 
 
 def _actuator_sets(args: argparse.Namespace, mech: Mechanism, q: Array, rtol: float) -> list[tuple[str, ...]] | None:

@@ -43,10 +43,17 @@ def limb_decisions(mech: Mechanism, twists: list[Array], rtol: float) -> list[Ra
 
     Its rank is the limb's twist rank, its null space the limb's wrench basis
     ``W_i`` (dimensionless, orthonormal; the span of :func:`pinmob.analyze`'s
-    wrenches, whose rank decision is made on the columns as they are).
+    wrenches, whose rank decision is made on the columns as they are). A limb
+    with loops inside it: its screws are ``[v / L; w]`` per orthonormal basis
+    of the dimensionless loop-closing rates (:func:`pinmob.mobility.limb_rates`),
+    taken as they are: their singular values do not depend on which basis, while
+    unit columns would.
     """
     st = twist_scaling(mech.length_scale)[:, None]
-    return [decide_rank(unit_columns(st * t).T, rtol, n=6) for t in twists]
+    return [
+        decide_rank((st * t if limb.closures else unit_columns(st * t)).T, rtol, n=6)
+        for limb, t in zip(mech.limbs, twists)
+    ]
 
 
 def wrench_blocks(decisions: list[RankDecision]) -> list[Array]:

@@ -291,6 +291,33 @@ class Mobility:
 # --------------------------------------------------------------------------- kinematics
 
 
+def limb_rates(
+    mech: Mechanism, data: pin.Data, limb: Limb, rtol: float = RTOL, locked: tuple[str, ...] = ()
+) -> tuple[Array, Array]:
+    """Joint-rate directions behind :func:`limb_screws`: velocity indices E (e,) and rates D (e, k).
+
+    Without internal loops, E are the limb's velocity indices minus those of
+    the ``locked`` joints and D the identity. With internal closures, E are its
+    joints and loop joints (:attr:`Limb.screw_v_indices`) and
+    ``D = diag(col) N``, N an orthonormal basis of
+    ``null([K_hat[:, E]; S_locked])`` (closure rows per L, prismatic rates
+    times L, so ``col`` is L on prismatic rates and 1 elsewhere; rank decided
+    with ``rtol``): the rates that keep the loops closed to first order.
+    Kinematics must be computed.
+    """
+    model = mech.model
+    held = {model.joints[model.getJointId(j)].idx_v for j in locked}
+    if not limb.closures:
+        idx = np.array([int(v) for v in limb.v_indices if v not in held], dtype=int)
+        return idx, np.eye(idx.size)
+    idx = limb.screw_v_indices
+    col = np.where(linear_velocity_mask(model)[idx], mech.length_scale, 1.0)
+    loops = tuple(c for c in mech.closures if c.name in limb.closures)
+    _, k = stacked_error(mech, model, data, loops)
+    rows = np.vstack([k[:, idx] * col, np.eye(idx.size)[[i for i, v in enumerate(idx) if v in held]]])
+    return idx, col[:, None] * decide_rank(rows, rtol, n=idx.size).null_space.T
+
+
 def limb_screws(mech: Mechanism, data: pin.Data, limb: Limb, rtol: float = RTOL, locked: tuple[str, ...] = ()) -> Array:
     """Twists the limb can give its tip, (6, k), at the tip origin, world axes. Kinematics must be computed.
 
@@ -298,25 +325,13 @@ def limb_screws(mech: Mechanism, data: pin.Data, limb: Limb, rtol: float = RTOL,
     ``getFrameJacobian(tip, LOCAL_WORLD_ALIGNED)`` for its joints (one per
     joint velocity, per unit rate), without those of the ``locked`` joints. A
     limb with internal closures (e.g. a parallelogram closed by a ``3d``
-    closure): ``T = J_tip[:, E] N`` where E are its joints and its loop joints
-    (:attr:`Limb.screw_v_indices`) and N an orthonormal basis of the
-    dimensionless rates that keep those loops closed and the ``locked``
-    (one-degree) joints still, ``N = null([K_hat[:, E]; S_locked])`` (closure
-    rows per L, prismatic rates times L; rank decided with ``rtol``); the
-    columns are then per unit dimensionless rate.
+    closure): ``T = J_tip[:, E] D`` with the rates D of :func:`limb_rates`
+    that keep those loops closed and the ``locked`` (one-degree) joints
+    still; the columns are then per unit dimensionless rate.
     """
-    model = mech.model
-    jac = pin.getFrameJacobian(model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED)
-    held = {model.joints[model.getJointId(j)].idx_v for j in locked}
-    if not limb.closures:
-        return jac[:, [int(v) for v in limb.v_indices if v not in held]]
-    idx = limb.screw_v_indices
-    col = np.where(linear_velocity_mask(model)[idx], mech.length_scale, 1.0)
-    loops = tuple(c for c in mech.closures if c.name in limb.closures)
-    _, k = stacked_error(mech, model, data, loops)
-    rows = np.vstack([k[:, idx] * col, np.eye(idx.size)[[i for i, v in enumerate(idx) if v in held]]])
-    null = decide_rank(rows, rtol, n=idx.size).null_space.T
-    return jac[:, idx] @ (col[:, None] * null)
+    idx, rates = limb_rates(mech, data, limb, rtol, locked)
+    jac = pin.getFrameJacobian(mech.model, data, limb.tip_id, pin.LOCAL_WORLD_ALIGNED)
+    return jac[:, idx] @ rates
 
 
 def limb_twists(mech: Mechanism, data: pin.Data, rtol: float = RTOL, lock_actuated: bool = False) -> list[Array]:
@@ -496,7 +511,9 @@ def closure_jacobian_twists(
     """Free platform twists from the global loop-closure Jacobian (an independent method).
 
     Closure rows ``K = [J_2 - J_1; ...; J_k - J_1]`` (tip Jacobians over all
-    joints, carried to the platform origin); the closed chain's joint velocities
+    joints, carried to the platform origin), followed by the rows of the
+    mechanism's own closures (loops inside limbs, lengths divided by L, see
+    :func:`~pinmob.residual.stacked_error`); the closed chain's joint velocities
     are ``null(K)``; the platform twists are their image ``J_1 null(K)``.
     Joint columns are scaled to comparable units before the rank decision.
 
@@ -529,8 +546,11 @@ def closure_jacobian_twists(
     ]
     col = np.linalg.norm(np.sum(np.abs(np.stack(full)), axis=0), axis=0)
     col = np.where(col > 0, 1.0 / np.where(col > 0, col, 1.0), 1.0)
-    if len(full) > 1:
-        k = np.vstack([f - full[0] for f in full[1:]]) * col
+    rows = [f - full[0] for f in full[1:]]
+    if mech.closures:  # loops inside limbs (e.g. parallelograms): their rows, dimensionless like the tip rows
+        rows.append(stacked_error(mech, model, data, mech.closures)[1])
+    if rows:
+        k = np.vstack(rows) * col
         dq = decide_rank(k, rtol, n=model.nv).null_space.T * col[:, None]
     else:
         dq = np.diag(col)

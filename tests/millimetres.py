@@ -10,7 +10,7 @@ from pinmob.closure import linear_velocity_mask
 
 
 def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:
-    """``mech`` with every joint and frame placement translation times 1000.
+    """``mech`` with every joint and frame placement translation and prismatic joint limit times 1000.
 
     Same limbs, platform, closures (frame indices and axes are unchanged) and
     actuated joints; no named configuration (convert one with :func:`q_in_millimetres`).
@@ -22,6 +22,13 @@ def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:
         )
     for f in model.frames:
         f.placement = pin.SE3(f.placement.rotation, 1000 * f.placement.translation)
+    linear = linear_velocity_mask(mech.model)
+    lower, upper = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+    for joint in model.joints[1:]:
+        if joint.nq == joint.nv and linear[joint.idx_v : joint.idx_v + joint.nv].all():  # prismatic: limits in mm
+            sl = slice(joint.idx_q, joint.idx_q + joint.nq)
+            lower[sl], upper[sl] = 1000 * lower[sl], 1000 * upper[sl]
+    model.lowerPositionLimit, model.upperPositionLimit = lower, upper
     actuated = {b.name: list(b.actuated) for b in mech.limbs} | {"": list(mech.extra_actuated)}
     return pinmob.Mechanism.from_model(
         model,

@@ -11,38 +11,63 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.closure import compute_kinematics
-from pinmob.mobility import limb_twists
+from pinmob.closure import compute_kinematics, stacked_error
+from pinmob.mobility import limb_rates, limb_twists
 from pinmob.screw import subspace_gap, twist_scaling
+
+
+def _tip_twist_fd(model: pin.Model, q: np.ndarray, dv: np.ndarray, tip: int, p0: np.ndarray, eps: float) -> np.ndarray:
+    """(v of the point p0 carried by the tip, w) from a forward difference of the tip's world pose along dv."""
+    d0, d1 = model.createData(), model.createData()
+    pin.framesForwardKinematics(model, d0, q)
+    pin.framesForwardKinematics(model, d1, pin.integrate(model, q, eps * dv))
+    m0, m1 = d0.oMf[tip], d1.oMf[tip]
+    w = pin.log3(m1.rotation @ m0.rotation.T) / eps
+    v_tip = (m1.translation - m0.translation) / eps
+    return np.r_[v_tip + np.cross(w, p0 - m0.translation), w]
 
 
 @pytest.mark.parametrize("name", sorted(pinmob.builtin_models()))
 def test_limb_twists_match_finite_differences(name: str, rng: np.random.Generator) -> None:
-    """Column j of a limb's twists = d(platform-origin velocity, world angular velocity)/dq_j.
+    """Column j of a limb's twists = d(platform-origin velocity, world angular velocity)/dq along its rates.
 
-    Differentiated numerically with pin.integrate and the tip's world pose, at a random
-    (not necessarily closed) configuration, with the reference point at the platform origin.
+    Differentiated numerically with pin.integrate and the tip's world pose, with the reference point at
+    the platform origin. A limb without loops: at a random (not necessarily closed) configuration, one
+    joint rate per column. A limb with loops inside it (the Delta's parallelograms): at a closed
+    configuration, along the column's joint rates, which must keep its loops closed to first order (the
+    loop residual after a step eps is O(eps^2), checked against the O(eps) drift of a generic direction).
     """
     mech = pinmob.load(name)
     model = mech.model
-    q = pin.integrate(model, mech.neutral(), rng.uniform(-0.3, 0.3, model.nv))
-    data = model.createData()
-    compute_kinematics(model, data, q)
-    twists = limb_twists(mech, data)
-    p0 = data.oMf[mech.platform_id].translation.copy()
     eps = 1e-7
-    for limb, t in zip(mech.limbs, twists):
-        m0 = data.oMf[limb.tip_id].copy()
-        for col, vi in enumerate(limb.v_indices):
+    for limb in mech.limbs:
+        if limb.closures:
+            q = mech.configuration("generic")
+        else:
+            q = pin.integrate(model, mech.neutral(), rng.uniform(-0.3, 0.3, model.nv))
+        data = model.createData()
+        compute_kinematics(model, data, q)
+        t = limb_twists(mech, data)[mech.limbs.index(limb)]
+        idx, rates = limb_rates(mech, data, limb)
+        assert t.shape[1] == rates.shape[1]
+        p0 = data.oMf[mech.platform_id].translation.copy()
+        loops = tuple(c for c in mech.closures if c.name in limb.closures)
+        for col in range(rates.shape[1]):
             dv = np.zeros(model.nv)
-            dv[vi] = eps
-            d2 = model.createData()
-            pin.framesForwardKinematics(model, d2, pin.integrate(model, q, dv))
-            m1 = d2.oMf[limb.tip_id]
-            w = pin.log3(m1.rotation @ m0.rotation.T) / eps
-            v_tip = (m1.translation - m0.translation) / eps
-            v_platform_point = v_tip + np.cross(w, p0 - m0.translation)
-            assert_allclose(t[:, col], np.r_[v_platform_point, w], atol=1e-5)
+            dv[idx] = rates[:, col]
+            assert_allclose(t[:, col], _tip_twist_fd(model, q, dv, limb.tip_id, p0, eps), atol=1e-5)
+            if loops:
+                step = 1e-4
+                d1 = model.createData()
+                compute_kinematics(model, d1, pin.integrate(model, q, step * dv / np.linalg.norm(dv)))
+                assert np.linalg.norm(stacked_error(mech, model, d1, loops)[0]) < 10 * step**2
+        if loops:  # the check above can fail: a generic direction of the same joints opens the loops at O(eps)
+            dv = np.zeros(model.nv)
+            dv[idx] = rng.standard_normal(idx.size)
+            d1 = model.createData()
+            compute_kinematics(model, d1, pin.integrate(model, q, 1e-4 * dv / np.linalg.norm(dv)))
+            assert np.linalg.norm(stacked_error(mech, model, d1, loops)[0]) > 100 * 1e-8
+            assert rates.shape[1] < idx.size
 
 
 @pytest.mark.parametrize(

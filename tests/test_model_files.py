@@ -193,8 +193,14 @@ def test_catalog_help_writes_nothing(tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_catalog_default_target_is_the_checkout_models():
-    assert catalog.checkout_models() == MODELS
+def test_catalog_default_target_is_the_checkout_models(capsys):
+    """Run from the checkout (editable install), the default target is its models/; from a regular install
+    (as in CI) there is none, and the command without a target says so in one line, exit 2."""
+    from_checkout = Path(catalog.__file__).resolve().parents[2] == MODELS.parent
+    assert catalog.checkout_models() == (MODELS if from_checkout else None)
+    if not from_checkout:
+        assert catalog.main([]) == 2
+        assert "does not run from a source checkout" in capsys.readouterr().err
 
 
 def test_catalog_refuses_unexpected_targets(tmp_path, capsys):

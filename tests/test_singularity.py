@@ -12,6 +12,7 @@ import pinocchio as pin
 import pytest
 from millimetres import in_millimetres
 from numpy.testing import assert_allclose
+from scipy.linalg import null_space
 
 import pinmob
 from pinmob.batch import analyze_batch
@@ -166,24 +167,64 @@ def test_dependent_limbs_are_empty_at_generic_configurations(name):
         assert dependent_limbs(mech, blocks, RTOL, generic_constraint_rank(mech)) == ()
 
 
-def _independent_screws(mech: pinmob.Mechanism, q: np.ndarray) -> list[np.ndarray]:
-    """Each limb's joint screws [v; w] at the platform origin, from Pinocchio's joint placements and motion
-    subspaces (not from frame Jacobians): S_j in the world at the joint, carried to the origin p: v += w x (-p)."""
+def _world_screws(model: pin.Model, data: pin.Data, q: np.ndarray, names, point: np.ndarray) -> list[np.ndarray]:
+    """Joint screws [v; w] (one per velocity) of the named joints, at ``point``, from Pinocchio's joint
+    placements and motion subspaces (not from frame Jacobians): S_j in the world, v += w x point."""
+    cols = []
+    for name in names:
+        j = model.getJointId(name)
+        jd = model.joints[j].createData()
+        model.joints[j].calc(jd, q)
+        for s in np.asarray(jd.S).reshape(6, -1).T:
+            m = data.oMi[j].act(pin.Motion(s))
+            cols.append(np.concatenate([m.linear + np.cross(m.angular, point), m.angular]))
+    return cols
+
+
+def _independent_screws(mech: pinmob.Mechanism, q: np.ndarray) -> list[tuple[np.ndarray, float]]:
+    """Each limb's dimensionless screws U [v / L; w] at the platform origin p, as the limb distance sees them,
+    and the ratio sigma_min / sigma_max of its loop rows (1 without loops): a tolerance above it changes which
+    rates close the loops, hence U itself.
+
+    A limb without loops: its joint screws (:func:`_world_screws`), unit columns. A limb with loops inside
+    it (3d closures): the screws of its joints and loop joints that support its tip, times N, an orthonormal
+    basis (scipy's null_space) of the dimensionless rates (prismatic rates times L) that keep every loop's
+    two frames at one point to first order: sum over the joints supporting b of (v_j + w_j x x) minus the
+    same over a, x the closure point, divided by L."""
     model, data = mech.model, mech.model.createData()
     pin.forwardKinematics(model, data, q)
     pin.updateFramePlacements(model, data)
     p = data.oMf[mech.platform_id].translation
+    st = twist_scaling(mech.length_scale)[:, None]
     out = []
     for limb in mech.limbs:
-        cols = []
-        for name in limb.joints:
-            j = model.getJointId(name)
-            jd = model.joints[j].createData()
-            model.joints[j].calc(jd, q)
-            for s in np.asarray(jd.S).reshape(6, -1).T:
-                m = data.oMi[j].act(pin.Motion(s))
-                cols.append(np.concatenate([m.linear + np.cross(m.angular, p), m.angular]))
-        out.append(np.array(cols).T)
+        if not limb.closures:
+            a = st * np.array(_world_screws(model, data, q, limb.joints, p)).T
+            out.append((a / np.linalg.norm(a, axis=0), 1.0))
+            continue
+        names = limb.joints + limb.loop_joints
+        ids = [model.getJointId(n) for n in names]
+        col = np.array(
+            [mech.length_scale if model.joints[j].shortname().startswith("JointModelP") else 1.0 for j in ids]
+        )
+
+        def supported(frame: str, ids: list[int] = ids) -> np.ndarray:
+            chain = set(model.supports[model.frames[model.getFrameId(frame)].parentJoint])
+            return np.array([j in chain for j in ids], float)
+
+        rows = []
+        for c in mech.closures:
+            if c.name not in limb.closures:
+                continue
+            assert c.type == "3d", "the independent check covers point (3d) closures"
+            x = data.oMf[c.frame_b_id].translation
+            screws = np.array(_world_screws(model, data, q, names, x)).T[:3]
+            rows.append(screws * (supported(c.frame_b) - supported(c.frame_a)) / mech.length_scale)
+        k = np.vstack(rows) * col
+        null = null_space(k, rcond=1e-9)
+        s = np.linalg.svd(k, compute_uv=False)
+        tip = np.array(_world_screws(model, data, q, names, p)).T * supported(model.frames[limb.tip_id].name)
+        out.append((st * tip @ (col[:, None] * null), float(s[-1] / s[0])))
     return out
 
 
@@ -192,15 +233,15 @@ def test_each_class_is_present_exactly_when_its_distance_is_at_most_rtol(name):
     """A class is decided on the very matrix its distance is read from (sigma_r / sigma_1 <= rtol <=> rank
     below r); the limb distance is that of the dimensionless screws [v / L; w] with unit columns, recomputed here
     from independent screws. Near-singular: no class, distance below 1e3 rtol. Moving rtol across a limb's
-    distance moves its decision with it (a decision on other columns than the distance's was up to 2x off)."""
+    distance moves its decision with it (a decision on other columns than the distance's was up to 2x off), as
+    long as the tolerance stays below the ratio of the limb's own loop rows."""
     mech = pinmob.load(name)
     for config in mech.configurations:
         q = mech.configuration(config)
         sing = analyze_singularity(mech, q)
         d = sing.distances
-        for limb, screws in zip(mech.limbs, _independent_screws(mech, q)):
-            a = twist_scaling(mech.length_scale)[:, None] * screws
-            s = np.linalg.svd(a / np.linalg.norm(a, axis=0), compute_uv=False)
+        for limb, (u, _) in zip(mech.limbs, _independent_screws(mech, q)):
+            s = np.linalg.svd(u, compute_uv=False)
             r = limb.generic_twist_rank
             assert d[f"limb {limb.name}"] == pytest.approx(s[r - 1] / s[0] if s.size >= r else 0.0, abs=1e-9)
             assert (limb.name in sing.limbs) == (d[f"limb {limb.name}"] <= RTOL)
@@ -211,11 +252,13 @@ def test_each_class_is_present_exactly_when_its_distance_is_at_most_rtol(name):
     # with the tolerance just above / just below a limb's distance, that limb is flagged / not flagged
     q = mech.configuration(next(iter(mech.configurations)))
     base = analyze_singularity(mech, q)
-    for limb in mech.limbs:
+    for limb, (_, loop_ratio) in zip(mech.limbs, _independent_screws(mech, q)):
         value = base.distances[f"limb {limb.name}"]
         if not 1e-9 < value < 0.8:  # a tolerance must lie in (0, 1)
             continue
         for rtol, present in ((1.2 * value, True), (value / 1.2, False)):
+            if rtol >= loop_ratio:  # the loops' own decision would change too (the Delta's parallelograms)
+                continue
             sing = analyze_singularity(mech, q, rtol=rtol, generic_rank=base.generic_rank)
             assert (limb.name in sing.limbs) == present, (limb.name, value, rtol)
             assert sing.distances[f"limb {limb.name}"] == pytest.approx(value, rel=1e-9)

@@ -27,7 +27,7 @@ def skew_pair(scale: float) -> MechanismBuilder:
 def test_three_puu_in_other_units(tmp_path: Path, factor: float) -> None:
     results = []
     for k, sub in ((1.0, "m"), (factor, "x")):
-        b = three_puu("scaled", "", 0.3 * k, 0.15 * k, 0.2 * k)
+        b = three_puu("scaled", "", 0.3 * k, 0.15 * k, 0.2 * k, stroke=k)
         confs = {"offset": {"pose": {"xyz": [0.03 * k, -0.02 * k, -0.17 * k], "rpy": [0.0, 0.0, 0.0]}}}
         mech = pinmob.load(b.write(tmp_path / sub, "m", confs))
         results.append(pinmob.analyze(mech, "offset"))

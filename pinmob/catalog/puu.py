@@ -9,7 +9,9 @@ from .registry import Definition, register
 from .sources import PAPER, limb_pairs
 
 
-def three_puu(name: str, description: str, big_r: float, small_r: float, drop: float) -> MechanismBuilder:
+def three_puu(
+    name: str, description: str, big_r: float, small_r: float, drop: float, stroke: float = 1.0
+) -> MechanismBuilder:
     """The seed paper's 3-PUU at its reference configuration (all joints zero).
 
     Limb i (A, B, C at theta = 0, 120, 240 deg): a slider on the vertical guide
@@ -18,7 +20,8 @@ def three_puu(name: str, description: str, big_r: float, small_r: float, drop: f
     platform vertex ``r e_i - drop z``, and a U joint there (axes n_i then t_i,
     the last one fixed to the platform). Intermediate axes parallel and outer
     axes parallel: the translational arrangement of the paper's Fig. 3, whose
-    only generic limb constraint is a couple along t_i x n_i (eq. 19).
+    only generic limb constraint is a couple along t_i x n_i (eq. 19). The
+    sliders travel ``[-stroke, stroke]`` [m] from there.
     """
     b = MechanismBuilder(name, description)
     z = np.array([0.0, 0.0, 1.0])
@@ -28,7 +31,7 @@ def three_puu(name: str, description: str, big_r: float, small_r: float, drop: f
         link = vertex - slider
         n = np.cross(t, link)
         limb = b.limb(limb_name)
-        limb.prismatic("slider", at=slider, axis=z, actuated=True)
+        limb.prismatic("slider", at=slider, axis=z, lower=-stroke, upper=stroke, actuated=True)
         limb.universal("u1", at=slider, axis1=t, axis2=n)
         limb.universal("u2", at=vertex, axis1=n, axis2=t)
         limb.tip(at=-drop * z)

@@ -93,7 +93,7 @@ def scene_html(
     animate: bool = True,
 ) -> tuple[str, Scene]:
     """The scene as a self-contained HTML page (no server, no file); see :func:`export_html`."""
-    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate)
+    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate, motion)
     require_meshcat()
     from meshcat.visualizer import Visualizer
 

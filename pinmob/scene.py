@@ -159,10 +159,19 @@ def prepare(
     amplitude: float | None,
     steps: int,
     animate: bool,
+    motion: str | None = None,
 ) -> tuple[Array, Mobility, dict[str, MotionPath]]:
-    """Closed q, its mobility and the followed motions (everything that can fail before meshcat)."""
+    """Closed q, its mobility and the followed motions (everything that can fail before meshcat).
+
+    Raises:
+        ConfigurationError: ``motion`` is not the label of a free motion at q.
+        ClosureError: q does not close.
+    """
     q, name = mech.resolve(q)
     mob = mobility if mobility is not None else analyze(mech, q, configuration=name)
+    labels = [m.label for m in mob.motions]
+    if motion is not None and motion not in labels:
+        raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
     paths = {}
     for motion in mob.motions:
         if animate:
@@ -220,7 +229,7 @@ def build(
     from pinocchio.visualize import MeshcatVisualizer
 
     labels = [m.label for m in mob.motions]
-    if motion is not None and motion not in labels:
+    if motion is not None and motion not in labels:  # prepare() checks it before any server is touched
         raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
     visible = motion or (labels[0] if labels else None)
     geometry, generated = visual_geometry(mech, q)

@@ -71,22 +71,25 @@ def show(
         Others as in :func:`export_html`.
 
     Raises:
+        ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
+            (all checked before any server is started).
         ViewerError: meshcat missing, port in use, or no server answering.
         ClosureError: q does not close.
     """
-    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate)
+    from .meshcat_server import check_port, probe, start_server
+
+    check_port(port)
+    if zmq_url is not None and port is not None:
+        raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
+    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate, motion)
     require_meshcat()
     import zmq
     from meshcat.visualizer import Visualizer
-
-    from .meshcat_server import probe, start_server
 
     server = None
     if zmq_url is None:
         server = start_server(port=port, timeout=timeout)
         zmq_url = server.zmq_url
-    elif port is not None:
-        raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
     try:
         probe(zmq_url, timeout=min(timeout, 5.0))
         with contextlib.redirect_stdout(io.StringIO()):

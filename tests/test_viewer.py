@@ -177,3 +177,53 @@ def test_couples_are_beside_the_translation_arrows():
         for m in mob.motions:
             gap = _distance_to_line(couple.vertices, origin, m.direction).min()
             assert gap > clearance, f"couple {i + 1} touches {m.label} ({gap / length:.3f} L)"
+
+
+@pytest.mark.parametrize("port", ["99999", "0", "-5", "65536"])
+def test_port_outside_the_valid_range_is_a_clear_error(port):
+    start = time.monotonic()
+    out = run("show", "3-PUU", f"--port={port}")
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert out.stderr.strip() == f"pinmob: error: port must be an integer from 1 to 65535, got {int(port)}"
+    assert time.monotonic() - start < 30
+
+
+def test_unknown_motion_is_refused_before_any_server_starts():
+    # with the web port taken, a server would fail to start: the motion error must come first
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        out = run("show", "3-PUU", "--port", str(port), "--motion", "T9 q")
+    assert out.returncode == 2 and "no free motion 'T9 q'" in out.stderr and "'T1 x', 'T2 y', 'T3 z'" in out.stderr
+    assert "in use" not in out.stderr
+
+
+def test_server_listens_on_loopback_only():
+    # 127.0.0.2 is a loopback address too: a server bound to every interface (0.0.0.0)
+    # accepts connections there, one bound to 127.0.0.1 refuses them
+    from pinmob.meshcat_server import start_server
+
+    server = start_server()
+    try:
+        port = int(server.web_url.rsplit(":", 1)[1].split("/")[0])
+        with socket.create_connection(("127.0.0.1", port), timeout=5):
+            pass
+        with pytest.raises(ConnectionRefusedError), socket.create_connection(("127.0.0.2", port), timeout=5):
+            pass
+    finally:
+        server.stop()
+
+
+def test_three_ur5_html_defines_each_mesh_once(tmp_path):
+    # 3-UR5: three UR5 arms with example-robot-data's meshes, 6 free motions (3T3R). Each of
+    # the 21 visual meshes is sent once (not once per clip) and the page is compressed: the
+    # file must stay below 3 times the size of the mesh files it draws.
+    mech = pinmob.load("3-UR5")
+    meshes = {g.meshPath for g in mech.visual_model.geometryObjects}
+    mesh_bytes = sum(Path(m).stat().st_size for m in meshes)
+    scene = viewer.export_html(mech, "generic", tmp_path / "ur5.html", steps=4)
+    assert not scene.generated_geometry and len(scene.clips) == 6
+    size = (tmp_path / "ur5.html").stat().st_size
+    print(f"3-UR5 HTML: {size / 1e6:.2f} MB for {mesh_bytes / 1e6:.2f} MB of mesh files ({size / mesh_bytes:.2f}x)")
+    assert size < 3 * mesh_bytes

@@ -139,7 +139,7 @@ def _mesh(glyph: Glyph) -> Any:
     """A glyph's meshcat object, drawn after (``renderOrder``) and over (no depth test) the mechanism."""
     import meshcat.geometry as mg
 
-    class GlyphMesh(mg.Mesh):  # type: ignore[misc]
+    class GlyphMesh(mg.Mesh):
         def lower(self) -> dict[str, Any]:
             data: dict[str, Any] = super().lower()
             data["object"]["renderOrder"] = GLYPH_RENDER_ORDER
@@ -173,11 +173,11 @@ def prepare(
     if motion is not None and motion not in labels:
         raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
     paths = {}
-    for motion in mob.motions:
+    for m in mob.motions:
         if animate:
-            paths[motion.label] = follow_motion(mech, q, motion, amplitude=amplitude, steps=steps)
+            paths[m.label] = follow_motion(mech, q, m, amplitude=amplitude, steps=steps)
         else:
-            paths[motion.label] = MotionPath(motion.label, (q,), (q,), (0.0, 0.0), 0.0)
+            paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
     return q, mob, paths
 
 
@@ -249,7 +249,8 @@ def build(
     viz.display(q)
     nodes = [vis[viz.getViewerNodeName(obj, pin.GeometryType.VISUAL)].path for obj in geometry.geometryObjects]
     clips: dict[str, list[dict[str, Any]]] = {}
-    for label in labels or [None]:
+    clip_labels: list[str | None] = [*labels] if labels else [None]
+    for label in clip_labels:
         animation = Animation(default_framerate=FPS)
         for k, qk in enumerate(paths[label].frames() if label is not None else [q]):
             pin.updateGeometryPlacements(model, data, geometry, gdata, qk)

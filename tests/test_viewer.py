@@ -165,7 +165,7 @@ def test_couples_are_beside_the_translation_arrows():
     # translations. Each arrow is a shaft along its line with a cone of radius 2.2 r
     # (r = 0.02 L for motions, 0.015 L for wrenches): a couple arrow must keep clear of
     # every translation arrow's line by more than both cone radii.
-    from pinmob.glyphs import constraint_glyph, motion_glyph
+    from pinmob.glyphs import constraint_glyph
 
     mech = pinmob.load("3-PUU")
     mob = pinmob.analyze(mech, "generic")

@@ -199,9 +199,11 @@ class _Follower:
         """One step of ``ds`` along ``projected``, checked against ``direction``: (q_next, "") or (None, reason)."""
         q_pred = self._predict(q, projected, ds)
         local = np.concatenate([om_p.rotation.T @ projected[:3], om_p.rotation.T @ projected[3:]]) * ds
+        how = "re-closing the loops"
         try:
             q_next = _assemble_pose(self.mech, om_p * pin.exp6(local), q_pred, tol=self.tol, max_iter=60)
         except ClosureError:
+            how = "the target pose cannot be assembled there, and re-closing the loops"
             try:
                 q_next = project(self.mech, q_pred, tol=self.tol, max_iter=100).q
             except ClosureError:
@@ -212,12 +214,12 @@ class _Follower:
         if progress < MIN_PROGRESS:
             return (
                 None,
-                f"re-closing the loops undoes the step there (the platform follows only {max(progress, 0):.0%} of it)",
+                f"{how} undoes the step there (the platform follows only {max(progress, 0):.0%} of it)",
             )
         deviation = _angle(achieved, wanted)
         if deviation > self.max_deviation:
             return None, (
-                f"re-closing the loops turns the platform off the motion there ({np.degrees(deviation):.1f} deg "
+                f"{how} turns the platform off the motion ({np.degrees(deviation):.1f} deg "
                 f"sideways, more than {np.degrees(self.max_deviation):.1f} deg)"
             )
         return q_next, ""

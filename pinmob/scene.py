@@ -2,8 +2,8 @@
 
 :func:`prepare` does everything that can fail before meshcat is touched (the
 closed configuration, its mobility, the followed motions); :func:`build` sends
-the scene (mechanism copies animated per free motion, glyphs, wrenches, camera,
-motion menu) to a live or recording meshcat ``Visualizer`` and returns a
+the scene (the mechanism once, one animation clip per free motion, glyphs,
+wrenches, camera, lights, motion menu) to a live or recording meshcat ``Visualizer`` and returns a
 :class:`Scene`. See :mod:`pinmob.viewer` for the scene's meshcat paths.
 """
 

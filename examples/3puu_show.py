@@ -17,11 +17,21 @@ import argparse
 import sys
 
 import pinmob
+import pinmob.closure
 import pinmob.viewer
 
 
-def main(argv: list[str] | None = None, model: str = "3-PUU-flat", config: str | None = "flat") -> int:
-    """Analyse ``model`` at ``config`` (default: its first named configuration) and show it."""
+def main(
+    argv: list[str] | None = None,
+    model: str = "3-PUU-flat",
+    config: str | None = "flat",
+    actuated: dict[str, float] | None = None,
+) -> int:
+    """Analyse ``model`` at ``config`` (default: its first named configuration) and show it.
+
+    With ``actuated`` (joint values by name), the configuration shown is the one
+    those actuated values close to from ``config`` (forward kinematics).
+    """
     models = pinmob.builtin_models()
     if model not in models:
         print(f"error: this pinmob has no built-in model {model!r}; it has: {', '.join(models)}", file=sys.stderr)
@@ -34,13 +44,16 @@ def main(argv: list[str] | None = None, model: str = "3-PUU-flat", config: str |
     args = parser.parse_args(argv)
     try:
         mech = pinmob.load(model)
-        mob = pinmob.analyze(mech, args.config)
+        q = mech.configuration(args.config)
+        if actuated:
+            q = pinmob.closure.assemble_joints(mech, actuated, q)
+        mob = pinmob.analyze(mech, q, configuration=args.config if not actuated else None)
         print(mob)
         if args.html:
-            scene = pinmob.viewer.export_html(mech, args.config, args.html, mob, overwrite=args.force)
+            scene = pinmob.viewer.export_html(mech, q, args.html, mob, overwrite=args.force)
             print(f"wrote {scene.html}: clips {', '.join(scene.clips)}")
         else:
-            scene = pinmob.viewer.show(mech, args.config, mob)
+            scene = pinmob.viewer.show(mech, q, mob)
             print(
                 f"open {scene.url}: clips {', '.join(scene.clips)} "
                 f"(the server runs until you kill pid {scene.server.pid})"

@@ -310,6 +310,8 @@ def _elsewhere(config: str, mech: Mechanism | None = None) -> str:
 
 @command("show")
 def _show(args: argparse.Namespace) -> int:
+    import math
+
     from .mechanism_file import load
 
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
@@ -335,6 +337,11 @@ def _show(args: argparse.Namespace) -> int:
         print(
             f"  clip {label!r}: +{path.reached[0]:.3g} / -{path.reached[1]:.3g} {unit} of {path.amplitude:.3g}{state}"
         )
+        moved = " / ".join(
+            f"{sign}: {d.translation:.3g} m, {d.rotation:.2g} rad ({math.degrees(d.deviation):.2g} deg off the motion)"
+            for sign, d in zip("+-", path.displacement, strict=True)
+        )
+        print(f"    platform moved {moved}")
     for note in scene.notes:
         print(f"note: {note}")
     if scene.generated_geometry:

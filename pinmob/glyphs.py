@@ -7,11 +7,18 @@
   coloured by the pitch (blue negative, grey zero, red positive, saturating at
   ``|h| = L``);
 - force: a line along its line of action with an arrow head;
-- couple: a double-headed arrow at the platform origin.
+- couple: a double-headed arrow beside the platform origin (offset sideways by
+  ``COUPLE_OFFSET`` L, off the axes of the translation arrows, so that a
+  translation arrow along the same direction does not hide it).
+
+Axis points (``Motion.point``, ``Constraint.point``) are relative to the
+platform origin (world axes): a glyph's axis passes through the world point
+``platform_origin + point`` (:func:`world_point`).
 
 Sizes are fractions of the length scale L [m]. Pure numpy: the geometry is
-``(vertices (n, 3), faces (m, 3))``; :mod:`pinmob.viewer` wraps it in meshcat
-objects.
+``(vertices (n, 3), faces (m, 3))``; :mod:`pinmob.scene` wraps it in meshcat
+objects drawn on top of the mechanism (no depth test), so that the platform
+never hides them.
 """
 
 from __future__ import annotations
@@ -30,6 +37,8 @@ TRANSLATION_COLOR = 0x1565C0
 ROTATION_COLOR = 0xE65100
 FORCE_COLOR = 0xC62828
 COUPLE_COLOR = 0x6A1B9A
+#: sideways offset of a couple's arrow from the platform origin, as a fraction of L
+COUPLE_OFFSET = 0.15
 
 
 @dataclass(frozen=True)
@@ -132,14 +141,23 @@ def _ring(
     return merge(tube(pts, tube_r), cone(pts[-1], pts[-1] + head * tangent, 2.2 * tube_r))
 
 
+def world_point(point: ArrayLike | None, origin: ArrayLike) -> Array:
+    """World point [m] of an axis point given relative to the platform origin: ``origin + point``.
+
+    ``point`` None (a translation or a couple) gives the platform origin itself.
+    """
+    o = np.asarray(origin, float)
+    return o.copy() if point is None else o + np.asarray(point, float)
+
+
 def motion_glyph(motion: Motion, origin: Array, length: float) -> Glyph:
-    """Glyph of one free motion at the platform origin [m]."""
+    """Glyph of one free motion; ``origin`` (3,) is the platform origin [m] (world)."""
     d = np.asarray(motion.direction, float)
     r = 0.02 * length
     if motion.kind is MotionKind.TRANSLATION:
         v, f = arrow(origin, origin + 0.7 * length * d, r)
         return Glyph(motion.label, v, f, TRANSLATION_COLOR)
-    point = np.asarray(motion.point if motion.point is not None else origin, float)
+    point = world_point(motion.point, origin)
     axis = tube([point - 0.8 * length * d, point + 0.8 * length * d], 0.6 * r)
     if motion.kind is MotionKind.ROTATION:
         v, f = merge(axis, _ring(point + 0.3 * length * d, d, 0.3 * length, r))
@@ -159,9 +177,11 @@ def constraint_glyph(constraint: Constraint, index: int, origin: Array, length: 
     kind = str(getattr(constraint.kind, "value", constraint.kind))
     name = f"{kind} {index + 1}"
     if kind == WrenchKind.COUPLE.value:
-        v, f = arrow(origin, origin + 0.6 * length * d, r, heads=2)
+        u, w = _frame(d)
+        start = np.asarray(origin, float) + COUPLE_OFFSET * length * (u + w) / np.sqrt(2.0)
+        v, f = arrow(start, start + 0.6 * length * d, r, heads=2)
         return Glyph(name, v, f, COUPLE_COLOR)
-    point = np.asarray(constraint.point if constraint.point is not None else origin, float)
+    point = world_point(constraint.point, origin)
     v, f = arrow(point - 0.6 * length * d, point + 0.6 * length * d, r)
     if kind == WrenchKind.WRENCH.value:
         v, f = merge((v, f), _ring(point, d, 0.15 * length, 0.6 * r))

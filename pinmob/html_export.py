@@ -9,6 +9,9 @@ order when it opens. No server is needed to build or to open it.
 from __future__ import annotations
 
 import base64
+import gzip
+import html
+import json
 import os
 import tempfile
 from pathlib import Path
@@ -35,14 +38,20 @@ class _Recorder:
 
 
 def _html(commands: list[bytes], title: str) -> str:
-    """Self-contained page: meshcat's viewer script and the scene's commands, replayed in order."""
+    """Self-contained page: meshcat's viewer script and the scene's commands, replayed in order.
+
+    The commands are concatenated, gzip-compressed and base64-encoded once
+    (URDF meshes are mostly text: the file is several times smaller); the page
+    inflates them with the browser's ``DecompressionStream`` and replays them.
+    """
     import meshcat
 
     script = (Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js").read_text()
-    blobs = ",\n".join(f'"{base64.b64encode(c).decode()}"' for c in commands)
+    blob = base64.b64encode(gzip.compress(b"".join(commands), compresslevel=9, mtime=0)).decode()
+    sizes = json.dumps([len(c) for c in commands])
     return f"""<!DOCTYPE html>
 <html>
-<head><meta charset="utf-8"><title>{title}</title></head>
+<head><meta charset="utf-8"><title>{html.escape(title)}</title></head>
 <body>
 <div id="meshcat-pane"></div>
 <script>
@@ -50,12 +59,18 @@ def _html(commands: list[bytes], title: str) -> str:
 </script>
 <script>
 var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-var pinmob_commands = [
-{blobs}
-];
-for (const c of pinmob_commands) {{
-  viewer.handle_command_bytearray(Uint8Array.from(atob(c), (ch) => ch.charCodeAt(0)));
-}}
+var pinmob_sizes = {sizes};
+var pinmob_commands = "{blob}";
+(async () => {{
+  const packed = Uint8Array.from(atob(pinmob_commands), (ch) => ch.charCodeAt(0));
+  const stream = new Blob([packed]).stream().pipeThrough(new DecompressionStream("gzip"));
+  const bytes = new Uint8Array(await new Response(stream).arrayBuffer());
+  let offset = 0;
+  for (const size of pinmob_sizes) {{
+    viewer.handle_command_bytearray(bytes.slice(offset, offset + size));
+    offset += size;
+  }}
+}})();
 </script>
 <style>
 body {{ margin: 0; }}
@@ -78,7 +93,7 @@ def scene_html(
     animate: bool = True,
 ) -> tuple[str, Scene]:
     """The scene as a self-contained HTML page (no server, no file); see :func:`export_html`."""
-    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate)
+    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate, motion)
     require_meshcat()
     from meshcat.visualizer import Visualizer
 
@@ -128,7 +143,7 @@ def export_html(
         raise ViewerError(f"{str(target)!r} exists already; choose another file name or allow overwriting (--force)")
     if target.is_dir():
         raise ViewerError(f"{str(target)!r} is a directory; give a file name ending in .html")
-    html, scene = scene_html(
+    page, scene = scene_html(
         mech, q, mobility, motion=motion, wrenches=wrenches, amplitude=amplitude, steps=steps, animate=animate
     )
     parent = target.parent if str(target.parent) else Path(".")
@@ -137,7 +152,7 @@ def export_html(
     fd, tmp = tempfile.mkstemp(prefix=".pinmob-", suffix=".html", dir=parent)
     try:
         with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(html)
+            fh.write(page)
         umask = os.umask(0)
         os.umask(umask)
         os.chmod(tmp, 0o666 & ~umask)

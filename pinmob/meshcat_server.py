@@ -22,14 +22,16 @@ import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
-from .exceptions import ViewerError
+from .exceptions import ConfigurationError, ViewerError
 
 if TYPE_CHECKING:
     from tornado.websocket import WebSocketHandler
 
 HOST = "127.0.0.1"
+#: valid TCP ports
+PORTS = range(1, 65536)
 #: seconds to wait for a server to start or answer
 TIMEOUT = 20.0
 
@@ -74,6 +76,14 @@ def _last_line(path: Path) -> str:
     return lines[-1] if lines else ""
 
 
+def check_port(port: object, what: str = "port") -> None:
+    """A :class:`ConfigurationError` unless ``port`` is None or an integer in 1-65535."""
+    if port is None:
+        return
+    if isinstance(port, bool) or not isinstance(port, int) or port not in PORTS:
+        raise ConfigurationError(f"{what} must be an integer from {PORTS[0]} to {PORTS[-1]}, got {port!r}")
+
+
 def start_server(port: int | None = None, zmq_port: int | None = None, timeout: float = TIMEOUT) -> ServerProcess:
     """Start a meshcat server on 127.0.0.1 in its own session (it survives Ctrl-C of the parent).
 
@@ -83,10 +93,15 @@ def start_server(port: int | None = None, zmq_port: int | None = None, timeout: 
         timeout: seconds to wait for the server to report its URLs.
 
     Raises:
+        ConfigurationError: a port is not an integer from 1 to 65535.
         ViewerError: the port is in use, meshcat is missing, or the server
             did not start within ``timeout``.
     """
-    log = Path(tempfile.mkstemp(prefix="pinmob-meshcat-", suffix=".log")[1])
+    for what, value in (("port", port), ("zmq_port", zmq_port)):
+        check_port(value, what)
+    fd, name = tempfile.mkstemp(prefix="pinmob-meshcat-", suffix=".log")
+    os.close(fd)
+    log = Path(name)
     cmd = [sys.executable, "-u", "-m", "pinmob.meshcat_server"]
     if port is not None:
         cmd += ["--port", str(int(port))]
@@ -180,9 +195,15 @@ def main(argv: list[str] | None = None) -> int:
     zmq_url = None if args.zmq_port is None else f"tcp://{HOST}:{args.zmq_port}"
 
     class Bridge(ZMQWebSocketBridge):
-        """meshcat's bridge, also keeping ``set_control`` commands (pinmob's motion menu)."""
+        """meshcat's bridge on 127.0.0.1 only, also keeping ``set_control`` commands (pinmob's motion menu)."""
 
         controls: dict[str, bytes] = {}
+
+        def make_app(self) -> Any:
+            app = super().make_app()
+            listen = app.listen
+            app.listen = lambda port, **kw: listen(port, address=HOST, **kw)  # meshcat's default: every interface
+            return app
 
         def handle_zmq(self, frames: list[bytes]) -> None:
             if frames[0] == b"set_control" and len(frames) == 3:

@@ -2,8 +2,8 @@
 
 :func:`prepare` does everything that can fail before meshcat is touched (the
 closed configuration, its mobility, the followed motions); :func:`build` sends
-the scene (mechanism copies animated per free motion, glyphs, wrenches, camera,
-motion menu) to a live or recording meshcat ``Visualizer`` and returns a
+the scene (the mechanism once, one animation clip per free motion, glyphs,
+wrenches, camera, lights, motion menu) to a live or recording meshcat ``Visualizer`` and returns a
 :class:`Scene`. See :mod:`pinmob.viewer` for the scene's meshcat paths.
 """
 
@@ -32,6 +32,11 @@ FPS = 24
 #: the camera looks at the mechanism from this direction (world, unit): 30 deg azimuth, 35 deg elevation
 VIEW_DIRECTION = np.array([np.cos(0.61) * np.cos(0.52), np.cos(0.61) * np.sin(0.52), np.sin(0.61)])
 CAMERA_FOV = 75.0  # meshcat's default camera, degrees (vertical)
+#: meshcat's default point lights: position [m] (scene frame) and reach [m], made for a scene about 1 m across
+POINT_LIGHTS = {"PointLightNegativeX": (1.5, 1.5, 2.0), "PointLightPositiveX": (-1.5, -1.5, 2.0)}
+LIGHT_REACH = 10.0
+#: glyphs are drawn after everything else (three.js renderOrder)
+GLYPH_RENDER_ORDER = 10
 
 
 @dataclass
@@ -103,19 +108,45 @@ class _SetControl:
         }
 
 
-def _selector_callback(motions_path: list[str], labels: list[str]) -> str:
-    """JavaScript run by the motion menu: show the chosen copy only and restart the clips."""
+class _SetAnimation:
+    """meshcat's ``set_animation`` command from already lowered clips (``[{path, clip}]``)."""
+
+    def __init__(self, animations: list[dict[str, Any]]):
+        self.animations = animations
+
+    def lower(self) -> dict[str, Any]:
+        options = {"play": True, "repetitions": float("inf")}
+        return {"type": "set_animation", "animations": self.animations, "options": options, "path": ""}
+
+
+def _selector_callback(clips: dict[str, list[dict[str, Any]]], visible: str) -> str:
+    """JavaScript of the motion menu: load the chosen clip (all clips move the one mechanism).
+
+    Evaluated by meshcat when the control is created: it loads the visible clip
+    at once (so a page that receives the control later still plays the right
+    one) and returns the menu's callback.
+    """
     return (
-        "(value) => { for (const n of " + json.dumps(labels) + ") { "
-        "viewer.scene_tree.find(" + json.dumps(motions_path) + '.concat([n])).set_property("visible", n === value); } '
-        "viewer.animator.reset(); viewer.animator.play(); viewer.set_dirty(); }"
+        "(() => { const clips = " + json.dumps(clips, separators=(",", ":")) + "; "
+        "const choose = (value) => { viewer.handle_command({type: 'set_animation', "
+        "animations: JSON.parse(JSON.stringify(clips[value])), options: {play: true, repetitions: Infinity}}); "
+        "viewer.set_dirty(); }; "
+        "choose(" + json.dumps(visible) + "); return choose; })()"
     )
 
 
 def _mesh(glyph: Glyph) -> Any:
+    """A glyph's meshcat object, drawn after (``renderOrder``) and over (no depth test) the mechanism."""
     import meshcat.geometry as mg
 
-    return mg.Mesh(mg.TriangularMeshGeometry(glyph.vertices, glyph.faces), mg.MeshPhongMaterial(color=glyph.color))
+    class GlyphMesh(mg.Mesh):
+        def lower(self) -> dict[str, Any]:
+            data: dict[str, Any] = super().lower()
+            data["object"]["renderOrder"] = GLYPH_RENDER_ORDER
+            return data
+
+    material = mg.MeshPhongMaterial(color=glyph.color, depthTest=False, transparent=True, opacity=1.0)
+    return GlyphMesh(mg.TriangularMeshGeometry(glyph.vertices, glyph.faces), material)
 
 
 # --------------------------------------------------------------------------- scene
@@ -128,32 +159,59 @@ def prepare(
     amplitude: float | None,
     steps: int,
     animate: bool,
+    motion: str | None = None,
 ) -> tuple[Array, Mobility, dict[str, MotionPath]]:
-    """Closed q, its mobility and the followed motions (everything that can fail before meshcat)."""
+    """Closed q, its mobility and the followed motions (everything that can fail before meshcat).
+
+    Raises:
+        ConfigurationError: ``motion`` is not the label of a free motion at q.
+        ClosureError: q does not close.
+    """
     q, name = mech.resolve(q)
     mob = mobility if mobility is not None else analyze(mech, q, configuration=name)
+    labels = [m.label for m in mob.motions]
+    if motion is not None and motion not in labels:
+        raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
     paths = {}
-    for motion in mob.motions:
+    for m in mob.motions:
         if animate:
-            paths[motion.label] = follow_motion(mech, q, motion, amplitude=amplitude, steps=steps)
+            paths[m.label] = follow_motion(mech, q, m, amplitude=amplitude, steps=steps)
         else:
-            paths[motion.label] = MotionPath(motion.label, (q,), (q,), (0.0, 0.0), 0.0)
+            paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
     return q, mob, paths
 
 
 def _frame_camera(vis: Any, points: Array) -> tuple[Array, float]:
-    """Point the camera at the centre of ``points`` (k, 3) from far enough to see them all."""
+    """Frame ``points`` (k, 3): shift the scene so that their centre is at the origin, then back the camera off.
+
+    meshcat's orbit controls always look at the world origin, so the scene
+    (everything under ``/pinmob``) is translated by ``-center`` rather than the
+    camera moved; the camera stands far enough away to see every point.
+    """
     lo, hi = points.min(axis=0), points.max(axis=0)
     center = 0.5 * (lo + hi)
     radius = max(float(np.linalg.norm(points - center, axis=1).max()), 1e-9)
     distance = 1.05 * radius / np.sin(np.radians(CAMERA_FOV) / 2)
     offset = distance * VIEW_DIRECTION
-    vis["/Cameras/default"].set_transform(pin.SE3(np.eye(3), center).homogeneous)
+    vis[ROOT].set_transform(pin.SE3(np.eye(3), -center).homogeneous)
+    vis["/Cameras/default"].set_transform(np.eye(4))
     camera = vis["/Cameras/default/rotated/<object>"]
     camera.set_property("near", distance / 100.0)
     camera.set_property("far", distance * 100.0)
     camera.set_property("position", [float(offset[0]), float(offset[2]), float(-offset[1])])  # y-up camera frame
     return center, distance
+
+
+def _place_lights(vis: Any, distance: float) -> None:
+    """Move meshcat's point lights with the scene's size (the scene is centred, :func:`_frame_camera`).
+
+    The defaults suit a scene about 1 m across, seen from about 1.5 m.
+    """
+    scale = distance / 1.5
+    for name, position in POINT_LIGHTS.items():
+        light = vis[f"/Lights/{name}/<object>"]
+        light.set_property("position", [float(c) * scale for c in position])
+        light.set_property("distance", LIGHT_REACH * scale)
 
 
 def build(
@@ -171,7 +229,7 @@ def build(
     from pinocchio.visualize import MeshcatVisualizer
 
     labels = [m.label for m in mob.motions]
-    if motion is not None and motion not in labels:
+    if motion is not None and motion not in labels:  # prepare() checks it before any server is touched
         raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
     visible = motion or (labels[0] if labels else None)
     geometry, generated = visual_geometry(mech, q)
@@ -184,29 +242,28 @@ def build(
     vis["/Grid"].set_property("visible", False)
     vis["/Axes"].set_property("visible", False)
     points: list[Array] = []
-    animation = Animation(default_framerate=FPS)
-    copies = labels or ["mechanism"]
-    for label in copies:
-        root = f"{ROOT}/motions/{label}" if labels else f"{ROOT}/mechanism"
-        viz = MeshcatVisualizer(model, None, geometry)
-        viz.initViewer(viewer=vis)
-        viz.loadViewerModel(rootNodeName=root)
-        viz.display(q)
-        frames = paths[label].frames() if labels else [q]
-        for k, qk in enumerate(frames):
+    # the mechanism once (each mesh defined once); each clip animates its geometry nodes' transforms
+    viz = MeshcatVisualizer(model, None, geometry)
+    viz.initViewer(viewer=vis)
+    viz.loadViewerModel(rootNodeName=f"{ROOT}/mechanism")
+    viz.display(q)
+    nodes = [vis[viz.getViewerNodeName(obj, pin.GeometryType.VISUAL)].path for obj in geometry.geometryObjects]
+    clips: dict[str, list[dict[str, Any]]] = {}
+    clip_labels: list[str | None] = [*labels] if labels else [None]
+    for label in clip_labels:
+        animation = Animation(default_framerate=FPS)
+        for k, qk in enumerate(paths[label].frames() if label is not None else [q]):
             pin.updateGeometryPlacements(model, data, geometry, gdata, qk)
-            for i, obj in enumerate(geometry.geometryObjects):
-                placement = gdata.oMg[i]
-                points.append(placement.translation.copy())
-                if not labels:
+            for i, node in enumerate(nodes):
+                matrix = gdata.oMg[i].homogeneous
+                points.append(matrix[:3, 3].copy())
+                if label is None:
                     continue
-                path = vis[viz.getViewerNodeName(obj, pin.GeometryType.VISUAL)].path
-                clip = animation.clips.setdefault(path, AnimationClip(fps=FPS, name=label))
-                matrix = placement.homogeneous
-                clip.set_property(k, "position", "vector3", js_position(matrix))
-                clip.set_property(k, "quaternion", "quaternion", js_quaternion(matrix))
-        if labels and label != visible:
-            vis[root].set_property("visible", False)
+                clip = animation.clips.setdefault(node, AnimationClip(fps=FPS, name=label))
+                clip.set_property(k, "position", "vector3", [float(x) for x in js_position(matrix)])
+                clip.set_property(k, "quaternion", "quaternion", [float(x) for x in js_quaternion(matrix)])
+        if label is not None:
+            clips[label] = animation.lower()
 
     origin = mob.platform_origin
     length = mech.length_scale
@@ -222,12 +279,9 @@ def build(
         else:
             points.extend(glyph.vertices)
     center, distance = _frame_camera(vis, np.array(points))
+    _place_lights(vis, distance)
     if visible is not None:  # there are motions to choose from
-        vis.window.send(
-            _SetControl(
-                "motion", _selector_callback(list(vis[f"{ROOT}/motions"].path.entries), labels), visible, labels
-            )
-        )
-        vis.set_animation(animation, play=True, repetitions=float("inf"))
+        vis.window.send(_SetAnimation(clips[visible]))
+        vis.window.send(_SetControl("motion", _selector_callback(clips, visible), visible, labels))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(tuple(labels), visible, notes, generated, mob, paths, center, distance)

@@ -1,6 +1,7 @@
 """Generated visual geometry for models without visuals: a stick figure of the mechanism.
 
-Every built-in model is a kinematic URDF without ``<visual>`` elements. So that
+Most built-in models are kinematic URDFs without ``<visual>`` elements (3-UR5 has
+UR5 meshes). So that
 it still looks like a mechanism in the viewer, :func:`skeleton_geometry` builds
 a Pinocchio ``GeometryModel`` of simple shapes attached to the joints:
 

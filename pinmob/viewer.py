@@ -8,20 +8,19 @@
 
 What the scene holds (meshcat paths):
 
-- ``/pinmob/motions/<label>``: one copy of the mechanism per free motion
-  (``T1 x``, ``R1 z``... the labels of ``Mobility.motions``), each animated
-  by a clip of that name: the platform goes a finite amount along the motion
-  and back, then the other way and back, every frame a closed configuration
-  (:func:`pinmob.animation.follow_motion`). Only the first (or the chosen)
-  one is visible; pick another with the ``motion`` menu of the controls
-  (pinmob's server and HTML export) or the visibility boxes under
-  Scene > pinmob > motions. All clips loop.
+- ``/pinmob/mechanism``: the mechanism, once (each mesh defined once). Each
+  free motion (``T1 x``, ``R1 z``... the labels of ``Mobility.motions``) is an
+  animation clip of that name moving its geometry: the platform goes a finite
+  amount along the motion and back, then the other way and back, every frame
+  a closed configuration (:func:`pinmob.animation.follow_motion`). The first
+  (or the chosen) clip plays in a loop; the ``motion`` menu of the controls
+  (pinmob's server and HTML export) loads another.
 - ``/pinmob/glyphs/<label>``: the free motions at the platform
   (:mod:`pinmob.glyphs`): arrows, axis + ring, axis + helix.
 - ``/pinmob/wrenches/<kind i>``: the constraint wrenches, hidden unless asked for.
-- ``/pinmob/mechanism``: the mechanism at rest, when it has no free motion.
 
-The scene is built by :mod:`pinmob.scene`; :func:`export_html` (from
+Everything under ``/pinmob`` is shifted by ``-Scene.center`` (meshcat's orbit
+controls look at the origin). The scene is built by :mod:`pinmob.scene`; :func:`export_html` (from
 :mod:`pinmob.html_export`) writes it to a file, :func:`show` sends it to a
 meshcat server. The geometry is the URDF's visuals through Pinocchio's
 ``MeshcatVisualizer``, or a generated stick figure (:mod:`pinmob.skeleton`)
@@ -71,22 +70,25 @@ def show(
         Others as in :func:`export_html`.
 
     Raises:
+        ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
+            (all checked before any server is started).
         ViewerError: meshcat missing, port in use, or no server answering.
         ClosureError: q does not close.
     """
-    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate)
+    from .meshcat_server import check_port, probe, start_server
+
+    check_port(port)
+    if zmq_url is not None and port is not None:
+        raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
+    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate, motion)
     require_meshcat()
     import zmq
     from meshcat.visualizer import Visualizer
-
-    from .meshcat_server import probe, start_server
 
     server = None
     if zmq_url is None:
         server = start_server(port=port, timeout=timeout)
         zmq_url = server.zmq_url
-    elif port is not None:
-        raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
     try:
         probe(zmq_url, timeout=min(timeout, 5.0))
         with contextlib.redirect_stdout(io.StringIO()):

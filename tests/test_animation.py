@@ -115,3 +115,105 @@ def test_rotation_about_a_fixed_point_keeps_the_distance(tmp_path):
             assert_allclose(np.linalg.norm(platform_pose(mech, qk).translation), 0.2, atol=1e-9)
         turned = pin.log3(platform_pose(mech, result.forward[-1]).rotation)
         assert_allclose(turned, 0.3 * motion.direction, atol=1e-6)
+
+
+def _rotation_off_axis(mech: pinmob.Mechanism, q0: np.ndarray, q1: np.ndarray, axis: np.ndarray) -> float:
+    """Angle [rad] between the platform's finite rotation from q0 to q1 (world axes) and the line of ``axis``."""
+    r0, r1 = platform_pose(mech, q0).rotation, platform_pose(mech, q1).rotation
+    turned = pin.log3(r1 @ r0.T)  # world axes
+    if np.linalg.norm(turned) < 1e-12:
+        return 0.0
+    return float(np.arccos(min(1.0, abs(turned @ axis) / np.linalg.norm(turned))))
+
+
+def _generic_spherical(mech: pinmob.Mechanism) -> np.ndarray:
+    from pinmob.closure import assemble_joints
+
+    # actuated values away from the limbs' stretched (serially singular) poses: the smallest
+    # singular value of each limb's angular Jacobian is above 0.26 here (0.05 at 'generic')
+    return assemble_joints(mech, {"A_r1": 1.07, "B_r1": 0.36, "C_r1": 0.2}, mech.configuration("generic"))
+
+
+def test_spherical_rotations_keep_their_axis_and_the_centre():
+    # 3-RRR-spherical: all nine revolute axes meet at O = (0, 0, 0), so the platform turns
+    # about O (3R) and any rotation about an axis through O is a finite motion: following
+    # one keeps the platform origin 0.25 m from O and turns it by the amplitude about the
+    # motion's axis (log3 of the end rotation = amplitude * direction).
+    # (Each limb is a 3R spherical chain with non-orthogonal axes: its orientations are
+    # limited, so the amplitude is kept within all three limbs' reach here.)
+    mech = pinmob.load("3-RRR-spherical")
+    q = _generic_spherical(mech)
+    mob = pinmob.analyze(mech, q)
+    assert mob.motion_type == "3R"
+    for motion in mob.motions:
+        path = follow_motion(mech, q, motion, amplitude=0.12, steps=4)
+        assert path.complete, path.notes
+        for qk in path.forward + path.backward:
+            assert_allclose(np.linalg.norm(platform_pose(mech, qk).translation), 0.25, atol=1e-9)
+        r0 = platform_pose(mech, q).rotation
+        ends = ((1, path.forward[-1], path.displacement[0]), (-1, path.backward[-1], path.displacement[1]))
+        for sign, end, moved in ends:
+            assert_allclose(
+                pin.log3(platform_pose(mech, end).rotation @ r0.T), sign * 0.12 * motion.direction, atol=1e-6
+            )
+            assert_allclose(moved.rotation, 0.12, atol=1e-6)
+            assert moved.deviation < 1e-6
+
+
+def test_near_singular_spherical_clips_stay_on_their_axes():
+    # At 'generic' limb A is nearly stretched (smallest singular value of its angular
+    # Jacobian 0.05): re-closing after a step can turn the platform about another axis
+    # through O. Every clip must still turn about its own axis (measured on the poses, to
+    # within the per-step tolerance), or stop and say so; the reported displacement must
+    # match the poses.
+    from pinmob.animation import MAX_DEVIATION
+
+    mech = pinmob.load("3-RRR-spherical")
+    q = mech.configuration("generic")
+    for motion in pinmob.analyze(mech, q).motions:
+        path = follow_motion(mech, q, motion, steps=6)
+        for end, moved in ((path.forward[-1], path.displacement[0]), (path.backward[-1], path.displacement[1])):
+            off = _rotation_off_axis(mech, q, end, motion.direction)
+            assert off < MAX_DEVIATION, f"{motion.label} ends {np.degrees(off):.1f} deg off its axis"
+            turned = np.linalg.norm(pin.log3(platform_pose(mech, end).rotation @ platform_pose(mech, q).rotation.T))
+            assert_allclose(moved.rotation, turned, atol=1e-12)
+        for note in path.notes:
+            assert motion.label in note
+
+
+def test_first_step_is_halved_before_giving_up():
+    # 3-RRR-spherical, rotation R1 x in one step of 0.35 rad: limb B (a 3R spherical chain
+    # with non-orthogonal axes) cannot reach that orientation, so the first step fails; a
+    # halved step (0.175 rad) is within reach. The motion is finite, so there must be no
+    # "only instantaneous" note, and the platform turns about x by what was reached.
+    mech = pinmob.load("3-RRR-spherical")
+    q = _generic_spherical(mech)
+    motion = next(m for m in pinmob.analyze(mech, q).motions if m.label == "R1 x")
+    path = follow_motion(mech, q, motion, amplitude=0.35, steps=1)
+    assert len(path.forward) > 1 and 0 < path.reached[0] < 0.35
+    assert not any("only instantaneous" in n for n in path.notes), path.notes
+    turned = pin.log3(platform_pose(mech, path.forward[-1]).rotation @ platform_pose(mech, q).rotation.T)
+    assert_allclose(turned, path.reached[0] * motion.direction, atol=1e-6)
+
+
+@pytest.mark.parametrize("config", ["generic", "rods-horizontal"])
+def test_delta_frames_close_every_loop(config):
+    # The Delta's parallelograms are loops inside the limbs (3d closures): every frame of
+    # every clip must close them too (the one residual measure, limb tips and closures).
+    from pinmob.closure import CLOSURE_TOL, compute_kinematics, mechanism_residuals, worst_residual
+
+    mech = pinmob.load("Delta")
+    q = mech.configuration(config)
+    assert pinmob.analyze(mech, q).motion_type == {"generic": "3T", "rods-horizontal": "3T2R"}[config]
+    data = mech.model.createData()
+    for motion in pinmob.analyze(mech, q).motions:
+        path = follow_motion(mech, q, motion, steps=4)
+        for qk in path.frames():
+            compute_kinematics(mech.model, data, qk)
+            assert worst_residual(mechanism_residuals(mech, data), mech.length_scale) <= CLOSURE_TOL
+        # the loops always close again (all closures projected); where a clip stops (the
+        # rotations at the constraint singularity 'rods-horizontal'), it is because the
+        # platform does not follow, never because a parallelogram was left open
+        assert not any("do not close again" in n for n in path.notes), path.notes
+        if motion.kind is pinmob.MotionKind.TRANSLATION:  # the Delta translates everywhere (3T)
+            assert path.complete, path.notes

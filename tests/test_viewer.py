@@ -8,6 +8,7 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 import pinmob
@@ -123,3 +124,106 @@ def test_show_sends_to_a_running_server_and_returns():
     finally:
         server.stop()
     assert server.process.poll() is not None
+
+
+def _distance_to_line(points: np.ndarray, through: np.ndarray, direction: np.ndarray) -> np.ndarray:
+    """Distance [m] of each point (k, 3) from the line through ``through`` along unit ``direction``."""
+    rel = points - through
+    return np.linalg.norm(rel - np.outer(rel @ direction, direction), axis=1)
+
+
+@pytest.mark.parametrize(
+    ("name", "config", "centre"),
+    [
+        # all nine revolute axes meet at O = (0, 0, 0) (the model's geometry): every free
+        # rotation of the platform is about a line through O, whatever the platform origin
+        ("3-RRR-spherical", "generic", None),
+        # 3T3R: any line can be shifted by the free translations, so the axis point closest
+        # to the platform origin is the origin itself, which is away from the world origin
+        ("6-UPS", "generic", "platform"),
+    ],
+)
+def test_rotation_glyph_axis_passes_through_the_world_point(name, config, centre):
+    from pinmob.glyphs import motion_glyph
+
+    mech = pinmob.load(name)
+    mob = pinmob.analyze(mech, config)
+    origin = mob.platform_origin
+    assert np.linalg.norm(origin) > 0.2  # the platform origin is far from the world origin
+    through = origin if centre == "platform" else np.zeros(3)
+    rotations = [m for m in mob.motions if m.kind is pinmob.MotionKind.ROTATION]
+    assert len(rotations) == 3
+    tube = 0.6 * 0.02 * mech.length_scale  # radius of the axis line (glyphs.py: 0.6 r, r = 0.02 L)
+    for m in rotations:
+        glyph = motion_glyph(m, origin, mech.length_scale)
+        on_axis = np.abs(_distance_to_line(glyph.vertices, through, m.direction) - tube) < 1e-9
+        assert on_axis.sum() >= 24, f"{m.label}: the axis line is not through {through}"
+
+
+def test_couples_are_beside_the_translation_arrows():
+    # 3-PUU (paper eq. 38): 3T, constrained by three couples along the same x, y, z as the
+    # translations. Each arrow is a shaft along its line with a cone of radius 2.2 r
+    # (r = 0.02 L for motions, 0.015 L for wrenches): a couple arrow must keep clear of
+    # every translation arrow's line by more than both cone radii.
+    from pinmob.glyphs import constraint_glyph
+
+    mech = pinmob.load("3-PUU")
+    mob = pinmob.analyze(mech, "generic")
+    origin, length = mob.platform_origin, mech.length_scale
+    assert mob.motion_type == "3T" and len(mob.constraints) == 3
+    clearance = 2.2 * 0.02 * length + 2.2 * 0.015 * length
+    for i, c in enumerate(mob.constraints):
+        couple = constraint_glyph(c, i, origin, length)
+        for m in mob.motions:
+            gap = _distance_to_line(couple.vertices, origin, m.direction).min()
+            assert gap > clearance, f"couple {i + 1} touches {m.label} ({gap / length:.3f} L)"
+
+
+@pytest.mark.parametrize("port", ["99999", "0", "-5", "65536"])
+def test_port_outside_the_valid_range_is_a_clear_error(port):
+    start = time.monotonic()
+    out = run("show", "3-PUU", f"--port={port}")
+    assert out.returncode == 2 and "Traceback" not in out.stderr
+    assert out.stderr.strip() == f"pinmob: error: port must be an integer from 1 to 65535, got {int(port)}"
+    assert time.monotonic() - start < 30
+
+
+def test_unknown_motion_is_refused_before_any_server_starts():
+    # with the web port taken, a server would fail to start: the motion error must come first
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        out = run("show", "3-PUU", "--port", str(port), "--motion", "T9 q")
+    assert out.returncode == 2 and "no free motion 'T9 q'" in out.stderr and "'T1 x', 'T2 y', 'T3 z'" in out.stderr
+    assert "in use" not in out.stderr
+
+
+def test_server_listens_on_loopback_only():
+    # 127.0.0.2 is a loopback address too: a server bound to every interface (0.0.0.0)
+    # accepts connections there, one bound to 127.0.0.1 refuses them
+    from pinmob.meshcat_server import start_server
+
+    server = start_server()
+    try:
+        port = int(server.web_url.rsplit(":", 1)[1].split("/")[0])
+        with socket.create_connection(("127.0.0.1", port), timeout=5):
+            pass
+        with pytest.raises(ConnectionRefusedError), socket.create_connection(("127.0.0.2", port), timeout=5):
+            pass
+    finally:
+        server.stop()
+
+
+def test_three_ur5_html_defines_each_mesh_once(tmp_path):
+    # 3-UR5: three UR5 arms with example-robot-data's meshes, 6 free motions (3T3R). Each of
+    # the 21 visual meshes is sent once (not once per clip) and the page is compressed: the
+    # file must stay below 3 times the size of the mesh files it draws.
+    mech = pinmob.load("3-UR5")
+    meshes = {g.meshPath for g in mech.visual_model.geometryObjects}
+    mesh_bytes = sum(Path(m).stat().st_size for m in meshes)
+    scene = viewer.export_html(mech, "generic", tmp_path / "ur5.html", steps=4)
+    assert not scene.generated_geometry and len(scene.clips) == 6
+    size = (tmp_path / "ur5.html").stat().st_size
+    print(f"3-UR5 HTML: {size / 1e6:.2f} MB for {mesh_bytes / 1e6:.2f} MB of mesh files ({size / mesh_bytes:.2f}x)")
+    assert size < 3 * mesh_bytes

@@ -18,7 +18,8 @@ floor than ``floor_us``, and the batch time relative to it.
 
 Then scan samples per second including re-assembly: ``pinmob.scan`` along a pose path (assembly,
 mobility with classification, singularity report per sample) against the same warm-started assembly
-plus the baseline analysis.
+plus the baseline analysis. Last, the peak Python memory (tracemalloc) of a 3-PUU scan streamed to
+CSV and JSON files, for n and 8n samples (after a warm-up scan): flat in the number of samples when the ratio is near 1.
 
 Usage: ``python benchmarks/bench_mobility.py [--quick]``; the last line printed is one JSON object.
 """
@@ -27,7 +28,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import tempfile
 import time
+import tracemalloc
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -35,7 +39,8 @@ import scipy.linalg
 
 import pinmob
 from pinmob.batch import analyze_batch
-from pinmob.scan import path_spec, platform_pose, pose_vector, scan
+from pinmob.scan import columns, path_spec, platform_pose, pose_vector, scan
+from pinmob.scan_file import RowWriter
 from pinmob.screw import twist_scaling
 
 CONFIG = {"3-PUU": "generic", "6-UPS": "generic"}
@@ -139,6 +144,19 @@ def bench_scan(name: str, start: str, end: str, samples: int) -> dict[str, float
     return {"scan_samples_per_s": round(pinmob_rate, 1), "baseline_samples_per_s": round(base_rate, 1)}
 
 
+def scan_peak_kib(name: str, start: str, end: str, samples: int, out: Path) -> float:
+    """Peak Python memory [KiB] (tracemalloc) of a scan streamed to CSV and JSON files, as ``pinmob scan`` does."""
+    mech = pinmob.load(name)
+    spec = path_spec(mech, start, end, samples)
+    tracemalloc.start()
+    with RowWriter(columns(spec), {"samples": samples}, str(out / "s.csv"), str(out / "s.json")) as writer:
+        for row in scan(mech, spec, progress=False):
+            writer.write(row)
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    return peak / 1024
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer configurations (finishes in well under a minute)")
@@ -163,6 +181,14 @@ def main() -> None:
             f"samples/s (mobility + motion types + singularity report), assembly + baseline analysis "
             f"{s['baseline_samples_per_s']} samples/s (ratio {s['scan_samples_per_s'] / s['baseline_samples_per_s']:.2f})"
         )
+    small = 100 if args.quick else 200  # a chunk holds up to 32 samples: smaller scans peak lower
+    with tempfile.TemporaryDirectory() as tmp:
+        scan_peak_kib("3-PUU", "generic", "offset", 10, Path(tmp))  # warm-up: caches filled once per process
+        peaks = [scan_peak_kib("3-PUU", "generic", "offset", k, Path(tmp)) for k in (small, 8 * small)]
+    print(
+        f"3-PUU scan generic -> offset streamed to CSV and JSON, peak Python memory (tracemalloc): {small} samples "
+        f"{peaks[0]:.0f} KiB, {8 * small} samples {peaks[1]:.0f} KiB (ratio {peaks[1] / peaks[0]:.2f}; flat = 1)"
+    )
     print(json.dumps(result))
 
 

@@ -355,14 +355,28 @@ def _show(args: argparse.Namespace) -> int:
     if args.detach:
         print(f"the meshcat server keeps running (pid {scene.server.pid}); stop it with: kill {scene.server.pid}")
         return 0
-    print("serving; press Ctrl-C to stop the server")
+    print(f"serving (meshcat server pid {scene.server.pid}); press Ctrl-C to stop the server", flush=True)
+    _serve_until_stopped(scene.server)
+    return 0
+
+
+def _serve_until_stopped(server: Any) -> None:
+    """Wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server (no orphan left)."""
+    import signal
+
+    def stop(signum: int, frame: object) -> None:
+        raise KeyboardInterrupt
+
+    wanted = [signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
+    previous = {sig: signal.signal(sig, stop) for sig in wanted}
     try:
-        scene.server.process.wait()
+        server.process.wait()
     except KeyboardInterrupt:
         pass
     finally:
-        scene.server.stop()
-    return 0
+        server.stop()
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
 
 
 @command("scan")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import selectors
 import socket
 import subprocess
 import sys
@@ -227,3 +228,45 @@ def test_three_ur5_html_defines_each_mesh_once(tmp_path):
     size = (tmp_path / "ur5.html").stat().st_size
     print(f"3-UR5 HTML: {size / 1e6:.2f} MB for {mesh_bytes / 1e6:.2f} MB of mesh files ({size / mesh_bytes:.2f}x)")
     assert size < 3 * mesh_bytes
+
+
+def test_sigterm_stops_the_server_it_started():
+    # `pinmob show` without --detach serves until stopped; a SIGTERM (a service manager, `timeout`,
+    # a closed session) must end the meshcat server it started, as Ctrl-C does, not leave it orphaned
+    import os
+    import re
+    import signal
+
+    with socket.socket() as s:  # a free port
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    proc = subprocess.Popen([*PINMOB, "show", "3-PUU", "--port", str(port)], stdout=subprocess.PIPE)
+    server_pid = None
+    try:
+        assert proc.stdout is not None
+        out, deadline = b"", time.monotonic() + 90
+        with selectors.DefaultSelector() as sel:
+            sel.register(proc.stdout, selectors.EVENT_READ)
+            while server_pid is None and time.monotonic() < deadline:
+                if not sel.select(timeout=1):
+                    continue
+                chunk = os.read(proc.stdout.fileno(), 4096)
+                if not chunk:
+                    break
+                out += chunk
+                found = re.search(rb"^serving \(meshcat server pid (\d+)\)", out, re.M)
+                server_pid = int(found.group(1)) if found else None
+        assert server_pid is not None, f"no 'serving (meshcat server pid N)' line within 90 s: {out.decode()!r}"
+        os.kill(server_pid, 0)  # the server runs
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=30) == 0
+        with pytest.raises(ProcessLookupError):  # stopped and reaped by pinmob
+            os.kill(server_pid, 0)
+    finally:
+        proc.kill()
+        proc.wait()
+        if server_pid is not None:
+            try:
+                os.kill(server_pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass

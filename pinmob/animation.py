@@ -17,10 +17,15 @@ screw stays fixed in the world; at each closed configuration q it
    motion's manifold (curved motions), :func:`pinmob.closure.project` (all
    closures) from the prediction;
 4. checks the achieved platform displacement ``d`` (twist at the platform
-   origin taking the old pose to the new one): its share along ``t``,
-   ``<W d, W t> / (|W t|^2 ds)``, must be at least ``MIN_PROGRESS``, and its
-   angle to ``t`` in the W metric at most ``max_deviation`` [rad] (no sideways
-   drift). A step that fails 3 or 4 is halved, up to ``MAX_HALVINGS`` times.
+   origin taking the old pose to the new one) against the step asked for,
+   ``t_F ds``: its share along it, ``<W d, W t_F> / (|W t_F|^2 ds)``, must be at
+   least ``MIN_PROGRESS``, and its angle to ``t_F`` in the W metric at most
+   ``max_deviation`` [rad] (no sideways jump while re-closing). The reference is
+   ``t_F``, not ``t``: a curved motion (a Bennett coupler's screw, the parasitic
+   motions of a 3-PRS) turns its free twist away from the screw it started
+   with, whatever the step size, and is followed as long as ``t`` keeps a
+   share ``MIN_SHARE`` of it. A step that fails 3 or 4 is halved, up to
+   ``MAX_HALVINGS`` times.
 
 It stops, and says why, when the motion leaves the free space (``|W t_F| <
 MIN_SHARE |W t|``), or no step down to ``ds / 2^MAX_HALVINGS`` re-closes along
@@ -195,8 +200,8 @@ class _Follower:
         dv = np.linalg.lstsq(np.vstack([k, jp]), rhs, rcond=None)[0]
         return pin.integrate(model, q, dv)
 
-    def step(self, q: Array, om_p: pin.SE3, direction: Array, projected: Array, ds: float) -> tuple[Array | None, str]:
-        """One step of ``ds`` along ``projected``, checked against ``direction``: (q_next, "") or (None, reason)."""
+    def step(self, q: Array, om_p: pin.SE3, projected: Array, ds: float) -> tuple[Array | None, str]:
+        """One step of ``ds`` along ``projected`` (``t_F``), checked against it: (q_next, "") or (None, reason)."""
         q_pred = self._predict(q, projected, ds)
         local = np.concatenate([om_p.rotation.T @ projected[:3], om_p.rotation.T @ projected[3:]]) * ds
         how = "re-closing the loops"
@@ -209,7 +214,7 @@ class _Follower:
             except ClosureError:
                 return None, "the loops do not close again after a step there"
         achieved = self.w * _displacement(om_p, self.pose(q_next))
-        wanted = self.w * direction * ds
+        wanted = self.w * projected * ds
         progress = float(achieved @ wanted / (wanted @ wanted))
         if progress < MIN_PROGRESS:
             return (
@@ -228,8 +233,10 @@ class _Follower:
         """Configurations from q along ``unit`` up to ``amp``, the distance covered, and why it stopped ("" if not)."""
         path, current, covered = [q], q, 0.0
         start = self.pose(q)
-        limit = 2 * int(np.ceil(amp / ds)) * (MAX_HALVINGS + 1) + 4  # every step covers at least ds / 2^MAX_HALVINGS
-        while covered < amp * (1 - 1e-9) and len(path) <= limit:
+        limit = int(np.ceil(amp / ds)) * 2**MAX_HALVINGS + 4  # every step covers at least ds / 2^MAX_HALVINGS
+        while covered < amp * (1 - 1e-9):
+            if len(path) > limit:
+                return path, covered, f"{limit} steps taken without reaching the amplitude"
             om_p = self.pose(current)
             # the motion's screw stays fixed in the world: re-express it at the current platform origin
             direction = shift_twists(unit, om_p.translation - start.translation)
@@ -238,7 +245,7 @@ class _Follower:
                 return path, covered, why
             h = min(ds, amp - covered)
             for _ in range(MAX_HALVINGS + 1):
-                nxt, why = self.step(current, om_p, direction, projected, h)
+                nxt, why = self.step(current, om_p, projected, h)
                 if nxt is not None:
                     break
                 h /= 2

@@ -7,13 +7,14 @@ status 2, never with a traceback.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import os
 import re
 import sys
 import tomllib
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import TYPE_CHECKING, Any, NoReturn
 
 from .exceptions import ConfigurationError, PinmobError, choices
@@ -327,7 +328,8 @@ def _show(args: argparse.Namespace) -> int:
     if args.html is not None:
         scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
     else:
-        scene = viewer.show(mech, config, zmq_url=args.zmq_url, port=args.port, **options)
+        with _signals_interrupt():  # a SIGTERM while the server starts or the scene is sent stops the server too
+            scene = viewer.show(mech, config, zmq_url=args.zmq_url, port=args.port, **options)
     mob = scene.mobility
     print(f"{mech.name} at {config!r}: {mob.dof} DoF, {mob.motion_type}")
     for label in scene.clips:
@@ -360,23 +362,32 @@ def _show(args: argparse.Namespace) -> int:
     return 0
 
 
-def _serve_until_stopped(server: Any) -> None:
-    """Wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server (no orphan left)."""
+@contextlib.contextmanager
+def _signals_interrupt() -> Iterator[None]:
+    """Within the block, SIGTERM and SIGHUP raise KeyboardInterrupt, as Ctrl-C does, so cleanups run."""
     import signal
 
-    def stop(signum: int, frame: object) -> None:
+    def interrupt(signum: int, frame: object) -> None:
         raise KeyboardInterrupt
 
     wanted = [signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
-    previous = {sig: signal.signal(sig, stop) for sig in wanted}
+    previous = {sig: signal.signal(sig, interrupt) for sig in wanted}
     try:
-        server.process.wait()
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def _serve_until_stopped(server: Any) -> None:
+    """Wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server (no orphan left)."""
+    try:
+        with _signals_interrupt():
+            server.process.wait()
     except KeyboardInterrupt:
         pass
     finally:
         server.stop()
-        for sig, handler in previous.items():
-            signal.signal(sig, handler)
 
 
 @command("scan")

@@ -116,8 +116,8 @@ def start_server(port: int | None = None, zmq_port: int | None = None, timeout: 
     sel.register(proc.stdout, selectors.EVENT_READ)
     try:
         found = _read_urls(proc, sel, log, timeout)
-    except ViewerError:
-        log.unlink(missing_ok=True)
+    except BaseException:  # no URLs, or interrupted (Ctrl-C, SIGTERM turned into KeyboardInterrupt): no orphan
+        ServerProcess(proc, "", "", log).stop()
         raise
     finally:
         sel.close()
@@ -195,7 +195,8 @@ def main(argv: list[str] | None = None) -> int:
     zmq_url = None if args.zmq_port is None else f"tcp://{HOST}:{args.zmq_port}"
 
     class Bridge(ZMQWebSocketBridge):
-        """meshcat's bridge on 127.0.0.1 only, also keeping ``set_control`` commands (pinmob's motion menu)."""
+        """meshcat's bridge on 127.0.0.1 only, also keeping ``set_control`` commands (pinmob's motion menu)
+        for browsers that connect later, until a ``delete_control`` or a deletion of the whole scene."""
 
         controls: dict[str, bytes] = {}
 
@@ -206,10 +207,14 @@ def main(argv: list[str] | None = None) -> int:
             return app
 
         def handle_zmq(self, frames: list[bytes]) -> None:
-            if frames[0] == b"set_control" and len(frames) == 3:
+            if frames[0] in (b"set_control", b"delete_control") and len(frames) == 3:
                 import umsgpack
 
-                self.controls[umsgpack.unpackb(frames[2])["name"]] = frames[2]
+                name = umsgpack.unpackb(frames[2])["name"]
+                if frames[0] == b"set_control":
+                    self.controls[name] = frames[2]
+                else:
+                    self.controls.pop(name, None)
                 self.forward_to_websockets(frames)
                 self.zmq_socket.send(b"ok")
             else:

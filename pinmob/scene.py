@@ -108,6 +108,16 @@ class _SetControl:
         }
 
 
+class _DeleteControl:
+    """meshcat's ``delete_control`` command: remove the GUI control ``name`` (a scene without motions)."""
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def lower(self) -> dict[str, Any]:
+        return {"type": "delete_control", "name": self.name, "path": ""}
+
+
 class _SetAnimation:
     """meshcat's ``set_animation`` command from already lowered clips (``[{path, clip}]``)."""
 
@@ -280,8 +290,11 @@ def build(
             points.extend(glyph.vertices)
     center, distance = _frame_camera(vis, np.array(points))
     _place_lights(vis, distance)
+    # always replace the animation: a rigid scene on a reused server must not keep the previous scene's clip
+    vis.window.send(_SetAnimation(clips[visible] if visible is not None else []))
     if visible is not None:  # there are motions to choose from
-        vis.window.send(_SetAnimation(clips[visible]))
         vis.window.send(_SetControl("motion", _selector_callback(clips, visible), visible, labels))
+    else:
+        vis.window.send(_DeleteControl("motion"))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(tuple(labels), visible, notes, generated, mob, paths, center, distance)

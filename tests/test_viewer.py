@@ -270,3 +270,96 @@ def test_sigterm_stops_the_server_it_started():
                 os.kill(server_pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
+
+
+def _messages_to_a_new_browser(web_url: str, quiet: float = 2.0) -> list[dict]:
+    """The commands meshcat's server sends a browser that connects now (a real websocket client)."""
+    import asyncio
+
+    import umsgpack
+    from tornado.websocket import websocket_connect
+
+    port = int(web_url.rsplit(":", 1)[1].split("/")[0])
+
+    async def read() -> list[dict]:
+        ws = await websocket_connect(f"ws://127.0.0.1:{port}/")
+        out = []
+        while True:
+            try:
+                message = await asyncio.wait_for(ws.read_message(), quiet)
+            except TimeoutError:
+                break
+            if message is None:
+                break
+            out.append(umsgpack.unpackb(message))
+        ws.close()
+        return out
+
+    return asyncio.run(read())
+
+
+def test_a_rigid_scene_replaces_the_previous_clips_and_menu_on_a_reused_server():
+    # 3-PUU (3 motions) then the Delta with its arms stretched (rigid: no motion) on one server:
+    # a browser that connects afterwards must get neither the 3-PUU's clip nor its motion menu
+    from pinmob.meshcat_server import start_server
+
+    server = start_server()
+    try:
+        viewer.show(pinmob.load("3-PUU"), "generic", zmq_url=server.zmq_url, steps=2)
+        before = _messages_to_a_new_browser(server.web_url)
+        assert any(m["type"] == "set_control" and m["name"] == "motion" for m in before)
+        assert any(m["type"] == "set_animation" and m["animations"] for m in before)
+        scene = viewer.show(pinmob.load("Delta"), "arms-stretched", zmq_url=server.zmq_url, steps=2)
+        assert scene.mobility.dof == 0 and scene.clips == ()
+        after = _messages_to_a_new_browser(server.web_url)
+        assert not any(m["type"] == "set_control" for m in after)
+        assert [m["animations"] for m in after if m["type"] == "set_animation"] == [[]]
+        assert any(m["type"] == "set_object" for m in after)  # the Delta itself is there
+    finally:
+        server.stop()
+
+
+def _children(pid: int) -> list[int]:
+    """Processes whose parent is ``pid`` (Linux /proc)."""
+    out = []
+    for entry in Path("/proc").iterdir():
+        if entry.name.isdigit():
+            try:
+                stat = (entry / "stat").read_text()
+            except OSError:
+                continue
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                out.append(int(entry.name))
+    return out
+
+
+def test_sigterm_while_the_scene_is_sent_stops_the_server():
+    # 3-UR5's meshes take a second or more to send after its server starts: a SIGTERM then ends
+    # pinmob as Ctrl-C does (exit 130) and ends the server it started, which must not be orphaned
+    import os
+    import signal
+
+    with socket.socket() as s:  # a free port
+        s.bind(("127.0.0.1", 0))
+        port = s.getsockname()[1]
+    proc = subprocess.Popen([*PINMOB, "show", "3-UR5", "--port", str(port)], stdout=subprocess.PIPE)
+    servers: list[int] = []
+    try:
+        deadline = time.monotonic() + 90
+        while not servers and time.monotonic() < deadline and proc.poll() is None:
+            servers = _children(proc.pid)
+            time.sleep(0.02)
+        assert servers, "no meshcat server started"
+        time.sleep(0.2)
+        proc.send_signal(signal.SIGTERM)
+        assert proc.wait(timeout=30) == 130  # interrupted before serving
+        for pid in servers:
+            assert not Path(f"/proc/{pid}").exists(), "the meshcat server was left running"
+    finally:
+        proc.kill()
+        proc.wait()
+        for pid in servers:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass

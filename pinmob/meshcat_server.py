@@ -57,15 +57,20 @@ class ServerProcess:
         return self.process.pid
 
     def stop(self, timeout: float = 5.0) -> None:
-        """End the server (terminate, then kill after ``timeout`` s)."""
-        if self.process.poll() is None:
-            self.process.terminate()
-            try:
-                self.process.wait(timeout)
-            except subprocess.TimeoutExpired:
-                self.process.kill()
-                self.process.wait(timeout)
-        self.log.unlink(missing_ok=True)
+        """End the server (terminate, then kill after ``timeout`` s) and remove its log."""
+        _end(self.process, self.log, timeout)
+
+
+def _end(process: subprocess.Popen, log: Path, timeout: float = 5.0) -> None:
+    """Terminate ``process`` (kill after ``timeout`` s), reap it, and remove its log file."""
+    if process.poll() is None:
+        process.terminate()
+        try:
+            process.wait(timeout)
+        except subprocess.TimeoutExpired:
+            process.kill()
+            process.wait(timeout)
+    log.unlink(missing_ok=True)
 
 
 def _last_line(path: Path) -> str:
@@ -117,7 +122,7 @@ def start_server(port: int | None = None, zmq_port: int | None = None, timeout: 
     try:
         found = _read_urls(proc, sel, log, timeout)
     except BaseException:  # no URLs, or interrupted (Ctrl-C, SIGTERM turned into KeyboardInterrupt): no orphan
-        ServerProcess(proc, "", "", log).stop()
+        _end(proc, log)
         raise
     finally:
         sel.close()

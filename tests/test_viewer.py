@@ -91,9 +91,7 @@ def test_port_in_use_is_a_clear_error():
 
 
 def test_no_server_at_zmq_url_is_a_clear_error():
-    with socket.socket() as s:  # a port nobody listens on
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
+    port = _free_port()  # nobody listens on it
     start = time.monotonic()
     out = run("show", "3-PUU", "--zmq-url", f"tcp://127.0.0.1:{port}")
     assert out.returncode == 2 and "no meshcat server answers" in out.stderr
@@ -230,48 +228,6 @@ def test_three_ur5_html_defines_each_mesh_once(tmp_path):
     assert size < 3 * mesh_bytes
 
 
-def test_sigterm_stops_the_server_it_started():
-    # `pinmob show` without --detach serves until stopped; a SIGTERM (a service manager, `timeout`,
-    # a closed session) must end the meshcat server it started, as Ctrl-C does, not leave it orphaned
-    import os
-    import re
-    import signal
-
-    with socket.socket() as s:  # a free port
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    proc = subprocess.Popen([*PINMOB, "show", "3-PUU", "--port", str(port)], stdout=subprocess.PIPE)
-    server_pid = None
-    try:
-        assert proc.stdout is not None
-        out, deadline = b"", time.monotonic() + 90
-        with selectors.DefaultSelector() as sel:
-            sel.register(proc.stdout, selectors.EVENT_READ)
-            while server_pid is None and time.monotonic() < deadline:
-                if not sel.select(timeout=1):
-                    continue
-                chunk = os.read(proc.stdout.fileno(), 4096)
-                if not chunk:
-                    break
-                out += chunk
-                found = re.search(rb"^serving \(meshcat server pid (\d+)\)", out, re.M)
-                server_pid = int(found.group(1)) if found else None
-        assert server_pid is not None, f"no 'serving (meshcat server pid N)' line within 90 s: {out.decode()!r}"
-        os.kill(server_pid, 0)  # the server runs
-        proc.send_signal(signal.SIGTERM)
-        assert proc.wait(timeout=30) == 0
-        with pytest.raises(ProcessLookupError):  # stopped and reaped by pinmob
-            os.kill(server_pid, 0)
-    finally:
-        proc.kill()
-        proc.wait()
-        if server_pid is not None:
-            try:
-                os.kill(server_pid, signal.SIGKILL)
-            except ProcessLookupError:
-                pass
-
-
 def _messages_to_a_new_browser(web_url: str, quiet: float = 2.0) -> list[dict]:
     """The commands meshcat's server sends a browser that connects now (a real websocket client)."""
     import asyncio
@@ -319,6 +275,13 @@ def test_a_rigid_scene_replaces_the_previous_clips_and_menu_on_a_reused_server()
         server.stop()
 
 
+def _free_port() -> int:
+    """A TCP port on 127.0.0.1 that nobody listens on now."""
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
 def _children(pid: int) -> list[int]:
     """Processes whose parent is ``pid`` (Linux /proc)."""
     out = []
@@ -333,28 +296,55 @@ def _children(pid: int) -> list[int]:
     return out
 
 
-def test_sigterm_while_the_scene_is_sent_stops_the_server():
-    # 3-UR5's meshes take a second or more to send after its server starts: a SIGTERM then ends
-    # pinmob as Ctrl-C does (exit 130) and ends the server it started, which must not be orphaned
+def _read_until(proc: subprocess.Popen, pattern: bytes, timeout: float = 90) -> bytes:
+    """proc's stdout until a line matches ``pattern`` (raw reads: no buffering hides a line from select)."""
+    import os
+    import re
+
+    assert proc.stdout is not None
+    out, deadline = b"", time.monotonic() + timeout
+    with selectors.DefaultSelector() as sel:
+        sel.register(proc.stdout, selectors.EVENT_READ)
+        while not re.search(pattern, out, re.M) and time.monotonic() < deadline:
+            if sel.select(timeout=1):
+                chunk = os.read(proc.stdout.fileno(), 4096)
+                if not chunk:
+                    break
+                out += chunk
+    assert re.search(pattern, out, re.M), f"no line matching {pattern!r} within {timeout} s: {out.decode()!r}"
+    return out
+
+
+@pytest.mark.parametrize(
+    "model,when,status",
+    [
+        ("3-PUU", "serving", 0),  # stopped while serving: ends as after Ctrl-C, status 0
+        ("3-UR5", "sending", 130),  # its meshes take a second or more to send: interrupted, status 130
+    ],
+)
+def test_sigterm_stops_the_server_it_started(model, when, status):
+    # `pinmob show` without --detach serves until stopped; a SIGTERM (a service manager, `timeout`, a
+    # closed session), while it serves or while it still sends the scene, must end the meshcat server it
+    # started, as Ctrl-C does, not leave it orphaned. The server is found in the process table; while
+    # serving, pinmob's own line names that same pid.
     import os
     import signal
 
-    with socket.socket() as s:  # a free port
-        s.bind(("127.0.0.1", 0))
-        port = s.getsockname()[1]
-    proc = subprocess.Popen([*PINMOB, "show", "3-UR5", "--port", str(port)], stdout=subprocess.PIPE)
+    proc = subprocess.Popen([*PINMOB, "show", model, "--port", str(_free_port())], stdout=subprocess.PIPE)
     servers: list[int] = []
     try:
         deadline = time.monotonic() + 90
         while not servers and time.monotonic() < deadline and proc.poll() is None:
             servers = _children(proc.pid)
             time.sleep(0.02)
-        assert servers, "no meshcat server started"
-        time.sleep(0.2)
+        assert len(servers) == 1, f"expected one meshcat server, found {servers}"
+        if when == "serving":
+            _read_until(proc, rb"^serving \(meshcat server pid %d\)" % servers[0])
+        else:
+            time.sleep(0.2)
         proc.send_signal(signal.SIGTERM)
-        assert proc.wait(timeout=30) == 130  # interrupted before serving
-        for pid in servers:
-            assert not Path(f"/proc/{pid}").exists(), "the meshcat server was left running"
+        assert proc.wait(timeout=30) == status
+        assert not Path(f"/proc/{servers[0]}").exists(), "the meshcat server was left running"
     finally:
         proc.kill()
         proc.wait()

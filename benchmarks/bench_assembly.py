@@ -30,7 +30,9 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
-from pinmob.closure import ClosureError, find_closed, project, random_configuration, solve_actuated
+from pinmob.assembly.assemble import project, solve_actuated
+from pinmob.assembly.seeds import find_closed, random_configuration
+from pinmob.exceptions import ClosureError
 
 DATA = Path(__file__).resolve().parent.parent / "tests" / "data"
 

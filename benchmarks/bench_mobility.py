@@ -8,7 +8,7 @@ Per mechanism (3-PUU, 6-UPS), at N fixed closed configurations (microseconds per
 * ``floor_us``: the Pinocchio Jacobian calls of that loop alone (``computeJointJacobians``,
   ``updateFramePlacements``, one ``getFrameJacobian`` per limb): the cost of getting the frame
   Jacobians from Pinocchio, which no analysis built on them avoids;
-* ``batch_us``: :func:`pinmob.batch.analyze_batch` on all N at once (DoF, constraint rank, limb twist
+* ``batch_us``: :func:`pinmob.analysis.batch.analyze_batch` on all N at once (DoF, constraint rank, limb twist
   ranks, locked DoF: the numbers of the baseline and more; no singular values, no motion classification);
 * ``single_us``: one :func:`pinmob.analyze` call (full result with classified motions and constraints).
 
@@ -38,10 +38,11 @@ import pinocchio as pin
 import scipy.linalg
 
 import pinmob
-from pinmob.batch import analyze_batch
-from pinmob.scan import columns, path_spec, platform_pose, pose_vector, scan
-from pinmob.scan_file import RowWriter
-from pinmob.screw import twist_scaling
+from pinmob.analysis.batch import analyze_batch
+from pinmob.scan.output import RowWriter
+from pinmob.scan.run import columns, scan
+from pinmob.scan.spec import path_spec, platform_pose, pose_vector
+from pinmob.screw.algebra import twist_scaling
 
 CONFIG = {"3-PUU": "generic", "6-UPS": "generic"}
 
@@ -49,7 +50,7 @@ CONFIG = {"3-PUU": "generic", "6-UPS": "generic"}
 def closed_configurations(mech: pinmob.Mechanism, n: int, seed: int = 0) -> np.ndarray:
     """n closed configurations: random platform poses near the generic one, assembled."""
     rng = np.random.default_rng(seed)
-    q0 = mech.configuration(CONFIG[mech.name])
+    q0 = pinmob.closed_configuration(mech, CONFIG[mech.name])
     base = pose_vector(platform_pose(mech, q0))
     out = []
     translational = mech.name.startswith("3-PUU")

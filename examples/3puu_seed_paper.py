@@ -22,7 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
-from pinmob.screw import twist_to_paper
+from pinmob.screw.algebra import twist_to_paper
 
 
 def row(v: np.ndarray) -> str:
@@ -57,7 +57,7 @@ def eq20(beta: float, theta: float) -> np.ndarray:
 
 def generic() -> None:
     mech = pinmob.load("3-PUU")
-    q = mech.configuration("generic")
+    q = pinmob.closed_configuration(mech, "generic")
     mob = pinmob.analyze(mech, q)
     print("3-PUU at 'generic': each limb's constraint wrench (f; tau) and eq. 20")
     for limb in mob.limbs:
@@ -73,7 +73,7 @@ def generic() -> None:
 
 def flat() -> None:
     mech = pinmob.load("3-PUU-flat")
-    q = mech.configuration("flat")
+    q = pinmob.closed_configuration(mech, "flat")
     paper = pinmob.paper_view(mech, "flat")  # approached along the configuration's declared 'approach'
 
     print("\n3-PUU-flat at 'flat' (beta_i = 0), the paper's procedure (eq. 20 carried to beta = 0):")

@@ -17,7 +17,7 @@ import argparse
 import sys
 
 import pinmob
-import pinmob.closure
+import pinmob.assembly
 import pinmob.viewer
 
 
@@ -44,9 +44,9 @@ def main(
     args = parser.parse_args(argv)
     try:
         mech = pinmob.load(model)
-        q = mech.configuration(args.config)
+        q = pinmob.closed_configuration(mech, args.config)
         if actuated:
-            q = pinmob.closure.assemble_joints(mech, actuated, q)
+            q = pinmob.assembly.assemble_joints(mech, actuated, q)
         mob = pinmob.analyze(mech, q, configuration=args.config if not actuated else None)
         print(mob)
         if args.html:

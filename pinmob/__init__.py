@@ -1,53 +1,100 @@
-"""pinmob: how the platform of a parallel or closed-chain robot can move, from its URDF.
+"""pinmob: how a parallel or closed-chain robot can move at a configuration, from its URDF, with Pinocchio.
 
 >>> import pinmob
 >>> mech = pinmob.load("3-PUU")
->>> mob = pinmob.analyze(mech, mech.configuration("generic"))
->>> mob.motion_type
+>>> report = pinmob.analyze(mech, "generic")
+>>> report.motion_type
 '3T'
+
+The package is layered; imports only go down:
+
+- :mod:`pinmob.screw`: screw algebra, the one rank decision rule, classification (numpy only);
+- :mod:`pinmob.model`: the mechanism as plain data (Pinocchio model, limbs, closures, platform);
+- :mod:`pinmob.io`: reading files (TOML + URDF, Extended URDF, MJCF) and the built-in models;
+- :mod:`pinmob.assembly`: closing the loops (residuals, solver, projection, forward and inverse kinematics);
+- :mod:`pinmob.analysis`: :class:`Configuration` (the state object), the analyses, :class:`Report` and
+  :func:`analyze` (the one entry point);
+- :mod:`pinmob.scan`, :mod:`pinmob.viewer`, :mod:`pinmob.cli`: scans, the meshcat viewer, the command line;
+- :mod:`pinmob.builder`, :mod:`pinmob.catalog`: authoring the built-in models; :mod:`pinmob.testing`: assertions.
 """
 
-from . import extended_urdf, mjcf  # noqa: F401  (register the .yaml and .xml loaders)
-from .closure import Assembly, assemble_pose, assembly_modes, check_closed, find_closed, project, solve_actuated
-from .constraints import MechanismMobility, actuator_sets, analyze_mechanism
-from .exceptions import ClosureError, ConfigurationError, FrameError, MechanismFileError, PinmobError
-from .mechanism import Closure, Expectation, Limb, Mechanism, NamedConfiguration
-from .mechanism_file import builtin_models, load
-from .mobility import Constraint, LimbMobility, Mobility, Motion, analyze, closure_jacobian_twists, paper_view
-from .screw import MotionKind, WrenchKind
+from pinmob.analysis.actuation import Actuation
+from pinmob.analysis.closed_chain import ClosureRank, FrameMobility, MechanismMobility
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.mobility import LimbMobility, Mobility
+from pinmob.analysis.modes import assembly_modes
+from pinmob.analysis.motion import Constraint, Method, Motion, View
+from pinmob.analysis.report import Report, analyze
+from pinmob.analysis.shortcuts import (
+    actuator_sets,
+    analyze_mechanism,
+    analyze_singularity,
+    closure_jacobian_twists,
+    frame_mobility,
+    paper_view,
+)
+from pinmob.analysis.singularity import Singularity
+from pinmob.assembly import (
+    CLOSURE_TOL,
+    Assembly,
+    assemble_pose,
+    check_closed,
+    closed_configuration,
+    find_closed,
+    project,
+    solve_actuated,
+)
+from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, MechanismFileError, PinmobError
+from pinmob.io import builtin_models, load
+from pinmob.model import Closure, ClosureType, Expectation, Limb, Mechanism, NamedConfiguration
+from pinmob.screw import RTOL, MotionKind, WrenchKind
 
 __version__ = "0.1.0"
 
 __all__ = [
+    "CLOSURE_TOL",
+    "RTOL",
+    "Actuation",
     "Assembly",
     "Closure",
-    "MechanismMobility",
-    "actuator_sets",
-    "analyze_mechanism",
-    "assembly_modes",
-    "find_closed",
-    "project",
-    "solve_actuated",
     "ClosureError",
+    "ClosureRank",
+    "ClosureType",
+    "Configuration",
     "ConfigurationError",
     "Constraint",
     "Expectation",
     "FrameError",
+    "FrameMobility",
     "Limb",
     "LimbMobility",
     "Mechanism",
     "MechanismFileError",
+    "MechanismMobility",
+    "Method",
     "Mobility",
     "Motion",
     "MotionKind",
     "NamedConfiguration",
     "PinmobError",
+    "Report",
+    "Singularity",
+    "View",
     "WrenchKind",
+    "actuator_sets",
     "analyze",
+    "analyze_mechanism",
+    "analyze_singularity",
     "assemble_pose",
+    "assembly_modes",
     "builtin_models",
     "check_closed",
+    "closed_configuration",
     "closure_jacobian_twists",
+    "find_closed",
+    "frame_mobility",
     "load",
     "paper_view",
+    "project",
+    "solve_actuated",
 ]

@@ -17,8 +17,8 @@ arguments (an unknown kind, a zero or non-finite direction, an unknown
 method) raise a :class:`pinmob.ConfigurationError`.
 
 ``method="mechanism"`` checks the platform frame's motion on the whole closed
-chain (:func:`pinmob.analyze_mechanism`) instead of the limb-wise wrenches
-(:func:`pinmob.analyze`); both agree on limbs-and-platform mechanisms.
+chain (``pinmob.analyze(...).mechanism_mobility``) instead of the limb-wise wrenches
+(``pinmob.analyze(...).mobility``); both agree on limbs-and-platform mechanisms.
 """
 
 from __future__ import annotations
@@ -28,11 +28,14 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .constraints import FrameMobility, analyze_mechanism
-from .exceptions import ConfigurationError
-from .mechanism import Mechanism
-from .mobility import Mobility, analyze
-from .screw import RTOL, Array, subspace_gap
+from pinmob.analysis.closed_chain import FrameMobility
+from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.report import analyze
+from pinmob.exceptions import ConfigurationError
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array
+from pinmob.screw.bases import subspace_gap
+from pinmob.screw.rank import RTOL
 
 KINDS = ("T", "R", "H")
 METHODS = ("limbs", "mechanism")
@@ -96,8 +99,8 @@ def assert_mobility(
         through: a world point [m] every rotation and screw axis must pass
             through (distance ``<= atol * L``), e.g. the centre of a spherical
             mechanism.
-        method: ``"limbs"`` (:func:`pinmob.analyze`, returns a :class:`Mobility`) or
-            ``"mechanism"`` (the platform frame of :func:`pinmob.analyze_mechanism`,
+        method: ``"limbs"`` (the platform mobility of :func:`pinmob.analyze`, returns a :class:`Mobility`) or
+            ``"mechanism"`` (the platform frame of the whole-mechanism analysis,
             returns a :class:`FrameMobility`), e.g. for limbs with closures inside them.
         rtol: relative tolerance of the rank decisions (as in :func:`pinmob.analyze`).
         atol: tolerance of the direction and point comparisons.
@@ -114,14 +117,16 @@ def assert_mobility(
             raise ConfigurationError(f"directions key {kind!r}; valid: {', '.join(KINDS)}")
     wanted = {kind: _span(kind, vecs) for kind, vecs in (directions or {}).items()}
     result: Mobility | FrameMobility
+    report = analyze(mech, q, rtol=rtol, frames=[mech.platform])
+    configuration, origin = report.configuration, report.state.platform_origin
     if method == "limbs":
-        mob = analyze(mech, q, rtol=rtol)
-        result, origin, configuration = mob, mob.platform_origin, mob.configuration
-        sv, tol, what = mob.singular_values, mob.tolerance, "the constraint wrenches"
+        if report.mobility is None:
+            raise ConfigurationError(f"{mech.name!r} has no platform frame: use method='mechanism' with a frame")
+        mob = report.mobility
+        result, sv, tol, what = mob, mob.singular_values, mob.tolerance, "the constraint wrenches"
     else:
-        mm = analyze_mechanism(mech, q, frames=[mech.platform], rtol=rtol)
-        result, origin, configuration = mm.frames[0], _platform_origin(mech, q), mm.configuration
-        sv, tol, what = mm.singular_values, mm.tolerance, "the closure Jacobian"
+        mm = report.mechanism_mobility
+        result, sv, tol, what = mm.frames[0], mm.singular_values, mm.tolerance, "the closure Jacobian"
     problems = []
     if dof is not None and result.dof != dof:
         problems.append(f"dof: expected {dof}, found {result.dof}")
@@ -157,13 +162,3 @@ def assert_mobility(
             f"tolerance {tol:.3g} (rtol {rtol:g} x largest), L = {mech.length_scale:.4g} m"
         )
     return result
-
-
-def _platform_origin(mech: Mechanism, q: Array | str) -> Array:
-    """World position [m] of the platform frame at q (a vector or a configuration name)."""
-    import pinocchio as pin
-
-    qv, _ = mech.resolve(q)
-    data = mech.model.createData()
-    pin.framesForwardKinematics(mech.model, data, qv)
-    return np.array(data.oMf[mech.platform_id].translation)

@@ -6,7 +6,7 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
-from pinmob.closure import linear_velocity_mask
+from pinmob.model.joints import linear_velocity_mask
 
 
 def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:

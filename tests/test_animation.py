@@ -8,9 +8,8 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.animation import MAX_DEVIATION, follow_motion
-from pinmob.closure import check_closed, compute_kinematics
-from pinmob.residual import mechanism_residuals, worst_residual
+from pinmob.analysis.motion_path import MAX_DEVIATION, follow_motion
+from pinmob.assembly.residual import check_closed, compute_kinematics, mechanism_residuals, worst_residual
 
 
 @pytest.fixture(scope="module")
@@ -32,7 +31,7 @@ def platform_pose(mech: pinmob.Mechanism, q: np.ndarray) -> pin.SE3:
 def test_translation_of_translational_3puu_is_followed_exactly(puu):
     # The generic 3-PUU is translational (paper eq. 38): moving along T1 x keeps the
     # orientation and moves the platform origin along x by the amplitude, both ways.
-    q = puu.configuration("generic")
+    q = pinmob.closed_configuration(puu, "generic")
     mob = pinmob.analyze(puu, q)
     motion = next(m for m in mob.motions if m.label == "T1 x")
     path = follow_motion(puu, q, motion, amplitude=0.04, steps=8)
@@ -54,7 +53,7 @@ def test_translation_of_translational_3puu_is_followed_exactly(puu):
 def test_vertical_translation_of_flat_3puu_keeps_links_horizontal(flat):
     # 3-PUU-flat (links R - r long, coplanar with the platform): the platform rises with
     # all three sliders by the same amount (hand derivation: the links stay horizontal).
-    q = flat.configuration("flat")
+    q = pinmob.closed_configuration(flat, "flat")
     mob = pinmob.analyze(flat, q)
     motion = next(m for m in mob.motions if m.kind is pinmob.MotionKind.TRANSLATION)
     path = follow_motion(flat, q, motion, amplitude=0.03, steps=6)
@@ -73,7 +72,7 @@ def test_rotation_of_flat_3puu_is_only_instantaneous(flat):
     # Rotating the platform by phi about z puts vertex i at distance
     # sqrt(R^2 + r^2 - 2 R r cos phi) > R - r from its guide: the links cannot reach,
     # so the free rotation R1 z found at 'flat' cannot be followed any finite amount.
-    q = flat.configuration("flat")
+    q = pinmob.closed_configuration(flat, "flat")
     mob = pinmob.analyze(flat, q)
     motion = next(m for m in mob.motions if m.kind is pinmob.MotionKind.ROTATION)
     path = follow_motion(flat, q, motion, steps=4)
@@ -85,7 +84,7 @@ def test_rotation_of_flat_3puu_is_only_instantaneous(flat):
 
 
 def test_follow_motion_rejects_bad_arguments(puu):
-    q = puu.configuration("generic")
+    q = pinmob.closed_configuration(puu, "generic")
     motion = pinmob.analyze(puu, q).motions[0]
     with pytest.raises(pinmob.ConfigurationError, match="steps"):
         follow_motion(puu, q, motion, steps=0)
@@ -106,7 +105,7 @@ def test_rotation_about_a_fixed_point_keeps_the_distance(tmp_path):
     b.limbs[0].tip(at=[0, 0, 0.2])
     path = b.write(tmp_path, "s", {"rest": {"joints": {"A_sa": 0.0}}})
     mech = pinmob.load(path)
-    q = mech.configuration("rest")
+    q = pinmob.closed_configuration(mech, "rest")
     mob = pinmob.analyze(mech, q)
     assert mob.motion_type == "3R"
     for motion in mob.motions:
@@ -128,11 +127,13 @@ def _rotation_off_axis(mech: pinmob.Mechanism, q0: np.ndarray, q1: np.ndarray, a
 
 
 def _generic_spherical(mech: pinmob.Mechanism) -> np.ndarray:
-    from pinmob.closure import assemble_joints
+    from pinmob.assembly.assemble import assemble_joints
 
     # actuated values away from the limbs' stretched (serially singular) poses: the smallest
     # singular value of each limb's angular Jacobian is above 0.26 here (0.05 at 'generic')
-    return assemble_joints(mech, {"A_r1": 1.07, "B_r1": 0.36, "C_r1": 0.2}, mech.configuration("generic"))
+    return assemble_joints(
+        mech, {"A_r1": 1.07, "B_r1": 0.36, "C_r1": 0.2}, pinmob.closed_configuration(mech, "generic")
+    )
 
 
 def test_spherical_rotations_keep_their_axis_and_the_centre():
@@ -167,10 +168,10 @@ def test_near_singular_spherical_clips_stay_on_their_axes():
     # through O. Every clip must still turn about its own axis (measured on the poses, to
     # within the per-step tolerance), or stop and say so; the reported displacement must
     # match the poses.
-    from pinmob.animation import MAX_DEVIATION
+    from pinmob.analysis.motion_path import MAX_DEVIATION
 
     mech = pinmob.load("3-RRR-spherical")
-    q = mech.configuration("generic")
+    q = pinmob.closed_configuration(mech, "generic")
     for motion in pinmob.analyze(mech, q).motions:
         path = follow_motion(mech, q, motion, steps=6)
         for end, moved in ((path.forward[-1], path.displacement[0]), (path.backward[-1], path.displacement[1])):
@@ -201,10 +202,10 @@ def test_first_step_is_halved_before_giving_up():
 def test_delta_frames_close_every_loop(config):
     # The Delta's parallelograms are loops inside the limbs (3d closures): every frame of
     # every clip must close them too (the one residual measure, limb tips and closures).
-    from pinmob.closure import CLOSURE_TOL, compute_kinematics, mechanism_residuals, worst_residual
+    from pinmob.assembly.residual import CLOSURE_TOL, compute_kinematics, mechanism_residuals, worst_residual
 
     mech = pinmob.load("Delta")
-    q = mech.configuration(config)
+    q = pinmob.closed_configuration(mech, config)
     assert pinmob.analyze(mech, q).motion_type == {"generic": "3T", "rods-horizontal": "3T2R"}[config]
     data = mech.model.createData()
     for motion in pinmob.analyze(mech, q).motions:
@@ -229,7 +230,7 @@ def test_curved_motions_are_followed_the_full_amplitude(name):
     # platform must really turn by most of the amplitude, and the end must be off the starting screw
     # (more than max_deviation: a check against it would have stopped the clip).
     mech = pinmob.load(name)
-    q = mech.configuration("generic")
+    q = pinmob.closed_configuration(mech, "generic")
     mob = pinmob.analyze(mech, q)
     motion = next(m for m in mob.motions if m.kind.value in ("R", "H"))
     path = follow_motion(mech, q, motion, amplitude=0.35, steps=8)

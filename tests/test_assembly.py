@@ -18,22 +18,15 @@ from numpy.testing import assert_allclose
 from test_closed_chains import rocker_angles as rocker_angles_unwrapped
 
 import pinmob
-from pinmob.closure import (
-    ClosureError,
-    assembly_modes,
-    configuration_distance,
-    mode_distance,
-    mode_signature,
-    outside_limits,
-    random_configuration,
-    solve_actuated,
-    worst_residual,
-    wrap_angles,
-)
-from pinmob.constraints import default_end_frames
-from pinmob.exceptions import ConfigurationError
-from pinmob.scan import platform_pose
-from pinmob.singularity import analyze_singularity
+from pinmob import analyze_singularity
+from pinmob.analysis.closed_chain import default_end_frames
+from pinmob.analysis.modes import assembly_modes, mode_distance, mode_signature
+from pinmob.assembly.assemble import solve_actuated
+from pinmob.assembly.residual import worst_residual
+from pinmob.assembly.seeds import configuration_distance, random_configuration
+from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.model.joints import outside_limits, wrap_angles
+from pinmob.scan.spec import platform_pose
 
 DATA = Path(__file__).resolve().parent / "data"
 
@@ -108,8 +101,8 @@ def test_forward_kinematics_reaches_the_type2_pose():
     """
     mech = pinmob.load("6-UPS")
     conf = mech.configurations["type2"]
-    legs = {n: joint(mech, mech.configuration("type2"), n) for n in mech.actuated}
-    sol = solve_actuated(mech, legs, mech.configuration("home"), max_iter=40)
+    legs = {n: joint(mech, pinmob.closed_configuration(mech, "type2"), n) for n in mech.actuated}
+    sol = solve_actuated(mech, legs, pinmob.closed_configuration(mech, "home"), max_iter=40)
     gap = pin.log6(conf.pose.actInv(platform_pose(mech, sol.q))).vector
     assert np.max(np.abs(gap[3:])) < 1e-7 and np.max(np.abs(gap[:3])) < 1e-7 * mech.length_scale, gap
     assert analyze_singularity(mech, sol.q).actuation
@@ -127,7 +120,7 @@ def test_projection_does_not_depend_on_units():
     mm = in_millimetres(mech)
     model = mm.model
     lin = np.array([model.joints[j].shortname().startswith("JointModelP") for j in range(1, model.njoints)])
-    seed = mech.configuration("generic") + np.random.default_rng(0).uniform(-0.05, 0.05, model.nq)
+    seed = pinmob.closed_configuration(mech, "generic") + np.random.default_rng(0).uniform(-0.05, 0.05, model.nq)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")  # the URDF's slider limits are in metres
         q_m = pinmob.project(mech, seed).q
@@ -148,7 +141,7 @@ def test_symmetric_seed_gives_symmetric_solution_within_limits():
     mech = pinmob.load("3-UPU")
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # a joint outside its limits would warn
-        q = mech.configuration("constraint-singular")
+        q = pinmob.closed_configuration(mech, "constraint-singular")
     for label in ("u1a", "u1b", "leg", "u2a", "u2b"):
         values = [joint(mech, q, f"{n}_{label}") for n in "ABC"]
         assert_allclose(values, values[0], atol=1e-9, err_msg=label)
@@ -184,7 +177,7 @@ def test_joint_outside_its_limits_warns():
     tail = tail.replace('lower="-3.14159265359" upper="3.14159265359"', 'lower="-0.1" upper="0.1"', 1)
     model = pin.buildModelFromXML(head + '<joint name="R_rocker"' + tail)
     mech = pinmob.Mechanism.from_model(
-        model, [], name="limited", closures=[pinmob.mechanism.make_closure(model, "B", "L_tip", "R_tip", "3d")]
+        model, [], name="limited", closures=[pinmob.model.make_closure(model, "B", "L_tip", "R_tip", "3d")]
     )
     with pytest.warns(UserWarning, match="R_rocker"):
         sol = solve_actuated(mech, {"L_crank": 0.4})

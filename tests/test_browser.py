@@ -197,7 +197,7 @@ def test_camera_and_lights_frame_a_model_in_millimetres(browser, tmp_path):
     # (meshcat's point lights sit about 2 m from the origin and reach 10 m: inside a model
     # 500 mm across they would light it from within, or not at all)
     mech = pinmob.load("3-PUU")
-    q = mech.configuration("generic")
+    q = pinmob.closed_configuration(mech, "generic")
     mm = in_millimetres(mech)
     shares, brightness = [], []
     for m, name in ((mech, "m"), (mm, "mm")):

@@ -12,9 +12,9 @@ from pathlib import Path
 import pytest
 
 import pinmob
+from pinmob import paper_view
 from pinmob.cli import main
 from pinmob.exceptions import ConfigurationError
-from pinmob.mobility import paper_view
 
 DATA = Path(__file__).parent / "data"
 
@@ -131,7 +131,7 @@ def test_paper_view_without_approach_says_how_to_declare_one(
     capsys: pytest.CaptureFixture[str], tmp_path: Path
 ) -> None:
     """Serially singular limbs, no declared approach and no 'generic' configuration to come from."""
-    models = pinmob.mechanism_file.builtin_dir()
+    models = pinmob.io.builtin_dir()
     (tmp_path / "3puu_flat.urdf").write_text((models / "3puu_flat.urdf").read_text())
     text = "\n".join(
         line for line in (models / "3puu_flat.toml").read_text().splitlines() if not line.startswith("approach")
@@ -143,7 +143,7 @@ def test_paper_view_without_approach_says_how_to_declare_one(
     assert "approach = {" in err and "[configurations.<name>]" in err
     mech = pinmob.load("3-PUU-flat")
     with pytest.raises(ConfigurationError, match=r"declare one: 'flat', 'flat-raised'"):
-        paper_view(mech, mech.configuration("flat"))
+        paper_view(mech, pinmob.closed_configuration(mech, "flat"))
     with pytest.raises(ConfigurationError, match=r"unknown joint 'nope'; valid: .*'A_u1a'"):
         paper_view(mech, "flat", {"nope": 1.0})
 
@@ -207,7 +207,7 @@ BAD_INPUT = {
 @pytest.mark.parametrize("case", sorted(BAD_INPUT))
 def test_cli_bad_input_in_a_subprocess(tmp_path: Path, case: str) -> None:
     old, new, message = BAD_INPUT[case]
-    models = pinmob.mechanism_file.builtin_dir()
+    models = pinmob.io.builtin_dir()
     (tmp_path / "3puu.urdf").write_text((models / "3puu.urdf").read_text())
     text = (
         'name = "copy"\nurdf = "3puu.urdf"\n[[limbs]]\nname = "A"\ntip = "A_tip"\n[[limbs]]\nname = "B"\n'

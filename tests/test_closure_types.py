@@ -22,9 +22,9 @@ import pinocchio as pin
 import pytest
 
 import pinmob
-from pinmob.closure import closure_error, compute_kinematics
-from pinmob.mechanism import make_closure
-from pinmob.screw import subspace_gap
+from pinmob.assembly.residual import closure_error, compute_kinematics
+from pinmob.model.closure import make_closure
+from pinmob.screw.bases import subspace_gap
 
 RNG = np.random.default_rng(7)
 U = np.array([0.2, -0.5, 0.84])

@@ -13,7 +13,7 @@ import pytest
 import pinmob
 from pinmob.cli import main
 
-MODELS = Path(pinmob.mechanism_file.builtin_dir())
+MODELS = Path(pinmob.io.builtin_dir())
 
 
 def write_mechanism(tmp_path: Path, text: str) -> Path:
@@ -201,7 +201,7 @@ def test_nan_and_wrong_shape(puu: pinmob.Mechanism) -> None:
 
 def test_unknown_configuration_lists_valid(puu: pinmob.Mechanism) -> None:
     with pytest.raises(pinmob.ConfigurationError, match="no configuration 'flat'.*'generic', 'offset'"):
-        puu.configuration("flat")
+        pinmob.closed_configuration(puu, "flat")
 
 
 def test_cli_error_is_one_line_exit_2(capsys: pytest.CaptureFixture[str]) -> None:
@@ -256,7 +256,7 @@ def test_pose_out_of_reach_is_a_closure_error_with_residuals(tmp_path: Path) -> 
     text = GOOD.replace("joints = { A_slider = 0.0 }", "pose = { xyz = [1.0, 0.0, -0.2], rpy = [0.0, 0.0, 0.0] }")
     mech = pinmob.load(write_mechanism(tmp_path, text))
     with pytest.raises(pinmob.ClosureError, match="could not assemble 'copy' at platform pose") as err:
-        mech.configuration("home")
+        pinmob.closed_configuration(mech, "home")
     res = err.value.residuals
     assert set(res) == {"A", "B", "pose"}
     assert all(len(r) == 2 and np.isfinite(r).all() for r in res.values())
@@ -266,7 +266,7 @@ def test_pose_out_of_reach_is_a_closure_error_with_residuals(tmp_path: Path) -> 
 @pytest.mark.parametrize("rtol", [0, -1e-6, 1.0, 2.0, float("nan"), float("inf"), True, "1e-6"])
 def test_rtol_is_checked_everywhere(puu: pinmob.Mechanism, rtol: object) -> None:
     """rtol = 0 used to raise numpy's ValueError, nan gave 'rigid' and -1 gave '3H': now one clear error."""
-    q = puu.configuration("generic")
+    q = pinmob.closed_configuration(puu, "generic")
     for call in (pinmob.analyze, pinmob.paper_view, pinmob.closure_jacobian_twists):
         with pytest.raises(pinmob.ConfigurationError, match=r"rtol must be .*number in \(0, 1\)"):
             call(puu, q, rtol=rtol)  # type: ignore[operator]
@@ -293,7 +293,7 @@ def test_paper_view_takes_an_array_approach(puu_flat: pinmob.Mechanism) -> None:
     dv = np.zeros(model.nv)
     for name, rate in puu_flat.configurations["flat"].approach.items():
         dv[model.joints[model.getJointId(name)].idx_v] = rate
-    q = puu_flat.configuration("flat")
+    q = pinmob.closed_configuration(puu_flat, "flat")
     assert pinmob.paper_view(puu_flat, q, approach=dv).motion_type == "3T1R"
     with pytest.raises(pinmob.ConfigurationError, match="approach direction is zero"):
         pinmob.paper_view(puu_flat, q, approach=np.zeros(model.nv))

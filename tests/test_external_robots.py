@@ -18,8 +18,10 @@ import pytest
 import yaml
 
 import pinmob
-from pinmob.closure import ClosureError, find_closed, find_closed_relaxed
-from pinmob.constraints import analyze_mechanism
+from pinmob import analyze_mechanism
+from pinmob.assembly.relaxation import find_closed_relaxed
+from pinmob.assembly.seeds import find_closed
+from pinmob.exceptions import ClosureError
 
 ROBOTS = [
     "5bar_linkage",

@@ -11,9 +11,11 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.closure import compute_kinematics, stacked_error
-from pinmob.mobility import limb_rates, limb_twists
-from pinmob.screw import subspace_gap, twist_scaling
+from pinmob.analysis.limbs import limb_rates, limb_twists
+from pinmob.assembly.residual import compute_kinematics, stacked_error
+from pinmob.screw.algebra import twist_scaling
+from pinmob.screw.bases import subspace_gap
+from pinmob.screw.rank import RTOL
 
 
 def _tip_twist_fd(model: pin.Model, q: np.ndarray, dv: np.ndarray, tip: int, p0: np.ndarray, eps: float) -> np.ndarray:
@@ -42,13 +44,13 @@ def test_limb_twists_match_finite_differences(name: str, rng: np.random.Generato
     eps = 1e-7
     for limb in mech.limbs:
         if limb.closures:
-            q = mech.configuration("generic")
+            q = pinmob.closed_configuration(mech, "generic")
         else:
             q = pin.integrate(model, mech.neutral(), rng.uniform(-0.3, 0.3, model.nv))
-        data = model.createData()
-        compute_kinematics(model, data, q)
-        t = limb_twists(mech, data)[mech.limbs.index(limb)]
-        idx, rates = limb_rates(mech, data, limb)
+        conf = pinmob.Configuration.unchecked(mech, q)
+        data = conf.data
+        t = limb_twists(conf, RTOL)[mech.limbs.index(limb)]
+        idx, rates = limb_rates(conf, limb, RTOL)
         assert t.shape[1] == rates.shape[1]
         p0 = data.oMf[mech.platform_id].translation.copy()
         loops = tuple(c for c in mech.closures if c.name in limb.closures)
@@ -77,7 +79,7 @@ def test_limb_twists_match_finite_differences(name: str, rng: np.random.Generato
 def test_closure_jacobian_method_agrees_with_limb_wrenches(name: str, config: str) -> None:
     """Global loop-closure Jacobian (null space mapped through limb A) = limb-wise wrench result."""
     mech = pinmob.load(name)
-    q = mech.configuration(config)
+    q = pinmob.closed_configuration(mech, config)
     mob = pinmob.analyze(mech, q)
     other = pinmob.closure_jacobian_twists(mech, q)
     scale = twist_scaling(mech.length_scale)[:, None]
@@ -117,7 +119,7 @@ C_u2b = -1.855
 
 
 def copy_model(tmp_path: Path, toml: str, urdf_edit=lambda text: text) -> pinmob.Mechanism:
-    models = pinmob.mechanism_file.builtin_dir()
+    models = pinmob.io.builtin_dir()
     (tmp_path / "3puu.urdf").write_text(urdf_edit((models / "3puu.urdf").read_text()))
     (tmp_path / "m.toml").write_text(toml)
     return pinmob.load(tmp_path / "m.toml")
@@ -137,7 +139,7 @@ def test_seed_selects_the_assembly_mode(tmp_path: Path) -> None:
     c, z_p, big_r, small_r, link = np.array([0.03, -0.02, 0.0]), -0.17, 0.3, 0.15, 0.25
     found = {}
     for name, sign in (("above", 1.0), ("below", -1.0)):
-        q = mech.configuration(name)
+        q = pinmob.closed_configuration(mech, name)
         pin.framesForwardKinematics(model, data, q)
         platform = data.oMf[mech.platform_id]
         assert_allclose(platform.translation, c + [0, 0, z_p], atol=1e-9)
@@ -160,7 +162,7 @@ def test_continuous_joint_takes_an_angle(tmp_path: Path) -> None:
     """A_u1a made continuous: its q is (cos x, sin x), a value by name is an angle x, and the analysis is
     that of the revolute original (same closed pose, same 3T)."""
     original = pinmob.load("3-PUU")
-    q0 = original.configuration("offset")
+    q0 = pinmob.closed_configuration(original, "offset")
     model0 = original.model
     values = {name: float(q0[model0.joints[model0.getJointId(name)].idx_q]) for name in list(model0.names)[1:]}
     angle = values["A_u1a"]
@@ -174,7 +176,7 @@ def test_continuous_joint_takes_an_angle(tmp_path: Path) -> None:
     )
     joint = mech.model.joints[mech.model.getJointId("A_u1a")]
     assert (joint.nq, joint.nv, mech.model.nq) == (2, 1, model0.nq + 1)
-    q = mech.configuration("offset")  # checked closed: a wrong (cos, sin) would not close
+    q = pinmob.closed_configuration(mech, "offset")  # checked closed: a wrong (cos, sin) would not close
     assert_allclose(q[joint.idx_q : joint.idx_q + 2], [np.cos(angle), np.sin(angle)], atol=1e-15)
     mob, mob0 = pinmob.analyze(mech, q), pinmob.analyze(original, q0)
     assert (mob.dof, mob.motion_type) == (mob0.dof, mob0.motion_type) == (3, "3T")

@@ -18,12 +18,13 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
+from pinmob import analyze_mechanism
+from pinmob.assembly.assemble import solve_actuated
 from pinmob.cli import main
-from pinmob.closure import solve_actuated
-from pinmob.constraints import analyze_mechanism
 from pinmob.exceptions import MechanismFileError, PinmobError
-from pinmob.mjcf import match_equalities, parseable
-from pinmob.screw import subspace_gap, twist_scaling
+from pinmob.io.mjcf import match_equalities, parseable
+from pinmob.screw.algebra import twist_scaling
+from pinmob.screw.bases import subspace_gap
 
 DATA = Path(__file__).resolve().parent / "data"
 FORMATS = DATA / "formats"

@@ -18,7 +18,7 @@ from pinmob import catalog
 from pinmob.catalog.registry import HINT, KEPT
 from pinmob.cli import main
 from pinmob.exceptions import ConfigurationError
-from pinmob.mechanism_file import builtin_dir
+from pinmob.io.builtin import builtin_dir
 from pinmob.testing import assert_mobility
 
 MODELS = Path(__file__).resolve().parent.parent / "models"

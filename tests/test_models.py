@@ -19,7 +19,8 @@ import pinmob
 from pinmob.catalog import bennett_theta2, dh
 from pinmob.catalog.delta import ARM, BASE_R, PLAT_R, ROD
 from pinmob.catalog.tripods import TILT
-from pinmob.screw import subspace_gap, twist_scaling
+from pinmob.screw.algebra import twist_scaling
+from pinmob.screw.bases import subspace_gap
 from pinmob.testing import assert_mobility
 
 X, Y, Z = [1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]
@@ -33,7 +34,7 @@ def mech(name: str) -> pinmob.Mechanism:
 
 @cache
 def q_of(name: str, config: str) -> np.ndarray:
-    return mech(name).configuration(config)
+    return pinmob.closed_configuration(mech(name), config)
 
 
 def joint_point(name: str, config: str, joint: str) -> np.ndarray:

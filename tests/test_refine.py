@@ -6,7 +6,7 @@ import math
 
 import pytest
 
-from pinmob.refine import STALL, fold_root, minimise, v_vertex, v_zero
+from pinmob.scan.refine import STALL, fold_root, minimise, v_vertex, v_zero
 
 
 def test_v_models_are_exact_on_a_v():

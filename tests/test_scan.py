@@ -15,12 +15,13 @@ from numpy.testing import assert_allclose
 from test_six_ups import pluecker, rel_sigma_min
 
 import pinmob
-import pinmob.scan as scan_module
-from pinmob import plot
+import pinmob.scan.run as scan_module
+from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.cli import main
-from pinmob.scan import STRIDE, ScanSpec, columns, grid_spec, path_spec, scan
-from pinmob.scan_file import RowWriter, read_columns
-from pinmob.singularity import generic_constraint_rank
+from pinmob.scan import plot
+from pinmob.scan.output import RowWriter, read_columns
+from pinmob.scan.run import columns, scan
+from pinmob.scan.spec import STRIDE, ScanSpec, grid_spec, path_spec
 
 YAW_120 = f"0,0,0.4,0,0,{2 * math.pi / 3!r}"
 
@@ -145,7 +146,7 @@ def test_warm_starts_keep_the_assembly_mode():
     every sample; assembled from the start configuration at each sample, the solver lands on the other branch
     at s = 0.8 .. 0.9."""
     mech = pinmob.load("five-bar")
-    q = mech.configuration("generic")
+    q = pinmob.closed_configuration(mech, "generic")
     idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in mech.actuated]
     a = q[idx]
     spec = ScanSpec("joints", q, a, a + 3.0, 21, mech.actuated, generic_rank=generic_constraint_rank(mech))

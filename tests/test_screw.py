@@ -10,6 +10,7 @@ from numpy.testing import assert_allclose
 from scipy.spatial.transform import Rotation
 
 from pinmob import screw as S
+from pinmob.screw.classify import _orthogonal_complement as orthogonal_complement
 
 seeds = st.integers(min_value=0, max_value=2**32 - 1)
 
@@ -207,7 +208,7 @@ def test_canonical_directions_of_a_null_subspace() -> None:
 @pytest.mark.parametrize("c", [[3.0, 4.0], [-1.0, 2.0, 2.0], [0.0, 0.0, 5.0], [1e-3, -2.0, 0.5, 7.0]])
 def test_orthogonal_complement_of_one_vector(c: list[float]) -> None:
     """The Householder complement used by the axis-point search: k - 1 orthonormal columns, all normal to c."""
-    n = S._orthogonal_complement(np.array(c))
+    n = orthogonal_complement(np.array(c))
     assert n.shape == (len(c), len(c) - 1)
     assert_allclose(n.T @ n, np.eye(len(c) - 1), atol=1e-15)
     assert_allclose(np.array(c) @ n, 0.0, atol=1e-14)

@@ -12,7 +12,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from pinmob.screw import classify_twists, shift_twists, subspace_gap
+from pinmob.screw.algebra import shift_twists
+from pinmob.screw.bases import subspace_gap
+from pinmob.screw.classify import classify_twists
 
 
 def _system(rng: np.random.Generator, n_trans: int, n_other: int) -> np.ndarray:

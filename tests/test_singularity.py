@@ -15,16 +15,24 @@ from numpy.testing import assert_allclose
 from scipy.linalg import null_space
 
 import pinmob
-from pinmob.batch import analyze_batch
+from pinmob import analyze_singularity
+from pinmob.analysis.batch import analyze_batch
+from pinmob.analysis.generic import (
+    dependent_limbs,
+    generic_configurations,
+    generic_constraint_rank,
+    generic_twist_ranks,
+)
+from pinmob.analysis.limbs import limb_decisions, limb_twists
+from pinmob.analysis.mobility import platform_mobility
+from pinmob.analysis.singularity import NEAR_FACTOR
+from pinmob.analysis.singularity_analysis import singularity
 from pinmob.cli import main
-from pinmob.closure import closed_kinematics
 from pinmob.exceptions import ConfigurationError
-from pinmob.generic import dependent_limbs, generic_configurations, generic_constraint_rank, limb_decisions
-from pinmob.mechanism import NamedConfiguration
-from pinmob.mechanism_file import builtin_models
-from pinmob.mobility import limb_twists
-from pinmob.screw import RTOL, twist_scaling
-from pinmob.singularity import NEAR_FACTOR, analyze_both, analyze_singularity, format_singularity
+from pinmob.io.builtin import builtin_models
+from pinmob.model.mechanism import NamedConfiguration
+from pinmob.screw.algebra import twist_scaling
+from pinmob.screw.rank import RTOL
 
 
 def test_three_puu_generic_is_not_singular():
@@ -93,7 +101,7 @@ def test_batch_agrees_with_single_analyses(name):
     """The compiled batch loop gives the ranks, DoF and singular values of the per-configuration SVDs."""
     mech = pinmob.load(name)
     rng = np.random.default_rng(7)
-    qs = [mech.configuration(c) for c in mech.configurations]
+    qs = [pinmob.closed_configuration(mech, c) for c in mech.configurations]
     q0 = qs[0]
     data = mech.model.createData()
     pin.framesForwardKinematics(mech.model, data, q0)
@@ -115,10 +123,8 @@ def test_batch_agrees_with_single_analyses(name):
         assert_allclose(batch.actuation_singular_values[i], np.nan_to_num(sing.actuation_singular_values), atol=1e-9)
         assert_allclose(batch.limb_ratio[i], [sing.distances[f"limb {b.name}"] for b in mech.limbs], atol=1e-9)
         # the scan's single kinematics computation gives the same two results
-        data = mech.model.createData()
-        pin.computeJointJacobians(mech.model, data, q)
-        pin.updateFramePlacements(mech.model, data)
-        mob2, sing2 = analyze_both(mech, data, sing.generic_rank)
+        conf = pinmob.Configuration(mech, q)
+        mob2, sing2 = platform_mobility(conf, RTOL), singularity(conf, RTOL, sing.generic_rank)
         assert (mob2.dof, mob2.motion_type, sing2.label, sing2.distances) == (
             mob.dof,
             mob.motion_type,
@@ -130,7 +136,7 @@ def test_batch_agrees_with_single_analyses(name):
 def _tsai_at(x: float, y: float, z: float) -> tuple[pinmob.Mechanism, np.ndarray]:
     mech = pinmob.load("3-UPU")
     pose = pin.SE3(np.eye(3), np.array([x, y, z]))
-    return mech, pinmob.assemble_pose(mech, pose, mech.configuration("generic"))
+    return mech, pinmob.assemble_pose(mech, pose, pinmob.closed_configuration(mech, "generic"))
 
 
 def test_dependent_limbs_of_tsai_3upu_by_hand():
@@ -160,9 +166,9 @@ def test_dependent_limbs_are_empty_at_generic_configurations(name):
     mech = pinmob.load(name)
     qs = generic_configurations(mech)[:3]
     if "generic" in mech.configurations:
-        qs.append(mech.configuration("generic"))
+        qs.append(pinmob.closed_configuration(mech, "generic"))
     for q in qs:
-        twists = limb_twists(mech, closed_kinematics(mech, q))
+        twists = limb_twists(pinmob.Configuration(mech, q), RTOL)
         blocks = [d.null_space.T for d in limb_decisions(mech, twists, RTOL)]
         assert dependent_limbs(mech, blocks, RTOL, generic_constraint_rank(mech)) == ()
 
@@ -237,12 +243,11 @@ def test_each_class_is_present_exactly_when_its_distance_is_at_most_rtol(name):
     long as the tolerance stays below the ratio of the limb's own loop rows."""
     mech = pinmob.load(name)
     for config in mech.configurations:
-        q = mech.configuration(config)
+        q = pinmob.closed_configuration(mech, config)
         sing = analyze_singularity(mech, q)
         d = sing.distances
-        for limb, (u, _) in zip(mech.limbs, _independent_screws(mech, q)):
+        for limb, r, (u, _) in zip(mech.limbs, generic_twist_ranks(mech), _independent_screws(mech, q)):
             s = np.linalg.svd(u, compute_uv=False)
-            r = limb.generic_twist_rank
             assert d[f"limb {limb.name}"] == pytest.approx(s[r - 1] / s[0] if s.size >= r else 0.0, abs=1e-9)
             assert (limb.name in sing.limbs) == (d[f"limb {limb.name}"] <= RTOL)
             assert sing.rank_gap[f"limb {limb.name}"] == max(0, r - int(np.sum(s > RTOL * s[0])))
@@ -250,7 +255,7 @@ def test_each_class_is_present_exactly_when_its_distance_is_at_most_rtol(name):
         assert sing.actuation == (d["actuation"] <= RTOL if mech.actuated else None)
         assert sing.near_singular == (not sing.classes and sing.distance < NEAR_FACTOR * RTOL)
     # with the tolerance just above / just below a limb's distance, that limb is flagged / not flagged
-    q = mech.configuration(next(iter(mech.configurations)))
+    q = pinmob.closed_configuration(mech, next(iter(mech.configurations)))
     base = analyze_singularity(mech, q)
     for limb, (_, loop_ratio) in zip(mech.limbs, _independent_screws(mech, q)):
         value = base.distances[f"limb {limb.name}"]
@@ -283,7 +288,7 @@ def _in_millimetres(mech: pinmob.Mechanism, q: np.ndarray) -> tuple[pinmob.Mecha
 
     configurations = {}
     for name in mech.configurations:
-        x = scaled(mech.configuration(name))
+        x = scaled(pinmob.closed_configuration(mech, name))
         joints = {model.names[j]: float(x[model.joints[j].idx_q]) for j in range(1, model.njoints)}
         configurations[name] = NamedConfiguration(name, joints=joints)
     return dataclasses.replace(mm, configurations=configurations), scaled(q)
@@ -300,7 +305,7 @@ def test_singularity_report_is_unit_invariant(name, config):
     from the millimetre model. Prismatic joint rates in mm/s make those screws 1000 times shorter relative to the
     revolute ones: the unit columns make the limb decisions blind to that."""
     mech = pinmob.load(name)
-    q = mech.configuration(config)
+    q = pinmob.closed_configuration(mech, config)
     a = analyze_singularity(mech, q)
     mm, q_mm = _in_millimetres(mech, q)
     assert mm.length_scale == pytest.approx(1000 * mech.length_scale)
@@ -319,7 +324,7 @@ def test_without_actuated_joints_actuation_does_not_apply(capsys):
     sing = analyze_singularity(mech, "generic")
     assert sing.actuation is None and sing.uncontrolled == () and "actuation" not in sing.distances
     assert sing.locked_dof == 1 and sing.to_dict()["actuation"] is None
-    assert "not applicable" in format_singularity(sing)
+    assert "not applicable" in str(sing)
 
 
 def test_generic_ranks_are_cached_per_tolerance():

@@ -8,8 +8,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.screw import subspace_gap, twist_scaling, wrench_scaling
-from pinmob.singularity import analyze_singularity
+from pinmob import analyze_singularity
+from pinmob.screw.algebra import twist_scaling, wrench_scaling
+from pinmob.screw.bases import subspace_gap
 
 BASE_R, PLAT_R, HALF, HEIGHT = 0.5, 0.3, np.deg2rad(10.0), 0.4
 
@@ -54,7 +55,7 @@ def ups() -> pinmob.Mechanism:
 
 def test_model_matches_hand_geometry(ups):
     data = ups.model.createData()
-    q = ups.configuration("home")
+    q = pinmob.closed_configuration(ups, "home")
     pin.forwardKinematics(ups.model, data, q)
     b, p = hand_points()
     for i, limb in enumerate("ABCDEF"):
@@ -79,7 +80,7 @@ def test_free_mobility_is_3t3r(ups, config):
 
 
 def test_type2_pose_is_actuation_singular_with_the_hand_null_twist(ups):
-    q = ups.configuration("type2")
+    q = pinmob.closed_configuration(ups, "type2")
     data = ups.model.createData()
     pin.framesForwardKinematics(ups.model, data, q)
     pose = data.oMf[ups.platform_id]
@@ -97,7 +98,7 @@ def test_type2_pose_is_actuation_singular_with_the_hand_null_twist(ups):
 
 
 def test_actuation_wrenches_are_the_leg_lines(ups):
-    q = ups.configuration("generic")
+    q = pinmob.closed_configuration(ups, "generic")
     sing = analyze_singularity(ups, q)
     assert sing.actuation is False and sing.locked_dof == 0 and sing.distance > 0.05
     data = ups.model.createData()

@@ -10,13 +10,13 @@ from millimetres import in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.skeleton import skeleton_geometry, visual_geometry
+from pinmob.viewer.skeleton import skeleton_geometry, visual_geometry
 
 
 @pytest.mark.parametrize("name", ["3-PUU", "3-PUU-flat", "3-PUU-vertical"])
 def test_builtin_models_get_a_stick_figure(name):
     mech = pinmob.load(name)
-    q = mech.configuration(next(iter(mech.configurations)))
+    q = pinmob.closed_configuration(mech, next(iter(mech.configurations)))
     geom, generated = visual_geometry(mech, q)
     assert generated
     names = [g.name for g in geom.geometryObjects]
@@ -30,7 +30,7 @@ def test_builtin_models_get_a_stick_figure(name):
 
 def test_links_join_consecutive_joint_origins():
     mech = pinmob.load("3-PUU-flat")
-    q = mech.configuration("flat")
+    q = pinmob.closed_configuration(mech, "flat")
     geom = skeleton_geometry(mech, q)
     data = mech.model.createData()
     gdata = pin.GeometryData(geom)
@@ -57,7 +57,7 @@ def test_links_join_consecutive_joint_origins():
 def test_sizes_scale_with_units():
     # The same stick figure for a model in millimetres: every size times 1000.
     mech = pinmob.load("3-PUU")
-    q = mech.configuration("generic")
+    q = pinmob.closed_configuration(mech, "generic")
     idx = [mech.model.joints[mech.model.getJointId(f"{x}_slider")].idx_q for x in "ABC"]
     q_mm = q.copy()
     q_mm[idx] *= 1000

@@ -22,7 +22,8 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.screw import subspace_gap, twist_from_paper, wrench_scaling
+from pinmob.screw.algebra import twist_from_paper, wrench_scaling
+from pinmob.screw.bases import subspace_gap
 
 THETAS = {"A": 0.0, "B": 2 * np.pi / 3, "C": 4 * np.pi / 3}
 Z = np.array([0.0, 0.0, 1.0])
@@ -81,7 +82,7 @@ def test_offset_configuration_keeps_eq20_couples(puu: pinmob.Mechanism) -> None:
     The platform is off-centre, so the three links have different elevations (checked), and each couple
     must follow its own link (the angles come from the geometry, see :func:`limb_angles`).
     """
-    q = puu.configuration("offset")
+    q = pinmob.closed_configuration(puu, "offset")
     mob = pinmob.analyze(puu, q)
     assert (mob.dof, mob.motion_type) == (3, "3T")
     betas = []

@@ -29,7 +29,7 @@ def run(*args: str, timeout: float = 60) -> subprocess.CompletedProcess:
 
 
 def test_import_pinmob_does_not_import_meshcat():
-    code = "import sys, pinmob, pinmob.animation, pinmob.skeleton, pinmob.glyphs; print('meshcat' in sys.modules)"
+    code = "import sys, pinmob, pinmob.analysis.motion_path, pinmob.viewer.skeleton, pinmob.viewer.glyphs; print('meshcat' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert out.stdout.strip() == "False", out.stderr
 
@@ -110,7 +110,7 @@ def test_meshcat_missing_is_a_clear_error(tmp_path):
 
 
 def test_show_sends_to_a_running_server_and_returns():
-    from pinmob.meshcat_server import probe, start_server
+    from pinmob.viewer.server import probe, start_server
 
     server = start_server()
     try:
@@ -143,7 +143,7 @@ def _distance_to_line(points: np.ndarray, through: np.ndarray, direction: np.nda
     ],
 )
 def test_rotation_glyph_axis_passes_through_the_world_point(name, config, centre):
-    from pinmob.glyphs import motion_glyph
+    from pinmob.viewer.glyphs import motion_glyph
 
     mech = pinmob.load(name)
     mob = pinmob.analyze(mech, config)
@@ -164,7 +164,7 @@ def test_couples_are_beside_the_translation_arrows():
     # translations. Each arrow is a shaft along its line with a cone of radius 2.2 r
     # (r = 0.02 L for motions, 0.015 L for wrenches): a couple arrow must keep clear of
     # every translation arrow's line by more than both cone radii.
-    from pinmob.glyphs import constraint_glyph
+    from pinmob.viewer.glyphs import constraint_glyph
 
     mech = pinmob.load("3-PUU")
     mob = pinmob.analyze(mech, "generic")
@@ -201,7 +201,7 @@ def test_unknown_motion_is_refused_before_any_server_starts():
 def test_server_listens_on_loopback_only():
     # 127.0.0.2 is a loopback address too: a server bound to every interface (0.0.0.0)
     # accepts connections there, one bound to 127.0.0.1 refuses them
-    from pinmob.meshcat_server import start_server
+    from pinmob.viewer.server import start_server
 
     server = start_server()
     try:
@@ -257,7 +257,7 @@ def _messages_to_a_new_browser(web_url: str, quiet: float = 2.0) -> list[dict]:
 def test_a_rigid_scene_replaces_the_previous_clips_and_menu_on_a_reused_server():
     # 3-PUU (3 motions) then the Delta with its arms stretched (rigid: no motion) on one server:
     # a browser that connects afterwards must get neither the 3-PUU's clip nor its motion menu
-    from pinmob.meshcat_server import start_server
+    from pinmob.viewer.server import start_server
 
     server = start_server()
     try:

@@ -18,7 +18,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..exceptions import ConfigurationError
+from pinmob.exceptions import ConfigurationError
+
 from .layout import check_rotation, point, rpy, unit
 from .text import check_name, number, toml_value, vector
 
@@ -270,7 +271,7 @@ class LimbBuilder(ChainBuilder):
 
 @dataclass(frozen=True)
 class ClosureSpec:
-    """A closure written to ``[[closures]]``: see :class:`pinmob.mechanism.Closure` for the types."""
+    """A closure written to ``[[closures]]``: see :class:`pinmob.model.closure.Closure` for the types."""
 
     name: str
     frame_a: str

@@ -10,13 +10,14 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..exceptions import ConfigurationError, PinmobError
+from pinmob.exceptions import ConfigurationError, PinmobError
+
 from .layout import check_rotation, point
 from .text import is_generated
 
 if TYPE_CHECKING:
-    from ..mechanism import Mechanism
-    from ..screw import Array
+    from pinmob.model.mechanism import Mechanism
+    from pinmob.screw.algebra import Array
 
 
 def joint_values(mech: Mechanism, q: Array) -> dict[str, float]:
@@ -45,8 +46,8 @@ def closed_joints(
     """Joint values [rad or m] of a closed configuration of ``mech`` (its non-zero ones, by name).
 
     Either the ``fixed`` one-degree joints are held at their values and the
-    others follow (:func:`pinmob.closure.solve_actuated`), or the platform is
-    put at ``pose = (xyz [m], rotation (3, 3))`` (:func:`pinmob.closure.assemble_pose`).
+    others follow (:func:`pinmob.assembly.assemble.solve_actuated`), or the platform is
+    put at ``pose = (xyz [m], rotation (3, 3))`` (:func:`pinmob.assembly.assemble.assemble_pose`).
     Both solve every loop closure by damped least squares from ``seed`` (joint
     values by name; the neutral configuration elsewhere), which selects the
     assembly mode.
@@ -56,7 +57,7 @@ def closed_joints(
     """
     import pinocchio as pin
 
-    from ..closure import assemble_pose, solve_actuated
+    from pinmob.assembly.assemble import assemble_pose, solve_actuated
 
     start = mech.q_from_joints(seed or {})
     if pose is not None:
@@ -78,7 +79,8 @@ def write_files(name: str, directory: Path, texts: Mapping[str, str], toml: str,
     Raises:
         ConfigurationError: a foreign file in the way, or a configuration that does not close.
     """
-    from ..mechanism_file import load_toml
+    from pinmob.assembly.named import closed_configuration
+    from pinmob.io.toml_file import load_toml
 
     for fname in texts:
         if (directory / fname).exists() and not is_generated(directory / fname):
@@ -93,7 +95,7 @@ def write_files(name: str, directory: Path, texts: Mapping[str, str], toml: str,
             mech = load_toml(Path(tmp) / toml)
             for cname in mech.configurations:
                 try:
-                    mech.configuration(cname)
+                    closed_configuration(mech, cname)
                 except PinmobError as exc:
                     raise ConfigurationError(f"{name!r}, configuration {cname!r}: {exc}") from None
     directory.mkdir(parents=True, exist_ok=True)

@@ -10,7 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..exceptions import ConfigurationError
+from pinmob.exceptions import ConfigurationError
 
 #: tolerance of :func:`check_rotation` on ``|R^T R - I|`` and ``|det R - 1|``
 ROTATION_TOL = 1e-9

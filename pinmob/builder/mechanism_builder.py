@@ -9,7 +9,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError, choices
+
 from .chain import ChainBuilder, ClosureSpec, LimbBuilder
 from .configuration import closed_joints, write_files
 from .layout import check_rotation, point
@@ -17,7 +18,7 @@ from .text import MARKER, check_name, toml_key, toml_value, xml_attribute
 from .urdf_limb import UrdfLimb
 
 if TYPE_CHECKING:
-    from ..mechanism import Mechanism
+    from pinmob.model.mechanism import Mechanism
 
 #: limb tips placed by the builder must coincide at the reference within this fraction of the model's size
 COINCIDENCE_RTOL = 1e-9
@@ -121,13 +122,13 @@ class MechanismBuilder:
 
         Args:
             type: ``6d`` (weld), ``3d`` (ball: same origin), ``revolute``, ``universal``,
-                ``cylindrical`` or ``planar`` (see :class:`pinmob.mechanism.Closure`).
+                ``cylindrical`` or ``planar`` (see :class:`pinmob.model.closure.Closure`).
             axis: the closure's axis in frame a (revolute, universal, cylindrical; planar: normal).
             axis_b: second hinge axis of a universal closure, in frame b.
 
         Frames are checked when the mechanism is built (:meth:`mechanism`, :meth:`write`).
         """
-        from ..mechanism import CLOSURE_TYPES
+        from pinmob.model.closure import CLOSURE_TYPES
 
         check_name("closure name", name)
         if any(c.name == name for c in self.closures):
@@ -255,7 +256,8 @@ class MechanismBuilder:
         """
         import pinocchio as pin
 
-        from ..mechanism import Mechanism, make_closure
+        from pinmob.model.closure import make_closure
+        from pinmob.model.mechanism import Mechanism
 
         model = pin.buildModelFromXML(self.urdf())
         closures = [make_closure(model, c.name, c.frame_a, c.frame_b, c.type, c.axis, c.axis_b) for c in self.closures]

@@ -18,7 +18,7 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 from numpy.typing import ArrayLike
 
-from ..exceptions import ConfigurationError
+from pinmob.exceptions import ConfigurationError
 
 #: relative tolerance below which a number is written as 0 (see the module docstring)
 ZERO_RTOL = 1e-12

@@ -8,7 +8,8 @@ from xml.etree import ElementTree
 
 import numpy as np
 
-from ..exceptions import ConfigurationError
+from pinmob.exceptions import ConfigurationError
+
 from .chain import FrameSpec, frame_lines
 from .layout import rpy
 from .text import vector
@@ -43,7 +44,7 @@ class UrdfLimb:
     Links and joints are renamed ``{limb}_{original name}``; each link keeps its
     visual, collision and inertial elements (meshes keep their ``package://``
     paths, so a viewer shows the robot when the package folder is known to
-    :func:`pinmob.mechanism_file.package_dirs`). The root link is fixed to the
+    :func:`pinmob.io.urdf.package_dirs`). The root link is fixed to the
     builder's ``base`` at ``base_pose``; the tip frame ``{limb}_tip`` is fixed to
     the tip link at ``tip_offset`` (both ``(rotation (3, 3), position (3,) [m])``).
     Create it with :meth:`MechanismBuilder.urdf_limb`.

@@ -10,9 +10,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from pinmob.exceptions import PinmobError
+
 from ..builder import MechanismBuilder
 from ..builder.text import is_generated
-from ..exceptions import PinmobError
 
 Definition = tuple[MechanismBuilder, dict[str, dict[str, Any]], float | None]
 

@@ -390,7 +390,7 @@ def write_formats(name: str, urdf_text: str, closures: list[tuple[str, str, str]
     import pinocchio as pin
 
     from pinmob import Mechanism
-    from pinmob.mechanism import make_closure
+    from pinmob.model.closure import make_closure
 
     folder = FORMATS / name
     folder.mkdir(parents=True, exist_ok=True)

@@ -1,0 +1,182 @@
+"""Actuation: with the actuated joints locked, which closed-chain motions remain, and valid actuator sets.
+
+With the actuated joints locked, the motions left (``locked_dof``, idle ones
+included) are all idle when the actuation is valid; actuated rates that are not
+independent on the closed chain over-determine it. Idle motions move no output
+frame, no joint centre and no closure point
+(:func:`pinmob.analysis.closure_jacobian.output_rows`).
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, selector
+from pinmob.analysis.configuration import Configuration
+from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.exceptions import ConfigurationError
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array
+from pinmob.screw.rank import decide_rank
+
+#: Largest number of actuator sets :func:`actuator_sets` tries (C(n, k) above it is refused).
+SEARCH_LIMIT = 50_000
+
+
+@dataclass(frozen=True)
+class Actuation:
+    """Validity of an actuator set at a configuration.
+
+    Attributes:
+        actuated: the actuated joints.
+        valid: every motion left with them locked is idle, and they are independent.
+        locked_dof: motions left with the actuated joints locked (idle ones included).
+        idle_dof: idle motions among them.
+        redundant_actuators: actuated rates implied by the others (> 0: over-determined).
+        frame_dof: DoF of each end frame with the actuators locked (0 = rigid).
+        remaining: the non-idle motions left, each as joint rates by name
+            (largest 1, rates below 1e-6 dropped).
+    """
+
+    actuated: tuple[str, ...]
+    valid: bool
+    locked_dof: int
+    idle_dof: int
+    redundant_actuators: int
+    frame_dof: dict[str, int] = field(default_factory=dict)
+    remaining: tuple[dict[str, float], ...] = ()
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``actuation`` entry of ``pinmob analyze --json``."""
+        return {
+            "valid": self.valid,
+            "locked_dof": self.locked_dof,
+            "remaining": [dict(m) for m in self.remaining],
+            "actuated": list(self.actuated),
+            "idle_dof": self.idle_dof,
+            "redundant_actuators": self.redundant_actuators,
+            "overdetermined": self.redundant_actuators > 0,
+            "frame_dof_locked": dict(self.frame_dof),
+        }
+
+
+def rank_of(matrix: Array, rtol: float) -> int:
+    """Rank of a matrix built from orthonormal bases (tolerance ``rtol * max(1, sigma_max)``)."""
+    return decide_rank(matrix, rtol, at_least=1.0).rank if matrix.size else 0
+
+
+@dataclass(frozen=True)
+class Locked:
+    """The closed-chain motions with some joints locked, and the idle ones among them (dimensionless bases)."""
+
+    rank_a: int  # rank of the locked joints' rates on the closed chain
+    locked: Array  # (m, l) motions that move no locked joint
+    idle: Array  # (m, i) motions that move no locked joint and no output (a subspace of `locked`)
+
+    def valid(self, count: int) -> bool:
+        """``count`` locked joints are independent and leave only idle motions (a valid actuation)."""
+        return self.rank_a == count and self.locked.shape[1] == self.idle.shape[1]
+
+
+def lock(rates: Array, outputs: Array, rtol: float, m: int) -> Locked:
+    """Split closed-chain motions by locked-joint rates ``rates`` (k, m) and output rows ``outputs`` (o, m).
+
+    ``locked = null(rates)``, ``idle = null([rates; outputs])``: the one
+    computation behind the actuation verdict, the idle joints and the
+    actuator search (ranks decided with :func:`rank_of`'s rule).
+    """
+    dec = decide_rank(rates, rtol, m, at_least=1.0)
+    idle = decide_rank(np.vstack([rates, outputs]), rtol, m, at_least=1.0).null_space.T
+    return Locked(dec.rank, dec.null_space.T, idle)
+
+
+def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
+    """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component."""
+    model = mech.model
+    big = float(np.max(np.abs(dq))) if dq.size else 0.0
+    out: dict[str, float] = {}
+    if big == 0:
+        return out
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        part = dq[joint.idx_v : joint.idx_v + joint.nv] / big
+        if part.size and np.max(np.abs(part)) > 1e-6:
+            k = int(np.argmax(np.abs(part)))
+            out[model.names[j]] = round(float(part[k]), 6)
+    return dict(sorted(out.items(), key=lambda kv: -abs(kv[1])))
+
+
+def actuation(
+    conf: Configuration, chain: ClosedChain, actuated: Sequence[str], split: Locked, frames: Sequence[str], rtol: float
+) -> Actuation:
+    """The :class:`Actuation` verdict from the locked split of the closed chain's motions."""
+    mech = conf.mechanism
+    n = chain.null
+    m = n.shape[1]
+    locked, idle = split.locked, split.idle
+    # non-idle remaining motions: an orthonormal basis of `locked` orthogonal to `idle`
+    rest = locked - idle @ (idle.T @ locked)
+    u, sv, _ = np.linalg.svd(rest, full_matrices=False) if rest.size else (np.zeros((m, 0)), np.zeros(0), None)
+    remaining = [joint_rates(mech, chain.col * (n @ u[:, i])) for i in range(int(np.sum(sv > 0.5)))]
+    frame_dof = {name: rank_of(frame_rows(conf, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
+    return Actuation(
+        tuple(actuated),
+        split.valid(len(actuated)),
+        locked.shape[1],
+        idle.shape[1],
+        len(actuated) - split.rank_a,
+        frame_dof,
+        tuple(remaining),
+    )
+
+
+def actuator_sets(
+    conf: Configuration,
+    size: int,
+    outputs: Sequence[str],
+    *,
+    candidates: Sequence[str] | None = None,
+    rtol: float,
+    limit: int = SEARCH_LIMIT,
+) -> list[tuple[str, ...]]:
+    """Every valid set of ``size`` actuated joints among ``candidates`` (default: all one-degree joints).
+
+    A set is valid when its joints are independent on the closed chain and
+    locking them leaves only idle motions (those that move no ``outputs``
+    frame; the same split as the actuation verdict). Exhaustive: C(n, size)
+    sets are tried, each with SVDs of (size, m) and (size + outputs, m)
+    matrices; more than ``limit`` sets is refused (name fewer candidates).
+
+    Raises:
+        ConfigurationError: size out of range or too many combinations.
+    """
+    mech = conf.mechanism
+    model = mech.model
+    names = (
+        list(candidates)
+        if candidates is not None
+        else [model.names[j] for j in range(1, model.njoints) if model.joints[j].nv == 1]
+    )
+    if isinstance(size, bool) or not isinstance(size, int) or not 0 < size <= len(names):
+        raise ConfigurationError(f"actuator set size must be in 1..{len(names)} (the candidate joints), got {size!r}")
+    count = math.comb(len(names), size)
+    if count > limit:
+        raise ConfigurationError(
+            f"{count} sets of {size} among {len(names)} joints exceed the search limit {limit}; name fewer candidate joints"
+        )
+    chain = closed_chain(conf, rtol)
+    n = chain.null
+    rates = selector(model.nv, joint_velocity_indices(mech, names), chain.col) @ n  # (len(names), m)
+    out = output_rows(conf, outputs) @ n
+    valid = []
+    for combo in itertools.combinations(range(len(names)), size):
+        split = lock(rates[list(combo)], out, rtol, n.shape[1])
+        if split.valid(size):
+            valid.append(tuple(names[i] for i in combo))
+    return valid

@@ -1,0 +1,348 @@
+"""Whole-mechanism mobility: mechanism DoF, redundant constraints, idle motions, actuation, frame motions.
+
+With the dimensionless closure Jacobian ``K`` (rows, nv) of
+:mod:`pinmob.analysis.closure_jacobian`:
+
+- mechanism DoF ``m = nv - rank K``: the closed chain's joint velocities are ``null K``;
+- redundant (over-constraining) equations ``rows - rank K``; per closure c,
+  independent of the order of declaration: ``essential_c = rank K - rank K_-c``
+  (``K_-c``: K without c's rows), the constraint directions only c provides
+  (removing c frees that many motions; 0 = c is not needed), and
+  ``redundant_c = rows_c - essential_c``, its equations implied by the rest
+  (its own other rows and the other closures). Two closures that repeat each
+  other both count theirs, so these add up to at least ``rows - rank K``;
+- Grubler-Kutzbach count ``sum f_joints - sum rows_closures = nv - rows``
+  (``6 (n - 1 - j) + sum f`` with each closure as a joint of 6 - rows
+  freedoms); it equals ``m`` only when no equation is redundant;
+- idle motions: closed-chain motions that move no actuated joint, no output
+  frame (the platform, else the tree's leaf bodies that carry no closure
+  frame; frames named only to be reported are not outputs), no joint centre
+  and no closure point; e.g. a rod spinning about the line through its two
+  ball joints;
+- actuation (:mod:`pinmob.analysis.actuation`);
+- the motion of any frame: the image of ``null K`` by its Jacobian, classified
+  like the platform's (:func:`pinmob.screw.classify.classify_twists`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.analysis.actuation import Actuation, actuation, lock
+from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, output_rows, selector
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.motion import Motion, columns, motions_of
+from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.model.joints import frame_id
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.screw.classify import classify_twists, motion_type
+from pinmob.screw.rank import decide_rank
+
+#: How the per-closure redundancy is computed, said in the JSON document.
+REDUNDANCY_RULE = (
+    "per closure: rows minus the rank it alone adds to all the others (rank K - rank K without it); "
+    "independent of the order of declaration"
+)
+
+
+@dataclass(frozen=True)
+class ClosureRank:
+    """One closure's equations among all of them, independent of the order of declaration.
+
+    Attributes:
+        name, type: the closure.
+        rows: its scalar equations.
+        rank: rank of its own rows.
+        essential: ``rank K - rank K_-c``: constraint directions no other closure
+            provides; removing the closure frees this many motions.
+    """
+
+    name: str
+    type: str
+    rows: int
+    rank: int
+    essential: int
+
+    @property
+    def redundant(self) -> int:
+        """Its equations implied by the rest (its own other rows and the other closures): ``rows - essential``."""
+        return self.rows - self.essential
+
+    @property
+    def needed(self) -> bool:
+        """Removing the closure changes the mechanism (``essential > 0``)."""
+        return self.essential > 0
+
+    def to_dict(self) -> dict[str, Any]:
+        """One entry of ``closures`` in the JSON document."""
+        return {
+            "name": self.name,
+            "type": str(self.type),
+            "rows": self.rows,
+            "rank": self.rank,
+            "essential": self.essential,
+            "redundant": self.redundant,
+            "needed": self.needed,
+        }
+
+
+@dataclass(frozen=True)
+class FrameMobility:
+    """How one frame can move on the closed chain: ``dof`` = rank of ``J_frame null(K)``."""
+
+    frame: str
+    dof: int
+    motion_type: str
+    motions: tuple[Motion, ...]
+    free_twists: Array = field(repr=False)
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{frame, dof, motion_type, motions}``."""
+        return {
+            "frame": self.frame,
+            "dof": self.dof,
+            "motion_type": self.motion_type,
+            "motions": [m.to_dict() for m in self.motions],
+        }
+
+
+@dataclass(frozen=True)
+class MechanismMobility:
+    """Mobility of the whole closed chain at one configuration (see the module docstring).
+
+    ``end_frames`` are the output frames that idle motions leave at rest and
+    that the actuation must control; ``frames`` the reported frame motions
+    (the outputs first, then the frames named to be reported).
+    """
+
+    mechanism: str
+    configuration: str | None
+    nv: int
+    rows: int
+    rank: int
+    mechanism_dof: int
+    grubler: int
+    closures: tuple[ClosureRank, ...]
+    idle_dof: int
+    idle_joints: tuple[str, ...]
+    actuation: Actuation
+    frames: tuple[FrameMobility, ...]
+    end_frames: tuple[str, ...]
+    singular_values: Array = field(repr=False)
+    tolerance: float = 0.0
+    length_scale: float = 1.0
+    motions: Array = field(default_factory=lambda: np.zeros((0, 0)), repr=False)
+
+    @property
+    def redundant_constraints(self) -> int:
+        """Closure equations implied by the others: ``rows - rank K``."""
+        return self.rows - self.rank
+
+    @property
+    def redundant_by_closure(self) -> dict[str, int]:
+        """Per closure, its equations implied by the rest (:attr:`ClosureRank.redundant`); order-independent."""
+        return {c.name: c.redundant for c in self.closures}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The whole-mechanism document (plain JSON)."""
+        return {
+            "mechanism": self.mechanism,
+            "configuration": self.configuration,
+            "nv": self.nv,
+            "closure_rows": self.rows,
+            "closure_rank": self.rank,
+            "mechanism_dof": self.mechanism_dof,
+            "idle_dof": self.idle_dof,
+            "idle_joints": list(self.idle_joints),
+            "redundant_constraints": self.redundant_constraints,
+            "redundant_by_closure": self.redundant_by_closure,
+            "grubler": self.grubler,
+            "actuation": self.actuation.to_dict(),
+            "redundant_by_closure_rule": REDUNDANCY_RULE,
+            "closures": [c.to_dict() for c in self.closures],
+            "end_frames": list(self.end_frames),
+            "frames": [f.to_dict() for f in self.frames],
+            "singular_values": [float(s) for s in self.singular_values],
+            "tolerance": self.tolerance,
+            "length_scale": self.length_scale,
+        }
+
+    def __str__(self) -> str:
+        """Multi-line report of the whole closed chain: DoF, redundancy, idle motions, actuation, frames."""
+        where = f" at {self.configuration!r}" if self.configuration else ""
+        act = self.actuation
+        lines = [
+            f"{self.mechanism}{where}: mechanism DoF {self.mechanism_dof} (nv {self.nv} - closure rank {self.rank}), "
+            f"Grubler-Kutzbach {self.grubler} (nv {self.nv} - {self.rows} closure equations)",
+            f"redundant closure equations: {self.redundant_constraints}"
+            + (
+                " (equations implied by the rest, per closure: "
+                + ", ".join(f"{k}: {v}" for k, v in self.redundant_by_closure.items() if v)
+                + ")"
+                if self.redundant_constraints
+                else ""
+            ),
+        ]
+        unneeded = [c.name for c in self.closures if not c.needed]
+        if unneeded:
+            lines.append(f"closures that add no constraint (removing one changes nothing): {', '.join(unneeded)}")
+        lines.append(
+            f"idle motions: {self.idle_dof}"
+            + (f" (joints {', '.join(self.idle_joints)})" if self.idle_dof else "")
+            + f"; outputs: {', '.join(self.end_frames) or 'none'} (and every joint centre and closure point)"
+        )
+        verdict = "valid" if act.valid else "NOT valid"
+        lines.append(
+            f"actuation {verdict}: {len(act.actuated)} actuated joint(s); locked, {act.locked_dof} motion(s) remain "
+            f"({act.idle_dof} idle)"
+            + (f"; {act.redundant_actuators} actuator(s) over-determine the chain" if act.redundant_actuators else "")
+        )
+        for rates in act.remaining:
+            lines.append(
+                "  remaining motion: "
+                + ", ".join(f"{k} {v:+.3g}" for k, v in list(rates.items())[:8])
+                + (" ..." if len(rates) > 8 else "")
+            )
+        for f in self.frames:
+            rigid = act.frame_dof.get(f.frame)
+            lines.append(
+                f"frame {f.frame!r}: {f.dof} DoF, {f.motion_type}"
+                + (f"; {rigid} DoF with the actuators locked" if rigid is not None else "")
+                + " (axis points relative to its origin, world axes)"
+            )
+            lines.extend(m.line() for m in f.motions)
+        lines.append(f"closure rank tolerance {self.tolerance:.2e}, L = {self.length_scale:.4g} m")
+        return "\n".join(lines)
+
+
+def default_end_frames(mech: Mechanism) -> tuple[str, ...]:
+    """The platform if any; else the bodies at the leaves of the tree that carry no closure frame."""
+    if mech.has_platform:
+        return (mech.platform,)
+    model = mech.model
+    has_child = {int(model.parents[j]) for j in range(1, model.njoints)}
+    closing = {model.frames[i].parentJoint for c in mech.all_closures for i in (c.frame_a_id, c.frame_b_id)}
+    leaves = [j for j in range(1, model.njoints) if j not in has_child and j not in closing]
+    out = []
+    for j in leaves:
+        bodies = [f.name for f in model.frames if f.parentJoint == j and f.type == pin.FrameType.BODY]
+        out.append(bodies[0] if bodies else model.names[j])
+    return tuple(out)
+
+
+def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str, ...]:
+    """Joints with a rate above ``tol`` times the largest in the motions ``basis`` (nv, k)."""
+    model = mech.model
+    if basis.size == 0:
+        return ()
+    size = np.linalg.norm(basis, axis=1)
+    top = float(size.max()) or 1.0
+    return tuple(
+        model.names[j]
+        for j in range(1, model.njoints)
+        if model.joints[j].nv
+        and size[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv].max() > tol * top
+    )
+
+
+def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobility:
+    """Free motions of ``frame`` on the closed chain, at its origin with world axes.
+
+    The image ``J_frame null(K)`` of every closed-chain motion (all closures,
+    limb tips welded to the platform included), classified like the
+    platform's (:func:`pinmob.screw.classify.classify_twists`).
+
+    Raises:
+        FrameError: no such frame (the message lists them).
+    """
+    mech = conf.mechanism
+    frame_id(mech.model, frame)
+    length = mech.length_scale
+    image = frame_rows(conf, frame) @ closed_chain(conf, rtol).null
+    dec = decide_rank(image.T, rtol, 6, at_least=1.0)
+    basis = np.linalg.svd(image, full_matrices=False)[0][:, : dec.rank] if dec.rank else np.zeros((6, 0))
+    system = classify_twists(basis / twist_scaling(length)[:, None], length, rtol)
+    motions = motions_of(system)
+    return FrameMobility(frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]))
+
+
+def closure_ranks(mech: Mechanism, k_hat: Array, tolerance: float) -> tuple[ClosureRank, ...]:
+    """Per closure: own rank and ``rank K - rank K_-c``, all with the absolute tolerance of K's decision."""
+
+    def rank(rows: Array) -> int:
+        return int(np.sum(np.linalg.svd(rows, compute_uv=False) > tolerance)) if rows.size and tolerance > 0 else 0
+
+    total = rank(k_hat)
+    out, start = [], 0
+    for c in mech.all_closures:
+        own = np.arange(start, start + c.rows)
+        others = np.delete(k_hat, own, axis=0)
+        out.append(ClosureRank(c.name, str(c.type), c.rows, rank(k_hat[own]), total - rank(others)))
+        start += c.rows
+    return tuple(out)
+
+
+def mechanism_mobility(
+    conf: Configuration,
+    rtol: float,
+    *,
+    actuated: Sequence[str] | None = None,
+    frames: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
+) -> MechanismMobility:
+    """Mobility of the whole closed chain at a closed configuration.
+
+    Args:
+        conf: the closed configuration.
+        rtol: relative tolerance of every rank decision.
+        actuated: actuated joints (default: the mechanism's declared ones).
+        frames: frames whose motion is reported besides the outputs; naming
+            them changes no count or verdict.
+        outputs: frames that idle motions must leave at rest and that the
+            actuation must control (default :func:`default_end_frames`: the
+            platform, else the tree's free leaf bodies).
+
+    Raises:
+        FrameError: a frame does not exist.
+    """
+    mech = conf.mechanism
+    acts = tuple(mech.actuated if actuated is None else actuated)
+    outs = tuple(default_end_frames(mech) if outputs is None else outputs)
+    reported = outs + tuple(f for f in dict.fromkeys(frames or ()) if f not in outs)
+    for name in reported:
+        frame_id(mech.model, name)
+    chain = closed_chain(conf, rtol)
+    dec = chain.decision
+    idx = joint_velocity_indices(mech, list(acts))
+    split = lock(
+        selector(mech.model.nv, idx, chain.col) @ chain.null,
+        output_rows(conf, outs) @ chain.null,
+        rtol,
+        chain.null.shape[1],
+    )
+    rows = int(chain.k_hat.shape[0])
+    return MechanismMobility(
+        mechanism=mech.name,
+        configuration=conf.name,
+        nv=mech.model.nv,
+        rows=rows,
+        rank=dec.rank,
+        mechanism_dof=mech.model.nv - dec.rank,
+        grubler=mech.model.nv - rows,
+        closures=closure_ranks(mech, chain.k_hat, dec.tolerance),
+        idle_dof=split.idle.shape[1],
+        idle_joints=moving_joints(mech, chain.null @ split.idle),
+        actuation=actuation(conf, chain, acts, split, reported, rtol),
+        frames=tuple(frame_mobility(conf, f, rtol) for f in reported),
+        end_frames=outs,
+        singular_values=dec.singular_values,
+        tolerance=dec.tolerance,
+        length_scale=mech.length_scale,
+        motions=chain.col[:, None] * chain.null,
+    )

@@ -1,0 +1,142 @@
+"""The closure Jacobian of the whole mechanism and the closed chain's motions.
+
+At a closed configuration, stack the Jacobians of every closure residual
+(:func:`pinmob.assembly.residual.closure_error`; limb tips welded to the
+platform count as 6d closures) into ``K`` (rows, nv). Dimensionless form
+``K_hat``: length rows divided by L, prismatic (linear) velocity columns
+multiplied by L (``col``), so that the rank decision does not depend on units.
+The closed chain's joint velocities are ``null(K)``; any frame's motions are
+their image by its Jacobian.
+
+:func:`closure_jacobian_twists` is a second, independent computation of the
+platform's free twists (the tests compare it with the limb-wise method).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.analysis.configuration import Configuration
+from pinmob.assembly.residual import stacked_error
+from pinmob.model.joints import frame_id, linear_velocity_mask
+from pinmob.screw.algebra import Array, shift_twists, twist_scaling
+from pinmob.screw.rank import RankDecision, decide_rank
+
+
+@dataclass(frozen=True)
+class ClosedChain:
+    """The closure Jacobian at a configuration and the closed chain's motions (dimensionless).
+
+    Attributes:
+        col: (nv,) column scaling to dimensionless rates (L on prismatic rates, 1 elsewhere).
+        k_hat: (rows, nv) dimensionless closure Jacobian.
+        decision: the rank decision on ``k_hat``.
+    """
+
+    col: Array
+    k_hat: Array
+    decision: RankDecision
+
+    @property
+    def null(self) -> Array:
+        """(nv, m) orthonormal basis of the closed chain's dimensionless joint rates (``null(K_hat)``)."""
+        return self.decision.null_space.T
+
+
+def closed_chain(conf: Configuration, rtol: float) -> ClosedChain:
+    """The :class:`ClosedChain` at ``conf`` (cached per tolerance)."""
+
+    def compute() -> ClosedChain:
+        mech = conf.mechanism
+        model = mech.model
+        col = closed_chain_columns(conf)
+        _, jac = stacked_error(mech, model, conf.data, mech.all_closures)
+        k_hat = jac * col
+        return ClosedChain(col, k_hat, decide_rank(k_hat, rtol, n=model.nv))
+
+    return conf.memo(("closed_chain", rtol), compute)
+
+
+def frame_rows(conf: Configuration, frame: str) -> Array:
+    """(6, nv) dimensionless Jacobian of ``frame`` (twist ``[v / L; w]`` per dimensionless joint rate)."""
+    mech = conf.mechanism
+    jac = conf.frame_jacobian(frame_id(mech.model, frame))
+    return twist_scaling(mech.length_scale)[:, None] * jac * closed_chain_columns(conf)
+
+
+def closed_chain_columns(conf: Configuration) -> Array:
+    """(nv,) the column scaling to dimensionless rates: L on prismatic rates, 1 elsewhere."""
+    mech = conf.mechanism
+    return conf.memo("columns", lambda: np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0))
+
+
+def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
+    """Dimensionless rows whose zero set defines idle motions: frame twists, joint centres, closure points.
+
+    An idle motion moves no output frame, no joint centre and no closure point
+    (e.g. a rod spinning about the line through its two ball joints).
+    """
+    mech = conf.mechanism
+    model, data, length = mech.model, conf.data, mech.length_scale
+    col = closed_chain_columns(conf)
+    rows = [frame_rows(conf, name) for name in frames]
+    rows += [
+        pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:3] * col / length
+        for j in range(1, model.njoints)
+    ]
+    for c in mech.all_closures:  # a cut joint's centre; a 6d cut is inside one rigid body
+        if c.type != "6d":
+            rows.append(conf.frame_jacobian(c.frame_a_id)[:3] * col / length)
+    return np.vstack(rows) if rows else np.zeros((0, model.nv))
+
+
+def selector(nv: int, idx: Array, col: Array) -> Array:
+    """(len(idx), nv) rows picking the rates ``idx``, in the dimensionless coordinates."""
+    sel = np.zeros((len(idx), nv))
+    sel[np.arange(len(idx)), idx] = 1.0
+    return sel * col
+
+
+def closure_jacobian_twists(conf: Configuration, rtol: float) -> Array:
+    """Free platform twists from the global loop-closure Jacobian (an independent method).
+
+    Closure rows ``K = [J_2 - J_1; ...; J_k - J_1]`` (tip Jacobians over all
+    joints, carried to the platform origin), followed by the rows of the
+    mechanism's own closures (loops inside limbs, lengths divided by L, see
+    :func:`~pinmob.assembly.residual.stacked_error`); the closed chain's joint
+    velocities are ``null(K)``; the platform twists are their image ``J_1 null(K)``.
+    Joint columns are scaled to comparable units before the rank decision.
+
+    Returns:
+        (6, m) orthonormal (dimensionless) basis, in SI, of the platform's free twists.
+    """
+    mech = conf.mechanism
+    model, data = mech.model, conf.data
+    p = conf.platform_origin
+    scale = twist_scaling(mech.length_scale)[:, None]
+    full = [
+        scale * shift_twists(conf.frame_jacobian(limb.tip_id), p - data.oMf[limb.tip_id].translation)
+        for limb in mech.limbs
+    ]
+    col = np.linalg.norm(np.sum(np.abs(np.stack(full)), axis=0), axis=0)
+    col = np.where(col > 0, 1.0 / np.where(col > 0, col, 1.0), 1.0)
+    rows = [f - full[0] for f in full[1:]]
+    if mech.closures:  # loops inside limbs (e.g. parallelograms): their rows, dimensionless like the tip rows
+        rows.append(stacked_error(mech, model, data, mech.closures)[1])
+    if rows:
+        k = np.vstack(rows) * col
+        dq = decide_rank(k, rtol, n=model.nv).null_space.T * col[:, None]
+    else:
+        dq = np.diag(col)
+    # rank of the image against the size of the platform Jacobian itself: when every closed-chain motion
+    # leaves the platform still (e.g. limbs folding at a dead centre) the image is round-off only
+    image = full[0] @ dq
+    reference = float(np.linalg.norm(full[0] * col, 2))
+    if image.size == 0 or float(np.linalg.norm(image, 2)) <= rtol * reference:
+        return np.zeros((6, 0))
+    dec = decide_rank(image.T, rtol, n=6, reference=reference)
+    return dec.row_space.T / scale

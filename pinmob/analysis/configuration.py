@@ -1,0 +1,270 @@
+"""The one state object: a closed configuration of a mechanism and what is computed from it.
+
+A :class:`Configuration` validates its arguments once, closes a named
+configuration (or checks a given vector) once, computes the kinematics once
+(``computeJointJacobians`` and the frame placements, in a ``pin.Data`` it owns)
+and caches what several analyses share (limb twists, the closure Jacobian and
+its null space, ...) through :meth:`Configuration.memo`. Every analysis takes a
+``Configuration``; its ``q`` is read-only.
+
+The ``pin.Data`` objects come from a small pool per model: creating one costs
+about as much as a whole analysis of a large mechanism (it grows with nv^3), so
+a ``Configuration`` takes a spare one and gives it back when it is collected.
+"""
+
+from __future__ import annotations
+
+import threading
+import weakref
+from collections.abc import Callable
+from typing import Any, TypeVar
+
+import numpy as np
+import pinocchio as pin
+from numpy.typing import ArrayLike
+
+from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.residual import (
+    CLOSURE_TOL,
+    Residuals,
+    check_closed,
+    check_closure_tol,
+    compute_kinematics,
+    worst_residual,
+)
+from pinmob.exceptions import ConfigurationError
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array
+
+T = TypeVar("T")
+
+#: Spare ``pin.Data`` kept per model (each can weigh megabytes for a large model).
+POOL_SIZE = 2
+
+_POOL: weakref.WeakKeyDictionary[pin.Model, list[pin.Data]] = weakref.WeakKeyDictionary()
+_LOCK = threading.Lock()
+
+
+def _acquire(model: pin.Model) -> pin.Data:
+    with _LOCK:
+        spare = _POOL.get(model)
+        if spare:
+            return spare.pop()
+    return model.createData()
+
+
+def _release(model_ref: weakref.ref[pin.Model], data: pin.Data) -> None:
+    model = model_ref()
+    if model is None:
+        return
+    with _LOCK:
+        spare = _POOL.setdefault(model, [])
+        if len(spare) < POOL_SIZE:
+            spare.append(data)
+
+
+class Configuration:
+    """A closed configuration ``q`` of ``mechanism``, validated, closed and with its kinematics computed.
+
+    Args:
+        mechanism: the mechanism.
+        q: configuration vector (nq,), or the name of one of ``mechanism.configurations``
+            (joint values are checked, a platform pose is assembled).
+        closure_tol: closure tolerance: largest residual allowed, position / L and rotation [rad].
+        name: name reported with the results (default: the configuration's name when q is one).
+        source: how q was obtained, for reports (default: ``given`` or ``named configuration 'x'``).
+
+    Raises:
+        ConfigurationError: q has the wrong shape, non-finite values, is not normalised, names no
+            configuration, or ``closure_tol`` is out of range.
+        ClosureError: q does not close within ``closure_tol`` (the error carries every residual).
+    """
+
+    def __init__(
+        self,
+        mechanism: Mechanism,
+        q: ArrayLike | str,
+        *,
+        closure_tol: float = CLOSURE_TOL,
+        name: str | None = None,
+        source: str | None = None,
+    ) -> None:
+        tol = check_closure_tol(closure_tol)
+        if isinstance(q, str):
+            vec = closed_configuration(mechanism, q, tol)
+            name = q if name is None else name
+            source = source or f"named configuration {q!r}"
+        else:
+            vec = mechanism.check_q(q)
+        vec.flags.writeable = False
+        self._mechanism = mechanism
+        self._q = vec
+        self._name = name
+        self._tol = tol
+        self._source = source or "given"
+        self._memo: dict[Any, Any] = {}
+        self._data = self._kinematics()
+        what = f"configuration {name!r}" if name else "configuration"
+        self._residuals = check_closed(mechanism, vec, tol, what, data=self._data)
+
+    @classmethod
+    def unchecked(cls, mechanism: Mechanism, q: Array) -> Configuration:
+        """Kinematics at any valid q, without the closure check (for the generic ranks of open limbs).
+
+        Analyses of the mechanism need a closed configuration; use the constructor for those.
+        """
+        self = object.__new__(cls)
+        self._mechanism, self._q, self._name, self._tol = mechanism, mechanism.check_q(q), None, np.inf
+        self._q.flags.writeable = False
+        self._source, self._memo = "unchecked", {}
+        self._data = self._kinematics()
+        self._residuals = {}
+        return self
+
+    def _kinematics(self) -> pin.Data:
+        model = self._mechanism.model
+        data = _acquire(model)
+        weakref.finalize(self, _release, weakref.ref(model), data)
+        compute_kinematics(model, data, self._q)
+        return data
+
+    # ------------------------------------------------------------------ state
+
+    @property
+    def mechanism(self) -> Mechanism:
+        """The mechanism."""
+        return self._mechanism
+
+    @property
+    def q(self) -> Array:
+        """(nq,) the closed configuration (read-only)."""
+        return self._q
+
+    @property
+    def name(self) -> str | None:
+        """Name reported with the results (None for an unnamed configuration)."""
+        return self._name
+
+    @property
+    def closure_tol(self) -> float:
+        """The closure tolerance it was checked with (position / L and rotation [rad])."""
+        return self._tol
+
+    @property
+    def source(self) -> str:
+        """How q was obtained: ``given``, ``named configuration 'x'``, ``projection from neutral``, ..."""
+        return self._source
+
+    @property
+    def residuals(self) -> Residuals:
+        """Residual of every limb tip and closure: name -> (position [m], rotation [rad])."""
+        return dict(self._residuals)
+
+    @property
+    def residual(self) -> float:
+        """The largest residual, ``max(|p| / L, |r|)`` (dimensionless)."""
+        return worst_residual(self._residuals, self._mechanism.length_scale)
+
+    @property
+    def data(self) -> pin.Data:
+        """Pinocchio data with the kinematics at q (joint Jacobians, frame placements); do not modify."""
+        return self._data
+
+    @property
+    def world_jacobian(self) -> Array:
+        """(6, nv) every joint screw ``[v; w]`` at the world origin, world axes (``data.J``)."""
+        return self.memo("world_jacobian", lambda: np.array(self._data.J))
+
+    def frame_placement(self, frame: int) -> pin.SE3:
+        """World placement of frame index ``frame``."""
+        return self._data.oMf[frame]
+
+    @property
+    def platform_origin(self) -> Array:
+        """(3,) world position of the platform frame [m] (zeros when the mechanism has none)."""
+        mech = self._mechanism
+        if not mech.has_platform:
+            return np.zeros(3)
+        return np.array(self._data.oMf[mech.platform_id].translation)
+
+    def frame_jacobian(self, frame: int, reference: pin.ReferenceFrame = pin.LOCAL_WORLD_ALIGNED) -> Array:
+        """(6, nv) Jacobian of frame index ``frame`` (cached per frame and reference)."""
+        return self.memo(
+            ("frame_jacobian", frame, reference),
+            lambda: pin.getFrameJacobian(self._mechanism.model, self._data, frame, reference),
+        )
+
+    def memo(self, key: Any, compute: Callable[[], T]) -> T:
+        """The value cached under ``key``, computed once by ``compute()`` (analyses share results this way)."""
+        try:
+            return self._memo[key]
+        except KeyError:
+            value = self._memo[key] = compute()
+            return value
+
+    # ------------------------------------------------------------------ copies
+
+    def with_name(self, name: str | None) -> Configuration:
+        """The same configuration reported under another name (shares the kinematics and caches)."""
+        other = object.__new__(Configuration)
+        other.__dict__.update(self.__dict__)
+        other._name = name
+        other.__dict__["_parent"] = self  # the original owns the pooled Data: keep it alive as long as the copy
+        return other
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Pickled without the kinematics and caches (recomputed on unpickling)."""
+        return {
+            "mechanism": self._mechanism,
+            "q": np.array(self._q),
+            "name": self._name,
+            "tol": self._tol,
+            "source": self._source,
+        }
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        Configuration.__init__(
+            self, state["mechanism"], state["q"], closure_tol=state["tol"], name=state["name"], source=state["source"]
+        )
+
+    def __repr__(self) -> str:
+        where = f" {self._name!r}" if self._name else ""
+        return f"Configuration({self._mechanism.name!r}{where}, residual {self.residual:.1e}, {self._source})"
+
+
+def as_configuration(
+    mech: Mechanism | Configuration,
+    q: ArrayLike | str | Configuration | None = None,
+    *,
+    configuration: str | None = None,
+    closure_tol: float = CLOSURE_TOL,
+) -> Configuration:
+    """A :class:`Configuration` from what an analysis was given.
+
+    Args:
+        mech: the mechanism, or a :class:`Configuration` (then ``q`` must be None).
+        q: a configuration vector, a configuration name, or a :class:`Configuration`.
+        configuration: name reported with the results (overrides the configuration's own).
+        closure_tol: closure tolerance, for a vector or a name.
+
+    Raises:
+        ConfigurationError: no configuration given, or a Configuration of another mechanism.
+    """
+    if isinstance(mech, Configuration):
+        if q is not None:
+            raise ConfigurationError("give either a Configuration or a mechanism and q, not both")
+        conf = mech
+    elif isinstance(q, Configuration):
+        if q.mechanism is not mech:
+            raise ConfigurationError(f"the Configuration belongs to {q.mechanism.name!r}, not to {mech.name!r}")
+        conf = q
+    elif q is None:
+        raise ConfigurationError(
+            f"no configuration given for {mech.name!r}: give q (a vector of {mech.model.nq} numbers or a "
+            "configuration name) or a Configuration"
+        )
+    else:
+        conf = Configuration(mech, q, closure_tol=closure_tol)
+    if configuration is not None and configuration != conf.name:
+        conf = conf.with_name(configuration)
+    return conf

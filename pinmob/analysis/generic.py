@@ -1,0 +1,220 @@
+"""Ranks at generic configurations: the reference a singularity is measured against.
+
+A rank that drops at a configuration is singular only compared with its value
+at *generic* configurations. Estimated here once per mechanism (and tolerance)
+and cached:
+
+* each limb's generic twist rank (:func:`generic_twist_ranks`): the largest
+  rank of its joint screws over seeded random joint values, its internal loops
+  closed;
+* the generic rank of the stacked wrenches of every set of limbs
+  (:func:`generic_set_ranks`), from random closed configurations
+  (:func:`generic_configurations`), hence the generic constraint rank.
+
+Rank decisions on a limb use its dimensionless joint screws with unit columns
+(:func:`pinmob.analysis.limbs.limb_decisions`), so that neither the unit of
+length nor the units of the joint rates matter.
+"""
+
+from __future__ import annotations
+
+import weakref
+from collections import Counter
+from collections.abc import Callable
+from dataclasses import replace
+from itertools import combinations
+from typing import Any, TypeVar
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, wrench_blocks
+from pinmob.assembly.assemble import assemble_joints, project
+from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.seeds import random_configuration
+from pinmob.exceptions import ClosureError, PinmobError
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.screw.rank import RTOL, decide_rank
+
+#: Largest limb set whose generic rank is estimated (a minimal deficient set has at most 6 limbs).
+MAX_SET = 6
+
+T = TypeVar("T")
+
+_CACHE: dict[tuple[Any, ...], tuple[weakref.ref[Mechanism], Any]] = {}
+
+
+def cached(mech: Mechanism, key: tuple[Any, ...], compute: Callable[[], T]) -> T:
+    """``compute()`` once per mechanism object and key (the entry goes when the mechanism does)."""
+    full = (id(mech), *key)
+    hit = _CACHE.get(full)
+    if hit is not None and hit[0]() is mech:
+        return hit[1]
+    value = compute()
+    _CACHE[full] = (weakref.ref(mech, lambda _: _CACHE.pop(full, None)), value)
+    return value
+
+
+def generic_twist_ranks(mech: Mechanism, samples: int = 3) -> tuple[int, ...]:
+    """Each limb's generic twist rank: the largest rank of its joint screws over seeded random configurations.
+
+    The screws are those of :func:`pinmob.analysis.limbs.limb_twists` at the
+    limb's tip (with its internal loops closed: each sample is first projected
+    onto them, and used as it is only where that fails), made dimensionless
+    with the mechanism's length scale, ranked with :data:`~pinmob.screw.rank.RTOL`.
+    Cached per mechanism.
+    """
+
+    def compute() -> tuple[int, ...]:
+        rng = np.random.default_rng(0)
+        best = [0] * len(mech.limbs)
+        st = twist_scaling(mech.length_scale)[:, None]
+        for i, limb in enumerate(mech.limbs):
+            loops = tuple(c for c in mech.closures if c.name in limb.closures)
+            alone = replace(mech, limbs=(), platform="", closures=loops)
+            for _ in range(samples):
+                q = random_configuration(mech, rng, spread=1.0)
+                if loops:
+                    try:
+                        q = project(alone, q).q
+                    except ClosureError:
+                        pass
+                conf = Configuration.unchecked(mech, q)
+                screws = limb_screws(conf, limb, RTOL, np.array(conf.data.oMf[limb.tip_id].translation))
+                best[i] = max(best[i], decide_rank((st * screws).T, RTOL).rank)
+        return tuple(best)
+
+    return cached(mech, ("twist ranks", samples), compute)
+
+
+def stacked_rank(blocks: list[Array], rtol: float) -> int:
+    """Rank of the stacked dimensionless wrench bases (0 when there are none)."""
+    stacked = np.hstack(blocks)
+    return decide_rank(stacked.T, rtol, n=6).rank if stacked.shape[1] else 0
+
+
+def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Array]:
+    """Random closed configurations near each named configuration (cached per mechanism).
+
+    Joints perturbed by ``N(0, 0.05)`` [rad, or L x 0.05 m for prismatic
+    joints] and closed again by :func:`pinmob.assembly.assemble.assemble_joints`.
+
+    Raises:
+        PinmobError: no closed configuration could be built.
+    """
+
+    def compute() -> tuple[Array, ...]:
+        rng = np.random.default_rng(seed)
+        model = mech.model
+        unit = np.array(
+            [
+                mech.length_scale if model.joints[j].shortname().startswith("JointModelP") else 1.0
+                for j in range(1, model.njoints)
+                for _ in range(model.joints[j].nv)
+            ]
+        )
+        closed = []
+        for name in mech.configurations:
+            try:
+                q0 = closed_configuration(mech, name)
+            except PinmobError:
+                continue
+            for _ in range(samples):
+                q = pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit)
+                try:
+                    closed.append(assemble_joints(mech, {}, q))
+                except PinmobError:
+                    continue
+        if not closed:
+            raise PinmobError(
+                f"cannot estimate the generic constraint rank of {mech.name!r}: no named configuration closes; "
+                "declare generic_rank in the mechanism file"
+            )
+        return tuple(closed)
+
+    return list(cached(mech, ("configurations", samples, seed), compute))
+
+
+def generic_set_ranks(
+    mech: Mechanism, rtol: float = RTOL, samples: int = 4, seed: int = 0
+) -> dict[tuple[int, ...], int]:
+    """Generic rank of the stacked wrenches of limb sets: every set of 2 to ``MAX_SET`` limbs, and all limbs.
+
+    The most frequent rank (ties: the larger) over :func:`generic_configurations`,
+    decided with the looser tolerance ``sqrt(rtol)``: a mechanism whose whole
+    workspace is singular (3-PUU-flat) closes a hair's breadth off its singular
+    manifold (closure holds to second order there), and the tight tolerance
+    would see the hair. Cached per mechanism and tolerance.
+
+    Returns:
+        ``{limb indices (sorted tuple): rank}``.
+    """
+
+    def compute() -> dict[tuple[int, ...], int]:
+        k = len(mech.limbs)
+        sets = [s for size in range(2, min(k, MAX_SET) + 1) for s in combinations(range(k), size)]
+        sets.append(tuple(range(k)))
+        loose = float(np.sqrt(rtol))
+        counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
+        for q in generic_configurations(mech, samples, seed):
+            conf = Configuration(mech, q)
+            blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
+            for s in counts:
+                counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
+        return {s: _mode(c) for s, c in counts.items()}
+
+    return dict(cached(mech, ("sets", rtol, samples, seed), compute))
+
+
+def _mode(counts: Counter[int]) -> int:
+    """The most frequent rank; ties: the larger."""
+    return max(counts, key=lambda r: (counts[r], r))
+
+
+def generic_constraint_rank(mech: Mechanism, samples: int = 4, seed: int = 0, rtol: float = RTOL) -> int:
+    """The mechanism's constraint rank at generic configurations.
+
+    The declared ``generic_rank`` when the mechanism file has one; otherwise the
+    rank of all limbs' stacked wrenches in :func:`generic_set_ranks`.
+
+    Raises:
+        PinmobError: no closed configuration could be built.
+    """
+    if mech.generic_rank is not None:
+        return mech.generic_rank
+    return generic_set_ranks(mech, rtol, samples, seed)[tuple(range(len(mech.limbs)))]
+
+
+def dependent_limbs(
+    mech: Mechanism, blocks: list[Array], rtol: float = RTOL, generic_rank: int | None = None
+) -> tuple[str, ...]:
+    """Limbs whose wrenches became dependent, compared with generic configurations.
+
+    A limb set S is *deficient* when ``rank [W_i, i in S] < g_S``, its rank at
+    generic configurations (:func:`generic_set_ranks`; for all limbs, the
+    generic constraint rank ``generic_rank`` when given). The dependent limbs
+    are the union of the minimal deficient sets: the dependencies that generic
+    configurations also have (e.g. four couples in a plane) name no limb.
+    Empty at a configuration that is not constraint-singular (except for sets
+    of limbs whose loss the others make up for).
+
+    Args:
+        blocks: per limb, (6, m_i) dimensionless orthonormal wrench basis ``W_i``.
+    """
+    k = len(mech.limbs)
+    try:
+        generic = generic_set_ranks(mech, rtol)
+    except PinmobError:
+        generic = {}
+    if generic_rank is not None:
+        generic[tuple(range(k))] = generic_rank
+    minimal: list[set[int]] = []
+    for s in sorted(generic, key=len):
+        if generic[s] == 0 or any(m <= set(s) for m in minimal):
+            continue
+        if stacked_rank([blocks[i] for i in s], rtol) < generic[s]:
+            minimal.append(set(s))
+    union = set().union(*minimal)
+    return tuple(limb.name for i, limb in enumerate(mech.limbs) if i in union)

@@ -1,0 +1,148 @@
+"""Each limb's joint screws at a configuration, and the rank decisions on them.
+
+A limb's joint screws are the columns of the world Jacobian ``data.J`` (every
+joint screw ``[v; w]`` at the world origin, world axes) for its joints, carried to
+the platform origin p by ``v += w x p``: the columns of its tip frame's
+``LOCAL_WORLD_ALIGNED`` Jacobian carried to p. A limb with loops inside it (a
+parallelogram closed by a ``3d`` closure) moves only along the joint rates that
+keep those loops closed (:func:`limb_rates`). The same function serves one
+configuration and a batch of them (:func:`limb_screws_at`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pinmob.analysis.configuration import Configuration
+from pinmob.assembly.residual import stacked_error
+from pinmob.model.joints import linear_velocity_mask
+from pinmob.model.limb import Limb
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.screw.rank import RankDecision, decide_rank
+
+
+def limb_screws_at(world: Array, origin: Array, columns: Array, rates: Array | None = None) -> Array:
+    """Joint screws carried to a point: ``[v + w x p; w]`` of the chosen world Jacobian columns, times ``rates``.
+
+    Args:
+        world: (..., 6, nv) world Jacobians (screws at the world origin, world axes).
+        origin: (..., 3) the point p [m] (the platform origin).
+        columns: (k,) velocity indices.
+        rates: (k, m) joint-rate directions (None: the identity).
+
+    Returns:
+        (..., 6, m) the screws at p [m/s, rad/s per unit rate].
+    """
+    cols = world[..., columns]
+    w = cols[..., 3:, :]
+    p = origin[..., :, None]
+    v = cols[..., :3, :] + np.stack(
+        [w[..., 1, :] * p[..., 2, :] - w[..., 2, :] * p[..., 1, :],
+         w[..., 2, :] * p[..., 0, :] - w[..., 0, :] * p[..., 2, :],
+         w[..., 0, :] * p[..., 1, :] - w[..., 1, :] * p[..., 0, :]],
+        axis=-2,
+    )  # fmt: skip
+    screws = np.concatenate([v, w], axis=-2)
+    return screws if rates is None else screws @ rates
+
+
+def limb_rates(conf: Configuration, limb: Limb, rtol: float, locked: tuple[str, ...] = ()) -> tuple[Array, Array]:
+    """Joint-rate directions behind a limb's screws: velocity indices E (e,) and rates D (e, k).
+
+    Without internal loops, E are the limb's velocity indices minus those of
+    the ``locked`` joints and D the identity. With internal closures, E are its
+    joints and loop joints (:attr:`Limb.screw_v_indices`) and
+    ``D = diag(col) N``, N an orthonormal basis of
+    ``null([K_hat[:, E]; S_locked])`` (closure rows per L, prismatic rates
+    times L, so ``col`` is L on prismatic rates and 1 elsewhere; rank decided
+    with ``rtol``): the rates that keep the loops closed to first order.
+    """
+    mech = conf.mechanism
+    model = mech.model
+    held = {model.joints[model.getJointId(j)].idx_v for j in locked}
+    if not limb.closures:
+        idx = np.array([int(v) for v in limb.v_indices if v not in held], dtype=int)
+        return idx, np.eye(idx.size)
+    idx = limb.screw_v_indices
+    col = np.where(linear_velocity_mask(model)[idx], mech.length_scale, 1.0)
+    loops = tuple(c for c in mech.closures if c.name in limb.closures)
+    _, k = stacked_error(mech, model, conf.data, loops)
+    rows = np.vstack([k[:, idx] * col, np.eye(idx.size)[[i for i, v in enumerate(idx) if v in held]]])
+    return idx, col[:, None] * decide_rank(rows, rtol, n=idx.size).null_space.T
+
+
+def limb_screws(
+    conf: Configuration,
+    limb: Limb,
+    rtol: float,
+    point: Array,
+    locked: tuple[str, ...] = (),
+    world: Array | None = None,
+) -> Array:
+    """A limb's joint screws at ``point`` [m], (6, k): per joint rate, or per loop-closing rate (:func:`limb_rates`).
+
+    Only the joints that support the tip move it: a loop joint (e.g. a parallelogram's second rod) acts
+    through the rates that keep the loops closed, not through a screw of its own.
+    """
+    world = conf.world_jacobian if world is None else world
+    idx, rates = limb_rates(conf, limb, rtol, locked)
+    if not limb.closures:
+        return limb_screws_at(world, point, idx)
+    own = limb.v_indices.size  # the rates' first rows are the limb's own joints (Limb.screw_v_indices)
+    return limb_screws_at(world, point, limb.v_indices, rates[:own])
+
+
+def limb_twists(conf: Configuration, rtol: float, lock_actuated: bool = False) -> tuple[Array, ...]:
+    """Joint screws of each limb, (6, n_i) each, at the platform origin, world axes (cached per configuration).
+
+    Each limb's world Jacobian columns carried to the platform origin
+    (:func:`limb_screws_at`), restricted to the rates that keep its internal
+    loops closed (:func:`limb_rates`); with ``lock_actuated``, also its
+    actuated joints still. Limbs with loops give screws per unit
+    dimensionless rate.
+    """
+
+    def compute() -> tuple[Array, ...]:
+        world, origin = conf.world_jacobian, conf.platform_origin
+        out = []
+        for limb in conf.mechanism.limbs:
+            out.append(limb_screws(conf, limb, rtol, origin, limb.actuated if lock_actuated else (), world))
+        return tuple(out)
+
+    return conf.memo(("limb_twists", rtol, lock_actuated), compute)
+
+
+def unit_columns(matrix: Array) -> Array:
+    """The columns scaled to unit length (zero columns kept): ``A_i`` free of the joints' rate units."""
+    norms = np.linalg.norm(matrix, axis=-2, keepdims=True)
+    return matrix / np.where(norms > 0, norms, 1.0)
+
+
+def limb_decisions(mech: Mechanism, twists: tuple[Array, ...] | list[Array], rtol: float) -> list[RankDecision]:
+    """Rank decision on each limb's joint screws ``U_i`` (dimensionless, unit columns), transposed.
+
+    Its rank is the limb's twist rank, its null space the limb's wrench basis
+    ``W_i`` (dimensionless, orthonormal). A limb with loops inside it: its
+    screws are ``[v / L; w]`` per orthonormal basis of the dimensionless
+    loop-closing rates (:func:`limb_rates`), taken as they are: their singular
+    values do not depend on which basis, while unit columns would.
+    """
+    st = twist_scaling(mech.length_scale)[:, None]
+    return [
+        decide_rank((st * t if limb.closures else unit_columns(st * t)).T, rtol, n=6)
+        for limb, t in zip(mech.limbs, twists)
+    ]
+
+
+def wrench_blocks(decisions: list[RankDecision]) -> list[Array]:
+    """Dimensionless orthonormal wrench bases ``W_i`` (6, 6 - r_i)."""
+    return [d.null_space.T for d in decisions]
+
+
+def column_joints(mech: Mechanism, limb: Limb) -> list[str]:
+    """Joint name of every velocity column of the limb."""
+    out: list[str] = []
+    for name in limb.joints:
+        out += [name] * mech.model.joints[mech.model.getJointId(name)].nv
+    return out

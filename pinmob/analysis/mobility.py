@@ -1,0 +1,339 @@
+"""Platform mobility at a closed configuration (the seed paper's method, done right).
+
+For each limb i with joint screws ``T_i`` (6, n_i) -- the columns of its tip
+frame's ``LOCAL_WORLD_ALIGNED`` Jacobian, carried to the platform origin
+(:func:`pinmob.analysis.limbs.limb_twists`) -- the constraint wrenches are a
+basis ``W_i`` of ``{w : w^T T_i = 0}``. Stacking them,
+``C = [W_1 ... W_k]^T``, an SVD gives the constraint space (rank d) and the
+free twists ``{t : C t = 0}`` (dimension 6 - d). All on dimensionless matrices
+(:mod:`pinmob.screw`), so the answer does not depend on units.
+
+When a closure couples two or more limbs (its loop involves the joints of
+several limbs), or the mechanism has no limbs, no limb has wrenches of its
+own: the platform's free twists are then the image of the whole closed
+chain's motions, ``J_platform null(K)``
+(:func:`pinmob.analysis.closed_chain.frame_mobility`), its constraint wrenches
+their reciprocal, and the result says so (``method``, ``method_note``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from pinmob.analysis.closed_chain import frame_mobility
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.generic import generic_twist_ranks
+from pinmob.analysis.limbs import limb_twists
+from pinmob.analysis.motion import (
+    Constraint,
+    Method,
+    Motion,
+    View,
+    columns,
+    constraints_of,
+    motions_of,
+    numbers,
+    vector,
+)
+from pinmob.exceptions import ConfigurationError
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array, wrench_scaling
+from pinmob.screw.bases import clean
+from pinmob.screw.classify import MotionKind, classify_twists, classify_wrenches, motion_type
+from pinmob.screw.rank import reciprocal_twists, reciprocal_wrenches
+
+
+@dataclass(frozen=True)
+class LimbMobility:
+    """What one limb contributes at the configuration.
+
+    Attributes:
+        name, joints: the limb.
+        twist_rank: rank of its joint screws here (with its internal loops closed).
+        generic_twist_rank: rank at generic joint values; lower here = serial singularity.
+        wrenches: (6, 6 - twist_rank) its constraint wrenches ``[f; tau]``.
+        closures: its internal closures (:attr:`pinmob.model.limb.Limb.closures`).
+        loop_joints: the joints in no limb that they involve.
+    """
+
+    name: str
+    joints: tuple[str, ...]
+    twist_rank: int
+    generic_twist_rank: int
+    wrenches: Array = field(repr=False)
+    closures: tuple[str, ...] = ()
+    loop_joints: tuple[str, ...] = ()
+
+    @property
+    def wrench_count(self) -> int:
+        """Number of constraint wrenches the limb exerts here."""
+        return int(self.wrenches.shape[1])
+
+    @property
+    def serially_singular(self) -> bool:
+        """Its twist rank is below the generic one (a serial singularity)."""
+        return self.twist_rank < self.generic_twist_rank
+
+    def to_dict(self) -> dict[str, Any]:
+        """One entry of ``limbs`` in the JSON document."""
+        return {
+            "name": self.name,
+            "joints": list(self.joints),
+            "twist_rank": self.twist_rank,
+            "generic_twist_rank": self.generic_twist_rank,
+            "wrench_count": self.wrench_count,
+            "serially_singular": self.serially_singular,
+            "closures": list(self.closures),
+            "loop_joints": list(self.loop_joints),
+        }
+
+    def line(self) -> str:
+        """``  A: 5 joints, twist rank 5 (generic 5), 1 constraint wrench(es)`` (+ loops, singular flag)."""
+        flag = "  <- serial singularity" if self.serially_singular else ""
+        loops = (
+            f" + {len(self.loop_joints)} loop joint(s), closed by {', '.join(self.closures)}" if self.closures else ""
+        )
+        return (
+            f"  {self.name}: {len(self.joints)} joints{loops}, twist rank {self.twist_rank} "
+            f"(generic {self.generic_twist_rank}), {self.wrench_count} constraint wrench(es){flag}"
+        )
+
+
+@dataclass(frozen=True)
+class Mobility:
+    """Mobility of the platform at one configuration.
+
+    Attributes:
+        mechanism, configuration: names (configuration may be None).
+        dof: number of independent free motions, ``6 - constraint_rank``.
+        motion_type: label such as ``3T``, ``3T1R``, ``1T1R1H`` or ``rigid``.
+        motions: canonical free motions (translations, rotations, screws by pitch).
+        free_twists: (6, dof) the motions' unit twists as columns (read-only).
+        constraints: canonical constraint wrenches.
+        constraint_wrenches: (6, d) their wrenches ``[f; tau]`` as columns (read-only).
+        constraint_rank: d.
+        singular_values: (6,) of the stacked dimensionless limb wrenches (zero-padded);
+            with the closure-Jacobian method, of an orthonormal basis of the
+            constraint space (ones, then zeros).
+        tolerance: absolute threshold applied to ``singular_values``.
+        length_scale: L [m].
+        platform: the platform frame's name.
+        platform_origin: (3,) world position of the platform frame [m].
+        limbs: per-limb details.
+        view: :class:`View`: wrenches at q, or the paper's generic limb wrenches carried to q.
+        method: :class:`Method` used; ``closure Jacobian`` when a closure couples
+            limbs or there is no limb (``limbs`` is then empty).
+        method_note: why that method was used (empty for the limb-wise method).
+    """
+
+    mechanism: str
+    configuration: str | None
+    dof: int
+    motion_type: str
+    motions: tuple[Motion, ...]
+    free_twists: Array = field(repr=False)
+    constraints: tuple[Constraint, ...] = field(repr=False)
+    constraint_wrenches: Array = field(repr=False)
+    constraint_rank: int = 0
+    singular_values: Array = field(default_factory=lambda: np.zeros(6), repr=False)
+    tolerance: float = 0.0
+    length_scale: float = 1.0
+    platform: str = ""
+    platform_origin: Array = field(default_factory=lambda: np.zeros(3), repr=False)
+    limbs: tuple[LimbMobility, ...] = field(default=(), repr=False)
+    view: View = View.CONFIGURATION
+    method: Method = Method.LIMB_WISE
+    method_note: str = ""
+
+    def __post_init__(self) -> None:
+        for a in (self.free_twists, self.constraint_wrenches, self.singular_values, self.platform_origin):
+            a.flags.writeable = False
+
+    @property
+    def translations(self) -> int:
+        """Number of free translations."""
+        return sum(m.kind is MotionKind.TRANSLATION for m in self.motions)
+
+    @property
+    def rotations(self) -> int:
+        """Number of free rotations (zero-pitch screws)."""
+        return sum(m.kind is MotionKind.ROTATION for m in self.motions)
+
+    @property
+    def screws(self) -> int:
+        """Number of free screws (finite non-zero pitch)."""
+        return sum(m.kind is MotionKind.SCREW for m in self.motions)
+
+    @property
+    def serially_singular_limbs(self) -> tuple[str, ...]:
+        """Names of the limbs at a serial singularity."""
+        return tuple(limb.name for limb in self.limbs if limb.serially_singular)
+
+    @property
+    def frame(self) -> str:
+        """A sentence naming the frame twists and wrenches are expressed in."""
+        p = ", ".join(f"{x:.6g}" for x in clean(self.platform_origin, self.length_scale))
+        return (
+            f"twists [v; w] and wrenches [f; tau] at the origin of frame {self.platform!r} "
+            f"(world position [{p}] m), world-aligned axes (pin.LOCAL_WORLD_ALIGNED)"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain-JSON dictionary (no NaN), keys as documented in the README."""
+        return {
+            "mechanism": self.mechanism,
+            "configuration": self.configuration,
+            "view": self.view.value,
+            "method": self.method.value,
+            "method_note": self.method_note,
+            "dof": self.dof,
+            "motion_type": self.motion_type,
+            "translations": self.translations,
+            "rotations": self.rotations,
+            "screws": self.screws,
+            "motions": [m.to_dict() for m in self.motions],
+            "free_twists": [vector(c) for c in self.free_twists.T],
+            "constraints": [c.to_dict() for c in self.constraints],
+            "constraint_wrenches": [vector(c) for c in self.constraint_wrenches.T],
+            "constraint_rank": self.constraint_rank,
+            "singular_values": vector(self.singular_values),
+            "tolerance": self.tolerance,
+            "length_scale": self.length_scale,
+            "frame": self.frame,
+            "limbs": [limb.to_dict() for limb in self.limbs],
+        }
+
+    def __str__(self) -> str:
+        """Multi-line report: DoF and type, each motion, the constraints, limbs and numbers."""
+        where = f" at {self.configuration!r}" if self.configuration else ""
+        view = " (paper's view: generic limb wrenches carried here)" if self.view is View.PAPER else ""
+        lines = [f"{self.mechanism}{where}{view}: {self.dof} DoF, {self.motion_type}"]
+        lines.extend(m.line() for m in self.motions)
+        lines.append(f"constraint rank {self.constraint_rank}:")
+        lines.extend(c.line() for c in self.constraints)
+        if self.method_note:
+            lines.append(f"method: {self.method.value} ({self.method_note})")
+        lines.append("limbs:" if self.limbs else "limbs: none used")
+        lines.extend(limb.line() for limb in self.limbs)
+        singular = self.serially_singular_limbs
+        if singular and self.view is View.CONFIGURATION:
+            lines.append(
+                f"note: limb(s) {', '.join(singular)} are at a serial singularity: their joint screws are dependent "
+                "here, so each has more constraint wrenches than at generic configurations. A method that carries "
+                "the generic limb wrenches to this configuration (as the seed paper does) misses them: see --paper-view."
+            )
+        lines.append(
+            f"singular values {numbers(self.singular_values, 3)}, tolerance {self.tolerance:.2e}, "
+            f"L = {self.length_scale:.4g} m"
+        )
+        lines.append(f"frame: {self.frame}")
+        return "\n".join(lines)
+
+
+def mobility_from_wrenches(
+    conf: Configuration,
+    limb_rows: list[tuple[Array, int]],
+    rtol: float,
+    view: View = View.CONFIGURATION,
+    *,
+    method: Method = Method.LIMB_WISE,
+    note: str = "",
+    wrenches: Array | None = None,
+) -> Mobility:
+    """Stack limb wrenches (or take ``wrenches``, (6, d)), decide the constraint rank and classify both spaces.
+
+    Args:
+        limb_rows: per limb, its wrenches (6, m_i) and twist rank.
+    """
+    mech = conf.mechanism
+    length = mech.length_scale
+    if wrenches is None:
+        blocks = [w for w, _ in limb_rows]
+        stacked = np.hstack(blocks) if blocks else np.zeros((6, 0))
+    else:
+        stacked = wrenches
+    free, dec = reciprocal_twists(stacked, length, rtol)
+    constraint_basis = dec.row_space.T / wrench_scaling(length)[:, None]
+    system = classify_twists(free, length, rtol)
+    motions = motions_of(system)
+    cons = constraints_of(classify_wrenches(constraint_basis, length, rtol))
+    sv = np.zeros(6)
+    sv[: min(6, dec.singular_values.size)] = dec.singular_values[:6]
+    ranks = generic_twist_ranks(mech) if limb_rows else ()
+    limbs = tuple(
+        LimbMobility(limb.name, limb.joints, rank, generic, w, limb.closures, limb.loop_joints)
+        for limb, (w, rank), generic in zip(mech.limbs, limb_rows, ranks)
+    )
+    return Mobility(
+        mechanism=mech.name,
+        configuration=conf.name,
+        dof=6 - dec.rank,
+        motion_type=motion_type(system),
+        motions=motions,
+        free_twists=columns([m.twist for m in motions]),
+        constraints=cons,
+        constraint_wrenches=columns([c.wrench for c in cons]),
+        constraint_rank=dec.rank,
+        singular_values=sv,
+        tolerance=dec.tolerance,
+        length_scale=length,
+        platform=mech.platform,
+        platform_origin=conf.platform_origin,
+        limbs=limbs,
+        view=view,
+        method=method,
+        method_note=note,
+    )
+
+
+def limbwise_obstacle(mech: Mechanism) -> str:
+    """Why the limb-wise method cannot be used on ``mech`` ("" when it can)."""
+    if not mech.limbs:
+        return f"{mech.name!r} is described by closures only (no limbs)"
+    coupling = mech.coupling_closures
+    if not coupling:
+        return ""
+    return "; ".join(f"closure {c!r} couples limbs {', '.join(limbs)}" for c, limbs in coupling.items())
+
+
+def limb_wrenches(conf: Configuration, rtol: float) -> list[tuple[Array, int]]:
+    """Per limb: its constraint wrenches (6, 6 - r_i), reciprocal to its joint screws, and its twist rank r_i."""
+    length = conf.mechanism.length_scale
+
+    def compute() -> list[tuple[Array, int]]:
+        rows = []
+        for twists in limb_twists(conf, rtol):
+            w, dec = reciprocal_wrenches(twists, length, rtol)
+            rows.append((w, dec.rank))
+        return rows
+
+    return conf.memo(("limb_wrenches", rtol), compute)
+
+
+def platform_mobility(conf: Configuration, rtol: float) -> Mobility:
+    """Mobility of the platform at a closed configuration: limb-wise, or by the closure Jacobian where it must.
+
+    Raises:
+        ConfigurationError: the mechanism has no platform frame.
+    """
+    mech = conf.mechanism
+    if not mech.has_platform:
+        raise ConfigurationError(
+            f"{mech.name!r} has no platform frame: the whole-mechanism analysis (report.mechanism_mobility, "
+            "or pinmob analyze --frame NAME) gives the motion of any frame"
+        )
+    obstacle = limbwise_obstacle(mech)
+    if not obstacle:
+        return mobility_from_wrenches(conf, limb_wrenches(conf, rtol), rtol)
+    free = frame_mobility(conf, mech.platform, rtol).free_twists
+    wrenches, _ = reciprocal_wrenches(free, mech.length_scale, rtol)
+    note = (
+        f"{obstacle}: the limb-wise method does not apply; the platform's motion is the image of the "
+        "closed chain's motions (closure Jacobian of the whole mechanism)"
+    )
+    return mobility_from_wrenches(
+        conf, [], rtol, View.CONFIGURATION, method=Method.CLOSURE_JACOBIAN, note=note, wrenches=wrenches
+    )

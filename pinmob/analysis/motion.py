@@ -1,0 +1,160 @@
+"""Free motions and constraint wrenches as results: one canonical screw each, and their text lines."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+from typing import Any, overload
+
+import numpy as np
+
+from pinmob.screw.algebra import Array
+from pinmob.screw.bases import axis_label
+from pinmob.screw.classify import MotionKind, ScrewSystem, WrenchKind
+
+#: Words for the motion kinds in text reports.
+KIND_WORDS = {MotionKind.TRANSLATION: "translation", MotionKind.ROTATION: "rotation", MotionKind.SCREW: "screw"}
+
+
+class View(StrEnum):
+    """Where a platform mobility's constraint wrenches come from."""
+
+    CONFIGURATION = "configuration"  # the limbs' wrenches at the configuration itself
+    PAPER = "paper"  # the limbs' generic wrenches carried to the configuration (the seed paper's procedure)
+
+
+class Method(StrEnum):
+    """How the platform's constraint space was obtained."""
+
+    LIMB_WISE = "limb-wise"  # stacked limb wrenches (the seed paper's method)
+    CLOSURE_JACOBIAN = "closure Jacobian"  # image of the whole closed chain's motions
+
+
+def vector(a: Array | None) -> list[float] | None:
+    """A plain list of floats for JSON (None stays None)."""
+    return None if a is None else [float(x) for x in a]
+
+
+def numbers(a: Array, digits: int = 4) -> str:
+    """``[ 1,  0.5, ...]`` with ``digits`` significant digits (signed zeros dropped)."""
+    return "[" + ", ".join(f"{x: .{digits}g}" for x in np.asarray(a) + 0.0) + "]"
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One free motion of the platform (SI units, Pinocchio order).
+
+    Attributes:
+        kind: T (translation), R (rotation) or H (screw).
+        direction: (3,) unit direction (of translation, or of the axis); arrays are read-only.
+        point: (3,) axis point closest to the platform origin [m], relative to it (None for T).
+        pitch: [m/rad] (None for T, 0 for R).
+        twist: (6,) unit twist ``[v; w]`` at the platform origin.
+        label: short name such as ``T1 x`` or ``R1 z``.
+    """
+
+    kind: MotionKind
+    direction: Array
+    point: Array | None
+    pitch: float | None
+    twist: Array
+    label: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{kind, label, direction, point, pitch}`` (plain JSON)."""
+        return {
+            "kind": self.kind.value,
+            "label": self.label,
+            "direction": vector(self.direction),
+            "point": vector(self.point),
+            "pitch": self.pitch,
+        }
+
+    def line(self) -> str:
+        """``  T1 x     translation direction [...]`` (+ ``through [...] m``, ``pitch ... m/rad``)."""
+        text = f"  {self.label:<8} {KIND_WORDS[self.kind]:<11} direction {numbers(self.direction)}"
+        if self.point is not None:
+            text += f" through {numbers(self.point)} m"
+        if self.kind is MotionKind.SCREW:
+            text += f", pitch {self.pitch:.4g} m/rad"
+        return text
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """One canonical constraint wrench: a couple, a force (pitch 0) or a wrench (SI units, Pinocchio order).
+
+    Attributes:
+        kind: couple, force or wrench.
+        direction: (3,) unit direction (of the couple's moment, or of the force).
+        point: (3,) point of the force's line closest to the platform origin [m] (None for a couple).
+        pitch: [m/rad] (None for a couple, 0 for a force).
+        wrench: (6,) unit wrench ``[f; tau]`` at the platform origin.
+    """
+
+    kind: WrenchKind
+    direction: Array
+    point: Array | None
+    pitch: float | None
+    wrench: Array
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{kind, direction, point, pitch, wrench}`` (plain JSON)."""
+        return {
+            "kind": self.kind.value,
+            "direction": vector(self.direction),
+            "point": vector(self.point),
+            "pitch": self.pitch,
+            "wrench": vector(self.wrench),
+        }
+
+    def line(self) -> str:
+        """``  couple  direction [...]`` (+ ``through [...] m``, ``pitch ... m/rad``)."""
+        text = f"  {self.kind.value:<7} direction {numbers(self.direction)}"
+        if self.point is not None:
+            text += f" through {numbers(self.point)} m"
+        if self.kind is WrenchKind.WRENCH:
+            text += f", pitch {self.pitch:.4g} m/rad"
+        return text
+
+
+@overload
+def frozen(a: Array) -> Array: ...
+
+
+@overload
+def frozen(a: None) -> None: ...
+
+
+def frozen(a: Array | None) -> Array | None:
+    """``a`` made read-only (results are frozen for real); None stays None."""
+    if a is not None:
+        a.flags.writeable = False
+    return a
+
+
+def motions_of(system: ScrewSystem) -> tuple[Motion, ...]:
+    """The motions of a classified twist system, labelled ``T1 x``, ``R1 z``, ``H1 [..]`` in order."""
+    out = []
+    counters = dict.fromkeys(MotionKind, 0)
+    for s in system.all:
+        kind = MotionKind(s.kind)
+        counters[kind] += 1
+        label = f"{kind.value}{counters[kind]} {axis_label(s.direction)}"
+        out.append(Motion(kind, frozen(s.direction), frozen(s.point), s.pitch, frozen(s.vector), label))
+    return tuple(out)
+
+
+def constraints_of(system: ScrewSystem) -> tuple[Constraint, ...]:
+    """The constraints of a classified wrench system."""
+    return tuple(
+        Constraint(WrenchKind(s.kind), frozen(s.direction), frozen(s.point), s.pitch, frozen(s.vector))
+        for s in system.all
+    )
+
+
+def columns(vectors: list[Array] | tuple[Array, ...], rows: int = 6) -> Array:
+    """The vectors as the columns of a (rows, k) array (read-only; (rows, 0) when there are none)."""
+    out = np.column_stack(vectors) if len(vectors) else np.zeros((rows, 0))
+    out.flags.writeable = False
+    return out

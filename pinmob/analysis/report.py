@@ -1,0 +1,371 @@
+"""The whole answer at one closed configuration: :class:`Report`, from the one entry point :func:`analyze`.
+
+``Report.to_dict()`` is the document ``pinmob analyze --json`` prints and
+``str(report)`` the text ``pinmob analyze`` prints. The platform mobility is
+computed at once; the other parts when first used (``to_dict`` and ``str`` use
+them all):
+
+* ``mechanism_mobility``: the whole closed chain (closure Jacobian, redundancy,
+  idle motions, actuation, frame motions);
+* ``singularity``: the singularity classes and distances (the first report of a
+  mechanism also estimates its generic constraint rank, from random closed
+  configurations, unless the file declares it);
+* ``paper``: the seed paper's view, only when asked (``paper=True``);
+* ``actuator_sets``: every valid set of K actuated joints, only when asked
+  (``actuator_search=K``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from functools import cached_property
+from typing import Any
+
+from numpy.typing import ArrayLike
+
+from pinmob.analysis.actuation import actuator_sets
+from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
+from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.mobility import Mobility, platform_mobility
+from pinmob.analysis.paper import paper_mobility
+from pinmob.analysis.singularity import Singularity
+from pinmob.analysis.singularity_analysis import singularity
+from pinmob.assembly.relaxation import find_closed_relaxed, unclosable
+from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol, worst_residual
+from pinmob.assembly.seeds import find_closed
+from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.rank import RTOL, check_rtol
+
+
+@dataclass(frozen=True)
+class ExpectationCheck:
+    """The mechanism file's expected mobility at the configuration, and whether the analysis agrees."""
+
+    dof: int
+    motion_type: str
+    source: str
+    agrees: bool
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``expected`` entry of the JSON document."""
+        return {"dof": self.dof, "motion_type": self.motion_type, "source": self.source, "agrees": self.agrees}
+
+    def __str__(self) -> str:
+        src = f" ({self.source})" if self.source else ""
+        verdict = "agrees with" if self.agrees else "DIFFERS from"
+        return f"expected {self.dof} DoF {self.motion_type}{src}: analysis {verdict} it"
+
+
+@dataclass(frozen=True)
+class Options:
+    """What the analysis was asked for besides the configuration (see :func:`analyze`)."""
+
+    frames: tuple[str, ...] = ()
+    outputs: tuple[str, ...] | None = None
+    actuated: tuple[str, ...] | None = None
+    paper: bool = False
+    approach: ArrayLike | Mapping[str, float] | None = None
+    actuator_search: int | None = None
+    generic_rank: int | None = None
+    relaxed: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True, eq=False)
+class Report:
+    """Everything pinmob answers at one closed configuration (what ``pinmob analyze`` prints).
+
+    Attributes:
+        state: the :class:`~pinmob.analysis.configuration.Configuration` analysed.
+        rtol: relative tolerance of every rank decision.
+        mobility: the platform's mobility (None when the mechanism has no platform frame).
+        options: what was asked for (:class:`Options`).
+
+    The platform mobility's fields (``dof``, ``motion_type``, ``motions``,
+    ``free_twists``, ``constraints``, ``constraint_rank``, ``limbs``, ...) are
+    also readable on the report itself.
+    """
+
+    state: Configuration = field(repr=False)
+    rtol: float
+    mobility: Mobility | None
+    options: Options = field(default_factory=Options, repr=False)
+
+    # ------------------------------------------------------------------ parts
+
+    @property
+    def mechanism(self) -> str:
+        """The mechanism's name."""
+        return self.state.mechanism.name
+
+    @property
+    def configuration(self) -> str | None:
+        """The configuration's name (None when unnamed)."""
+        return self.state.name
+
+    @property
+    def has_limbs(self) -> bool:
+        """The mechanism has limbs (else it is described by closures only)."""
+        return bool(self.state.mechanism.limbs)
+
+    @cached_property
+    def mechanism_mobility(self) -> MechanismMobility:
+        """The whole closed chain's mobility (computed when first used)."""
+        o = self.options
+        return mechanism_mobility(self.state, self.rtol, actuated=o.actuated, frames=o.frames, outputs=o.outputs)
+
+    @cached_property
+    def singularity(self) -> Singularity | None:
+        """Singularity classes and distances; None where the limb-wise classes do not apply (computed when first used)."""
+        if self.mobility is None or self.mobility.method_note or not self.has_limbs:
+            return None
+        return singularity(self.state, self.rtol, self.options.generic_rank)
+
+    @cached_property
+    def paper(self) -> Mobility | None:
+        """The seed paper's view (only when asked for with ``paper=True``)."""
+        if not self.options.paper:
+            return None
+        return paper_mobility(self.state, self.rtol, self.options.approach)  # type: ignore[arg-type]
+
+    @cached_property
+    def actuator_sets(self) -> tuple[tuple[str, ...], ...] | None:
+        """Every valid set of K actuated joints (only when asked for with ``actuator_search=K``)."""
+        k = self.options.actuator_search
+        if k is None:
+            return None
+        outs = default_end_frames(self.state.mechanism)
+        return tuple(actuator_sets(self.state, k, outs, rtol=self.rtol))
+
+    @property
+    def platform_frame(self) -> FrameMobility | None:
+        """The platform frame's motion on the whole closed chain (None without a platform)."""
+        mech = self.state.mechanism
+        if not mech.has_platform:
+            return None
+        return next((f for f in self.mechanism_mobility.frames if f.frame == mech.platform), None)
+
+    @property
+    def expectation(self) -> ExpectationCheck | None:
+        """The file's expected mobility at this configuration and whether the analysis agrees (None if none)."""
+        mech, name = self.state.mechanism, self.state.name
+        exp = mech.expected.get(name) if name is not None else None
+        if exp is None:
+            return None
+        found: Mobility | FrameMobility | None = self.mobility if self.has_limbs else self.platform_frame
+        agrees = found is not None and (found.dof, found.motion_type) == (exp.dof, exp.motion_type)
+        return ExpectationCheck(exp.dof, exp.motion_type, exp.source, agrees)
+
+    # ------------------------------------------------------------------ the platform mobility's fields
+
+    def _platform(self) -> Mobility:
+        if self.mobility is None:
+            raise ConfigurationError(
+                f"{self.mechanism!r} has no platform frame: see report.mechanism_mobility for the whole closed chain"
+            )
+        return self.mobility
+
+    dof = property(lambda self: self._platform().dof, doc="Platform DoF.")
+    motion_type = property(lambda self: self._platform().motion_type, doc="Platform motion type, e.g. ``3T``.")
+    motions = property(lambda self: self._platform().motions, doc="The platform's free motions.")
+    free_twists = property(lambda self: self._platform().free_twists, doc="(6, dof) free twists.")
+    constraints = property(lambda self: self._platform().constraints, doc="Canonical constraint wrenches.")
+    constraint_wrenches = property(lambda self: self._platform().constraint_wrenches, doc="(6, d) wrenches.")
+    constraint_rank = property(lambda self: self._platform().constraint_rank, doc="Constraint rank d.")
+    singular_values = property(lambda self: self._platform().singular_values, doc="(6,) singular values.")
+    tolerance = property(lambda self: self._platform().tolerance, doc="Absolute rank tolerance.")
+    length_scale = property(lambda self: self.state.mechanism.length_scale, doc="L [m].")
+    limbs = property(lambda self: self._platform().limbs, doc="Per-limb details.")
+    serially_singular_limbs = property(lambda self: self._platform().serially_singular_limbs, doc="Singular limbs.")
+    method = property(lambda self: self._platform().method, doc="How the constraint space was obtained.")
+    method_note = property(lambda self: self._platform().method_note, doc="Why that method.")
+    view = property(lambda self: self._platform().view, doc="The view of the platform mobility.")
+    translations = property(lambda self: self._platform().translations, doc="Free translations.")
+    rotations = property(lambda self: self._platform().rotations, doc="Free rotations.")
+    screws = property(lambda self: self._platform().screws, doc="Free screws.")
+    platform_origin = property(lambda self: self._platform().platform_origin, doc="(3,) platform origin [m].")
+    frame = property(lambda self: self._platform().frame, doc="The expression frame, in words.")
+
+    # ------------------------------------------------------------------ outputs
+
+    def to_dict(self) -> dict[str, Any]:
+        """The document ``pinmob analyze --json`` prints (plain JSON, never NaN)."""
+        sets = self.actuator_sets
+        if not self.has_limbs:
+            out = self.mechanism_mobility.to_dict()
+            out["closed_configuration"] = {
+                "method": self.state.source,
+                "residual": self.state.residual,
+                "relaxed_closures": list(self.options.relaxed),
+                "q": [float(x) for x in self.state.q],
+            }
+            platform = self.platform_frame
+            if platform is not None:
+                out["platform"] = platform.to_dict()
+        else:
+            mob = self._platform()
+            out = mob.to_dict()
+            mm = self.mechanism_mobility.to_dict()
+            out.update({k: mm[k] for k in MECHANISM_KEYS})
+            exp = self.expectation
+            if exp is not None:
+                out["expected"] = exp.to_dict()
+            if self.paper is not None:
+                out["paper_view"] = self.paper.to_dict()
+            sing = self.singularity
+            out["singularity"] = sing.to_dict() if sing is not None else None
+        if sets is not None:
+            out["valid_actuator_sets"] = [list(x) for x in sets]
+        return out
+
+    def __str__(self) -> str:
+        """The text ``pinmob analyze`` prints."""
+        lines: list[str] = []
+        if not self.has_limbs:
+            lines.append(f"closed configuration: {self.state.source} (largest residual {self.state.residual:.1e})")
+            if self.options.relaxed:
+                lines.append(
+                    f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(self.options.relaxed)}"
+                )
+            lines.append(str(self.mechanism_mobility))
+            lines.extend(self._actuator_lines())
+            return "\n".join(lines)
+        mob = self._platform()
+        sing = self.singularity
+        lines.append(str(mob))
+        lines.append(str(sing) if sing is not None else "singularity: not analysed (limb-wise classes)")
+        if self.expectation is not None:
+            lines.append(str(self.expectation))
+        lines.append("")
+        lines.append(str(self.mechanism_mobility))
+        lines.extend(self._actuator_lines())
+        paper = self.paper
+        if paper is not None:
+            lines += ["", str(paper)]
+            if (paper.dof, paper.motion_type) != (mob.dof, mob.motion_type):
+                lines.append(
+                    f"difference: the paper's view gives {paper.motion_type} ({paper.dof} DoF), the wrenches at the "
+                    f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
+                    f"{', '.join(mob.serially_singular_limbs) or 'none'}"
+                )
+        return "\n".join(lines)
+
+    def _actuator_lines(self) -> list[str]:
+        sets = self.actuator_sets
+        if sets is None:
+            return []
+        lines = [f"valid sets of {self.options.actuator_search} actuated joints: {len(sets)}"]
+        lines += ["  " + ", ".join(x) for x in sets[:50]]
+        if len(sets) > 50:
+            lines.append(f"  ... ({len(sets) - 50} more)")
+        return lines
+
+
+#: keys of the whole-mechanism document added to the JSON of a limb-and-platform analysis
+MECHANISM_KEYS = (
+    "nv",
+    "closure_rows",
+    "closure_rank",
+    "mechanism_dof",
+    "idle_dof",
+    "idle_joints",
+    "redundant_constraints",
+    "redundant_by_closure",
+    "redundant_by_closure_rule",
+    "grubler",
+    "actuation",
+    "closures",
+    "end_frames",
+    "frames",
+)
+
+
+def _found(mech: Mechanism, restarts: int, relax: bool, closure_tol: float) -> tuple[Configuration, tuple[str, ...]]:
+    """A closed configuration of a mechanism that names none: projection from neutral, then random restarts."""
+    if relax:
+        mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts)
+    else:
+        try:
+            found, relaxed = find_closed(mech, restarts=restarts), ()
+        except ClosureError as exc:
+            bad = unclosable(mech)
+            hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
+            raise ClosureError(
+                f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random "
+                f"restarts. {hint}Rerun with --relax (Python: relax=True) to turn the over-constraining closures into "
+                f"3d (ball) closures. Largest residual of the best attempt: "
+                f"{worst_residual(exc.residuals, mech.length_scale):.2e} (m / L or rad)",
+                exc.residuals,
+            ) from None
+    return Configuration(mech, found.q, closure_tol=closure_tol, source=found.method), relaxed
+
+
+def analyze(
+    mech: Mechanism | Configuration,
+    q: ArrayLike | str | Configuration | None = None,
+    *,
+    configuration: str | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+    frames: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
+    actuated: Sequence[str] | None = None,
+    paper: bool = False,
+    approach: ArrayLike | Mapping[str, float] | None = None,
+    actuator_search: int | None = None,
+    generic_rank: int | None = None,
+    restarts: int = 20,
+    relax: bool = False,
+) -> Report:
+    """Everything pinmob answers at a closed configuration, as one :class:`Report`.
+
+    Args:
+        mech: the mechanism, or a :class:`~pinmob.analysis.configuration.Configuration`.
+        q: configuration (nq,), the name of one of ``mech.configurations``, or a
+            Configuration. None: the mechanism's first named configuration, else a
+            closed configuration found by projection from the neutral one and
+            ``restarts`` random restarts (``relax=True`` relaxes closures that
+            cannot close as declared to ``3d``, and the report says which).
+        configuration: name reported with the results (set automatically when q is a name).
+        rtol: relative tolerance of every rank decision (singular values below
+            ``rtol * sigma_max`` count as zero); see :func:`~pinmob.screw.rank.check_rtol`.
+        closure_tol: closure tolerance (position / L and rotation [rad]).
+        frames: frames whose motion on the closed chain is also reported.
+        outputs: frames that idle motions must leave at rest (default: the platform, else the free leaf bodies).
+        actuated: actuated joints for the actuation verdict (default: the declared ones).
+        paper: also compute the seed paper's view (:func:`~pinmob.analysis.paper.paper_mobility`).
+        approach: the paper's view's approach direction (default: declared, else from ``generic``).
+        actuator_search: also list every valid set of this many actuated joints (exhaustive).
+        generic_rank: the generic constraint rank (default: declared, else estimated).
+        restarts: random restarts when q is None and the mechanism names no configuration.
+        relax: with q None and no named configuration, relax unclosable closures to ``3d``.
+
+    Raises:
+        ConfigurationError: a bad argument (shape, NaN, unknown name, rtol or closure_tol out of range).
+        ClosureError: q does not close, or no closed configuration could be found.
+    """
+    rtol = check_rtol(rtol)
+    closure_tol = check_closure_tol(closure_tol)
+    if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
+        raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts!r}")
+    relaxed: tuple[str, ...] = ()
+    if q is None and isinstance(mech, Mechanism):
+        if mech.configurations:
+            q = next(iter(mech.configurations))
+        else:
+            conf, relaxed = _found(mech, restarts, relax, closure_tol)
+            q, mech = conf, conf.mechanism
+    conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    options = Options(
+        frames=tuple(frames or ()),
+        outputs=None if outputs is None else tuple(outputs),
+        actuated=None if actuated is None else tuple(actuated),
+        paper=paper,
+        approach=approach,
+        actuator_search=actuator_search,
+        generic_rank=generic_rank,
+        relaxed=relaxed,
+    )
+    mobility = platform_mobility(conf, rtol) if conf.mechanism.has_platform else None
+    return Report(conf, rtol, mobility, options)

@@ -1,0 +1,122 @@
+"""One part of the answer from a mechanism and a configuration: shortcuts over :class:`Configuration`.
+
+Each builds the :class:`~pinmob.analysis.configuration.Configuration` (with the
+same argument checks as :func:`pinmob.analyze`) and returns one part of the
+report. :func:`pinmob.analyze` gives them all at once, sharing one
+configuration; these are for code that needs one part, with its own errors
+(e.g. :func:`analyze_singularity` refuses a mechanism without limbs, where the
+report says "not analysed").
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+from numpy.typing import ArrayLike
+
+from pinmob.analysis.actuation import actuator_sets as _actuator_sets
+from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
+from pinmob.analysis.closed_chain import frame_mobility as _frame_mobility
+from pinmob.analysis.closure_jacobian import closure_jacobian_twists as _closure_jacobian_twists
+from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.paper import paper_mobility
+from pinmob.analysis.singularity import Singularity
+from pinmob.analysis.singularity_analysis import singularity
+from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array
+from pinmob.screw.rank import RTOL, check_rtol
+
+Where = Mechanism | Configuration
+At = ArrayLike | str | Configuration | None
+
+
+def analyze_mechanism(
+    mech: Where,
+    q: At = None,
+    *,
+    actuated: Sequence[str] | None = None,
+    frames: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
+    configuration: str | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+) -> MechanismMobility:
+    """The whole closed chain's mobility (``pinmob.analyze(...).mechanism_mobility``).
+
+    See :func:`pinmob.analysis.closed_chain.mechanism_mobility`.
+    """
+    conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    return mechanism_mobility(conf, check_rtol(rtol), actuated=actuated, frames=frames, outputs=outputs)
+
+
+def analyze_singularity(
+    mech: Where,
+    q: At = None,
+    *,
+    configuration: str | None = None,
+    generic_rank: int | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+) -> Singularity:
+    """Singularity classes and distances (``pinmob.analyze(...).singularity``).
+
+    Raises:
+        ConfigurationError: the mechanism has no limbs or no platform frame, or a closure couples limbs.
+    """
+    conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    return singularity(conf, check_rtol(rtol), generic_rank)
+
+
+def frame_mobility(
+    mech: Where, q: At, frame: str, *, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
+) -> FrameMobility:
+    """Free motions of any ``frame`` on the closed chain (see :func:`pinmob.analysis.closed_chain.frame_mobility`)."""
+    return _frame_mobility(as_configuration(mech, q, closure_tol=closure_tol), frame, check_rtol(rtol))
+
+
+def actuator_sets(
+    mech: Where,
+    q: At,
+    size: int,
+    *,
+    candidates: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+) -> list[tuple[str, ...]]:
+    """Every valid set of ``size`` actuated joints (``pinmob.analyze(..., actuator_search=size).actuator_sets``).
+
+    See :func:`pinmob.analysis.actuation.actuator_sets`.
+    """
+    conf = as_configuration(mech, q, closure_tol=closure_tol)
+    outs = tuple(default_end_frames(conf.mechanism) if outputs is None else outputs)
+    return _actuator_sets(conf, size, outs, candidates=candidates, rtol=check_rtol(rtol))
+
+
+def closure_jacobian_twists(
+    mech: Where, q: At = None, rtol: float = RTOL, *, closure_tol: float = CLOSURE_TOL
+) -> Array:
+    """Free platform twists by the global loop-closure Jacobian, a second, independent method; (6, m).
+
+    See :func:`pinmob.analysis.closure_jacobian.closure_jacobian_twists`.
+    """
+    return _closure_jacobian_twists(as_configuration(mech, q, closure_tol=closure_tol), check_rtol(rtol))
+
+
+def paper_view(
+    mech: Where,
+    q: At = None,
+    approach: ArrayLike | Mapping[str, float] | None = None,
+    *,
+    configuration: str | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+) -> Mobility:
+    """The seed paper's view: each limb's generic wrenches carried to the configuration (``analyze(..., paper=True).paper``).
+
+    See :func:`pinmob.analysis.paper.paper_mobility`.
+    """
+    conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    return paper_mobility(conf, check_rtol(rtol), approach)  # type: ignore[arg-type]

@@ -1,0 +1,321 @@
+"""Assembly: closed configurations from any configuration, from actuated joint values, from a platform pose.
+
+Each is one :func:`~pinmob.assembly.solver.solve` on stacked dimensionless residuals
+(lengths divided by L), polished to near machine precision:
+
+- :func:`project`: the nearest closed configuration (every closure residual);
+- :func:`solve_actuated`: forward kinematics of the closed chain: the given
+  joints are held at their values exactly and the others solve the closures;
+  from a seed that does not converge, a continuation (homotopy) moves the
+  given joints from their values at the seed's projection to the targets;
+- :func:`assemble_pose`: inverse kinematics: the platform frame and every limb
+  tip against the target pose, and the other closures.
+
+Failure is a :class:`ClosureError` carrying the residual of every limb,
+closure and target; a joint that ends outside its position limits is a
+warning (and listed in :attr:`Assembly.outside_limits`).
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.assembly.residual import (
+    CLOSURE_TOL,
+    Residuals,
+    compute_kinematics,
+    format_residuals,
+    mechanism_residuals,
+    pose_error,
+    stacked_error,
+    worst_residual,
+)
+from pinmob.assembly.solver import ResidualFn, SolverResult, solve
+from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, choices
+from pinmob.model.joints import linear_velocity_mask, outside_limits
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array, twist_scaling
+
+#: Continuation: first step (fraction of the way) and the smallest before giving up.
+HOMOTOPY_STEP, HOMOTOPY_MIN_STEP = 0.25, 1.0 / 64
+#: Corrector iterations per continuation step.
+HOMOTOPY_ITER = 30
+
+
+@dataclass(frozen=True)
+class Assembly:
+    """A closed configuration found by the solver.
+
+    Attributes:
+        q: (nq,) the configuration.
+        residuals: per limb / closure (and, from actuated values, ``joint <name>``: the held
+            joint's miss), (position [m], rotation [rad]).
+        residual: largest dimensionless residual (position / L, rotation).
+        iterations: solver iterations.
+        method: how it was found, e.g. ``neutral``, ``given``, ``random restart 3``.
+        outside_limits: joints that ended outside their position limits (``name [lower, upper]``).
+    """
+
+    q: Array
+    residuals: Residuals
+    residual: float
+    iterations: int
+    method: str
+    outside_limits: tuple[str, ...] = ()
+
+    def to_dict(self) -> dict[str, object]:
+        return {
+            "method": self.method,
+            "residual": self.residual,
+            "iterations": self.iterations,
+            "q": [float(x) for x in self.q],
+            "outside_limits": list(self.outside_limits),
+        }
+
+
+def joint_velocity_indices(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Array:
+    """Velocity indices of one-degree joints by name; a :class:`FrameError` for unknown or multi-degree joints."""
+    model = mech.model
+    out = []
+    for name in names:
+        if not model.existJointName(name) or name == "universe":
+            raise FrameError(f"unknown joint {name!r} in {mech.name!r}; valid: {choices(list(model.names)[1:])}")
+        joint = model.joints[model.getJointId(name)]
+        if joint.nv != 1:
+            raise ConfigurationError(
+                f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees of freedom; only one-degree joints can be actuated here"
+            )
+        out.append(joint.idx_v)
+    return np.array(out, int)
+
+
+def warn_outside_limits(mech: Mechanism, q: Array, what: str) -> tuple[str, ...]:
+    """Warn (and return them, :func:`outside_limits`) when joints of ``q`` are outside their position limits.
+
+    The message names the joints and their limits, not the values, so that a
+    scan or an animation leaving the limits warns once, not at every sample.
+    """
+    out = outside_limits(mech.model, q)
+    if out:
+        warnings.warn(f"{what} of {mech.name!r}: joints outside their position limits: {', '.join(out)}", stacklevel=3)
+    return out
+
+
+def _finish(
+    mech: Mechanism, result: SolverResult, method: str, tol: float, what: str, extra: Residuals | None = None
+) -> Assembly:
+    """The :class:`Assembly` at ``result.q``, or a :class:`ClosureError` when a residual exceeds ``tol``."""
+    data = mech.model.createData()
+    compute_kinematics(mech.model, data, result.q)
+    res = mechanism_residuals(mech, data) | (extra or {})
+    worst = worst_residual(res, mech.length_scale)
+    if worst > tol:
+        raise ClosureError(
+            f"{what} of {mech.name!r} did not converge: after {result.iterations} iterations, residuals "
+            f"{format_residuals(res)} (tolerance {tol:g} x L = {tol * mech.length_scale:.2e} m, {tol:g} rad)",
+            res,
+        )
+    limits = warn_outside_limits(mech, result.q, what)
+    return Assembly(result.q, res, worst, result.iterations, method, limits)
+
+
+def _solver_tol(tol: float) -> float:
+    return min(1e-12, tol * 1e-3)
+
+
+def _closure_residual(mech: Mechanism) -> ResidualFn:
+    """``q -> (e, J)``: every closure residual of ``mech``, stacked dimensionless (:func:`stacked_error`)."""
+    model, data, closures = mech.model, mech.model.createData(), mech.all_closures
+
+    def residual(q: Array) -> tuple[Array, Array]:
+        compute_kinematics(model, data, q)
+        return stacked_error(mech, model, data, closures)
+
+    return residual
+
+
+def project(
+    mech: Mechanism, q0: Array | None = None, tol: float = CLOSURE_TOL, max_iter: int = 200, method: str = "projection"
+) -> Assembly:
+    """Closed configuration near ``q0`` (default neutral): damped least squares on every closure residual.
+
+    Each step is the minimum-norm correction (prismatic rates in units of L),
+    so the solver moves as little as it can from q0.
+
+    Raises:
+        ClosureError: the residual did not reach ``tol``; it carries the residuals.
+    """
+    start = mech.neutral() if q0 is None else mech.check_q(q0)
+    result = solve(
+        mech.model, _closure_residual(mech), start, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale
+    )
+    return _finish(mech, result, method, tol, "projection onto the closed set")
+
+
+def _held_coordinates(mech: Mechanism, idx: Array) -> Array:
+    """Configuration indices of the one-degree joints with velocity indices ``idx`` (two for a continuous joint)."""
+    model = mech.model
+    out: list[int] = []
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.nv == 1 and joint.idx_v in idx:
+            out += range(joint.idx_q, joint.idx_q + joint.nq)
+    return np.array(out, int)
+
+
+def _continuation(
+    mech: Mechanism, start: Array, target: Array, idx: Array, tol: float, max_iter: int
+) -> SolverResult | None:
+    """Homotopy: project ``start``, then move the held joints (velocity indices ``idx``) to ``target`` in steps.
+
+    A step advances the held joints by a fraction h of the way (revolutes the
+    short way round); the free joints are predicted along the tangent
+    ``dv_free = -J_free^+ J_held dv_held`` and corrected by :func:`solve` with
+    the held joints fixed. A failed step halves h, a good one doubles it (at
+    most 1/2). None when the projection fails or h falls below
+    ``HOMOTOPY_MIN_STEP``.
+    """
+    model, residual = mech.model, _closure_residual(mech)
+    free = np.ones(model.nv, bool)
+    free[idx] = False
+    held = _held_coordinates(mech, idx)
+    closed = solve(model, residual, start, tol=tol, max_iter=max_iter, length=mech.length_scale, polish=False)
+    if not closed.converged:
+        return None
+    way = pin.difference(model, closed.q, target)[idx]
+    way = np.where(linear_velocity_mask(model)[idx], way, np.angle(np.exp(1j * way)))
+    q, t, h, total, last = closed.q, 0.0, HOMOTOPY_STEP, closed.iterations, closed
+    while t < 1.0:
+        step = min(h, 1.0 - t)
+        jac = residual(q)[1]
+        dv = np.zeros(model.nv)
+        dv[idx] = step * way
+        dv[free] = -np.linalg.lstsq(jac[:, free], jac[:, idx] @ dv[idx], rcond=None)[0]
+        guess = pin.integrate(model, q, dv)
+        final = t + step >= 1.0
+        if final:
+            guess[held] = target[held]
+        iters = max_iter if final else HOMOTOPY_ITER
+        last = solve(model, residual, guess, tol=tol, max_iter=iters, length=mech.length_scale, free=free, polish=final)
+        total += last.iterations
+        if last.converged:
+            q, t, h = last.q, t + step, min(2 * h, 0.5)
+        else:
+            h /= 2
+            if h < HOMOTOPY_MIN_STEP:
+                return None
+    return SolverResult(q, last.residual, total, True, last.polish)
+
+
+def solve_actuated(
+    mech: Mechanism,
+    values: Mapping[str, float],
+    seed: Array | None = None,
+    tol: float = CLOSURE_TOL,
+    max_iter: int = 200,
+) -> Assembly:
+    """Forward kinematics of the closed chain: passive joints from actuated joint values.
+
+    The given one-degree joints are held exactly at ``values`` [m or rad]; the
+    other joints solve every closure residual from ``seed`` (which selects the
+    assembly mode). When that does not converge, a continuation from the
+    seed's projection onto the closed set moves the given joints to their
+    values (:func:`_continuation`).
+
+    Raises:
+        FrameError, ConfigurationError: an unknown or multi-degree joint, or a
+            value that is not a finite number.
+        ClosureError: no closed configuration with these values was reached
+            from the seed; its residuals hold every closure residual and, as
+            ``joint <name>``, each given joint's miss (zero: they are held).
+    """
+    model = mech.model
+    idx = joint_velocity_indices(mech, list(values))
+    start = mech.neutral() if seed is None else mech.check_q(seed)
+    target = mech.q_from_joints(values, base=start)
+    free = np.ones(model.nv, bool)
+    free[idx] = False
+    stol = _solver_tol(tol)
+    residual = _closure_residual(mech)
+    result = solve(model, residual, target, tol=stol, max_iter=max_iter, length=mech.length_scale, free=free)
+    if not result.converged and idx.size:
+        homotopy = _continuation(mech, start, target, idx, stol, max_iter)
+        if homotopy is not None:
+            result = homotopy
+    held = _held_coordinates(mech, idx)
+    q = result.q.copy()
+    q[held] = target[held]  # exactly the given values (the solver may have wrapped an angle by 2 pi)
+    result = SolverResult(q, result.residual, result.iterations, result.converged, result.polish)
+    miss = np.abs(pin.difference(model, q, target)[idx])
+    lin = linear_velocity_mask(model)[idx]
+    misses = {f"joint {n}": (float(d), 0.0) if t else (0.0, float(d)) for n, d, t in zip(values, miss, lin)}
+    return _finish(mech, result, "actuated values", tol, "forward kinematics (actuated joint values)", misses)
+
+
+def assemble_pose(
+    mech: Mechanism, pose: pin.SE3, seed: Array | None = None, tol: float = CLOSURE_TOL, max_iter: int = 200
+) -> Array:
+    """Closed configuration whose platform frame has ``pose`` (inverse kinematics of every limb).
+
+    Residuals (position parts divided by L): the platform frame and every limb
+    tip against ``pose`` (``log6(pose^-1 oM_f)``: each limb is solved for the
+    target on its own, so a symmetric seed of a symmetric mechanism gives a
+    symmetric solution), then the closures that are not limb tips.
+
+    Raises:
+        ConfigurationError: ``mech`` has no platform, or ``pose`` is not finite.
+        ClosureError: the solver did not reach ``tol``; the message and the
+            residuals give every limb, closure and the platform pose (``pose``).
+    """
+    if not mech.has_platform:
+        raise ConfigurationError(f"{mech.name!r} has no platform frame: a platform pose cannot be assembled")
+    if not isinstance(pose, pin.SE3) or not np.isfinite(pose.homogeneous).all():
+        raise ConfigurationError(f"the platform pose must be a finite pin.SE3, got {pose!r}")
+    model = mech.model
+    data = model.createData()
+    scale = twist_scaling(mech.length_scale)
+    pid = mech.platform_id
+    body = model.frames[pid].parentJoint
+    frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
+
+    def residual(q: Array) -> tuple[Array, Array]:
+        compute_kinematics(model, data, q)
+        blocks = [pose_error(model, data, f, pose) for f in frames]
+        e1, j1 = stacked_error(mech, model, data, mech.closures)
+        return (
+            np.concatenate([scale * e for e, _ in blocks] + [e1]),
+            np.vstack([scale[:, None] * j for _, j in blocks] + [j1]),
+        )
+
+    q0 = mech.neutral() if seed is None else mech.check_q(seed)
+    result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale)
+    compute_kinematics(model, data, result.q)
+    e_pose = pin.log6(pose.actInv(data.oMf[pid])).vector
+    res_pose = (float(np.linalg.norm(e_pose[:3])), float(np.linalg.norm(e_pose[3:])))
+    res = mechanism_residuals(mech, data) | {"pose": res_pose}
+    if worst_residual(res, mech.length_scale) > tol:
+        raise ClosureError(
+            f"could not assemble {mech.name!r} at platform pose xyz={np.round(pose.translation, 6).tolist()}: "
+            f"after {result.iterations} iterations, platform pose residual {res_pose[0]:.2e} m, {res_pose[1]:.2e} rad; "
+            f"closures {format_residuals(mechanism_residuals(mech, data))}. The pose may be out of reach; try another seed.",
+            res,
+        )
+    warn_outside_limits(mech, result.q, "assembly at a platform pose")
+    return result.q
+
+
+def assemble_joints(
+    mech: Mechanism, values: Mapping[str, float], seed: Array, tol: float = CLOSURE_TOL, max_iter: int = 200
+) -> Array:
+    """Closed configuration with the named one-degree joints held at ``values``: :func:`solve_actuated`'s ``q``.
+
+    Raises:
+        FrameError, ConfigurationError: a joint is unknown or has more than one degree of freedom.
+        ClosureError: the loops did not close with these values from ``seed``.
+    """
+    return solve_actuated(mech, values, seed, tol, max_iter).q

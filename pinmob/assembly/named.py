@@ -1,0 +1,31 @@
+"""Named configurations of a mechanism file, closed: joint values checked, platform poses assembled."""
+
+from __future__ import annotations
+
+from pinmob.assembly.assemble import assemble_pose
+from pinmob.assembly.residual import CLOSURE_TOL, check_closed
+from pinmob.exceptions import ConfigurationError, choices
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array
+
+
+def closed_configuration(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> Array:
+    """The named configuration ``name`` of ``mech`` as a closed configuration vector, shape (nq,).
+
+    Joint values are checked for closure; a pose is assembled by
+    :func:`~pinmob.assembly.assemble.assemble_pose` from the configuration's
+    seed. Raises :class:`~pinmob.exceptions.ClosureError` when it does not close
+    within ``tol`` (position / L and rotation [rad]).
+
+    Raises:
+        ConfigurationError: no configuration ``name`` (the message lists them).
+        ClosureError: the configuration does not close, or its pose cannot be assembled.
+    """
+    if name not in mech.configurations:
+        raise ConfigurationError(f"no configuration {name!r} in {mech.name!r}; valid: {choices(mech.configurations)}")
+    conf = mech.configurations[name]
+    if conf.pose is not None:
+        return assemble_pose(mech, conf.pose, mech.q_from_joints(conf.seed), tol)
+    q = mech.q_from_joints(conf.joints)
+    check_closed(mech, q, tol, f"configuration {name!r}")
+    return q

@@ -1,0 +1,81 @@
+"""Relaxing over-constraining closures: which cannot close, and a closable copy of the mechanism.
+
+A ``6d`` weld (or another lower closure) on a loop whose joints cannot bring
+its two frames to the same pose never closes. :func:`unclosable` finds such
+closures, :func:`relax` turns named closures into ``3d`` ones (the frames'
+origins meet, orientation free) and :func:`find_closed_relaxed` does both only
+where the mechanism cannot be closed as declared, saying what it changed.
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+from pinmob.assembly.assemble import Assembly
+from pinmob.assembly.residual import worst_residual
+from pinmob.assembly.seeds import find_closed
+from pinmob.exceptions import ClosureError, ConfigurationError, choices
+from pinmob.model.closure import ClosureType
+from pinmob.model.mechanism import Mechanism
+
+
+def unclosable(mech: Mechanism, restarts: int = 4, seed: int = 0) -> tuple[str, ...]:
+    """Names of the closures of ``mech.closures`` that cannot be closed even on their own.
+
+    Each closure alone (no limb, no other closure) is projected from the
+    neutral configuration and ``restarts`` random seeds. A closure that never
+    closes over-constrains its loop's joints: e.g. a ``6d`` weld on a loop
+    whose joints cannot bring the two frames to the same orientation.
+    """
+    out = []
+    for c in mech.closures:
+        alone = replace(mech, limbs=(), platform="", closures=(c,))
+        try:
+            find_closed(alone, restarts=restarts, seed=seed)
+        except ClosureError:
+            out.append(c.name)
+    return tuple(out)
+
+
+def relax(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Mechanism:
+    """A copy of ``mech`` whose named closures become ``3d`` (the frames' origins meet; orientation is free)."""
+    known = {c.name for c in mech.closures}
+    for n in names:
+        if n not in known:
+            raise ConfigurationError(f"no closure {n!r} in {mech.name!r}; valid: {choices(known)}")
+    closures = tuple(
+        replace(c, type=ClosureType.BALL, axis=None, axis_b=None) if c.name in names else c for c in mech.closures
+    )
+    return replace(
+        mech,
+        closures=closures,
+        description=(mech.description + f" [closures relaxed to 3d: {', '.join(names)}]").strip(),
+    )
+
+
+def find_closed_relaxed(
+    mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 0
+) -> tuple[Mechanism, Assembly, tuple[str, ...]]:
+    """Close ``mech``, relaxing over-constraining closures to ``3d`` only where it cannot be closed as declared.
+
+    First :func:`find_closed` as declared; if that fails, relax the closures
+    that cannot close on their own (:func:`unclosable`), then, while it still
+    fails, the non-3d closure with the largest residual at the best attempt.
+    Returns the (possibly relaxed) mechanism, the assembly and the relaxed
+    closure names, so that a report can say exactly what was changed.
+    """
+    try:
+        return mech, find_closed(mech, restarts=restarts, seed=seed), ()
+    except ClosureError:
+        pass
+    names = list(unclosable(mech, seed=seed))
+    while True:
+        current = relax(mech, names)
+        try:
+            return current, find_closed(current, restarts=relax_restarts, seed=seed), tuple(names)
+        except ClosureError as exc:
+            left = {c.name for c in current.closures if c.type != "3d"}
+            worst = [(worst_residual({n: r}, mech.length_scale), n) for n, r in exc.residuals.items() if n in left]
+            if not worst:
+                raise
+            names.append(max(worst)[1])

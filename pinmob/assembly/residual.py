@@ -1,0 +1,223 @@
+"""Loop-closure residuals and closure checks.
+
+A configuration is closed when every limb tip has the platform frame's pose
+and every :class:`~pinmob.model.closure.Closure` holds. The residual of limb i is
+``log6(oM_p^-1 oM_i)`` (platform frame p, tip i); that of a closure between
+frames a and b depends on its type (:func:`closure_error`). Each is split into
+a position part [m] and a rotation part [rad]. Tolerances are unit-invariant:
+the position part is divided by the mechanism's length scale L, and one
+measure (:func:`worst_residual`, ``max(|p| / L, |r|)``) decides every
+comparison.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.model.closure import Closure
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array, Mask
+
+#: Default closure tolerance: position residual / L and rotation residual [rad].
+CLOSURE_TOL = 1e-6
+
+#: Valid range of a closure tolerance (dimensionless): below, round-off decides; above, nothing is closed.
+CLOSURE_TOL_MIN, CLOSURE_TOL_MAX = 1e-14, 0.1
+
+#: Residual norms by limb or closure name: (position [m], rotation [rad]).
+Residuals = dict[str, tuple[float, float]]
+
+
+def check_closure_tol(tol: object, name: str = "closure_tol") -> float:
+    """A validated closure tolerance: a real number in [CLOSURE_TOL_MIN, CLOSURE_TOL_MAX] (position / L, rad).
+
+    Raises:
+        ConfigurationError: not a real number, not finite, or out of range.
+    """
+    if isinstance(tol, bool) or not isinstance(tol, (int, float, np.integer, np.floating)):
+        raise ConfigurationError(f"{name} must be a number, got {tol!r} ({type(tol).__name__})")
+    value = float(tol)
+    if not (np.isfinite(value) and CLOSURE_TOL_MIN <= value <= CLOSURE_TOL_MAX):
+        raise ConfigurationError(
+            f"{name} must be a finite number in [{CLOSURE_TOL_MIN:g}, {CLOSURE_TOL_MAX:g}] (largest residual "
+            f"allowed: position / L and rotation [rad]), e.g. {CLOSURE_TOL:g}; got {tol!r}"
+        )
+    return value
+
+
+def relative_error(model: pin.Model, data: pin.Data, frame_a: int, frame_b: int) -> tuple[Array, Array]:
+    """Error of frame b relative to frame a and its Jacobian; kinematics must be computed.
+
+    ``e = log6(oM_a^-1 oM_b)`` (6,), ``J = Jlog6(M) (J_b - Ad(M^-1) J_a)`` (6, nv),
+    with the frame Jacobians in their LOCAL frames.
+    """
+    oma, omb = data.oMf[frame_a], data.oMf[frame_b]
+    m = oma.actInv(omb)
+    e = pin.log6(m).vector
+    ja = pin.getFrameJacobian(model, data, frame_a, pin.LOCAL)
+    jb = pin.getFrameJacobian(model, data, frame_b, pin.LOCAL)
+    return e, pin.Jlog6(m) @ (jb - m.inverse().action @ ja)
+
+
+def pose_error(model: pin.Model, data: pin.Data, frame: int, target: pin.SE3) -> tuple[Array, Array]:
+    """``e = log6(target^-1 oM_f)`` and its Jacobian (6, nv); kinematics must be computed."""
+    m = target.actInv(data.oMf[frame])
+    return pin.log6(m).vector, pin.Jlog6(m) @ pin.getFrameJacobian(model, data, frame, pin.LOCAL)
+
+
+def _perp(u: Array) -> Array:
+    """(2, 3) orthonormal rows spanning the plane normal to unit u."""
+    a = np.eye(3)[int(np.argmin(np.abs(u)))]
+    e1 = np.cross(u, a)
+    e1 /= np.linalg.norm(e1)
+    return np.vstack([e1, np.cross(u, e1)])
+
+
+def _selection(c: Closure) -> tuple[Array, Mask]:
+    """Rows S (k, 6) of ``log6(aMb)`` forbidden by a revolute/cylindrical/planar closure, and their linear mask."""
+    u = np.asarray(c.axis, float)
+    p, z = _perp(u), np.zeros((2, 3))
+    lin = {
+        "revolute": np.vstack([np.eye(3), np.zeros((3, 3))]).T,
+        "cylindrical": np.hstack([p, z]),
+        "planar": np.hstack([u, np.zeros(3)])[None],
+    }[c.type]
+    ang = np.hstack([z, p])
+    return np.vstack([lin, ang]), np.array([True] * lin.shape[0] + [False] * 2)
+
+
+def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
+    """Residual of one closure, its Jacobian and which rows are lengths; kinematics must be computed.
+
+    With ``M = oM_a^-1 oM_b`` (pose of b in a):
+
+    - ``6d``: ``e = log6(M)`` (:func:`relative_error`);
+    - ``3d``: ``e = R_a^T (p_b - p_a)``, ``de/dt = R_a^T (v_b - v_a) + e x w_a``
+      (origin velocities in world axes, w_a in frame a);
+    - ``revolute``, ``cylindrical``, ``planar``: ``e = S log6(M)``, the rows S
+      of the relative motion the closure forbids (zero exactly on the allowed
+      subgroup, for relative rotations below pi);
+    - ``universal``: the 3d residual and ``u . (R_ab u_b)`` (hinge axes
+      perpendicular), whose rate is ``(R_ab u_b x u) . w_rel`` (w_rel the
+      relative angular velocity in frame a).
+
+    Returns:
+        e (k,), J (k, nv) and a boolean mask (k,) of the rows in metres (the
+        others are in radians or dimensionless).
+    """
+    a, b = c.frame_a_id, c.frame_b_id
+    if c.type == "6d":
+        e, jac = relative_error(model, data, a, b)
+        return e, jac, np.array([True] * 3 + [False] * 3)
+    if c.type in ("revolute", "cylindrical", "planar"):
+        e, jac = relative_error(model, data, a, b)
+        sel, lin = _selection(c)
+        return sel @ e, sel @ jac, lin
+    oma, omb = data.oMf[a], data.oMf[b]
+    ra = oma.rotation
+    e = ra.T @ (omb.translation - oma.translation)
+    ja_w = pin.getFrameJacobian(model, data, a, pin.LOCAL_WORLD_ALIGNED)
+    jb_w = pin.getFrameJacobian(model, data, b, pin.LOCAL_WORLD_ALIGNED)
+    wa_local = ra.T @ ja_w[3:]
+    jac = ra.T @ (jb_w[:3] - ja_w[:3]) + pin.skew(e) @ wa_local
+    if c.type == "3d":
+        return e, jac, np.ones(3, bool)
+    # universal
+    u = np.asarray(c.axis, float)
+    w = ra.T @ omb.rotation @ np.asarray(c.axis_b, float)
+    w_rel = ra.T @ (jb_w[3:] - ja_w[3:])
+    row = np.cross(w, u) @ w_rel
+    return np.append(e, u @ w), np.vstack([jac, row]), np.array([True] * 3 + [False])
+
+
+def closure_residuals(mech: Mechanism, data: pin.Data, closures: tuple[Closure, ...] | None = None) -> Residuals:
+    """Per closure (default: ``mech.closures``): (position [m], rotation [rad]) residual norms."""
+    out = {}
+    for c in mech.closures if closures is None else closures:
+        e, _, lin = closure_error(mech.model, data, c)
+        out[c.name] = (float(np.linalg.norm(e[lin])), float(np.linalg.norm(e[~lin])))
+    return out
+
+
+def stacked_error(
+    mech: Mechanism, model: pin.Model, data: pin.Data, closures: tuple[Closure, ...]
+) -> tuple[Array, Array]:
+    """Dimensionless stacked residual (sum k_c,) and Jacobian (sum k_c, nv): length rows divided by L."""
+    if not closures:
+        return np.zeros(0), np.zeros((0, model.nv))
+    es, js = [], []
+    for c in closures:
+        e, jac, lin = closure_error(model, data, c)
+        s = np.where(lin, 1.0 / mech.length_scale, 1.0)
+        es.append(s * e)
+        js.append(s[:, None] * jac)
+    return np.concatenate(es), np.vstack(js)
+
+
+def compute_kinematics(model: pin.Model, data: pin.Data, q: Array) -> None:
+    """Joint placements, joint Jacobians and frame placements at q (once per configuration)."""
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+
+
+def tip_residuals(mech: Mechanism, data: pin.Data) -> Residuals:
+    """Per limb: (position [m], rotation [rad]) residual of its tip w.r.t. the platform frame."""
+    if not mech.has_platform:
+        return {}
+    pid = mech.platform_id
+    out = {}
+    for limb in mech.limbs:
+        e = pin.log6(data.oMf[pid].actInv(data.oMf[limb.tip_id])).vector
+        out[limb.name] = (float(np.linalg.norm(e[:3])), float(np.linalg.norm(e[3:])))
+    return out
+
+
+def worst_residual(residuals: Residuals, length: float) -> float:
+    """The one residual measure: ``max over entries of max(|p| / L, |r|)`` (dimensionless; 0 when empty).
+
+    Args:
+        residuals: per name, (position [m], rotation [rad]) norms.
+        length: the mechanism's length scale L [m].
+    """
+    return max([max(p / length, r) for p, r in residuals.values()], default=0.0)
+
+
+def is_within(residuals: Residuals, length: float, tol: float) -> bool:
+    """True when :func:`worst_residual` is within ``tol``."""
+    return worst_residual(residuals, length) <= tol
+
+
+def mechanism_residuals(mech: Mechanism, data: pin.Data) -> Residuals:
+    """Every limb tip and closure residual (position [m], rotation [rad]); kinematics must be computed."""
+    return tip_residuals(mech, data) | closure_residuals(mech, data)
+
+
+def format_residuals(residuals: Residuals) -> str:
+    """``A: 1.2e-03 m, 4.0e-04 rad; B: ...``"""
+    return "; ".join(f"{k}: {p:.2e} m, {r:.2e} rad" for k, (p, r) in residuals.items())
+
+
+def check_closed(
+    mech: Mechanism, q: Array, tol: float = CLOSURE_TOL, what: str = "configuration", data: pin.Data | None = None
+) -> Residuals:
+    """Raise :class:`ClosureError` unless all limb tips have the platform's pose at q.
+
+    Args:
+        data: kinematics already computed at q (then q is not checked again), or None.
+
+    Returns:
+        the residual per limb (position [m], rotation [rad]).
+    """
+    if data is None:
+        data = mech.model.createData()
+        compute_kinematics(mech.model, data, mech.check_q(q))
+    res = mechanism_residuals(mech, data)
+    if not is_within(res, mech.length_scale, tol):
+        raise ClosureError(
+            f"{what} of {mech.name!r} does not close: residuals {format_residuals(res)} "
+            f"(tolerance {tol:g} x L = {tol * mech.length_scale:.2e} m, {tol:g} rad)",
+            res,
+        )
+    return res

@@ -1,0 +1,72 @@
+"""Several seeds: a closed configuration from random restarts.
+
+:func:`find_closed` projects the neutral configuration, then seeded random
+ones, until one closes (the distinct assembly modes are found by
+:func:`pinmob.analysis.modes.assembly_modes`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.assembly.assemble import Assembly, project
+from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
+from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.model.joints import linear_velocity_mask
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array
+
+
+def random_configuration(mech: Mechanism, rng: np.random.Generator, spread: float = np.pi) -> Array:
+    """A seed: neutral moved by uniform random joint velocities in [-spread, spread] (lengths times L / pi)."""
+    lin = linear_velocity_mask(mech.model)
+    dv = rng.uniform(-spread, spread, mech.model.nv) * np.where(lin, mech.length_scale / np.pi, 1.0)
+    return pin.integrate(mech.model, mech.neutral(), dv)
+
+
+def find_closed(
+    mech: Mechanism, q0: Array | None = None, restarts: int = 20, seed: int = 0, tol: float = CLOSURE_TOL
+) -> Assembly:
+    """A closed configuration: projection from q0 (default neutral), then from seeded random restarts.
+
+    Returns the first that closes; its ``method`` says which: ``neutral`` or
+    ``given`` (closed as it is), ``projection from neutral`` (or ``given``), or
+    ``projection from random restart k (seed s)``.
+
+    Raises:
+        ClosureError: nothing closed; carries the residuals of the best attempt
+            (smallest :func:`worst_residual`).
+        ConfigurationError: restarts is negative.
+    """
+    if restarts < 0:
+        raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts}")
+    rng = np.random.default_rng(seed)
+    best: ClosureError | None = None
+    length = mech.length_scale
+    for k in range(restarts + 1):
+        if k == 0:
+            q_start, label = (mech.neutral(), "neutral") if q0 is None else (q0, "given")
+        else:
+            q_start, label = random_configuration(mech, rng), f"random restart {k} (seed {seed})"
+        try:
+            found = project(mech, q_start, tol=tol, method=f"projection from {label}")
+            return found if found.iterations else replace(found, method=label)
+        except ClosureError as exc:
+            if best is None or worst_residual(exc.residuals, length) < worst_residual(best.residuals, length):
+                best = exc
+    assert best is not None  # restarts >= 0: at least one attempt
+    raise ClosureError(
+        f"no closed configuration of {mech.name!r} found from the neutral configuration and {restarts} random restarts; best: {best}",
+        best.residuals,
+    )
+
+
+def configuration_distance(mech: Mechanism, q1: Array, q2: Array) -> float:
+    """Largest joint difference between two configurations [rad, or m / L]; revolute angles modulo 2 pi."""
+    d = pin.difference(mech.model, q1, q2)
+    lin = linear_velocity_mask(mech.model)
+    d = np.where(lin, d / mech.length_scale, np.angle(np.exp(1j * d)))
+    return float(np.max(np.abs(d))) if d.size else 0.0

@@ -1,0 +1,72 @@
+"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``, ``pinmob scan``.
+
+The commands only parse, call the library and format. Errors are printed as
+one line on stderr (``pinmob: error: ...``) with exit status 2, never with a
+traceback; warnings as ``pinmob: warning: ...`` lines. :func:`main` leaves the
+interpreter's warning filters and format as it found them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import warnings
+from collections.abc import Callable, Sequence
+from typing import TextIO
+
+from pinmob.cli import analyze, models, scan, show
+from pinmob.cli.parser import build_parser
+from pinmob.exceptions import PinmobError
+
+COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
+    "models": models.run,
+    "analyze": analyze.run,
+    "show": show.run,
+    "scan": scan.run,
+}
+
+
+def _show_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    file: TextIO | None = None,
+    line: str | None = None,
+) -> None:
+    print(f"pinmob: warning: {message}", file=sys.stderr if file is None else file)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``pinmob`` console script; returns the exit status."""
+    args = build_parser().parse_args(argv)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
+        warnings.showwarning = _show_warning
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
+    try:
+        status = COMMANDS[args.command](args)
+        sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
+        return status
+    except PinmobError as exc:
+        print(f"pinmob: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:
+        # the reader went away (``pinmob ... | head -1``): stop quietly, as Unix tools do on SIGPIPE
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())  # nothing left to flush at exit
+            os.close(devnull)
+        except (OSError, ValueError):  # stdout is not a file (e.g. captured in tests)
+            pass
+        return 128 + 13
+    except KeyboardInterrupt:
+        print("pinmob: interrupted", file=sys.stderr)
+        return 130
+
+
+__all__ = ["COMMANDS", "build_parser", "main"]

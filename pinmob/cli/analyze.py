@@ -1,0 +1,58 @@
+"""``pinmob analyze``: the whole answer at a configuration, from :func:`pinmob.analyze` (text or JSON)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+from pinmob.analysis.report import Report, analyze
+from pinmob.cli.common import pick_configuration
+from pinmob.exceptions import ConfigurationError, choices
+from pinmob.io.loader import load
+from pinmob.screw.rank import RTOL, check_rtol
+
+
+def run(args: argparse.Namespace) -> int:
+    """``pinmob analyze``: print the :class:`~pinmob.analysis.report.Report` (``--json``: its document).
+
+    Returns:
+        the exit status: 1 with ``--check`` when the analysis differs from the file's expectation, else 0.
+    """
+    mech = load(args.mechanism)
+    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
+    if args.check and not mech.expected:
+        raise ConfigurationError(f"--check: {mech.name!r} has no expected table in any configuration")
+    config = None if args.config is None and not mech.configurations else pick_configuration(mech, args.config)
+    if args.check and config not in mech.expected:
+        raise ConfigurationError(
+            f"--check: configuration {config!r} of {mech.name!r} has no expected table; configurations with one: "
+            f"{choices(mech.expected)}"
+        )
+    report = analyze(
+        mech,
+        config,
+        rtol=rtol,
+        frames=args.frame,
+        paper=args.paper_view,
+        actuator_search=args.search_actuators,
+        restarts=args.restarts,
+        relax=args.relax,
+    )
+    print(json.dumps(report.to_dict(), indent=2, allow_nan=False) if args.json else report)
+    return check_status(args, report)
+
+
+def check_status(args: argparse.Namespace, report: Report) -> int:
+    """Exit status of ``analyze``: 1 with ``--check`` when the result differs from the file's expectation."""
+    exp = report.expectation
+    if not args.check or exp is None or exp.agrees:
+        return 0
+    found = report.mobility if report.has_limbs else report.platform_frame
+    what = "no platform frame" if found is None else f"{found.dof} DoF {found.motion_type}"
+    print(
+        f"pinmob: check failed: {report.mechanism} at {report.configuration!r}: analysis gives {what}, "
+        f"the file expects {exp.dof} DoF {exp.motion_type}",
+        file=sys.stderr,
+    )
+    return 1

@@ -1,0 +1,98 @@
+"""What the commands share: picking a named configuration, checking output files, signals, errors."""
+
+from __future__ import annotations
+
+import contextlib
+import re
+import tomllib
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+from pinmob.exceptions import ConfigurationError, choices
+from pinmob.io.builtin import builtin_models
+from pinmob.model.mechanism import Mechanism
+
+
+def pick_configuration(mech: Mechanism, config: str | None) -> str:
+    """The named configuration to use: the one asked for, else the file's first."""
+
+    if config is None:
+        if not mech.configurations:
+            raise ConfigurationError(f"{mech.name!r} declares no configuration; name one in the mechanism file")
+        return next(iter(mech.configurations))
+    if config not in mech.configurations:
+        raise ConfigurationError(
+            f"no configuration {config!r} in {mech.name!r}; valid: {choices(mech.configurations)}"
+            + elsewhere(config, mech)
+        )
+    return config
+
+
+def elsewhere(config: str, mech: Mechanism | None = None) -> str:
+    """Hint naming the built-in models that do have a configuration called ``config``, and why not ``mech``.
+
+    The why is the sentence of ``mech``'s description that names one of those models, if any (e.g. the
+    3-PUU's links are too long for beta = 0, which needs the geometry of 3-PUU-flat).
+    """
+    owners = []
+    for name, path in builtin_models().items():
+        with path.open("rb") as fh:
+            if config in tomllib.load(fh).get("configurations", {}):
+                owners.append(name)
+    if not owners:
+        return ""
+    why = ""
+    if mech is not None:
+        sentences = re.split(r"(?<=[.!?])\s+", mech.description)
+        others = [o for o in owners if o not in mech.name]  # '3-PUU' in "3-PUU-flat" is the family, not a pointer
+        named = [t for t in sentences if any(re.search(rf"(?<![\w-]){re.escape(o)}(?![\w-])", t) for o in others)]
+        why = f". Why not in {mech.name!r}: {named[0]}" if named else ""
+    return f"; built-in model(s) with a configuration {config!r}: {choices(owners)}{why}"
+
+
+@contextlib.contextmanager
+def signals_interrupt() -> Iterator[None]:
+    """Within the block, SIGTERM and SIGHUP raise KeyboardInterrupt, as Ctrl-C does, so cleanups run."""
+    import signal
+
+    def interrupt(signum: int, frame: object) -> None:
+        raise KeyboardInterrupt
+
+    wanted = [signal.SIGTERM] + ([signal.SIGHUP] if hasattr(signal, "SIGHUP") else [])
+    previous = {sig: signal.signal(sig, interrupt) for sig in wanted}
+    try:
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+def serve_until_stopped(server: Any) -> None:
+    """Wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server (no orphan left)."""
+    try:
+        with signals_interrupt():
+            server.process.wait()
+    except KeyboardInterrupt:
+        pass
+    finally:
+        server.stop()
+
+
+def check_outputs(paths: dict[str, str | None], force: bool) -> None:
+    """Refuse, before any work, output files that exist (unless ``force``), are folders, or lie in no folder."""
+    given = {option: Path(path).expanduser() for option, path in paths.items() if path}
+    if len({p.resolve() for p in given.values()}) < len(given):
+        raise ConfigurationError(
+            f"{', '.join(given)} must name different files, got {choices(map(str, given.values()))}"
+        )
+    for option, target in given.items():
+        if target.is_dir():
+            raise ConfigurationError(f"{option} {str(target)!r} is a folder; give a file name")
+        if target.exists() and not force:
+            raise ConfigurationError(
+                f"{option} {str(target)!r} exists already; choose another file name or allow overwriting (--force)"
+            )
+        parent = target.parent if str(target.parent) else Path(".")
+        if not parent.is_dir():
+            raise ConfigurationError(f"cannot write {option} {str(target)!r}: folder {str(parent)!r} does not exist")

@@ -1,0 +1,112 @@
+"""The command line's arguments: ``pinmob models|analyze|show|scan`` and their options."""
+
+from __future__ import annotations
+
+import argparse
+from typing import NoReturn
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged)."""
+
+    def error(self, message: str) -> NoReturn:
+        self.exit(2, f"pinmob: error: {' '.join(message.split())}; see '{self.prog} --help'\n")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = Parser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
+    sub = parser.add_subparsers(dest="command", required=True)
+
+    p = sub.add_parser("models", help="list the built-in mechanisms")
+    p.add_argument("--json", action="store_true", help="print JSON")
+
+    p = sub.add_parser("analyze", help="mobility of the platform at a configuration")
+    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
+    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    p.add_argument(
+        "--paper-view",
+        action="store_true",
+        help="also show the seed paper's view: generic limb wrenches carried to the configuration",
+    )
+    p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    p.add_argument(
+        "--check",
+        action="store_true",
+        help="exit 1 (one line on stderr) when the analysis differs from the file's expected table (for CI)",
+    )
+    p.add_argument(
+        "--frame",
+        action="append",
+        default=None,
+        help="frame whose motion is also reported (repeatable); the outputs that define idle motions and "
+        "actuation validity stay the platform, else the tree's free leaf bodies",
+    )
+    p.add_argument(
+        "--relax",
+        action="store_true",
+        help="if the loops cannot be closed as declared, relax the over-constraining closures to 3d and say which",
+    )
+    p.add_argument(
+        "--restarts", type=int, default=20, help="random restarts when searching a closed configuration (default 20)"
+    )
+    p.add_argument(
+        "--search-actuators",
+        type=int,
+        default=None,
+        metavar="K",
+        help="also list every valid set of K actuated joints (exhaustive)",
+    )
+
+    p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat")
+    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
+    p.add_argument("--html", metavar="FILE", help="write a self-contained HTML file instead of using a server")
+    p.add_argument("--force", action="store_true", help="with --html: overwrite FILE if it exists")
+    p.add_argument(
+        "--zmq-url", help="send to a running meshcat server (e.g. tcp://127.0.0.1:6000) instead of starting one"
+    )
+    p.add_argument("--port", type=int, help="web port of the server pinmob starts (default: first free from 7000)")
+    p.add_argument(
+        "--detach", action="store_true", help="leave the started server running in the background and return"
+    )
+    p.add_argument("--motion", help="free motion shown first, by label (e.g. 'T1 x'; default: the first)")
+    p.add_argument("--wrenches", action="store_true", help="show the constraint wrenches")
+    p.add_argument(
+        "--amplitude", type=float, help="distance of each motion: m for translations, rad for rotations/screws"
+    )
+    p.add_argument("--steps", type=int, default=12, help="continuation steps per direction (default 12)")
+    p = sub.add_parser("scan", help="mobility and singularities along a path or over a workspace slice")
+    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p.add_argument(
+        "--from",
+        dest="start",
+        help="path start: configuration name or pose x,y,z,roll,pitch,yaw [m, rad] (default: first configuration)",
+    )
+    p.add_argument("--to", dest="end", help="path end: configuration name or pose (default: second configuration)")
+    p.add_argument(
+        "--joints",
+        action="store_true",
+        help="interpolate the actuated joint values from --from to --to (forward kinematics) instead of platform poses",
+    )
+    p.add_argument("--samples", "-n", type=int, default=None, help="samples along a path (default 21)")
+    p.add_argument(
+        "--grid",
+        nargs=2,
+        metavar="COORD:LO:HI:N",
+        help="scan a workspace slice: two pose coordinates (x, y, z [m], roll, pitch, yaw [rad]) instead of a path",
+    )
+    p.add_argument(
+        "--at",
+        help="grid: configuration whose platform pose fixes the other coordinates (default: first configuration)",
+    )
+    p.add_argument("--csv", help="write the samples to this CSV file")
+    p.add_argument("--json", dest="json_out", help="write the samples to this JSON file")
+    p.add_argument(
+        "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
+    )
+    p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
+    p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    return parser

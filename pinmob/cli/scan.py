@@ -1,0 +1,133 @@
+"""``pinmob scan``: mobility and singularities along a path or over a workspace slice."""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+import time
+from collections import Counter
+from pathlib import Path
+from typing import Any
+
+from pinmob.analysis.singularity import NEAR_FACTOR
+from pinmob.analysis.singularity_analysis import require_platform
+from pinmob.cli.common import check_outputs
+from pinmob.exceptions import ConfigurationError
+from pinmob.io.loader import load
+from pinmob.scan import columns, grid_spec, path_spec, scan
+from pinmob.scan.output import RowWriter
+from pinmob.scan.plot import plot_map, plot_path
+from pinmob.screw.rank import RTOL, check_rtol
+
+
+def run(args: argparse.Namespace) -> int:
+    """``pinmob scan``: mobility and singularities along a path or over a workspace slice."""
+    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
+    _check_scan_options(args)
+    mech = load(args.mechanism)
+    require_platform(mech, "pinmob scan")
+    names = list(mech.configurations)
+    if args.grid:
+        axes = [_grid_axis(text) for text in args.grid]
+        if not names and not args.at:
+            raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
+        spec = grid_spec(mech, args.at or names[0], axes, rtol)
+        what = f"grid {args.grid[0]} x {args.grid[1]} at {args.at or names[0]!r}"
+    else:
+        start = args.start or (names[0] if names else None)
+        end = args.end or (names[1] if len(names) > 1 else None)
+        if start is None or end is None:
+            raise ConfigurationError(f"{mech.name!r} has fewer than two configurations; give --from and --to")
+        samples = 21 if args.samples is None else args.samples
+        spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol)
+        what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {samples} samples"
+    check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
+    band = NEAR_FACTOR * rtol
+    meta = {"mechanism": mech.name, "scan": what, "generic_rank": spec.generic_rank, "rtol": rtol,
+            "near_singular_band": band, "length_scale": mech.length_scale}  # fmt: skip
+    counts: Counter[str] = Counter()
+    tally: Counter[str] = Counter()
+    listed: list[dict[str, Any]] = []
+    with tempfile.TemporaryDirectory() as tmp:
+        csv_path = args.csv or (str(Path(tmp) / "scan.csv") if args.plot else None)
+        t0 = time.perf_counter()
+        with RowWriter(columns(spec), meta, csv_path, args.json_out) as writer:
+            for row in scan(mech, spec, workers=args.workers, progress=False if args.no_progress else None):
+                writer.write(row)
+                kind = _row_kind(row)
+                tally[kind] += 1
+                if not row["refined"]:
+                    counts[f"{row['dof']} DoF {row['motion_type']}" if row["reachable"] else "unreachable"] += 1
+                if kind != "regular" and len(listed) < 20:
+                    listed.append(row)
+        elapsed = time.perf_counter() - t0
+        n = spec.size
+        print(f"{mech.name}: {what}")
+        print(f"{n} samples in {elapsed:.2f} s ({n / elapsed:.1f} samples/s, {args.workers} worker(s)); "
+              f"generic constraint rank {spec.generic_rank}")  # fmt: skip
+        for key, k in sorted(counts.items()):
+            print(f"  {k:5d} x {key}")
+        print(f"singular samples: {tally['singular']}; near-singular samples (distance < {band:.0e}): "
+              f"{tally['near-singular']}; refined singular points: {tally['refined']}")  # fmt: skip
+        total = tally["singular"] + tally["near-singular"] + tally["refined"]
+        for row in listed:
+            print("  " + _format_row(row))
+        if total > len(listed):
+            print(f"  ... ({total - len(listed)} more in the output files)")
+        for label, path in (("csv", args.csv), ("json", args.json_out)):
+            if path:
+                print(f"{label}: {path}")
+        if args.plot and csv_path:
+            (plot_map if args.grid else plot_path)(csv_path, args.plot, f"{mech.name}: {what}", rtol=rtol)
+            print(f"plot: {args.plot}")
+    return 0
+
+
+def _check_scan_options(args: argparse.Namespace) -> None:
+    """A grid scan and a path scan take different options: refuse a mix."""
+
+    path_options = {"--from": args.start, "--to": args.end, "--joints": args.joints or None, "-n": args.samples}
+    if args.grid:
+        given = [k for k, v in path_options.items() if v is not None]
+        if given:
+            raise ConfigurationError(
+                f"--grid scans a workspace slice; {', '.join(given)} belong to a path scan: drop them or drop --grid"
+            )
+    elif args.at is not None:
+        raise ConfigurationError("--at fixes the other coordinates of a --grid scan; a path scan uses --from and --to")
+
+
+def _grid_axis(text: str) -> tuple[str, float, float, int]:
+    """``COORD:LO:HI:N`` -> (coordinate, low, high, count)."""
+
+    parts = text.split(":")
+    try:
+        if len(parts) != 4:
+            raise ValueError
+        return parts[0], float(parts[1]), float(parts[2]), int(parts[3])
+    except ValueError:
+        raise ConfigurationError(
+            f"--grid {text!r}: expected COORD:LO:HI:N (four fields separated by ':'), e.g. x:-0.1:0.1:21"
+        ) from None
+
+
+def _row_kind(row: dict[str, Any]) -> str:
+    """``refined``, ``singular``, ``near-singular`` or ``regular`` (unreachable samples are regular)."""
+    if row["refined"]:
+        return "refined"
+    if row["reachable"] and row["singularity"] != "none":
+        return "singular"
+    return "near-singular" if row["near_singular"] else "regular"
+
+
+def _format_row(row: dict[str, Any]) -> str:
+    """One listed row of ``pinmob scan``: where, class, limbs, uncontrolled motions, DoF, distance."""
+    params = ", ".join(f"{k} = {round(row[k], 12):.6g}" for k in row if k == "s" or k.startswith("grid_"))
+    where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
+    label = row["singularity"] if row["singularity"] != "none" else f"near-singular ({row['closest']})"
+    limbs = f", limbs {row['singular_limbs']}" if row["singular_limbs"] else ""
+    dep = f", dependent limbs {row['dependent_limbs']}" if row["dependent_limbs"] else ""
+    unc = f", uncontrolled {row['uncontrolled']}" if row["uncontrolled"] else ""
+    return f"{where} ({params}): {label}{limbs}{dep}{unc}; {row['dof']} DoF {row['motion_type']}, distance {row['distance']:.2e}"

@@ -1,0 +1,165 @@
+"""Extended URDF: a URDF plus a YAML sidecar describing its loops (LAAS-CNRS convention).
+
+The convention of example-parallel-robots / toolbox-parallel-robots: beside
+``robot.urdf``, a ``robot.yaml`` with
+
+- ``closed_loop``: pairs of frame names ``[frame_a, frame_b]`` joined when the loop is closed;
+- ``type``: per pair, ``6d`` (same pose) or ``3d`` (same origin); default ``6d``;
+- ``name_mot``: the actuated joints;
+- ``joint_name`` / ``joint_type`` (optional): joints rebuilt as another joint
+  model: ``SPHERICAL`` (a ball joint, :class:`pin.JointModelSpherical`),
+  ``UJOINT_AB`` with A, B in X, Y, Z (a universal joint: revolute about the
+  joint frame's axis A, then about its axis B, one composite joint),
+  ``CARDAN`` (= ``UJOINT_XY``), ``FIXED`` (locked at 0).
+
+The files are read as they are; missing meshes only cost the visuals (a
+warning). There is no platform: the whole mechanism is analysed, and any
+frame can be named as end frame.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import pinocchio as pin
+
+from pinmob.exceptions import choices
+from pinmob.io.schema import errors_at, file_error
+from pinmob.io.urdf import load_geometry
+from pinmob.model.closure import make_closure
+from pinmob.model.mechanism import Mechanism
+
+JOINT_TYPES = ("SPHERICAL", "CARDAN", "FIXED") + tuple(f"UJOINT_{a}{b}" for a in "XYZ" for b in "XYZ" if a != b)
+YAML_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
+_AXIS = {"X": pin.JointModelRX, "Y": pin.JointModelRY, "Z": pin.JointModelRZ}
+
+
+def _joint_model(kind: str) -> pin.JointModel:
+    if kind == "SPHERICAL":
+        return pin.JointModelSpherical()
+    pair = "XY" if kind == "CARDAN" else kind.split("_")[1]
+    composite = pin.JointModelComposite(2)
+    composite.addJoint(_AXIS[pair[0]]())
+    composite.addJoint(_AXIS[pair[1]]())
+    return composite
+
+
+def replace_joints(model: pin.Model, replacements: Mapping[str, str]) -> pin.Model:
+    """A copy of ``model`` with the named joints rebuilt as :data:`JOINT_TYPES` (same names, frames and inertias).
+
+    Joint placements, frames and inertias are kept; position limits of the
+    unchanged joints are copied. ``FIXED`` joints are removed with
+    ``pin.buildReducedModel`` at 0.
+    """
+    new = pin.Model()
+    new.name = model.name
+    locked = []
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        kind = replacements.get(name)
+        jm = model.joints[j] if kind in (None, "FIXED") else _joint_model(kind)
+        jid = new.addJoint(int(model.parents[j]), jm, model.jointPlacements[j], name)
+        new.appendBodyToJoint(jid, model.inertias[j], pin.SE3.Identity())
+        if kind is None or kind == "FIXED":
+            src, dst = model.joints[j], new.joints[jid]
+            new.lowerPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.lowerPositionLimit[
+                src.idx_q : src.idx_q + src.nq
+            ]
+            new.upperPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.upperPositionLimit[
+                src.idx_q : src.idx_q + src.nq
+            ]
+        if kind == "FIXED":
+            locked.append(jid)
+    for f in list(model.frames)[1:]:
+        new.addFrame(pin.Frame(f.name, f.parentJoint, f.parentFrame, f.placement, f.type, f.inertia), False)
+    if locked:
+        new = pin.buildReducedModel(new, locked, pin.neutral(new))
+    return new
+
+
+def _read_yaml(path: Path) -> dict[str, Any]:
+    import yaml
+
+    try:
+        doc = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as exc:
+        raise file_error(path, f"YAML syntax error: {' '.join(str(exc).split())}") from None
+    if not isinstance(doc, Mapping):
+        raise file_error(path, f"must be a mapping with keys {choices(YAML_KEYS)}")
+    return dict(doc)
+
+
+def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
+    value = doc.get(key) or []
+    if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
+        raise file_error(path, f"{key!r} must be a list of names, got {value!r}")
+    return value
+
+
+def find_urdf(path: Path) -> Path:
+    """The URDF beside a YAML sidecar: same stem, else the only ``*.urdf`` in the folder."""
+    same = path.with_suffix(".urdf")
+    if same.exists():
+        return same
+    found = sorted(path.parent.glob("*.urdf"))
+    if len(found) == 1:
+        return found[0]
+    raise file_error(
+        path,
+        f"no URDF named {same.name!r} beside it, and {len(found)} other .urdf files: {choices(p.name for p in found)}",
+    )
+
+
+def load_extended_urdf(path: str | Path) -> Mechanism:
+    """Load an Extended URDF robot from its YAML sidecar (the URDF beside it)."""
+    path = Path(path)
+    doc = _read_yaml(path)
+    if "closed_loop" not in doc:
+        raise file_error(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")
+    loops = doc.get("closed_loop") or []
+    if not isinstance(loops, list) or not all(
+        isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) for x in p) for p in loops
+    ):
+        raise file_error(path, f"'closed_loop' must be a list of [frame_a, frame_b] pairs, got {loops!r}")
+    types = doc.get("type") or ["6d"] * len(loops)
+    if not isinstance(types, list) or len(types) != len(loops):
+        raise file_error(path, f"'type' must list one of '6d', '3d' per closed loop ({len(loops)}), got {types!r}")
+    joint_names, joint_types = _names(path, doc, "joint_name"), _names(path, doc, "joint_type")
+    if len(joint_names) != len(joint_types):
+        raise file_error(
+            path, f"'joint_name' ({len(joint_names)}) and 'joint_type' ({len(joint_types)}) must have the same length"
+        )
+    urdf = find_urdf(path)
+    try:
+        model = pin.buildModelFromUrdf(str(urdf))
+    except Exception as exc:
+        raise file_error(path, f"urdf {str(urdf)!r} does not parse: {' '.join(str(exc).split())[:200]}") from None
+    for jname, jtype in zip(joint_names, joint_types):
+        if not model.existJointName(jname):
+            raise file_error(
+                path, f"joint_name {jname!r} is not a joint of {urdf.name}; valid: {choices(list(model.names)[1:])}"
+            )
+        if str(jtype).upper() not in JOINT_TYPES:
+            raise file_error(path, f"joint_type {jtype!r} of {jname!r} is not supported; valid: {choices(JOINT_TYPES)}")
+    if joint_names:
+        model = replace_joints(model, {n: str(t).upper() for n, t in zip(joint_names, joint_types)})
+    visual, collision = load_geometry(model, urdf)
+    with errors_at(path):
+        closures = []
+        for (a, b), t in zip(loops, types):
+            if str(t).lower() not in ("6d", "3d"):
+                raise file_error(path, f"closed loop [{a!r}, {b!r}] has type {t!r}; valid: '3d', '6d'")
+            closures.append(make_closure(model, f"{a}={b}", a, b, str(t).lower()))
+        return Mechanism.from_model(
+            model,
+            [],
+            name=path.parent.name if path.stem == "robot" else path.stem,
+            actuated={"": _names(path, doc, "name_mot")},
+            description=f"Extended URDF {urdf.name} + {path.name}",
+            source=path,
+            visual_model=visual,
+            collision_model=collision,
+            closures=closures,
+        )

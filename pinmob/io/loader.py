@@ -1,0 +1,44 @@
+"""Loading a mechanism: a built-in model name, or a file of any supported format."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from pathlib import Path
+
+from pinmob.exceptions import MechanismFileError, choices
+from pinmob.io.builtin import builtin_models
+from pinmob.io.extended_urdf import load_extended_urdf
+from pinmob.io.mjcf import load_mjcf
+from pinmob.io.toml_file import load_toml
+from pinmob.model.mechanism import Mechanism
+
+#: Loaders by file suffix.
+LOADERS: dict[str, Callable[[Path], Mechanism]] = {
+    ".toml": load_toml,
+    ".yaml": load_extended_urdf,
+    ".yml": load_extended_urdf,
+    ".xml": load_mjcf,
+    ".mjcf": load_mjcf,
+}
+
+
+def load(name_or_path: str | Path) -> Mechanism:
+    """Load a mechanism: a built-in model name, or a path to a mechanism file.
+
+    Raises:
+        MechanismFileError: the file is missing, does not parse, or is invalid;
+            the message lists the built-in names when neither matches.
+    """
+    text = str(name_or_path)
+    path = Path(text).expanduser()
+    builtins = builtin_models()
+    if text in builtins and not path.exists():
+        return load_toml(builtins[text])
+    suffix = path.suffix.lower()
+    if not path.exists():
+        raise MechanismFileError(
+            f"{text!r} is neither a built-in model nor an existing file; built-in models: {choices(builtins)}"
+        )
+    if suffix in LOADERS:
+        return LOADERS[suffix](path)
+    raise MechanismFileError(f"{text!r}: unknown mechanism file type {suffix!r}; valid: {choices(LOADERS)}")

@@ -1,0 +1,175 @@
+"""The keys of a pinmob mechanism file (TOML), their types, and the checks that name a bad key.
+
+Every table of the file has a spec ``{key: Kind}``; :func:`check_table` rejects
+unknown keys and values of the wrong type with a :class:`MechanismFileError`
+naming the file, the key path (e.g. ``limbs[0].tip``), the value and the valid keys.
+TOML booleans are not numbers here (``dof = true`` is an error).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+from collections.abc import Callable, Iterator, Mapping
+from contextlib import contextmanager
+from enum import Enum
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pinmob.exceptions import MechanismFileError, PinmobError, choices
+
+
+def file_error(path: Path, msg: str) -> MechanismFileError:
+    """``MechanismFileError("<path>: <msg>")``: an error in a mechanism file, naming the file."""
+    return MechanismFileError(f"{path}: {msg}")
+
+
+@contextmanager
+def errors_at(path: Path) -> Iterator[None]:
+    """Name ``path`` in any :class:`PinmobError` raised inside (a :class:`MechanismFileError` names it already)."""
+    try:
+        yield
+    except MechanismFileError:
+        raise
+    except PinmobError as exc:
+        raise type(exc)(f"{path}: {exc}") from None
+
+
+class Kind(Enum):
+    """TOML value types a key of a mechanism file accepts (the value is the phrase used in messages)."""
+
+    STRING = "a string"
+    NUMBER = "a number"
+    INTEGER = "an integer"
+    TABLE = "a table"
+    TABLES = "an array of tables"
+    STRINGS = "an array of strings"
+    NUMBERS = "an array of numbers"
+
+
+def _is_number(value: object) -> bool:
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+KIND_CHECKS: dict[Kind, Callable[[Any], bool]] = {
+    Kind.STRING: lambda v: isinstance(v, str),
+    Kind.NUMBER: _is_number,
+    Kind.INTEGER: lambda v: isinstance(v, int) and not isinstance(v, bool),
+    Kind.TABLE: lambda v: isinstance(v, Mapping),
+    Kind.TABLES: lambda v: isinstance(v, list) and all(isinstance(x, Mapping) for x in v),
+    Kind.STRINGS: lambda v: isinstance(v, list) and all(isinstance(x, str) for x in v),
+    Kind.NUMBERS: lambda v: isinstance(v, list) and all(_is_number(x) for x in v),
+}
+
+#: every key of a mechanism file and its type, per table
+TOP_KEYS = {
+    "name": Kind.STRING,
+    "description": Kind.STRING,
+    "urdf": Kind.STRING,
+    "platform": Kind.STRING,
+    "length_scale": Kind.NUMBER,
+    "limbs": Kind.TABLES,
+    "configurations": Kind.TABLE,
+    "closures": Kind.TABLES,
+    "actuated": Kind.STRINGS,
+    "generic_rank": Kind.INTEGER,
+}
+CLOSURE_KEYS = {
+    "name": Kind.STRING,
+    "frames": Kind.STRINGS,
+    "type": Kind.STRING,
+    "axis": Kind.NUMBERS,
+    "axis_b": Kind.NUMBERS,
+}
+LIMB_KEYS = {"name": Kind.STRING, "tip": Kind.STRING, "actuated": Kind.STRINGS}
+CONFIG_KEYS = {
+    "joints": Kind.TABLE,
+    "pose": Kind.TABLE,
+    "seed": Kind.TABLE,
+    "approach": Kind.TABLE,
+    "expected": Kind.TABLE,
+}
+POSE_KEYS = {"xyz": Kind.NUMBERS, "rpy": Kind.NUMBERS}
+EXPECTED_KEYS = {"dof": Kind.INTEGER, "motion_type": Kind.STRING, "source": Kind.STRING}
+
+
+def _toml_type(value: object) -> str:
+    """TOML's name for the type of a parsed value (``boolean``, ``integer``, ``table``, ...)."""
+    for types, name in ((bool, "boolean"), (int, "integer"), (float, "float"), (str, "string"), (list, "array")):
+        if isinstance(value, types):
+            return name
+    return "table" if isinstance(value, Mapping) else type(value).__name__.replace("datetime", "date-time")
+
+
+def toml_text(value: object, limit: int = 80) -> str:
+    """A parsed value written back as TOML (``true``, ``"text"``, ``[1, 2]``, ``{ a = 1 }``), cut at ``limit``."""
+    if isinstance(value, bool):
+        text = "true" if value else "false"
+    elif isinstance(value, str):
+        text = json.dumps(value, ensure_ascii=False)
+    elif isinstance(value, float) and not math.isfinite(value):
+        text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
+    elif isinstance(value, list):
+        text = "[" + ", ".join(toml_text(v, limit) for v in value) + "]"
+    elif isinstance(value, Mapping):
+        text = "{ " + ", ".join(f"{k} = {toml_text(v, limit)}" for k, v in value.items()) + " }"
+    else:
+        text = str(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def check_table(path: Path, where: str, table: Any, spec: Mapping[str, Kind]) -> Mapping[str, Any]:
+    """Check that ``table`` is a table whose keys are in ``spec``, each of the type ``spec`` gives.
+
+    Args:
+        where: key path of the table (``""`` for the top level), e.g. ``limbs[0]``.
+
+    Raises:
+        MechanismFileError: naming the file, the key path, the bad value or the valid keys.
+    """
+    label = where or "the top level"
+    if not isinstance(table, Mapping):
+        raise file_error(path, f"{label} must be a table, got {_toml_type(table)} {toml_text(table)}")
+    unknown = set(table) - set(spec)
+    if unknown:
+        raise file_error(path, f"unknown key(s) {choices(unknown)} in {label}; valid keys: {choices(spec)}")
+    for key, value in table.items():
+        kind = spec[key]
+        if kind is Kind.TABLES and isinstance(value, list):
+            for i, item in enumerate(value):
+                if not isinstance(item, Mapping):
+                    raise file_error(
+                        path, f"{_key(where, key)}[{i}] must be a table, got {_toml_type(item)} {toml_text(item)}"
+                    )
+        if not KIND_CHECKS[kind](value):
+            shown = toml_text(value)
+            raise file_error(path, f"{_key(where, key)} must be {kind.value}, got {_toml_type(value)} {shown}")
+    return table
+
+
+def _key(where: str, key: str) -> str:
+    return f"{where}.{key}" if where else key
+
+
+def joint_values(path: Path, where: str, table: Mapping[str, Any], joint_names: set[str]) -> dict[str, float]:
+    out = {}
+    for k, v in table.items():
+        if k not in joint_names:
+            raise file_error(path, f"{where} names unknown joint {k!r}; valid joints: {choices(joint_names)}")
+        if not _is_number(v) or not np.isfinite(v):
+            raise file_error(
+                path, f"{where}.{k} must be a finite number [m or rad], got {_toml_type(v)} {toml_text(v)}"
+            )
+        out[k] = float(v)
+    return out
+
+
+def vector3(path: Path, where: str, value: list[float]) -> np.ndarray:
+    if len(value) != 3:
+        raise file_error(path, f"{where} must be a list of 3 numbers, got {toml_text(value)}")
+    arr = np.array(value, float)
+    if not np.isfinite(arr).all():
+        raise file_error(path, f"{where} must be finite, got {toml_text(value)}")
+    return arr

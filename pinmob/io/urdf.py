@@ -1,0 +1,119 @@
+"""Reading URDF files with Pinocchio: the kinematic model, optional geometry, and the parser's own messages.
+
+urdfdom (the URDF parser inside Pinocchio) prints its diagnostics on the
+process's stderr (file descriptor 2) and then raises a bare "does not contain a
+valid URDF model". :func:`read_urdf` captures those lines and puts them into
+the one error message (or a warning when the file still parses), so the user
+sees one line instead of the C++ parser's output.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import tempfile
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+
+import pinocchio as pin
+
+from pinmob.exceptions import MechanismFileError
+
+
+def package_dirs(urdf: Path) -> list[str]:
+    """Folders searched for ``package://`` mesh paths of ``urdf``.
+
+    The URDF's own folder, then the folders of ``ROS_PACKAGE_PATH``, then the
+    ``share`` folder of the installed example-robot-data (whose URDFs name
+    their meshes ``package://example-robot-data/robots/...``), when importable.
+    """
+    dirs = [str(urdf.parent)]
+    dirs += [d for d in os.environ.get("ROS_PACKAGE_PATH", "").split(os.pathsep) if d]
+    try:
+        import example_robot_data
+
+        robots = Path(example_robot_data.getModelPath("ur_description/urdf/ur5_robot.urdf"))
+        dirs.append(str((robots / ".." / "..").resolve()))
+    except Exception:  # not installed, or a layout without robots: meshes are optional
+        pass
+    return dirs
+
+
+@contextmanager
+def native_stderr() -> Iterator[list[str]]:
+    """Capture what native code (urdfdom, Pinocchio's C++) writes on file descriptor 2 inside the block.
+
+    Yields a list that receives the captured lines when the block ends (also when it raises).
+    Python's own ``sys.stderr`` is flushed first, so nothing of it is swallowed.
+    """
+    lines: list[str] = []
+    sys.stderr.flush()
+    try:
+        saved = os.dup(2)
+    except OSError:  # no file descriptor 2: nothing to capture
+        saved = -1
+    if saved < 0:
+        yield lines
+        return
+    with tempfile.TemporaryFile() as tmp:
+        os.dup2(tmp.fileno(), 2)
+        try:
+            yield lines
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            tmp.seek(0)
+            lines.extend(tmp.read().decode("utf-8", errors="replace").splitlines())
+
+
+def native_messages(lines: list[str]) -> str:
+    """Captured native stderr as one line: messages joined by ``; ``, source locations (``at line N in ...``) dropped."""
+    texts = [" ".join(line.split()) for line in lines]
+    return "; ".join(t for t in texts if t and not t.startswith("at line "))
+
+
+def read_urdf(urdf: Path) -> pin.Model:
+    """Kinematic model of a URDF (``pin.buildModelFromUrdf``).
+
+    What the parser prints on stderr goes into the error message, or into a
+    warning when the file parses, never straight to the terminal.
+
+    Raises:
+        MechanismFileError: the file is missing, a folder, or does not parse (with the parser's messages).
+    """
+    if not urdf.is_file():
+        raise MechanismFileError(f"urdf file {str(urdf)!r} " + ("is a folder" if urdf.is_dir() else "does not exist"))
+    try:
+        with native_stderr() as printed:
+            model = pin.buildModelFromUrdf(str(urdf))
+    except Exception as exc:  # pinocchio raises RuntimeError/ValueError with a generic text
+        said = native_messages(printed)
+        raise MechanismFileError(
+            f"urdf {str(urdf)!r} does not parse: {' '.join(str(exc).split()) or type(exc).__name__}"
+            + (f" (parser: {said})" if said else "")
+        ) from None
+    said = native_messages(printed)
+    if said:
+        warnings.warn(f"{urdf.name}: {said}", stacklevel=4)
+    return model
+
+
+def load_geometry(model: pin.Model, urdf: Path) -> tuple[pin.GeometryModel | None, pin.GeometryModel | None]:
+    """Visual and collision geometry of a URDF for ``model``; ``None`` with a warning when meshes are missing."""
+    geoms: list[pin.GeometryModel | None] = []
+    for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
+        try:
+            with native_stderr() as printed:
+                geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=package_dirs(urdf)))
+        except Exception as exc:
+            said = native_messages(printed)
+            warnings.warn(
+                f"{urdf.name}: {kind.name.lower()} geometry not loaded ({' '.join(str(exc).split())[:200]}"
+                + (f"; {said[:200]}" if said else "")
+                + "); kinematics only",
+                stacklevel=4,
+            )
+            geoms.append(None)
+    return geoms[0], geoms[1]

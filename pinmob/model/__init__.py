@@ -1,0 +1,18 @@
+"""The mechanism as plain data: a Pinocchio tree, its limbs, loop closures, platform and actuation."""
+
+from pinmob.model.closure import CLOSURE_ROWS, CLOSURE_TYPES, Closure, ClosureGroups, ClosureType, make_closure
+from pinmob.model.limb import Limb
+from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
+
+__all__ = [
+    "CLOSURE_ROWS",
+    "CLOSURE_TYPES",
+    "Closure",
+    "ClosureGroups",
+    "ClosureType",
+    "Expectation",
+    "Limb",
+    "Mechanism",
+    "NamedConfiguration",
+    "make_closure",
+]

@@ -1,0 +1,194 @@
+"""Loop closures: two frames of the tree joined when the loop is closed, and how closures sit among limbs."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import TYPE_CHECKING
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.exceptions import ConfigurationError, choices
+from pinmob.model.joints import frame_id
+from pinmob.screw.algebra import Array
+
+if TYPE_CHECKING:
+    from pinmob.model.limb import Limb
+
+
+class ClosureType(StrEnum):
+    """The relative motion a closure allows (see :class:`Closure`); the value is the file spelling."""
+
+    WELD = "6d"
+    BALL = "3d"
+    REVOLUTE = "revolute"
+    UNIVERSAL = "universal"
+    CYLINDRICAL = "cylindrical"
+    PLANAR = "planar"
+
+
+CLOSURE_TYPES = tuple(t.value for t in ClosureType)
+
+
+@dataclass(frozen=True)
+class Closure:
+    """A loop closure: two frames of the tree that are joined when the loop is closed.
+
+    A closure is defined by the relative motion of frame b with respect to
+    frame a that it forbids, i.e. by the wrench subspace it transmits. With the
+    relative twist ``[v; w]`` of b w.r.t. a expressed in frame a, and ``u`` the
+    closure's axis in frame a:
+
+    - ``6d`` (6 rows): a weld, same pose; transmits every wrench.
+    - ``3d`` (3 rows): a ball joint, same origin; transmits forces through it.
+    - ``revolute`` (5 rows): a hinge about u; transmits forces and couples ⊥ u.
+    - ``universal`` (4 rows): hinges about u (fixed in a) and u_b (fixed in b);
+      transmits forces and the couple along ``u x u_b``.
+    - ``cylindrical`` (4 rows): turn about and slide along u; transmits forces
+      ⊥ u and couples ⊥ u.
+    - ``planar`` (3 rows): slide ⊥ u and turn about u (u the plane normal);
+      transmits the force along u and couples ⊥ u.
+
+    Attributes:
+        name: closure name.
+        frame_a, frame_b: frame names; ``frame_a_id``, ``frame_b_id`` their indices.
+        type: one of :data:`CLOSURE_TYPES`.
+        axis: (3,) unit axis u in frame a (revolute, cylindrical, universal) or
+            the plane normal (planar); ``None`` for 6d and 3d.
+        axis_b: (3,) second hinge axis of a universal closure, in frame b.
+    """
+
+    name: str
+    frame_a: str
+    frame_b: str
+    type: ClosureType = ClosureType.WELD
+    axis: Array | None = field(default=None, repr=False)
+    axis_b: Array | None = field(default=None, repr=False)
+    frame_a_id: int = -1
+    frame_b_id: int = -1
+
+    @property
+    def rows(self) -> int:
+        """Number of scalar constraints (relative-motion components forbidden)."""
+        return CLOSURE_ROWS[self.type]
+
+
+#: scalar equations of each closure type
+CLOSURE_ROWS = {
+    ClosureType.WELD: 6,
+    ClosureType.BALL: 3,
+    ClosureType.REVOLUTE: 5,
+    ClosureType.UNIVERSAL: 4,
+    ClosureType.CYLINDRICAL: 4,
+    ClosureType.PLANAR: 3,
+}
+
+
+def closure_joints(model: pin.Model, closure: Closure) -> set[int]:
+    """Indices of the joints a closure involves: those supporting either of its frames."""
+    return {
+        int(j)
+        for f in (closure.frame_a_id, closure.frame_b_id)
+        for j in model.supports[model.frames[f].parentJoint]
+        if j > 0
+    }
+
+
+@dataclass(frozen=True)
+class ClosureGroups:
+    """How the closures of a limb-and-platform mechanism sit among its limbs.
+
+    Closures that share a joint of no limb form one group (one loop system).
+    A group whose joints meet exactly one limb's joints is internal to that
+    limb; one that meets two or more limbs couples them (the limb-wise method
+    does not apply); one that meets no limb moves nothing of any limb.
+
+    Attributes:
+        internal: limb name -> names of its internal closures.
+        loop_joints: limb name -> indices of the joints in no limb that they involve.
+        coupling: closure name -> names of the limbs its group couples.
+        detached: names of the closures that meet no limb.
+    """
+
+    internal: dict[str, tuple[str, ...]]
+    loop_joints: dict[str, tuple[int, ...]]
+    coupling: dict[str, tuple[str, ...]]
+    detached: tuple[str, ...]
+
+
+def group_closures(model: pin.Model, limbs: tuple[Limb, ...], closures: tuple[Closure, ...]) -> ClosureGroups:
+    """Sort ``closures`` into internal-to-one-limb, coupling and detached groups (:class:`ClosureGroups`)."""
+    owner = {model.getJointId(j): limb.name for limb in limbs for j in limb.joints}
+    parent = list(range(len(closures)))  # union-find over closures sharing a joint of no limb
+
+    def root(i: int) -> int:
+        while parent[i] != i:
+            parent[i] = parent[parent[i]]
+            i = parent[i]
+        return i
+
+    joints = [closure_joints(model, c) for c in closures]
+    first: dict[int, int] = {}
+    for i, js in enumerate(joints):
+        for j in js - owner.keys():
+            if j in first:
+                parent[root(i)] = root(first[j])
+            else:
+                first[j] = i
+    members: dict[int, list[int]] = {}
+    for i in range(len(closures)):
+        members.setdefault(root(i), []).append(i)
+    internal: dict[str, tuple[str, ...]] = {}
+    loop: dict[str, tuple[int, ...]] = {}
+    coupling: dict[str, tuple[str, ...]] = {}
+    detached: list[str] = []
+    order = [limb.name for limb in limbs]
+    for group in members.values():
+        touched = {owner[j] for i in group for j in joints[i] if j in owner}
+        names = tuple(closures[i].name for i in group)
+        if not touched:
+            detached.extend(names)
+        elif len(touched) > 1:
+            coupling.update({n: tuple(x for x in order if x in touched) for n in names})
+        else:
+            (limb_name,) = touched
+            internal[limb_name] = internal.get(limb_name, ()) + names
+            free = {j for i in group for j in joints[i]} - owner.keys()
+            loop[limb_name] = tuple(sorted(set(loop.get(limb_name, ())) | free))
+    return ClosureGroups(internal, loop, coupling, tuple(detached))
+
+
+def make_closure(
+    model: pin.Model,
+    name: str,
+    frame_a: str,
+    frame_b: str,
+    type: ClosureType | str = ClosureType.WELD,
+    axis: object = None,
+    axis_b: object = None,
+) -> Closure:
+    """A validated :class:`Closure` on ``model`` (frames exist, axes present and unit).
+
+    Raises:
+        FrameError: a frame does not exist.
+        ConfigurationError: unknown type, or a missing / zero axis.
+    """
+    if str(type).lower() not in CLOSURE_TYPES:
+        raise ConfigurationError(f"closure {name!r}: unknown type {type!r}; valid: {choices(CLOSURE_TYPES)}")
+    ctype = ClosureType(str(type).lower())
+    ida, idb = frame_id(model, frame_a), frame_id(model, frame_b)
+    if ida == idb:
+        raise ConfigurationError(f"closure {name!r} joins frame {frame_a!r} to itself")
+
+    def unit(value: object, what: str) -> Array:
+        a = np.asarray(value, float) if value is not None else np.zeros(0)
+        if a.shape != (3,) or not np.isfinite(a).all() or np.linalg.norm(a) < 1e-12:
+            raise ConfigurationError(
+                f"closure {name!r} of type {ctype.value!r} needs {what} as a non-zero 3-vector, got {value!r}"
+            )
+        return a / np.linalg.norm(a)
+
+    u = unit(axis, "'axis' (in frame a)") if ctype in ("revolute", "universal", "cylindrical", "planar") else None
+    ub = unit(axis_b, "'axis_b' (second hinge axis, in frame b)") if ctype == "universal" else None
+    return Closure(name, frame_a, frame_b, ctype, u, ub, ida, idb)

@@ -1,0 +1,191 @@
+"""Joints and frames of a Pinocchio model: velocity indices, unit masks, limits, angles, configuration vectors.
+
+Plain functions of a ``pin.Model`` (no mechanism): what every layer above needs
+to tell lengths from angles, find a joint or a frame by name, and check a
+configuration vector.
+"""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Iterable
+
+import numpy as np
+import pinocchio as pin
+from numpy.typing import NDArray
+
+from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.screw.algebra import Array, Mask
+
+#: Integer index array.
+IndexArray = NDArray[np.intp]
+
+
+def frame_id(model: pin.Model, name: str) -> int:
+    """Index of frame ``name``; a :class:`FrameError` listing the frames otherwise."""
+    if not model.existFrame(name):
+        raise FrameError(
+            f"no frame {name!r} in model {model.name!r}; valid frames: {choices(f.name for f in model.frames)}"
+        )
+    return model.getFrameId(name)
+
+
+def joint_names(model: pin.Model) -> list[str]:
+    """The model's joint names, without ``universe``."""
+    return list(model.names)[1:]
+
+
+def velocity_indices(model: pin.Model, joint_ids: Iterable[int]) -> Array:
+    """Velocity indices of the given joints (by index), in the given order."""
+    parts = [np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv) for j in joint_ids]
+    return np.concatenate(parts).astype(int) if parts else np.zeros(0, int)
+
+
+def one_degree_indices(model: pin.Model, names: Iterable[str], owner: str) -> Array:
+    """Velocity indices of one-degree joints by name; ``owner`` names the model in messages.
+
+    Raises:
+        FrameError: an unknown joint (the message lists them).
+        ConfigurationError: a joint with more than one degree of freedom.
+    """
+    out = []
+    for name in names:
+        if not model.existJointName(name) or name == "universe":
+            raise FrameError(f"unknown joint {name!r} in {owner!r}; valid: {choices(joint_names(model))}")
+        joint = model.joints[model.getJointId(name)]
+        if joint.nv != 1:
+            raise ConfigurationError(
+                f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees of freedom; only one-degree joints "
+                "can be actuated here"
+            )
+        out.append(joint.idx_v)
+    return np.array(out, int)
+
+
+def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
+    """Default L [m]: root mean square of the model's non-zero link offsets.
+
+    Uses the joint placements (link vectors) and the given frames' placements;
+    it scales with the model's units and does not depend on the configuration.
+    Falls back to 1 m for a model with no offset at all.
+    """
+    offsets = [np.linalg.norm(model.jointPlacements[j].translation) for j in range(1, model.njoints)]
+    offsets += [np.linalg.norm(model.frames[f].placement.translation) for f in frame_ids]
+    nonzero = np.array([o for o in offsets if o > 1e-12])
+    return float(np.sqrt(np.mean(nonzero**2))) if nonzero.size else 1.0
+
+
+def _columns(model: pin.Model) -> list[tuple[int, int, Array]]:
+    """(idx_q, idx_v, motion subspace S (6, nv_j)) of every joint with a velocity, at the neutral configuration."""
+    return _cached_columns(model, model.njoints, model.nq, model.nv)
+
+
+@functools.lru_cache(maxsize=16)
+def _cached_columns(model: pin.Model, njoints: int, nq: int, nv: int) -> list[tuple[int, int, Array]]:
+    """:func:`_columns`, cached per model object and size (a model only grows by adding joints)."""
+    data = model.createData()
+    pin.forwardKinematics(model, data, pin.neutral(model))
+    out = []
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.nv:
+            out.append(
+                (joint.idx_q if joint.nq == joint.nv else -1, joint.idx_v, np.asarray(data.joints[j].S).reshape(6, -1))
+            )
+    return out
+
+
+def linear_velocity_mask(model: pin.Model) -> Mask:
+    """(nv,) True where a velocity component is a translation [m/s] (prismatic, free-flyer linear part).
+
+    Read from each joint's motion subspace at the neutral configuration: a
+    column with no angular part is a translation.
+    """
+    mask = np.zeros(model.nv, bool)
+    for _, iv, sub in _columns(model):
+        mask[iv : iv + sub.shape[1]] = np.linalg.norm(sub[3:], axis=0) < 1e-12
+    return mask
+
+
+def angle_mask(model: pin.Model) -> Mask:
+    """(nq,) True where a configuration coordinate is a revolute angle [rad].
+
+    A coordinate is an angle when its joint has one coordinate per velocity
+    (not a quaternion or a (cos, sin) pair) and its motion-subspace column is
+    a pure rotation: revolute joints and composites of revolutes.
+    """
+    mask = np.zeros(model.nq, bool)
+    for iq, _, sub in _columns(model):
+        if iq >= 0:
+            mask[iq : iq + sub.shape[1]] = (np.linalg.norm(sub[:3], axis=0) < 1e-12) & (
+                np.linalg.norm(sub[3:], axis=0) > 0
+            )
+    return mask
+
+
+def wrap_angles(model: pin.Model, q: Array) -> Array:
+    """q with each revolute angle moved by a multiple of 2 pi into (-pi, pi], where its limits allow.
+
+    When the (-pi, pi] value is outside the joint's position limits, the
+    representative ``x + 2 pi k`` inside the limits with the smallest
+    magnitude is taken; when there is none, the (-pi, pi] value. Limits with
+    ``lower >= upper`` (a URDF ``<limit>`` without ``lower``/``upper`` reads
+    as [0, 0]) count as no limits.
+    """
+    out = np.array(q, float)
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    for i in np.flatnonzero(angle_mask(model)):
+        x = float(np.pi - np.mod(np.pi - out[i], 2 * np.pi))  # in (-pi, pi]
+        if lower[i] < upper[i] and not lower[i] <= x <= upper[i]:
+            inside = [x + 2 * np.pi * k for k in range(-3, 4) if lower[i] <= x + 2 * np.pi * k <= upper[i]]
+            x = min(inside, key=abs) if inside else x
+        out[i] = x
+    return out
+
+
+def outside_limits(model: pin.Model, q: Array, tol: float = 1e-9) -> tuple[str, ...]:
+    """``"name [lower, upper]"`` for each one-coordinate joint of q outside its position limits [rad or m].
+
+    Limits with ``lower >= upper`` count as none (see :func:`wrap_angles`).
+
+    Args:
+        tol: allowance [rad or m] beyond the limits.
+    """
+    out = []
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.nq != joint.nv:
+            continue
+        for i in range(joint.idx_q, joint.idx_q + joint.nq):
+            if lower[i] < upper[i] and (q[i] < lower[i] - tol or q[i] > upper[i] + tol):
+                out.append(f"{model.names[j]} [{lower[i]:.6g}, {upper[i]:.6g}]")
+    return tuple(out)
+
+
+def check_q(model: pin.Model, q: object, owner: str) -> Array:
+    """Validate a configuration vector: shape (nq,), finite, normalised where needed; a float copy.
+
+    Raises:
+        ConfigurationError: wrong shape, non-finite values, or a quaternion or
+            ``(cos, sin)`` pair off the unit sphere.
+    """
+    try:
+        arr = np.array(q, dtype=float)
+    except (TypeError, ValueError):
+        raise ConfigurationError(
+            f"configuration of {owner!r} must be an array of {model.nq} numbers, got {q!r}"
+        ) from None
+    if arr.shape != (model.nq,):
+        raise ConfigurationError(
+            f"configuration has shape {arr.shape}; {owner!r} needs shape ({model.nq},) "
+            f"(nq = {model.nq}: joints {', '.join(joint_names(model))})"
+        )
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size:
+        raise ConfigurationError(f"configuration has non-finite values (NaN or inf) at indices {bad.tolist()}")
+    if not pin.isNormalized(model, arr, 1e-6):
+        raise ConfigurationError(
+            "configuration is not normalised (a quaternion or (cos, sin) pair is off the unit sphere)"
+        )
+    return arr

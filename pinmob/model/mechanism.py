@@ -1,0 +1,290 @@
+"""The Mechanism: one Pinocchio model (a tree), its limbs, closures, platform and actuation (plain data).
+
+A limb is the serial chain of joints that supports its tip frame. At a closed
+configuration every limb tip has the same pose: the platform's. Loading from
+files lives in :mod:`pinmob.io`; closing configurations in :mod:`pinmob.assembly`;
+the closed configuration and what is computed from it in
+:class:`pinmob.analysis.configuration.Configuration`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.model.closure import Closure, ClosureType, group_closures
+from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
+from pinmob.model.limb import Limb
+from pinmob.screw.algebra import Array
+
+
+@dataclass(frozen=True)
+class NamedConfiguration:
+    """A named configuration: joint values, or a platform pose to assemble.
+
+    Attributes:
+        name: configuration name.
+        joints: joint values by joint name [m or rad]; omitted joints are neutral.
+        pose: platform pose (``pin.SE3``) to be assembled, or ``None``.
+        seed: joint values that start the closure solver (select the assembly mode).
+        approach: joint-space direction by joint name used by the paper's view
+            (:func:`pinmob.paper_view`); empty when not declared.
+    """
+
+    name: str
+    joints: Mapping[str, float] = field(default_factory=dict)
+    pose: pin.SE3 | None = None
+    seed: Mapping[str, float] = field(default_factory=dict)
+    approach: Mapping[str, float] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Expectation:
+    """Mobility stated by the literature for a named configuration."""
+
+    dof: int
+    motion_type: str
+    source: str = ""
+
+
+@dataclass(frozen=True)
+class Mechanism:
+    """A closed-chain mechanism: a Pinocchio tree plus limbs meeting at a platform.
+
+    Build one with :func:`pinmob.load` or :func:`Mechanism.from_model`.
+
+    Attributes:
+        name: mechanism name.
+        model: the Pinocchio model holding every limb as a branch.
+        limbs: the limbs; their tips coincide at a closed configuration (may be
+            empty for a mechanism described by closures only).
+        platform: name of the frame reported as platform; ``""`` when the
+            mechanism has none (e.g. an Extended URDF robot).
+        length_scale: characteristic length L [m] used to make ranks unit-invariant.
+        configurations: named configurations.
+        expected: literature mobility per configuration name.
+        description: free text.
+        source: the file it was loaded from, if any.
+        visual_model: Pinocchio visual geometry, if loaded.
+        collision_model: Pinocchio collision geometry, if loaded.
+        generic_rank: constraint rank at generic configurations, when declared
+            (else :mod:`pinmob.analysis.singularity` estimates it from random closed
+            configurations).
+        closures: loop closures besides the limb tips meeting at the platform
+            (see :attr:`all_closures`).
+        extra_actuated: actuated joints not attached to a limb (mechanisms
+            described by closures only).
+    """
+
+    name: str
+    model: pin.Model = field(repr=False)
+    limbs: tuple[Limb, ...]
+    platform: str
+    length_scale: float
+    configurations: Mapping[str, NamedConfiguration] = field(default_factory=dict, repr=False)
+    expected: Mapping[str, Expectation] = field(default_factory=dict, repr=False)
+    description: str = ""
+    source: Path | None = None
+    visual_model: pin.GeometryModel | None = field(default=None, repr=False)
+    collision_model: pin.GeometryModel | None = field(default=None, repr=False)
+    generic_rank: int | None = None
+    closures: tuple[Closure, ...] = ()
+    extra_actuated: tuple[str, ...] = ()
+
+    # ------------------------------------------------------------------ build
+
+    @classmethod
+    def from_model(
+        cls,
+        model: pin.Model,
+        limbs: Mapping[str, str] | list[tuple[str, str]],
+        *,
+        name: str = "mechanism",
+        platform: str | None = None,
+        actuated: Mapping[str, list[str]] | None = None,
+        length_scale: float | None = None,
+        configurations: Mapping[str, NamedConfiguration] | None = None,
+        expected: Mapping[str, Expectation] | None = None,
+        description: str = "",
+        source: Path | None = None,
+        visual_model: pin.GeometryModel | None = None,
+        collision_model: pin.GeometryModel | None = None,
+        generic_rank: int | None = None,
+        closures: list[Closure] | tuple[Closure, ...] = (),
+    ) -> Mechanism:
+        """Build a mechanism from a model and ``{limb name: tip frame}``.
+
+        Without limbs the mechanism is described by ``closures`` alone; its
+        actuated joints are then given under the key ``""`` of ``actuated``
+        (joints anywhere in the model), and it has a platform only if
+        ``platform`` names one.
+
+        Raises:
+            FrameError: a tip, platform or actuated joint does not exist.
+            ConfigurationError: two limbs share a joint, a limb has no joint, or
+                there is neither a limb nor a closure.
+        """
+        pairs = list(limbs.items()) if isinstance(limbs, Mapping) else list(limbs)
+        if not pairs and not closures:
+            raise ConfigurationError(f"mechanism {name!r} has neither a limb nor a closure; give at least one")
+        actuated = dict(actuated or {})
+        extra = tuple(actuated.pop("", ()))
+        for a in extra:
+            if not model.existJointName(a) or a == "universe":
+                raise FrameError(
+                    f"actuated joint {a!r} does not exist in {name!r}; valid: {choices(joint_names(model))}"
+                )
+        names = [c.name for c in closures]
+        if len(set(names)) != len(names):
+            raise ConfigurationError(f"closure names must be unique in {name!r}, got {names}")
+        built: list[Limb] = []
+        owner: dict[str, str] = {}
+        for limb_name, tip in pairs:
+            tip_id = frame_id(model, tip)
+            joint_ids = [j for j in model.supports[model.frames[tip_id].parentJoint] if j > 0]
+            if not joint_ids:
+                raise ConfigurationError(f"limb {limb_name!r}: tip frame {tip!r} is fixed to the base (no joint)")
+            joints = tuple(model.names[j] for j in joint_ids)
+            for j in joints:
+                if j in owner:
+                    raise ConfigurationError(
+                        f"limbs {owner[j]!r} and {limb_name!r} share joint {j!r}: each limb must be its own "
+                        "branch from the base (close shared parts with closures instead)"
+                    )
+                owner[j] = limb_name
+            acts = tuple(actuated.get(limb_name, ()))
+            for a in acts:
+                if a not in joints:
+                    raise FrameError(
+                        f"limb {limb_name!r}: actuated joint {a!r} is not in its chain; valid: {choices(joints)}"
+                    )
+            built.append(Limb(limb_name, tip, tip_id, joints, velocity_indices(model, joint_ids), acts))
+        groups = group_closures(model, tuple(built), tuple(closures))
+        built = [
+            replace(
+                b,
+                closures=groups.internal.get(b.name, ()),
+                loop_joints=tuple(model.names[j] for j in groups.loop_joints.get(b.name, ())),
+                loop_v_indices=velocity_indices(model, groups.loop_joints.get(b.name, ())),
+            )
+            for b in built
+        ]
+        platform = platform or (pairs[0][1] if pairs else "")
+        if platform:
+            frame_id(model, platform)
+        frames = [b.tip_id for b in built] + [i for c in closures for i in (c.frame_a_id, c.frame_b_id)]
+        scale = float(length_scale) if length_scale else characteristic_length(model, frames)
+        if not np.isfinite(scale) or scale <= 0:
+            raise ConfigurationError(f"length_scale must be a positive number of metres, got {length_scale!r}")
+        if generic_rank is not None and (
+            not isinstance(generic_rank, int) or isinstance(generic_rank, bool) or not 0 <= generic_rank <= 6
+        ):
+            raise ConfigurationError(f"generic_rank must be an integer from 0 to 6, got {generic_rank!r}")
+        mech = cls(
+            name=name,
+            model=model,
+            limbs=tuple(built),
+            platform=platform,
+            length_scale=scale,
+            configurations=dict(configurations or {}),
+            expected=dict(expected or {}),
+            description=description,
+            source=source,
+            visual_model=visual_model,
+            collision_model=collision_model,
+            generic_rank=generic_rank,
+            closures=tuple(closures),
+            extra_actuated=extra,
+        )
+        return mech
+
+    # ------------------------------------------------------------------ queries
+
+    @property
+    def has_platform(self) -> bool:
+        """True when a platform frame is named."""
+        return bool(self.platform)
+
+    @property
+    def all_closures(self) -> tuple[Closure, ...]:
+        """Every loop closure: each limb tip welded (6d) to the platform frame, then :attr:`closures`.
+
+        A limb whose tip is fixed to the platform frame's body (same parent
+        joint) closes nothing and is left out.
+        """
+        if not self.platform:
+            return self.closures
+        pid = self.platform_id
+        body = self.model.frames[pid].parentJoint
+        implicit = tuple(
+            Closure(f"limb {b.name}", self.platform, b.tip, ClosureType.WELD, None, None, pid, b.tip_id)
+            for b in self.limbs
+            if self.model.frames[b.tip_id].parentJoint != body
+        )
+        return implicit + self.closures
+
+    @property
+    def coupling_closures(self) -> dict[str, tuple[str, ...]]:
+        """Closures whose loops involve the joints of two or more limbs: closure name -> those limbs.
+
+        The limb-wise method cannot treat them (:func:`pinmob.analyze`
+        then uses the closure Jacobian of the whole mechanism).
+        """
+        return group_closures(self.model, self.limbs, self.closures).coupling
+
+    @property
+    def platform_id(self) -> int:
+        """Pinocchio frame index of the platform frame."""
+        return self.model.getFrameId(self.platform)
+
+    @property
+    def actuated(self) -> tuple[str, ...]:
+        """All actuated joint names, limb by limb, then those outside limbs."""
+        return tuple(a for limb in self.limbs for a in limb.actuated) + self.extra_actuated
+
+    def limb(self, name: str) -> Limb:
+        """The limb called ``name``."""
+        for limb in self.limbs:
+            if limb.name == name:
+                return limb
+        raise ConfigurationError(f"no limb {name!r} in {self.name!r}; valid: {choices(b.name for b in self.limbs)}")
+
+    def neutral(self) -> Array:
+        """Pinocchio's neutral configuration, shape (nq,)."""
+        return pin.neutral(self.model)
+
+    def q_from_joints(self, values: Mapping[str, float], base: Array | None = None) -> Array:
+        """Configuration vector from joint values by name; others from ``base`` (default neutral).
+
+        One-degree joints take a value [m or rad]; continuous joints take an angle.
+        """
+        q = np.array(self.neutral() if base is None else base, float)
+        for jname, value in values.items():
+            if not self.model.existJointName(jname):
+                raise FrameError(f"unknown joint {jname!r} in {self.name!r}; valid: {choices(joint_names(self.model))}")
+            try:
+                x = float(value)
+            except (TypeError, ValueError):
+                raise ConfigurationError(f"joint {jname!r}: value {value!r} is not a number") from None
+            if not np.isfinite(x):
+                raise ConfigurationError(f"joint {jname!r}: value {value!r} is not finite")
+            joint = self.model.joints[self.model.getJointId(jname)]
+            if joint.nq == 1:
+                q[joint.idx_q] = x
+            elif joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
+                q[joint.idx_q : joint.idx_q + 2] = (np.cos(x), np.sin(x))
+            else:
+                raise ConfigurationError(
+                    f"joint {jname!r} ({joint.shortname()}) has {joint.nq} coordinates: give the whole "
+                    "configuration vector instead of a value by name"
+                )
+        return q
+
+    def check_q(self, q: object) -> Array:
+        """Validate a configuration vector: shape (nq,), finite, normalised where needed (a float copy)."""
+        return check_q(self.model, q, self.name)

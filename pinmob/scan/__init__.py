@@ -1,0 +1,41 @@
+"""Scans: mobility and singularities along a path or over a workspace slice, with refinement, files and plots.
+
+:mod:`~pinmob.scan.spec` (what to scan: paths and grids), :mod:`~pinmob.scan.run`
+(the scan itself: warm-started assembly, analysis, refinement, workers),
+:mod:`~pinmob.scan.refine` (singular points between samples),
+:mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.plot` (PNG plots).
+"""
+
+from pinmob.scan.run import chunk_seeds, columns, evaluate, run_chunk, scan
+from pinmob.scan.spec import (
+    CHUNK,
+    KINDS,
+    POSE_COORDS,
+    STRIDE,
+    ScanSpec,
+    grid_spec,
+    path_spec,
+    platform_pose,
+    pose_from_vector,
+    pose_vector,
+    resolve_pose,
+)
+
+__all__ = [
+    "CHUNK",
+    "KINDS",
+    "POSE_COORDS",
+    "STRIDE",
+    "ScanSpec",
+    "chunk_seeds",
+    "columns",
+    "evaluate",
+    "grid_spec",
+    "path_spec",
+    "platform_pose",
+    "pose_from_vector",
+    "pose_vector",
+    "resolve_pose",
+    "run_chunk",
+    "scan",
+]

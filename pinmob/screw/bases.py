@@ -1,0 +1,86 @@
+"""Canonical bases and comparisons of subspaces: world-aligned directions, labels, round-off cleaning."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from pinmob.screw.algebra import Array
+from pinmob.screw.rank import svd
+
+AXIS_NAMES = ("x", "y", "z")
+
+
+def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
+    """Canonical orthonormal basis of a subspace of R^3.
+
+    Greedy: at each step, project the world axes x, y, z onto what is left of
+    the subspace, take the axis with the largest projection (ties go to the
+    earlier axis), normalise the projection and remove it. The result is sorted
+    by that axis and each vector points along its axis, so the basis depends only
+    on the subspace, not on the input basis.
+
+    Args:
+        basis: (3, k) spanning vectors, k <= 3 (need not be orthonormal).
+
+    Returns:
+        (3, r) orthonormal canonical basis, r the rank of ``basis`` (singular
+        values above ``tol * max(1, sigma_max)``).
+    """
+    d = np.asarray(basis, float).reshape(3, -1)
+    if d.shape[1] == 0:
+        return np.zeros((3, 0))
+    u, s, _ = svd(d, full_matrices=False)
+    rest = u[:, s > tol * max(1.0, float(s[0]))]
+    picked: list[tuple[int, Array]] = []
+    proj = rest @ rest.T  # projector onto what is left of the subspace
+    for _ in range(rest.shape[1]):
+        norms = np.sqrt((proj * proj).sum(axis=0))
+        axis = int(np.argmax(norms > norms.max() - tol))  # first axis within tol of the best
+        vec = proj[:, axis] / norms[axis]
+        picked.append((axis, vec))
+        proj = proj - np.outer(vec, vec)  # vec lies in the subspace: P - vec vec^T projects onto the rest
+    if not picked:
+        return np.zeros((3, 0))
+    picked.sort(key=lambda p: p[0])
+    return np.column_stack([clean(v) for _, v in picked])
+
+
+def axis_label(direction: ArrayLike, tol: float = 1e-9) -> str:
+    """``'x'``, ``'-y'``, ... for a world axis, else the rounded vector."""
+    u = np.asarray(direction, float)
+    for i, name in enumerate(AXIS_NAMES):
+        if abs(abs(u[i]) - 1.0) < tol:
+            return name if u[i] > 0 else "-" + name
+    return "[" + ", ".join(f"{c:.3g}" for c in u) + "]"
+
+
+def clean(a: Array, scale: float = 1.0, tol: float = 1e-10) -> Array:
+    """Zero the entries of ``a`` below ``tol * scale`` (numerical dust) and drop signed zeros."""
+    a = np.where(np.abs(a) < tol * scale, 0.0, a)
+    return a + 0.0
+
+
+def positive(u: Array, tol: float = 1e-9) -> Array:
+    """Flip u so that its largest-magnitude component (first on ties) is positive."""
+    i = int(np.argmax(np.abs(u) > np.abs(u).max() - tol))
+    return u if u[i] >= 0 else -u
+
+
+def subspace_gap(a: ArrayLike, b: ArrayLike) -> float:
+    """Largest sine of the principal angles between the column spans of a and b.
+
+    0 when the spans are equal, 1 when one holds a direction orthogonal to the
+    other. Spans of different dimension give 1. Scale the inputs first when they
+    mix units.
+    """
+    a = np.asarray(a, float)
+    b = np.asarray(b, float)
+    if a.shape[1] != b.shape[1]:
+        return 1.0
+    if a.shape[1] == 0:
+        return 0.0
+    qa = np.linalg.qr(a)[0]
+    qb = np.linalg.qr(b)[0]
+    cos = np.linalg.svd(qa.T @ qb, compute_uv=False)
+    return float(np.sqrt(max(0.0, 1.0 - float(np.min(cos)) ** 2)))

@@ -1,0 +1,168 @@
+"""The one rank decision rule, and the reciprocal screw systems it decides.
+
+Every rank in pinmob is decided here, on a dimensionless matrix (twists
+``[v / L; w]``, wrenches ``[f L; tau]``, joint rates per L), by an SVD with a
+tolerance relative to a reference scale: a singular value counts when it is
+above ``rtol * reference``. The reference is the matrix's largest singular value
+unless the caller names another one: 1 for a matrix built from orthonormal
+bases (whose natural scale is 1, and which must have rank 0 when it is zero),
+or the largest singular value of the whole matrix a block was cut from (so that
+a block is judged with its parent's threshold). Every decision returns its
+singular values and tolerance, and how clearly the rank was decided
+(:attr:`RankDecision.margin`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from pinmob.exceptions import ConfigurationError
+from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
+
+#: Default relative tolerance on singular values for rank decisions.
+RTOL = 1e-6
+_LAPACK: Any = None
+
+
+def check_rtol(rtol: object, name: str = "rtol") -> float:
+    """A validated relative rank tolerance: a finite real number with ``0 < rtol < 1``.
+
+    Singular values below ``rtol * sigma_max`` count as zero, so ``rtol <= 0``
+    would call round-off a motion and ``rtol >= 1`` would drop real ones.
+
+    Args:
+        rtol: the tolerance to check (dimensionless).
+        name: how the caller calls it in the message (``--rtol`` for the CLI).
+
+    Raises:
+        ConfigurationError: not a real number, not finite, or outside (0, 1).
+    """
+    if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
+        raise ConfigurationError(f"{name} must be a number in (0, 1), got {rtol!r} ({type(rtol).__name__})")
+    value = float(rtol)
+    if not (np.isfinite(value) and 0.0 < value < 1.0):
+        raise ConfigurationError(f"{name} must be a finite number in (0, 1), e.g. {RTOL:g}; got {rtol!r}")
+    return value
+
+
+def svd(a: Array, full_matrices: bool = True) -> tuple[Array, Array, Array]:
+    """``U, s, V^T`` of a small non-empty (m, n) matrix: LAPACK's ``dgesdd``, as ``np.linalg.svd`` calls it.
+
+    Called straight through SciPy's LAPACK wrapper (imported on first use): the same routine and
+    results, without ``np.linalg.svd``'s per-call overhead, which dominates for 6 x 6 matrices.
+    Falls back to ``np.linalg.svd`` (which raises ``LinAlgError``) if LAPACK reports a failure.
+    """
+    global _LAPACK
+    if _LAPACK is None:
+        from scipy.linalg import lapack
+
+        _LAPACK = lapack
+    u, s, vt, info = _LAPACK.dgesdd(a, compute_uv=1, full_matrices=int(full_matrices))
+    if info != 0:
+        return tuple(np.linalg.svd(a, full_matrices=full_matrices))  # type: ignore[return-value]
+    return u, s, vt
+
+
+@dataclass(frozen=True)
+class RankDecision:
+    """Outcome of a unit-invariant rank decision.
+
+    Attributes:
+        rank: number of singular values above ``tolerance``.
+        singular_values: all singular values, descending.
+        tolerance: absolute threshold used, ``rtol * reference``.
+        row_space: (rank, n) orthonormal basis of the row space.
+        null_space: (n - rank, n) orthonormal basis of the null space.
+    """
+
+    rank: int
+    singular_values: Array
+    tolerance: float
+    row_space: Array
+    null_space: Array
+
+    @property
+    def margin(self) -> float:
+        """How clearly the rank is decided: ``min(sigma_rank / tol, tol / sigma_(rank+1))`` (inf when clear-cut).
+
+        Below about 10 a small change of ``rtol``, of the units or of the
+        configuration's round-off would change the rank.
+        """
+        s, tol = self.singular_values, self.tolerance
+        if tol <= 0:
+            return float("inf")
+        kept = s[self.rank - 1] / tol if self.rank > 0 else np.inf
+        dropped = tol / s[self.rank] if self.rank < s.size and s[self.rank] > 0 else np.inf
+        return float(min(kept, dropped))
+
+
+def decide_rank(
+    matrix: ArrayLike,
+    rtol: float = RTOL,
+    n: int | None = None,
+    *,
+    reference: float | None = None,
+    at_least: float = 0.0,
+) -> RankDecision:
+    """SVD of a dimensionless (m, n) matrix; singular values above ``rtol * max(at_least, reference)`` count.
+
+    Args:
+        matrix: (m, n) dimensionless matrix.
+        rtol: relative tolerance.
+        n: number of columns when the matrix is empty (m = 0).
+        reference: the scale the tolerance is relative to; default the largest
+            singular value (see the module docstring for the other choices).
+        at_least: a floor under the reference: 1 for a matrix built from
+            orthonormal bases, whose natural scale is 1 and which must have rank
+            0 when it is zero.
+
+    An empty matrix (m = 0) has rank 0 and the whole space as null space.
+    """
+    a = np.asarray(matrix, float)
+    if a.ndim != 2:
+        raise ValueError(f"expected a 2-D matrix, got shape {a.shape}")
+    cols = a.shape[1] if n is None else n
+    if a.size == 0:
+        return RankDecision(0, np.zeros(0), 0.0, np.zeros((0, cols)), np.eye(cols))
+    _, s, vt = svd(a)
+    smax = float(s[0]) if s.size else 0.0
+    tol = rtol * max(at_least, smax if reference is None else float(reference))
+    rank = int(np.sum(s > tol)) if smax > 0 else 0
+    return RankDecision(rank, s, tol, vt[:rank], vt[rank:])
+
+
+def reciprocal_wrenches(twists: ArrayLike, length: float, rtol: float = RTOL) -> tuple[Array, RankDecision]:
+    """Basis of the wrenches reciprocal to every twist given.
+
+    Solves ``W^T T = 0`` on the dimensionless matrices: the null space of
+    ``(D_t T)^T`` where ``D_t = diag(1/L, 1/L, 1/L, 1, 1, 1)``, mapped back by
+    ``f = f_hat / L``.
+
+    Args:
+        twists: (6, k) twists ``[v; w]`` [m/s, rad/s per unit joint rate].
+        length: characteristic length L [m].
+        rtol: relative tolerance on the singular values.
+
+    Returns:
+        (6, 6 - rank) wrenches ``[f; tau]`` (orthonormal when dimensionless),
+        and the rank decision on the twists.
+    """
+    t = np.asarray(twists, float).reshape(6, -1)
+    dec = decide_rank((twist_scaling(length)[:, None] * t).T, rtol, n=6)
+    w_hat = dec.null_space.T
+    return w_hat / wrench_scaling(length)[:, None], dec
+
+
+def reciprocal_twists(wrenches: ArrayLike, length: float, rtol: float = RTOL) -> tuple[Array, RankDecision]:
+    """Basis of the twists reciprocal to every wrench given (dual of :func:`reciprocal_wrenches`).
+
+    Returns:
+        (6, 6 - rank) twists ``[v; w]`` and the rank decision on the wrenches.
+    """
+    w = np.asarray(wrenches, float).reshape(6, -1)
+    dec = decide_rank((wrench_scaling(length)[:, None] * w).T, rtol, n=6)
+    return dec.null_space.T / twist_scaling(length)[:, None], dec

@@ -1,0 +1,109 @@
+"""The free motions of the platform, animated in meshcat with the whole mechanism following.
+
+>>> import pinmob, pinmob.viewer
+>>> mech = pinmob.load("3-PUU-flat")
+>>> scene = pinmob.viewer.export_html(mech, "flat", "flat.html")   # doctest: +SKIP
+>>> live = pinmob.viewer.show(mech, "flat")                          # doctest: +SKIP
+>>> print(live.url)                                                   # doctest: +SKIP
+
+What the scene holds (meshcat paths):
+
+- ``/pinmob/mechanism``: the mechanism, once (each mesh defined once). Each
+  free motion (``T1 x``, ``R1 z``... the labels of ``Mobility.motions``) is an
+  animation clip of that name moving its geometry: the platform goes a finite
+  amount along the motion and back, then the other way and back, every frame
+  a closed configuration (:func:`pinmob.analysis.motion_path.follow_motion`). The first
+  (or the chosen) clip plays in a loop; the ``motion`` menu of the controls
+  (pinmob's server and HTML export) loads another.
+- ``/pinmob/glyphs/<label>``: the free motions at the platform
+  (:mod:`pinmob.viewer.glyphs`): arrows, axis + ring, axis + helix.
+- ``/pinmob/wrenches/<kind i>``: the constraint wrenches, hidden unless asked for.
+
+Everything under ``/pinmob`` is shifted by ``-Scene.center`` (meshcat's orbit
+controls look at the origin). The scene is built by :mod:`pinmob.viewer.scene`; :func:`export_html` (from
+:mod:`pinmob.viewer.html`) writes it to a file, :func:`show` sends it to a
+meshcat server. The geometry is the URDF's visuals through Pinocchio's
+``MeshcatVisualizer``, or a generated stick figure (:mod:`pinmob.viewer.skeleton`)
+when the URDF has none. meshcat is imported here only, when a function runs.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import io
+
+from pinmob.analysis.mobility import Mobility
+from pinmob.exceptions import ConfigurationError, ViewerError
+from pinmob.model.mechanism import Mechanism
+from pinmob.viewer.html import export_html, scene_html
+from pinmob.viewer.scene import FPS, ROOT, Array, Scene, build, prepare, require_meshcat
+
+__all__ = ["FPS", "ROOT", "Scene", "export_html", "scene_html", "show"]
+
+
+def show(
+    mech: Mechanism,
+    q: Array | str,
+    mobility: Mobility | None = None,
+    *,
+    zmq_url: str | None = None,
+    port: int | None = None,
+    motion: str | None = None,
+    wrenches: bool = False,
+    amplitude: float | None = None,
+    steps: int = 12,
+    animate: bool = True,
+    timeout: float = 20.0,
+) -> Scene:
+    """Show the mechanism and its animated free motions in a meshcat server.
+
+    Everything that can fail (closure, analysis, following the motions) runs
+    before any server is touched. Nothing waits for a browser: open
+    ``scene.url`` whenever you like; the server keeps the scene.
+
+    Args:
+        zmq_url: a running meshcat server (``tcp://127.0.0.1:6000``); default:
+            start one on 127.0.0.1 (``scene.server``; it lives until
+            ``scene.server.stop()`` or until killed, not with this process).
+        port: web port of the server pinmob starts (default: first free from 7000).
+        timeout: seconds to wait for the server to start or answer.
+        Others as in :func:`export_html`.
+
+    Raises:
+        ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
+            (all checked before any server is started).
+        ViewerError: meshcat missing, port in use, or no server answering.
+        ClosureError: q does not close.
+    """
+    from pinmob.viewer.server import check_port, probe, start_server
+
+    check_port(port)
+    if zmq_url is not None and port is not None:
+        raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
+    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate, motion)
+    require_meshcat()
+    import zmq
+    from meshcat.visualizer import Visualizer
+
+    server = None
+    if zmq_url is None:
+        server = start_server(port=port, timeout=timeout)
+        zmq_url = server.zmq_url
+    try:
+        probe(zmq_url, timeout=min(timeout, 5.0))
+        with contextlib.redirect_stdout(io.StringIO()):
+            vis = Visualizer(zmq_url=zmq_url)
+        vis.window.zmq_socket.setsockopt(zmq.RCVTIMEO, int(timeout * 1000))
+        vis.window.zmq_socket.setsockopt(zmq.LINGER, 0)
+        scene = build(vis, mech, q, mob, paths, motion=motion, wrenches=wrenches)
+    except zmq.ZMQError as exc:
+        if server is not None:
+            server.stop()
+        raise ViewerError(f"the meshcat server at {zmq_url} stopped answering ({exc})") from None
+    except BaseException:
+        if server is not None:
+            server.stop()
+        raise
+    scene.url, scene.zmq_url, scene.server = vis.url(), zmq_url, server
+    vis.window.zmq_socket.close(0)
+    return scene

@@ -1,0 +1,303 @@
+"""The meshcat scene of a mobility analysis, shown by :mod:`pinmob.viewer`, written by :mod:`pinmob.viewer.html`.
+
+:func:`prepare` does everything that can fail before meshcat is touched (the
+closed configuration, its mobility, the followed motions); :func:`build` sends
+the scene (the mechanism once, one animation clip per free motion, glyphs,
+wrenches, camera, lights, motion menu) to a live or recording meshcat ``Visualizer`` and returns a
+:class:`Scene`. See :mod:`pinmob.viewer` for the scene's meshcat paths.
+"""
+
+from __future__ import annotations
+
+import json
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.analysis.configuration import as_configuration
+from pinmob.analysis.mobility import Mobility, platform_mobility
+from pinmob.analysis.motion_path import MotionPath, follow_motion
+from pinmob.exceptions import ConfigurationError, ViewerError, choices
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.rank import RTOL
+from pinmob.viewer.glyphs import Glyph, constraint_glyph, motion_glyph
+from pinmob.viewer.skeleton import visual_geometry
+
+Array = np.ndarray
+
+ROOT = "pinmob"
+FPS = 24
+#: the camera looks at the mechanism from this direction (world, unit): 30 deg azimuth, 35 deg elevation
+VIEW_DIRECTION = np.array([np.cos(0.61) * np.cos(0.52), np.cos(0.61) * np.sin(0.52), np.sin(0.61)])
+CAMERA_FOV = 75.0  # meshcat's default camera, degrees (vertical)
+#: meshcat's default point lights: position [m] (scene frame) and reach [m], made for a scene about 1 m across
+POINT_LIGHTS = {"PointLightNegativeX": (1.5, 1.5, 2.0), "PointLightPositiveX": (-1.5, -1.5, 2.0)}
+LIGHT_REACH = 10.0
+#: glyphs are drawn after everything else (three.js renderOrder)
+GLYPH_RENDER_ORDER = 10
+
+
+@dataclass
+class Scene:
+    """What was put in the viewer.
+
+    Attributes:
+        clips: clip names, one per free motion, in the order of ``Mobility.motions``.
+        visible: the clip shown (and playing) on opening, or None without motion.
+        notes: where a motion could not be followed the whole amplitude, and why.
+        generated_geometry: True when the mechanism is drawn as a generated stick figure.
+        mobility: the analysis shown.
+        paths: the followed motions, by clip name.
+        center, distance: where the camera looks [m] and from how far [m].
+        url: the live page (``show``) or None.
+        zmq_url: the server's command URL (``show``) or None.
+        html: the written file (``export_html``) or None.
+        server: the server pinmob started (``show`` without ``zmq_url``); ``server.stop()`` ends it.
+    """
+
+    clips: tuple[str, ...]
+    visible: str | None
+    notes: tuple[str, ...]
+    generated_geometry: bool
+    mobility: Mobility
+    paths: dict[str, MotionPath] = field(repr=False)
+    center: Array = field(repr=False, default_factory=lambda: np.zeros(3))
+    distance: float = 1.0
+    url: str | None = None
+    zmq_url: str | None = None
+    html: Path | None = None
+    server: Any = field(default=None, repr=False)
+
+
+# --------------------------------------------------------------------------- meshcat plumbing
+
+
+def require_meshcat() -> Any:
+    """Import meshcat (and what the scene uses of it), or a :class:`ViewerError` saying how to install it."""
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", DeprecationWarning)  # meshcat imports zmq.eventloop.ioloop
+            import meshcat
+            import meshcat.animation  # noqa: F401
+            import meshcat.geometry  # noqa: F401
+            import meshcat.visualizer  # noqa: F401
+            import umsgpack  # noqa: F401
+    except ImportError as exc:
+        raise ViewerError(
+            f"the viewer needs meshcat, which cannot be imported ({exc}); install it with: pip install meshcat"
+        ) from None
+    return meshcat
+
+
+class _SetControl:
+    """meshcat's ``set_control`` command: a GUI control calling ``callback`` (JavaScript)."""
+
+    def __init__(self, name: str, callback: str, value: str, options: list[str]):
+        self.name, self.callback, self.value, self.options = name, callback, value, options
+
+    def lower(self) -> dict[str, Any]:
+        return {
+            "type": "set_control",
+            "name": self.name,
+            "callback": self.callback,
+            "value": self.value,
+            "min": self.options,
+            "path": "",
+        }
+
+
+class _DeleteControl:
+    """meshcat's ``delete_control`` command: remove the GUI control ``name`` (a scene without motions)."""
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def lower(self) -> dict[str, Any]:
+        return {"type": "delete_control", "name": self.name, "path": ""}
+
+
+class _SetAnimation:
+    """meshcat's ``set_animation`` command from already lowered clips (``[{path, clip}]``)."""
+
+    def __init__(self, animations: list[dict[str, Any]]):
+        self.animations = animations
+
+    def lower(self) -> dict[str, Any]:
+        options = {"play": True, "repetitions": float("inf")}
+        return {"type": "set_animation", "animations": self.animations, "options": options, "path": ""}
+
+
+def _selector_callback(clips: dict[str, list[dict[str, Any]]], visible: str) -> str:
+    """JavaScript of the motion menu: load the chosen clip (all clips move the one mechanism).
+
+    Evaluated by meshcat when the control is created: it loads the visible clip
+    at once (so a page that receives the control later still plays the right
+    one) and returns the menu's callback.
+    """
+    return (
+        "(() => { const clips = " + json.dumps(clips, separators=(",", ":")) + "; "
+        "const choose = (value) => { viewer.handle_command({type: 'set_animation', "
+        "animations: JSON.parse(JSON.stringify(clips[value])), options: {play: true, repetitions: Infinity}}); "
+        "viewer.set_dirty(); }; "
+        "choose(" + json.dumps(visible) + "); return choose; })()"
+    )
+
+
+def _mesh(glyph: Glyph) -> Any:
+    """A glyph's meshcat object, drawn after (``renderOrder``) and over (no depth test) the mechanism."""
+    import meshcat.geometry as mg
+
+    class GlyphMesh(mg.Mesh):
+        def lower(self) -> dict[str, Any]:
+            data: dict[str, Any] = super().lower()
+            data["object"]["renderOrder"] = GLYPH_RENDER_ORDER
+            return data
+
+    material = mg.MeshPhongMaterial(color=glyph.color, depthTest=False, transparent=True, opacity=1.0)
+    return GlyphMesh(mg.TriangularMeshGeometry(glyph.vertices, glyph.faces), material)
+
+
+# --------------------------------------------------------------------------- scene
+
+
+def prepare(
+    mech: Mechanism,
+    q: Array | str,
+    mobility: Mobility | None,
+    amplitude: float | None,
+    steps: int,
+    animate: bool,
+    motion: str | None = None,
+) -> tuple[Array, Mobility, dict[str, MotionPath]]:
+    """Closed q, its mobility and the followed motions (everything that can fail before meshcat).
+
+    Raises:
+        ConfigurationError: ``motion`` is not the label of a free motion at q.
+        ClosureError: q does not close.
+    """
+    conf = as_configuration(mech, q)
+    q = conf.q
+    mob = mobility if mobility is not None else platform_mobility(conf, RTOL)
+    labels = [m.label for m in mob.motions]
+    if motion is not None and motion not in labels:
+        raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
+    paths = {}
+    for m in mob.motions:
+        if animate:
+            paths[m.label] = follow_motion(mech, q, m, amplitude=amplitude, steps=steps)
+        else:
+            paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
+    return q, mob, paths
+
+
+def _frame_camera(vis: Any, points: Array) -> tuple[Array, float]:
+    """Frame ``points`` (k, 3): shift the scene so that their centre is at the origin, then back the camera off.
+
+    meshcat's orbit controls always look at the world origin, so the scene
+    (everything under ``/pinmob``) is translated by ``-center`` rather than the
+    camera moved; the camera stands far enough away to see every point.
+    """
+    lo, hi = points.min(axis=0), points.max(axis=0)
+    center = 0.5 * (lo + hi)
+    radius = max(float(np.linalg.norm(points - center, axis=1).max()), 1e-9)
+    distance = 1.05 * radius / np.sin(np.radians(CAMERA_FOV) / 2)
+    offset = distance * VIEW_DIRECTION
+    vis[ROOT].set_transform(pin.SE3(np.eye(3), -center).homogeneous)
+    vis["/Cameras/default"].set_transform(np.eye(4))
+    camera = vis["/Cameras/default/rotated/<object>"]
+    camera.set_property("near", distance / 100.0)
+    camera.set_property("far", distance * 100.0)
+    camera.set_property("position", [float(offset[0]), float(offset[2]), float(-offset[1])])  # y-up camera frame
+    return center, distance
+
+
+def _place_lights(vis: Any, distance: float) -> None:
+    """Move meshcat's point lights with the scene's size (the scene is centred, :func:`_frame_camera`).
+
+    The defaults suit a scene about 1 m across, seen from about 1.5 m.
+    """
+    scale = distance / 1.5
+    for name, position in POINT_LIGHTS.items():
+        light = vis[f"/Lights/{name}/<object>"]
+        light.set_property("position", [float(c) * scale for c in position])
+        light.set_property("distance", LIGHT_REACH * scale)
+
+
+def build(
+    vis: Any,
+    mech: Mechanism,
+    q: Array,
+    mob: Mobility,
+    paths: dict[str, MotionPath],
+    *,
+    motion: str | None,
+    wrenches: bool,
+) -> Scene:
+    """Send the whole scene to ``vis`` (a live or recording meshcat Visualizer)."""
+    from meshcat.animation import Animation, AnimationClip, js_position, js_quaternion
+    from pinocchio.visualize import MeshcatVisualizer
+
+    labels = [m.label for m in mob.motions]
+    if motion is not None and motion not in labels:  # prepare() checks it before any server is touched
+        raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
+    visible = motion or (labels[0] if labels else None)
+    geometry, generated = visual_geometry(mech, q)
+    model = mech.model
+    data, gdata = model.createData(), pin.GeometryData(geometry)
+
+    vis[ROOT].delete()
+    vis["/Background"].set_property("top_color", [0.97, 0.97, 0.98])
+    vis["/Background"].set_property("bottom_color", [0.78, 0.8, 0.84])
+    vis["/Grid"].set_property("visible", False)
+    vis["/Axes"].set_property("visible", False)
+    points: list[Array] = []
+    # the mechanism once (each mesh defined once); each clip animates its geometry nodes' transforms
+    viz = MeshcatVisualizer(model, None, geometry)
+    viz.initViewer(viewer=vis)
+    viz.loadViewerModel(rootNodeName=f"{ROOT}/mechanism")
+    viz.display(q)
+    nodes = [vis[viz.getViewerNodeName(obj, pin.GeometryType.VISUAL)].path for obj in geometry.geometryObjects]
+    clips: dict[str, list[dict[str, Any]]] = {}
+    clip_labels: list[str | None] = [*labels] if labels else [None]
+    for label in clip_labels:
+        animation = Animation(default_framerate=FPS)
+        for k, qk in enumerate(paths[label].frames() if label is not None else [q]):
+            pin.updateGeometryPlacements(model, data, geometry, gdata, qk)
+            for i, node in enumerate(nodes):
+                matrix = gdata.oMg[i].homogeneous
+                points.append(matrix[:3, 3].copy())
+                if label is None:
+                    continue
+                clip = animation.clips.setdefault(node, AnimationClip(fps=FPS, name=label))
+                clip.set_property(k, "position", "vector3", [float(x) for x in js_position(matrix)])
+                clip.set_property(k, "quaternion", "quaternion", [float(x) for x in js_quaternion(matrix)])
+        if label is not None:
+            clips[label] = animation.lower()
+
+    origin = mob.platform_origin
+    length = mech.length_scale
+    for m in mob.motions:
+        glyph = motion_glyph(m, origin, length)
+        vis[f"{ROOT}/glyphs/{glyph.name}"].set_object(_mesh(glyph))
+        points.extend(glyph.vertices)
+    for i, c in enumerate(mob.constraints):
+        glyph = constraint_glyph(c, i, origin, length)
+        vis[f"{ROOT}/wrenches/{glyph.name}"].set_object(_mesh(glyph))
+        if not wrenches:
+            vis[f"{ROOT}/wrenches/{glyph.name}"].set_property("visible", False)
+        else:
+            points.extend(glyph.vertices)
+    center, distance = _frame_camera(vis, np.array(points))
+    _place_lights(vis, distance)
+    # always replace the animation: a rigid scene on a reused server must not keep the previous scene's clip
+    vis.window.send(_SetAnimation(clips[visible] if visible is not None else []))
+    if visible is not None:  # there are motions to choose from
+        vis.window.send(_SetControl("motion", _selector_callback(clips, visible), visible, labels))
+    else:
+        vis.window.send(_DeleteControl("motion"))
+    notes = tuple(n for p in paths.values() for n in p.notes)
+    return Scene(tuple(labels), visible, notes, generated, mob, paths, center, distance)

@@ -21,10 +21,12 @@ The package is layered; imports only go down:
 from pinmob.analysis.actuation import Actuation
 from pinmob.analysis.closed_chain import ClosureRank, FrameMobility, MechanismMobility
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.mobility import LimbMobility, Mobility
+from pinmob.analysis.entry_point import analyze
+from pinmob.analysis.limbs import LimbMobility
+from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.modes import assembly_modes
 from pinmob.analysis.motion import Constraint, Method, Motion, View
-from pinmob.analysis.report import Report, analyze
+from pinmob.analysis.report import Report
 from pinmob.analysis.shortcuts import (
     actuator_sets,
     analyze_mechanism,

@@ -29,8 +29,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.analysis.closed_chain import FrameMobility
+from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.report import analyze
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array

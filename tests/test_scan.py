@@ -15,7 +15,7 @@ from numpy.testing import assert_allclose
 from test_six_ups import pluecker, rel_sigma_min
 
 import pinmob
-import pinmob.scan.run as scan_module
+import pinmob.scan.chunk as scan_module
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.cli import main
 from pinmob.scan import plot
@@ -89,13 +89,13 @@ def test_workers_give_the_serial_results():
 def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     """Count the assemblies a scan asks for (the real solver still runs)."""
     calls = {"n": 0}
-    real = scan_module._assemble
+    real = scan_module.assemble_target
 
     def counted(*args, **kwargs):
         calls["n"] += 1
         return real(*args, **kwargs)
 
-    monkeypatch.setattr(scan_module, "_assemble", counted)
+    monkeypatch.setattr(scan_module, "assemble_target", counted)
     return calls
 
 

@@ -11,6 +11,9 @@ configuration and a batch of them (:func:`limb_screws_at`).
 
 from __future__ import annotations
 
+from dataclasses import dataclass, field
+from typing import Any
+
 import numpy as np
 
 from pinmob.analysis.configuration import Configuration
@@ -19,7 +22,7 @@ from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.limb import Limb
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import RankDecision, decide_rank
+from pinmob.screw.rank import RankDecision, decide_rank, reciprocal_wrenches
 
 
 def limb_screws_at(world: Array, origin: Array, columns: Array, rates: Array | None = None) -> Array:
@@ -146,3 +149,83 @@ def column_joints(mech: Mechanism, limb: Limb) -> list[str]:
     for name in limb.joints:
         out += [name] * mech.model.joints[mech.model.getJointId(name)].nv
     return out
+
+
+@dataclass(frozen=True)
+class LimbMobility:
+    """What one limb contributes at the configuration.
+
+    Attributes:
+        name, joints: the limb.
+        twist_rank: rank of its joint screws here (with its internal loops closed).
+        generic_twist_rank: rank at generic joint values; lower here = serial singularity.
+        wrenches: (6, 6 - twist_rank) its constraint wrenches ``[f; tau]``.
+        closures: its internal closures (:attr:`pinmob.model.limb.Limb.closures`).
+        loop_joints: the joints in no limb that they involve.
+    """
+
+    name: str
+    joints: tuple[str, ...]
+    twist_rank: int
+    generic_twist_rank: int
+    wrenches: Array = field(repr=False)
+    closures: tuple[str, ...] = ()
+    loop_joints: tuple[str, ...] = ()
+
+    @property
+    def wrench_count(self) -> int:
+        """Number of constraint wrenches the limb exerts here."""
+        return int(self.wrenches.shape[1])
+
+    @property
+    def serially_singular(self) -> bool:
+        """Its twist rank is below the generic one (a serial singularity)."""
+        return self.twist_rank < self.generic_twist_rank
+
+    def to_dict(self) -> dict[str, Any]:
+        """One entry of ``limbs`` in the JSON document."""
+        return {
+            "name": self.name,
+            "joints": list(self.joints),
+            "twist_rank": self.twist_rank,
+            "generic_twist_rank": self.generic_twist_rank,
+            "wrench_count": self.wrench_count,
+            "serially_singular": self.serially_singular,
+            "closures": list(self.closures),
+            "loop_joints": list(self.loop_joints),
+        }
+
+    def line(self) -> str:
+        """``  A: 5 joints, twist rank 5 (generic 5), 1 constraint wrench(es)`` (+ loops, singular flag)."""
+        flag = "  <- serial singularity" if self.serially_singular else ""
+        loops = (
+            f" + {len(self.loop_joints)} loop joint(s), closed by {', '.join(self.closures)}" if self.closures else ""
+        )
+        return (
+            f"  {self.name}: {len(self.joints)} joints{loops}, twist rank {self.twist_rank} "
+            f"(generic {self.generic_twist_rank}), {self.wrench_count} constraint wrench(es){flag}"
+        )
+
+
+def limbwise_obstacle(mech: Mechanism) -> str:
+    """Why the limb-wise method cannot be used on ``mech`` ("" when it can)."""
+    if not mech.limbs:
+        return f"{mech.name!r} is described by closures only (no limbs)"
+    coupling = mech.coupling_closures
+    if not coupling:
+        return ""
+    return "; ".join(f"closure {c!r} couples limbs {', '.join(limbs)}" for c, limbs in coupling.items())
+
+
+def limb_wrenches(conf: Configuration, rtol: float) -> list[tuple[Array, int]]:
+    """Per limb: its constraint wrenches (6, 6 - r_i), reciprocal to its joint screws, and its twist rank r_i."""
+    length = conf.mechanism.length_scale
+
+    def compute() -> list[tuple[Array, int]]:
+        rows = []
+        for twists in limb_twists(conf, rtol):
+            w, dec = reciprocal_wrenches(twists, length, rtol)
+            rows.append((w, dec.rank))
+        return rows
+
+    return conf.memo(("limb_wrenches", rtol), compute)

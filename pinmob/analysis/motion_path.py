@@ -44,6 +44,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.displacement import Displacement, angle_between, displacement, measure_displacement
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.motion import Motion
 from pinmob.assembly.assemble import assemble_pose as _assemble_pose
@@ -68,26 +69,6 @@ MAX_HALVINGS = 4
 MIN_SHARE = 0.5
 #: smallest share of a step the platform must follow along the intended motion
 MIN_PROGRESS = 0.5
-
-
-@dataclass(frozen=True)
-class Displacement:
-    """How far the platform went from the start, measured on its poses.
-
-    Attributes:
-        translation: ``|p_end - p_0|`` [m] (platform origin).
-        rotation: ``|log3(R_0^T R_end)|`` [rad].
-        deviation: angle [rad] in the metric W between the achieved displacement
-            twist (``log6(M_0^-1 M_end)``, at the start origin, world axes) and the
-            intended motion's twist; 0 when the platform did not move.
-    """
-
-    translation: float
-    rotation: float
-    deviation: float
-
-    def to_dict(self) -> dict[str, float]:
-        return {"translation": self.translation, "rotation": self.rotation, "deviation": self.deviation}
 
 
 @dataclass(frozen=True)
@@ -143,31 +124,6 @@ def _measure(motion: Motion) -> slice:
     return slice(0, 3) if motion.kind is MotionKind.TRANSLATION else slice(3, 6)
 
 
-def _displacement(a: pin.SE3, b: pin.SE3) -> Array:
-    """Twist [v; w] at a's origin, world axes, that carries pose a to pose b in unit time."""
-    local = pin.log6(a.actInv(b)).vector
-    rot = a.rotation
-    return np.concatenate([rot @ local[:3], rot @ local[3:]])
-
-
-def _angle(a: Array, b: Array) -> float:
-    """Angle [rad] between two vectors; 0 when either is zero."""
-    na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
-    if na == 0.0 or nb == 0.0:
-        return 0.0
-    return float(np.arccos(np.clip(a @ b / (na * nb), -1.0, 1.0)))
-
-
-def measure_displacement(start: pin.SE3, end: pin.SE3, twist: Array, length: float) -> Displacement:
-    """:class:`Displacement` from pose ``start`` to ``end`` against the intended ``twist`` (6,) at start's origin."""
-    w = twist_scaling(length)
-    return Displacement(
-        float(np.linalg.norm(end.translation - start.translation)),
-        float(np.linalg.norm(pin.log3(start.rotation.T @ end.rotation))),
-        _angle(w * _displacement(start, end), w * twist),
-    )
-
-
 class _Follower:
     """One motion's continuation: the mechanism's data, reused at every step."""
 
@@ -217,7 +173,7 @@ class _Follower:
                 q_next = project(self.mech, q_pred, tol=self.tol, max_iter=100).q
             except ClosureError:
                 return None, "the loops do not close again after a step there"
-        achieved = self.w * _displacement(om_p, self.pose(q_next))
+        achieved = self.w * displacement(om_p, self.pose(q_next))
         wanted = self.w * projected * ds
         progress = float(achieved @ wanted / (wanted @ wanted))
         if progress < MIN_PROGRESS:
@@ -225,7 +181,7 @@ class _Follower:
                 None,
                 f"{how} undoes the step there (the platform follows only {max(progress, 0):.0%} of it)",
             )
-        deviation = _angle(achieved, wanted)
+        deviation = angle_between(achieved, wanted)
         if deviation > self.max_deviation:
             return None, (
                 f"{how} turns the platform off the motion ({np.degrees(deviation):.1f} deg "

@@ -18,8 +18,8 @@ import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
-from pinmob.analysis.limbs import limb_twists
-from pinmob.analysis.mobility import Mobility, limb_wrenches, mobility_from_wrenches
+from pinmob.analysis.limbs import limb_twists, limb_wrenches
+from pinmob.analysis.mobility import Mobility, mobility_from_wrenches
 from pinmob.analysis.motion import View
 from pinmob.assembly.named import closed_configuration
 from pinmob.exceptions import ConfigurationError, choices

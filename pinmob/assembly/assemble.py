@@ -25,9 +25,11 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from pinmob.assembly.continuation import continuation, held_coordinates
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
     Residuals,
+    closure_residual,
     compute_kinematics,
     format_residuals,
     mechanism_residuals,
@@ -35,16 +37,11 @@ from pinmob.assembly.residual import (
     stacked_error,
     worst_residual,
 )
-from pinmob.assembly.solver import ResidualFn, SolverResult, solve
+from pinmob.assembly.solver import SolverResult, solve
 from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, choices
 from pinmob.model.joints import linear_velocity_mask, outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
-
-#: Continuation: first step (fraction of the way) and the smallest before giving up.
-HOMOTOPY_STEP, HOMOTOPY_MIN_STEP = 0.25, 1.0 / 64
-#: Corrector iterations per continuation step.
-HOMOTOPY_ITER = 30
 
 
 @dataclass(frozen=True)
@@ -128,17 +125,6 @@ def _solver_tol(tol: float) -> float:
     return min(1e-12, tol * 1e-3)
 
 
-def _closure_residual(mech: Mechanism) -> ResidualFn:
-    """``q -> (e, J)``: every closure residual of ``mech``, stacked dimensionless (:func:`stacked_error`)."""
-    model, data, closures = mech.model, mech.model.createData(), mech.all_closures
-
-    def residual(q: Array) -> tuple[Array, Array]:
-        compute_kinematics(model, data, q)
-        return stacked_error(mech, model, data, closures)
-
-    return residual
-
-
 def project(
     mech: Mechanism, q0: Array | None = None, tol: float = CLOSURE_TOL, max_iter: int = 200, method: str = "projection"
 ) -> Assembly:
@@ -152,64 +138,9 @@ def project(
     """
     start = mech.neutral() if q0 is None else mech.check_q(q0)
     result = solve(
-        mech.model, _closure_residual(mech), start, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale
+        mech.model, closure_residual(mech), start, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale
     )
     return _finish(mech, result, method, tol, "projection onto the closed set")
-
-
-def _held_coordinates(mech: Mechanism, idx: Array) -> Array:
-    """Configuration indices of the one-degree joints with velocity indices ``idx`` (two for a continuous joint)."""
-    model = mech.model
-    out: list[int] = []
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        if joint.nv == 1 and joint.idx_v in idx:
-            out += range(joint.idx_q, joint.idx_q + joint.nq)
-    return np.array(out, int)
-
-
-def _continuation(
-    mech: Mechanism, start: Array, target: Array, idx: Array, tol: float, max_iter: int
-) -> SolverResult | None:
-    """Homotopy: project ``start``, then move the held joints (velocity indices ``idx``) to ``target`` in steps.
-
-    A step advances the held joints by a fraction h of the way (revolutes the
-    short way round); the free joints are predicted along the tangent
-    ``dv_free = -J_free^+ J_held dv_held`` and corrected by :func:`solve` with
-    the held joints fixed. A failed step halves h, a good one doubles it (at
-    most 1/2). None when the projection fails or h falls below
-    ``HOMOTOPY_MIN_STEP``.
-    """
-    model, residual = mech.model, _closure_residual(mech)
-    free = np.ones(model.nv, bool)
-    free[idx] = False
-    held = _held_coordinates(mech, idx)
-    closed = solve(model, residual, start, tol=tol, max_iter=max_iter, length=mech.length_scale, polish=False)
-    if not closed.converged:
-        return None
-    way = pin.difference(model, closed.q, target)[idx]
-    way = np.where(linear_velocity_mask(model)[idx], way, np.angle(np.exp(1j * way)))
-    q, t, h, total, last = closed.q, 0.0, HOMOTOPY_STEP, closed.iterations, closed
-    while t < 1.0:
-        step = min(h, 1.0 - t)
-        jac = residual(q)[1]
-        dv = np.zeros(model.nv)
-        dv[idx] = step * way
-        dv[free] = -np.linalg.lstsq(jac[:, free], jac[:, idx] @ dv[idx], rcond=None)[0]
-        guess = pin.integrate(model, q, dv)
-        final = t + step >= 1.0
-        if final:
-            guess[held] = target[held]
-        iters = max_iter if final else HOMOTOPY_ITER
-        last = solve(model, residual, guess, tol=tol, max_iter=iters, length=mech.length_scale, free=free, polish=final)
-        total += last.iterations
-        if last.converged:
-            q, t, h = last.q, t + step, min(2 * h, 0.5)
-        else:
-            h /= 2
-            if h < HOMOTOPY_MIN_STEP:
-                return None
-    return SolverResult(q, last.residual, total, True, last.polish)
 
 
 def solve_actuated(
@@ -225,7 +156,7 @@ def solve_actuated(
     other joints solve every closure residual from ``seed`` (which selects the
     assembly mode). When that does not converge, a continuation from the
     seed's projection onto the closed set moves the given joints to their
-    values (:func:`_continuation`).
+    values (:func:`continuation`).
 
     Raises:
         FrameError, ConfigurationError: an unknown or multi-degree joint, or a
@@ -241,13 +172,13 @@ def solve_actuated(
     free = np.ones(model.nv, bool)
     free[idx] = False
     stol = _solver_tol(tol)
-    residual = _closure_residual(mech)
+    residual = closure_residual(mech)
     result = solve(model, residual, target, tol=stol, max_iter=max_iter, length=mech.length_scale, free=free)
     if not result.converged and idx.size:
-        homotopy = _continuation(mech, start, target, idx, stol, max_iter)
+        homotopy = continuation(mech, start, target, idx, stol, max_iter)
         if homotopy is not None:
             result = homotopy
-    held = _held_coordinates(mech, idx)
+    held = held_coordinates(mech, idx)
     q = result.q.copy()
     q[held] = target[held]  # exactly the given values (the solver may have wrapped an angle by 2 pi)
     result = SolverResult(q, result.residual, result.iterations, result.converged, result.polish)

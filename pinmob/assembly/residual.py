@@ -15,6 +15,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from pinmob.assembly.solver import ResidualFn
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import Closure
 from pinmob.model.mechanism import Mechanism
@@ -221,3 +222,14 @@ def check_closed(
             res,
         )
     return res
+
+
+def closure_residual(mech: Mechanism) -> ResidualFn:
+    """``q -> (e, J)``: every closure residual of ``mech``, stacked dimensionless (:func:`stacked_error`)."""
+    model, data, closures = mech.model, mech.model.createData(), mech.all_closures
+
+    def residual(q: Array) -> tuple[Array, Array]:
+        compute_kinematics(model, data, q)
+        return stacked_error(mech, model, data, closures)
+
+    return residual

@@ -6,7 +6,8 @@ import argparse
 import json
 import sys
 
-from pinmob.analysis.report import Report, analyze
+from pinmob.analysis.entry_point import analyze
+from pinmob.analysis.report import Report
 from pinmob.cli.common import pick_configuration
 from pinmob.exceptions import ConfigurationError, choices
 from pinmob.io.loader import load

@@ -6,7 +6,8 @@
 :mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.plot` (PNG plots).
 """
 
-from pinmob.scan.run import chunk_seeds, columns, evaluate, run_chunk, scan
+from pinmob.scan.chunk import evaluate, run_chunk
+from pinmob.scan.run import chunk_seeds, columns, scan
 from pinmob.scan.spec import (
     CHUNK,
     KINDS,

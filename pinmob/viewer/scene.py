@@ -9,7 +9,6 @@ wrenches, camera, lights, motion menu) to a live or recording meshcat ``Visualiz
 
 from __future__ import annotations
 
-import json
 import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -24,6 +23,7 @@ from pinmob.analysis.motion_path import MotionPath, follow_motion
 from pinmob.exceptions import ConfigurationError, ViewerError, choices
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.rank import RTOL
+from pinmob.viewer.commands import DeleteControl, SetAnimation, SetControl, selector_callback
 from pinmob.viewer.glyphs import Glyph, constraint_glyph, motion_glyph
 from pinmob.viewer.skeleton import visual_geometry
 
@@ -91,60 +91,6 @@ def require_meshcat() -> Any:
             f"the viewer needs meshcat, which cannot be imported ({exc}); install it with: pip install meshcat"
         ) from None
     return meshcat
-
-
-class _SetControl:
-    """meshcat's ``set_control`` command: a GUI control calling ``callback`` (JavaScript)."""
-
-    def __init__(self, name: str, callback: str, value: str, options: list[str]):
-        self.name, self.callback, self.value, self.options = name, callback, value, options
-
-    def lower(self) -> dict[str, Any]:
-        return {
-            "type": "set_control",
-            "name": self.name,
-            "callback": self.callback,
-            "value": self.value,
-            "min": self.options,
-            "path": "",
-        }
-
-
-class _DeleteControl:
-    """meshcat's ``delete_control`` command: remove the GUI control ``name`` (a scene without motions)."""
-
-    def __init__(self, name: str):
-        self.name = name
-
-    def lower(self) -> dict[str, Any]:
-        return {"type": "delete_control", "name": self.name, "path": ""}
-
-
-class _SetAnimation:
-    """meshcat's ``set_animation`` command from already lowered clips (``[{path, clip}]``)."""
-
-    def __init__(self, animations: list[dict[str, Any]]):
-        self.animations = animations
-
-    def lower(self) -> dict[str, Any]:
-        options = {"play": True, "repetitions": float("inf")}
-        return {"type": "set_animation", "animations": self.animations, "options": options, "path": ""}
-
-
-def _selector_callback(clips: dict[str, list[dict[str, Any]]], visible: str) -> str:
-    """JavaScript of the motion menu: load the chosen clip (all clips move the one mechanism).
-
-    Evaluated by meshcat when the control is created: it loads the visible clip
-    at once (so a page that receives the control later still plays the right
-    one) and returns the menu's callback.
-    """
-    return (
-        "(() => { const clips = " + json.dumps(clips, separators=(",", ":")) + "; "
-        "const choose = (value) => { viewer.handle_command({type: 'set_animation', "
-        "animations: JSON.parse(JSON.stringify(clips[value])), options: {play: true, repetitions: Infinity}}); "
-        "viewer.set_dirty(); }; "
-        "choose(" + json.dumps(visible) + "); return choose; })()"
-    )
 
 
 def _mesh(glyph: Glyph) -> Any:
@@ -294,10 +240,10 @@ def build(
     center, distance = _frame_camera(vis, np.array(points))
     _place_lights(vis, distance)
     # always replace the animation: a rigid scene on a reused server must not keep the previous scene's clip
-    vis.window.send(_SetAnimation(clips[visible] if visible is not None else []))
+    vis.window.send(SetAnimation(clips[visible] if visible is not None else []))
     if visible is not None:  # there are motions to choose from
-        vis.window.send(_SetControl("motion", _selector_callback(clips, visible), visible, labels))
+        vis.window.send(SetControl("motion", selector_callback(clips, visible), visible, labels))
     else:
-        vis.window.send(_DeleteControl("motion"))
+        vis.window.send(DeleteControl("motion"))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(tuple(labels), visible, notes, generated, mob, paths, center, distance)

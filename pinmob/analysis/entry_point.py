@@ -1,0 +1,109 @@
+"""The one entry point: :func:`analyze` gives the whole :class:`~pinmob.analysis.report.Report`."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+from numpy.typing import ArrayLike
+
+from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.mobility import platform_mobility
+from pinmob.analysis.report import Options, Report
+from pinmob.assembly.relaxation import find_closed_relaxed, unclosable
+from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol, worst_residual
+from pinmob.assembly.seeds import find_closed
+from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.rank import RTOL, check_rtol
+
+
+def found_configuration(
+    mech: Mechanism, restarts: int, relax: bool, closure_tol: float
+) -> tuple[Configuration, tuple[str, ...]]:
+    """A closed configuration of a mechanism that names none: projection from neutral, then random restarts."""
+    if relax:
+        mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts)
+    else:
+        try:
+            found, relaxed = find_closed(mech, restarts=restarts), ()
+        except ClosureError as exc:
+            bad = unclosable(mech)
+            hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
+            raise ClosureError(
+                f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random "
+                f"restarts. {hint}Rerun with --relax (Python: relax=True) to turn the over-constraining closures into "
+                f"3d (ball) closures. Largest residual of the best attempt: "
+                f"{worst_residual(exc.residuals, mech.length_scale):.2e} (m / L or rad)",
+                exc.residuals,
+            ) from None
+    return Configuration(mech, found.q, closure_tol=closure_tol, source=found.method), relaxed
+
+
+def analyze(
+    mech: Mechanism | Configuration,
+    q: ArrayLike | str | Configuration | None = None,
+    *,
+    configuration: str | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+    frames: Sequence[str] | None = None,
+    outputs: Sequence[str] | None = None,
+    actuated: Sequence[str] | None = None,
+    paper: bool = False,
+    approach: ArrayLike | Mapping[str, float] | None = None,
+    actuator_search: int | None = None,
+    generic_rank: int | None = None,
+    restarts: int = 20,
+    relax: bool = False,
+) -> Report:
+    """Everything pinmob answers at a closed configuration, as one :class:`Report`.
+
+    Args:
+        mech: the mechanism, or a :class:`~pinmob.analysis.configuration.Configuration`.
+        q: configuration (nq,), the name of one of ``mech.configurations``, or a
+            Configuration. None: the mechanism's first named configuration, else a
+            closed configuration found by projection from the neutral one and
+            ``restarts`` random restarts (``relax=True`` relaxes closures that
+            cannot close as declared to ``3d``, and the report says which).
+        configuration: name reported with the results (set automatically when q is a name).
+        rtol: relative tolerance of every rank decision (singular values below
+            ``rtol * sigma_max`` count as zero); see :func:`~pinmob.screw.rank.check_rtol`.
+        closure_tol: closure tolerance (position / L and rotation [rad]).
+        frames: frames whose motion on the closed chain is also reported.
+        outputs: frames that idle motions must leave at rest (default: the platform, else the free leaf bodies).
+        actuated: actuated joints for the actuation verdict (default: the declared ones).
+        paper: also compute the seed paper's view (:func:`~pinmob.analysis.paper.paper_mobility`).
+        approach: the paper's view's approach direction (default: declared, else from ``generic``).
+        actuator_search: also list every valid set of this many actuated joints (exhaustive).
+        generic_rank: the generic constraint rank (default: declared, else estimated).
+        restarts: random restarts when q is None and the mechanism names no configuration.
+        relax: with q None and no named configuration, relax unclosable closures to ``3d``.
+
+    Raises:
+        ConfigurationError: a bad argument (shape, NaN, unknown name, rtol or closure_tol out of range).
+        ClosureError: q does not close, or no closed configuration could be found.
+    """
+    rtol = check_rtol(rtol)
+    closure_tol = check_closure_tol(closure_tol)
+    if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
+        raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts!r}")
+    relaxed: tuple[str, ...] = ()
+    if q is None and isinstance(mech, Mechanism):
+        if mech.configurations:
+            q = next(iter(mech.configurations))
+        else:
+            conf, relaxed = found_configuration(mech, restarts, relax, closure_tol)
+            q, mech = conf, conf.mechanism
+    conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    options = Options(
+        frames=tuple(frames or ()),
+        outputs=None if outputs is None else tuple(outputs),
+        actuated=None if actuated is None else tuple(actuated),
+        paper=paper,
+        approach=approach,
+        actuator_search=actuator_search,
+        generic_rank=generic_rank,
+        relaxed=relaxed,
+    )
+    mobility = platform_mobility(conf, rtol) if conf.mechanism.has_platform else None
+    return Report(conf, rtol, mobility, options)

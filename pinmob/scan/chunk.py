@@ -1,0 +1,208 @@
+"""One chunk of a scan: its samples assembled warm-started along a line, analysed, and refined.
+
+See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.generic import generic_constraint_rank
+from pinmob.analysis.mobility import platform_mobility
+from pinmob.analysis.singularity import NEAR_FACTOR
+from pinmob.analysis.singularity_analysis import singularity
+from pinmob.assembly.assemble import assemble_joints, assemble_pose
+from pinmob.exceptions import PinmobError
+from pinmob.model.mechanism import Mechanism
+from pinmob.scan.refine import minimise, v_vertex
+from pinmob.scan.spec import POSE_COORDS, ScanSpec, pose_vector
+from pinmob.screw.algebra import Array
+from pinmob.screw.rank import RTOL
+
+#: Evaluations per refinement, and bracket width (in samples) at which it stops.
+REFINE_EVALS, REFINE_XTOL = 60, 1e-12
+
+SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
+
+
+#: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
+MAX_ITER = 40
+
+
+#: Iterations per assembly while refining (the solver converges slowly next to a singularity).
+REFINE_ITER = 100
+
+
+def assemble_target(mech: Mechanism, target: tuple[str, Any], seed: Array, max_iter: int = MAX_ITER) -> Array:
+    kind, value = target
+    if kind == "pose":
+        return assemble_pose(mech, value, seed, max_iter=max_iter)
+    return assemble_joints(mech, value, seed, max_iter=max_iter)
+
+
+def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None) -> dict[str, Any]:
+    """One scan row at a closed configuration: pose, DoF, motion type, singularity, singular values."""
+    return _evaluate(mech, q, rtol, generic_rank)[0]
+
+
+def _evaluate(
+    mech: Mechanism, q: Array, rtol: float, generic_rank: int | None
+) -> tuple[dict[str, Any], dict[str, float]]:
+    """The row and the distance of each question, from one :class:`Configuration` (one kinematics computation)."""
+    g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else generic_rank
+    conf = Configuration(mech, q)  # assembled by the scan to the default closure tolerance
+    mob, sing = platform_mobility(conf, rtol), singularity(conf, rtol, g)
+    row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(conf.frame_placement(mech.platform_id)).tolist()))
+    row.update(
+        reachable=True,
+        dof=mob.dof,
+        motion_type=mob.motion_type,
+        constraint_rank=mob.constraint_rank,
+        locked_dof=sing.locked_dof,
+        singularity=sing.label,
+        near_singular=sing.near_singular,
+        closest=sing.closest,
+        singular_limbs=";".join(sing.limbs),
+        dependent_limbs=";".join(sing.dependent_limbs),
+        uncontrolled=";".join(m.label for m in sing.uncontrolled),
+        distance=sing.distance,
+    )
+    row.update(zip(SV_COLUMNS, [*sing.constraint_singular_values.tolist(), *sing.actuation_singular_values.tolist()]))
+    return row, sing.distances
+
+
+def _unreachable(pose: Array | None) -> dict[str, Any]:
+    row: dict[str, Any] = dict(zip(POSE_COORDS, [float("nan")] * 6 if pose is None else pose.tolist()))
+    row.update(reachable=False, dof=-1, motion_type="unreachable", constraint_rank=-1, locked_dof=-1, singularity="",
+               near_singular=False, closest="", singular_limbs="", dependent_limbs="", uncontrolled="",
+               distance=float("nan"))  # fmt: skip
+    row.update(dict.fromkeys(SV_COLUMNS, float("nan")))
+    return row
+
+
+@dataclass
+class _Sample:
+    """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances."""
+
+    row: dict[str, Any]
+    q: Array | None
+    distances: dict[str, float]
+
+    @property
+    def distance(self) -> float:
+        return min(self.distances.values(), default=1.0) if self.q is not None else math.inf
+
+
+class _Chunk:
+    """Runs one chunk: its samples, their two neighbours on the line, and the refinements."""
+
+    def __init__(self, mech: Mechanism, spec: ScanSpec) -> None:
+        self.mech, self.spec = mech, spec
+        self.band = NEAR_FACTOR * spec.rtol
+
+    def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER) -> _Sample:
+        target = self.spec.target(t)
+        head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
+        try:
+            q = assemble_target(self.mech, target, seed, max_iter)
+        except PinmobError:
+            return _Sample(head | _unreachable(pose_vector(target[1]) if target[0] == "pose" else None), None, {})
+        row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
+        return _Sample(head | row, q, distances)
+
+    def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:
+        first, last = self.spec.line(start)
+        done: dict[int, _Sample] = {}
+        q = seed
+        for k in range(start, min(stop, last) + 1):
+            done[k] = self.sample(k, q)
+            q = _seed(done[k], q)
+        if start > first:
+            done[start - 1] = self.sample(start - 1, _seed(done[start], seed))
+        extra: list[_Sample] = []
+        for k in range(start, stop):
+            extra += self.refine(k, done, first, last)
+        rows = [(float(k), done[k].row) for k in range(start, stop)]
+        rows += [(float(e.row["_t"]), e.row) for e in _distinct(extra)]
+        rows.sort(key=lambda r: (r[0], r[1]["refined"]))
+        for _, row in rows:
+            row.pop("_t", None)
+        return [row for _, row in rows]
+
+    def refine(self, k: int, done: dict[int, _Sample], first: int, last: int) -> list[_Sample]:
+        """Refined points around sample k (see the module docstring)."""
+        here = done[k]
+        if here.q is None or here.distance <= self.spec.rtol:
+            return []
+        left, right = done.get(k - 1) if k > first else None, done.get(k + 1) if k < last else None
+        out = []
+        for side, other in ((left, right), (right, left)):  # towards a neighbour that did not assemble
+            if side is not None and side.q is None and (other is None or other.distance > here.distance):
+                out.append(self._search(k, done, "", towards=-1 if side is left else 1))
+        if left is not None and right is not None and left.q is not None and right.q is not None:
+            for key, d in here.distances.items():
+                dl, dr = left.distances[key], right.distances[key]
+                if d <= self.spec.rtol or not (min(dl, dr) >= d and max(dl, dr) > d):  # not a local minimum
+                    continue
+                if d < self.band or _vertex_below(k, d, dl, dr, 0.5 * d):
+                    out.append(self._search(k, done, key))
+        return [s for s in out if s.q is not None and s.distance < self.band]
+
+    def _search(self, k: int, done: dict[int, _Sample], key: str, towards: int = 0) -> _Sample:
+        """Minimise the distance (of question ``key``; of all questions when empty) around sample k.
+
+        With ``towards`` (-1 or 1), between k and that neighbour only when the other one did not assemble
+        either (each edge of an isolated reachable stretch is searched on its own).
+        """
+        trials: dict[float, _Sample] = {float(j): s for j, s in done.items() if s.q is not None}
+
+        def value(s: _Sample) -> float:
+            return (s.distances.get(key, math.inf) if key else s.distance) if s.q is not None else math.inf
+
+        def f(t: float) -> float:
+            near = min(trials, key=lambda u: abs(u - t))
+            trials[t] = self.sample(t, _seed(trials[near], self.spec.q_ref), REFINE_ITER)
+            return value(trials[t])
+
+        lo = k - 1 if (k - 1) in done else k
+        hi = k + 1 if (k + 1) in done else k
+        if towards and done[k - towards if k - towards in done else k].q is None:
+            lo, hi = (k - 1, k) if towards < 0 else (k, k + 1)
+        best = minimise(f, lo, k, hi, value(done[lo]), value(done[k]), value(done[hi]),
+                        stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
+        if best.t == k:
+            return _Sample({}, None, {})
+        return self._mark(trials[best.t], best.t)
+
+    @staticmethod
+    def _mark(s: _Sample, t: float) -> _Sample:
+        s.row.update(refined=True, _t=t)
+        return s
+
+
+def _seed(sample: _Sample, fallback: Array) -> Array:
+    """The sample's configuration, or ``fallback`` when it did not assemble."""
+    return fallback if sample.q is None else sample.q
+
+
+def _vertex_below(k: int, d: float, dl: float, dr: float, level: float) -> bool:
+    """The V through the three samples (:func:`pinmob.scan.refine.v_vertex`) predicts a minimum below ``level``."""
+    vertex = v_vertex(k - 1, k, k + 1, dl, d, dr)
+    return vertex is not None and vertex[1] < level
+
+
+def _distinct(points: list[_Sample]) -> list[_Sample]:
+    """Refined points, one per location (within 1e-6 sample): the one with the smallest distance."""
+    out: list[_Sample] = []
+    for p in sorted(points, key=lambda s: s.distance):
+        if all(abs(p.row["_t"] - o.row["_t"]) > 1e-6 for o in out):
+            out.append(p)
+    return out
+
+
+def run_chunk(mech: Mechanism, spec: ScanSpec, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:
+    """Rows of samples ``start .. stop - 1`` warm-started from ``seed``, with their refined points."""
+    return _Chunk(mech, spec).run(start, stop, seed)

@@ -122,8 +122,9 @@ def actuation(
     locked, idle = split.locked, split.idle
     # non-idle remaining motions: an orthonormal basis of `locked` orthogonal to `idle`
     rest = locked - idle @ (idle.T @ locked)
-    u, sv, _ = np.linalg.svd(rest, full_matrices=False) if rest.size else (np.zeros((m, 0)), np.zeros(0), None)
-    remaining = [joint_rates(mech, chain.col * (n @ u[:, i])) for i in range(int(np.sum(sv > 0.5)))]
+    # its singular values are 1 or 0 (a difference of nested orthonormal bases): 0.5 separates them
+    basis = decide_rank(rest.T, 0.5, m, at_least=1.0).row_space.T if rest.size else np.zeros((m, 0))
+    remaining = [joint_rates(mech, chain.col * (n @ basis[:, i])) for i in range(basis.shape[1])]
     frame_dof = {name: rank_of(frame_rows(conf, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
     return Actuation(
         tuple(actuated),

@@ -34,6 +34,7 @@ from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import ratio
 from pinmob.analysis.singularity_analysis import require_platform, singularity_from_twists
 from pinmob.exceptions import ConfigurationError
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.rank import RTOL
@@ -43,7 +44,7 @@ Ints = NDArray[np.int64]
 
 
 @dataclass(frozen=True)
-class BatchResult:
+class BatchResult(ReadOnlyArrays):
     """Per-configuration results of :func:`analyze_batch` (N configurations, k limbs).
 
     Attributes:

@@ -39,6 +39,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
@@ -47,7 +48,7 @@ from pinmob.screw.rank import decide_rank
 
 
 @dataclass(frozen=True)
-class FrameMobility:
+class FrameMobility(ReadOnlyArrays):
     """How one frame can move on the closed chain: ``dof`` = rank of ``J_frame null(K)``."""
 
     frame: str
@@ -67,7 +68,7 @@ class FrameMobility:
 
 
 @dataclass(frozen=True)
-class MechanismMobility:
+class MechanismMobility(ReadOnlyArrays):
     """Mobility of the whole closed chain at one configuration (see the module docstring).
 
     ``end_frames`` are the output frames that idle motions leave at rest and
@@ -220,7 +221,7 @@ def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobilit
     length = mech.length_scale
     image = frame_rows(conf, frame) @ closed_chain(conf, rtol).null
     dec = decide_rank(image.T, rtol, 6, at_least=1.0)
-    basis = np.linalg.svd(image, full_matrices=False)[0][:, : dec.rank] if dec.rank else np.zeros((6, 0))
+    basis = dec.row_space.T  # (6, rank): the image's orthonormal column span
     system = classify_twists(basis / twist_scaling(length)[:, None], length, rtol)
     motions = motions_of(system)
     return FrameMobility(frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]))
@@ -273,7 +274,9 @@ def mechanism_mobility(
         rank=dec.rank,
         mechanism_dof=mech.model.nv - dec.rank,
         grubler=mech.model.nv - rows,
-        closures=closure_ranks(mech, chain.k_hat, dec.tolerance),
+        closures=closure_ranks(
+            mech, chain.k_hat, rtol, float(dec.singular_values[0]) if dec.singular_values.size else 0.0
+        ),
         idle_dof=split.idle.shape[1],
         idle_joints=moving_joints(mech, chain.null @ split.idle),
         actuation=actuation(conf, chain, acts, split, reported, rtol),

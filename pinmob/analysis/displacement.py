@@ -27,6 +27,7 @@ class Displacement:
     deviation: float
 
     def to_dict(self) -> dict[str, float]:
+        """``{translation, rotation, deviation}`` (plain JSON)."""
         return {"translation": self.translation, "rotation": self.rotation, "deviation": self.deviation}
 
 

@@ -201,7 +201,10 @@ def dependent_limbs(
     of limbs whose loss the others make up for).
 
     Args:
+        mech: the mechanism.
         blocks: per limb, (6, m_i) dimensionless orthonormal wrench basis ``W_i``.
+        rtol: relative tolerance of the rank decisions.
+        generic_rank: the generic rank of all limbs together (default: estimated).
     """
     k = len(mech.limbs)
     try:

@@ -18,6 +18,7 @@ import numpy as np
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.residual import stacked_error
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.limb import Limb
 from pinmob.model.mechanism import Mechanism
@@ -152,7 +153,7 @@ def column_joints(mech: Mechanism, limb: Limb) -> list[str]:
 
 
 @dataclass(frozen=True)
-class LimbMobility:
+class LimbMobility(ReadOnlyArrays):
     """What one limb contributes at the configuration.
 
     Attributes:

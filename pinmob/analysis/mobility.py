@@ -39,6 +39,7 @@ from pinmob.analysis.motion import (
     vector,
 )
 from pinmob.exceptions import ConfigurationError
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array, wrench_scaling
 from pinmob.screw.bases import clean
 from pinmob.screw.classify import MotionKind, classify_twists, classify_wrenches, motion_type
@@ -46,7 +47,7 @@ from pinmob.screw.rank import reciprocal_twists, reciprocal_wrenches
 
 
 @dataclass(frozen=True)
-class Mobility:
+class Mobility(ReadOnlyArrays):
     """Mobility of the platform at one configuration.
 
     Attributes:
@@ -90,10 +91,6 @@ class Mobility:
     view: View = View.CONFIGURATION
     method: Method = Method.LIMB_WISE
     method_note: str = ""
-
-    def __post_init__(self) -> None:
-        for a in (self.free_twists, self.constraint_wrenches, self.singular_values, self.platform_origin):
-            a.flags.writeable = False
 
     @property
     def translations(self) -> int:
@@ -189,7 +186,13 @@ def mobility_from_wrenches(
     """Stack limb wrenches (or take ``wrenches``, (6, d)), decide the constraint rank and classify both spaces.
 
     Args:
-        limb_rows: per limb, its wrenches (6, m_i) and twist rank.
+        conf: the closed configuration.
+        limb_rows: per limb, its wrenches (6, m_i) and twist rank (empty with ``wrenches``).
+        rtol: relative tolerance of every rank decision.
+        view: which wrenches these are (at q, or the paper's).
+        method: how they were obtained.
+        note: why that method.
+        wrenches: (6, d) the constraint wrenches, when not stacked from limbs.
     """
     mech = conf.mechanism
     length = mech.length_scale

@@ -61,9 +61,9 @@ def mode_signature(mech: Mechanism, q: Array, frames: Sequence[str], held: Seque
 
 
 def mode_distance(mech: Mechanism, a: ModeSignature, b: ModeSignature, held: Sequence[str] = ()) -> float:
-    """Dimensionless distance between two signatures: the largest of
+    """Dimensionless distance between two signatures.
 
-    ``|p_a - p_b| / L`` over the points, the rotation angle ``|log3(R_a^T R_b)|``
+    The largest of ``|p_a - p_b| / L`` over the points, the rotation angle ``|log3(R_a^T R_b)|``
     [rad] over the end frames, and the held joints' differences (angles modulo
     2 pi, lengths / L).
     """

@@ -8,6 +8,7 @@ from typing import Any, overload
 
 import numpy as np
 
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
 from pinmob.screw.bases import axis_label
 from pinmob.screw.classify import MotionKind, ScrewSystem, WrenchKind
@@ -41,7 +42,7 @@ def numbers(a: Array, digits: int = 4) -> str:
 
 
 @dataclass(frozen=True)
-class Motion:
+class Motion(ReadOnlyArrays):
     """One free motion of the platform (SI units, Pinocchio order).
 
     Attributes:
@@ -81,7 +82,7 @@ class Motion:
 
 
 @dataclass(frozen=True)
-class Constraint:
+class Constraint(ReadOnlyArrays):
     """One canonical constraint wrench: a couple, a force (pitch 0) or a wrench (SI units, Pinocchio order).
 
     Attributes:

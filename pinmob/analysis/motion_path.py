@@ -51,6 +51,7 @@ from pinmob.assembly.assemble import assemble_pose as _assemble_pose
 from pinmob.assembly.assemble import project
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed, compute_kinematics, stacked_error
 from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import shift_twists, twist_scaling
 from pinmob.screw.classify import MotionKind
@@ -72,7 +73,7 @@ MIN_PROGRESS = 0.5
 
 
 @dataclass(frozen=True)
-class MotionPath:
+class MotionPath(ReadOnlyArrays):
     """A free motion followed forwards and backwards from q.
 
     Attributes:
@@ -105,6 +106,7 @@ class MotionPath:
         return seq if len(seq) > 1 else seq * 2
 
     def to_dict(self) -> dict[str, Any]:
+        """The path as plain JSON: label, amplitude, distances reached, notes, displacements."""
         return {
             "label": self.label,
             "amplitude": self.amplitude,

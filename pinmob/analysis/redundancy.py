@@ -16,6 +16,7 @@ import numpy as np
 
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
+from pinmob.screw.rank import decide_rank
 
 #: How the per-closure redundancy is computed, said in the JSON document.
 REDUNDANCY_RULE = (
@@ -65,11 +66,18 @@ class ClosureRank:
         }
 
 
-def closure_ranks(mech: Mechanism, k_hat: Array, tolerance: float) -> tuple[ClosureRank, ...]:
-    """Per closure: own rank and ``rank K - rank K_-c``, all with the absolute tolerance of K's decision."""
+def closure_ranks(mech: Mechanism, k_hat: Array, rtol: float, reference: float) -> tuple[ClosureRank, ...]:
+    """Per closure: own rank and ``rank K - rank K_-c``, each block judged with K's own threshold.
+
+    Args:
+        mech: the mechanism (its closures, in the order of K's rows).
+        k_hat: (rows, nv) the dimensionless closure Jacobian.
+        rtol: the relative tolerance K's rank was decided with.
+        reference: K's largest singular value (the blocks' ranks count singular values above ``rtol * reference``).
+    """
 
     def rank(rows: Array) -> int:
-        return int(np.sum(np.linalg.svd(rows, compute_uv=False) > tolerance)) if rows.size and tolerance > 0 else 0
+        return decide_rank(rows, rtol, reference=reference).rank if rows.size else 0
 
     total = rank(k_hat)
     out, start = [], 0

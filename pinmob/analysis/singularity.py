@@ -45,6 +45,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from pinmob.analysis.motion import Motion
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
@@ -54,7 +55,7 @@ NEAR_FACTOR = 1e3
 
 
 @dataclass(frozen=True)
-class Singularity:
+class Singularity(ReadOnlyArrays):
     """Singularity classes and distances at one closed configuration.
 
     Attributes:

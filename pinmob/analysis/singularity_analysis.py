@@ -57,9 +57,14 @@ def singularity_from_twists(
     """The report from the limbs' joint screws and :func:`limb_decisions`.
 
     Args:
+        mech: the mechanism.
         twists: each limb's screws, :func:`pinmob.analysis.limbs.limb_twists`.
         locked_twists: the same with the actuated joints still
             (``limb_twists(..., lock_actuated=True)``; loops inside a limb stay closed).
+        decisions: :func:`pinmob.analysis.limbs.limb_decisions` of ``twists``.
+        generic_rank: the generic constraint rank.
+        configuration: name reported with the result.
+        rtol: relative tolerance of every rank decision.
     """
     g = int(generic_rank)
     length = mech.length_scale

@@ -39,13 +39,14 @@ from pinmob.assembly.residual import (
 )
 from pinmob.assembly.solver import SolverResult, solve
 from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, choices
+from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import linear_velocity_mask, outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
 
 
 @dataclass(frozen=True)
-class Assembly:
+class Assembly(ReadOnlyArrays):
     """A closed configuration found by the solver.
 
     Attributes:
@@ -66,6 +67,7 @@ class Assembly:
     outside_limits: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, object]:
+        """``{method, residual, iterations, q, outside_limits}`` (plain JSON)."""
         return {
             "method": self.method,
             "residual": self.residual,

@@ -196,7 +196,7 @@ def mechanism_residuals(mech: Mechanism, data: pin.Data) -> Residuals:
 
 
 def format_residuals(residuals: Residuals) -> str:
-    """``A: 1.2e-03 m, 4.0e-04 rad; B: ...``"""
+    """The residuals on one line: ``A: 1.2e-03 m, 4.0e-04 rad; B: ...``."""
     return "; ".join(f"{k}: {p:.2e} m, {r:.2e} rad" for k, (p, r) in residuals.items())
 
 
@@ -206,6 +206,10 @@ def check_closed(
     """Raise :class:`ClosureError` unless all limb tips have the platform's pose at q.
 
     Args:
+        mech: the mechanism.
+        q: (nq,) the configuration.
+        tol: largest residual allowed (position / L and rotation [rad]).
+        what: how the message calls the configuration.
         data: kinematics already computed at q (then q is not checked again), or None.
 
     Returns:

@@ -120,7 +120,7 @@ class _Problem:
         return js, u.T @ x.e, np.where(s > RCOND * s[0], s, 0.0), vt
 
     def cap(self, dz: Array) -> Array:
-        """dz scaled down to the trust region ``|dz|_inf <= max_step``."""
+        """Dz scaled down to the trust region ``|dz|_inf <= max_step``."""
         big = float(np.max(np.abs(dz)))
         return dz * (self.max_step / big) if big > self.max_step else dz
 
@@ -200,6 +200,9 @@ def solve(
     """Levenberg-Marquardt on ``residual(q) -> (e (m,), J (m, nv))`` from q0 (see the module docstring).
 
     Args:
+        model: the Pinocchio model (configurations move by ``pin.integrate``).
+        residual: ``q -> (e (m,), J (m, nv))``, dimensionless.
+        q0: (nq,) the start.
         tol: convergence threshold on ``max |e|`` (dimensionless).
         max_iter: damped iterations at most (each phase); Gauss-Newton steps are bounded by ``POLISH_STEPS``.
         damping: initial lambda relative to the largest squared singular value of J'.

@@ -52,6 +52,7 @@ class JointSpec:
 
     @property
     def link(self) -> str:
+        """Name of the link this chain element adds."""
         return f"{self.name}_link"
 
 
@@ -223,6 +224,7 @@ class ChainBuilder:
             yield from b.walk()
 
     def urdf_lines(self) -> list[str]:
+        """The limb's URDF elements (links, joints and frames), one per line."""
         """URDF elements of this chain and its branches."""
         out: list[str] = []
         for chain in self.walk():
@@ -260,9 +262,11 @@ class LimbBuilder(ChainBuilder):
 
     @property
     def tip_name(self) -> str:
+        """Name of the limb's tip frame."""
         return f"{self.name}_tip"
 
     def urdf_lines(self) -> list[str]:
+        """The limb's URDF elements, its tip frame last, one per line."""
         if self.tip_position is None or self.tip_rotation is None:
             raise ConfigurationError(f"limb {self.name!r} has no tip: call .tip(...)")
         tip = FrameSpec(self.tip_name, self.link, self.origin, self.tip_position, tuple(map(tuple, self.tip_rotation)))
@@ -281,6 +285,7 @@ class ClosureSpec:
     axis_b: tuple[float, float, float] | None = None
 
     def toml_lines(self) -> list[str]:
+        """The closure's ``[[closures]]`` table, one line per key."""
         out = ["", "[[closures]]", f"name = {toml_value(self.name)}"]
         out += [f"frames = {toml_value([self.frame_a, self.frame_b])}", f"type = {toml_value(self.type)}"]
         for key, value in (("axis", self.axis), ("axis_b", self.axis_b)):

@@ -87,7 +87,8 @@ class MechanismBuilder:
         Args:
             name: limb name; the arm's links and joints become ``{name}_{original}``.
             urdf: path of the robot's URDF.
-            root_link, tip_link: the chain kept (e.g. ``base_link`` to ``tool0``).
+            root_link: first link of the chain kept (e.g. ``base_link``).
+            tip_link: last link of the chain kept (e.g. ``tool0``).
             base_pose: (rotation (3, 3), position (3,) [m]) of ``root_link`` in the world.
             tip_offset: pose of the limb tip frame in ``tip_link`` (rotation, position [m]).
             actuated: original names of the actuated joints (default: every movable joint).
@@ -121,6 +122,9 @@ class MechanismBuilder:
         """Join ``frame_a`` and ``frame_b`` when the loops are closed (written to ``[[closures]]``).
 
         Args:
+            name: the closure's name.
+            frame_a: the first frame (its axes carry ``axis``).
+            frame_b: the second frame.
             type: ``6d`` (weld), ``3d`` (ball: same origin), ``revolute``, ``universal``,
                 ``cylindrical`` or ``planar`` (see :class:`pinmob.model.closure.Closure`).
             axis: the closure's axis in frame a (revolute, universal, cylindrical; planar: normal).
@@ -160,8 +164,12 @@ class MechanismBuilder:
         return names
 
     def check(self) -> None:
-        """Raise a :class:`ConfigurationError` for an empty mechanism, a name used twice, or builder-placed limb
-        tips that do not coincide at the reference configuration (within ``COINCIDENCE_RTOL`` of its size)."""
+        """Refuse an empty mechanism, a name used twice, or limb tips that do not coincide.
+
+        Raises:
+            ConfigurationError: for each of those; builder-placed limb tips must coincide at the reference
+                configuration within ``COINCIDENCE_RTOL`` of its size.
+        """
         chains = self._builder_chains()
         if not self.limbs and not any(c.joints for c in chains):
             raise ConfigurationError(f"mechanism {self.name!r} is empty: add a limb (.limb) or a chain (.chain)")
@@ -220,7 +228,7 @@ class MechanismBuilder:
         configurations: Mapping[str, Mapping[str, Any]] | None = None,
         length_scale: float | None = None,
     ) -> str:
-        """pinmob mechanism file text referring to ``urdf`` (a path relative to the file)."""
+        """Pinmob mechanism file text referring to ``urdf`` (a path relative to the file)."""
         out = [f"# {MARKER}; edit the builder, not this file", f"name = {toml_value(self.name)}"]
         if self.description:
             out.append(f"description = {toml_value(self.description)}")

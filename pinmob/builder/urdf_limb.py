@@ -106,6 +106,7 @@ class UrdfLimb:
 
     @property
     def tip_name(self) -> str:
+        """Name of the limb's tip frame."""
         return f"{self.name}_tip"
 
     def names(self) -> list[str]:

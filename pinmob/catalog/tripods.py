@@ -92,7 +92,7 @@ TILT = float(np.deg2rad(20.0))
 
 
 def _rps_confs(b: MechanismBuilder, fixed: dict[str, float], small_r: float, h: float, source: str) -> dict[str, Any]:
-    """generic (actuators moved, passive joints solved), home, and the tilted-x pose of the 3-RPS / 3-PRS.
+    """Generic (actuators moved, passive joints solved), home, and the tilted-x pose of the 3-RPS / 3-PRS.
 
     tilted-x: the platform turned by TILT about x with its centre at (r (1 - cos TILT) / 2, 0, h):
     every sphere centre then lies in the vertical plane of its limb (t_i . s_i = 0), the only

@@ -16,7 +16,6 @@ from pinmob.model.mechanism import Mechanism
 
 def pick_configuration(mech: Mechanism, config: str | None) -> str:
     """The named configuration to use: the one asked for, else the file's first."""
-
     if config is None:
         if not mech.configurations:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; name one in the mechanism file")

@@ -10,10 +10,12 @@ class Parser(argparse.ArgumentParser):
     """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged)."""
 
     def error(self, message: str) -> NoReturn:
+        """Print the usage error on one line and exit with status 2."""
         self.exit(2, f"pinmob: error: {' '.join(message.split())}; see '{self.prog} --help'\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
+    """The ``pinmob`` argument parser with its four commands."""
     parser = Parser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
     sub = parser.add_subparsers(dest="command", required=True)
 

@@ -87,7 +87,6 @@ def run(args: argparse.Namespace) -> int:
 
 def _check_scan_options(args: argparse.Namespace) -> None:
     """A grid scan and a path scan take different options: refuse a mix."""
-
     path_options = {"--from": args.start, "--to": args.end, "--joints": args.joints or None, "-n": args.samples}
     if args.grid:
         given = [k for k, v in path_options.items() if v is not None]
@@ -101,7 +100,6 @@ def _check_scan_options(args: argparse.Namespace) -> None:
 
 def _grid_axis(text: str) -> tuple[str, float, float, int]:
     """``COORD:LO:HI:N`` -> (coordinate, low, high, count)."""
-
     parts = text.split(":")
     try:
         if len(parts) != 4:

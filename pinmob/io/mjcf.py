@@ -105,6 +105,7 @@ def parseable(path: Path, root: ET.Element, expanded: bool) -> Iterator[Path]:
     """The file for Pinocchio's parser: ``path`` itself, or a temporary rewritten copy deleted on exit.
 
     Args:
+        path: the MJCF file.
         root: the file's tree with its includes expanded (it is modified: top-level bodies wrapped).
         expanded: the tree had includes.
     """

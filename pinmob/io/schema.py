@@ -124,7 +124,10 @@ def check_table(path: Path, where: str, table: Any, spec: Mapping[str, Kind]) ->
     """Check that ``table`` is a table whose keys are in ``spec``, each of the type ``spec`` gives.
 
     Args:
+        path: the mechanism file (named in messages).
         where: key path of the table (``""`` for the top level), e.g. ``limbs[0]``.
+        table: the value found there.
+        spec: the valid keys and the kind of value each takes.
 
     Raises:
         MechanismFileError: naming the file, the key path, the bad value or the valid keys.
@@ -154,6 +157,7 @@ def _key(where: str, key: str) -> str:
 
 
 def joint_values(path: Path, where: str, table: Mapping[str, Any], joint_names: set[str]) -> dict[str, float]:
+    """Joint values by name from a TOML table: known joints, finite numbers (errors name the key path)."""
     out = {}
     for k, v in table.items():
         if k not in joint_names:
@@ -167,6 +171,7 @@ def joint_values(path: Path, where: str, table: Mapping[str, Any], joint_names: 
 
 
 def vector3(path: Path, where: str, value: list[float]) -> np.ndarray:
+    """A 3-vector of finite numbers from a TOML array (errors name the key path)."""
     if len(value) != 3:
         raise file_error(path, f"{where} must be a list of 3 numbers, got {toml_text(value)}")
     arr = np.array(value, float)

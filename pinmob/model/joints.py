@@ -124,7 +124,7 @@ def angle_mask(model: pin.Model) -> Mask:
 
 
 def wrap_angles(model: pin.Model, q: Array) -> Array:
-    """q with each revolute angle moved by a multiple of 2 pi into (-pi, pi], where its limits allow.
+    """Q with each revolute angle moved by a multiple of 2 pi into (-pi, pi], where its limits allow.
 
     When the (-pi, pi] value is outside the joint's position limits, the
     representative ``x + 2 pi k`` inside the limits with the smallest
@@ -149,6 +149,8 @@ def outside_limits(model: pin.Model, q: Array, tol: float = 1e-9) -> tuple[str, 
     Limits with ``lower >= upper`` count as none (see :func:`wrap_angles`).
 
     Args:
+        model: the Pinocchio model.
+        q: (nq,) the configuration.
         tol: allowance [rad or m] beyond the limits.
     """
     out = []

@@ -37,6 +37,7 @@ REFINE_ITER = 100
 
 
 def assemble_target(mech: Mechanism, target: tuple[str, Any], seed: Array, max_iter: int = MAX_ITER) -> Array:
+    """A closed configuration at a scan target (a platform pose, or actuated joint values), warm-started from ``seed``."""
     kind, value = target
     if kind == "pose":
         return assemble_pose(mech, value, seed, max_iter=max_iter)

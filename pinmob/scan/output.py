@@ -42,6 +42,7 @@ class RowWriter:
         return self
 
     def write(self, row: dict[str, Any]) -> None:
+        """Append one row to each output file."""
         if self._csv:
             self._csv.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
         if self._json:

@@ -107,6 +107,12 @@ def minimise(
 
     Args:
         f: the function, ``inf`` where it cannot be evaluated.
+        a: left end of the bracket.
+        b: a point inside it, ``f(b) <= min(f(a), f(c))``.
+        c: right end of the bracket.
+        fa: ``f(a)``.
+        fb: ``f(b)``.
+        fc: ``f(c)``.
         stop: stop once ``f(b) <= stop``.
         xtol: stop once ``c - a <= xtol``.
         max_eval: most evaluations of f; it also stops after ``STALL`` evaluations

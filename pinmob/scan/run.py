@@ -92,6 +92,8 @@ def scan(mech: Mechanism, spec: ScanSpec, workers: int = 1, progress: bool | Non
     """Rows of the scan (samples and refined points), in order of the line parameter, one at a time.
 
     Args:
+        mech: the mechanism.
+        spec: what to scan (:mod:`pinmob.scan.spec`).
         workers: local processes (1 = in this process); the rows do not depend on it.
         progress: show a tqdm bar on stderr (None: only for scans of 50 samples or more on a terminal).
     """

@@ -87,6 +87,7 @@ class ScanSpec:
 
     @property
     def size(self) -> int:
+        """Number of samples (path samples, or grid rows times columns)."""
         if self.kind == "grid":
             return self.axes[0][3] * self.axes[1][3]
         return self.samples

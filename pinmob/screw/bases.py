@@ -6,7 +6,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.screw.algebra import Array
-from pinmob.screw.rank import svd
+from pinmob.screw.rank import decide_rank
 
 AXIS_NAMES = ("x", "y", "z")
 
@@ -22,6 +22,7 @@ def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
 
     Args:
         basis: (3, k) spanning vectors, k <= 3 (need not be orthonormal).
+        tol: relative tolerance of the rank of ``basis``.
 
     Returns:
         (3, r) orthonormal canonical basis, r the rank of ``basis`` (singular
@@ -30,8 +31,7 @@ def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
     d = np.asarray(basis, float).reshape(3, -1)
     if d.shape[1] == 0:
         return np.zeros((3, 0))
-    u, s, _ = svd(d, full_matrices=False)
-    rest = u[:, s > tol * max(1.0, float(s[0]))]
+    rest = decide_rank(d.T, tol, at_least=1.0).row_space.T  # the column span of d
     picked: list[tuple[int, Array]] = []
     proj = rest @ rest.T  # projector onto what is left of the subspace
     for _ in range(rest.shape[1]):

@@ -17,7 +17,7 @@ from numpy.typing import ArrayLike
 
 from pinmob.screw.algebra import Array, cross_columns
 from pinmob.screw.bases import canonical_directions, clean, positive
-from pinmob.screw.rank import RTOL, decide_rank, svd
+from pinmob.screw.rank import RTOL, decide_rank
 
 
 class MotionKind(StrEnum):
@@ -68,6 +68,7 @@ class ScrewSystem:
 
     @property
     def all(self) -> tuple[Screw, ...]:
+        """Every screw: free vectors, then lines, then screws."""
         return self.free_vectors + self.lines + self.screws
 
     def basis(self) -> Array:
@@ -114,12 +115,12 @@ def principal_screws(
     if span.shape[1] == 0:
         return np.zeros((3, 0)), []
     v, w = span[:3], span[3:]
-    _, s_w, vt_w = svd(w)
-    wr = int(np.sum(s_w > rtol * max(1.0, float(s_w[0]) if s_w.size else 0.0)))
-    trans = canonical_directions(v @ vt_w[wr:].T) if wr < vt_w.shape[0] else np.zeros((3, 0))
+    split = decide_rank(w, rtol, at_least=1.0)  # directions of the orthonormal span: natural scale 1
+    wr = split.rank
+    trans = canonical_directions(v @ split.null_space.T) if wr < w.shape[1] else np.zeros((3, 0))
     if wr == 0:
         return trans, []
-    gv, gw = v @ vt_w[:wr].T, w @ vt_w[:wr].T  # complement: span(gw) has dimension wr
+    gv, gw = v @ split.row_space.T, w @ split.row_space.T  # complement: span(gw) has dimension wr
     pitch_tol = max(1e-9, 10 * rtol)
     # split span(gw) into W0 (perpendicular to T) and its orthogonal complement W1
     if trans.shape[1]:

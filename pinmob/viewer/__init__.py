@@ -62,12 +62,19 @@ def show(
     ``scene.url`` whenever you like; the server keeps the scene.
 
     Args:
+        mech: the mechanism.
+        q: configuration (nq,) or the name of one of ``mech.configurations``.
+        mobility: its platform mobility, if already computed.
         zmq_url: a running meshcat server (``tcp://127.0.0.1:6000``); default:
             start one on 127.0.0.1 (``scene.server``; it lives until
             ``scene.server.stop()`` or until killed, not with this process).
         port: web port of the server pinmob starts (default: first free from 7000).
         timeout: seconds to wait for the server to start or answer.
-        Others as in :func:`export_html`.
+        motion: the motion shown first, by label (default: the first).
+        wrenches: also draw the constraint wrenches.
+        amplitude: distance of each motion [m, or rad].
+        steps: continuation steps per direction.
+        animate: follow the motions (False: a still scene).
 
     Raises:
         ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``

@@ -13,6 +13,7 @@ class SetControl:
         self.name, self.callback, self.value, self.options = name, callback, value, options
 
     def lower(self) -> dict[str, Any]:
+        """The command as meshcat sends it (a dictionary packed with msgpack)."""
         return {
             "type": "set_control",
             "name": self.name,
@@ -30,6 +31,7 @@ class DeleteControl:
         self.name = name
 
     def lower(self) -> dict[str, Any]:
+        """The command as meshcat sends it (a dictionary packed with msgpack)."""
         return {"type": "delete_control", "name": self.name, "path": ""}
 
 
@@ -40,6 +42,7 @@ class SetAnimation:
         self.animations = animations
 
     def lower(self) -> dict[str, Any]:
+        """The command as meshcat sends it (a dictionary packed with msgpack)."""
         options = {"play": True, "repetitions": float("inf")}
         return {"type": "set_animation", "animations": self.animations, "options": options, "path": ""}
 

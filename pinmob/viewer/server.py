@@ -54,6 +54,7 @@ class ServerProcess:
 
     @property
     def pid(self) -> int:
+        """Process id of the server."""
         return self.process.pid
 
     def stop(self, timeout: float = 5.0) -> None:
@@ -188,6 +189,7 @@ def probe(zmq_url: str, timeout: float = 3.0) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """``python -m pinmob.viewer.server``: run meshcat's server on 127.0.0.1 and print its URLs."""
     parser = argparse.ArgumentParser(prog="python -m pinmob.viewer.server", description=__doc__.splitlines()[0])
     parser.add_argument("--port", type=int, default=None, help="web port (default: first free from 7000)")
     parser.add_argument("--zmq-port", type=int, default=None, help="command port (default: first free from 6000)")
@@ -200,8 +202,10 @@ def main(argv: list[str] | None = None) -> int:
     zmq_url = None if args.zmq_port is None else f"tcp://{HOST}:{args.zmq_port}"
 
     class Bridge(ZMQWebSocketBridge):
-        """meshcat's bridge on 127.0.0.1 only, also keeping ``set_control`` commands (pinmob's motion menu)
-        for browsers that connect later, until a ``delete_control`` or a deletion of the whole scene."""
+        """meshcat's bridge on 127.0.0.1 only, also keeping ``set_control`` commands (pinmob's motion menu).
+
+        They are kept for browsers that connect later, until a ``delete_control`` or a deletion of the whole scene.
+        """
 
         controls: dict[str, bytes] = {}
 

@@ -1,0 +1,146 @@
+"""The one entry point and the one state object: Report == the CLI's output, Configuration computed once."""
+
+from __future__ import annotations
+
+import dataclasses
+import io
+import json
+import pickle
+import tomllib
+import warnings
+from contextlib import redirect_stdout
+from pathlib import Path
+
+import numpy as np
+import pytest
+from test_errors import GOOD, write_mechanism
+
+import pinmob
+import pinmob.assembly.assemble as assemble_module
+from pinmob.cli import main
+
+MODELS = Path(__file__).resolve().parent.parent / "models"
+
+#: every built-in model and configuration, read from the files (no model is loaded to list them)
+CASES = [
+    (tomllib.loads(p.read_text())["name"], config)
+    for p in sorted(MODELS.glob("*.toml"))
+    for config in tomllib.loads(p.read_text())["configurations"]
+]
+
+
+def cli(*args: str) -> str:
+    out = io.StringIO()
+    with redirect_stdout(out):
+        assert main(list(args)) == 0
+    return out.getvalue()
+
+
+@pytest.mark.parametrize(("name", "config"), CASES)
+def test_report_is_what_the_cli_prints(name: str, config: str) -> None:
+    """``to_dict()`` is the document of ``pinmob analyze --json``, ``str()`` the text of ``pinmob analyze``."""
+    report = pinmob.analyze(pinmob.load(name), config)
+    assert json.loads(cli("analyze", name, "--config", config, "--json")) == json.loads(
+        json.dumps(report.to_dict(), allow_nan=False)
+    )
+    assert cli("analyze", name, "--config", config) == str(report) + "\n"
+
+
+def test_report_of_a_closed_chain_is_what_the_cli_prints() -> None:
+    """A mechanism described by closures only: the report finds a closed configuration, as the CLI does."""
+    path = Path(__file__).resolve().parent / "data" / "example-parallel-robots" / "5bar_linkage" / "robot.yaml"
+    report = pinmob.analyze(pinmob.load(path))
+    assert report.mobility is None and report.mechanism_mobility.mechanism_dof == 3
+    assert json.loads(cli("analyze", str(path), "--json")) == json.loads(json.dumps(report.to_dict()))
+    assert cli("analyze", str(path)).startswith(str(report).splitlines()[0])
+
+
+def test_cli_leaves_the_warning_state_as_it_found_it() -> None:
+    before = (list(warnings.filters), warnings.showwarning, warnings.formatwarning)
+    cli("analyze", "3-PUU", "--config", "generic")
+    cli("analyze", "3-PUU", "--config", "generic", "--json")
+    assert (list(warnings.filters), warnings.showwarning, warnings.formatwarning) == before
+
+
+def test_results_are_frozen_for_real() -> None:
+    mech = pinmob.load("3-PUU")
+    report = pinmob.analyze(mech, "generic")
+    with pytest.raises(ValueError, match="read-only"):
+        report.free_twists[0, 0] = 99
+    with pytest.raises(ValueError, match="read-only"):
+        report.motions[0].direction[0] = 99
+    with pytest.raises(ValueError, match="read-only"):
+        report.mechanism_mobility.singular_values[0] = 99
+    with pytest.raises(ValueError, match="read-only"):
+        report.state.q[0] = 99
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        report.rtol = 0.5  # type: ignore[misc]
+    assert isinstance(report.view, pinmob.View) and isinstance(report.method, pinmob.Method)
+    assert all(isinstance(c.type, pinmob.ClosureType) for c in mech.all_closures)
+
+
+def test_a_named_configuration_is_closed_once(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The whole report (with the paper's view) assembles the named pose configuration once (it was 3 times)."""
+    mech = pinmob.load("3-RPS")
+    assert mech.configurations["tilted-x"].pose is not None
+    pinmob.analyze(mech, "tilted-x", paper=True).to_dict()  # generic ranks estimated and cached per mechanism
+    calls = {"n": 0}
+    real = assemble_module.assemble_pose
+
+    def counted(*args: object, **kwargs: object) -> np.ndarray:
+        calls["n"] += 1
+        return real(*args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr("pinmob.assembly.named.assemble_pose", counted)
+    report = pinmob.analyze(mech, "tilted-x", paper=True)
+    report.to_dict()
+    str(report)
+    assert calls["n"] == 1
+
+
+def test_configuration_state() -> None:
+    """Validated once, kinematics in a pooled Data (reused by the next configuration), picklable."""
+    mech = pinmob.load("3-PUU")
+    conf = pinmob.Configuration(mech, "generic")
+    data = conf.data
+    assert conf.name == "generic" and conf.residual < 1e-12 and conf.source == "named configuration 'generic'"
+    assert conf.memo("x", lambda: 1) == 1 and conf.memo("x", lambda: 2) == 1
+    q = conf.q.copy()
+    del conf
+    again = pinmob.Configuration(mech, q)
+    assert again.data is data  # the Data went back to the pool and was taken again
+    copy = pickle.loads(pickle.dumps(again))
+    assert np.array_equal(copy.q, again.q) and copy.data is not again.data
+    assert pinmob.analyze(copy).to_dict() == pinmob.analyze(again).to_dict()
+    with pytest.raises(pinmob.ConfigurationError, match="not both"):
+        pinmob.analyze(again, q)
+
+
+ENTRY_POINTS = {
+    "analyze": lambda m, q, **kw: pinmob.analyze(m, q, **kw),
+    "analyze_mechanism": lambda m, q, **kw: pinmob.analyze_mechanism(m, q, **kw),
+    "analyze_singularity": lambda m, q, **kw: pinmob.analyze_singularity(m, q, generic_rank=2, **kw),
+    "paper_view": lambda m, q, **kw: pinmob.paper_view(m, q, **kw),
+    "closure_jacobian_twists": lambda m, q, **kw: pinmob.closure_jacobian_twists(m, q, **kw),
+    "frame_mobility": lambda m, q, **kw: pinmob.frame_mobility(m, q, "platform", **kw),
+    "actuator_sets": lambda m, q, **kw: pinmob.actuator_sets(m, q, 2, **kw),
+}
+
+
+@pytest.mark.parametrize("entry", sorted(ENTRY_POINTS))
+def test_every_entry_point_checks_its_arguments_the_same_way(entry: str, tmp_path: Path) -> None:
+    """rtol and closure_tol are checked (and used) by every entry point, for a name as for a vector:
+    ``analyze_mechanism`` used to accept rtol = -1 and ignore closure_tol for a named configuration."""
+    call = ENTRY_POINTS[entry]
+    mech = pinmob.load(write_mechanism(tmp_path, GOOD.replace("A_slider = 0.0", "B_slider = 1e-5")))
+    for rtol in (-1.0, 0.0, float("nan"), 1.5):
+        with pytest.raises(pinmob.ConfigurationError, match="rtol"):
+            call(mech, "home", rtol=rtol, closure_tol=1e-3)
+    for tol in (-1.0, float("nan"), 1.0):
+        with pytest.raises(pinmob.ConfigurationError, match="closure_tol"):
+            call(mech, "home", closure_tol=tol)
+    with pytest.raises(pinmob.ClosureError, match="B: 1.00e-05 m"):
+        call(mech, "home")
+    with pytest.raises(pinmob.ClosureError, match="B: 1.00e-05 m"):
+        call(mech, pinmob.closed_configuration(mech, "home", 1e-3))
+    call(mech, "home", closure_tol=1e-3)  # loosened: accepted, by name

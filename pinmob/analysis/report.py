@@ -12,7 +12,9 @@ them all):
   configurations, unless the file declares it);
 * ``paper``: the seed paper's view, only when asked (``paper=True``);
 * ``actuator_sets``: every valid set of K actuated joints, only when asked
-  (``actuator_search=K``).
+  (``actuator_search=K``);
+* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``;
+  :mod:`pinmob.analysis.finite`).
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ from numpy.typing import ArrayLike
 from pinmob.analysis.actuation import actuator_sets
 from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.finite import FiniteMobility, finite_mobility
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.paper import paper_mobility
 from pinmob.analysis.singularity import Singularity
@@ -65,6 +68,8 @@ class Options:
     actuator_search: int | None = None
     generic_rank: int | None = None
     relaxed: tuple[str, ...] = ()
+    finite: bool = False
+    finite_order: int = 4
 
 
 @dataclass(frozen=True, eq=False)
@@ -132,6 +137,13 @@ class Report:
             return None
         outs = default_end_frames(self.state.mechanism)
         return tuple(actuator_sets(self.state, k, outs, rtol=self.rtol))
+
+    @cached_property
+    def finite(self) -> FiniteMobility | None:
+        """Finite versus instantaneous mobility (only when asked for with ``finite=True``)."""
+        if not self.options.finite:
+            return None
+        return finite_mobility(self.state, self.rtol, self.options.finite_order)
 
     @property
     def platform_frame(self) -> FrameMobility | None:
@@ -212,6 +224,13 @@ class Report:
             out["singularity"] = sing.to_dict() if sing is not None else None
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
+        fin = self.finite
+        if fin is not None:
+            out["finite_dof"] = fin.finite_dof
+            out["finite_mechanism_dof"] = fin.finite_mechanism_dof
+            if fin.locked is not None:
+                out["finite_dof_locked"] = fin.finite_dof_locked
+            out["finite"] = fin.to_dict()
         return out
 
     def __str__(self) -> str:
@@ -225,6 +244,7 @@ class Report:
                 )
             lines.append(str(self.mechanism_mobility))
             lines.extend(self._actuator_lines())
+            lines.extend(self._finite_lines())
             return "\n".join(lines)
         mob = self._platform()
         sing = self.singularity
@@ -244,7 +264,11 @@ class Report:
                     f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
                     f"{', '.join(mob.serially_singular_limbs) or 'none'}"
                 )
+        lines.extend(self._finite_lines())
         return "\n".join(lines)
+
+    def _finite_lines(self) -> list[str]:
+        return [] if self.finite is None else ["", str(self.finite)]
 
     def _actuator_lines(self) -> list[str]:
         sets = self.actuator_sets

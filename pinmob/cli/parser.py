@@ -59,6 +59,19 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="K",
         help="also list every valid set of K actuated joints (exhaustive)",
     )
+    p.add_argument(
+        "--finite",
+        action="store_true",
+        help="also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
+        "(higher-order conditions, tracing, closed samples)",
+    )
+    p.add_argument(
+        "--finite-order",
+        type=int,
+        default=4,
+        metavar="K",
+        help="with --finite: the highest order of the conditions checked (2..8, default 4)",
+    )
 
     p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat")
     p.add_argument("mechanism", help="built-in model name or path to a mechanism file")

@@ -41,6 +41,9 @@ def run(args: argparse.Namespace) -> int:
             for sign, d in zip("+-", path.displacement, strict=True)
         )
         print(f"    platform moved {moved}")
+        if path.verdict:
+            only = "" if path.finite is not False else "; the motion exists only to first order"
+            print(f"    finite analysis: {path.verdict}{only}")
     for note in scene.notes:
         print(f"note: {note}")
     if scene.generated_geometry:

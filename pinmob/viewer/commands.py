@@ -7,9 +7,12 @@ from typing import Any
 
 
 class SetControl:
-    """meshcat's ``set_control`` command: a GUI control calling ``callback`` (JavaScript)."""
+    """meshcat's ``set_control`` command: a GUI control calling ``callback`` (JavaScript).
 
-    def __init__(self, name: str, callback: str, value: str, options: list[str]):
+    ``options`` are the menu's values, or a mapping of the texts shown to the values.
+    """
+
+    def __init__(self, name: str, callback: str, value: str, options: list[str] | dict[str, str]):
         self.name, self.callback, self.value, self.options = name, callback, value, options
 
     def lower(self) -> dict[str, Any]:

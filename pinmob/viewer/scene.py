@@ -1,7 +1,8 @@
 """The meshcat scene of a mobility analysis, shown by :mod:`pinmob.viewer`, written by :mod:`pinmob.viewer.html`.
 
 :func:`prepare` does everything that can fail before meshcat is touched (the
-closed configuration, its mobility, the followed motions); :func:`build` sends
+closed configuration, its mobility, the followed motions and, by default, each motion's
+finite-mobility verdict, :mod:`pinmob.analysis.finite`); :func:`build` sends
 the scene (the mechanism once, one animation clip per free motion, glyphs,
 wrenches, camera, lights, motion menu) to a live or recording meshcat ``Visualizer`` and returns a
 :class:`Scene`. See :mod:`pinmob.viewer` for the scene's meshcat paths.
@@ -10,7 +11,7 @@ wrenches, camera, lights, motion menu) to a live or recording meshcat ``Visualiz
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -18,6 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.configuration import as_configuration
+from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.mobility import Mobility, platform_mobility
 from pinmob.analysis.motion_path import MotionPath, follow_motion
 from pinmob.exceptions import ConfigurationError, ViewerError, choices
@@ -39,6 +41,8 @@ POINT_LIGHTS = {"PointLightNegativeX": (1.5, 1.5, 2.0), "PointLightPositiveX": (
 LIGHT_REACH = 10.0
 #: glyphs are drawn after everything else (three.js renderOrder)
 GLYPH_RENDER_ORDER = 10
+#: glyph of a motion that exists only to first order: grey, half transparent, pulsing in its clip
+INSTANTANEOUS_COLOR, INSTANTANEOUS_OPACITY, PULSE = 0x9E9E9E, 0.45, 0.35
 
 
 @dataclass
@@ -51,7 +55,8 @@ class Scene:
         notes: where a motion could not be followed the whole amplitude, and why.
         generated_geometry: True when the mechanism is drawn as a generated stick figure.
         mobility: the analysis shown.
-        paths: the followed motions, by clip name.
+        paths: the followed motions, by clip name, each with its finite verdict (``MotionPath.finite``,
+            ``MotionPath.verdict``) when it was analysed.
         center, distance: where the camera looks [m] and from how far [m].
         url: the live page (``show``) or None.
         zmq_url: the server's command URL (``show``) or None.
@@ -71,6 +76,16 @@ class Scene:
     zmq_url: str | None = None
     html: Path | None = None
     server: Any = field(default=None, repr=False)
+
+    @property
+    def verdicts(self) -> dict[str, str]:
+        """Each clip's finite-mobility verdict in words (``finite``, ``blocked at order 2 (shaky)``, ...)."""
+        return {label: self.paths[label].verdict for label in self.clips}
+
+
+def menu_text(label: str, path: MotionPath) -> str:
+    """The motion menu's text for a clip: the label, and what its motion is when it is only instantaneous."""
+    return label if path.finite is not False else f"{label}: instantaneous only ({path.verdict})"
 
 
 # --------------------------------------------------------------------------- meshcat plumbing
@@ -93,7 +108,7 @@ def require_meshcat() -> Any:
     return meshcat
 
 
-def _mesh(glyph: Glyph) -> Any:
+def _mesh(glyph: Glyph, opacity: float = 1.0) -> Any:
     """A glyph's meshcat object, drawn after (``renderOrder``) and over (no depth test) the mechanism."""
     import meshcat.geometry as mg
 
@@ -103,7 +118,7 @@ def _mesh(glyph: Glyph) -> Any:
             data["object"]["renderOrder"] = GLYPH_RENDER_ORDER
             return data
 
-    material = mg.MeshPhongMaterial(color=glyph.color, depthTest=False, transparent=True, opacity=1.0)
+    material = mg.MeshPhongMaterial(color=glyph.color, depthTest=False, transparent=True, opacity=opacity)
     return GlyphMesh(mg.TriangularMeshGeometry(glyph.vertices, glyph.faces), material)
 
 
@@ -118,8 +133,13 @@ def prepare(
     steps: int,
     animate: bool,
     motion: str | None = None,
+    finite: bool = True,
 ) -> tuple[Array, Mobility, dict[str, MotionPath]]:
     """Closed q, its mobility and the followed motions (everything that can fail before meshcat).
+
+    With ``finite`` (and a platform), each path carries its motion's verdict from
+    :func:`pinmob.analysis.finite.finite_mobility`: a motion that exists only to first order is then
+    drawn as such by :func:`build`.
 
     Raises:
         ConfigurationError: ``motion`` is not the label of a free motion at q.
@@ -137,6 +157,12 @@ def prepare(
             paths[m.label] = follow_motion(mech, q, m, amplitude=amplitude, steps=steps)
         else:
             paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
+    if finite and mech.has_platform and mob.motions:
+        verdicts = {v.label: v for v in finite_mobility(conf, RTOL).motions}
+        for label, path in paths.items():
+            v = verdicts.get(label)
+            if v is not None:
+                paths[label] = replace(path, finite=v.finite, verdict=v.words())
     return q, mob, paths
 
 
@@ -211,7 +237,9 @@ def build(
     clip_labels: list[str | None] = [*labels] if labels else [None]
     for label in clip_labels:
         animation = Animation(default_framerate=FPS)
-        for k, qk in enumerate(paths[label].frames() if label is not None else [q]):
+        still = label is not None and paths[label].finite is False  # only instantaneous: its glyph pulses
+        frames = ([q] * FPS if still else paths[label].frames()) if label is not None else [q]
+        for k, qk in enumerate(frames):
             pin.updateGeometryPlacements(model, data, geometry, gdata, qk)
             for i, node in enumerate(nodes):
                 matrix = gdata.oMg[i].homogeneous
@@ -221,6 +249,11 @@ def build(
                 clip = animation.clips.setdefault(node, AnimationClip(fps=FPS, name=label))
                 clip.set_property(k, "position", "vector3", [float(x) for x in js_position(matrix)])
                 clip.set_property(k, "quaternion", "quaternion", [float(x) for x in js_quaternion(matrix)])
+        if still:  # the glyph's node is placed at the glyph's centre (below), so it pulses in place
+            pulse = animation.clips.setdefault(vis[f"{ROOT}/glyphs/{label}"].path, AnimationClip(fps=FPS, name=label))
+            for k in range(FPS):
+                size = 1.0 + PULSE * np.sin(2 * np.pi * k / (FPS - 1))
+                pulse.set_property(k, "scale", "vector3", [size] * 3)
         if label is not None:
             clips[label] = animation.lower()
 
@@ -228,7 +261,14 @@ def build(
     length = mech.length_scale
     for m in mob.motions:
         glyph = motion_glyph(m, origin, length)
-        vis[f"{ROOT}/glyphs/{glyph.name}"].set_object(_mesh(glyph))
+        node = vis[f"{ROOT}/glyphs/{glyph.name}"]
+        if paths[m.label].finite is False:  # only instantaneous: grey, half transparent, centred on its node
+            centre = glyph.vertices.mean(axis=0)
+            shown = replace(glyph, vertices=glyph.vertices - centre, color=INSTANTANEOUS_COLOR)
+            node.set_object(_mesh(shown, INSTANTANEOUS_OPACITY))
+            node.set_transform(pin.SE3(np.eye(3), centre).homogeneous)
+        else:
+            node.set_object(_mesh(glyph))
         points.extend(glyph.vertices)
     for i, c in enumerate(mob.constraints):
         glyph = constraint_glyph(c, i, origin, length)
@@ -242,7 +282,8 @@ def build(
     # always replace the animation: a rigid scene on a reused server must not keep the previous scene's clip
     vis.window.send(SetAnimation(clips[visible] if visible is not None else []))
     if visible is not None:  # there are motions to choose from
-        vis.window.send(SetControl("motion", selector_callback(clips, visible), visible, labels))
+        texts = {menu_text(label, paths[label]): label for label in labels}
+        vis.window.send(SetControl("motion", selector_callback(clips, visible), visible, texts))
     else:
         vis.window.send(DeleteControl("motion"))
     notes = tuple(n for p in paths.values() for n in p.notes)

@@ -29,6 +29,7 @@ from pinmob.analysis.branches import branch_joints
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite_side import Side, analyse_side
 from pinmob.analysis.higher_order import ORDER, ORDER_TOL
+from pinmob.analysis.motion import Motion
 from pinmob.analysis.verdicts import MotionVerdict
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.exceptions import ConfigurationError
@@ -182,7 +183,12 @@ def check_order(order: object) -> int:
 
 
 def finite_mobility(
-    conf: Configuration, rtol: float, order: int = ORDER, order_tol: float = ORDER_TOL, seed: int = 0
+    conf: Configuration,
+    rtol: float,
+    order: int = ORDER,
+    order_tol: float = ORDER_TOL,
+    seed: int = 0,
+    motions: tuple[Motion, ...] | None = None,
 ) -> FiniteMobility:
     """Finite and instantaneous mobility at ``conf``, free and with the declared actuators held.
 
@@ -192,6 +198,8 @@ def finite_mobility(
         order: the highest order of the conditions checked (2..8).
         order_tol: relative tolerance of the conditions.
         seed: of the random directions (cone points, tracing directions, samples).
+        motions: the instantaneous platform motions to judge (default: the closed chain's, classified
+            here; :func:`pinmob.analyze` passes its platform mobility's, so the labels are its own).
 
     Raises:
         ConfigurationError: a bad order bound, or a joint type the conditions cannot treat.
@@ -200,11 +208,12 @@ def finite_mobility(
 
     def compute() -> FiniteMobility:
         mech = conf.mechanism
-        free = analyse_side(conf, rtol, order, order_tol, (), seed)
+        free = analyse_side(conf, rtol, order, order_tol, (), seed, motions)
         locked = None
         if mech.actuated:
             held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
             locked = analyse_side(conf, rtol, order, order_tol, held, seed)
         return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf)
 
-    return conf.memo(("finite", rtol, order, order_tol, seed), compute)
+    key = None if motions is None else tuple((m.label, m.twist.tobytes()) for m in motions)
+    return conf.memo(("finite", rtol, order, order_tol, seed, key), compute)

@@ -122,9 +122,19 @@ def _trace_rates(conf: Configuration, rates: Array, held: tuple[int, ...], rtol:
 
 
 def analyse_side(
-    conf: Configuration, rtol: float, order: int, order_tol: float, held: tuple[int, ...] = (), seed: int = 0
+    conf: Configuration,
+    rtol: float,
+    order: int,
+    order_tol: float,
+    held: tuple[int, ...] = (),
+    seed: int = 0,
+    given: tuple[Motion, ...] | None = None,
 ) -> Side:
-    """The :class:`Side` of ``conf`` with the joints of velocity indices ``held`` kept still."""
+    """The :class:`Side` of ``conf`` with the joints of velocity indices ``held`` kept still.
+
+    ``given``: the platform motions to judge (default: the closed chain's, classified here); the
+    report passes those of its first block, so that the labels are the same.
+    """
     mech = conf.mechanism
     nv = mech.model.nv
     rng = np.random.default_rng(seed)
@@ -154,6 +164,7 @@ def analyse_side(
         rows = frame_rows(conf, mech.platform)
         on_kernel = rows @ ho.kernel[:nv]
         dof, kind, found_motions = platform_motions(conf, kernel, rtol)
+        found_motions = found_motions if given is None else given
         lifts = decide_rank(on_kernel, rtol, n=ho.m, at_least=1.0).null_space.T
         spans = [orthonormal([rows @ b.rates], 6) for b in branches]
         w = twist_scaling(mech.length_scale)

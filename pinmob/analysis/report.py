@@ -143,7 +143,9 @@ class Report:
         """Finite versus instantaneous mobility (only when asked for with ``finite=True``)."""
         if not self.options.finite:
             return None
-        return finite_mobility(self.state, self.rtol, self.options.finite_order)
+        platform = self.mobility if self.has_limbs else self.platform_frame
+        motions = None if platform is None else platform.motions
+        return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions)
 
     @property
     def platform_frame(self) -> FrameMobility | None:

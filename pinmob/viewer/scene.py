@@ -158,7 +158,7 @@ def prepare(
         else:
             paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
     if finite and mech.has_platform and mob.motions:
-        verdicts = {v.label: v for v in finite_mobility(conf, RTOL).motions}
+        verdicts = {v.label: v for v in finite_mobility(conf, RTOL, motions=mob.motions).motions}
         for label, path in paths.items():
             v = verdicts.get(label)
             if v is not None:

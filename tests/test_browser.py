@@ -171,6 +171,35 @@ def test_exported_html_in_chromium(browser, flat, tmp_path):
     page.close()
 
 
+def test_instantaneous_only_motion_is_drawn_as_such(browser, flat, tmp_path):
+    """The flat 3-PUU's R1 z is blocked at order 2 (tests/test_finite.py): its menu entry says so, its glyph is
+    grey and half transparent, and its clip makes the glyph pulse while the mechanism stays still."""
+    scene = viewer.export_html(flat, "flat", tmp_path / "flat.html", motion="R1 z")
+    assert scene.verdicts == {"T1 z": "finite", "R1 z": "blocked at order 2 (shaky)"}
+    assert (scene.paths["T1 z"].finite, scene.paths["R1 z"].finite) == (True, False)
+    page = open_page(browser, (tmp_path / "flat.html").as_uri())
+    options = page.evaluate(
+        "Array.from(viewer.gui_controllers['motion'].domElement.querySelectorAll('option'))"
+        ".map((o) => [o.value, o.textContent])"
+    )
+    assert options == [["T1 z", "T1 z"], ["R1 z", "R1 z: instantaneous only (blocked at order 2 (shaky))"]]
+    still, moving = ["meshcat", "pinmob", "glyphs", "R1 z"], ["meshcat", "pinmob", "glyphs", "T1 z"]
+    material = "(p) => { const m = viewer.scene_tree.find(p).object.material; return [m.color.getHex(), m.opacity]; }"
+    assert page.evaluate(material, [*still, "<object>"]) == [0x9E9E9E, pytest.approx(0.45)]
+    assert page.evaluate(material, [*moving, "<object>"])[1] == 1.0
+    scale = "(p) => viewer.scene_tree.find(p).object.scale.x"
+    seek(page, 0.0)
+    start = page.evaluate(scale, still)
+    seek(page, 0.25)
+    assert page.evaluate(scale, still) > 1.1 * start  # the glyph pulses...
+    seek(page, 0.0)
+    box = platform_box(page, scene.mobility.platform_origin)
+    before = image(page)
+    seek(page, 0.5)
+    assert (np.abs(image(page) - before).max(axis=2) > 40)[box].mean() > 0  # ...so the clip is not still
+    page.close()
+
+
 def test_live_server_page_in_chromium(browser, flat):
     scene = viewer.show(flat, "flat")
     try:

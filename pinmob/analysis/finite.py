@@ -128,7 +128,7 @@ class FiniteMobility:
         internal = "; internal motions (the platform still to first order):" if free.internal and self.platform else ""
         internal = internal or (":" if free.internal else "")
         lines.append(
-            f"mechanism: {_count(free.finite_mechanism_dof)} DoF finite (instantaneous: {free.mechanism_dof}){internal}"
+            f"mechanism: {_finite(free, free.finite_mechanism_dof, False)} (instantaneous: {free.mechanism_dof}){internal}"
         )
         lines += [m.line(many) for m in free.internal]
         lines += _branch_lines(free)
@@ -137,7 +137,7 @@ class FiniteMobility:
             lk = self.locked
             what, inst = ("platform", lk.dof) if self.platform else ("mechanism", lk.mechanism_dof)
             lines.append(
-                f"actuators held ({', '.join(lk.held)}): {what} {_count(self.finite_dof_locked)} DoF finite "
+                f"actuators held ({', '.join(lk.held)}): {what} {_finite(lk, self.finite_dof_locked, False)} "
                 f"(instantaneous: {inst})"
             )
             lines += [m.line(len(lk.branches) > 1) for m in lk.motions]
@@ -145,15 +145,13 @@ class FiniteMobility:
         return "\n".join(lines)
 
 
-def _count(value: int | None) -> str:
-    return "cannot decide the" if value is None else str(value)
-
-
-def _finite(side: Side, dof: int | None) -> str:
-    """``1 DoF finite, 1T`` (the motion types of the branches that give the platform that many DoF)."""
+def _finite(side: Side, dof: int | None, types: bool = True) -> str:
+    """``1 DoF finite, 1T`` (with ``types``: the motion types of the branches giving the platform that many DoF)."""
     if dof is None:
         return "cannot decide the finite DoF"
-    kinds = list(dict.fromkeys(b.motion_type for b in side.branches if b.dof == dof and b.motion_type))
+    kinds = (
+        [] if not types else list(dict.fromkeys(b.motion_type for b in side.branches if b.dof == dof and b.motion_type))
+    )
     return f"{dof} DoF finite" + (f", {' or '.join(kinds)}" if kinds and dof else "")
 
 

@@ -19,13 +19,15 @@ from pinmob.analysis.actuation import joint_rates
 from pinmob.analysis.branches import Branch, branch_of, platform_motions, tangent_rates
 from pinmob.analysis.closure_jacobian import closed_chain, closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.displacement import displacement
 from pinmob.analysis.higher_order import HigherOrder
 from pinmob.analysis.local_dimension import LocalDimension, local_dimension
 from pinmob.analysis.loop_screws import mechanism_loops
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.motion_path import follow_motion, follow_rates
 from pinmob.analysis.tangent_cone import cone
-from pinmob.analysis.verdicts import MotionVerdict, judge, orthonormal
+from pinmob.analysis.verdicts import MotionVerdict, Verdict, judge, orthonormal
+from pinmob.assembly.residual import compute_kinematics
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import MotionKind
 from pinmob.screw.rank import decide_rank
@@ -106,9 +108,17 @@ def _trace_motion(conf: Configuration, motion: Motion, rtol: float) -> float:
     return max(path.reached)
 
 
-def _trace_rates(conf: Configuration, rates: Array, held: tuple[int, ...], rtol: float) -> float:
+def _trace_rates(
+    conf: Configuration, rates: Array, held: tuple[int, ...], rtol: float, twist: Array | None = None
+) -> float:
+    """Distance the rates were followed (joint metric), with ``twist`` only as far as the platform follows it.
+
+    With ``twist`` (a dimensionless platform twist), a direction whose end leaves the platform short of
+    half the first-order prediction along ``twist`` counts as not followed (it moved internal joints only).
+    """
+    mech = conf.mechanism
     path = follow_rates(
-        conf.mechanism,
+        mech,
         conf.q,
         rates,
         amplitude=TRACE,
@@ -118,7 +128,18 @@ def _trace_rates(conf: Configuration, rates: Array, held: tuple[int, ...], rtol:
         closure_tol=conf.closure_tol,
         halvings=HALVINGS,
     )
-    return max(path.reached)
+    reached = max(path.reached)
+    if twist is None or reached == 0.0:
+        return reached
+    sign, end = (1.0, path.forward[-1]) if path.reached[0] >= path.reached[1] else (-1.0, path.backward[-1])
+    data = mech.model.createData()
+    compute_kinematics(mech.model, data, end)
+    moved = twist_scaling(mech.length_scale) * displacement(
+        conf.frame_placement(mech.platform_id), data.oMf[mech.platform_id]
+    )
+    predicted = sign * reached * (frame_rows(conf, mech.platform) @ rates) / np.linalg.norm(rates)
+    unit = twist / np.linalg.norm(twist)
+    return reached if moved @ unit >= 0.5 * abs(predicted @ unit) > 0 else 0.0
 
 
 def analyse_side(
@@ -171,7 +192,9 @@ def analyse_side(
         for mo in found_motions:
             target = w * mo.twist
             test = ho.test(np.asarray(np.linalg.lstsq(on_kernel, target, rcond=None)[0], float), lifts, order, rng)
-            traced = _trace_motion(conf, mo, rtol) if not held else _trace_rates(conf, test.rates[:nv], held, rtol)
+            traced = (
+                _trace_motion(conf, mo, rtol) if not held else _trace_rates(conf, test.rates[:nv], held, rtol, target)
+            )
             motions.append(judge(mo.label, target, spans, test, traced, motion=mo))
     if not held:
         spans = [b.rates for b in branches]
@@ -183,6 +206,9 @@ def analyse_side(
     samples = local_dimension(conf, kernel, [b.rates for b in branches], held, rtol=rtol, seed=seed)
     finite_mech = max((b.dimension for b in branches), default=0)
     finite_dof = max((b.dof or 0 for b in branches), default=0) if mech.has_platform else None
+    undecided = [v.label for v in motions + internal if v.verdict is Verdict.UNDECIDED]
+    if undecided:
+        notes.append(f"the verdict on {', '.join(undecided)} is undecided, so the finite DoF too")
     if samples.unexplained:
         notes.append(f"{samples.unexplained} closed sample(s) near q lie on none of the branches found")
     if samples.dimension != finite_mech:

@@ -63,12 +63,22 @@ class OrderTest(ReadOnlyArrays):
     rates: Array = field(repr=False)
 
     @property
+    def deciding(self) -> tuple[int, float]:
+        """(order, residual) that decided: the blocking order's, or (passing) the largest one's."""
+        if self.blocked_at is not None:
+            return self.blocked_at, self.residuals[-1]
+        k = int(np.argmax(self.residuals)) if self.residuals else 0
+        return k + 2, self.residuals[k] if self.residuals else 0.0
+
+    @property
     def margin(self) -> float:
-        """How clearly decided: ``residual / tol`` of the deciding order, or ``tol / residual`` of the last one."""
+        """How clearly decided: ``residual / tol`` of the blocking order, or ``tol / residual`` of the largest."""
+        order, residual = self.deciding
         if not self.residuals:
             return float("inf")
-        last = max(self.residuals[-1], 1e-300)
-        return last / self.tolerance if self.blocked_at else self.tolerance / last
+        if self.blocked_at is not None:
+            return residual / self.tolerance
+        return self.tolerance / max(residual, 1e-300)
 
 
 class HigherOrder:

@@ -11,6 +11,9 @@ independent answers:
   conditions: *blocked at order k* (shaky: first-order free, impossible at order k);
 - from tracing it with the path follower: the distance it could be followed (either way).
 
+A condition whose residual lies within a factor ``MARGIN`` of its tolerance decides nothing: the
+motion is then *cannot decide*, with the numbers.
+
 The verdict is *finite* when the motion is on a branch and the tracer moved; *blocked* when the
 conditions block it and the tracer could not move at all; *branch point* from the conditions (the
 tracer's distance is reported, not judged: along a combination of branch tangents it lands on one
@@ -32,6 +35,8 @@ from pinmob.screw.algebra import Array
 
 #: A motion lies in a span when the sine of its angle to it is at most this.
 MEMBER_SIN = 1e-4
+#: A condition's residual within this factor of its tolerance (either side) decides nothing.
+MARGIN = 10.0
 
 
 class Verdict(StrEnum):
@@ -168,6 +173,14 @@ def judge(
     used = tuple(i + 1 for i, s in enumerate(spans) if s.size)
     if len(used) > 1 and sine_to(vector, orthonormal([s for s in spans if s.size], vector.size)) <= MEMBER_SIN:
         return MotionVerdict(label, Verdict.BRANCH_POINT, None, used, traced, test, "", joints, motion)
+    if test.margin < MARGIN:
+        order, residual = test.deciding
+        note = (
+            f"the order-{order} condition's residual {residual:.2e} is within a factor {MARGIN:g} of its tolerance "
+            f"{test.tolerance:.2e}"
+            + (f"; the tracer followed it {traced:.3g}" if traced else "; the tracer could not follow it")
+        )
+        return MotionVerdict(label, Verdict.UNDECIDED, None, (), traced, test, note, joints, motion)
     if test.blocked_at is not None and traced == 0.0:
         return MotionVerdict(label, Verdict.BLOCKED, test.blocked_at, (), traced, test, "", joints, motion)
     if test.blocked_at is not None:

@@ -176,24 +176,8 @@ def follow_motion(
     check_closed(mech, q, closure_tol, what="the configuration to animate")
     unit = motion.twist / np.linalg.norm(motion.twist[_measure(motion)])
     follower = Follower(mech, motion, rtol, closure_tol, max_deviation, halvings)
-    start = follower.pose(q)
     unit_name = "m" if motion.kind is MotionKind.TRANSLATION else "rad"
-    branches, reached, reasons, moved = [], [], [], []
-    for sign in (1.0, -1.0):
-        path, covered, why = follower.branch(q, sign * unit, amp, amp / steps)
-        branches.append(tuple(path))
-        reached.append(covered)
-        reasons.append(why)
-        moved.append(measure_displacement(start, follower.pose(path[-1]), sign * unit, mech.length_scale))
-    return MotionPath(
-        motion.label,
-        branches[0],
-        branches[1],
-        (reached[0], reached[1]),
-        amp,
-        _notes(motion.label, reasons, reached, amp, unit_name),
-        (moved[0], moved[1]),
-    )
+    return _both_ways(follower, q, unit, unit, amp, steps, motion.label, unit_name)
 
 
 def follow_rates(
@@ -232,16 +216,23 @@ def follow_rates(
     check_closed(mech, q, closure_tol, what="the configuration to follow from")
     unit = np.asarray(rates, float) / np.linalg.norm(rates)
     follower = RateFollower(mech, held, rtol, closure_tol, max_deviation, halvings)
+    return _both_ways(follower, q, unit, np.zeros(6), amplitude, steps, label, "(joint metric)")
+
+
+def _both_ways(
+    follower: Follower, q: Array, unit: Array, twist: Array, amp: float, steps: int, label: str, unit_name: str
+) -> MotionPath:
+    """The path along ``unit`` and along ``-unit``, each end's platform displacement measured against ``twist``."""
     start = follower.pose(q)
     branches, reached, reasons, moved = [], [], [], []
     for sign in (1.0, -1.0):
-        path, covered, why = follower.branch(q, sign * unit, amplitude, amplitude / steps)
+        path, covered, why = follower.branch(q, sign * unit, amp, amp / steps)
         branches.append(tuple(path))
         reached.append(covered)
         reasons.append(why)
-        moved.append(measure_displacement(start, follower.pose(path[-1]), np.zeros(6), mech.length_scale))
-    notes = _notes(label, reasons, reached, amplitude, "(joint metric)")
-    return MotionPath(label, branches[0], branches[1], (reached[0], reached[1]), amplitude, notes, (moved[0], moved[1]))
+        moved.append(measure_displacement(start, follower.pose(path[-1]), sign * twist, follower.mech.length_scale))
+    notes = _notes(label, reasons, reached, amp, unit_name)
+    return MotionPath(label, branches[0], branches[1], (reached[0], reached[1]), amp, notes, (moved[0], moved[1]))
 
 
 def _notes(label: str, reasons: list[str], reached: list[float], amp: float, unit: str) -> tuple[str, ...]:

@@ -37,7 +37,13 @@ def four_bar_flat(ground: float = 0.3, crank: float = 0.1) -> pinmob.Mechanism:
     return b.mechanism()
 
 
-def three_rpr_radial(base: float = 0.3, platform: float = 0.1) -> pinmob.Mechanism:
+def three_rpr_radial(
+    base: float = 0.3,
+    platform: float = 0.1,
+    order: str = "ABC",
+    rotation: np.ndarray | None = None,
+    shift: tuple[float, float, float] = (0.0, 0.0, 0.0),
+) -> pinmob.Mechanism:
     """Planar 3-RPR with radial legs: base pivots at ``base`` (A, B, C at 90, 210, 330 deg), platform pivots at
     ``platform`` on the same rays, platform centred: the three leg lines meet at the centre (Type II).
 
@@ -45,16 +51,22 @@ def three_rpr_radial(base: float = 0.3, platform: float = 0.1) -> pinmob.Mechani
     the squared length ``base^2 + platform^2 - 2 base platform cos(phi) = (base - platform)^2 +
     base platform phi^2 + O(phi^4)``: the rotation is free to first order and impossible at second
     order (shaky), while the translations are blocked at first order.
+
+    ``order`` declares the limbs in another order; ``rotation`` (3, 3) and ``shift`` [m] place the
+    whole mechanism elsewhere (the answers must not change).
     """
+    rot = np.eye(3) if rotation is None else np.asarray(rotation, float)
+    move = np.asarray(shift, float)
     b = MechanismBuilder("3-RPR-radial", "planar 3-RPR, radial legs: the leg lines meet at the centre (Type II)")
-    for k, name in enumerate("ABC"):
-        angle = np.pi / 2 + 2 * np.pi * k / 3
-        u = np.array([np.cos(angle), np.sin(angle), 0.0])
+    for name in order:
+        angle = np.pi / 2 + 2 * np.pi * "ABC".index(name) / 3
+        u = rot @ np.array([np.cos(angle), np.sin(angle), 0.0])
+        z = rot @ np.array([0.0, 0.0, 1.0])
         limb = b.limb(name)
-        limb.revolute("r1", at=base * u, axis=[0, 0, 1])
-        limb.prismatic("p", at=base * u, axis=-u, actuated=True)
-        limb.revolute("r2", at=platform * u, axis=[0, 0, 1])
-        limb.tip(at=[0, 0, 0])
+        limb.revolute("r1", at=move + base * u, axis=z)
+        limb.prismatic("p", at=move + base * u, axis=-u, actuated=True)
+        limb.revolute("r2", at=move + platform * u, axis=z)
+        limb.tip(at=move, rotation=rot)
     return b.mechanism()
 
 

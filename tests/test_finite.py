@@ -230,6 +230,25 @@ def test_finite_analysis_does_not_depend_on_units() -> None:
     assert a.tolerance == pytest.approx(b.tolerance, rel=1e-6)
 
 
+def test_finite_analysis_does_not_depend_on_placement_or_limb_order() -> None:
+    """The radial 3-RPR turned and moved in space, its limbs declared in another order: the same finite DoF,
+    free and held, the same verdicts and orders, and the held rotation's axis through the moved centre."""
+    rot = pin.rpy.rpyToMatrix(0.4, -0.3, 1.2)
+    shift = (0.5, -0.2, 0.3)
+    results = []
+    for mech, centre in (
+        (three_rpr_radial(), np.zeros(3)),
+        (three_rpr_radial(order="CAB", rotation=rot, shift=shift), np.array(shift)),
+    ):
+        fm = finite(mech, mech.neutral(), generic_rank=3).finite
+        verdicts = sorted((v.motion.kind.value, v.verdict.value, v.order) for v in fm.motions + fm.locked.motions)
+        results.append((fm.finite_dof, fm.finite_mechanism_dof, fm.finite_dof_locked, verdicts))
+        (held,) = fm.locked.motions
+        axis_point = fm.conf.platform_origin + held.motion.point
+        assert_allclose(np.cross(axis_point - centre, held.motion.direction), 0, atol=1e-9)
+    assert results[0] == results[1]
+
+
 def test_order_bound_is_checked() -> None:
     mech = pinmob.load("3-PUU")
     with pytest.raises(ConfigurationError, match="integer from 2 to 8, got 1"):

@@ -30,6 +30,7 @@ from pinmob.analysis.actuation import actuator_sets
 from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite import FiniteMobility, finite_mobility
+from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.paper import paper_mobility
 from pinmob.analysis.singularity import Singularity
@@ -69,7 +70,7 @@ class Options:
     generic_rank: int | None = None
     relaxed: tuple[str, ...] = ()
     finite: bool = False
-    finite_order: int = 4
+    finite_order: int = ORDER
 
 
 @dataclass(frozen=True, eq=False)

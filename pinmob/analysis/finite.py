@@ -82,6 +82,17 @@ class FiniteMobility:
         """A verdict per instantaneous platform motion."""
         return self.free.motions
 
+    def report_entries(self) -> dict[str, Any]:
+        """The keys ``pinmob analyze --finite --json`` adds to the report's document.
+
+        ``finite_dof``, ``finite_mechanism_dof``, ``finite_dof_locked`` (where actuators are declared)
+        and ``finite`` (:meth:`to_dict`).
+        """
+        out: dict[str, Any] = {"finite_dof": self.finite_dof, "finite_mechanism_dof": self.finite_mechanism_dof}
+        if self.locked is not None:
+            out["finite_dof_locked"] = self.finite_dof_locked
+        return out | {"finite": self.to_dict()}
+
     def to_dict(self) -> dict[str, Any]:
         """The ``finite`` entry of ``pinmob analyze --finite --json`` (plain JSON)."""
         out = {

@@ -227,13 +227,8 @@ class Report:
             out["singularity"] = sing.to_dict() if sing is not None else None
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
-        fin = self.finite
-        if fin is not None:
-            out["finite_dof"] = fin.finite_dof
-            out["finite_mechanism_dof"] = fin.finite_mechanism_dof
-            if fin.locked is not None:
-                out["finite_dof_locked"] = fin.finite_dof_locked
-            out["finite"] = fin.to_dict()
+        if self.finite is not None:
+            out.update(self.finite.report_entries())
         return out
 
     def __str__(self) -> str:
@@ -246,8 +241,7 @@ class Report:
                     f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(self.options.relaxed)}"
                 )
             lines.append(str(self.mechanism_mobility))
-            lines.extend(self._actuator_lines())
-            lines.extend(self._finite_lines())
+            lines.extend(self._actuator_lines() + (["", str(self.finite)] if self.finite else []))
             return "\n".join(lines)
         mob = self._platform()
         sing = self.singularity
@@ -267,11 +261,8 @@ class Report:
                     f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
                     f"{', '.join(mob.serially_singular_limbs) or 'none'}"
                 )
-        lines.extend(self._finite_lines())
+        lines.extend(["", str(self.finite)] if self.finite else [])
         return "\n".join(lines)
-
-    def _finite_lines(self) -> list[str]:
-        return [] if self.finite is None else ["", str(self.finite)]
 
     def _actuator_lines(self) -> list[str]:
         sets = self.actuator_sets

@@ -5,7 +5,7 @@ The same numbers as :func:`pinmob.mobility.analyze` and
 motions), for N closed configurations. Pinocchio runs once per
 configuration (``computeJointJacobians`` and the platform frame's placement);
 the linear algebra runs in one compiled loop over the configurations
-(:func:`_ranks`, numba):
+(:func:`_ranks`, numba, cached by :mod:`pinmob.jit_cache`):
 
 * ``A_i = D_t T_i`` (6, n_i), limb i's joint screws made dimensionless, an
   orthonormal basis ``Q_i`` of their span and its rank (the limb's twist
@@ -22,13 +22,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import numba
 import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
 from .closure import compute_kinematics
 from .exceptions import ConfigurationError
+from .jit_cache import njit
 from .mechanism import Mechanism
 from .screw import RTOL, Array, twist_scaling
 from .singularity import analyze_both, column_joints, ratio, require_platform, unit_columns
@@ -93,7 +93,7 @@ def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
     return [shifted[:, :, limb.v_indices] for limb in mech.limbs]
 
 
-@numba.njit(cache=True)
+@njit
 def _span(a: Array, cols: Ints, tol: float, r: Array, q: Array, first: int) -> int:
     """Orthonormal basis of the span of the columns ``cols`` of a (6, m) matrix; returns the rank.
 
@@ -133,7 +133,7 @@ def _span(a: Array, cols: Ints, tol: float, r: Array, q: Array, first: int) -> i
     return rank
 
 
-@numba.njit(cache=True)
+@njit
 def _complement(q: Array, rank: int, proj: Array, r: Array, out: Array, first: int) -> int:
     """Orthonormal basis of the complement of ``span(q[:, :rank])``, written to ``out[:, first:]``; returns 6 - rank.
 
@@ -151,7 +151,7 @@ def _complement(q: Array, rank: int, proj: Array, r: Array, out: Array, first: i
     return _span(proj, np.arange(6), 0.1, r, out, first)
 
 
-@numba.njit(cache=True)
+@njit
 def _ranks(
     full: Array,
     origin: Array,
@@ -258,7 +258,8 @@ def analyze_batch(
     the actuated columns removed for the locked DoF. With ``singular_values=True`` the singular values (as in
     :func:`pinmob.analyze`) and the limb ratios are computed too, by batched SVDs.
     Closure is not checked (the caller assembles the configurations). The first
-    call in a new installation compiles the loop (seconds; cached on disk).
+    call in a new installation compiles the loop (seconds; cached on disk in a per-user folder,
+    :func:`pinmob.jit_cache.cache_dir`, never in the installed package).
     A mechanism with loops inside its limbs (the Delta's parallelograms) is
     analysed one configuration at a time instead (loop-aware limb screws,
     :func:`pinmob.singularity.analyze_both`): the same results, at the speed

@@ -187,6 +187,25 @@ def one_line_error(proc: subprocess.CompletedProcess[str]) -> str:
     return proc.stderr
 
 
+@pytest.mark.parametrize(
+    ("args", "line"),
+    [
+        (
+            ["analyze", "3-PUU", "--cofnig", "generic"],
+            "unrecognized arguments: --cofnig generic; see 'pinmob analyze --help'",
+        ),
+        (["analyze", "3-PUU", "--config"], "argument --config/-c: expected one argument; see 'pinmob analyze --help'"),
+        (["scan", "6-UPS", "-n", "x"], "argument --samples/-n: invalid int value: 'x'; see 'pinmob scan --help'"),
+        (["models", "--jsno"], "unrecognized arguments: --jsno; see 'pinmob models --help'"),
+        (["anlyze", "3-PUU"], "argument command: invalid choice: 'anlyze' (choose from"),
+    ],
+)
+def test_mistyped_command_line_points_to_the_right_help(args, line):
+    """One line naming the bad argument and the help that lists the valid ones: the command's own help for its
+    options (argparse reported unknown options on the top level, whose help does not list them)."""
+    assert line in one_line_error(cli(*args))
+
+
 BAD_INPUT = {
     # unknown frame: the message names the key path, the bad frame and lists the valid ones
     "frame": ('tip = "B_tip"', 'tip = "B_tpi"', r"limbs\[1\]\.tip: no frame 'B_tpi'.*valid frames: .*'B_tip'"),

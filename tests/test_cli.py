@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from model_cases import model_configurations
 
 import pinmob
 from pinmob.cli import main
@@ -152,9 +153,7 @@ def reject_constant(name: str) -> float:
     raise ValueError(f"JSON holds {name}, which is not plain JSON")
 
 
-@pytest.mark.parametrize(
-    "name,config", [(n, c) for n in pinmob.builtin_models() for c in pinmob.load(n).configurations]
-)
+@pytest.mark.parametrize("name,config", model_configurations())
 def test_to_dict_is_plain_json_everywhere(name: str, config: str) -> None:
     """Every built-in model and configuration: to_dict() dumps with allow_nan=False and reads back equal."""
     mob = pinmob.analyze(pinmob.load(name), config)

@@ -326,7 +326,6 @@ def _elsewhere(config: str, mech: Mechanism | None = None) -> str:
 
 @command("show")
 def _show(args: argparse.Namespace) -> int:
-    import math
 
     from .mechanism_file import load
 
@@ -342,11 +341,38 @@ def _show(args: argparse.Namespace) -> int:
 
     if args.html is not None:
         scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
-    else:
-        with _signals_interrupt():  # a SIGTERM while the server starts or the scene is sent stops the server too
-            scene = viewer.show(mech, config, zmq_url=args.zmq_url, port=args.port, **options)
+        _print_scene(mech.name, config, scene)
+        return 0
+    # SIGTERM and SIGHUP act as Ctrl-C from before the server starts until it is stopped: the scene being sent,
+    # the report being printed, the server serving (a signal in a gap between two such blocks, e.g. right after
+    # the "serving" line, killed pinmob and left the server running)
+    with _signals_interrupt():
+        scene = viewer.show(mech, config, zmq_url=args.zmq_url, port=args.port, **options)
+        try:
+            _print_scene(mech.name, config, scene)
+            print(f"open {scene.url}")
+            if scene.server is None:
+                return 0
+            if args.detach:
+                print(
+                    f"the meshcat server keeps running (pid {scene.server.pid}); stop it with: kill {scene.server.pid}"
+                )
+                return 0
+            print(f"serving (meshcat server pid {scene.server.pid}); press Ctrl-C to stop the server", flush=True)
+        except KeyboardInterrupt:  # while printing: stop the server pinmob started (unless told to leave it)
+            if scene.server is not None and not args.detach:
+                scene.server.stop()
+            raise
+        _serve_until_stopped(scene.server)
+    return 0
+
+
+def _print_scene(name: str, config: str, scene: Any) -> None:
+    """The report of ``pinmob show``: the mobility, each clip's reach and measured displacement, the notes."""
+    import math
+
     mob = scene.mobility
-    print(f"{mech.name} at {config!r}: {mob.dof} DoF, {mob.motion_type}")
+    print(f"{name} at {config!r}: {mob.dof} DoF, {mob.motion_type}")
     for label in scene.clips:
         path = scene.paths[label]
         unit = "m" if label.startswith("T") else "rad"
@@ -365,16 +391,6 @@ def _show(args: argparse.Namespace) -> int:
         print("drawn as a generated stick figure (the URDF has no visuals)")
     if scene.html is not None:
         print(f"wrote {scene.html} (open it in a browser; no server needed)")
-        return 0
-    print(f"open {scene.url}")
-    if scene.server is None:
-        return 0
-    if args.detach:
-        print(f"the meshcat server keeps running (pid {scene.server.pid}); stop it with: kill {scene.server.pid}")
-        return 0
-    print(f"serving (meshcat server pid {scene.server.pid}); press Ctrl-C to stop the server", flush=True)
-    _serve_until_stopped(scene.server)
-    return 0
 
 
 @contextlib.contextmanager

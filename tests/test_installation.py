@@ -14,13 +14,18 @@ import pinmob
 from pinmob.mechanism_file import builtin_dir
 
 SCRIPT = """
+import contextlib, io
 import pinmob
 from pinmob.batch import _ranks, analyze_batch
+from pinmob.cli import main
 
 mech = pinmob.load("3-PUU")
 print(pinmob.__file__)
 print(analyze_batch(mech, mech.configuration("generic")[None]).dof.tolist())
 print(sum(_ranks.stats.cache_hits.values()))
+with contextlib.redirect_stdout(io.StringIO()):  # the CLI's paths too: analysis, scan with a plot
+    assert main(["analyze", "3-PUU"]) == 0
+    assert main(["scan", "3-PUU", "--from", "generic", "--to", "offset", "-n", "3", "--plot", "s.png", "--force"]) == 0
 """
 
 
@@ -39,7 +44,8 @@ def package(tmp_path) -> Path:
 
 
 def run_batch(package: Path, cache_home: Path) -> int:
-    """Run the compiled batch path on the copy in a new process; returns the loop's cache hits there."""
+    """Run the compiled batch path (and the CLI's analyze and scan) on the copy in a new process; returns the
+    loop's cache hits there."""
     env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "PYTHONPATH")}
     env |= {"PYTHONPATH": str(package.parent), "XDG_CACHE_HOME": str(cache_home), "PYTHONDONTWRITEBYTECODE": "1"}
     run = subprocess.run(

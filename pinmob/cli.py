@@ -343,27 +343,33 @@ def _show(args: argparse.Namespace) -> int:
         scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
         _print_scene(mech.name, config, scene)
         return 0
-    # SIGTERM and SIGHUP act as Ctrl-C from before the server starts until it is stopped: the scene being sent,
-    # the report being printed, the server serving (a signal in a gap between two such blocks, e.g. right after
-    # the "serving" line, killed pinmob and left the server running)
+    # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:
+    # while the scene is sent, the report printed and the server serves (a signal in a gap between separate
+    # handlers, e.g. right after the "serving" line, killed pinmob and left the server running). Stopped while
+    # serving: status 0; interrupted before: the server pinmob started is stopped, status 130 (main).
     with _signals_interrupt():
-        scene = viewer.show(mech, config, zmq_url=args.zmq_url, port=args.port, **options)
+        server, serving = None, False
         try:
+            scene = viewer.show(
+                mech, config, zmq_url=args.zmq_url, port=args.port, **options
+            )  # stops it if interrupted
+            server = scene.server
             _print_scene(mech.name, config, scene)
             print(f"open {scene.url}")
-            if scene.server is None:
+            if server is None:
                 return 0
             if args.detach:
-                print(
-                    f"the meshcat server keeps running (pid {scene.server.pid}); stop it with: kill {scene.server.pid}"
-                )
+                print(f"the meshcat server keeps running (pid {server.pid}); stop it with: kill {server.pid}")
                 return 0
-            print(f"serving (meshcat server pid {scene.server.pid}); press Ctrl-C to stop the server", flush=True)
-        except KeyboardInterrupt:  # while printing: stop the server pinmob started (unless told to leave it)
-            if scene.server is not None and not args.detach:
-                scene.server.stop()
-            raise
-        _serve_until_stopped(scene.server)
+            serving = True  # before the line: whoever reads it and sends a signal gets status 0
+            print(f"serving (meshcat server pid {server.pid}); press Ctrl-C to stop the server", flush=True)
+            server.process.wait()  # until the server ends, or Ctrl-C, SIGTERM or SIGHUP
+        except KeyboardInterrupt:
+            if not serving:
+                raise
+        finally:
+            if server is not None and not args.detach:
+                server.stop()
     return 0
 
 
@@ -408,17 +414,6 @@ def _signals_interrupt() -> Iterator[None]:
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
-
-
-def _serve_until_stopped(server: Any) -> None:
-    """Wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server (no orphan left)."""
-    try:
-        with _signals_interrupt():
-            server.process.wait()
-    except KeyboardInterrupt:
-        pass
-    finally:
-        server.stop()
 
 
 @command("scan")

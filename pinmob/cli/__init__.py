@@ -43,6 +43,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
+        warnings.filterwarnings("ignore", category=ResourceWarning)  # Dask's sockets at exit: not the user's business
         warnings.showwarning = _show_warning
         return _run(args)
 

@@ -108,7 +108,14 @@ def build_parser() -> argparse.ArgumentParser:
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
     p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
-    p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1)")
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="worker processes of a Dask LocalCluster, used when the scan is long enough to pay for it "
+        "(results identical to 1)",
+    )
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
     return parser

@@ -11,7 +11,8 @@ from typing import Any
 
 from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import require_platform
-from pinmob.cli.common import check_outputs
+from pinmob.cli.common import check_outputs, signals_interrupt
+from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
 from pinmob.io.loader import load
 from pinmob.scan import columns, grid_spec, path_spec, scan
@@ -21,9 +22,21 @@ from pinmob.screw.rank import RTOL, check_rtol
 
 
 def run(args: argparse.Namespace) -> int:
-    """``pinmob scan``: mobility and singularities along a path or over a workspace slice."""
+    """``pinmob scan``: mobility and singularities along a path or over a workspace slice.
+
+    SIGTERM and SIGHUP stop it as Ctrl-C does: the output files are left as they were (or not created).
+    """
+    with signals_interrupt():
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
     _check_scan_options(args)
+    check_workers(args.workers)
+    check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     mech = load(args.mechanism)
     require_platform(mech, "pinmob scan")
     names = list(mech.configurations)
@@ -41,9 +54,6 @@ def run(args: argparse.Namespace) -> int:
         samples = 21 if args.samples is None else args.samples
         spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol)
         what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {samples} samples"
-    check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
-    if args.plot and Path(args.plot).suffix.lower() != ".png":
-        raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     band = NEAR_FACTOR * rtol
     meta = {"mechanism": mech.name, "scan": what, "generic_rank": spec.generic_rank, "rtol": rtol,
             "near_singular_band": band, "length_scale": mech.length_scale}  # fmt: skip
@@ -53,8 +63,9 @@ def run(args: argparse.Namespace) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         csv_path = args.csv or (str(Path(tmp) / "scan.csv") if args.plot else None)
         t0 = time.perf_counter()
+        rows = scan(mech, spec, args.workers, False if args.no_progress else None, args.scheduler)
         with RowWriter(columns(spec), meta, csv_path, args.json_out) as writer:
-            for row in scan(mech, spec, workers=args.workers, progress=False if args.no_progress else None):
+            for row in rows:
                 writer.write(row)
                 kind = _row_kind(row)
                 tally[kind] += 1
@@ -65,7 +76,7 @@ def run(args: argparse.Namespace) -> int:
         elapsed = time.perf_counter() - t0
         n = spec.size
         print(f"{mech.name}: {what}")
-        print(f"{n} samples in {elapsed:.2f} s ({n / elapsed:.1f} samples/s, {args.workers} worker(s)); "
+        print(f"{n} samples in {elapsed:.2f} s ({n / elapsed:.1f} samples/s, {rows.where}); "
               f"generic constraint rank {spec.generic_rank}")  # fmt: skip
         for key, k in sorted(counts.items()):
             print(f"  {k:5d} x {key}")

@@ -18,6 +18,7 @@ from pinmob.io.loader import load
 from pinmob.scan import columns, grid_spec, path_spec, scan
 from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_map, plot_path
+from pinmob.scan.spec import parse_grid_axis
 from pinmob.screw.rank import RTOL, check_rtol
 
 
@@ -41,7 +42,7 @@ def _run(args: argparse.Namespace) -> int:
     require_platform(mech, "pinmob scan")
     names = list(mech.configurations)
     if args.grid:
-        axes = [_grid_axis(text) for text in args.grid]
+        axes = [parse_grid_axis(text) for text in args.grid]
         if not names and not args.at:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
         spec = grid_spec(mech, args.at or names[0], axes, rtol)
@@ -107,19 +108,6 @@ def _check_scan_options(args: argparse.Namespace) -> None:
             )
     elif args.at is not None:
         raise ConfigurationError("--at fixes the other coordinates of a --grid scan; a path scan uses --from and --to")
-
-
-def _grid_axis(text: str) -> tuple[str, float, float, int]:
-    """``COORD:LO:HI:N`` -> (coordinate, low, high, count)."""
-    parts = text.split(":")
-    try:
-        if len(parts) != 4:
-            raise ValueError
-        return parts[0], float(parts[1]), float(parts[2]), int(parts[3])
-    except ValueError:
-        raise ConfigurationError(
-            f"--grid {text!r}: expected COORD:LO:HI:N (four fields separated by ':'), e.g. x:-0.1:0.1:21"
-        ) from None
 
 
 def _row_kind(row: dict[str, Any]) -> str:

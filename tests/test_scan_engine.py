@@ -108,7 +108,11 @@ def test_a_task_that_kills_every_worker_is_lost_not_hung():
     """)
     assert out.returncode == 0, out.stderr
     first, reason = out.stdout.splitlines()[:2]
-    assert first == "[0, 1, 2, 'Lost', 4, 5]" and "died each time" in reason
+    got = eval(first)  # noqa: S307  (the list the script printed)
+    # the killer is Lost; Dask blames the tasks that were on a dying worker with it too, so under load an
+    # innocent neighbour may be Lost as well (never a wrong value, never a hang)
+    assert got[3] == "Lost" and all(g in (i, "Lost") for i, g in enumerate(got)) and got.count("Lost") <= 2
+    assert "died each time" in reason
 
 
 def test_an_unreachable_scheduler_is_one_clear_error():

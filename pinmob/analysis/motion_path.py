@@ -230,7 +230,9 @@ def _both_ways(
         branches.append(tuple(path))
         reached.append(covered)
         reasons.append(why)
-        moved.append(measure_displacement(start, follower.pose(path[-1]), sign * twist, follower.mech.length_scale))
+        moved.append(
+            measure_displacement(start, follower.pose(path[-1]), sign * twist, follower.mech.length_scale, follower.tol)
+        )
     notes = _notes(label, reasons, reached, amp, unit_name)
     return MotionPath(label, branches[0], branches[1], (reached[0], reached[1]), amp, notes, (moved[0], moved[1]))
 

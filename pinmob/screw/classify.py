@@ -165,12 +165,14 @@ def principal_screws(
 def _generalised_eigh(a: Array, b: Array) -> tuple[Array, Array]:
     """Eigenvalues (ascending) and B-orthonormal eigenvectors of ``a x = h b x`` (symmetric a, positive definite b).
 
-    SciPy's ``eigh`` (imported on first use, so that ``import pinmob`` does not load SciPy).
+    LAPACK's reduction (``dsygv``, what SciPy's ``eigh(a, b)`` calls), with numpy: ``b = L L^T``
+    (Cholesky), the eigenpairs ``(h, z)`` of the symmetric ``L^-1 a L^-T``, and ``x = L^-T z``
+    (so that ``x^T b x = I``).
     """
-    from scipy.linalg import eigh
-
-    vals, vecs = eigh(a, b)
-    return np.asarray(vals, dtype=np.float64), np.asarray(vecs, dtype=np.float64)
+    low = np.linalg.cholesky(b)
+    c = np.linalg.solve(low, np.linalg.solve(low, a).T)  # L^-1 a L^-T (a is symmetric)
+    vals, z = np.linalg.eigh(0.5 * (c + c.T))
+    return np.asarray(vals, dtype=np.float64), np.asarray(np.linalg.solve(low.T, z), dtype=np.float64)
 
 
 def _orthonormal_span(m: Array, rtol: float, tol: float = 1e-12) -> Array:

@@ -25,7 +25,15 @@ from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
 
 #: Default relative tolerance on singular values for rank decisions.
 RTOL = 1e-6
-_LAPACK: Any = None
+
+try:  # numpy >= 2: the gufuncs behind np.linalg.svd (full U and V, reduced, values only)
+    from numpy.linalg import _umath_linalg
+
+    _SVD_F: Any = _umath_linalg.svd_f
+    _SVD_S: Any = _umath_linalg.svd_s
+    _SVD_N: Any = _umath_linalg.svd
+except (ImportError, AttributeError):  # older numpy names them by shape: use np.linalg.svd
+    _SVD_F = _SVD_S = _SVD_N = None
 
 
 def check_rtol(rtol: object, name: str = "rtol") -> float:
@@ -50,21 +58,34 @@ def check_rtol(rtol: object, name: str = "rtol") -> float:
 
 
 def svd(a: Array, full_matrices: bool = True) -> tuple[Array, Array, Array]:
-    """``U, s, V^T`` of a small non-empty (m, n) matrix: LAPACK's ``dgesdd``, as ``np.linalg.svd`` calls it.
+    """``U, s, V^T`` of a small non-empty (m, n) float matrix (or a stack (..., m, n)): LAPACK's ``dgesdd``.
 
-    Called straight through SciPy's LAPACK wrapper (imported on first use): the same routine and
-    results, without ``np.linalg.svd``'s per-call overhead, which dominates for 6 x 6 matrices.
-    Falls back to ``np.linalg.svd`` (which raises ``LinAlgError``) if LAPACK reports a failure.
+    Called straight through numpy's own LAPACK gufunc, the one ``np.linalg.svd``
+    calls: the same routine and results, without ``np.linalg.svd``'s per-call
+    argument handling, which costs as much as the SVD of a 6 x 6 matrix. Falls
+    back to ``np.linalg.svd`` (which raises ``LinAlgError``) when LAPACK does not
+    converge, and on numpy versions without that gufunc.
     """
-    global _LAPACK
-    if _LAPACK is None:
-        from scipy.linalg import lapack
+    gufunc = _SVD_F if full_matrices else _SVD_S
+    if gufunc is not None:
+        u, s, vt = gufunc(a)
+        if _converged(s):
+            return u, s, vt
+    return tuple(np.linalg.svd(a, full_matrices=full_matrices))  # type: ignore[return-value]
 
-        _LAPACK = lapack
-    u, s, vt, info = _LAPACK.dgesdd(a, compute_uv=1, full_matrices=int(full_matrices))
-    if info != 0:
-        return tuple(np.linalg.svd(a, full_matrices=full_matrices))  # type: ignore[return-value]
-    return u, s, vt
+
+def _converged(s: Array) -> bool:
+    """LAPACK converged: no NaN among the singular values (the gufuncs fill a failed matrix with NaN)."""
+    return bool(s.ndim == 1 and (s.size == 0 or s[0] == s[0])) or (s.ndim > 1 and not np.isnan(s).any())
+
+
+def singular_values(a: Array) -> Array:
+    """Singular values of a float matrix (or a stack (..., m, n)), descending (``dgesdd`` without vectors)."""
+    if _SVD_N is not None:
+        s = _SVD_N(a)
+        if _converged(s):
+            return np.asarray(s, dtype=np.float64)
+    return np.asarray(np.linalg.svd(a, compute_uv=False), dtype=np.float64)
 
 
 @dataclass(frozen=True)

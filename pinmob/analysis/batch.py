@@ -33,6 +33,7 @@ from pinmob.analysis.limbs import column_joints, limb_decisions, limb_screws_at,
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import ratio
 from pinmob.analysis.singularity_analysis import require_platform, singularity_from_twists
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
@@ -111,6 +112,7 @@ def _null_columns(a: Array, rtol: float) -> tuple[Array, Array, Array]:
     return u * mask[:, None, :], rank, s
 
 
+@one_blas_thread
 def analyze_batch(
     mech: Mechanism,
     qs: Array,

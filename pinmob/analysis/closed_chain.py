@@ -39,6 +39,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Mechanism
@@ -206,6 +207,7 @@ def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str
     )
 
 
+@one_blas_thread
 def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobility:
     """Free motions of ``frame`` on the closed chain, at its origin with world axes.
 
@@ -227,6 +229,7 @@ def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobilit
     return FrameMobility(frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]))
 
 
+@one_blas_thread
 def mechanism_mobility(
     conf: Configuration,
     rtol: float,

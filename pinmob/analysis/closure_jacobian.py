@@ -22,6 +22,7 @@ import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.residual import stacked_error
+from pinmob.blas import one_blas_thread
 from pinmob.model.joints import frame_id, linear_velocity_mask
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.rank import RankDecision, decide_rank
@@ -101,6 +102,7 @@ def selector(nv: int, idx: Array, col: Array) -> Array:
     return sel * col
 
 
+@one_blas_thread
 def closure_jacobian_twists(conf: Configuration, rtol: float) -> Array:
     """Free platform twists from the global loop-closure Jacobian (an independent method).
 

@@ -38,6 +38,7 @@ from pinmob.analysis.motion import (
     numbers,
     vector,
 )
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array, wrench_scaling
@@ -235,6 +236,7 @@ def mobility_from_wrenches(
     )
 
 
+@one_blas_thread
 def platform_mobility(conf: Configuration, rtol: float) -> Mobility:
     """Mobility of the platform at a closed configuration: limb-wise, or by the closure Jacobian where it must.
 

@@ -9,6 +9,7 @@ from pinmob.analysis.generic import dependent_limbs, generic_constraint_rank, ge
 from pinmob.analysis.limbs import column_joints, limb_decisions, limb_twists, unit_columns, wrench_blocks
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.singularity import Singularity, distance_of, generic_locked_dof, padded
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
@@ -133,6 +134,7 @@ def singularity_from_twists(
     )
 
 
+@one_blas_thread
 def singularity(conf: Configuration, rtol: float, generic_rank: int | None = None) -> Singularity:
     """Singularity classes, uncontrolled motions and distances at a closed configuration (cached per tolerance).
 

@@ -48,6 +48,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
+from pinmob.blas import one_blas_thread
 from pinmob.model.joints import linear_velocity_mask, wrap_angles
 from pinmob.screw.algebra import Array, Mask
 
@@ -184,6 +185,7 @@ def _gauss_newton(p: _Problem, x: _State, floor: float) -> tuple[_State, int]:
     return x, steps
 
 
+@one_blas_thread
 def solve(
     model: pin.Model,
     residual: ResidualFn,

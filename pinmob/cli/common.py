@@ -67,10 +67,16 @@ def signals_interrupt() -> Iterator[None]:
             signal.signal(sig, handler)
 
 
-def serve_until_stopped(server: Any) -> None:
-    """Wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server (no orphan left)."""
+def serve_until_stopped(server: Any, announce: str = "") -> None:
+    """Print ``announce``, wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server.
+
+    The line is printed once the signals are handled, so that a SIGTERM sent as soon as it is read stops
+    the server too (no orphan left).
+    """
     try:
         with signals_interrupt():
+            if announce:
+                print(announce, flush=True)
             server.process.wait()
     except KeyboardInterrupt:
         pass

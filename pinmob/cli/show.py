@@ -54,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
     if args.detach:
         print(f"the meshcat server keeps running (pid {scene.server.pid}); stop it with: kill {scene.server.pid}")
         return 0
-    print(f"serving (meshcat server pid {scene.server.pid}); press Ctrl-C to stop the server", flush=True)
-    serve_until_stopped(scene.server)
+    serve_until_stopped(
+        scene.server, f"serving (meshcat server pid {scene.server.pid}); press Ctrl-C to stop the server"
+    )
     return 0

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -210,12 +211,13 @@ class Mechanism:
         """True when a platform frame is named."""
         return bool(self.platform)
 
-    @property
+    @cached_property
     def all_closures(self) -> tuple[Closure, ...]:
         """Every loop closure: each limb tip welded (6d) to the platform frame, then :attr:`closures`.
 
         A limb whose tip is fixed to the platform frame's body (same parent
-        joint) closes nothing and is left out.
+        joint) closes nothing and is left out. Computed once per mechanism, as
+        the other constants below.
         """
         if not self.platform:
             return self.closures
@@ -235,14 +237,18 @@ class Mechanism:
         The limb-wise method cannot treat them (:func:`pinmob.analyze`
         then uses the closure Jacobian of the whole mechanism).
         """
+        return dict(self._coupling)
+
+    @cached_property
+    def _coupling(self) -> dict[str, tuple[str, ...]]:
         return group_closures(self.model, self.limbs, self.closures).coupling
 
-    @property
+    @cached_property
     def platform_id(self) -> int:
         """Pinocchio frame index of the platform frame."""
         return self.model.getFrameId(self.platform)
 
-    @property
+    @cached_property
     def actuated(self) -> tuple[str, ...]:
         """All actuated joint names, limb by limb, then those outside limbs."""
         return tuple(a for limb in self.limbs for a in limb.actuated) + self.extra_actuated

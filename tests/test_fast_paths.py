@@ -68,3 +68,59 @@ def test_import_pinmob_loads_no_optional_package():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split("\n")
     assert out[0] == "[]", out[0]
     assert out[1] == "[]", out[1]
+
+
+def closed_configurations() -> list[tuple[str, object]]:
+    """(label, Configuration) of every built-in model's named configurations and of the 11 Extended URDF robots."""
+    import warnings
+    from pathlib import Path
+
+    import pinmob
+    from pinmob.assembly.relaxation import find_closed_relaxed
+
+    out = []
+    for name in pinmob.builtin_models():
+        mech = pinmob.load(name)
+        out += [(f"{name}/{c}", pinmob.Configuration(mech, c)) for c in mech.configurations]
+    folder = Path(__file__).resolve().parent / "data" / "example-parallel-robots"
+    for robot in sorted(p.name for p in folder.iterdir() if (p / "robot.yaml").exists()):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # their meshes are not included
+            mech, found, _ = find_closed_relaxed(pinmob.load(folder / robot / "robot.yaml"), restarts=3)
+        out.append((robot, pinmob.Configuration(mech, found.q)))
+    return out
+
+
+@pytest.fixture(scope="module")
+def configurations() -> list[tuple[str, object]]:
+    return closed_configurations()
+
+
+def test_closure_ranks_from_the_left_null_space(configurations):
+    """Per-closure redundancy from one SVD of K (its left null space) equals the SVDs of K without each closure.
+
+    At the default tolerance the one-SVD path decides every case; at loose tolerances, where a soft
+    dependency sits near the threshold, it declines (and the SVDs per closure decide).
+    """
+    from pinmob.analysis.closure_jacobian import closed_chain
+    from pinmob.analysis.redundancy import closure_ranks, closure_ranks_by_removal, implied_rows
+    from pinmob.screw.rank import RTOL
+
+    redundant, declined = 0, 0
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        for rtol in (RTOL, 1e-9, 1e-7, 1e-5, 1e-4, 1e-3, 1e-2):
+            chain = closed_chain(conf, rtol)  # type: ignore[arg-type]
+            s = chain.decision.singular_values
+            ref = float(s[0]) if s.size else 0.0
+            straight = closure_ranks_by_removal(mech, chain.k_hat, rtol, ref)
+            assert closure_ranks(mech, chain.k_hat, rtol, ref, chain.left_null, chain.decision.margin) == straight
+            implied = implied_rows(mech, chain.left_null, rtol, chain.decision.margin)
+            if implied is None:
+                assert rtol != RTOL, label
+                declined += 1
+                continue
+            assert implied == [c.rows - c.essential for c in straight], (label, rtol)
+            redundant += sum(implied)
+    assert redundant > 0  # the cases include closures with equations implied by the others
+    assert declined < 30

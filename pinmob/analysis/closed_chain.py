@@ -278,7 +278,12 @@ def mechanism_mobility(
         mechanism_dof=mech.model.nv - dec.rank,
         grubler=mech.model.nv - rows,
         closures=closure_ranks(
-            mech, chain.k_hat, rtol, float(dec.singular_values[0]) if dec.singular_values.size else 0.0
+            mech,
+            chain.k_hat,
+            rtol,
+            float(dec.singular_values[0]) if dec.singular_values.size else 0.0,
+            chain.left_null,
+            dec.margin,
         ),
         idle_dof=split.idle.shape[1],
         idle_joints=moving_joints(mech, chain.null @ split.idle),

@@ -121,6 +121,29 @@ class RankDecision:
         return float(min(kept, dropped))
 
 
+def rank_rule(
+    singular_values: Array, rtol: float, *, reference: float | None = None, at_least: float = 0.0
+) -> tuple[int, float]:
+    """The one rank rule: ``(rank, tolerance)`` of descending singular values (see :func:`decide_rank`).
+
+    The tolerance is ``rtol * max(at_least, reference)`` (reference: the largest
+    singular value unless given); the rank counts the singular values above it
+    (0 when they are all zero). Every rank in pinmob is decided by this function,
+    on singular values from one SVD (:func:`decide_rank`) or from a batch of them.
+    """
+    smax = float(singular_values[0]) if singular_values.size else 0.0
+    tol = rtol * max(at_least, smax if reference is None else float(reference))
+    return (int(np.count_nonzero(singular_values > tol)) if smax > 0 else 0), tol
+
+
+def decision(
+    singular_values: Array, vt: Array, rtol: float, *, reference: float | None = None, at_least: float = 0.0
+) -> RankDecision:
+    """The :class:`RankDecision` from an SVD already computed (``s`` descending, ``V^T`` (n, n)), by :func:`rank_rule`."""
+    rank, tol = rank_rule(singular_values, rtol, reference=reference, at_least=at_least)
+    return RankDecision(rank, singular_values, tol, vt[:rank], vt[rank:])
+
+
 def decide_rank(
     matrix: ArrayLike,
     rtol: float = RTOL,
@@ -141,19 +164,18 @@ def decide_rank(
             orthonormal bases, whose natural scale is 1 and which must have rank
             0 when it is zero.
 
-    An empty matrix (m = 0) has rank 0 and the whole space as null space.
+    An empty matrix (m = 0) has rank 0 and the whole space as null space. A
+    matrix with at least as many rows as columns gets the reduced SVD (its
+    ``V^T`` is the full one, bit for bit; ``U`` is not used).
     """
     a = np.asarray(matrix, float)
     if a.ndim != 2:
         raise ValueError(f"expected a 2-D matrix, got shape {a.shape}")
-    cols = a.shape[1] if n is None else n
     if a.size == 0:
+        cols = a.shape[1] if n is None else n
         return RankDecision(0, np.zeros(0), 0.0, np.zeros((0, cols)), np.eye(cols))
-    _, s, vt = svd(a)
-    smax = float(s[0]) if s.size else 0.0
-    tol = rtol * max(at_least, smax if reference is None else float(reference))
-    rank = int(np.sum(s > tol)) if smax > 0 else 0
-    return RankDecision(rank, s, tol, vt[:rank], vt[rank:])
+    _, s, vt = svd(a, full_matrices=a.shape[0] < a.shape[1])
+    return decision(s, vt, rtol, reference=reference, at_least=at_least)
 
 
 def reciprocal_wrenches(twists: ArrayLike, length: float, rtol: float = RTOL) -> tuple[Array, RankDecision]:

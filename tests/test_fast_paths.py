@@ -124,3 +124,38 @@ def test_closure_ranks_from_the_left_null_space(configurations):
             redundant += sum(implied)
     assert redundant > 0  # the cases include closures with equations implied by the others
     assert declined < 30
+
+
+def test_canonical_directions_closed_form_is_the_greedy():
+    """The closed forms per dimension give the greedy's basis: random subspaces, axis-aligned ones and ties."""
+    from pinmob.screw.bases import canonical_directions, canonical_directions_greedy
+
+    rng = np.random.default_rng(5)
+    cases = [np.eye(3)[:, :k] for k in range(4)]
+    cases += [np.array([[1.0, 1.0], [1.0, -1.0], [0.0, 0.0]]), np.array([[1.0], [1.0], [0.0]]), np.ones((3, 1))]
+    for _ in range(2000):
+        r = int(rng.integers(1, 4))
+        m = rng.normal(size=(3, r)) @ rng.normal(size=(r, int(rng.integers(1, 4))))
+        cases.append(np.round(m) if rng.random() < 0.3 else m)
+    for m in cases:
+        fast, greedy = canonical_directions(m), canonical_directions_greedy(m)
+        assert fast.shape == greedy.shape
+        assert_allclose(fast, greedy, atol=1e-12)
+
+
+def test_principal_screws_of_the_whole_space():
+    """The whole space in closed form (3 free vectors, 3 lines through the origin) is what the steps find."""
+    from pinmob.screw.classify import principal_screws, principal_screws_of_span
+
+    rng = np.random.default_rng(6)
+    for _ in range(100):
+        basis = rng.normal(size=(6, 6)) * rng.uniform(0.01, 100.0, 6)
+        q = np.linalg.qr(basis)[0]
+        trans, screws = principal_screws(basis[:3], basis[3:])
+        ref_trans, ref_screws = principal_screws_of_span(q)
+        assert_allclose(trans, ref_trans, atol=1e-12)
+        assert len(screws) == len(ref_screws) == 3
+        for (u, p, h), (ru, rp, rh) in zip(screws, ref_screws):
+            assert_allclose(u, ru, atol=1e-12)
+            assert_allclose(p, rp, atol=1e-12)
+            assert h == rh == 0.0

@@ -114,6 +114,16 @@ def principal_screws(
     span = _orthonormal_span(np.vstack([v, w]), rtol)
     if span.shape[1] == 0:
         return np.zeros((3, 0)), []
+    if span.shape[1] == 6:  # every screw: the free vectors along x, y, z and the lines x, y, z through the origin
+        return np.eye(3), [(np.eye(3)[i], np.zeros(3), 0.0) for i in range(3)]
+    return principal_screws_of_span(span, rtol)
+
+
+def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, list[tuple[Array, Array, float]]]:
+    """:func:`principal_screws` of an orthonormal basis ``span`` (6, r) of ``[moment; direction]`` (steps 1-4).
+
+    :func:`principal_screws` answers the whole space (r = 6) in closed form; the tests compare it with these steps.
+    """
     v, w = span[:3], span[3:]
     split = decide_rank(w, rtol, at_least=1.0)  # directions of the orthonormal span: natural scale 1
     wr = split.rank

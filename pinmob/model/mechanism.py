@@ -9,10 +9,11 @@ the closed configuration and what is computed from it in
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Hashable, Mapping
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
+from typing import Any, TypeVar
 
 import numpy as np
 import pinocchio as pin
@@ -22,6 +23,8 @@ from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
 from pinmob.model.limb import Limb
 from pinmob.screw.algebra import Array
+
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -210,6 +213,23 @@ class Mechanism:
     def has_platform(self) -> bool:
         """True when a platform frame is named."""
         return bool(self.platform)
+
+    def memo(self, key: Hashable, compute: Callable[[], T]) -> T:
+        """The value cached under ``key``, computed once by ``compute()`` (per mechanism object).
+
+        What depends only on the mechanism (index arrays, generic ranks, ...)
+        is computed once this way; :func:`dataclasses.replace` makes a new
+        mechanism with an empty cache.
+        """
+        try:
+            return self._memo[key]
+        except KeyError:
+            value = self._memo[key] = compute()
+            return value
+
+    @cached_property
+    def _memo(self) -> dict[Hashable, Any]:
+        return {}
 
     @cached_property
     def all_closures(self) -> tuple[Closure, ...]:

@@ -14,6 +14,7 @@ singular values and tolerance, and how clearly the rank was decided
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -176,6 +177,31 @@ def decide_rank(
         return RankDecision(0, np.zeros(0), 0.0, np.zeros((0, cols)), np.eye(cols))
     _, s, vt = svd(a, full_matrices=a.shape[0] < a.shape[1])
     return decision(s, vt, rtol, reference=reference, at_least=at_least)
+
+
+def decide_ranks(matrices: Sequence[ArrayLike], rtol: float = RTOL, n: int | None = None) -> list[RankDecision]:
+    """:func:`decide_rank` of each matrix, with one batched SVD per shape (the same bits as one call each).
+
+    Args:
+        matrices: dimensionless (m_i, n) matrices, e.g. every limb's transposed joint screws.
+        rtol: relative tolerance (each matrix's reference is its own largest singular value).
+        n: number of columns of the empty ones.
+    """
+    arrays = [np.asarray(m, float) for m in matrices]
+    out: list[RankDecision | None] = [None] * len(arrays)
+    shapes: dict[tuple[int, ...], list[int]] = {}
+    for i, a in enumerate(arrays):
+        if a.ndim != 2:
+            raise ValueError(f"expected 2-D matrices, got shape {a.shape}")
+        if a.size == 0:
+            out[i] = decide_rank(a, rtol, n)
+        else:
+            shapes.setdefault(a.shape, []).append(i)
+    for (rows, cols), which in shapes.items():
+        _, s, vt = svd(np.stack([arrays[i] for i in which]), full_matrices=rows < cols)
+        for k, i in enumerate(which):
+            out[i] = decision(s[k], vt[k], rtol)
+    return out  # type: ignore[return-value]
 
 
 def reciprocal_wrenches(twists: ArrayLike, length: float, rtol: float = RTOL) -> tuple[Array, RankDecision]:

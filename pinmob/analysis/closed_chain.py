@@ -41,7 +41,7 @@ from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ran
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.joints import frame_id
+from pinmob.model.joints import frame_id, velocity_spans
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import classify_twists, motion_type
@@ -199,12 +199,9 @@ def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str
         return ()
     size = np.linalg.norm(basis, axis=1)
     top = float(size.max()) or 1.0
-    return tuple(
-        model.names[j]
-        for j in range(1, model.njoints)
-        if model.joints[j].nv
-        and size[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv].max() > tol * top
-    )
+    joints, starts = velocity_spans(model)
+    largest = np.maximum.reduceat(size, starts) if starts.size else np.zeros(0)
+    return tuple(model.names[int(j)] for j, big in zip(joints, largest) if big > tol * top)
 
 
 @one_blas_thread

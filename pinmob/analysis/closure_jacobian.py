@@ -70,10 +70,16 @@ def closed_chain(conf: Configuration, rtol: float) -> ClosedChain:
 
 
 def frame_rows(conf: Configuration, frame: str) -> Array:
-    """(6, nv) dimensionless Jacobian of ``frame`` (twist ``[v / L; w]`` per dimensionless joint rate)."""
+    """(6, nv) dimensionless Jacobian of ``frame`` (twist ``[v / L; w]`` per dimensionless joint rate; cached)."""
     mech = conf.mechanism
-    jac = conf.frame_jacobian(frame_id(mech.model, frame))
-    return twist_scaling(mech.length_scale)[:, None] * jac * closed_chain_columns(conf)
+
+    def compute() -> Array:
+        jac = conf.frame_jacobian(frame_id(mech.model, frame))
+        rows = twist_scaling(mech.length_scale)[:, None] * jac * closed_chain_columns(conf)
+        rows.flags.writeable = False
+        return rows
+
+    return conf.memo(("frame rows", frame), compute)
 
 
 def closed_chain_columns(conf: Configuration) -> Array:

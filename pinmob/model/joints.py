@@ -128,6 +128,24 @@ def _masks(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[Mask, Mask
     return linear, angle
 
 
+def velocity_spans(model: pin.Model) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """The joints with a velocity (indices in 1..njoints-1) and where each one's velocity components start.
+
+    Cached per model (read-only); the components of joint ``joints[i]`` are
+    ``starts[i] : starts[i] + nv_i``, in increasing order.
+    """
+    return _spans(model, model.njoints, model.nq, model.nv)
+
+
+@functools.lru_cache(maxsize=16)
+def _spans(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    moving = [j for j in range(1, njoints) if model.joints[j].nv]
+    joints = np.array(moving, dtype=np.intp)
+    starts = np.array([model.joints[j].idx_v for j in moving], dtype=np.intp)
+    joints.flags.writeable = starts.flags.writeable = False
+    return joints, starts
+
+
 def wrap_angles(model: pin.Model, q: Array) -> Array:
     """Q with each revolute angle moved by a multiple of 2 pi into (-pi, pi], where its limits allow.
 

@@ -18,13 +18,14 @@ The package is layered; imports only go down:
 - :mod:`pinmob.builder`, :mod:`pinmob.catalog`: authoring the built-in models; :mod:`pinmob.testing`: assertions.
 """
 
+from typing import TYPE_CHECKING, Any
+
 from pinmob.analysis.actuation import Actuation
 from pinmob.analysis.closed_chain import ClosureRank, FrameMobility, MechanismMobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.limbs import LimbMobility
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.modes import assembly_modes
 from pinmob.analysis.motion import Constraint, Method, Motion, View
 from pinmob.analysis.report import Report
 from pinmob.analysis.shortcuts import (
@@ -52,6 +53,19 @@ from pinmob.model import Closure, ClosureType, Expectation, Limb, Mechanism, Nam
 from pinmob.screw import RTOL, MotionKind, WrenchKind
 
 __version__ = "0.1.0"
+
+if TYPE_CHECKING:
+    from pinmob.analysis.modes import assembly_modes
+
+
+def __getattr__(name: str) -> Any:
+    """The rarely used parts of the API, imported when first asked for (``import pinmob`` stays light)."""
+    if name == "assembly_modes":
+        from pinmob.analysis.modes import assembly_modes
+
+        return assembly_modes
+    raise AttributeError(f"module 'pinmob' has no attribute {name!r}")
+
 
 __all__ = [
     "CLOSURE_TOL",

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 import scipy.linalg
@@ -159,3 +161,25 @@ def test_principal_screws_of_the_whole_space():
             assert_allclose(u, ru, atol=1e-12)
             assert_allclose(p, rp, atol=1e-12)
             assert h == rh == 0.0
+
+
+def test_builtin_names_read_from_their_name_line(tmp_path):
+    """The built-in names from each file's name line are the parsed files' names; other files are parsed."""
+    import tomllib
+
+    from pinmob.io.builtin import builtin_dir, builtin_models, model_name
+
+    parsed = {}
+    for path in sorted(builtin_dir().glob("*.toml")):
+        with path.open("rb") as fh:
+            parsed[str(tomllib.load(fh).get("name", path.stem))] = path
+    assert builtin_models() == parsed
+    odd = {
+        "a.toml": 'description = """\nname = "not this"\n"""\nname = "this"\n',
+        "b.toml": "name = 'literal'\n",
+        "c.toml": '[limbs]\nname = "a limb"\n',
+        "d.toml": 'name = "with \\"quotes\\""\n',
+    }
+    for file, text in odd.items():
+        (tmp_path / file).write_text(text)
+        assert model_name(tmp_path / file) == str(tomllib.loads(text).get("name", Path(file).stem))

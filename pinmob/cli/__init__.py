@@ -15,15 +15,40 @@ import warnings
 from collections.abc import Callable, Sequence
 from typing import TextIO
 
-from pinmob.cli import analyze, models, scan, show
 from pinmob.cli.parser import build_parser
 from pinmob.exceptions import PinmobError
 
+
+def _models(args: argparse.Namespace) -> int:
+    from pinmob.cli import models
+
+    return models.run(args)
+
+
+def _analyze(args: argparse.Namespace) -> int:
+    from pinmob.cli import analyze
+
+    return analyze.run(args)
+
+
+def _show(args: argparse.Namespace) -> int:
+    from pinmob.cli import show
+
+    return show.run(args)
+
+
+def _scan(args: argparse.Namespace) -> int:
+    from pinmob.cli import scan
+
+    return scan.run(args)
+
+
+#: The commands; each imports its module when it runs (``pinmob analyze`` loads neither the viewer nor the scans).
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
-    "models": models.run,
-    "analyze": analyze.run,
-    "show": show.run,
-    "scan": scan.run,
+    "models": _models,
+    "analyze": _analyze,
+    "show": _show,
+    "scan": _scan,
 }
 
 

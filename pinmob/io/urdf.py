@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import os
 import sys
-import tempfile
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -57,6 +56,8 @@ def native_stderr() -> Iterator[list[str]]:
     if saved < 0:
         yield lines
         return
+    import tempfile  # imported when a file is read, not with pinmob
+
     with tempfile.TemporaryFile() as tmp:
         os.dup2(tmp.fileno(), 2)
         try:

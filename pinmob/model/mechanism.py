@@ -22,38 +22,10 @@ from pinmob.exceptions import ConfigurationError, FrameError, choices
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
 from pinmob.model.limb import Limb
+from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
-
-
-@dataclass(frozen=True)
-class NamedConfiguration:
-    """A named configuration: joint values, or a platform pose to assemble.
-
-    Attributes:
-        name: configuration name.
-        joints: joint values by joint name [m or rad]; omitted joints are neutral.
-        pose: platform pose (``pin.SE3``) to be assembled, or ``None``.
-        seed: joint values that start the closure solver (select the assembly mode).
-        approach: joint-space direction by joint name used by the paper's view
-            (:func:`pinmob.paper_view`); empty when not declared.
-    """
-
-    name: str
-    joints: Mapping[str, float] = field(default_factory=dict)
-    pose: pin.SE3 | None = None
-    seed: Mapping[str, float] = field(default_factory=dict)
-    approach: Mapping[str, float] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
-class Expectation:
-    """Mobility stated by the literature for a named configuration."""
-
-    dof: int
-    motion_type: str
-    source: str = ""
 
 
 @dataclass(frozen=True)

@@ -183,3 +183,23 @@ def test_builtin_names_read_from_their_name_line(tmp_path):
     for file, text in odd.items():
         (tmp_path / file).write_text(text)
         assert model_name(tmp_path / file) == str(tomllib.loads(text).get("name", Path(file).stem))
+
+
+def test_meshes_are_loaded_only_when_drawn():
+    """Loading and analysing the 3-UR5 (what pinmob analyze does) loads no mesh; its visual model does, once."""
+    import pickle
+
+    import pinmob
+
+    mech = pinmob.load("3-UR5")
+    assert mech.geometry is not None and not mech.geometry.loaded
+    report = pinmob.analyze(mech, "generic")
+    report.to_dict()
+    str(report)
+    assert not mech.geometry.loaded
+    copy = pickle.loads(pickle.dumps(mech))
+    visual = mech.visual_model
+    assert mech.geometry.loaded and visual is not None and visual.ngeoms == 21
+    assert mech.visual_model is visual  # loaded once
+    assert copy.geometry is not None and not copy.geometry.loaded  # a copy loads its own when it draws
+    assert copy.visual_model is not None and copy.visual_model.ngeoms == 21

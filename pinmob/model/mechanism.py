@@ -20,6 +20,7 @@ import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError, choices
 from pinmob.model.closure import Closure, ClosureType, group_closures
+from pinmob.model.geometry import Geometry
 from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
@@ -46,8 +47,8 @@ class Mechanism:
         expected: literature mobility per configuration name.
         description: free text.
         source: the file it was loaded from, if any.
-        visual_model: Pinocchio visual geometry, if loaded.
-        collision_model: Pinocchio collision geometry, if loaded.
+        geometry: the visual and collision geometry (:class:`~pinmob.model.geometry.Geometry`; meshes
+            are loaded when first drawn), read as :attr:`visual_model` and :attr:`collision_model`.
         generic_rank: constraint rank at generic configurations, when declared
             (else :mod:`pinmob.analysis.singularity` estimates it from random closed
             configurations).
@@ -66,8 +67,7 @@ class Mechanism:
     expected: Mapping[str, Expectation] = field(default_factory=dict, repr=False)
     description: str = ""
     source: Path | None = None
-    visual_model: pin.GeometryModel | None = field(default=None, repr=False)
-    collision_model: pin.GeometryModel | None = field(default=None, repr=False)
+    geometry: Geometry | None = field(default=None, repr=False, compare=False)
     generic_rank: int | None = None
     closures: tuple[Closure, ...] = ()
     extra_actuated: tuple[str, ...] = ()
@@ -90,6 +90,7 @@ class Mechanism:
         source: Path | None = None,
         visual_model: pin.GeometryModel | None = None,
         collision_model: pin.GeometryModel | None = None,
+        geometry: Geometry | None = None,
         generic_rank: int | None = None,
         closures: list[Closure] | tuple[Closure, ...] = (),
     ) -> Mechanism:
@@ -171,8 +172,7 @@ class Mechanism:
             expected=dict(expected or {}),
             description=description,
             source=source,
-            visual_model=visual_model,
-            collision_model=collision_model,
+            geometry=geometry if geometry is not None else Geometry(visual=visual_model, collision=collision_model),
             generic_rank=generic_rank,
             closures=tuple(closures),
             extra_actuated=extra,
@@ -180,6 +180,16 @@ class Mechanism:
         return mech
 
     # ------------------------------------------------------------------ queries
+
+    @property
+    def visual_model(self) -> pin.GeometryModel | None:
+        """Pinocchio visual geometry (None without one); its meshes are loaded the first time it is asked for."""
+        return self.geometry.models(self.model)[0] if self.geometry is not None else None
+
+    @property
+    def collision_model(self) -> pin.GeometryModel | None:
+        """Pinocchio collision geometry (None without one), loaded the first time it is asked for."""
+        return self.geometry.models(self.model)[1] if self.geometry is not None else None
 
     @property
     def has_platform(self) -> bool:

@@ -9,7 +9,8 @@ Per mechanism (3-PUU, 6-UPS), at N fixed closed configurations (microseconds per
 * ``floor_us``: what the batch path needs from Pinocchio (``computeJointJacobians`` and the platform
   frame's placement, in the same Python loop);
 * ``batch_us``: :func:`pinmob.analysis.batch.analyze_batch` on all N at once (DoF, constraint rank, limb
-  twist ranks, locked DoF; numba's compiled loop when numba is installed, else batched numpy);
+  twist ranks, locked DoF; numba's compiled loop when numba is installed, else batched numpy; the text
+  line also gives the numpy engine's time);
 * ``single_us``: one :func:`pinmob.analyze` call plus ``to_dict()`` of its Report at a named configuration
   of a loaded mechanism: everything ``pinmob analyze`` prints, nothing left lazy (per-mechanism caches
   warm: the generic ranks, the named configuration's closed vector);
@@ -130,6 +131,7 @@ def bench_analyses(name: str, n: int, repeats: int) -> dict[str, float]:
         "floor_us": best_us(lambda: floor(mech, qs), n, repeats),
         "batch_us": best_us(lambda: analyze_batch(mech, qs), n, repeats),
         "single_us": best_us(lambda: single(mech, CONFIG[name], single_n), single_n, repeats),
+        "batch_numpy_us": best_us(lambda: analyze_batch(mech, qs, engine="numpy"), n, repeats),
     }
     return {k: round(v, 1) for k, v in out.items()}
 
@@ -186,15 +188,19 @@ def main() -> None:
     result: dict[str, dict[str, float]] = {}
     for name in ("3-PUU", "6-UPS"):
         r = bench_analyses(name, n, repeats)
+        batch_numpy = r.pop("batch_numpy_us")
+        engine = analyze_batch(
+            pinmob.load(name), np.array([pinmob.closed_configuration(pinmob.load(name), CONFIG[name])])
+        ).engine
         s = bench_scan(name, samples, repeats)
         r["scan_us"] = s["scan_us"]
         result[name] = r
         print(
             f"{name}: {n} closed configurations, us per configuration: single analyze + to_dict {r['single_us']} vs "
             f"baseline {r['baseline_us']} (target single <= baseline: {verdict(r['single_us'] <= r['baseline_us'])}, "
-            f"{r['single_us'] / r['baseline_us']:.2f}x); batch {r['batch_us']} vs floor {r['floor_us']} "
+            f"{r['single_us'] / r['baseline_us']:.2f}x); batch ({engine}) {r['batch_us']} vs floor {r['floor_us']} "
             f"({r['batch_us'] / r['floor_us']:.1f}x the floor, {r['baseline_us'] / r['batch_us']:.1f}x faster than "
-            f"the baseline)"
+            f"the baseline; numpy engine {batch_numpy})"
         )
         print(
             f"{name}: scan {' -> '.join(SCAN[name])}, {samples} samples ({s['rows']} rows) with re-assembly, one "

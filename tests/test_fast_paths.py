@@ -203,3 +203,113 @@ def test_meshes_are_loaded_only_when_drawn():
     assert mech.visual_model is visual  # loaded once
     assert copy.geometry is not None and not copy.geometry.loaded  # a copy loads its own when it draws
     assert copy.visual_model is not None and copy.visual_model.ngeoms == 21
+
+
+def test_rank_rule_rows_is_the_rank_rule():
+    from pinmob.screw.rank import rank_rule, rank_rule_rows
+
+    rng = np.random.default_rng(8)
+    s = -np.sort(-np.abs(rng.normal(size=(300, 6))) * 10.0 ** rng.integers(-12, 2, size=(300, 6)), axis=1)
+    s[:5] = 0.0
+    for rtol in (1e-6, 1e-3, 1e-9):
+        assert list(rank_rule_rows(s, rtol)) == [rank_rule(row, rtol)[0] for row in s]
+
+
+def _batch_cases():
+    import pinocchio as pin
+
+    import pinmob
+
+    rng = np.random.default_rng(9)
+    for name in pinmob.builtin_models():
+        mech = pinmob.load(name)
+        if not mech.has_platform or not mech.limbs or mech.coupling_closures or any(b.closures for b in mech.limbs):
+            continue
+        qs = [pinmob.closed_configuration(mech, c) for c in mech.configurations]
+        for _ in range(3):  # nearby closed configurations: generic, where the named ones are special
+            try:
+                qs.append(
+                    pinmob.project(mech, pin.integrate(mech.model, qs[0], rng.normal(0.0, 0.02, mech.model.nv))).q
+                )
+            except pinmob.ClosureError:
+                break
+        yield name, mech, np.array(qs)
+
+
+def test_batch_numpy_engine_is_the_single_analysis_bit_for_bit():
+    """The numpy engine makes the single analyses' SVDs, batched: the same ranks and singular values, bit for bit."""
+    import pinmob
+    from pinmob.analysis.batch import analyze_batch
+
+    for name, mech, qs in _batch_cases():
+        batch = analyze_batch(mech, qs, singular_values=True, engine="numpy")
+        for i, q in enumerate(qs):
+            report = pinmob.analyze(mech, q)
+            sing = pinmob.analyze_singularity(report.state)
+            assert batch.dof[i] == report.dof and batch.locked_dof[i] == sing.locked_dof, name
+            assert list(batch.limb_twist_rank[i]) == [limb.twist_rank for limb in report.limbs]
+            assert np.array_equal(batch.singular_values[i], report.singular_values), name
+            assert np.array_equal(batch.actuation_singular_values[i], np.nan_to_num(sing.actuation_singular_values))
+            assert np.array_equal(batch.limb_ratio[i], [sing.distances[f"limb {b.name}"] for b in mech.limbs])
+
+
+def test_batch_engines_agree():
+    """numba's compiled loop (one-sided Jacobi SVDs) and the numpy engine (LAPACK): same ranks, values to round-off."""
+    pytest.importorskip("numba")
+    from pinmob.analysis.batch import analyze_batch
+
+    checked = 0
+    for name, mech, qs in _batch_cases():
+        fast = analyze_batch(mech, qs, singular_values=True, engine="numba")
+        ref = analyze_batch(mech, qs, singular_values=True, engine="numpy")
+        assert (fast.engine, ref.engine) == ("numba", "numpy")
+        for field in ("dof", "constraint_rank", "limb_twist_rank", "locked_dof"):
+            assert np.array_equal(getattr(fast, field), getattr(ref, field)), (name, field)
+        for field in ("singular_values", "actuation_singular_values", "limb_ratio"):
+            assert_allclose(getattr(fast, field), getattr(ref, field), atol=1e-12, err_msg=f"{name} {field}")
+        checked += len(qs)
+    assert checked > 20
+
+
+def test_jacobi_svd_is_lapacks():
+    """The compiled loop's one-sided Jacobi SVD: LAPACK's singular values and a null space orthogonal to the rows."""
+    pytest.importorskip("numba")
+    from pinmob.analysis.batch_kernel import jacobi
+
+    rng = np.random.default_rng(10)
+    for _ in range(300):
+        rows, rank = int(rng.integers(1, 19)), int(rng.integers(0, 7))
+        a = rng.normal(size=(rows, rank)) @ rng.normal(size=(rank, 6)) if rank else np.zeros((rows, 6))
+        a *= 10.0 ** rng.uniform(-3, 3)
+        g, sv, v = np.zeros((18, 6)), np.zeros(6), np.zeros((6, 6))
+        g[:rows] = a
+        jacobi(g, rows, sv, v)
+        ref = np.zeros(6)
+        ref[: min(rows, 6)] = np.linalg.svd(a, compute_uv=False)
+        scale = max(1.0, float(ref[0]))
+        assert_allclose(sv, ref, atol=1e-13 * scale)
+        assert_allclose(v.T @ v, np.eye(6), atol=1e-13)
+        true_rank = int(np.sum(ref > 1e-10 * scale))
+        assert np.abs(a @ v[:, true_rank:]).max(initial=0.0) <= 1e-12 * scale
+
+
+def test_batch_without_numba():
+    """Without numba (an optional extra) the batch path runs on numpy; asking for numba says how to install it."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; sys.modules['numba'] = None\n"
+        "import pinmob\n"
+        "from pinmob.analysis.batch import analyze_batch\n"
+        "mech = pinmob.load('3-PUU'); q = pinmob.closed_configuration(mech, 'generic')\n"
+        "r = analyze_batch(mech, q[None, :])\n"
+        "print(r.engine, int(r.dof[0]))\n"
+        "try:\n"
+        "    analyze_batch(mech, q[None, :], engine='numba')\n"
+        "except pinmob.ConfigurationError as exc:\n"
+        "    print(exc)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.splitlines()
+    assert out[0] == "numpy 3"
+    assert "pinmob[fast]" in out[1]

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from pinmob.exceptions import ConfigurationError
 from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
@@ -135,6 +135,15 @@ def rank_rule(
     smax = float(singular_values[0]) if singular_values.size else 0.0
     tol = rtol * max(at_least, smax if reference is None else float(reference))
     return (int(np.count_nonzero(singular_values > tol)) if smax > 0 else 0), tol
+
+
+def rank_rule_rows(singular_values: Array, rtol: float) -> NDArray[np.int64]:
+    """:func:`rank_rule` of each row of (N, m) descending singular values (the reference: each row's largest)."""
+    s = np.asarray(singular_values, float)
+    if s.shape[-1] == 0:
+        return np.zeros(s.shape[:-1], np.int64)
+    top = s[..., :1]
+    return np.where(top[..., 0] > 0, np.count_nonzero(s > rtol * top, axis=-1), 0).astype(np.int64)
 
 
 def decision(

@@ -313,3 +313,20 @@ def test_batch_without_numba():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.splitlines()
     assert out[0] == "numpy 3"
     assert "pinmob[fast]" in out[1]
+
+
+def test_free_vectors_only_shortcut():
+    """A system without direction parts (|w| <= rtol) is all free vectors: the shortcut skips the SVD of w, and
+    the canonical directions do not depend on the basis it would have given (any orthonormal one)."""
+    from pinmob.screw.bases import canonical_directions
+    from pinmob.screw.classify import principal_screws
+
+    rng = np.random.default_rng(11)
+    for k in (1, 2, 3):
+        for _ in range(50):
+            v = np.linalg.qr(rng.normal(size=(3, 3)))[0][:, :k]
+            w = rng.normal(size=(3, k)) * 1e-9
+            trans, screws = principal_screws(v, w)
+            basis = np.linalg.qr(rng.normal(size=(k, k)))[0]
+            assert screws == []
+            assert_allclose(trans, canonical_directions(v @ basis), atol=1e-12)

@@ -21,7 +21,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named import named_vector
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
     Residuals,
@@ -66,7 +66,7 @@ class Configuration:
     ) -> None:
         tol = check_closure_tol(closure_tol)
         if isinstance(q, str):
-            vec = closed_configuration(mechanism, q, tol)
+            vec, _ = named_vector(mechanism, q, tol)  # its closure is checked below, with the kinematics
             name = q if name is None else name
             source = source or f"named configuration {q!r}"
         else:

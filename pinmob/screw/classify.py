@@ -125,6 +125,8 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
     :func:`principal_screws` answers the whole space (r = 6) in closed form; the tests compare it with these steps.
     """
     v, w = span[:3], span[3:]
+    if float(np.sqrt((w * w).sum())) <= rtol:  # every singular value of w is below rtol: no direction, all free
+        return canonical_directions(v), []
     split = decide_rank(w, rtol, at_least=1.0)  # directions of the orthonormal span: natural scale 1
     wr = split.rank
     trans = canonical_directions(v @ split.null_space.T) if wr < w.shape[1] else np.zeros((3, 0))

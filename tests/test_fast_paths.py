@@ -330,3 +330,33 @@ def test_free_vectors_only_shortcut():
             basis = np.linalg.qr(rng.normal(size=(k, k)))[0]
             assert screws == []
             assert_allclose(trans, canonical_directions(v @ basis), atol=1e-12)
+
+
+def test_every_array_of_a_report_is_read_only():
+    """The arrays found by their annotations are every array the results hold (walked through a whole report)."""
+    import dataclasses
+
+    import pinmob
+
+    seen = 0
+
+    def walk(value: object) -> None:
+        nonlocal seen
+        if isinstance(value, np.ndarray):
+            assert not value.flags.writeable
+            seen += 1
+        elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+            for f in dataclasses.fields(value):
+                walk(getattr(value, f.name))
+        elif isinstance(value, (tuple, list)):
+            for v in value:
+                walk(v)
+        elif isinstance(value, dict):
+            for v in value.values():
+                walk(v)
+
+    for name in ("3-PUU-flat", "6-UPS", "Delta"):
+        mech = pinmob.load(name)
+        report = pinmob.analyze(mech, next(iter(mech.configurations)), paper=True)
+        walk([report.mobility, report.mechanism_mobility, report.singularity, report.paper])
+    assert seen > 50

@@ -65,7 +65,7 @@ def closed_configurations(mech: pinmob.Mechanism, n: int, seed: int = 0) -> np.n
     rng = np.random.default_rng(seed)
     q0 = pinmob.closed_configuration(mech, CONFIG[mech.name])
     base = pose_vector(platform_pose(mech, q0))
-    out = []
+    out: list[np.ndarray] = []
     translational = mech.name.startswith("3-PUU")
     while len(out) < n:
         v = base.copy()
@@ -120,10 +120,12 @@ def single(mech: pinmob.Mechanism, name: str, n: int) -> None:
         pinmob.analyze(mech, name).to_dict()
 
 
-def bench_analyses(name: str, n: int, repeats: int) -> dict[str, float]:
+def bench_analyses(name: str, n: int, repeats: int) -> tuple[dict[str, float], str]:
+    """The per-configuration figures of one mechanism, and the batch engine that ran."""
     mech = pinmob.load(name)
     qs = closed_configurations(mech, n)
-    assert list(analyze_batch(mech, qs).constraint_rank) == baseline(mech, qs), "batch and baseline disagree"
+    batch = analyze_batch(mech, qs)
+    assert list(batch.constraint_rank) == baseline(mech, qs), "batch and baseline disagree"
     single(mech, CONFIG[name], 1)  # per-mechanism caches (generic ranks, the named configuration) filled once
     single_n = max(20, n // 10)
     out = {
@@ -133,7 +135,7 @@ def bench_analyses(name: str, n: int, repeats: int) -> dict[str, float]:
         "single_us": best_us(lambda: single(mech, CONFIG[name], single_n), single_n, repeats),
         "batch_numpy_us": best_us(lambda: analyze_batch(mech, qs, engine="numpy"), n, repeats),
     }
-    return {k: round(v, 1) for k, v in out.items()}
+    return {k: round(v, 1) for k, v in out.items()}, batch.engine
 
 
 def bench_scan(name: str, samples: int, repeats: int) -> dict[str, float]:
@@ -187,11 +189,8 @@ def main() -> None:
     n, repeats, samples, rounds = (200, 3, 41, 5) if args.quick else (1000, 5, 201, 9)
     result: dict[str, dict[str, float]] = {}
     for name in ("3-PUU", "6-UPS"):
-        r = bench_analyses(name, n, repeats)
+        r, engine = bench_analyses(name, n, repeats)
         batch_numpy = r.pop("batch_numpy_us")
-        engine = analyze_batch(
-            pinmob.load(name), np.array([pinmob.closed_configuration(pinmob.load(name), CONFIG[name])])
-        ).engine
         s = bench_scan(name, samples, repeats)
         r["scan_us"] = s["scan_us"]
         result[name] = r

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import importlib.util
 import re
-import tomllib
 from pathlib import Path
 
 #: A top-level ``name = "..."`` line (a basic string without escapes), as pinmob's builder writes it.
@@ -38,4 +37,6 @@ def model_name(path: Path) -> str:
         match = _NAME.match(line)
         if match:
             return match.group(1)
+    import tomllib  # only for a file without a plain name line
+
     return str(tomllib.loads(data.decode("utf-8")).get("name", path.stem))

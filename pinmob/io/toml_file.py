@@ -5,7 +5,6 @@ See the README for the format. Every error names the file and the key.
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -69,6 +68,8 @@ def read_toml(path: Path) -> dict[str, Any]:
         raise MechanismFileError(f"mechanism file {str(path)!r} does not exist")
     if path.is_dir():
         raise MechanismFileError(f"mechanism file {str(path)!r} is a folder, not a TOML file")
+    import tomllib  # imported when a file is read, not with pinmob
+
     try:
         with path.open("rb") as fh:
             return tomllib.load(fh)

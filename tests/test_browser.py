@@ -4,7 +4,9 @@ Against the live meshcat server page and the exported HTML file: the mechanism
 is drawn (enough pixels differ from the empty scene around the platform), two
 animation times differ there (the motion is visible), every clip is in the
 scene, and the motion menu switches clips. These tests never skip: without
-Chromium they fail and say how to install it (``.ci/browser-deps.sh``).
+Chromium they fail and say how to install it (``.ci/browser-deps.sh``). They
+carry the ``browser`` marker: ``pytest -m "not browser"`` leaves them out on
+purpose, ``pytest -m browser`` runs only them; CI (``.ci/run``) runs them all.
 
 Set ``PINMOB_DOCS_SCREENSHOTS=1`` to also write the screenshots of 3-PUU-flat
 to ``docs/``.
@@ -41,6 +43,8 @@ FLAGS = [
 ]
 WIDTH, HEIGHT = 900, 650
 DOCS = Path(__file__).resolve().parent.parent / "docs"
+
+pytestmark = pytest.mark.browser  # every test here: select with -m browser, leave out with -m "not browser"
 
 
 @pytest.fixture(scope="module")

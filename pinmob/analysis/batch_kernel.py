@@ -5,15 +5,16 @@ Per configuration, the same matrices and the same rank rule as
 ``rtol`` times the largest count), with the singular values and right singular
 vectors of each small matrix from a one-sided Jacobi SVD (:func:`jacobi`)
 instead of LAPACK's: the same numbers to round-off (the tests compare them with
-the numpy path, which calls LAPACK). Importing this module imports numba.
+the numpy path, which calls LAPACK). Importing this module imports numba; the
+compiled code is cached by :mod:`pinmob.jit_cache` (outside the installed package).
 """
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from pinmob.jit_cache import njit
 from pinmob.screw.algebra import Array
 
 #: Integer array (ranks, DoF).
@@ -23,7 +24,7 @@ Ints = NDArray[np.int64]
 ORTHOGONAL = 2.0**-52
 
 
-@numba.njit(cache=True)
+@njit
 def jacobi(g: Array, rows: int, sv: Array, v: Array) -> None:
     """One-sided Jacobi SVD of ``g[:rows]`` (rows, p), in place: singular values ``sv`` (p,) and vectors ``v`` (p, p).
 
@@ -86,7 +87,7 @@ def jacobi(g: Array, rows: int, sv: Array, v: Array) -> None:
             k -= 1
 
 
-@numba.njit(cache=True)
+@njit
 def rank_of(sv: Array, rtol: float) -> int:
     """:func:`pinmob.screw.rank.rank_rule`: the singular values (descending) above ``rtol`` times the largest."""
     if sv[0] <= 0.0:
@@ -99,7 +100,7 @@ def rank_of(sv: Array, rtol: float) -> int:
     return rank
 
 
-@numba.njit(cache=True)
+@njit
 def null_rows(
     a: Array, cols: Ints, unit: bool, rtol: float, g: Array, sv: Array, v: Array, out: Array, first: int
 ) -> tuple[int, int]:
@@ -124,7 +125,7 @@ def null_rows(
     return rank, 6 - rank
 
 
-@numba.njit(cache=True)
+@njit
 def batch(
     full: Array,
     origin: Array,

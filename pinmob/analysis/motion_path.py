@@ -271,7 +271,7 @@ def follow_motion(
         branches.append(tuple(path))
         reached.append(covered)
         reasons.append(why)
-        moved.append(measure_displacement(start, follower.pose(path[-1]), sign * unit, mech.length_scale))
+        moved.append(measure_displacement(start, follower.pose(path[-1]), sign * unit, mech.length_scale, closure_tol))
     return MotionPath(
         motion.label,
         branches[0],

@@ -38,10 +38,10 @@ from pinmob.assembly.residual import (
     worst_residual,
 )
 from pinmob.assembly.solver import SolverResult, solve
-from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, choices
+from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.data_pool import borrowed
-from pinmob.model.joints import linear_velocity_mask, outside_limits
+from pinmob.model.joints import linear_velocity_mask, one_degree_indices, outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
 
@@ -79,19 +79,13 @@ class Assembly(ReadOnlyArrays):
 
 
 def joint_velocity_indices(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Array:
-    """Velocity indices of one-degree joints by name; a :class:`FrameError` for unknown or multi-degree joints."""
-    model = mech.model
-    out = []
-    for name in names:
-        if not model.existJointName(name) or name == "universe":
-            raise FrameError(f"unknown joint {name!r} in {mech.name!r}; valid: {choices(list(model.names)[1:])}")
-        joint = model.joints[model.getJointId(name)]
-        if joint.nv != 1:
-            raise ConfigurationError(
-                f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees of freedom; only one-degree joints can be actuated here"
-            )
-        out.append(joint.idx_v)
-    return np.array(out, int)
+    """Velocity indices of one-degree joints by name (:func:`pinmob.model.joints.one_degree_indices`).
+
+    Raises:
+        FrameError: an unknown joint (the message lists them).
+        ConfigurationError: a joint with more than one degree of freedom.
+    """
+    return one_degree_indices(mech.model, names, mech.name)
 
 
 def warn_outside_limits(mech: Mechanism, q: Array, what: str) -> tuple[str, ...]:

@@ -4,7 +4,8 @@ Regenerate every built-in model with::
 
     python -m pinmob.catalog models
 
-A test fails when a file in ``models/`` differs from what this package writes.
+A test fails when a file in ``models/`` is not equivalent to what this package writes
+(:mod:`.freshness`: the same up to round-off, angles modulo 2 pi).
 One module per family: :mod:`.puu` (the seed paper's 3-PUU), :mod:`.tripods`
 (3-UPU, 3-RPS, 3-PRS), :mod:`.gough_stewart` (6-UPS), :mod:`.delta` (Delta,
 4-RUU), :mod:`.rrr` (3-RRR, 3-PRRR), :mod:`.linkages` (five-bar, Bennett,

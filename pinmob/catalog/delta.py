@@ -31,13 +31,18 @@ def delta_limb_angles(pz: float) -> tuple[float, float]:
     ``u cos(alpha) - w sin(alpha) = (u^2 + w^2 + a^2 - l^2) / (2 a) = K``, i.e.
     ``rho cos(alpha + phi) = K`` with ``rho = |(u, w)|``, ``phi = atan2(w, u)``;
     the elbow-out branch is ``alpha = -acos(K / rho) - phi``. The rod direction is V - E.
+
+    psi is returned in [0, 2 pi): the rods point inwards (psi from about 100 deg at the bottom of the
+    workspace to 180 deg with the rods horizontal, ``rods-horizontal``), so atan2's cut at +-pi would fall
+    exactly on a named configuration and round-off would pick either side (values 2 pi apart on two
+    machines); the cut at 0 is far from every pose used.
     """
     u, w = PLAT_R - BASE_R, pz
     k = (u**2 + w**2 + ARM**2 - ROD**2) / (2 * ARM)
     rho, phi = float(np.hypot(u, w)), float(np.arctan2(w, u))
     alpha = -float(np.arccos(np.clip(k / rho, -1.0, 1.0))) - phi
     d = np.array([u - ARM * np.cos(alpha), w + ARM * np.sin(alpha)])  # rod V - E: (e, z) components
-    return alpha, float(np.arctan2(-d[1], d[0]))
+    return alpha, float(np.mod(np.arctan2(-d[1], d[0]), 2 * np.pi))
 
 
 def delta_height(alpha: float) -> float:

@@ -7,7 +7,6 @@ import re
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 from pinmob.exceptions import ConfigurationError, choices
 from pinmob.io.builtin import builtin_models
@@ -65,23 +64,6 @@ def signals_interrupt() -> Iterator[None]:
     finally:
         for sig, handler in previous.items():
             signal.signal(sig, handler)
-
-
-def serve_until_stopped(server: Any, announce: str = "") -> None:
-    """Print ``announce``, wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server.
-
-    The line is printed once the signals are handled, so that a SIGTERM sent as soon as it is read stops
-    the server too (no orphan left).
-    """
-    try:
-        with signals_interrupt():
-            if announce:
-                print(announce, flush=True)
-            server.process.wait()
-    except KeyboardInterrupt:
-        pass
-    finally:
-        server.stop()
 
 
 def check_outputs(paths: dict[str, str | None], force: bool) -> None:

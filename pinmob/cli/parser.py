@@ -3,15 +3,33 @@
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
 from typing import NoReturn
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged)."""
+    """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged).
+
+    The line ends with the help of the (sub)command that has the bad argument: ``see 'pinmob analyze --help'``.
+    """
 
     def error(self, message: str) -> NoReturn:
         """Print the usage error on one line and exit with status 2."""
         self.exit(2, f"pinmob: error: {' '.join(message.split())}; see '{self.prog} --help'\n")
+
+    def parse_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> argparse.Namespace:
+        """As argparse, but an unrecognised argument after a command points to that command's help.
+
+        argparse reports it on the top-level parser, whose help does not list the command's options.
+        """
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            command = getattr(parsed, "command", None)
+            prog = f"{self.prog} {command}" if command else self.prog
+            self.exit(2, f"pinmob: error: unrecognized arguments: {' '.join(extra)}; see '{prog} --help'\n")
+        return parsed
 
 
 def build_parser() -> argparse.ArgumentParser:

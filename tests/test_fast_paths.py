@@ -272,9 +272,9 @@ def test_batch_engines_agree():
 
 
 def test_jacobi_svd_is_lapacks():
-    """The compiled loop's one-sided Jacobi SVD: LAPACK's singular values and a null space orthogonal to the rows."""
+    """The compiled loop's one-sided Jacobi SVD (span): LAPACK's singular values, the rank, a null space orthogonal to the rows."""
     pytest.importorskip("numba")
-    from pinmob.analysis.batch_kernel import jacobi
+    from pinmob.analysis.batch_kernel import span
 
     rng = np.random.default_rng(10)
     for _ in range(300):
@@ -283,13 +283,14 @@ def test_jacobi_svd_is_lapacks():
         a *= 10.0 ** rng.uniform(-3, 3)
         g, sv, v = np.zeros((18, 6)), np.zeros(6), np.zeros((6, 6))
         g[:rows] = a
-        jacobi(g, rows, sv, v)
+        rank = span(g, rows, 1e-9, sv, v)
         ref = np.zeros(6)
         ref[: min(rows, 6)] = np.linalg.svd(a, compute_uv=False)
         scale = max(1.0, float(ref[0]))
         assert_allclose(sv, ref, atol=1e-13 * scale)
         assert_allclose(v.T @ v, np.eye(6), atol=1e-13)
         true_rank = int(np.sum(ref > 1e-10 * scale))
+        assert rank == true_rank
         assert np.abs(a @ v[:, true_rank:]).max(initial=0.0) <= 1e-12 * scale
 
 

@@ -168,8 +168,8 @@ def analyze_batch(
 
 
 def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
-    """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch_kernel.batch`."""
-    from pinmob.analysis.batch_kernel import batch
+    """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch_kernel.ranks`."""
+    from pinmob.analysis.batch_kernel import ranks
 
     columns = np.concatenate([np.asarray(limb.v_indices, np.int64) for limb in mech.limbs])
     offsets = np.cumsum([0] + [len(limb.v_indices) for limb in mech.limbs]).astype(np.int64)
@@ -177,7 +177,7 @@ def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_va
     for limb, start in zip(mech.limbs, offsets):
         free += [start + c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
         free_offsets.append(len(free))
-    limb_rank, d, locked_rank, sv, asv, ratios = batch(
+    limb_rank, d, locked_rank, sv, asv, ratios = ranks(
         full,
         origin,
         float(mech.length_scale),

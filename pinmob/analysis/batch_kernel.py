@@ -3,7 +3,7 @@
 Per configuration, the same matrices and the same rank rule as
 :func:`pinmob.analyze` (:func:`pinmob.screw.rank.rank_rule`: singular values above
 ``rtol`` times the largest count), with the singular values and right singular
-vectors of each small matrix from a one-sided Jacobi SVD (:func:`jacobi`)
+vectors of each small matrix from a one-sided Jacobi SVD (:func:`span`)
 instead of LAPACK's: the same numbers to round-off (the tests compare them with
 the numpy path, which calls LAPACK). Importing this module imports numba; the
 compiled code is cached by :mod:`pinmob.jit_cache` (outside the installed package).
@@ -25,13 +25,16 @@ ORTHOGONAL = 2.0**-52
 
 
 @njit
-def jacobi(g: Array, rows: int, sv: Array, v: Array) -> None:
-    """One-sided Jacobi SVD of ``g[:rows]`` (rows, p), in place: singular values ``sv`` (p,) and vectors ``v`` (p, p).
+def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
+    """Rank of ``g[:rows]`` (rows, p) by a one-sided Jacobi SVD, in place: singular values ``sv`` (p,), vectors ``v``.
 
     Plane rotations of pairs of columns (Hestenes) until every pair is
     orthogonal to round-off: ``g V = U diag(sv)``; ``sv`` sorted descending, the
-    columns of ``v`` (the right singular vectors) sorted alike. Columns shorter
-    than round-off of the whole matrix are zero and left alone. ``g`` is overwritten.
+    columns of ``v`` (the right singular vectors) sorted alike: the first ``rank``
+    span the row space, the others its complement. Columns shorter than
+    round-off of the whole matrix are zero and left alone. ``g`` is overwritten.
+    The rank is :func:`pinmob.screw.rank.rank_rule`'s: the singular values above
+    ``rtol`` times the largest (0 when they are all zero).
     """
     p = g.shape[1]
     for i in range(p):
@@ -85,26 +88,23 @@ def jacobi(g: Array, rows: int, sv: Array, v: Array) -> None:
             for i in range(p):
                 v[i, k - 1], v[i, k] = v[i, k], v[i, k - 1]
             k -= 1
-
-
-@njit
-def rank_of(sv: Array, rtol: float) -> int:
-    """:func:`pinmob.screw.rank.rank_rule`: the singular values (descending) above ``rtol`` times the largest."""
-    if sv[0] <= 0.0:
+    if rows == 0 or sv[0] <= 0.0:
         return 0
-    tol = rtol * sv[0]
     rank = 0
     for x in sv:
-        if x > tol:
+        if x > rtol * sv[0]:
             rank += 1
     return rank
 
 
 @njit
-def null_rows(
+def complement(
     a: Array, cols: Ints, unit: bool, rtol: float, g: Array, sv: Array, v: Array, out: Array, first: int
 ) -> tuple[int, int]:
-    """Null space of ``M = a[:, cols]^T`` (its rows unit length when ``unit``) written to ``out[first:]``, as rows.
+    """The complement of the span of ``a[:, cols]`` (6, n) (its columns unit length when ``unit``), as rows of ``out``.
+
+    The null space of ``M = a[:, cols]^T`` (:func:`span`), written to ``out[first:]``: the wrenches reciprocal
+    to those screws.
 
     Returns:
         M's rank and the number of rows written (6 - rank).
@@ -117,8 +117,7 @@ def null_rows(
         scale = 1.0 / np.sqrt(norm) if unit and norm > 0.0 else 1.0
         for i in range(6):
             g[r, i] = a[i, cols[r]] * scale
-    jacobi(g, n, sv, v)
-    rank = rank_of(sv, rtol)
+    rank = span(g, n, rtol, sv, v)
     for k in range(rank, 6):
         for i in range(6):
             out[first + k - rank, i] = v[i, k]
@@ -126,7 +125,7 @@ def null_rows(
 
 
 @njit
-def batch(
+def ranks(
     full: Array,
     origin: Array,
     length: float,
@@ -146,7 +145,7 @@ def batch(
     its transposed screws (the limb's wrenches; with unit rows for an unactuated
     limb's locked wrenches and the limb ratios, as the singularity report does)
     and, for an actuated limb, of its unactuated screws; the stacked wrenches
-    and locked wrenches are ranked (:func:`jacobi`, :func:`rank_of`).
+    and locked wrenches are ranked (:func:`span`, :func:`complement`).
 
     Args:
         full: (N, 6, nv) world Jacobians.
@@ -194,30 +193,30 @@ def batch(
         used = locked_used = 0
         for i in range(k):
             cols = every[offsets[i] : offsets[i + 1]]
-            r, added = null_rows(a, cols, False, rtol, g, sv, v, wrenches, used)
+            r, added = complement(a, cols, False, rtol, g, sv, v, wrenches, used)
             limb_rank[s, i] = r
             used += added
             if actuated[i]:
                 kept = free[free_offsets[i] : free_offsets[i + 1]]
-                _, added = null_rows(a, kept, False, rtol, g, sv, v, locked, locked_used)
+                _, added = complement(a, kept, False, rtol, g, sv, v, locked, locked_used)
             else:
-                _, added = null_rows(a, cols, True, rtol, g, sv, v, locked, locked_used)
+                _, added = complement(a, cols, True, rtol, g, sv, v, locked, locked_used)
             locked_used += added
             if ratios:  # sigma_g / sigma_1 of the limb's screws with unit rows
-                null_rows(a, cols, True, rtol, g, sv, v, scratch, 0)
+                complement(a, cols, True, rtol, g, sv, v, scratch, 0)
                 ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
         for r in range(used):
             for i in range(6):
                 g[r, i] = wrenches[r, i]
-        jacobi(g, used, sv, v)
+        d = span(g, used, rtol, sv, v)
         if used:
-            rank[s] = rank_of(sv, rtol)
+            rank[s] = d
             sv_out[s] = sv
         for r in range(locked_used):
             for i in range(6):
                 g[r, i] = locked[r, i]
-        jacobi(g, locked_used, sv, v)
+        d = span(g, locked_used, rtol, sv, v)
         if locked_used:
-            locked_rank[s] = rank_of(sv, rtol)
+            locked_rank[s] = d
             asv_out[s] = sv
     return limb_rank, rank, locked_rank, sv_out, asv_out, ratio

@@ -109,15 +109,16 @@ def load_geometry(model: pin.Model, urdf: Path) -> Geometry:
     The mesh files are looked for now, where Pinocchio will look for them
     (:func:`missing_meshes`): a kind of geometry with a missing file gets a
     warning and no geometry (kinematics only), as when Pinocchio fails to load
-    it; the others are built by :func:`build_geometry` when first asked for.
+    it (the message names the first missing file, as Pinocchio's would); the
+    others are built by :func:`build_geometry` when first asked for.
     """
     kinds = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
         missing = missing_meshes(urdf, kind.name.lower())
         if missing:
             warnings.warn(
-                f"{urdf.name}: {kind.name.lower()} geometry not loaded ({len(missing)} mesh file(s) not found, "
-                f"e.g. {missing[0][:200]}); kinematics only",
+                f"{urdf.name}: {kind.name.lower()} geometry not loaded (Mesh {missing[0][:200]} could not be found.); "
+                "kinematics only",
                 stacklevel=4,
             )
         else:

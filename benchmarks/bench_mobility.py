@@ -12,8 +12,9 @@ Per mechanism (3-PUU, 6-UPS), at N fixed closed configurations (microseconds per
   twist ranks, locked DoF; numba's compiled loop when numba is installed, else batched numpy; the text
   line also gives the numpy engine's time);
 * ``single_us``: one :func:`pinmob.analyze` call plus ``to_dict()`` of its Report at a named configuration
-  of a loaded mechanism: everything ``pinmob analyze`` prints, nothing left lazy (per-mechanism caches
-  warm: the generic ranks, the named configuration's closed vector);
+  of a loaded mechanism: everything ``pinmob analyze`` prints, nothing left lazy (the per-mechanism
+  generic ranks estimated by a first call; the named configuration is closed at every call: 6-UPS's
+  ``generic`` is a platform pose, assembled each time);
 * ``scan_us``: one sample of a path scan with re-assembly (:func:`pinmob.scan.run.scan`, one worker:
   3-PUU ``generic -> offset``, 6-UPS ``home -> type2``; wall time over the samples, refinements included).
 
@@ -126,7 +127,7 @@ def bench_analyses(name: str, n: int, repeats: int) -> tuple[dict[str, float], s
     qs = closed_configurations(mech, n)
     batch = analyze_batch(mech, qs)
     assert list(batch.constraint_rank) == baseline(mech, qs), "batch and baseline disagree"
-    single(mech, CONFIG[name], 1)  # per-mechanism caches (generic ranks, the named configuration) filled once
+    single(mech, CONFIG[name], 1)  # per-mechanism caches (the generic ranks) filled once
     single_n = max(20, n // 10)
     out = {
         "baseline_us": best_us(lambda: baseline(mech, qs), n, repeats),

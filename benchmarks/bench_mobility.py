@@ -187,7 +187,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="fewer configurations (finishes in about a minute)")
     args = parser.parse_args()
-    n, repeats, samples, rounds = (200, 3, 41, 5) if args.quick else (1000, 5, 201, 9)
+    n, repeats, samples, rounds = (200, 3, 41, 7) if args.quick else (1000, 5, 201, 9)
     result: dict[str, dict[str, float]] = {}
     for name in ("3-PUU", "6-UPS"):
         r, engine = bench_analyses(name, n, repeats)

@@ -212,14 +212,17 @@ def assemble_pose(
     q0 = mech.neutral() if seed is None else mech.check_q(seed)
     with borrowed(model) as data:
 
+        rows = scale[:, None]
+
         def residual(q: Array) -> tuple[Array, Array]:
             compute_kinematics(model, data, q)
             blocks = [pose_error(model, data, f, pose) for f in frames]
-            e1, j1 = stacked_error(mech, model, data, mech.closures)
-            return (
-                np.concatenate([scale * e for e, _ in blocks] + [e1]),
-                np.vstack([scale[:, None] * j for _, j in blocks] + [j1]),
-            )
+            errors, jacobians = [scale * e for e, _ in blocks], [rows * j for _, j in blocks]
+            if mech.closures:
+                e1, j1 = stacked_error(mech, model, data, mech.closures)
+                errors.append(e1)
+                jacobians.append(j1)
+            return np.concatenate(errors), np.vstack(jacobians)
 
         result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale)
         compute_kinematics(model, data, result.q)

@@ -14,8 +14,10 @@ LAYERS = [
     {"pinmob.model"},
     {"pinmob.assembly", "pinmob.io"},
     {"pinmob.analysis"},
-    {"pinmob.scan", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
-    {"pinmob.catalog", "pinmob.cli", "pinmob", "pinmob.__main__"},
+    {"pinmob.scan", "pinmob.engine", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
+    {"pinmob.catalog"},
+    {"pinmob.sweeps"},
+    {"pinmob.cli", "pinmob", "pinmob.__main__"},
 ]
 #: Third-party packages only the presentation layers may import (the core never draws or plots).
 PRESENTATION = {"meshcat", "matplotlib", "zmq", "tqdm"}

@@ -211,7 +211,6 @@ def assemble_pose(
     frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
     q0 = mech.neutral() if seed is None else mech.check_q(seed)
     with borrowed(model) as data:
-
         rows = scale[:, None]
 
         def residual(q: Array) -> tuple[Array, Array]:

@@ -13,18 +13,22 @@ Sarrus), :mod:`.arms` (three UR5 arms).
 """
 
 from . import arms, delta, gough_stewart, linkages, puu, rrr, tripods  # noqa: F401  (register the models)
+from .families import FAMILIES, Family, family
 from .linkages import bennett_frames, bennett_theta2, dh
 from .puu import three_puu
 from .registry import CATALOG, Definition, check_target, checkout_models, main, register, write_all
 
 __all__ = [
     "CATALOG",
+    "FAMILIES",
     "Definition",
+    "Family",
     "bennett_frames",
     "bennett_theta2",
     "check_target",
     "checkout_models",
     "dh",
+    "family",
     "main",
     "register",
     "three_puu",

@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from pinmob.exceptions import ConfigurationError
+
 from ..builder import MechanismBuilder, polar, radial
 from .registry import Definition, register
 from .sources import CLAVEL, HAND, KONG, TSAI, ZBG, expect, limb_pairs, pose
@@ -127,11 +129,31 @@ def _delta() -> Definition:
     return b, confs, None
 
 
-@register("delta_3ruu")
-def _delta_3ruu() -> Definition:
-    base_r, plat_r, arm, rod = 0.2, 0.05, 0.25, 0.3
-    arm_angle = np.pi / 3
+def delta_3ruu_design(
+    base_r: float = 0.2, plat_r: float = 0.05, arm: float = 0.25, rod: float = 0.3, arm_angle: float = float(np.pi / 3)
+) -> Definition:
+    """The Delta's U-U equivalent (3-RUU) for any dimensions [m] and arm angle at the reference [rad].
+
+    Configurations ``generic`` (the platform moved by (0.03, -0.02, 0.02) m) and ``constraint-singular``
+    (rods horizontal).
+
+    Raises:
+        ConfigurationError: a length that is not positive, or rods too short to reach the platform.
+    """
+    for name, value in (("base_r", base_r), ("plat_r", plat_r), ("arm", arm), ("rod", rod)):
+        if not value > 0:
+            raise ConfigurationError(f"Delta-3RUU: {name} must be a positive length [m], got {value}")
     elbow_r, elbow_z = base_r + arm * np.cos(arm_angle), -arm * np.sin(arm_angle)
+    if not rod > abs(elbow_r - plat_r):
+        raise ConfigurationError(
+            f"Delta-3RUU: the rods ({rod} m) do not reach the platform: the elbows are {abs(elbow_r - plat_r):.6g} m "
+            "from it horizontally"
+        )
+    if not arm > abs(rod + plat_r - base_r):
+        raise ConfigurationError(
+            f"Delta-3RUU: the arms ({arm} m) must be longer than |rod + r - R| = {abs(rod + plat_r - base_r):.6g} m "
+            "for the rods to lie horizontal somewhere (configuration constraint-singular)"
+        )
     drop = elbow_z - np.sqrt(rod**2 - (elbow_r - plat_r) ** 2)
     b = MechanismBuilder(
         "Delta-3RUU",
@@ -167,6 +189,11 @@ def _delta_3ruu() -> Definition:
         },
     }
     return b, confs, None
+
+
+@register("delta_3ruu")
+def _delta_3ruu() -> Definition:
+    return delta_3ruu_design()
 
 
 @register("4ruu")

@@ -1,4 +1,4 @@
-"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``, ``pinmob scan``.
+"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``, ``pinmob scan``, ``pinmob sweep``.
 
 The commands only parse, call the library and format. Errors are printed as
 one line on stderr (``pinmob: error: ...``) with exit status 2, never with a
@@ -43,12 +43,19 @@ def _scan(args: argparse.Namespace) -> int:
     return scan.run(args)
 
 
-#: The commands; each imports its module when it runs (``pinmob analyze`` loads neither the viewer nor the scans).
+def _sweep(args: argparse.Namespace) -> int:
+    from pinmob.cli import sweep
+
+    return sweep.run(args)
+
+
+#: The commands; each imports its module when it runs (``pinmob analyze`` loads neither the viewer nor the scans nor Dask).
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "models": _models,
     "analyze": _analyze,
     "show": _show,
     "scan": _scan,
+    "sweep": _sweep,
 }
 
 
@@ -68,6 +75,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
+        warnings.filterwarnings("ignore", category=ResourceWarning)  # Dask's sockets at exit: not the user's business
         warnings.showwarning = _show_warning
         return _run(args)
 

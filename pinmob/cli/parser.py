@@ -1,4 +1,4 @@
-"""The command line's arguments: ``pinmob models|analyze|show|scan`` and their options."""
+"""The command line's arguments: ``pinmob models|analyze|show|scan|sweep`` and their options."""
 
 from __future__ import annotations
 
@@ -33,7 +33,7 @@ class Parser(argparse.ArgumentParser):
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``pinmob`` argument parser with its four commands."""
+    """The ``pinmob`` argument parser with its five commands."""
     parser = Parser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
     sub = parser.add_subparsers(dest="command", required=True)
 
@@ -126,7 +126,25 @@ def build_parser() -> argparse.ArgumentParser:
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
     p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
-    p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1)")
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="worker processes of a Dask LocalCluster, used when the scan is long enough to pay for it "
+        "(results identical to 1)",
+    )
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    p = sub.add_parser("sweep", help="a design-space sweep: per design its mobility and a workspace scan")
+    p.add_argument("spec", help="sweep spec file (TOML): a family or template, the designs, the scan of each")
+    p.add_argument("--out", metavar="FILE.parquet", help="write the records here (streamed; re-running resumes)")
+    p.add_argument("--csv", metavar="FILE.csv", help="also write the records as CSV (at the end of a complete run)")
+    p.add_argument("--atlas", metavar="FILE.png", help="atlas plot (default with --out: OUT_atlas.png)")
+    p.add_argument("--pareto", metavar="FILE.png", help="Pareto-front plot (default with --out: OUT_pareto.png)")
+    p.add_argument("--no-plots", action="store_true", help="no plot")
+    p.add_argument("--workers", type=int, default=1, help="worker processes of a Dask LocalCluster (default 1: here)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="compute the designs on the Dask cluster at this address")
+    p.add_argument("--force", action="store_true", help="overwrite --csv and plot files, or an --out of another sweep")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser

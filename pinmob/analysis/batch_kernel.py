@@ -205,18 +205,8 @@ def ranks(
             if ratios:  # sigma_g / sigma_1 of the limb's screws with unit rows
                 complement(a, cols, True, rtol, g, sv, v, scratch, 0)
                 ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
-        for r in range(used):
-            for i in range(6):
-                g[r, i] = wrenches[r, i]
-        d = span(g, used, rtol, sv, v)
-        if used:
-            rank[s] = d
-            sv_out[s] = sv
-        for r in range(locked_used):
-            for i in range(6):
-                g[r, i] = locked[r, i]
-        d = span(g, locked_used, rtol, sv, v)
-        if locked_used:
-            locked_rank[s] = d
-            asv_out[s] = sv
+        rank[s] = span(wrenches, used, rtol, sv, v)  # the stacked wrenches (rebuilt for each configuration)
+        sv_out[s] = sv
+        locked_rank[s] = span(locked, locked_used, rtol, sv, v)
+        asv_out[s] = sv
     return limb_rank, rank, locked_rank, sv_out, asv_out, ratio

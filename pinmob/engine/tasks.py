@@ -77,6 +77,7 @@ def ordered_results(
                 continue
             if not pending:
                 if exhausted:
+                    watch.look(force=True)  # a worker lost and replaced within the last POLL still counts
                     return
                 continue
             try:
@@ -124,9 +125,10 @@ class _Watch:
                 f"the Dask scheduler does not answer any more ({type(exc).__name__}); the work stopped"
             ) from None
 
-    def look(self) -> None:
+    def look(self, force: bool = False) -> None:
+        """Count the workers gone since the last look (at most every ``POLL`` s unless ``force``)."""
         now = time.monotonic()
-        if now - self.last < POLL:
+        if now - self.last < POLL and not force:
             return
         self.last = now
         current = self._workers()

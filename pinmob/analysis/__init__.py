@@ -7,7 +7,8 @@
 :mod:`~pinmob.analysis.generic` (generic ranks), :mod:`~pinmob.analysis.singularity`
 and :mod:`~pinmob.analysis.singularity_analysis`, :mod:`~pinmob.analysis.paper`
 (the seed paper's view), :mod:`~pinmob.analysis.modes` (assembly modes),
-:mod:`~pinmob.analysis.motion_path` (following a motion), :mod:`~pinmob.analysis.batch`
+:mod:`~pinmob.analysis.motion_path` (following a motion), :mod:`~pinmob.analysis.motion_limits`
+(what stops it), :mod:`~pinmob.analysis.batch`
 (many configurations), and :mod:`~pinmob.analysis.report` (:class:`Report` and
 :func:`analyze`, the one entry point).
 """

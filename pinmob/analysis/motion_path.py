@@ -47,6 +47,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import Displacement, angle_between, displacement, measure_displacement
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.motion import Motion
+from pinmob.analysis.motion_limits import describe, limiting_limbs, stop_notes
 from pinmob.assembly.assemble import assemble_pose as _assemble_pose
 from pinmob.assembly.assemble import project
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed, compute_kinematics, stacked_error
@@ -134,6 +135,7 @@ class _Follower:
         self.model, self.data = mech.model, mech.model.createData()
         self.w = twist_scaling(mech.length_scale)
         self.pid = mech.platform_id
+        self.unit = "m" if motion.kind is MotionKind.TRANSLATION else "rad"
 
     def pose(self, q: Array) -> pin.SE3:
         compute_kinematics(self.model, self.data, q)
@@ -193,29 +195,32 @@ class _Follower:
 
     def branch(self, q: Array, unit: Array, amp: float, ds: float) -> tuple[list[Array], float, str]:
         """Configurations from q along ``unit`` up to ``amp``, the distance covered, and why it stopped ("" if not)."""
-        path, current, covered = [q], q, 0.0
+        path, current, covered = [q], q, [0.0]
         start = self.pose(q)
         limit = int(np.ceil(amp / ds)) * 2**MAX_HALVINGS + 4  # every step covers at least ds / 2^MAX_HALVINGS
-        while covered < amp * (1 - 1e-9):
+        while covered[-1] < amp * (1 - 1e-9):
             if len(path) > limit:
-                return path, covered, f"{limit} steps taken without reaching the amplitude"
+                return path, covered[-1], f"{limit} steps taken without reaching the amplitude"
             om_p = self.pose(current)
             # the motion's screw stays fixed in the world: re-express it at the current platform origin
             direction = shift_twists(unit, om_p.translation - start.translation)
             projected, why = self.project_free(current, direction)
             if projected is None:
-                return path, covered, why
-            h = min(ds, amp - covered)
+                return path, covered[-1], why
+            h = first = min(ds, amp - covered[-1])
             for _ in range(MAX_HALVINGS + 1):
                 nxt, why = self.step(current, om_p, projected, h)
                 if nxt is not None:
                     break
                 h /= 2
             if nxt is None:
-                return path, covered, f"{why} (also with steps down to {h * 2:.2g})"
+                why = f"{why} (also with steps down to {h * 2:.2g})"
+                limits = limiting_limbs(self.mech, path, covered, first, self.rtol)
+                return path, covered[-1], f"{describe(limits, self.unit)}, so {why}" if limits else why
             path.append(nxt)
-            current, covered = nxt, covered + h
-        return path, covered, ""
+            current = nxt
+            covered.append(covered[-1] + h)
+        return path, covered[-1], ""
 
 
 def follow_motion(
@@ -264,7 +269,6 @@ def follow_motion(
     unit = motion.twist / np.linalg.norm(motion.twist[_measure(motion)])
     follower = _Follower(mech, motion, rtol, closure_tol, max_deviation)
     start = follower.pose(q)
-    unit_name = "m" if motion.kind is MotionKind.TRANSLATION else "rad"
     branches, reached, reasons, moved = [], [], [], []
     for sign in (1.0, -1.0):
         path, covered, why = follower.branch(q, sign * unit, amp, amp / steps)
@@ -278,19 +282,6 @@ def follow_motion(
         branches[1],
         (reached[0], reached[1]),
         amp,
-        _notes(motion.label, reasons, reached, amp, unit_name),
+        stop_notes(motion.label, reasons, reached, amp, follower.unit),
         (moved[0], moved[1]),
     )
-
-
-def _notes(label: str, reasons: list[str], reached: list[float], amp: float, unit: str) -> tuple[str, ...]:
-    """One note per direction that stopped early; one for both when neither moved, for the same reason."""
-    hint = "; the mobility found there is only instantaneous in this direction"
-    if reasons[0] and reasons[0] == reasons[1] and reached == [0.0, 0.0]:
-        return (f"{label}: cannot be followed either way from here: {reasons[0]}{hint}",)
-    notes = []
-    for word, why, done in zip(("forwards", "backwards"), reasons, reached, strict=True):
-        if why:
-            extra = hint if done == 0.0 else ""
-            notes.append(f"{label}: stopped {word} after {done:.3g} {unit} of {amp:.3g}: {why}{extra}")
-    return tuple(notes)

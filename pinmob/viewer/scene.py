@@ -22,6 +22,7 @@ from pinmob.analysis.mobility import Mobility, platform_mobility
 from pinmob.analysis.motion_path import MotionPath, follow_motion
 from pinmob.exceptions import ConfigurationError, ViewerError, choices
 from pinmob.model.mechanism import Mechanism
+from pinmob.progress import step
 from pinmob.screw.rank import RTOL
 from pinmob.viewer.commands import DeleteControl, SetAnimation, SetControl, selector_callback
 from pinmob.viewer.glyphs import Glyph, constraint_glyph, motion_glyph
@@ -132,11 +133,14 @@ def prepare(
     if motion is not None and motion not in labels:
         raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
     paths = {}
-    for m in mob.motions:
-        if animate:
-            paths[m.label] = follow_motion(mech, q, m, amplitude=amplitude, steps=steps)
-        else:
-            paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
+    with step(f"following the free motions of {mech.name}", total=len(mob.motions) if animate else 0) as bar:
+        for m in mob.motions:
+            bar.set_postfix_str(m.label)
+            if animate:
+                paths[m.label] = follow_motion(mech, q, m, amplitude=amplitude, steps=steps)
+                bar.update()
+            else:
+                paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
     return q, mob, paths
 
 

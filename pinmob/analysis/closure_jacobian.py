@@ -23,6 +23,7 @@ import pinocchio as pin
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.residual import stacked_error
 from pinmob.model.joints import frame_id, linear_velocity_mask
+from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.rank import RankDecision, decide_rank
 
@@ -140,3 +141,18 @@ def closure_jacobian_twists(conf: Configuration, rtol: float) -> Array:
         return np.zeros((6, 0))
     dec = decide_rank(image.T, rtol, n=6, reference=reference)
     return dec.row_space.T / scale
+
+
+def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str, ...]:
+    """Joints with a rate above ``tol`` times the largest in the motions ``basis`` (nv, k)."""
+    model = mech.model
+    if basis.size == 0:
+        return ()
+    size = np.linalg.norm(basis, axis=1)
+    top = float(size.max()) or 1.0
+    return tuple(
+        model.names[j]
+        for j in range(1, model.njoints)
+        if model.joints[j].nv
+        and size[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv].max() > tol * top
+    )

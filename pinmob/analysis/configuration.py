@@ -91,6 +91,7 @@ class Configuration:
     ) -> None:
         tol = check_closure_tol(closure_tol)
         if isinstance(q, str):
+            q = mechanism.configuration_name(q)
             vec = closed_configuration(mechanism, q, tol)
             name = q if name is None else name
             source = source or f"named configuration {q!r}"

@@ -10,7 +10,7 @@ import numpy as np
 
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
-from pinmob.screw.bases import axis_label
+from pinmob.screw.bases import axis_label, clean
 from pinmob.screw.classify import MotionKind, ScrewSystem, WrenchKind
 
 #: Words for the motion kinds in text reports.
@@ -61,21 +61,42 @@ class Motion(ReadOnlyArrays):
     twist: Array
     label: str
 
-    def to_dict(self) -> dict[str, Any]:
-        """``{kind, label, direction, point, pitch}`` (plain JSON)."""
-        return {
+    def world_point(self, origin: Array, length: float = 1.0) -> Array | None:
+        """The axis point in world coordinates [m], ``origin + point`` (``origin``: the reference frame's origin).
+
+        Entries below ``1e-10 length`` [m] are zeroed (round-off of the sum).
+        """
+        return None if self.point is None else clean(np.asarray(origin, float) + self.point, length)
+
+    def to_dict(self, origin: Array | None = None, length: float = 1.0) -> dict[str, Any]:
+        """``{kind, label, direction, point, pitch}`` (plain JSON), with ``world_point`` when ``origin`` is given.
+
+        Args:
+            origin: (3,) world position [m] of the origin ``point`` is relative to.
+            length: the mechanism's length scale L [m] (world coordinates below 1e-10 L are 0).
+        """
+        out = {
             "kind": self.kind.value,
             "label": self.label,
             "direction": vector(self.direction),
             "point": vector(self.point),
             "pitch": self.pitch,
         }
+        if origin is not None:
+            out["world_point"] = vector(self.world_point(origin, length))
+        return out
 
-    def line(self) -> str:
-        """``  T1 x     translation direction [...]`` (+ ``through [...] m``, ``pitch ... m/rad``)."""
+    def line(self, origin: Array, length: float = 1.0) -> str:
+        """``  R1 z     rotation    direction [...], axis through [...] m (world)`` (+ ``pitch ... m/rad``).
+
+        Args:
+            origin: (3,) world position [m] of the origin the axis point is relative to.
+            length: the mechanism's length scale L [m] (entries below 1e-10 L print as 0).
+        """
         text = f"  {self.label:<8} {KIND_WORDS[self.kind]:<11} direction {numbers(self.direction)}"
-        if self.point is not None:
-            text += f" through {numbers(self.point)} m"
+        point = self.world_point(origin, length)
+        if point is not None:
+            text += f", axis through {numbers(point)} m (world)"
         if self.kind is MotionKind.SCREW:
             text += f", pitch {self.pitch:.4g} m/rad"
         return text
@@ -99,21 +120,42 @@ class Constraint(ReadOnlyArrays):
     pitch: float | None
     wrench: Array
 
-    def to_dict(self) -> dict[str, Any]:
-        """``{kind, direction, point, pitch, wrench}`` (plain JSON)."""
-        return {
+    def world_point(self, origin: Array, length: float = 1.0) -> Array | None:
+        """The point of the line of action in world coordinates [m], ``origin + point``.
+
+        Entries below ``1e-10 length`` [m] are zeroed (round-off of the sum).
+        """
+        return None if self.point is None else clean(np.asarray(origin, float) + self.point, length)
+
+    def to_dict(self, origin: Array | None = None, length: float = 1.0) -> dict[str, Any]:
+        """``{kind, direction, point, pitch, wrench}`` (plain JSON), with ``world_point`` when ``origin`` is given.
+
+        Args:
+            origin: (3,) world position [m] of the origin ``point`` is relative to.
+            length: the mechanism's length scale L [m] (world coordinates below 1e-10 L are 0).
+        """
+        out = {
             "kind": self.kind.value,
             "direction": vector(self.direction),
             "point": vector(self.point),
             "pitch": self.pitch,
             "wrench": vector(self.wrench),
         }
+        if origin is not None:
+            out["world_point"] = vector(self.world_point(origin, length))
+        return out
 
-    def line(self) -> str:
-        """``  couple  direction [...]`` (+ ``through [...] m``, ``pitch ... m/rad``)."""
+    def line(self, origin: Array, length: float = 1.0) -> str:
+        """``  force   direction [...], line through [...] m (world)`` (+ ``pitch ... m/rad``); a couple has no line.
+
+        Args:
+            origin: (3,) world position [m] of the origin the point is relative to.
+            length: the mechanism's length scale L [m] (entries below 1e-10 L print as 0).
+        """
         text = f"  {self.kind.value:<7} direction {numbers(self.direction)}"
-        if self.point is not None:
-            text += f" through {numbers(self.point)} m"
+        point = self.world_point(origin, length)
+        if point is not None:
+            text += f", line through {numbers(point)} m (world)"
         if self.kind is WrenchKind.WRENCH:
             text += f", pitch {self.pitch:.4g} m/rad"
         return text

@@ -31,6 +31,7 @@ from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.paper import paper_mobility
 from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
+from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
 
 
@@ -246,6 +247,12 @@ class Report:
                 )
         return "\n".join(lines)
 
+    def brief(self) -> str:
+        """The one-line answer ``pinmob analyze --brief`` prints: DoF, type, motions (world axis points), singularity."""
+        sing = self.singularity if self.has_limbs else None
+        chain = self.mechanism_mobility if self.mobility is None else None
+        return summary_line(self.mechanism, self.configuration, self.mobility, sing, chain)
+
     def _actuator_lines(self) -> list[str]:
         sets = self.actuator_sets
         if sets is None:
@@ -263,6 +270,7 @@ MECHANISM_KEYS = (
     "closure_rows",
     "closure_rank",
     "mechanism_dof",
+    "internal_dof",
     "idle_dof",
     "idle_joints",
     "redundant_constraints",

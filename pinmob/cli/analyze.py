@@ -40,7 +40,10 @@ def run(args: argparse.Namespace) -> int:
         restarts=args.restarts,
         relax=args.relax,
     )
-    print(json.dumps(report.to_dict(), indent=2, allow_nan=False) if args.json else report)
+    if args.json:
+        print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
+    else:
+        print(report.brief() if args.brief else report)
     return check_status(args, report)
 
 

@@ -5,6 +5,15 @@ from __future__ import annotations
 import argparse
 from typing import NoReturn
 
+from pinmob import __version__
+
+#: where every term the reports use is explained (shown by every ``--help``)
+GLOSSARY = (
+    "Terms used in the reports (DoF, T/R/H, pitch, axis point, constraint wrench and rank, generic, twist rank, "
+    "Type I/II, distance to singularity, L, rtol, pin.LOCAL_WORLD_ALIGNED, closure rank, Grubler-Kutzbach, "
+    "internal and idle motions, ...) are explained in docs/glossary.md of pinmob's sources."
+)
+
 
 class Parser(argparse.ArgumentParser):
     """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged)."""
@@ -16,16 +25,23 @@ class Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``pinmob`` argument parser with its four commands."""
-    parser = Parser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
+    parser = Parser(
+        prog="pinmob", description="Platform mobility of parallel and closed-chain robots.", epilog=GLOSSARY
+    )
+    parser.add_argument("--version", action="version", version=f"pinmob {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p = sub.add_parser("models", help="list the built-in mechanisms")
+    p = sub.add_parser("models", help="list the built-in mechanisms", epilog=GLOSSARY)
     p.add_argument("--json", action="store_true", help="print JSON")
 
-    p = sub.add_parser("analyze", help="mobility of the platform at a configuration")
-    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p = sub.add_parser("analyze", help="mobility of the platform at a configuration", epilog=GLOSSARY)
+    p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    form = p.add_mutually_exclusive_group()
+    form.add_argument("--json", action="store_true", help="print the result as JSON")
+    form.add_argument(
+        "--brief", action="store_true", help="print only the one-line answer (DoF, type, motions, singularity)"
+    )
     p.add_argument(
         "--paper-view",
         action="store_true",
@@ -60,8 +76,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="also list every valid set of K actuated joints (exhaustive)",
     )
 
-    p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat")
-    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat", epilog=GLOSSARY)
+    p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
     p.add_argument("--html", metavar="FILE", help="write a self-contained HTML file instead of using a server")
     p.add_argument("--force", action="store_true", help="with --html: overwrite FILE if it exists")
@@ -75,11 +91,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--motion", help="free motion shown first, by label (e.g. 'T1 x'; default: the first)")
     p.add_argument("--wrenches", action="store_true", help="show the constraint wrenches")
     p.add_argument(
-        "--amplitude", type=float, help="distance of each motion: m for translations, rad for rotations/screws"
+        "--amplitude",
+        type=float,
+        help="distance of each motion: m for translations, rad for rotations/screws "
+        "(default: 0.2 L for translations, L the mechanism's length scale; 0.35 rad for rotations and screws)",
     )
     p.add_argument("--steps", type=int, default=12, help="continuation steps per direction (default 12)")
-    p = sub.add_parser("scan", help="mobility and singularities along a path or over a workspace slice")
-    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p = sub.add_parser(
+        "scan", help="mobility and singularities along a path or over a workspace slice", epilog=GLOSSARY
+    )
+    p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument(
         "--from",
         dest="start",
@@ -108,7 +129,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
     p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
-    p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1)")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1; default 1)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar (none either when not a terminal)")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
     return parser

@@ -14,7 +14,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.exceptions import ConfigurationError, FrameError, choices, did_you_mean
 from pinmob.screw.algebra import Array, Mask
 
 #: Integer index array.
@@ -22,12 +22,26 @@ IndexArray = NDArray[np.intp]
 
 
 def frame_id(model: pin.Model, name: str) -> int:
-    """Index of frame ``name``; a :class:`FrameError` listing the frames otherwise."""
+    """Index of frame ``name`` (exactly); a :class:`FrameError` suggesting close names and listing the frames otherwise."""
     if not model.existFrame(name):
+        names = [f.name for f in model.frames]
         raise FrameError(
-            f"no frame {name!r} in model {model.name!r}; valid frames: {choices(f.name for f in model.frames)}"
+            f"no frame {name!r} in model {model.name!r}{did_you_mean(name, names)}; valid frames: {choices(names)}"
         )
     return model.getFrameId(name)
+
+
+def frame_name(model: pin.Model, name: str) -> str:
+    """The frame ``name`` stands for, matched ignoring case where that is unambiguous (a name typed by a user).
+
+    Raises:
+        FrameError: no such frame (the message suggests close names and lists the frames).
+    """
+    same = [f.name for f in model.frames if f.name.casefold() == name.casefold()]
+    if model.existFrame(name) or len(same) != 1:
+        frame_id(model, name)  # the name itself, or the error
+        return name
+    return same[0]
 
 
 def joint_names(model: pin.Model) -> list[str]:

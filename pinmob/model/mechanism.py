@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.exceptions import ConfigurationError, FrameError, choices, match_name
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
 from pinmob.model.limb import Limb
@@ -246,6 +246,14 @@ class Mechanism:
     def actuated(self) -> tuple[str, ...]:
         """All actuated joint names, limb by limb, then those outside limbs."""
         return tuple(a for limb in self.limbs for a in limb.actuated) + self.extra_actuated
+
+    def configuration_name(self, name: str) -> str:
+        """The named configuration ``name`` stands for, matched ignoring case where that is unambiguous.
+
+        Raises:
+            ConfigurationError: no such configuration (the message suggests close names and lists them).
+        """
+        return match_name(name, self.configurations, "configuration", f" in {self.name!r}")
 
     def limb(self, name: str) -> Limb:
         """The limb called ``name``."""

@@ -96,8 +96,8 @@ def run_in_terminal(cmd: list[str], timeout: float = 120.0) -> tuple[int, str]:
 
 def test_a_long_step_shows_a_bar_on_a_terminal_only():
     status, terminal = run_in_terminal(SLOW)
-    assert status == 2
-    assert "pinmob: closing the loops of kangaroo_like (restarts)" in terminal
+    assert status == 2, terminal[-2000:]
+    assert "pinmob: closing the loops of kangaroo_like (restarts)" in terminal, terminal[-2000:]
     assert "pinmob: error: 'kangaroo_like' (as declared) could not be closed" in terminal
     piped = subprocess.run(SLOW, capture_output=True, text=True, timeout=120)
     assert piped.returncode == 2

@@ -298,4 +298,4 @@ def test_the_flat_rotation_names_the_stretched_limbs(flat):
     q = pinmob.closed_configuration(flat, "flat")
     motion = next(m for m in pinmob.analyze(flat, q).motions if m.label == "R1 z")
     (note,) = follow_motion(flat, q, motion, steps=4).notes
-    assert "limbs A, B, C are at the edge of their workspace (a serial singularity" in note
+    assert "limbs A, B, C are already at the edge of their workspace (a serial singularity" in note

@@ -18,7 +18,7 @@ LAYERS = [
     {"pinmob.catalog", "pinmob.cli", "pinmob", "pinmob.__main__"},
 ]
 #: Third-party packages only the presentation layers may import (the core never draws or plots).
-PRESENTATION = {"meshcat", "matplotlib", "zmq", "tqdm"}
+PRESENTATION = {"meshcat", "matplotlib", "zmq", "tqdm", "tornado", "umsgpack"}
 
 
 def module_name(path: Path) -> str:

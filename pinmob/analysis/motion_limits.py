@@ -100,7 +100,7 @@ def describe(limits: Sequence[LimbLimit], unit: str) -> str:
     subject = f"limb{'s' if several else ''} {names}"
     edge = f"the edge of {'their' if several else 'its'} workspace (a serial singularity: stretched or folded)"
     if all(limit.ahead == 0.0 for limit in limits):
-        return f"{subject} {'are' if several else 'is'} at {edge} here"
+        return f"{subject} {'are' if several else 'is'} already at {edge}"
     return f"{subject} reach{'' if several else 'es'} {edge} about {limits[0].ahead:.2g} {unit} further"
 
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import fcntl
 import os
 import pty
+import re
 import select
 import struct
 import subprocess
@@ -97,9 +98,10 @@ def run_in_terminal(cmd: list[str], timeout: float = 120.0) -> tuple[int, str]:
 def test_a_long_step_shows_a_bar_on_a_terminal_only():
     status, terminal = run_in_terminal(SLOW)
     assert status == 2, terminal[-2000:]
-    assert "pinmob: closing the loops of kangaroo_like (restarts)" in terminal, terminal[-2000:]
+    # the restarts, then each closure tried alone: together well over the two seconds a bar waits for
+    assert re.search(r"pinmob: (closing the loops|testing each closure) of kangaroo_like", terminal), terminal[-2000:]
     assert "pinmob: error: 'kangaroo_like' (as declared) could not be closed" in terminal
     piped = subprocess.run(SLOW, capture_output=True, text=True, timeout=120)
     assert piped.returncode == 2
-    assert "closing the loops" not in piped.stderr and "\r" not in piped.stderr
+    assert not re.search(r"closing the loops|testing each closure", piped.stderr) and "\r" not in piped.stderr
     assert piped.stderr.splitlines()[-1].startswith("pinmob: error: 'kangaroo_like' (as declared)")

@@ -41,6 +41,21 @@ def numbers(a: Array, digits: int = 4) -> str:
     return "[" + ", ".join(f"{x: .{digits}g}" for x in np.asarray(a) + 0.0) + "]"
 
 
+def world_point(point: Array | None, origin: Array, length: float = 1.0) -> Array | None:
+    """``origin + point`` [m]: a point given relative to an origin, in world coordinates (None stays None).
+
+    Entries below ``1e-10 length`` [m] are zeroed (round-off of the sum).
+    """
+    return None if point is None else clean(np.asarray(origin, float) + point, length)
+
+
+def with_world_point(out: dict[str, Any], point: Array | None, origin: Array | None, length: float) -> dict[str, Any]:
+    """``out`` with ``world_point`` (see :func:`world_point`) added when ``origin`` is given."""
+    if origin is not None:
+        out["world_point"] = vector(world_point(point, origin, length))
+    return out
+
+
 @dataclass(frozen=True)
 class Motion(ReadOnlyArrays):
     """One free motion of the platform (SI units, Pinocchio order).
@@ -62,19 +77,11 @@ class Motion(ReadOnlyArrays):
     label: str
 
     def world_point(self, origin: Array, length: float = 1.0) -> Array | None:
-        """The axis point in world coordinates [m], ``origin + point`` (``origin``: the reference frame's origin).
-
-        Entries below ``1e-10 length`` [m] are zeroed (round-off of the sum).
-        """
-        return None if self.point is None else clean(np.asarray(origin, float) + self.point, length)
+        """The axis point in world coordinates [m], ``origin + point`` (see :func:`world_point`)."""
+        return world_point(self.point, origin, length)
 
     def to_dict(self, origin: Array | None = None, length: float = 1.0) -> dict[str, Any]:
-        """``{kind, label, direction, point, pitch}`` (plain JSON), with ``world_point`` when ``origin`` is given.
-
-        Args:
-            origin: (3,) world position [m] of the origin ``point`` is relative to.
-            length: the mechanism's length scale L [m] (world coordinates below 1e-10 L are 0).
-        """
+        """``{kind, label, direction, point, pitch}`` (plain JSON); ``world_point`` too when ``origin`` (3,) [m] is given (:func:`with_world_point`)."""
         out = {
             "kind": self.kind.value,
             "label": self.label,
@@ -82,9 +89,7 @@ class Motion(ReadOnlyArrays):
             "point": vector(self.point),
             "pitch": self.pitch,
         }
-        if origin is not None:
-            out["world_point"] = vector(self.world_point(origin, length))
-        return out
+        return with_world_point(out, self.point, origin, length)
 
     def line(self, origin: Array, length: float = 1.0) -> str:
         """``  R1 z     rotation    direction [...], axis through [...] m (world)`` (+ ``pitch ... m/rad``).
@@ -121,19 +126,11 @@ class Constraint(ReadOnlyArrays):
     wrench: Array
 
     def world_point(self, origin: Array, length: float = 1.0) -> Array | None:
-        """The point of the line of action in world coordinates [m], ``origin + point``.
-
-        Entries below ``1e-10 length`` [m] are zeroed (round-off of the sum).
-        """
-        return None if self.point is None else clean(np.asarray(origin, float) + self.point, length)
+        """The point of the line of action in world coordinates [m], ``origin + point`` (see :func:`world_point`)."""
+        return world_point(self.point, origin, length)
 
     def to_dict(self, origin: Array | None = None, length: float = 1.0) -> dict[str, Any]:
-        """``{kind, direction, point, pitch, wrench}`` (plain JSON), with ``world_point`` when ``origin`` is given.
-
-        Args:
-            origin: (3,) world position [m] of the origin ``point`` is relative to.
-            length: the mechanism's length scale L [m] (world coordinates below 1e-10 L are 0).
-        """
+        """``{kind, direction, point, pitch, wrench}`` (plain JSON); ``world_point`` too when ``origin`` (3,) [m] is given (:func:`with_world_point`)."""
         out = {
             "kind": self.kind.value,
             "direction": vector(self.direction),
@@ -141,9 +138,7 @@ class Constraint(ReadOnlyArrays):
             "pitch": self.pitch,
             "wrench": vector(self.wrench),
         }
-        if origin is not None:
-            out["world_point"] = vector(self.world_point(origin, length))
-        return out
+        return with_world_point(out, self.point, origin, length)
 
     def line(self, origin: Array, length: float = 1.0) -> str:
         """``  force   direction [...], line through [...] m (world)`` (+ ``pitch ... m/rad``); a couple has no line.

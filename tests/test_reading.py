@@ -188,3 +188,12 @@ def test_every_help_points_to_the_glossary():
 )  # fmt: skip
 def test_the_glossary_explains_the_report_terms(term):
     assert term in GLOSSARY.read_text(encoding="utf-8")
+
+
+def test_show_matches_a_motion_label_ignoring_case(tmp_path):
+    from pinmob import viewer
+
+    scene = viewer.export_html(pinmob.load("3-PUU"), "generic", tmp_path / "p.html", motion="t2 Y", steps=1)
+    assert scene.visible == "T2 y" and scene.panel["visible"] == "T2 y"
+    with pytest.raises(ConfigurationError, match=r"no free motion 'T2 x' at this configuration \(did you mean"):
+        viewer.export_html(pinmob.load("3-PUU"), "generic", tmp_path / "q.html", motion="T2 x", steps=1)

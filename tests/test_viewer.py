@@ -410,3 +410,20 @@ def test_sigterm_stops_the_server_it_started(model, when, status):
                 os.kill(pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
+
+
+def test_panel_document_of_the_spherical_wrist(tmp_path):
+    # 3-RRR-spherical at 'generic': three rotations about O = (0, 0, 0), each clip stopped by a limb
+    # reaching the edge of its workspace; the panel says so in short, per direction, and names the centre
+    scene = viewer.export_html(pinmob.load("3-RRR-spherical"), "generic", tmp_path / "s.html", steps=12)
+    doc = scene.panel
+    assert doc["answer"] == {"dof": 3, "motion_type": "3R", "words": "3 rotations"}
+    assert "The 3 rotation axes meet at (0, 0, 0) m: the platform turns about that point." in doc["summary"]
+    rows = {r["label"]: r for r in doc["motions"]}
+    assert [r["status"] for r in rows.values()] == ["partial"] * 3
+    assert rows["R1 x"]["why"][0].startswith("forwards, limb A reaches the edge of its workspace")
+    assert rows["R1 x"]["why"][1].startswith("backwards, limb C reaches the edge of its workspace")
+    assert len(rows["R3 z"]["why"]) == 1 and rows["R3 z"]["why"][0].startswith("forwards, limb A reaches")
+    for r in rows.values():
+        assert len(r["notes"]) == len(r["why"]) and all(note in " ".join(scene.notes) for note in r["notes"])
+        assert r["point"] is not None and abs(np.cross(r["point"], r["direction"])).max() < 1e-9  # through O

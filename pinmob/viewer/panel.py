@@ -50,14 +50,15 @@ def hex_color(color: int) -> str:
 def _reason(note: str) -> str:
     """The cause in a stop note, short: the limbs at the edge of their workspace, else the step's failure.
 
-    Prefixed ``+:`` or ``-:`` when one direction stopped.
+    Prefixed ``forwards,`` or ``backwards,`` when one direction stopped.
     """
     why = note.split(": ", 1)[1] if ": " in note else note
-    sign = "+: " if why.startswith("stopped forwards") else "-: " if why.startswith("stopped backwards") else ""
-    for marker in ("cannot be followed either way from here: ", " rad: ", " m: "):
-        if marker in why:
-            why = why.split(marker, 1)[1]
-            break
+    sign = (
+        "forwards, " if why.startswith("stopped forwards") else "backwards, " if why.startswith("stopped back") else ""
+    )
+    if why.startswith("stopped ") and ": " in why:  # "stopped forwards after 0.02 rad of 0.35: <why>"
+        why = why.split(": ", 1)[1]
+    why = why.removeprefix("cannot be followed either way from here: ")
     why = why.split("; the mobility found there is only instantaneous")[0]
     return sign + (why.split(", so ")[0] if why.startswith("limb") else why.split(" (also with steps")[0])
 
@@ -230,6 +231,12 @@ def panel_document(
     """
     where = f" at '{mob.configuration}'" if mob.configuration else ""
     summary = ["Axis points are in world coordinates [m]; the world origin and axes are drawn in the scene."]
+    centre = mob.rotation_centre
+    if centre is not None:
+        summary.append(
+            f"The {mob.rotations} rotation axes meet at ({', '.join(f'{x:.4g}' for x in centre + 0.0)}) m: "
+            "the platform turns about that point."
+        )
     if generated:
         summary.append("The mechanism is drawn as a stick figure (its URDF has no visuals).")
     constraints = [

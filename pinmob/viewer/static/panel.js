@@ -84,7 +84,7 @@
     }
     const row = doc.motions.find((m) => m.label === label);
     const playing = state.panel.querySelector(".pinmob-playing");
-    playing.textContent = "Playing " + label + " (" + row.kind_word + "): " + row.clip_text + (row.why.length ? ": " + row.why.join("; ") : "");
+    playing.textContent = "Playing " + label + " (" + row.kind_word + "): " + row.clip_text + (row.why.length ? " — " + row.why.join("; ") : "");
     playing.classList.toggle("still", row.status !== "full");
     viewer.set_dirty();
   };
@@ -118,7 +118,7 @@
       const row = el("tr", { class: "pinmob-motion", "data-label": m.label, title: "play " + m.label }, cells);
       row.addEventListener("click", () => pinmob.select(m.label));
       table.appendChild(row);
-      const text = m.clip_text + (m.why.length ? ": " + m.why.join("; ") : "");
+      const text = m.clip_text + (m.why.length ? " — " + m.why.join("; ") : "");
       const detail = el("td", { colspan: String(head.length) }, [el("span", { class: "pinmob-reason", text: text })]);
       if (m.notes.length) {
         detail.appendChild(

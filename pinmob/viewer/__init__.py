@@ -43,6 +43,7 @@ import contextlib
 import io
 
 from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.report import Report
 from pinmob.exceptions import ConfigurationError, ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.html import export_html, scene_html
@@ -55,7 +56,7 @@ __all__ = ["FPS", "ROOT", "Scene", "export_html", "scene_html", "show"]
 def show(
     mech: Mechanism,
     q: Array | str,
-    mobility: Mobility | None = None,
+    mobility: Mobility | Report | None = None,
     *,
     zmq_url: str | None = None,
     port: int | None = None,
@@ -75,7 +76,7 @@ def show(
     Args:
         mech: the mechanism.
         q: configuration (nq,) or the name of one of ``mech.configurations``.
-        mobility: its platform mobility, if already computed.
+        mobility: its platform mobility (or its whole Report), if already computed.
         zmq_url: a running meshcat server (``tcp://127.0.0.1:6000``); default:
             start one on 127.0.0.1 (``scene.server``; it lives until
             ``scene.server.stop()`` or until killed, not with this process).

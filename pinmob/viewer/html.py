@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import Any
 
 from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.report import Report
 from pinmob.exceptions import ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.page import static_page
@@ -39,7 +40,7 @@ class _Recorder:
 def scene_html(
     mech: Mechanism,
     q: Array | str,
-    mobility: Mobility | None = None,
+    mobility: Mobility | Report | None = None,
     *,
     motion: str | None = None,
     wrenches: bool = False,
@@ -63,7 +64,7 @@ def export_html(
     mech: Mechanism,
     q: Array | str,
     path: str | Path,
-    mobility: Mobility | None = None,
+    mobility: Mobility | Report | None = None,
     *,
     overwrite: bool = False,
     motion: str | None = None,
@@ -82,7 +83,7 @@ def export_html(
         mech: the mechanism.
         q: (nq,) closed configuration or the name of one of ``mech.configurations``.
         path: the ``.html`` file to write.
-        mobility: the analysis to show (default: ``analyze(mech, q)``).
+        mobility: the platform mobility (or the Report) to show (default: ``analyze(mech, q)``).
         overwrite: replace an existing file; otherwise an existing file is an error.
         motion: label of the motion visible on opening (default: the first).
         wrenches: show the constraint wrenches (they are in the scene, hidden, otherwise).

@@ -18,6 +18,7 @@ from pinmob.analysis.configuration import as_configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion_path import MotionPath, follow_motion
+from pinmob.analysis.report import Report
 from pinmob.analysis.singularity import Singularity
 from pinmob.exceptions import PinmobError, ViewerError, match_name
 from pinmob.model.mechanism import Mechanism
@@ -51,7 +52,7 @@ class Prepared:
 def prepare(
     mech: Mechanism,
     q: Array | str,
-    mobility: Mobility | None,
+    mobility: Mobility | Report | None,
     amplitude: float | None,
     steps: int,
     animate: bool,
@@ -65,6 +66,8 @@ def prepare(
     """
     conf = as_configuration(mech, q)
     report = analyze(conf, rtol=RTOL)
+    if isinstance(mobility, Report):  # the whole report given: its platform mobility
+        mobility = mobility.mobility
     mob = mobility if mobility is not None else report.mobility
     if mob is None:
         raise ViewerError(f"{mech.name!r} has no platform frame: the viewer shows a platform's free motions")

@@ -10,7 +10,9 @@ Prints:
   (eq. 30), their SVD ``U Sigma V^T`` (eqs. 31-33), the constraint space (eq. 34)
   and the free space S_F (eq. 37): 4 DoF, 3T1R.
 * where pinmob's own analysis (wrenches from the Jacobians at the configuration)
-  differs: every limb is serially singular there, so the answer is 1T1R.
+  differs: every limb is serially singular there, so the answer is 1T1R;
+* and what exists at finite amplitude (``finite=True``, docs/finite-mobility.md): only
+  the translation along z, 1T; the rotation about z is blocked at order 2.
 
 Wrenches are printed ``(f; tau)`` as in the paper; twists in the paper's axis-first
 layout ``(w; v)``. Run: ``python examples/3puu_seed_paper.py``
@@ -101,7 +103,7 @@ def flat() -> None:
     matrix("S_F", twist_to_paper(paper.free_twists.T))
     print(f"  paper's view: {paper.dof} DoF, {paper.motion_type}")
 
-    real = pinmob.analyze(mech, q, configuration="flat")
+    real = pinmob.analyze(mech, q, configuration="flat", finite=True)
     print("\npinmob at the same configuration (wrenches from the Jacobians there):")
     for limb in real.limbs:
         print(
@@ -112,6 +114,14 @@ def flat() -> None:
         f"  constraint rank {real.constraint_rank}: {real.dof} DoF, {real.motion_type} "
         f"({', '.join(m.label for m in real.motions)}); the paper's {paper.motion_type} misses the radial forces "
         f"of the serially singular limbs {', '.join(real.serially_singular_limbs)}"
+    )
+    fm = real.finite
+    print(f"\nat finite amplitude (higher-order conditions up to order {fm.order}, traced, sampled):")
+    for v in fm.motions:
+        print(f"  {v.label}: {v.words()}")
+    print(
+        f"  {fm.finite_dof} DoF finite, {' '.join(b.motion_type or '' for b in fm.free.branches)}; the whole "
+        f"mechanism {fm.finite_mechanism_dof} DoF (instantaneous {fm.free.mechanism_dof})"
     )
 
 

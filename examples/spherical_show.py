@@ -4,7 +4,12 @@ Uses the built-in model '3-RRR-spherical' through the shared main of examples/3p
 at a generic configuration: the actuated joints at A_r1 = 1.07, B_r1 = 0.36, C_r1 = 0.2 rad
 (closed from 'generic'). There every limb is far from its stretched (serially singular)
 pose (smallest singular value of each limb's angular Jacobian > 0.26; at 'generic' limb A's
-is 0.05), so the three rotations about the centre are followed without drifting.
+is 0.05), so each clip turns the platform about its own axis through the centre. A limb i
+reaches a platform axis v_i only while the angle between v_i and its base axis u_i is at
+most the sum of its two link angles; three of the six half-clips reach that edge of the
+workspace within the default 0.35 rad (limb B stretched at +0.211 rad about x, C at -0.153
+rad about x, A at -0.308 rad about y), stop just before it, and the script prints a note
+saying so; R2 y forwards and R3 z both ways go the whole 0.35 rad.
 
 Run::
 

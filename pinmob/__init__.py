@@ -15,7 +15,8 @@ The package is layered; imports only go down:
 - :mod:`pinmob.analysis`: :class:`Configuration` (the state object), the analyses, :class:`Report` and
   :func:`analyze` (the one entry point);
 - :mod:`pinmob.scan`, :mod:`pinmob.viewer`, :mod:`pinmob.cli`: scans, the meshcat viewer, the command line;
-- :mod:`pinmob.builder`, :mod:`pinmob.catalog`: authoring the built-in models; :mod:`pinmob.testing`: assertions.
+- :mod:`pinmob.builder`, :mod:`pinmob.catalog`: authoring the built-in models; :mod:`pinmob.testing`: assertions;
+- :mod:`pinmob.engine`, :mod:`pinmob.sweeps`: parallel work on Dask, and design-space sweeps (:func:`sweep`).
 - :mod:`pinmob.progress`: progress of long steps, shown by whoever listens (the command line).
 """
 
@@ -51,12 +52,14 @@ from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, Mech
 from pinmob.io import builtin_models, load
 from pinmob.model import Closure, ClosureType, Expectation, Limb, Mechanism, NamedConfiguration
 from pinmob.screw import RTOL, MotionKind, WrenchKind
+from pinmob.sweeps import SweepSpec, load_spec, sweep
 
 __version__ = "0.1.0"
 
 __all__ = [
     "CLOSURE_TOL",
     "RTOL",
+    "SweepSpec",
     "Actuation",
     "Assembly",
     "Closure",
@@ -97,7 +100,9 @@ __all__ = [
     "find_closed",
     "frame_mobility",
     "load",
+    "load_spec",
     "paper_view",
     "project",
     "solve_actuated",
+    "sweep",
 ]

@@ -87,3 +87,7 @@ def match_name(
 
 class ViewerError(PinmobError):
     """The viewer cannot run: meshcat missing, a port in use, no server answering, a file in the way."""
+
+
+class EngineError(PinmobError):
+    """Parallel work cannot go on: no Dask scheduler at an address, every worker lost, a task that kills its workers."""

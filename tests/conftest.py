@@ -26,3 +26,26 @@ def puu_vertical() -> pinmob.Mechanism:
 @pytest.fixture
 def rng() -> np.random.Generator:
     return np.random.default_rng(20261122)
+
+
+@pytest.fixture(scope="session")
+def dask_cluster():
+    """A real Dask LocalCluster of two worker processes (pinmob's worker set-up preloaded), shared by the session."""
+    import logging
+
+    from dask.distributed import Client, LocalCluster
+
+    cluster = LocalCluster(
+        n_workers=2,
+        threads_per_worker=1,
+        processes=True,
+        host="127.0.0.1",
+        dashboard_address="127.0.0.1:0",
+        worker_dashboard_address="127.0.0.1:0",
+        silence_logs=logging.CRITICAL,
+        preload=["pinmob.engine.worker"],
+    )
+    client = Client(cluster)
+    yield cluster
+    client.close()
+    cluster.close()

@@ -10,7 +10,9 @@ singularity class, the whole mechanism's DoF); clicking a row plays that
 motion, which moves the platform on screen, or the panel says why it cannot;
 the glyphs' labels are drawn, apart, where their glyphs are. These tests never
 skip: without Chromium they fail and say how to install it
-(``.ci/browser-deps.sh``).
+(``.ci/browser-deps.sh``). They carry the ``browser`` marker: ``pytest -m "not
+browser"`` leaves them out on purpose, ``pytest -m browser`` runs only them; CI
+(``.ci/run``) runs them all.
 
 Set ``PINMOB_DOCS_SCREENSHOTS=1`` to also write the screenshots of 3-PUU-flat
 to ``docs/``.
@@ -31,6 +33,7 @@ from numpy.testing import assert_allclose
 
 import pinmob
 from pinmob import viewer
+from pinmob.viewer.scene import INSTANTANEOUS_OPACITY
 
 CHROMIUM = os.environ.get("PINMOB_CHROMIUM", "/usr/bin/chromium")
 FLAGS = [
@@ -49,6 +52,8 @@ FLAGS = [
 ]
 WIDTH, HEIGHT = 1100, 700
 DOCS = Path(__file__).resolve().parent.parent / "docs"
+
+pytestmark = pytest.mark.browser  # every test here: select with -m browser, leave out with -m "not browser"
 
 
 @pytest.fixture(scope="module")
@@ -174,6 +179,34 @@ def test_exported_html_in_chromium(browser, flat, tmp_path):
     scene = viewer.export_html(flat, "flat", tmp_path / "flat.html")
     page = open_page(browser, (tmp_path / "flat.html").as_uri())
     check_scene(page, scene, "3puu_flat")
+    page.close()
+
+
+def test_instantaneous_only_motion_is_drawn_as_such(browser, flat, tmp_path):
+    """The flat 3-PUU's R1 z is blocked at order 2 (tests/test_finite.py): its row's verdict says so, its glyph is
+    grey and half transparent, and its clip makes the glyph pulse while the mechanism stays still."""
+    scene = viewer.export_html(flat, "flat", tmp_path / "flat.html", motion="R1 z")
+    assert scene.verdicts == {"T1 z": "finite", "R1 z": "blocked at order 2 (shaky)"}
+    assert (scene.paths["T1 z"].finite, scene.paths["R1 z"].finite) == (True, False)
+    page = open_page(browser, (tmp_path / "flat.html").as_uri())
+    verdicts = page.eval_on_selector_all(
+        "tr.pinmob-motion", "(rows) => rows.map((r) => [r.dataset.label, r.querySelector('td.verdict').innerText])"
+    )
+    assert verdicts == [["T1 z", "finite"], ["R1 z", "blocked at order 2 (shaky)"]]
+    still, moving = ["meshcat", "pinmob", "glyphs", "R1 z"], ["meshcat", "pinmob", "glyphs", "T1 z"]
+    material = "(p) => { const m = viewer.scene_tree.find(p).object.material; return [m.color.getHex(), m.opacity]; }"
+    assert page.evaluate(material, [*still, "<object>"]) == [0x9E9E9E, pytest.approx(INSTANTANEOUS_OPACITY)]
+    assert page.evaluate(material, [*moving, "<object>"])[0] != 0x9E9E9E
+    scale = "(p) => viewer.scene_tree.find(p).object.scale.x"
+    seek(page, 0.0)
+    start = page.evaluate(scale, still)
+    seek(page, 0.25)
+    assert page.evaluate(scale, still) > 1.1 * start  # the glyph pulses...
+    seek(page, 0.0)
+    box = platform_box(page, scene.mobility.platform_origin)
+    before = image(page)
+    seek(page, 0.5)
+    assert (np.abs(image(page) - before).max(axis=2) > 40)[box].mean() > 0  # ...so the clip is not still
     page.close()
 
 
@@ -333,16 +366,19 @@ def check_rows_play(page, scene: viewer.Scene) -> None:
         page.click(f'tr.pinmob-motion[data-label="{label}"]')
         page.wait_for_timeout(200)
         assert loaded_clips(page) == {label}
-        assert page.evaluate(glyph, label) == 1.0
-        assert all(page.evaluate(glyph, other) < 0.5 for other in scene.clips if other != label)
+        base = INSTANTANEOUS_OPACITY if scene.paths[label].finite is False else 1.0
+        assert page.evaluate(glyph, label) == pytest.approx(base)
+        assert all(page.evaluate(glyph, other) < 0.3 for other in scene.clips if other != label)
         assert page.get_attribute(f'.pinmob-label.motion[data-label="{label}"]', "class").endswith("selected")
         path = scene.paths[label]
+        set_visible(page, ["meshcat", "pinmob", "glyphs"], False)  # the mechanism alone (a still clip's glyph pulses)
         seek(page, 0.0)
         start = image(page)
         # the farther end of the clip (frames: q, +, q, -, q): +amplitude, or as far as it went either way
         f, b = len(path.forward) - 1, len(path.backward) - 1
         seek(page, (f if path.reached[0] >= path.reached[1] else 2 * f + b) / viewer.FPS)
         moved = (np.abs(image(page) - start).max(axis=2) > 40)[box].mean()
+        set_visible(page, ["meshcat", "pinmob", "glyphs"], True)
         playing = page.inner_text(".pinmob-playing")
         assert playing.startswith(f"Playing {label}")
         if max(path.reached) > 0:

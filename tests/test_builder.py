@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import tomllib
 from pathlib import Path
 
 import numpy as np
@@ -189,3 +190,38 @@ def test_round_off_is_written_as_zero():
     assert vector([3e-13, 2.0]) == "0 2"
     assert vector([3e-12, 0.5]) == "3e-12 0.5"
     assert toml_value(-1e-17) == "0.0" and toml_value(0.25) == "0.25" and toml_value(2.0) == "2.0"
+
+
+def test_angles_are_written_in_one_range():
+    """Reproducible files: a revolute angle is written in (-pi, pi] whatever multiple of 2 pi it came with (the
+    Delta's rods-horizontal values came out 2 pi apart on two machines); a joint whose limits exclude that value
+    keeps the representative inside them closest to 0; prismatic values and joint-space directions (approach)
+    are not angles and stay; a half turn is roll pi in a URDF whatever the sign of its zero entries' round-off."""
+    b = MechanismBuilder("wrap")
+    limb = b.limb("A")
+    limb.revolute("r", at=[0, 0.1, 0], axis=Z)
+    limb.revolute("wide", at=[0, 0.2, 0], axis=Z, lower=0.0, upper=2 * np.pi)
+    limb.continuous("c", at=[0, 0.3, 0], axis=Z)
+    limb.prismatic("p", at=[0, 0.3, 0], axis=[1, 0, 0], lower=-10, upper=10)
+    limb.tip(at=[0, 0.3, 0])
+    text = b.toml(
+        "wrap.urdf",
+        {
+            "one": {"joints": {"A_r": 7.0, "A_wide": -1.0, "A_c": -np.pi, "A_p": 7.0}},
+            "two": {"seed": {"A_r": -4.0}, "approach": {"A_r": 7.0}},
+        },
+    )
+    doc = tomllib.loads(text)
+    joints = doc["configurations"]["one"]["joints"]
+    assert_allclose(
+        [joints["A_r"], joints["A_wide"], joints["A_c"], joints["A_p"]],
+        [7 - 2 * np.pi, 2 * np.pi - 1, np.pi, 7.0],
+        atol=1e-14,
+    )
+    assert_allclose(doc["configurations"]["two"]["seed"]["A_r"], 2 * np.pi - 4, atol=1e-14)
+    assert doc["configurations"]["two"]["approach"] == {"A_r": 7.0}
+    half_turn = np.diag([1.0, -1.0, -1.0])
+    for eps in (1e-17, -1e-17, 1e-13, -1e-13, 0.0, -0.0):
+        r = half_turn.copy()
+        r[2, 1], r[1, 2] = eps, -eps
+        assert rpy(r)[0] == np.pi, eps

@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
+from model_cases import model_configurations
 
 import pinmob
 from pinmob import paper_view
@@ -152,9 +153,7 @@ def reject_constant(name: str) -> float:
     raise ValueError(f"JSON holds {name}, which is not plain JSON")
 
 
-@pytest.mark.parametrize(
-    "name,config", [(n, c) for n in pinmob.builtin_models() for c in pinmob.load(n).configurations]
-)
+@pytest.mark.parametrize("name,config", model_configurations())
 def test_to_dict_is_plain_json_everywhere(name: str, config: str) -> None:
     """Every built-in model and configuration: to_dict() dumps with allow_nan=False and reads back equal."""
     mob = pinmob.analyze(pinmob.load(name), config)
@@ -185,6 +184,25 @@ def one_line_error(proc: subprocess.CompletedProcess[str]) -> str:
     assert "Traceback" not in proc.stderr
     assert proc.stderr.startswith("pinmob: error: ") and proc.stderr.count("\n") == 1, proc.stderr
     return proc.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "line"),
+    [
+        (
+            ["analyze", "3-PUU", "--cofnig", "generic"],
+            "unrecognized arguments: --cofnig generic; see 'pinmob analyze --help'",
+        ),
+        (["analyze", "3-PUU", "--config"], "argument --config/-c: expected one argument; see 'pinmob analyze --help'"),
+        (["scan", "6-UPS", "-n", "x"], "argument --samples/-n: invalid int value: 'x'; see 'pinmob scan --help'"),
+        (["models", "--jsno"], "unrecognized arguments: --jsno; see 'pinmob models --help'"),
+        (["anlyze", "3-PUU"], "argument command: invalid choice: 'anlyze' (choose from"),
+    ],
+)
+def test_mistyped_command_line_points_to_the_right_help(args, line):
+    """One line naming the bad argument and the help that lists the valid ones: the command's own help for its
+    options (argparse reported unknown options on the top level, whose help does not list them)."""
+    assert line in one_line_error(cli(*args))
 
 
 BAD_INPUT = {

@@ -9,13 +9,15 @@ PACKAGE = Path(__file__).resolve().parent.parent / "pinmob"
 
 #: The layers, bottom first: a module may import only from its own layer or those below.
 LAYERS = [
-    {"pinmob.exceptions", "pinmob.frozen", "pinmob.progress"},
+    {"pinmob.exceptions", "pinmob.frozen", "pinmob.jit_cache", "pinmob.progress"},
     {"pinmob.screw"},
     {"pinmob.model"},
     {"pinmob.assembly", "pinmob.io"},
     {"pinmob.analysis"},
-    {"pinmob.scan", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
-    {"pinmob.catalog", "pinmob.cli", "pinmob", "pinmob.__main__"},
+    {"pinmob.scan", "pinmob.engine", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
+    {"pinmob.catalog"},
+    {"pinmob.sweeps"},
+    {"pinmob.cli", "pinmob", "pinmob.__main__"},
 ]
 #: Third-party packages only the presentation layers may import (the core never draws or plots).
 PRESENTATION = {"meshcat", "matplotlib", "zmq", "tqdm", "tornado", "umsgpack"}

@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from model_cases import model_configurations
 from numpy.testing import assert_allclose
 
 import pinmob
@@ -74,7 +75,7 @@ def test_limb_twists_match_finite_differences(name: str, rng: np.random.Generato
 
 @pytest.mark.parametrize(
     "name,config",
-    [(n, c) for n in pinmob.builtin_models() for c in pinmob.load(n).configurations],
+    model_configurations(),
 )
 def test_closure_jacobian_method_agrees_with_limb_wrenches(name: str, config: str) -> None:
     """Global loop-closure Jacobian (null space mapped through limb A) = limb-wise wrench result."""

@@ -13,6 +13,7 @@ from functools import cache
 import numpy as np
 import pinocchio as pin
 import pytest
+from model_cases import model_configurations, models_with_closures
 from numpy.testing import assert_allclose
 
 import pinmob
@@ -499,10 +500,10 @@ def test_3ur5_meshes_load():
 
 # --------------------------------------------------------------------------- file expectations, both methods
 
-CASES = [(name, c) for name in sorted(pinmob.builtin_models()) for c in mech(name).configurations]
+CASES = model_configurations()
 #: models with closures inside their limbs: the limb-wise check of their expectations is
 #: test_delta_parallelograms_limbwise (it needs the closures taken into account limb by limb)
-INNER_CLOSURES = {name for name, _ in CASES if mech(name).closures}
+INNER_CLOSURES = models_with_closures()
 
 
 @pytest.mark.parametrize("name,config", [(n, c) for n, c in CASES if n not in INNER_CLOSURES])

@@ -8,7 +8,7 @@ import json
 import pickle
 import tomllib
 import warnings
-from contextlib import redirect_stdout
+from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
@@ -44,6 +44,41 @@ def test_report_is_what_the_cli_prints(name: str, config: str) -> None:
         json.dumps(report.to_dict(), allow_nan=False)
     )
     assert cli("analyze", name, "--config", config) == str(report) + "\n"
+
+
+FINITE_CASES = [("3-PUU-flat", "flat"), ("Sarrus", "stretched"), ("6-UPS", "type2"), ("3-UPU", "constraint-singular")]
+
+
+@pytest.mark.parametrize(("name", "config"), FINITE_CASES)
+def test_finite_report_is_what_the_cli_prints(name: str, config: str) -> None:
+    """With ``--finite``: the same equality, and the JSON keys of the finite analysis."""
+    report = pinmob.analyze(pinmob.load(name), config, finite=True)
+    document = json.loads(cli("analyze", name, "--config", config, "--json", "--finite"))
+    assert document == json.loads(json.dumps(report.to_dict(), allow_nan=False))
+    assert cli("analyze", name, "--config", config, "--finite") == str(report) + "\n"
+    for key in ("finite_dof", "finite_mechanism_dof", "finite_dof_locked", "finite"):
+        assert key in document
+    assert all({"finite", "order", "branches"} <= set(m) for m in document["finite"]["motions"])
+    assert "finite mobility: higher-order conditions up to order 4" in str(report)
+
+
+def test_finite_json_without_actuators_has_no_locked_key() -> None:
+    """``finite_dof_locked`` only where actuators are declared (the line-symmetric Bricard declares none)."""
+    from finite_cases import bricard_line_symmetric
+
+    mech = bricard_line_symmetric()
+    document = pinmob.analyze(mech, mech.neutral(), finite=True, generic_rank=5).to_dict()
+    assert document["finite_dof"] == 1 and "finite_dof_locked" not in document and "locked" not in document["finite"]
+
+
+def test_a_bad_finite_order_is_one_line() -> None:
+    out, err = io.StringIO(), io.StringIO()
+    with redirect_stdout(out), redirect_stderr(err):
+        status = main(["analyze", "3-PUU", "--finite", "--finite-order", "9"])
+    assert status == 2 and out.getvalue() == ""
+    assert err.getvalue() == (
+        "pinmob: error: the order bound of the finite analysis must be an integer from 2 to 8, got 9\n"
+    )
 
 
 def test_report_of_a_closed_chain_is_what_the_cli_prints() -> None:

@@ -1,4 +1,4 @@
-"""Scans find singularities where the literature puts them; workers == serial; CSV/JSON/PNG outputs."""
+"""Scans find singularities where the literature puts them; CSV/JSON/PNG outputs."""
 
 from __future__ import annotations
 
@@ -58,32 +58,6 @@ def test_three_puu_rank_drops_at_the_workspace_boundary_only():
     assert all((r["dof"], r["motion_type"]) == (3, "3T") for r in rows[:-1])
     distances = [r["distance"] for r in rows]
     assert all(a > b for a, b in zip(distances, distances[1:]))  # approaching the singularity
-
-
-def _same(a: list[dict], b: list[dict]) -> bool:
-    def norm(r: dict) -> dict:
-        return {k: ("nan" if isinstance(v, float) and math.isnan(v) else v) for k, v in r.items()}
-
-    return [norm(r) for r in a] == [norm(r) for r in b]
-
-
-def test_workers_give_the_serial_results():
-    """Chunks start from seeds of one walk in the parent, so 1, 2 or 3 workers give the same rows, refined
-    points included: a 6-UPS path over three chunks crossing the Type II pose between samples, and a one-row
-    3-PUU grid (a row is split into chunks too) running off the workspace on both sides."""
-    mech = pinmob.load("6-UPS")
-    spec = path_spec(mech, "home", "0,0,0.4,0,0,2.0944", 70)
-    serial = list(scan(mech, spec, workers=1, progress=False))
-    assert sum(not r["refined"] for r in serial) == 70 and sum(r["refined"] for r in serial) == 1
-    assert [r["index"] for r in serial] == sorted(r["index"] for r in serial)
-    assert _same(serial, list(scan(mech, spec, workers=2, progress=False)))
-    assert _same(serial, list(scan(mech, spec, workers=3, progress=False)))
-    puu = pinmob.load("3-PUU")
-    grid = grid_spec(puu, "generic", [("x", 0.0, 0.0, 1), ("y", -0.115, 0.115, 66)])
-    assert len(grid.chunks()) == 3
-    serial = list(scan(puu, grid, workers=1, progress=False))
-    assert _same(serial, list(scan(puu, grid, workers=2, progress=False)))
-    assert any(not r["reachable"] for r in serial) and sum(r["refined"] for r in serial) == 2
 
 
 def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:

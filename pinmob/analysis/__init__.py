@@ -7,8 +7,11 @@
 :mod:`~pinmob.analysis.generic` (generic ranks), :mod:`~pinmob.analysis.singularity`
 and :mod:`~pinmob.analysis.singularity_analysis`, :mod:`~pinmob.analysis.paper`
 (the seed paper's view), :mod:`~pinmob.analysis.modes` (assembly modes),
-:mod:`~pinmob.analysis.motion_path` (following a motion), :mod:`~pinmob.analysis.motion_limits`
-(what stops it), :mod:`~pinmob.analysis.batch`
-(many configurations), and :mod:`~pinmob.analysis.report` (:class:`Report` and
-:func:`analyze`, the one entry point).
+:mod:`~pinmob.analysis.motion_path` and :mod:`~pinmob.analysis.path_follower` (following a
+motion), :mod:`~pinmob.analysis.motion_limits` (what stops it), finite versus instantaneous mobility (:mod:`~pinmob.analysis.finite`, from
+:mod:`~pinmob.analysis.loop_screws`, :mod:`~pinmob.analysis.higher_order`,
+:mod:`~pinmob.analysis.tangent_cone`, :mod:`~pinmob.analysis.branches`,
+:mod:`~pinmob.analysis.verdicts`, :mod:`~pinmob.analysis.local_dimension` and
+:mod:`~pinmob.analysis.finite_side`), :mod:`~pinmob.analysis.batch` (many configurations), and
+:mod:`~pinmob.analysis.report` (:class:`Report` and :func:`analyze`, the one entry point).
 """

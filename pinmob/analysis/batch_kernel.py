@@ -1,21 +1,21 @@
 """The compiled loop behind :func:`pinmob.analysis.batch.analyze_batch`: ranks of N configurations at once.
 
-Pivoted Gram-Schmidt on 6-row matrices, compiled with numba.
+Pivoted Gram-Schmidt on 6-row matrices, compiled with numba (cached by :mod:`pinmob.jit_cache`).
 """
 
 from __future__ import annotations
 
-import numba
 import numpy as np
 from numpy.typing import NDArray
 
+from pinmob.jit_cache import njit
 from pinmob.screw.algebra import Array
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]
 
 
-@numba.njit(cache=True)
+@njit
 def span(a: Array, cols: Ints, tol: float, r: Array, q: Array, first: int) -> int:
     """Orthonormal basis of the span of the columns ``cols`` of a (6, m) matrix; returns the rank.
 
@@ -55,7 +55,7 @@ def span(a: Array, cols: Ints, tol: float, r: Array, q: Array, first: int) -> in
     return rank
 
 
-@numba.njit(cache=True)
+@njit
 def complement(q: Array, rank: int, proj: Array, r: Array, out: Array, first: int) -> int:
     """Orthonormal basis of the complement of ``span(q[:, :rank])``, written to ``out[:, first:]``; returns 6 - rank.
 
@@ -73,7 +73,7 @@ def complement(q: Array, rank: int, proj: Array, r: Array, out: Array, first: in
     return span(proj, np.arange(6), 0.1, r, out, first)
 
 
-@numba.njit(cache=True)
+@njit
 def ranks(
     full: Array,
     origin: Array,

@@ -7,12 +7,18 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.screw.algebra import Array, twist_scaling
 
 
 @dataclass(frozen=True)
 class Displacement:
     """How far the platform went from the start, measured on its poses.
+
+    Each value is given to the resolution the closure tolerance ``tol`` allows (poses are closed to
+    ``tol L`` and ``tol`` rad, so smaller values are noise of the solver and read 0): translation below
+    ``tol L``, rotation below ``tol``, and deviation below ``tol L / |achieved|`` (the angle a pose error of
+    ``tol`` can make over the displacement, W metric) count as 0.
 
     Attributes:
         translation: ``|p_end - p_0|`` [m] (platform origin).
@@ -39,18 +45,38 @@ def displacement(a: pin.SE3, b: pin.SE3) -> Array:
 
 
 def angle_between(a: Array, b: Array) -> float:
-    """Angle [rad] between two vectors; 0 when either is zero."""
+    """Angle [rad] between two vectors; 0 when either is zero.
+
+    ``2 atan2(|u - v|, |u + v|)`` of the unit vectors u, v: accurate to round-off also for nearly parallel
+    vectors, where ``arccos(u . v)`` loses half the digits (1e-8 rad of noise).
+    """
     na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
     if na == 0.0 or nb == 0.0:
         return 0.0
-    return float(np.arccos(np.clip(a @ b / (na * nb), -1.0, 1.0)))
+    u, v = a / na, b / nb
+    return float(2.0 * np.arctan2(np.linalg.norm(u - v), np.linalg.norm(u + v)))
 
 
-def measure_displacement(start: pin.SE3, end: pin.SE3, twist: Array, length: float) -> Displacement:
-    """:class:`Displacement` from pose ``start`` to ``end`` against the intended ``twist`` (6,) at start's origin."""
+def measure_displacement(
+    start: pin.SE3, end: pin.SE3, twist: Array, length: float, tol: float = CLOSURE_TOL
+) -> Displacement:
+    """:class:`Displacement` from pose ``start`` to ``end`` against the intended ``twist`` (6,) at start's origin.
+
+    Args:
+        start: the platform's first pose.
+        end: its last pose.
+        twist: (6,) the intended motion ``[v; w]`` at start's origin, world axes.
+        length: L [m].
+        tol: the closure tolerance the poses were closed to (dimensionless): the resolution of the values.
+    """
     w = twist_scaling(length)
+    achieved = w * displacement(start, end)
+    translation = float(np.linalg.norm(end.translation - start.translation))
+    rotation = float(np.linalg.norm(pin.log3(start.rotation.T @ end.rotation)))
+    size = float(np.linalg.norm(achieved))
+    deviation = angle_between(achieved, w * twist)
     return Displacement(
-        float(np.linalg.norm(end.translation - start.translation)),
-        float(np.linalg.norm(pin.log3(start.rotation.T @ end.rotation))),
-        angle_between(w * displacement(start, end), w * twist),
+        translation if translation > tol * length else 0.0,
+        rotation if rotation > tol else 0.0,
+        deviation if size > 0 and deviation > tol / size else 0.0,
     )

@@ -7,6 +7,8 @@ from collections.abc import Mapping, Sequence
 from numpy.typing import ArrayLike
 
 from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.finite import check_order
+from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Options, Report
 from pinmob.assembly.relaxation import find_closed_relaxed, unclosable
@@ -55,6 +57,8 @@ def analyze(
     generic_rank: int | None = None,
     restarts: int = 20,
     relax: bool = False,
+    finite: bool = False,
+    finite_order: int = ORDER,
 ) -> Report:
     """Everything pinmob answers at a closed configuration, as one :class:`Report`.
 
@@ -78,13 +82,18 @@ def analyze(
         generic_rank: the generic constraint rank (default: declared, else estimated).
         restarts: random restarts when q is None and the mechanism names no configuration.
         relax: with q None and no named configuration, relax unclosable closures to ``3d``.
+        finite: also compute finite versus instantaneous mobility (:mod:`pinmob.analysis.finite`):
+            ``report.finite``.
+        finite_order: the highest order of the conditions the finite analysis checks (2..8).
 
     Raises:
-        ConfigurationError: a bad argument (shape, NaN, unknown name, rtol or closure_tol out of range).
+        ConfigurationError: a bad argument (shape, NaN, unknown name, rtol, closure_tol or finite_order out
+            of range).
         ClosureError: q does not close, or no closed configuration could be found.
     """
     rtol = check_rtol(rtol)
     closure_tol = check_closure_tol(closure_tol)
+    finite_order = check_order(finite_order)
     if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
         raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts!r}")
     relaxed: tuple[str, ...] = ()
@@ -104,6 +113,8 @@ def analyze(
         actuator_search=actuator_search,
         generic_rank=generic_rank,
         relaxed=relaxed,
+        finite=finite,
+        finite_order=finite_order,
     )
     mobility = platform_mobility(conf, rtol) if conf.mechanism.has_platform else None
     return Report(conf, rtol, mobility, options)

@@ -102,24 +102,3 @@ def describe(limits: Sequence[LimbLimit], unit: str) -> str:
     if all(limit.ahead == 0.0 for limit in limits):
         return f"{subject} {'are' if several else 'is'} already at {edge}"
     return f"{subject} reach{'' if several else 'es'} {edge} about {limits[0].ahead:.2g} {unit} further"
-
-
-def stop_notes(label: str, reasons: Sequence[str], reached: Sequence[float], amp: float, unit: str) -> tuple[str, ...]:
-    """One note per direction that stopped early; one for both when neither moved, for the same reason.
-
-    Args:
-        label: the motion's label.
-        reasons: (forwards, backwards) why each direction stopped ("" when it reached ``amp``).
-        reached: (forwards, backwards) distance covered [``unit``].
-        amp: the amplitude asked for [``unit``].
-        unit: ``m`` or ``rad``.
-    """
-    hint = "; the mobility found there is only instantaneous in this direction"
-    if reasons[0] and reasons[0] == reasons[1] and list(reached) == [0.0, 0.0]:
-        return (f"{label}: cannot be followed either way from here: {reasons[0]}{hint}",)
-    notes = []
-    for word, why, done in zip(("forwards", "backwards"), reasons, reached, strict=True):
-        if why:
-            extra = hint if done == 0.0 else ""
-            notes.append(f"{label}: stopped {word} after {done:.3g} {unit} of {amp:.3g}: {why}{extra}")
-    return tuple(notes)

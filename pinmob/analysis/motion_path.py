@@ -33,6 +33,10 @@ the motion: where not even the first step succeeds, the mobility found at q
 is only instantaneous in that direction. Each direction's result is measured
 (:class:`Displacement`). No meshcat here; :mod:`pinmob.viewer.scene` turns paths into
 animation clips.
+
+:func:`follow_rates` follows a direction of joint rates the same way (the finite-mobility
+analysis traces internal motions, motion branches and motions with the actuators held with it);
+the steps themselves are in :mod:`pinmob.analysis.path_follower`.
 """
 
 from __future__ import annotations
@@ -41,20 +45,14 @@ from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.displacement import Displacement, angle_between, displacement, measure_displacement
-from pinmob.analysis.mobility import platform_mobility
+from pinmob.analysis.displacement import Displacement, measure_displacement
 from pinmob.analysis.motion import Motion
-from pinmob.analysis.motion_limits import describe, limiting_limbs, stop_notes
-from pinmob.assembly.assemble import assemble_pose as _assemble_pose
-from pinmob.assembly.assemble import project
-from pinmob.assembly.residual import CLOSURE_TOL, check_closed, compute_kinematics, stacked_error
-from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.analysis.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
+from pinmob.assembly.residual import CLOSURE_TOL, check_closed
+from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import shift_twists, twist_scaling
 from pinmob.screw.classify import MotionKind
 
 Array = np.ndarray
@@ -65,12 +63,8 @@ TRANSLATION_AMPLITUDE = 0.2
 ROTATION_AMPLITUDE = 0.35
 #: default largest angle [rad] between a step's platform displacement and the intended motion (W metric)
 MAX_DEVIATION = 0.05
-#: a step is halved at most this many times before the motion is declared stopped
-MAX_HALVINGS = 4
-#: smallest share of the intended twist that must remain free (W metric)
-MIN_SHARE = 0.5
-#: smallest share of a step the platform must follow along the intended motion
-MIN_PROGRESS = 0.5
+
+__all__ = ["MAX_DEVIATION", "MAX_HALVINGS", "MIN_PROGRESS", "MIN_SHARE", "MotionPath", "follow_motion", "follow_rates"]
 
 
 @dataclass(frozen=True)
@@ -85,6 +79,10 @@ class MotionPath(ReadOnlyArrays):
         amplitude: distance asked for in each direction [m or rad].
         notes: why a direction stopped early (empty when both reached the amplitude).
         displacement: (forward, backward) measured displacement of the platform at each end.
+        finite: the finite-mobility verdict on the motion (:mod:`pinmob.analysis.finite`): True (finite),
+            False (only instantaneous: blocked at some order, or only a combination of branches),
+            None (not analysed, or cannot decide).
+        verdict: that verdict in words (empty when not analysed).
     """
 
     label: str
@@ -94,6 +92,8 @@ class MotionPath(ReadOnlyArrays):
     amplitude: float
     notes: tuple[str, ...] = ()
     displacement: tuple[Displacement, Displacement] = (Displacement(0, 0, 0), Displacement(0, 0, 0))
+    finite: bool | None = None
+    verdict: str = ""
 
     @property
     def complete(self) -> bool:
@@ -107,13 +107,15 @@ class MotionPath(ReadOnlyArrays):
         return seq if len(seq) > 1 else seq * 2
 
     def to_dict(self) -> dict[str, Any]:
-        """The path as plain JSON: label, amplitude, distances reached, notes, displacements."""
+        """The path as plain JSON: label, amplitude, distances reached, notes, displacements, finite verdict."""
         return {
             "label": self.label,
             "amplitude": self.amplitude,
             "reached": list(self.reached),
             "displacement": [d.to_dict() for d in self.displacement],
             "notes": list(self.notes),
+            "finite": self.finite,
+            "verdict": self.verdict,
         }
 
 
@@ -127,102 +129,6 @@ def _measure(motion: Motion) -> slice:
     return slice(0, 3) if motion.kind is MotionKind.TRANSLATION else slice(3, 6)
 
 
-class _Follower:
-    """One motion's continuation: the mechanism's data, reused at every step."""
-
-    def __init__(self, mech: Mechanism, motion: Motion, rtol: float, tol: float, max_deviation: float):
-        self.mech, self.motion, self.rtol, self.tol, self.max_deviation = mech, motion, rtol, tol, max_deviation
-        self.model, self.data = mech.model, mech.model.createData()
-        self.w = twist_scaling(mech.length_scale)
-        self.pid = mech.platform_id
-        self.unit = "m" if motion.kind is MotionKind.TRANSLATION else "rad"
-
-    def pose(self, q: Array) -> pin.SE3:
-        compute_kinematics(self.model, self.data, q)
-        return self.data.oMf[self.pid].copy()
-
-    def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
-        """``t_F``, the intended twist projected on the free space at q, or (None, reason)."""
-        mob = platform_mobility(Configuration(self.mech, q, closure_tol=self.tol), self.rtol)
-        if mob.dof == 0:
-            return None, "the platform is rigid there (no free motion left)"
-        free = self.w[:, None] * mob.free_twists
-        target = self.w * direction
-        coef, *_ = np.linalg.lstsq(free, target, rcond=None)
-        share = float(np.linalg.norm(free @ coef) / np.linalg.norm(target))
-        if share < MIN_SHARE:
-            return None, f"the motion leaves the free space there (only {share:.0%} of it is still free)"
-        return (free @ coef) / self.w, ""
-
-    def _predict(self, q: Array, projected: Array, ds: float) -> Array:
-        """Joint step keeping every closure to first order while the platform moves by ``projected ds``."""
-        model, data = self.model, self.data
-        compute_kinematics(model, data, q)
-        _, k = stacked_error(self.mech, model, data, self.mech.all_closures)
-        jp = self.w[:, None] * pin.getFrameJacobian(model, data, self.pid, pin.LOCAL_WORLD_ALIGNED)
-        rhs = np.concatenate([np.zeros(k.shape[0]), self.w * projected * ds])
-        dv = np.linalg.lstsq(np.vstack([k, jp]), rhs, rcond=None)[0]
-        return pin.integrate(model, q, dv)
-
-    def step(self, q: Array, om_p: pin.SE3, projected: Array, ds: float) -> tuple[Array | None, str]:
-        """One step of ``ds`` along ``projected`` (``t_F``), checked against it: (q_next, "") or (None, reason)."""
-        q_pred = self._predict(q, projected, ds)
-        local = np.concatenate([om_p.rotation.T @ projected[:3], om_p.rotation.T @ projected[3:]]) * ds
-        how = "re-closing the loops"
-        try:
-            q_next = _assemble_pose(self.mech, om_p * pin.exp6(local), q_pred, tol=self.tol, max_iter=60)
-        except ClosureError:
-            how = "the target pose cannot be assembled there, and re-closing the loops"
-            try:
-                q_next = project(self.mech, q_pred, tol=self.tol, max_iter=100).q
-            except ClosureError:
-                return None, "the loops do not close again after a step there"
-        achieved = self.w * displacement(om_p, self.pose(q_next))
-        wanted = self.w * projected * ds
-        progress = float(achieved @ wanted / (wanted @ wanted))
-        if progress < MIN_PROGRESS:
-            return (
-                None,
-                f"{how} undoes the step there (the platform follows only {max(progress, 0):.0%} of it)",
-            )
-        deviation = angle_between(achieved, wanted)
-        if deviation > self.max_deviation:
-            return None, (
-                f"{how} turns the platform off the motion ({np.degrees(deviation):.1f} deg "
-                f"sideways, more than {np.degrees(self.max_deviation):.1f} deg)"
-            )
-        return q_next, ""
-
-    def branch(self, q: Array, unit: Array, amp: float, ds: float) -> tuple[list[Array], float, str]:
-        """Configurations from q along ``unit`` up to ``amp``, the distance covered, and why it stopped ("" if not)."""
-        path, current, covered = [q], q, [0.0]
-        start = self.pose(q)
-        limit = int(np.ceil(amp / ds)) * 2**MAX_HALVINGS + 4  # every step covers at least ds / 2^MAX_HALVINGS
-        while covered[-1] < amp * (1 - 1e-9):
-            if len(path) > limit:
-                return path, covered[-1], f"{limit} steps taken without reaching the amplitude"
-            om_p = self.pose(current)
-            # the motion's screw stays fixed in the world: re-express it at the current platform origin
-            direction = shift_twists(unit, om_p.translation - start.translation)
-            projected, why = self.project_free(current, direction)
-            if projected is None:
-                return path, covered[-1], why
-            h = first = min(ds, amp - covered[-1])
-            for _ in range(MAX_HALVINGS + 1):
-                nxt, why = self.step(current, om_p, projected, h)
-                if nxt is not None:
-                    break
-                h /= 2
-            if nxt is None:
-                why = f"{why} (also with steps down to {h * 2:.2g})"
-                limits = limiting_limbs(self.mech, path, covered, first, self.rtol)
-                return path, covered[-1], f"{describe(limits, self.unit)}, so {why}" if limits else why
-            path.append(nxt)
-            current = nxt
-            covered.append(covered[-1] + h)
-        return path, covered[-1], ""
-
-
 def follow_motion(
     mech: Mechanism,
     q: Array,
@@ -233,6 +139,7 @@ def follow_motion(
     rtol: float = 1e-6,
     closure_tol: float = CLOSURE_TOL,
     max_deviation: float = MAX_DEVIATION,
+    halvings: int = MAX_HALVINGS,
 ) -> MotionPath:
     """Follow ``motion`` from the closed configuration q, both ways, by continuation.
 
@@ -247,6 +154,7 @@ def follow_motion(
         closure_tol: closure tolerance of every frame (position / L, rotation [rad]).
         max_deviation: largest angle [rad] between a step's platform displacement
             and the intended motion (W metric); a step beyond it is halved or refused.
+        halvings: how many times a failed step is halved before the motion stops.
 
     Returns:
         the path; every configuration in it closes within ``closure_tol``.
@@ -267,7 +175,54 @@ def follow_motion(
     q = mech.check_q(q)
     check_closed(mech, q, closure_tol, what="the configuration to animate")
     unit = motion.twist / np.linalg.norm(motion.twist[_measure(motion)])
-    follower = _Follower(mech, motion, rtol, closure_tol, max_deviation)
+    follower = Follower(mech, motion, rtol, closure_tol, max_deviation, halvings)
+    unit_name = "m" if motion.kind is MotionKind.TRANSLATION else "rad"
+    return _both_ways(follower, q, unit, unit, amp, steps, motion.label, unit_name)
+
+
+def follow_rates(
+    mech: Mechanism,
+    q: Array,
+    rates: Array,
+    *,
+    label: str = "motion",
+    amplitude: float = 0.05,
+    steps: int = 2,
+    held: tuple[int, ...] = (),
+    rtol: float = 1e-6,
+    closure_tol: float = CLOSURE_TOL,
+    max_deviation: float = MAX_DEVIATION,
+    halvings: int = MAX_HALVINGS,
+) -> MotionPath:
+    """Follow a direction of joint rates from the closed configuration q, both ways, every step closed.
+
+    Args:
+        mech: the mechanism.
+        q: (nq,) closed configuration.
+        rates: (nv,) joint rates, dimensionless (translation rates per L).
+        label: the path's label.
+        amplitude: distance in each direction, in the dimensionless joint metric [rad, or m / L].
+        steps: continuation steps per direction.
+        held: velocity indices of joints kept at their values (e.g. locked actuators).
+        rtol: rank tolerance of the closed chain's rates at each step.
+        closure_tol: closure tolerance of every frame.
+        max_deviation: largest angle [rad] between a step's joint displacement and the direction.
+        halvings: how many times a failed step is halved before the direction stops.
+
+    Returns:
+        the path (``reached`` in the dimensionless joint metric); every configuration in it closes.
+    """
+    q = mech.check_q(q)
+    check_closed(mech, q, closure_tol, what="the configuration to follow from")
+    unit = np.asarray(rates, float) / np.linalg.norm(rates)
+    follower = RateFollower(mech, held, rtol, closure_tol, max_deviation, halvings)
+    return _both_ways(follower, q, unit, np.zeros(6), amplitude, steps, label, "(joint metric)")
+
+
+def _both_ways(
+    follower: Follower, q: Array, unit: Array, twist: Array, amp: float, steps: int, label: str, unit_name: str
+) -> MotionPath:
+    """The path along ``unit`` and along ``-unit``, each end's platform displacement measured against ``twist``."""
     start = follower.pose(q)
     branches, reached, reasons, moved = [], [], [], []
     for sign in (1.0, -1.0):
@@ -275,13 +230,21 @@ def follow_motion(
         branches.append(tuple(path))
         reached.append(covered)
         reasons.append(why)
-        moved.append(measure_displacement(start, follower.pose(path[-1]), sign * unit, mech.length_scale))
-    return MotionPath(
-        motion.label,
-        branches[0],
-        branches[1],
-        (reached[0], reached[1]),
-        amp,
-        stop_notes(motion.label, reasons, reached, amp, follower.unit),
-        (moved[0], moved[1]),
-    )
+        moved.append(
+            measure_displacement(start, follower.pose(path[-1]), sign * twist, follower.mech.length_scale, follower.tol)
+        )
+    notes = _notes(label, reasons, reached, amp, unit_name)
+    return MotionPath(label, branches[0], branches[1], (reached[0], reached[1]), amp, notes, (moved[0], moved[1]))
+
+
+def _notes(label: str, reasons: list[str], reached: list[float], amp: float, unit: str) -> tuple[str, ...]:
+    """One note per direction that stopped early; one for both when neither moved, for the same reason."""
+    hint = "; the mobility found there is only instantaneous in this direction"
+    if reasons[0] and reasons[0] == reasons[1] and reached == [0.0, 0.0]:
+        return (f"{label}: cannot be followed either way from here: {reasons[0]}{hint}",)
+    notes = []
+    for word, why, done in zip(("forwards", "backwards"), reasons, reached, strict=True):
+        if why:
+            extra = hint if done == 0.0 else ""
+            notes.append(f"{label}: stopped {word} after {done:.3g} {unit} of {amp:.3g}: {why}{extra}")
+    return tuple(notes)

@@ -12,7 +12,8 @@ them all):
   configurations, unless the file declares it);
 * ``paper``: the seed paper's view, only when asked (``paper=True``);
 * ``actuator_sets``: every valid set of K actuated joints, only when asked
-  (``actuator_search=K``).
+  (``actuator_search=K``);
+* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
 """
 
 from __future__ import annotations
@@ -27,6 +28,8 @@ from numpy.typing import ArrayLike
 from pinmob.analysis.actuation import actuator_sets
 from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.finite import FiniteMobility, finite_mobility
+from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.paper import paper_mobility
 from pinmob.analysis.singularity import Singularity
@@ -66,6 +69,8 @@ class Options:
     actuator_search: int | None = None
     generic_rank: int | None = None
     relaxed: tuple[str, ...] = ()
+    finite: bool = False
+    finite_order: int = ORDER
 
 
 @dataclass(frozen=True, eq=False)
@@ -133,6 +138,15 @@ class Report:
             return None
         outs = default_end_frames(self.state.mechanism)
         return tuple(actuator_sets(self.state, k, outs, rtol=self.rtol))
+
+    @cached_property
+    def finite(self) -> FiniteMobility | None:
+        """Finite versus instantaneous mobility (only when asked for with ``finite=True``)."""
+        if not self.options.finite:
+            return None
+        platform = self.mobility if self.has_limbs else self.platform_frame
+        motions = None if platform is None else platform.motions
+        return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions)
 
     @property
     def platform_frame(self) -> FrameMobility | None:
@@ -213,6 +227,8 @@ class Report:
             out["singularity"] = sing.to_dict() if sing is not None else None
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
+        if self.finite is not None:
+            out.update(self.finite.report_entries())
         return out
 
     def __str__(self) -> str:
@@ -225,7 +241,7 @@ class Report:
                     f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(self.options.relaxed)}"
                 )
             lines.append(str(self.mechanism_mobility))
-            lines.extend(self._actuator_lines())
+            lines.extend(self._actuator_lines() + (["", str(self.finite)] if self.finite else []))
             return "\n".join(lines)
         mob = self._platform()
         sing = self.singularity
@@ -245,13 +261,13 @@ class Report:
                     f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
                     f"{', '.join(mob.serially_singular_limbs) or 'none'}"
                 )
+        lines.extend(["", str(self.finite)] if self.finite else [])
         return "\n".join(lines)
 
     def brief(self) -> str:
-        """The one-line answer ``pinmob analyze --brief`` prints: DoF, type, motions (world axis points), singularity."""
-        sing = self.singularity if self.has_limbs else None
+        """The one-line answer ``pinmob analyze --brief`` prints (:func:`~pinmob.analysis.summary.summary_line`)."""
         chain = self.mechanism_mobility if self.mobility is None else None
-        return summary_line(self.mechanism, self.configuration, self.mobility, sing, chain)
+        return summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
 
     def _actuator_lines(self) -> list[str]:
         sets = self.actuator_sets

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import tempfile
 from collections.abc import Mapping
+from numbers import Real
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -16,24 +17,67 @@ from .layout import check_rotation, point
 from .text import is_generated
 
 if TYPE_CHECKING:
+    import pinocchio as pin
+
     from pinmob.model.mechanism import Mechanism
     from pinmob.screw.algebra import Array
+
+
+def canonical_angle(x: float) -> float:
+    """The angle ``x`` [rad] moved by a multiple of 2 pi into the canonical range (-pi, pi]."""
+    return float(np.pi - np.mod(np.pi - float(x), 2 * np.pi))
 
 
 def joint_values(mech: Mechanism, q: Array) -> dict[str, float]:
     """Non-zero values [rad or m] of the one-degree joints of ``mech`` at q, by name (for a ``joints`` table).
 
-    A continuous joint's value is ``atan2(sin, cos)`` of its two coordinates.
+    Revolute angles are written in (-pi, pi] (:func:`pinmob.closure.wrap_angles`: where a joint's limits
+    exclude that value, the representative inside them closest to 0). A continuous joint's value is
+    ``atan2(sin, cos)`` of its two coordinates, in (-pi, pi].
     """
+    from pinmob.model.joints import wrap_angles
+
     model = mech.model
+    q = wrap_angles(model, np.asarray(q, float))
     out = {}
     for j in range(1, model.njoints):
         joint = model.joints[j]
         if joint.nv != 1:
             continue
-        x = float(np.arctan2(q[joint.idx_q + 1], q[joint.idx_q])) if joint.nq == 2 else float(q[joint.idx_q])
+        if joint.nq == 2:
+            x = canonical_angle(np.arctan2(q[joint.idx_q + 1], q[joint.idx_q]))
+        else:
+            x = float(q[joint.idx_q])
         if abs(x) > 1e-12:
             out[model.names[j]] = x
+    return out
+
+
+def canonical_joints(model: pin.Model, values: Mapping[str, Any]) -> dict[str, Any]:
+    """``values`` (joint values by name, as in a ``joints`` or ``seed`` table) with revolute angles canonical.
+
+    Every revolute angle is moved by a multiple of 2 pi into (-pi, pi] (for a joint with position limits
+    that exclude that value, the representative inside them closest to 0, as the closure solver's
+    :func:`pinmob.closure.wrap_angles`); a continuous joint's angle into (-pi, pi]. Prismatic values,
+    unknown names and values that are not numbers are left as they are (loading the file reports those).
+    So a configuration is written the same way whatever branch of ``atan2`` round-off picked.
+    """
+    from pinmob.model.joints import angle_mask, wrap_angles
+
+    mask = angle_mask(model)
+    out = dict(values)
+    for name, value in values.items():
+        if not model.existJointName(name) or isinstance(value, bool) or not isinstance(value, Real):
+            continue
+        joint, x = model.joints[model.getJointId(name)], float(value)
+        if joint.nv != 1 or not np.isfinite(x):
+            continue
+        if joint.nq == 2:
+            out[name] = canonical_angle(x)
+        elif mask[joint.idx_q]:
+            q = np.zeros(model.nq)  # only this coordinate is read back
+            q[joint.idx_q] = x
+            out[name] = float(wrap_angles(model, q)[joint.idx_q])
     return out
 
 

@@ -56,17 +56,22 @@ def rotation(axis: Sequence[float], angle: float) -> np.ndarray:
 def rpy(rot: ArrayLike) -> tuple[float, float, float]:
     """URDF roll, pitch, yaw [rad] of a rotation matrix: ``R = Rz(yaw) Ry(pitch) Rx(roll)``.
 
-    At gimbal lock (``|cos pitch| <= 1e-9``) the yaw is set to 0 and the roll
-    takes the whole rotation about the vertical.
+    Roll and yaw are in (-pi, pi], pitch in [-pi/2, pi/2]. Entries of R within
+    1e-12 of 0 are taken as 0 first, so that a half turn whose zero entries
+    come out as +1e-17 on one machine and -1e-17 on another gives roll pi on
+    both (not -pi on one). At gimbal lock (``|cos pitch| <= 1e-9``) the yaw is
+    set to 0 and the roll takes the whole rotation about the vertical.
     """
     r = np.asarray(rot, float)
+    r = np.where(np.abs(r) <= 1e-12, 0.0, r)  # also turns -0.0 into 0.0
     pitch = float(np.arcsin(-np.clip(r[2, 0], -1, 1)))
     if abs(np.cos(pitch)) > 1e-9:
         roll = float(np.arctan2(r[2, 1], r[2, 2]))
         yaw = float(np.arctan2(r[1, 0], r[0, 0]))
     else:
         roll, yaw = float(np.arctan2(-r[1, 2], r[1, 1])), 0.0
-    return roll, pitch, yaw
+    half_turn = lambda x: np.pi if x == -np.pi else x  # noqa: E731  (atan2's -pi is the same angle as pi)
+    return half_turn(roll), pitch, half_turn(yaw)
 
 
 def check_rotation(what: str, rot: ArrayLike) -> np.ndarray:

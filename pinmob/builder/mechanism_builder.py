@@ -12,12 +12,14 @@ from numpy.typing import ArrayLike
 from pinmob.exceptions import ConfigurationError, choices
 
 from .chain import ChainBuilder, ClosureSpec, LimbBuilder
-from .configuration import closed_joints, write_files
+from .configuration import canonical_joints, closed_joints, write_files
 from .layout import check_rotation, point
 from .text import MARKER, check_name, toml_key, toml_value, xml_attribute
 from .urdf_limb import UrdfLimb
 
 if TYPE_CHECKING:
+    import pinocchio as pin
+
     from pinmob.model.mechanism import Mechanism
 
 #: limb tips placed by the builder must coincide at the reference within this fraction of the model's size
@@ -228,7 +230,12 @@ class MechanismBuilder:
         configurations: Mapping[str, Mapping[str, Any]] | None = None,
         length_scale: float | None = None,
     ) -> str:
-        """Pinmob mechanism file text referring to ``urdf`` (a path relative to the file)."""
+        """Pinmob mechanism file text referring to ``urdf`` (a path relative to the file).
+
+        Revolute angles of the configurations' ``joints`` and ``seed`` tables are written in (-pi, pi]
+        (:func:`pinmob.builder.configuration.canonical_joints`), so the same configuration gives the same
+        text whichever multiple of 2 pi it was computed with.
+        """
         out = [f"# {MARKER}; edit the builder, not this file", f"name = {toml_value(self.name)}"]
         if self.description:
             out.append(f"description = {toml_value(self.description)}")
@@ -247,12 +254,23 @@ class MechanismBuilder:
                 out.append(f"actuated = {toml_value(limb.actuated)}")
         for c in self.closures:
             out += c.toml_lines()
+        model = None
         for cname, conf in (configurations or {}).items():
             out += ["", f"[configurations.{toml_key(cname)}]"]
-            out += [f"{toml_key(k)} = {toml_value(v)}" for k, v in conf.items()]
+            for k, v in conf.items():
+                if k in ("joints", "seed") and isinstance(v, Mapping):
+                    model = model if model is not None else self._model()
+                    v = canonical_joints(model, v)
+                out.append(f"{toml_key(k)} = {toml_value(v)}")
         return "\n".join(out) + "\n"
 
     # ------------------------------------------------------------------ mechanism
+
+    def _model(self) -> pin.Model:
+        """The Pinocchio model of :meth:`urdf` (kinematics only)."""
+        import pinocchio as pin
+
+        return pin.buildModelFromXML(self.urdf())
 
     def mechanism(self) -> Mechanism:
         """The mechanism as it would load from the written files (kinematics only, no files).
@@ -262,12 +280,10 @@ class MechanismBuilder:
             mech = b.mechanism()
             pinmob.analyze(mech, mech.neutral())  # the reference configuration
         """
-        import pinocchio as pin
-
         from pinmob.model.closure import make_closure
         from pinmob.model.mechanism import Mechanism
 
-        model = pin.buildModelFromXML(self.urdf())
+        model = self._model()
         closures = [make_closure(model, c.name, c.frame_a, c.frame_b, c.type, c.axis, c.axis_b) for c in self.closures]
         actuated = {limb.name: list(limb.actuated) for limb in self.limbs} | {"": self._extra_actuated()}
         tips = [(limb.name, limb.tip_name) for limb in self.limbs]

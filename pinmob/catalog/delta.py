@@ -14,6 +14,8 @@ from typing import Any
 
 import numpy as np
 
+from pinmob.exceptions import ConfigurationError
+
 from ..builder import MechanismBuilder, polar, radial
 from .registry import Definition, register
 from .sources import CLAVEL, HAND, KONG, TSAI, ZBG, expect, limb_pairs, pose
@@ -31,13 +33,18 @@ def delta_limb_angles(pz: float) -> tuple[float, float]:
     ``u cos(alpha) - w sin(alpha) = (u^2 + w^2 + a^2 - l^2) / (2 a) = K``, i.e.
     ``rho cos(alpha + phi) = K`` with ``rho = |(u, w)|``, ``phi = atan2(w, u)``;
     the elbow-out branch is ``alpha = -acos(K / rho) - phi``. The rod direction is V - E.
+
+    psi is returned in [0, 2 pi): the rods point inwards (psi from about 100 deg at the bottom of the
+    workspace to 180 deg with the rods horizontal, ``rods-horizontal``), so atan2's cut at +-pi would fall
+    exactly on a named configuration and round-off would pick either side (values 2 pi apart on two
+    machines); the cut at 0 is far from every pose used.
     """
     u, w = PLAT_R - BASE_R, pz
     k = (u**2 + w**2 + ARM**2 - ROD**2) / (2 * ARM)
     rho, phi = float(np.hypot(u, w)), float(np.arctan2(w, u))
     alpha = -float(np.arccos(np.clip(k / rho, -1.0, 1.0))) - phi
     d = np.array([u - ARM * np.cos(alpha), w + ARM * np.sin(alpha)])  # rod V - E: (e, z) components
-    return alpha, float(np.arctan2(-d[1], d[0]))
+    return alpha, float(np.mod(np.arctan2(-d[1], d[0]), 2 * np.pi))
 
 
 def delta_height(alpha: float) -> float:
@@ -122,11 +129,31 @@ def _delta() -> Definition:
     return b, confs, None
 
 
-@register("delta_3ruu")
-def _delta_3ruu() -> Definition:
-    base_r, plat_r, arm, rod = 0.2, 0.05, 0.25, 0.3
-    arm_angle = np.pi / 3
+def delta_3ruu_design(
+    base_r: float = 0.2, plat_r: float = 0.05, arm: float = 0.25, rod: float = 0.3, arm_angle: float = float(np.pi / 3)
+) -> Definition:
+    """The Delta's U-U equivalent (3-RUU) for any dimensions [m] and arm angle at the reference [rad].
+
+    Configurations ``generic`` (the platform moved by (0.03, -0.02, 0.02) m) and ``constraint-singular``
+    (rods horizontal).
+
+    Raises:
+        ConfigurationError: a length that is not positive, or rods too short to reach the platform.
+    """
+    for name, value in (("base_r", base_r), ("plat_r", plat_r), ("arm", arm), ("rod", rod)):
+        if not value > 0:
+            raise ConfigurationError(f"Delta-3RUU: {name} must be a positive length [m], got {value}")
     elbow_r, elbow_z = base_r + arm * np.cos(arm_angle), -arm * np.sin(arm_angle)
+    if not rod > abs(elbow_r - plat_r):
+        raise ConfigurationError(
+            f"Delta-3RUU: the rods ({rod} m) do not reach the platform: the elbows are {abs(elbow_r - plat_r):.6g} m "
+            "from it horizontally"
+        )
+    if not arm > abs(rod + plat_r - base_r):
+        raise ConfigurationError(
+            f"Delta-3RUU: the arms ({arm} m) must be longer than |rod + r - R| = {abs(rod + plat_r - base_r):.6g} m "
+            "for the rods to lie horizontal somewhere (configuration constraint-singular)"
+        )
     drop = elbow_z - np.sqrt(rod**2 - (elbow_r - plat_r) ** 2)
     b = MechanismBuilder(
         "Delta-3RUU",
@@ -162,6 +189,11 @@ def _delta_3ruu() -> Definition:
         },
     }
     return b, confs, None
+
+
+@register("delta_3ruu")
+def _delta_3ruu() -> Definition:
+    return delta_3ruu_design()
 
 
 @register("4ruu")

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinmob.exceptions import ConfigurationError
+
 from ..builder import MechanismBuilder, radial
 from .registry import Definition, register
 from .sources import PAPER, limb_pairs
@@ -42,9 +44,24 @@ def _sliders(value: float) -> dict[str, float]:
     return {f"{x}_slider": value for x in "ABC"}
 
 
-@register("3puu")
-def _three_puu() -> Definition:
-    big_r, small_r, link = 0.3, 0.15, 0.25
+def three_puu_design(big_r: float = 0.3, small_r: float = 0.15, link: float = 0.25, stroke: float = 1.0) -> Definition:
+    """The 3-PUU of the seed paper with the platform hanging below the sliders, for any dimensions [m].
+
+    ``drop = sqrt(link^2 - (R - r)^2)`` puts the platform below the sliders; configurations ``generic`` (all
+    joints zero) and ``offset`` (the platform moved by (0.03, -0.02, 0.03) m).
+
+    Raises:
+        ConfigurationError: a dimension that is not positive, or links not longer than ``R - r`` (beta = 0 or
+            no assembly: see 3-PUU-flat).
+    """
+    for name, value in (("big_r", big_r), ("small_r", small_r), ("link", link), ("stroke", stroke)):
+        if not value > 0:
+            raise ConfigurationError(f"3-PUU: {name} must be a positive length [m], got {value}")
+    if not link > abs(big_r - small_r):
+        raise ConfigurationError(
+            f"3-PUU: the links ({link} m) must be longer than |R - r| = {abs(big_r - small_r):.6g} m for the platform "
+            "to hang below the sliders"
+        )
     drop = float(np.sqrt(link**2 - (big_r - small_r) ** 2))
     b = three_puu(
         "3-PUU",
@@ -54,6 +71,7 @@ def _three_puu() -> Definition:
         big_r,
         small_r,
         drop,
+        stroke,
     )
     confs = {
         "generic": {"joints": _sliders(0.0), "expected": {"dof": 3, "motion_type": "3T", "source": PAPER + ", eq. 38"}},
@@ -63,6 +81,11 @@ def _three_puu() -> Definition:
         },
     }
     return b, confs, None
+
+
+@register("3puu")
+def _three_puu() -> Definition:
+    return three_puu_design()
 
 
 @register("3puu_flat")

@@ -14,14 +14,12 @@ from pinmob.exceptions import PinmobError
 
 from ..builder import MechanismBuilder
 from ..builder.text import is_generated
+from .freshness import KEPT, RULE, file_difference
 
 Definition = tuple[MechanismBuilder, dict[str, dict[str, Any]], float | None]
 
 #: stem of the files -> function building (builder, configurations, length_scale)
 CATALOG: dict[str, Callable[[], Definition]] = {}
-#: files of a models folder that the catalogue does not write but may sit beside its output
-KEPT = {"README.md", "__init__.py", "__pycache__"}
-HINT = "run python -m pinmob.catalog models"
 
 
 def register(stem: str) -> Callable[[Callable[[], Definition]], Callable[[], Definition]]:
@@ -83,7 +81,12 @@ def check_target(target: Path) -> list[Path]:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m pinmob.catalog [TARGET]``: write every built-in model; exit 2 with one line on an error."""
+    """``python -m pinmob.catalog [TARGET]``: write every built-in model; exit 2 with one line on an error.
+
+    Every model is built and checked first; then each file is written unless the target already holds an
+    equivalent one (:mod:`pinmob.catalog.freshness`: the same up to round-off, angles modulo 2 pi), so a
+    regeneration on another machine changes no file whose content did not change.
+    """
     default = checkout_models()
     parser = argparse.ArgumentParser(
         prog="python -m pinmob.catalog",
@@ -105,12 +108,18 @@ def main(argv: list[str] | None = None) -> int:
             )
         stale = check_target(target)
         with tempfile.TemporaryDirectory() as tmp:  # every model built and checked before any file is replaced
-            written = write_all(tmp)
+            write_all(tmp)
             target.mkdir(parents=True, exist_ok=True)
+            unchanged = 0
             for path in sorted(Path(tmp).iterdir()):
-                shutil.copyfile(path, target / path.name)
-        for path in written:
-            print(target / path.name)
+                dest = target / path.name
+                if dest.is_file() and file_difference(dest, path) is None:
+                    unchanged += 1  # equivalent: keep it, so that a regeneration elsewhere leaves no diff
+                    continue
+                shutil.copyfile(path, dest)
+                print(f"wrote {dest}")
+        if unchanged:
+            print(f"{unchanged} file(s) in {target} unchanged: equivalent to the new output ({RULE})")
         for path in stale:
             path.unlink()
             print(f"removed stale {path} (written by an earlier catalogue, no entry writes it now)")

@@ -1,4 +1,4 @@
-"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``, ``pinmob scan``.
+"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``, ``pinmob scan``, ``pinmob sweep``.
 
 The commands only parse, call the library and format. Errors are printed as
 one line on stderr (``pinmob: error: ...``) with exit status 2, never with a
@@ -17,7 +17,7 @@ import warnings
 from collections.abc import Callable, Sequence
 from typing import TextIO
 
-from pinmob.cli import analyze, models, scan, show
+from pinmob.cli import analyze, models, scan, show, sweep
 from pinmob.cli.parser import build_parser
 from pinmob.cli.progress_bar import terminal_bar
 from pinmob.exceptions import PinmobError
@@ -28,6 +28,7 @@ COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "analyze": analyze.run,
     "show": show.run,
     "scan": scan.run,
+    "sweep": sweep.run,
 }
 
 
@@ -47,6 +48,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     with warnings.catch_warnings():
         warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
+        warnings.filterwarnings("ignore", category=ResourceWarning)  # Dask's sockets at exit: not the user's business
         warnings.showwarning = _show_warning
         return _run(args)
 

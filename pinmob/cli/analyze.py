@@ -39,6 +39,8 @@ def run(args: argparse.Namespace) -> int:
         actuator_search=args.search_actuators,
         restarts=args.restarts,
         relax=args.relax,
+        finite=args.finite,
+        finite_order=args.finite_order,
     )
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))

@@ -7,7 +7,6 @@ import re
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
-from typing import Any
 
 from pinmob.exceptions import ConfigurationError, choices
 from pinmob.io.builtin import builtin_models
@@ -65,31 +64,17 @@ def signals_interrupt() -> Iterator[None]:
             signal.signal(sig, handler)
 
 
-def serve_until_stopped(server: Any) -> None:
-    """Wait for the server to end, or for Ctrl-C, SIGTERM or SIGHUP; then stop the server (no orphan left)."""
-    try:
-        with signals_interrupt():
-            server.process.wait()
-    except KeyboardInterrupt:
-        pass
-    finally:
-        server.stop()
-
-
 def check_outputs(paths: dict[str, str | None], force: bool) -> None:
-    """Refuse, before any work, output files that exist (unless ``force``), are folders, or lie in no folder."""
+    """Refuse, before any work, output files that exist (unless ``force``), are links, folders or devices, or lie in no folder.
+
+    See :func:`pinmob.scan.files.check_target`.
+    """
+    from pinmob.scan.files import check_target
+
     given = {option: Path(path).expanduser() for option, path in paths.items() if path}
     if len({p.resolve() for p in given.values()}) < len(given):
         raise ConfigurationError(
             f"{', '.join(given)} must name different files, got {choices(map(str, given.values()))}"
         )
     for option, target in given.items():
-        if target.is_dir():
-            raise ConfigurationError(f"{option} {str(target)!r} is a folder; give a file name")
-        if target.exists() and not force:
-            raise ConfigurationError(
-                f"{option} {str(target)!r} exists already; choose another file name or allow overwriting (--force)"
-            )
-        parent = target.parent if str(target.parent) else Path(".")
-        if not parent.is_dir():
-            raise ConfigurationError(f"cannot write {option} {str(target)!r}: folder {str(parent)!r} does not exist")
+        check_target(option, target, force)

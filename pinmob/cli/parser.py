@@ -1,8 +1,9 @@
-"""The command line's arguments: ``pinmob models|analyze|show|scan`` and their options."""
+"""The command line's arguments: ``pinmob models|analyze|show|scan|sweep`` and their options."""
 
 from __future__ import annotations
 
 import argparse
+from collections.abc import Sequence
 from typing import NoReturn
 
 from pinmob import __version__
@@ -16,15 +17,32 @@ GLOSSARY = (
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged)."""
+    """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged).
+
+    The line ends with the help of the (sub)command that has the bad argument: ``see 'pinmob analyze --help'``.
+    """
 
     def error(self, message: str) -> NoReturn:
         """Print the usage error on one line and exit with status 2."""
         self.exit(2, f"pinmob: error: {' '.join(message.split())}; see '{self.prog} --help'\n")
 
+    def parse_args(  # type: ignore[override]
+        self, args: Sequence[str] | None = None, namespace: argparse.Namespace | None = None
+    ) -> argparse.Namespace:
+        """As argparse, but an unrecognised argument after a command points to that command's help.
+
+        argparse reports it on the top-level parser, whose help does not list the command's options.
+        """
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            command = getattr(parsed, "command", None)
+            prog = f"{self.prog} {command}" if command else self.prog
+            self.exit(2, f"pinmob: error: unrecognized arguments: {' '.join(extra)}; see '{prog} --help'\n")
+        return parsed
+
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``pinmob`` argument parser with its four commands."""
+    """The ``pinmob`` argument parser with its five commands."""
     parser = Parser(
         prog="pinmob", description="Platform mobility of parallel and closed-chain robots.", epilog=GLOSSARY
     )
@@ -74,6 +92,19 @@ def build_parser() -> argparse.ArgumentParser:
         default=None,
         metavar="K",
         help="also list every valid set of K actuated joints (exhaustive)",
+    )
+    p.add_argument(
+        "--finite",
+        action="store_true",
+        help="also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
+        "(higher-order conditions, tracing, closed samples)",
+    )
+    p.add_argument(
+        "--finite-order",
+        type=int,
+        default=4,
+        metavar="K",
+        help="with --finite: the highest order of the conditions checked (2..8, default 4)",
     )
 
     p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat", epilog=GLOSSARY)
@@ -129,7 +160,27 @@ def build_parser() -> argparse.ArgumentParser:
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
     p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
-    p.add_argument("--workers", type=int, default=1, help="local processes (results identical to 1; default 1)")
+    p.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="worker processes of a Dask LocalCluster, used when the scan is long enough to pay for it "
+        "(results identical to 1; default 1)",
+    )
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (none either when not a terminal)")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    p = sub.add_parser(
+        "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY
+    )
+    p.add_argument("spec", help="sweep spec file (TOML): a family or template, the designs, the scan of each")
+    p.add_argument("--out", metavar="FILE.parquet", help="write the records here (streamed; re-running resumes)")
+    p.add_argument("--csv", metavar="FILE.csv", help="also write the records as CSV (at the end of a complete run)")
+    p.add_argument("--atlas", metavar="FILE.png", help="atlas plot (default with --out: OUT_atlas.png)")
+    p.add_argument("--pareto", metavar="FILE.png", help="Pareto-front plot (default with --out: OUT_pareto.png)")
+    p.add_argument("--no-plots", action="store_true", help="no plot")
+    p.add_argument("--workers", type=int, default=1, help="worker processes of a Dask LocalCluster (default 1: here)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="compute the designs on the Dask cluster at this address")
+    p.add_argument("--force", action="store_true", help="overwrite --csv and plot files, or an --out of another sweep")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser

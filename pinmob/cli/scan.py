@@ -11,25 +11,39 @@ from typing import Any
 
 from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import require_platform
-from pinmob.cli.common import check_outputs
+from pinmob.cli.common import check_outputs, signals_interrupt
+from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
 from pinmob.io.loader import load
 from pinmob.scan import columns, grid_spec, path_spec, scan
 from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_path, varied_joint
 from pinmob.scan.plot_map import plot_map
+from pinmob.scan.spec import parse_grid_axis
 from pinmob.screw.rank import RTOL, check_rtol
 
 
 def run(args: argparse.Namespace) -> int:
-    """``pinmob scan``: mobility and singularities along a path or over a workspace slice."""
+    """``pinmob scan``: mobility and singularities along a path or over a workspace slice.
+
+    SIGTERM and SIGHUP stop it as Ctrl-C does: the output files are left as they were (or not created).
+    """
+    with signals_interrupt():
+        return _run(args)
+
+
+def _run(args: argparse.Namespace) -> int:
     rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
     _check_scan_options(args)
+    check_workers(args.workers)
+    check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
+    if args.plot and Path(args.plot).suffix.lower() != ".png":
+        raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     mech = load(args.mechanism)
     require_platform(mech, "pinmob scan")
     names = list(mech.configurations)
     if args.grid:
-        axes = [_grid_axis(text) for text in args.grid]
+        axes = [parse_grid_axis(text) for text in args.grid]
         if not names and not args.at:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
         spec = grid_spec(mech, args.at or names[0], axes, rtol)
@@ -42,9 +56,6 @@ def run(args: argparse.Namespace) -> int:
         samples = 21 if args.samples is None else args.samples
         spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol)
         what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {samples} samples"
-    check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
-    if args.plot and Path(args.plot).suffix.lower() != ".png":
-        raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     band = NEAR_FACTOR * rtol
     meta = {"mechanism": mech.name, "scan": what, "generic_rank": spec.generic_rank, "rtol": rtol,
             "near_singular_band": band, "length_scale": mech.length_scale}  # fmt: skip
@@ -54,8 +65,9 @@ def run(args: argparse.Namespace) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         csv_path = args.csv or (str(Path(tmp) / "scan.csv") if args.plot else None)
         t0 = time.perf_counter()
+        rows = scan(mech, spec, args.workers, False if args.no_progress else None, args.scheduler)
         with RowWriter(columns(spec), meta, csv_path, args.json_out) as writer:
-            for row in scan(mech, spec, workers=args.workers, progress=False if args.no_progress else None):
+            for row in rows:
                 writer.write(row)
                 kind = _row_kind(row)
                 tally[kind] += 1
@@ -66,7 +78,7 @@ def run(args: argparse.Namespace) -> int:
         elapsed = time.perf_counter() - t0
         n = spec.size
         print(f"{mech.name}: {what}")
-        print(f"{n} samples in {elapsed:.2f} s ({n / elapsed:.1f} samples/s, {args.workers} worker(s)); "
+        print(f"{n} samples in {elapsed:.2f} s ({n / elapsed:.1f} samples/s, {rows.where}); "
               f"generic constraint rank {spec.generic_rank}")  # fmt: skip
         for key, k in sorted(counts.items()):
             print(f"  {k:5d} x {key}")
@@ -101,19 +113,6 @@ def _check_scan_options(args: argparse.Namespace) -> None:
             )
     elif args.at is not None:
         raise ConfigurationError("--at fixes the other coordinates of a --grid scan; a path scan uses --from and --to")
-
-
-def _grid_axis(text: str) -> tuple[str, float, float, int]:
-    """``COORD:LO:HI:N`` -> (coordinate, low, high, count)."""
-    parts = text.split(":")
-    try:
-        if len(parts) != 4:
-            raise ValueError
-        return parts[0], float(parts[1]), float(parts[2]), int(parts[3])
-    except ValueError:
-        raise ConfigurationError(
-            f"--grid {text!r}: expected COORD:LO:HI:N (four fields separated by ':'), e.g. x:-0.1:0.1:21"
-        ) from None
 
 
 def _row_kind(row: dict[str, Any]) -> str:

@@ -7,7 +7,7 @@ import math
 import warnings
 
 from pinmob import viewer
-from pinmob.cli.common import pick_configuration, serve_until_stopped, signals_interrupt
+from pinmob.cli.common import pick_configuration, signals_interrupt
 from pinmob.exceptions import ConfigurationError
 from pinmob.io.loader import load
 
@@ -24,11 +24,42 @@ def run(args: argparse.Namespace) -> int:
     options = {"motion": args.motion, "wrenches": args.wrenches, "amplitude": args.amplitude, "steps": args.steps}
     if args.html is not None:
         scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
-    else:
-        with signals_interrupt():  # a SIGTERM while the server starts or the scene is sent stops the server too
-            scene = viewer.show(mech, config, zmq_url=args.zmq_url, port=args.port, **options)
+        print_scene(mech.name, config, scene)
+        return 0
+    # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:
+    # while the scene is sent, the report printed and the server serves (a signal in a gap between separate
+    # handlers, e.g. right after the "serving" line, killed pinmob and left the server running). Stopped while
+    # serving: status 0; interrupted before: the server pinmob started is stopped, status 130 (main).
+    with signals_interrupt():
+        server, serving = None, False
+        try:
+            scene = viewer.show(
+                mech, config, zmq_url=args.zmq_url, port=args.port, **options
+            )  # stops it if interrupted
+            server = scene.server
+            print_scene(mech.name, config, scene)
+            print(f"open {scene.url}")
+            if server is None:
+                return 0
+            if args.detach:
+                print(f"the meshcat server keeps running (pid {server.pid}); stop it with: kill {server.pid}")
+                return 0
+            serving = True  # before the line: whoever reads it and sends a signal gets status 0
+            print(f"serving (meshcat server pid {server.pid}); press Ctrl-C to stop the server", flush=True)
+            server.process.wait()  # until the server ends, or Ctrl-C, SIGTERM or SIGHUP
+        except KeyboardInterrupt:
+            if not serving:
+                raise
+        finally:
+            if server is not None and not args.detach:
+                server.stop()
+    return 0
+
+
+def print_scene(name: str, config: str, scene: viewer.Scene) -> None:
+    """The report of ``pinmob show``: the mobility, each clip's reach and measured displacement, the notes."""
     mob = scene.mobility
-    print(f"{mech.name} at {config!r}: {mob.dof} DoF, {mob.motion_type}")
+    print(f"{name} at {config!r}: {mob.dof} DoF, {mob.motion_type}")
     for label in scene.clips:
         path = scene.paths[label]
         unit = "m" if label.startswith("T") else "rad"
@@ -41,6 +72,9 @@ def run(args: argparse.Namespace) -> int:
             for sign, d in zip("+-", path.displacement, strict=True)
         )
         print(f"    platform moved {moved}")
+        if path.verdict:
+            only = "" if path.finite is not False else "; the motion exists only to first order"
+            print(f"    finite analysis: {path.verdict}{only}")
     for note in scene.notes:
         print(f"note: {note}")
     if scene.generated_geometry:
@@ -52,13 +86,3 @@ def run(args: argparse.Namespace) -> int:
         )
     if scene.html is not None:
         print(f"wrote {scene.html} (open it in a browser; no server needed)")
-        return 0
-    print(f"open {scene.url}")
-    if scene.server is None:
-        return 0
-    if args.detach:
-        print(f"the meshcat server keeps running (pid {scene.server.pid}); stop it with: kill {scene.server.pid}")
-        return 0
-    print(f"serving (meshcat server pid {scene.server.pid}); press Ctrl-C to stop the server", flush=True)
-    serve_until_stopped(scene.server)
-    return 0

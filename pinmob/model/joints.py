@@ -157,6 +157,18 @@ def wrap_angles(model: pin.Model, q: Array) -> Array:
     return out
 
 
+def short_difference(model: pin.Model, q0: Array, q1: Array) -> Array:
+    """(nv,) ``pin.difference(q0, q1)`` with every rotation component taken the short way, in (-pi, pi].
+
+    Configurations whose angles were wrapped by :func:`wrap_angles` (a revolute joint near pi turned to
+    -pi) differ by 2 pi in ``pin.difference``; this is the displacement that actually moved the joints.
+    """
+    d = pin.difference(model, q0, q1)
+    turn = ~linear_velocity_mask(model)
+    d[turn] = np.pi - np.mod(np.pi - d[turn], 2 * np.pi)
+    return d
+
+
 def outside_limits(model: pin.Model, q: Array, tol: float = 1e-9) -> tuple[str, ...]:
     """``"name [lower, upper]"`` for each one-coordinate joint of q outside its position limits [rad or m].
 

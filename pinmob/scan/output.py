@@ -1,12 +1,13 @@
 """Scan results on disk: rows streamed to CSV and JSON, and columns read back from the CSV.
 
 Both directions keep memory flat in the number of samples: :class:`RowWriter`
-holds only the current row, :func:`read_columns` parses only the columns asked
+holds only the current row (and writes through temporary files renamed at the end), :func:`read_columns` parses only the columns asked
 for, line by line, into arrays.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 from array import array
@@ -16,11 +17,17 @@ from typing import Any
 
 import numpy as np
 
+from pinmob.scan.files import Replacing
+
 
 class RowWriter:
     """Stream rows to a CSV file and/or a JSON file (``{"scan": {...}, "samples": [...]}``) as they come.
 
-    Use as a context manager; nothing is kept in memory but the current row.
+    Use as a context manager; nothing is kept in memory but the current row. The
+    rows go to temporary files in the targets' folders (:class:`~pinmob.scan.files.Replacing`),
+    renamed over the targets when the block ends normally: an error, Ctrl-C or a
+    handled signal leaves the targets as they were (an old file is not truncated
+    at the start) and removes the temporary files.
     """
 
     def __init__(
@@ -30,15 +37,27 @@ class RowWriter:
         self.meta = meta
         self.csv_path, self.json_path = csv_path, json_path
         self.count = 0
+        self._stack = contextlib.ExitStack()
+        self._targets: list[Replacing] = []
+
+    def _open(self, target: str) -> Any:
+        replacing = Replacing(target)
+        path = self._stack.enter_context(replacing)
+        self._targets.append(replacing)
+        return self._stack.enter_context(open(path, "w", newline="", encoding="utf-8"))
 
     def __enter__(self) -> RowWriter:
-        self._csv_fh = open(self.csv_path, "w", newline="") if self.csv_path else None  # noqa: SIM115
-        self._csv = csv.DictWriter(self._csv_fh, self.cols) if self._csv_fh else None
-        if self._csv:
-            self._csv.writeheader()
-        self._json = open(self.json_path, "w") if self.json_path else None  # noqa: SIM115
-        if self._json:
-            self._json.write('{"scan": ' + json.dumps(self.meta) + ', "samples": [')
+        try:
+            self._csv_fh = self._open(self.csv_path) if self.csv_path else None
+            self._csv = csv.DictWriter(self._csv_fh, self.cols) if self._csv_fh else None
+            if self._csv:
+                self._csv.writeheader()
+            self._json = self._open(self.json_path) if self.json_path else None
+            if self._json:
+                self._json.write('{"scan": ' + json.dumps(self.meta) + ', "samples": [')
+        except BaseException:
+            self._stack.close()
+            raise
         return self
 
     def write(self, row: dict[str, Any]) -> None:
@@ -50,12 +69,18 @@ class RowWriter:
             self._json.write((",\n" if self.count else "\n") + json.dumps(clean, allow_nan=False))
         self.count += 1
 
-    def __exit__(self, *exc: object) -> None:
-        if self._json:
-            self._json.write("\n]}\n")
-            self._json.close()
-        if self._csv_fh:
-            self._csv_fh.close()
+    def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        try:
+            if kind is None:
+                if self._json:
+                    self._json.write("\n]}\n")
+                for fh in (self._csv_fh, self._json):
+                    if fh:
+                        fh.close()
+                for target in self._targets:
+                    target.commit()
+        finally:
+            self._stack.close()  # removes what was not committed
 
 
 #: Columns read as text; every other column is read as float (blank: NaN; True/False: 1/0).

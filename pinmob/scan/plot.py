@@ -29,6 +29,7 @@ import numpy as np
 from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.files import Replacing
 from pinmob.scan.output import read_columns
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.screw.rank import RTOL
@@ -58,11 +59,16 @@ def pyplot() -> Any:
 
 
 def save_figure(plt: Any, fig: Any, title: str, png_path: str | Path) -> Path:
-    """Title, lay out, write the PNG (110 dpi) and close the figure."""
+    """Title, lay out, write the PNG (110 dpi, through a temporary file renamed at the end) and close the figure."""
     fig.suptitle(title, fontsize=11)
     fig.tight_layout()
-    fig.savefig(png_path, dpi=110)
-    plt.close(fig)
+    replacing = Replacing(png_path)
+    try:
+        with replacing as tmp:
+            fig.savefig(tmp, dpi=110, format="png")
+            replacing.commit()
+    finally:
+        plt.close(fig)
     return Path(png_path)
 
 

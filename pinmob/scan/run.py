@@ -5,8 +5,8 @@ target is assembled warm-started (the previous sample's configuration seeds
 the closure solver of the next). One coarse walk (:func:`chunk_seeds`, in this
 process) goes from the reference configuration through every ``STRIDE``-th
 sample of each line (a grid row by row, in a serpentine) and gives each chunk
-its seed; every chunk then runs from its seed, in this process or in a
-worker, so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
+its seed; every chunk then runs from its seed, in this process or on a Dask
+worker (:mod:`pinmob.engine`), so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
 ``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
 the refinement). Each sample is analysed from one kinematics computation
 (:func:`pinmob.analysis.singularity_analysis.singularity`).
@@ -30,26 +30,32 @@ the number of samples); targets that cannot be assembled give a row with
 
 from __future__ import annotations
 
-import multiprocessing as mp
+import time
 from collections.abc import Iterator
-from multiprocessing.context import BaseContext
 from typing import Any
 
 import numpy as np
 
 import pinmob.scan.chunk as chunk
-from pinmob.exceptions import ConfigurationError, PinmobError
+from pinmob.engine import Engine, Lost
+from pinmob.engine.cluster import check_workers
+from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chunk import SV_COLUMNS, run_chunk
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.screw.algebra import Array
+
+#: A scan whose remaining chunks would take less than this [s] in this process stays in this process: starting a
+#: ``LocalCluster`` (worker processes importing Pinocchio and pinmob) costs a few seconds.
+CLUSTER_MIN_SECONDS = 10.0
 
 
 def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Array]]:
     """``(start, stop, seed)`` of every chunk, in order, from one coarse walk (:meth:`ScanSpec.waypoints`).
 
     The seed is the walk's configuration at the chunk's first sample (or, when
-    that does not assemble, at the last waypoint that did).
+    that does not assemble, at the last waypoint that did). The walk advances only
+    as far as the chunks asked for so far need (chunks are produced lazily).
     """
     stops = dict(spec.chunks())
     order = list(stops)
@@ -67,64 +73,91 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
             yield start, stops[start], found.pop(start)
 
 
-# --------------------------------------------------------------------------- rows
+def _chunk_task(shared: tuple[Mechanism, ScanSpec], job: tuple[int, int, Array]) -> list[dict[str, Any]]:
+    """One chunk on a worker (:meth:`pinmob.engine.Engine.map`)."""
+    return run_chunk(shared[0], shared[1], *job)
 
 
-# --------------------------------------------------------------------------- running
+class ScanRun:
+    """The rows of a scan, one at a time (iterate over it); :attr:`where` says where the chunks ran.
 
-_WORKER: dict[str, Any] = {}
+    The first chunk runs in this process. With ``workers > 1`` the others go to a
+    Dask ``LocalCluster`` only when, at the first chunk's pace, they would take
+    more than ``CLUSTER_MIN_SECONDS`` here; with a ``scheduler`` they go to that
+    cluster. The rows do not depend on where they were computed.
+    """
+
+    def __init__(
+        self, mech: Mechanism, spec: ScanSpec, workers: int, progress: bool | None, scheduler: str | None
+    ) -> None:
+        self.mech, self.spec = mech, spec
+        self.engine = Engine(check_workers(workers), scheduler)
+        self.progress = progress
+        self.where = "1 worker (this process)"
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        from tqdm import tqdm
+
+        spec = self.spec
+        disable = (None if spec.size >= 50 else True) if self.progress is None else not self.progress
+        bar = tqdm(total=spec.size, disable=disable, unit="sample", desc=f"scan {self.mech.name}", leave=False)
+        jobs = chunk_seeds(self.mech, spec)
+        try:
+            first = next(jobs, None)
+            if first is None:
+                return
+            t0 = time.perf_counter()
+            rows = run_chunk(self.mech, spec, *first)
+            pace = (time.perf_counter() - t0) / max(1, first[1] - first[0])
+            bar.update(first[1] - first[0])
+            yield from rows
+            left = spec.size - (first[1] - first[0])
+            engine = self.engine
+            if engine.in_process or (engine.scheduler is None and pace * left < CLUSTER_MIN_SECONDS):
+                if not engine.in_process:
+                    self.where = f"1 worker (this process: too small to pay for {engine.workers} workers)"
+                for job in jobs:
+                    rows = run_chunk(self.mech, spec, *job)
+                    bar.update(job[1] - job[0])
+                    yield from rows
+                return
+            with engine:
+                self.where = engine.describe()
+                for result in engine.map(_chunk_task, (self.mech, spec), jobs):
+                    if isinstance(result, Lost):
+                        raise EngineError(f"a scan chunk could not be computed: {result.reason}; the scan stopped")
+                    bar.update(sum(not r["refined"] for r in result))
+                    yield from result
+                if engine.lost_workers:
+                    self.where += f"; {engine.lost_workers} worker(s) lost and replaced, their chunks computed again"
+        finally:
+            bar.close()
 
 
-def _init_worker(mech: Mechanism | str, spec: ScanSpec) -> None:
-    """Worker set-up: the mechanism (forked workers) or the file to load it from (spawned workers)."""
-    if isinstance(mech, str):
-        from pinmob.io.loader import load
-
-        mech = load(mech)
-    _WORKER.update(mech=mech, spec=spec)
-
-
-def _work(job: tuple[int, int, Array]) -> list[dict[str, Any]]:
-    return run_chunk(_WORKER["mech"], _WORKER["spec"], *job)
-
-
-def scan(mech: Mechanism, spec: ScanSpec, workers: int = 1, progress: bool | None = None) -> Iterator[dict[str, Any]]:
+def scan(
+    mech: Mechanism,
+    spec: ScanSpec,
+    workers: int = 1,
+    progress: bool | None = None,
+    scheduler: str | None = None,
+) -> ScanRun:
     """Rows of the scan (samples and refined points), in order of the line parameter, one at a time.
 
     Args:
         mech: the mechanism.
         spec: what to scan (:mod:`pinmob.scan.spec`).
-        workers: local processes (1 = in this process); the rows do not depend on it.
+        workers: worker processes of a Dask ``LocalCluster`` (1: this process); the rows do not depend on it.
         progress: show a tqdm bar on stderr (None: only for scans of 50 samples or more on a terminal).
-    """
-    from tqdm import tqdm
+        scheduler: address of an existing Dask cluster's scheduler to run the chunks on.
 
-    if workers < 1:
-        raise ConfigurationError(f"--workers must be at least 1, got {workers}")
-    jobs = chunk_seeds(mech, spec)
-    disable = (None if spec.size >= 50 else True) if progress is None else not progress
-    bar = tqdm(total=spec.size, disable=disable, unit="sample", desc=f"scan {mech.name}", leave=False)
-    try:
-        if workers == 1 or len(spec.chunks()) == 1:
-            for job in jobs:
-                rows = run_chunk(mech, spec, *job)
-                bar.update(job[1] - job[0])
-                yield from rows
-            return
-        init: tuple[Mechanism | str, ScanSpec]
-        if "fork" in mp.get_all_start_methods():
-            ctx: BaseContext = mp.get_context("fork")
-            init = (mech, spec)
-        else:
-            if mech.source is None:
-                raise ConfigurationError("--workers > 1 needs a mechanism loaded from a file on this platform")
-            ctx, init = mp.get_context("spawn"), (str(mech.source), spec)
-        with ctx.Pool(min(workers, len(spec.chunks())), initializer=_init_worker, initargs=init) as pool:
-            for rows in pool.imap(_work, jobs):
-                bar.update(sum(not r["refined"] for r in rows))
-                yield from rows
-    finally:
-        bar.close()
+    Returns:
+        an iterable :class:`ScanRun` (its ``where`` tells, once iterated, where the chunks ran).
+
+    Raises:
+        ConfigurationError: ``workers`` is not a positive whole number.
+        EngineError: the cluster cannot be used, loses every worker, or a chunk kills its workers each time.
+    """
+    return ScanRun(mech, spec, workers, progress, scheduler)
 
 
 def columns(spec: ScanSpec) -> list[str]:

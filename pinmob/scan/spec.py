@@ -165,6 +165,19 @@ class ScanSpec:
         return [("pose", pose_from_vector(base + t * (first - base))) for t in np.arange(1, steps) / steps]
 
 
+def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, float, int]:
+    """``COORD:LO:HI:N`` -> (coordinate, low, high, count); checked by :func:`grid_spec`."""
+    parts = text.split(":") if isinstance(text, str) else []
+    try:
+        if len(parts) != 4:
+            raise ValueError
+        return parts[0], float(parts[1]), float(parts[2]), int(parts[3])
+    except ValueError:
+        raise ConfigurationError(
+            f"{option} {text!r}: expected COORD:LO:HI:N (four fields separated by ':'), e.g. x:-0.1:0.1:21"
+        ) from None
+
+
 def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
     """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, closed q)."""
     if any(text.casefold() == name.casefold() for name in mech.configurations):

@@ -13,7 +13,10 @@ What the scene holds (meshcat paths):
   animation clip of that name moving its geometry: the platform goes a finite
   amount along the motion and back, then the other way and back, every frame
   a closed configuration (:func:`pinmob.analysis.motion_path.follow_motion`). The first
-  (or the chosen) clip plays in a loop; a row of the panel loads another.
+  (or the chosen) clip plays in a loop; a row of the panel loads another. A motion that exists
+  only to first order (:mod:`pinmob.analysis.finite`: blocked at some order, or only a combination
+  of motion branches) is drawn as such: its glyph grey and half transparent, pulsing in its clip
+  while the mechanism stays still, and its row's verdict says so.
 - ``/pinmob/glyphs/<label>``: the free motions at the platform
   (:mod:`pinmob.viewer.glyphs`): arrows, axis + ring, axis + helix.
 - ``/pinmob/wrenches/<kind i>``: the constraint wrenches, hidden unless asked for.
@@ -66,6 +69,7 @@ def show(
     steps: int = 12,
     animate: bool = True,
     timeout: float = 20.0,
+    finite: bool = True,
 ) -> Scene:
     """Show the mechanism and its animated free motions in a meshcat server.
 
@@ -87,6 +91,8 @@ def show(
         amplitude: distance of each motion [m, or rad].
         steps: continuation steps per direction.
         animate: follow the motions (False: a still scene).
+        finite: tell each motion's finite verdict; a motion that exists only to first order is drawn
+            as such (grey glyph pulsing in its clip, its row in the panel says so).
 
     Raises:
         ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
@@ -99,7 +105,7 @@ def show(
     check_port(port)
     if zmq_url is not None and port is not None:
         raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
-    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion)
+    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
     require_meshcat()
     import zmq
     from meshcat.visualizer import Visualizer

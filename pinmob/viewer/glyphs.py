@@ -43,6 +43,8 @@ TRANSLATION_COLOR = 0x1565C0
 ROTATION_COLOR = 0xE65100
 FORCE_COLOR = 0xC62828
 COUPLE_COLOR = 0x6A1B9A
+#: glyph of a motion that exists only to first order: grey and half transparent (it pulses in its clip)
+INSTANTANEOUS_COLOR, INSTANTANEOUS_OPACITY = 0x9E9E9E, 0.45
 #: distance [L] from the platform origin to the common start of the translation arrows (and of the couples)
 FREE_VECTOR_OFFSET = 0.3
 #: smallest distance [L] from that start to any motion's axis

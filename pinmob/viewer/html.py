@@ -47,9 +47,10 @@ def scene_html(
     amplitude: float | None = None,
     steps: int = 12,
     animate: bool = True,
+    finite: bool = True,
 ) -> tuple[str, Scene]:
     """The scene as a self-contained HTML page (no server, no file); see :func:`export_html`."""
-    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion)
+    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
     require_meshcat()
     from meshcat.visualizer import Visualizer
 
@@ -72,6 +73,7 @@ def export_html(
     amplitude: float | None = None,
     steps: int = 12,
     animate: bool = True,
+    finite: bool = True,
 ) -> Scene:
     """Write the scene and its animations to a self-contained HTML file that opens without a server.
 
@@ -90,6 +92,8 @@ def export_html(
         amplitude: distance of each motion [m for T, rad for R/H]; default 0.2 L or 0.35 rad.
         steps: continuation steps per direction.
         animate: follow the motions; False shows them as static glyphs only.
+        finite: tell each motion's finite verdict (:mod:`pinmob.analysis.finite`); a motion that exists
+            only to first order is drawn as such (grey glyph pulsing in its clip, the panel says so).
 
     Raises:
         ViewerError: the file exists and ``overwrite`` is False, or cannot be written.
@@ -101,7 +105,15 @@ def export_html(
     if target.is_dir():
         raise ViewerError(f"{str(target)!r} is a directory; give a file name ending in .html")
     page, scene = scene_html(
-        mech, q, mobility, motion=motion, wrenches=wrenches, amplitude=amplitude, steps=steps, animate=animate
+        mech,
+        q,
+        mobility,
+        motion=motion,
+        wrenches=wrenches,
+        amplitude=amplitude,
+        steps=steps,
+        animate=animate,
+        finite=finite,
     )
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():

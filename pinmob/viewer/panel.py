@@ -24,7 +24,15 @@ from pinmob.analysis.motion import KIND_WORDS, vector
 from pinmob.analysis.motion_path import MotionPath
 from pinmob.analysis.singularity import Singularity
 from pinmob.screw.classify import MotionKind
-from pinmob.viewer.glyphs import COUPLE_COLOR, FORCE_COLOR, ROTATION_COLOR, TRANSLATION_COLOR, Glyph, pitch_color
+from pinmob.viewer.glyphs import (
+    COUPLE_COLOR,
+    FORCE_COLOR,
+    INSTANTANEOUS_COLOR,
+    ROTATION_COLOR,
+    TRANSLATION_COLOR,
+    Glyph,
+    pitch_color,
+)
 from pinmob.viewer.world import AXIS_COLORS, GRID_COLOR, WorldFrame
 
 #: the pinmob command carrying the panel (the page's script handles it)
@@ -89,6 +97,8 @@ def motion_rows(
         color = {MotionKind.TRANSLATION: TRANSLATION_COLOR, MotionKind.ROTATION: ROTATION_COLOR}.get(
             m.kind, pitch_color(float(m.pitch or 0.0), mob.length_scale)
         )
+        if paths[m.label].finite is False:  # drawn grey: it exists only to first order
+            color = INSTANTANEOUS_COLOR
         rows.append(
             {
                 "label": m.label,
@@ -160,14 +170,17 @@ def mechanism_text(chain: MechanismMobility | None, mob: Mobility) -> str:
     )
 
 
-def legend(mob: Mobility, world: WorldFrame, generated: bool) -> list[dict[str, str]]:
-    """Every glyph shape and colour in the scene, in words."""
+def legend(mob: Mobility, world: WorldFrame, generated: bool, instantaneous: bool = False) -> list[dict[str, str]]:
+    """Every glyph shape and colour in the scene, in words (``instantaneous``: some motion is only first order)."""
     items = [
         {"icon": "→", "color": hex_color(TRANSLATION_COLOR), "text": "translation: blue arrow (a free vector: the "
          "arrows start together beside the platform origin)"},
         {"icon": "⟳", "color": hex_color(ROTATION_COLOR), "text": "rotation: orange axis line through the axis "
          "point, ring arrow = positive sense (right hand)"},
     ]  # fmt: skip
+    if instantaneous:
+        items.append({"icon": "◌", "color": hex_color(INSTANTANEOUS_COLOR), "text": "grey, half transparent, "
+                      "pulsing: a motion that exists only to first order (its clip cannot move the mechanism)"})  # fmt: skip
     if mob.screws:
         items.append({"icon": "∿", "color": hex_color(pitch_color(0.0, 1.0)), "text": "screw: axis and helix, "
                       "coloured by pitch (blue < 0, grey 0, red > 0)"})  # fmt: skip
@@ -258,7 +271,7 @@ def panel_document(
         "wrench_path": paths_of["wrenches"],
         "world": {"path": paths_of["world"], "visible": True, "spacing": world.spacing},
         "glyphs": glyph_labels(glyphs, world, paths_of["world"]),
-        "legend": legend(mob, world, generated),
+        "legend": legend(mob, world, generated, any(p.finite is False for p in paths.values())),
         "clips": clips,
         "visible": visible,
         "length_scale": float(mob.length_scale),

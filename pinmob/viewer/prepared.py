@@ -2,20 +2,22 @@
 
 :func:`prepare` closes the configuration, analyses it (:func:`pinmob.analyze`:
 the platform's mobility, the singularity report and the whole mechanism's
-mobility, for the panel's words) and follows each free motion
-(:func:`pinmob.analysis.motion_path.follow_motion`), reporting progress. Every
+mobility, for the panel's words), follows each free motion
+(:func:`pinmob.analysis.motion_path.follow_motion`), reporting progress, and
+tells each motion's finite-mobility verdict (:mod:`pinmob.analysis.finite`). Every
 error a bad argument can cause happens here, before any server is started.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from pinmob.analysis.closed_chain import MechanismMobility
 from pinmob.analysis.configuration import as_configuration
 from pinmob.analysis.entry_point import analyze
+from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion_path import MotionPath, follow_motion
 from pinmob.analysis.report import Report
@@ -57,8 +59,13 @@ def prepare(
     steps: int,
     animate: bool,
     motion: str | None = None,
+    finite: bool = True,
 ) -> Prepared:
     """Closed q, its analysis and the followed motions (everything that can fail before meshcat).
+
+    With ``finite`` (and a platform), each path carries its motion's verdict from
+    :func:`pinmob.analysis.finite.finite_mobility`: a motion that exists only to first order is then
+    drawn as such by :func:`pinmob.viewer.scene.build` and the panel's verdict column says so.
 
     Raises:
         ConfigurationError: ``motion`` is not the label of a free motion at q (matched ignoring case).
@@ -82,6 +89,12 @@ def prepare(
                 bar.update()
             else:
                 paths[m.label] = MotionPath(m.label, (conf.q,), (conf.q,), (0.0, 0.0), 0.0)
+    if finite and mech.has_platform and mob.motions:
+        verdicts = {v.label: v for v in finite_mobility(conf, RTOL, motions=mob.motions).motions}
+        for label, path in paths.items():
+            v = verdicts.get(label)
+            if v is not None:
+                paths[label] = replace(path, finite=v.finite, verdict=v.words())
     try:  # the panel's words; a mechanism whose singularity classes cannot be estimated is still shown
         chain: MechanismMobility | None = report.mechanism_mobility
         sing = report.singularity

@@ -2,7 +2,8 @@
 
 :func:`pinmob.viewer.prepared.prepare` does everything that can fail before
 meshcat is touched (the closed configuration, its analysis, the followed
-motions); :func:`build` sends
+motions and, by default, each motion's finite-mobility verdict,
+:mod:`pinmob.analysis.finite`); :func:`build` sends
 the scene (the mechanism once, one animation clip per free motion, glyphs,
 wrenches, the world axes and grid, camera, lights, and pinmob's panel with the
 motions' clips: :mod:`pinmob.viewer.panel`) to a live or recording meshcat
@@ -13,7 +14,7 @@ scene's meshcat paths.
 from __future__ import annotations
 
 import warnings
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +26,15 @@ from pinmob.analysis.motion_path import MotionPath
 from pinmob.exceptions import ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.commands import SetAnimation
-from pinmob.viewer.glyphs import Glyph, arrow, constraint_glyph, free_vector_start, motion_glyph
+from pinmob.viewer.glyphs import (
+    INSTANTANEOUS_COLOR,
+    INSTANTANEOUS_OPACITY,
+    Glyph,
+    arrow,
+    constraint_glyph,
+    free_vector_start,
+    motion_glyph,
+)
 from pinmob.viewer.panel import PanelCommand, panel_document
 from pinmob.viewer.prepared import Prepared
 from pinmob.viewer.skeleton import visual_geometry
@@ -43,6 +52,8 @@ POINT_LIGHTS = {"PointLightNegativeX": (1.5, 1.5, 2.0), "PointLightPositiveX": (
 LIGHT_REACH = 10.0
 #: glyphs are drawn after everything else (three.js renderOrder)
 GLYPH_RENDER_ORDER = 10
+#: how much the glyph of a motion that exists only to first order (grey, half transparent) pulses in its clip
+PULSE = 0.35
 
 
 @dataclass
@@ -55,7 +66,8 @@ class Scene:
         notes: where a motion could not be followed the whole amplitude, and why.
         generated_geometry: True when the mechanism is drawn as a generated stick figure.
         mobility: the analysis shown.
-        paths: the followed motions, by clip name.
+        paths: the followed motions, by clip name, each with its finite verdict (``MotionPath.finite``,
+            ``MotionPath.verdict``) when it was analysed.
         center, distance: where the camera looks [m] and from how far [m].
         url: the live page (``show``) or None.
         zmq_url: the server's command URL (``show``) or None.
@@ -77,6 +89,11 @@ class Scene:
     server: Any = field(default=None, repr=False)
     panel: dict[str, Any] = field(default_factory=dict, repr=False)
     panel_shown: bool = True
+
+    @property
+    def verdicts(self) -> dict[str, str]:
+        """Each clip's finite-mobility verdict in words (``finite``, ``blocked at order 2 (shaky)``, ...)."""
+        return {label: self.paths[label].verdict for label in self.clips}
 
 
 # --------------------------------------------------------------------------- meshcat plumbing
@@ -185,7 +202,9 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene
     clip_labels: list[str | None] = [*labels] or [None]
     for label in clip_labels:
         animation = Animation(default_framerate=FPS)
-        for k, qk in enumerate(paths[label].frames() if label is not None else [q]):
+        still = label is not None and paths[label].finite is False  # only instantaneous: its glyph pulses
+        frames = ([q] * FPS if still else paths[label].frames()) if label is not None else [q]
+        for k, qk in enumerate(frames):
             pin.updateGeometryPlacements(model, data, geometry, gdata, qk)
             for i, node in enumerate(nodes):
                 matrix = gdata.oMg[i].homogeneous
@@ -195,6 +214,11 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene
                 clip = animation.clips.setdefault(node, AnimationClip(fps=FPS, name=label))
                 clip.set_property(k, "position", "vector3", [float(x) for x in js_position(matrix)])
                 clip.set_property(k, "quaternion", "quaternion", [float(x) for x in js_quaternion(matrix)])
+        if still:  # the glyph's node is placed at the glyph's centre (below), so it pulses in place
+            pulse = animation.clips.setdefault(vis[f"{ROOT}/glyphs/{label}"].path, AnimationClip(fps=FPS, name=label))
+            for k in range(FPS):
+                size = 1.0 + PULSE * np.sin(2 * np.pi * k / (FPS - 1))
+                pulse.set_property(k, "scale", "vector3", [size] * 3)
         if label is not None:
             clips[label] = animation.lower()
 
@@ -203,7 +227,15 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene
     start = free_vector_start(mob.motions, origin, length)
     for m in mob.motions:
         glyph = motion_glyph(m, origin, length, start)
-        vis[f"{ROOT}/glyphs/{glyph.name}"].set_object(_mesh(glyph))
+        node = vis[f"{ROOT}/glyphs/{glyph.name}"]
+        if paths[m.label].finite is False:  # only instantaneous: grey, half transparent, centred on its node
+            centre = glyph.vertices.mean(axis=0)
+            shown = replace(glyph, vertices=glyph.vertices - centre, color=INSTANTANEOUS_COLOR)
+            node.set_object(_mesh(shown, opacity=INSTANTANEOUS_OPACITY))
+            node.set_transform(pin.SE3(np.eye(3), centre).homogeneous)
+            glyph = replace(glyph, color=INSTANTANEOUS_COLOR)
+        else:
+            node.set_object(_mesh(glyph))
         drawn.append(("motion", ["meshcat", ROOT, "glyphs", glyph.name], glyph))
         points.extend(glyph.vertices)
     couples = free_vector_start(mob.motions, origin, length, side=-1.0)
@@ -229,11 +261,12 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene
         mech.name, mob, paths, singularity=prep.singularity, chain=prep.chain, glyphs=drawn, world=world,
         paths_of={"world": ["meshcat", ROOT, "world"], "wrenches": ["meshcat", ROOT, "wrenches"]},
         clips=clips, visible=visible, wrenches=wrenches, generated=generated,
+        verdicts={label: path.verdict for label, path in paths.items() if path.verdict},
     )  # fmt: skip
-    shown = send_panel(vis, PanelCommand(document))
+    panel_shown = send_panel(vis, PanelCommand(document))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(
-        tuple(labels), visible, notes, generated, mob, paths, center, distance, panel=document, panel_shown=shown
+        tuple(labels), visible, notes, generated, mob, paths, center, distance, panel=document, panel_shown=panel_shown
     )
 
 

@@ -68,8 +68,9 @@
       if (glyph.group !== "motion") continue;
       const obj = glyphObject(viewer, glyph);
       if (obj) {
+        if (obj.userData.pinmobOpacity === undefined) obj.userData.pinmobOpacity = obj.material.opacity; // as drawn
         obj.material.transparent = true;
-        obj.material.opacity = glyph.label === label ? 1.0 : DIM;
+        obj.material.opacity = obj.userData.pinmobOpacity * (glyph.label === label ? 1.0 : DIM);
         obj.material.needsUpdate = true;
       }
     }

@@ -1,0 +1,91 @@
+"""Cost of the finite-mobility analysis per configuration, on every built-in model and named configuration.
+
+For each configuration (closed once, outside the timing): ``total_ms``, the whole finite analysis of
+:func:`pinmob.analysis.finite.finite_mobility` (free and with the actuators held: higher-order conditions,
+cone and branches, every motion traced, closed samples), on a fresh :class:`pinmob.Configuration` each time;
+``screw_ms``, its screw-based part alone (loop screws, the conditions, the second-order cone and an order test
+per platform motion, no tracing and no sampling). Each is the median of ``--repeat`` runs; the reference is
+the issue's target, 1000 ms per configuration. The machine's load average is printed with the figures (the
+development machine is shared: figures taken under load are slower).
+
+Usage: ``python benchmarks/bench_finite.py [--repeat N] [--only NAME]``; the last line is one JSON object.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import statistics
+import time
+import tomllib
+from pathlib import Path
+
+import numpy as np
+
+import pinmob
+from pinmob.analysis.closure_jacobian import frame_rows
+from pinmob.analysis.finite import finite_mobility
+from pinmob.analysis.higher_order import HigherOrder
+from pinmob.analysis.loop_screws import mechanism_loops
+from pinmob.analysis.tangent_cone import cone
+from pinmob.screw.algebra import twist_scaling
+from pinmob.screw.rank import RTOL, decide_rank
+
+MODELS = Path(__file__).resolve().parent.parent / "models"
+REFERENCE_MS = 1000.0
+
+
+def screw_part(mech: pinmob.Mechanism, q: np.ndarray) -> None:
+    """The screw-based part: conditions, cone, and an order test per platform motion."""
+    conf = pinmob.Configuration(mech, q)
+    ho = HigherOrder(mechanism_loops(conf), RTOL)
+    cone(ho)
+    if mech.has_platform:
+        on_kernel = frame_rows(conf, mech.platform) @ ho.kernel[: mech.model.nv]
+        lifts = decide_rank(on_kernel, RTOL, n=ho.m, at_least=1.0).null_space.T
+        for m in pinmob.analyze(mech, conf).motions:
+            ho.test(np.linalg.lstsq(on_kernel, twist_scaling(mech.length_scale) * m.twist, rcond=None)[0], lifts)
+
+
+def whole(mech: pinmob.Mechanism, q: np.ndarray) -> None:
+    """The whole finite analysis, numerical confirmation included."""
+    finite_mobility(pinmob.Configuration(mech, q), RTOL)
+
+
+def median_ms(run, mech: pinmob.Mechanism, q: np.ndarray, repeat: int) -> float:
+    times = []
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        run(mech, q)
+        times.append(time.perf_counter() - t0)
+    return 1e3 * statistics.median(times)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeat", type=int, default=3, help="runs per configuration (median; default 3)")
+    parser.add_argument("--only", help="one built-in model")
+    args = parser.parse_args()
+    cases = [
+        (tomllib.loads(p.read_text())["name"], c)
+        for p in sorted(MODELS.glob("*.toml"))
+        for c in tomllib.loads(p.read_text())["configurations"]
+    ]
+    cases = [c for c in cases if args.only in (None, c[0])]
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores; reference {REFERENCE_MS:.0f} ms")
+    out = {}
+    for name, config in cases:
+        mech = pinmob.load(name)
+        q = pinmob.closed_configuration(mech, config)
+        whole(mech, q)  # first call: imports and caches
+        total, screws = median_ms(whole, mech, q, args.repeat), median_ms(screw_part, mech, q, args.repeat)
+        out[f"{name}:{config}"] = {"total_ms": round(total, 1), "screw_ms": round(screws, 1)}
+        print(f"{name:16s} {config:20s} total {total:7.1f} ms  screw-based part {screws:6.1f} ms")
+    worst = max(v["total_ms"] for v in out.values())
+    print(f"slowest {worst:.0f} ms (reference {REFERENCE_MS:.0f} ms); load average {os.getloadavg()[0]:.1f}")
+    print(json.dumps(out))
+
+
+if __name__ == "__main__":
+    main()

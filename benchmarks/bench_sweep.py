@@ -1,0 +1,103 @@
+"""Sweep throughput: designs per second in process, on 1 and 2 local Dask workers, and the cost of one design.
+
+Runs the example sweep's family (3-PUU) on a small design set (``--designs``, default 16) with the example's
+per-design scan (9 x 9 samples), and prints:
+
+* designs/s in this process, on a LocalCluster of 1 worker and of 2 workers (cluster start-up excluded);
+* per design: building and loading the mechanism, the analysis at the reference (with the generic rank),
+  the scan (assembly and analysis of every sample), and the scheduling overhead per design (time on 1 Dask
+  worker minus time in process, per design);
+* the estimate of a large sweep (``--estimate-designs`` x ``--estimate-samples`` on ``--estimate-workers``)
+  from these figures: (per-design time scaled by samples) / workers + overhead.
+
+    python benchmarks/bench_sweep.py [--designs 16]
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import tempfile
+import time
+from pathlib import Path
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "3puu_sweep.toml"
+
+
+def _timed(run) -> tuple[float, list]:
+    t0 = time.perf_counter()
+    out = list(run)
+    return time.perf_counter() - t0, out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--designs", type=int, default=16)
+    parser.add_argument("--estimate-designs", type=int, default=100_000)
+    parser.add_argument("--estimate-samples", type=int, default=400)
+    parser.add_argument("--estimate-workers", type=int, default=64)
+    args = parser.parse_args()
+
+    from dataclasses import replace
+
+    import numpy as np
+    from dask.distributed import Client, LocalCluster
+
+    import pinmob
+    from pinmob.analysis.entry_point import analyze
+    from pinmob.engine.cluster import WORKER_SETUP
+    from pinmob.scan.chunk import run_chunk
+    from pinmob.scan.run import chunk_seeds
+    from pinmob.sweeps.designs import DesignSet
+
+    spec = pinmob.load_spec(EXAMPLE)
+    side = int(np.ceil(np.sqrt(args.designs)))
+    spec = replace(spec, designs=DesignSet("grid", ("link", "big_r"), ((0.26, 0.35, side), (0.2, 0.3, side))))
+    samples = spec.scan.axes[0][3] * spec.scan.axes[1][3]
+    list(pinmob.sweep(spec, skip=np.arange(spec.count) > 0))  # warm-up (numba cache, imports)
+
+    # per-design split, in process
+    build = analysis = scanning = 0.0
+    for i in range(spec.count):
+        with tempfile.TemporaryDirectory() as folder:
+            t0 = time.perf_counter()
+            mech = spec.source.mechanism(spec.values(i), Path(folder))
+            t1 = time.perf_counter()
+            scan = spec.scan.spec(mech)
+            analyze(mech, scan.q_ref, rtol=scan.rtol, generic_rank=scan.generic_rank).mechanism_mobility  # noqa: B018
+            t2 = time.perf_counter()
+            for job in chunk_seeds(mech, scan):
+                run_chunk(mech, scan, *job)
+            t3 = time.perf_counter()
+        build, analysis, scanning = build + t1 - t0, analysis + t2 - t1, scanning + t3 - t2
+    n = spec.count
+    serial, records = _timed(pinmob.sweep(spec))
+    rates = {"in process": n / serial}
+    for workers in (1, 2):
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, host="127.0.0.1",
+                               dashboard_address="127.0.0.1:0", silence_logs=logging.CRITICAL,
+                               preload=[WORKER_SETUP])  # fmt: skip
+        with cluster, Client(cluster) as client:  # started here: start-up not timed
+            client.run(lambda: __import__("pinmob"))
+            list(pinmob.sweep(spec, scheduler=cluster.scheduler_address, skip=np.arange(spec.count) >= workers))
+            elapsed, dask_records = _timed(pinmob.sweep(spec, scheduler=cluster.scheduler_address))
+            assert dask_records == records, "Dask records differ from the serial ones"
+            rates[f"{workers} Dask worker(s)"] = n / elapsed
+            if workers == 1:
+                overhead = (elapsed - serial) / n
+    print(f"{n} designs of {spec.source.name} with a {samples}-sample scan each ({spec.scan.describe()})")
+    for where, rate in rates.items():
+        print(f"  {where:18s} {rate:6.2f} designs/s")
+    per = serial / n
+    print(f"per design {per * 1e3:.0f} ms in process: mechanism built and loaded {build / n * 1e3:.1f} ms, "
+          f"reference analysis + generic rank {analysis / n * 1e3:.1f} ms, scan {scanning / n * 1e3:.1f} ms "
+          f"({scanning / n / samples * 1e3:.2f} ms per sample: assembly + analysis); "
+          f"scheduling overhead on Dask {overhead * 1e3:.1f} ms per design")  # fmt: skip
+    big = (build + analysis) / n + scanning / n / samples * args.estimate_samples
+    total = args.estimate_designs * (big + max(overhead, 0.0)) / args.estimate_workers
+    print(f"estimate: {args.estimate_designs} designs x {args.estimate_samples} samples on {args.estimate_workers} "
+          f"workers of this speed: {big:.2f} s per design, {total / 3600:.1f} h")  # fmt: skip
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,230 @@
+"""Finite versus instantaneous mobility: which free motions really exist, to which order, and where branches meet.
+
+The free motions of :func:`pinmob.analyze` are first-order: the null space of a Jacobian. At special
+configurations that overstates the mobility (the seed paper's flat 3-PUU: 1T1R instantaneously, yet
+the rotation is impossible at finite amplitude). :func:`finite_mobility` answers for the platform and
+for the whole closed chain, free and with the actuators held:
+
+1. Müller's higher-order conditions on the closure equations, from the instantaneous joint screws
+   and their Lie brackets (:mod:`pinmob.screw.lie`, :mod:`pinmob.analysis.loop_screws`,
+   :mod:`pinmob.analysis.tangent_cone`), up to ``order`` (default 4): the second-order tangent cone
+   split into linear components, the tangent spaces of the motion branches through q, each checked
+   to ``order`` (:mod:`pinmob.analysis.branches`); per instantaneous motion, finite, blocked at order
+   k (shaky), or a branch point (:mod:`pinmob.analysis.verdicts`);
+2. each motion and branch traced by the predictor-corrector of :mod:`pinmob.analysis.motion_path`;
+3. the local dimension estimated from closed samples near q (:mod:`pinmob.analysis.local_dimension`).
+
+The finite DoF are the largest branch's (for the platform, the largest platform DoF on a branch,
+taken at the branch's generic points). Where the three disagree the number is None and the notes
+say why, with the numbers: the analysis never guesses. Redundant closures (Bennett's, Bricard's
+linkages) need nothing special: the conditions are written on every loop.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+from pinmob.analysis.branches import branch_joints
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.finite_side import Side, analyse_side
+from pinmob.analysis.higher_order import ORDER, ORDER_TOL
+from pinmob.analysis.motion import Motion
+from pinmob.analysis.verdicts import MotionVerdict
+from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.exceptions import ConfigurationError
+
+#: Valid order bounds.
+ORDERS = range(2, 9)
+
+
+@dataclass(frozen=True)
+class FiniteMobility:
+    """Finite and instantaneous mobility at one configuration (see the module docstring).
+
+    Attributes:
+        mechanism, configuration: names.
+        order: the bound on the order of the conditions checked.
+        tolerance: the absolute tolerance of the conditions (``order_tol * sigma_max``).
+        free: the analysis of the mechanism as it is.
+        locked: the analysis with the actuated joints held (None when no actuator is declared).
+        platform: the platform frame's name ("" without one).
+    """
+
+    mechanism: str
+    configuration: str | None
+    order: int
+    tolerance: float
+    free: Side
+    locked: Side | None
+    platform: str
+    conf: Configuration
+
+    @property
+    def finite_dof(self) -> int | None:
+        """The platform's finite DoF (None: no platform, or cannot decide)."""
+        return self.free.finite_dof
+
+    @property
+    def finite_mechanism_dof(self) -> int | None:
+        """The closed chain's finite DoF (None: cannot decide)."""
+        return self.free.finite_mechanism_dof
+
+    @property
+    def finite_dof_locked(self) -> int | None:
+        """With the actuators held: the platform's finite DoF, else (no platform) the closed chain's."""
+        if self.locked is None:
+            return None
+        return self.locked.finite_dof if self.platform else self.locked.finite_mechanism_dof
+
+    @property
+    def motions(self) -> tuple[MotionVerdict, ...]:
+        """A verdict per instantaneous platform motion."""
+        return self.free.motions
+
+    def report_entries(self) -> dict[str, Any]:
+        """The keys ``pinmob analyze --finite --json`` adds to the report's document.
+
+        ``finite_dof``, ``finite_mechanism_dof``, ``finite_dof_locked`` (where actuators are declared)
+        and ``finite`` (:meth:`to_dict`).
+        """
+        out: dict[str, Any] = {"finite_dof": self.finite_dof, "finite_mechanism_dof": self.finite_mechanism_dof}
+        if self.locked is not None:
+            out["finite_dof_locked"] = self.finite_dof_locked
+        return out | {"finite": self.to_dict()}
+
+    def to_dict(self) -> dict[str, Any]:
+        """The ``finite`` entry of ``pinmob analyze --finite --json`` (plain JSON)."""
+        out = {
+            "order_bound": self.order,
+            "tolerance": self.tolerance,
+            "dof": self.free.dof,
+            "finite_dof": self.finite_dof,
+            "mechanism_dof": self.free.mechanism_dof,
+            "finite_mechanism_dof": self.finite_mechanism_dof,
+            "motions": [m.to_dict() for m in self.free.motions],
+            "internal_motions": [m.to_dict() for m in self.free.internal],
+            "branches": [b.to_dict(branch_joints(self.conf, b)) for b in self.free.branches],
+            "samples": self.free.samples.to_dict(),
+            "notes": list(self.free.notes),
+        }
+        if self.locked is not None:
+            lk = self.locked
+            out["locked"] = {
+                "held": list(lk.held),
+                "dof": lk.dof if self.platform else lk.mechanism_dof,
+                "finite_dof": self.finite_dof_locked,
+                "mechanism_dof": lk.mechanism_dof,
+                "finite_mechanism_dof": lk.finite_mechanism_dof,
+                "motions": [m.to_dict() for m in lk.motions],
+                "branches": [b.to_dict(branch_joints(self.conf, b)) for b in lk.branches],
+                "samples": lk.samples.to_dict(),
+                "notes": list(lk.notes),
+            }
+        return out
+
+    def __str__(self) -> str:
+        """The block ``pinmob analyze --finite`` prints."""
+        free = self.free
+        many = len(free.branches) > 1
+        origin = self.conf.platform_origin if self.platform else None
+        length = self.conf.mechanism.length_scale
+        lines = [
+            f"finite mobility: higher-order conditions up to order {self.order} (tolerance {self.tolerance:.2e}), "
+            f"each motion traced, {free.samples.samples} closed samples within {free.samples.radius:g} of q"
+        ]
+        if self.platform:
+            lines.append(
+                f"platform: {_finite(free, free.finite_dof)} (instantaneous: {free.dof} DoF, {free.motion_type})"
+            )
+            lines += [m.line(many, origin, length) for m in free.motions]
+        internal = "; internal motions (the platform still to first order):" if free.internal and self.platform else ""
+        internal = internal or (":" if free.internal else "")
+        lines.append(
+            f"mechanism: {_finite(free, free.finite_mechanism_dof, False)} (instantaneous: {free.mechanism_dof}){internal}"
+        )
+        lines += [m.line(many) for m in free.internal]
+        lines += _branch_lines(free)
+        lines += [f"  note: {n}" for n in free.notes]
+        if self.locked is not None:
+            lk = self.locked
+            what, inst = ("platform", lk.dof) if self.platform else ("mechanism", lk.mechanism_dof)
+            lines.append(
+                f"actuators held ({', '.join(lk.held)}): {what} {_finite(lk, self.finite_dof_locked, False)} "
+                f"(instantaneous: {inst})"
+            )
+            lines += [m.line(len(lk.branches) > 1, origin, length) for m in lk.motions]
+            lines += [f"  note: {n}" for n in lk.notes]
+        return "\n".join(lines)
+
+
+def _finite(side: Side, dof: int | None, types: bool = True) -> str:
+    """``1 DoF finite, 1T`` (with ``types``: the motion types of the branches giving the platform that many DoF)."""
+    if dof is None:
+        return "cannot decide the finite DoF"
+    kinds = (
+        [] if not types else list(dict.fromkeys(b.motion_type for b in side.branches if b.dof == dof and b.motion_type))
+    )
+    return f"{dof} DoF finite" + (f", {' or '.join(kinds)}" if kinds and dof else "")
+
+
+def _branch_lines(side: Side) -> list[str]:
+    """One line per motion branch through q (none for a rigid mechanism)."""
+    if not side.branches:
+        return ["branches through q: none (no closed configuration near q but q)"] if side.mechanism_dof else []
+    lines = [f"branches through q: {len(side.branches)}"]
+    for i, b in enumerate(side.branches):
+        where = "" if b.where == "q" else " (at a nearby point of the branch: at q it moves less, to first order)"
+        plat = f"; the platform {b.dof} DoF, {b.motion_type}{where}" if b.dof is not None else ""
+        lines.append(f"  branch {i + 1}: {b.dimension} DoF{plat}")
+    return lines
+
+
+def check_order(order: object) -> int:
+    """A validated order bound: an integer in 2..8.
+
+    Raises:
+        ConfigurationError: naming the value and the valid range.
+    """
+    if isinstance(order, bool) or not isinstance(order, int) or order not in ORDERS:
+        raise ConfigurationError(
+            f"the order bound of the finite analysis must be an integer from {ORDERS[0]} to {ORDERS[-1]}, got {order!r}"
+        )
+    return order
+
+
+def finite_mobility(
+    conf: Configuration,
+    rtol: float,
+    order: int = ORDER,
+    order_tol: float = ORDER_TOL,
+    seed: int = 0,
+    motions: tuple[Motion, ...] | None = None,
+) -> FiniteMobility:
+    """Finite and instantaneous mobility at ``conf``, free and with the declared actuators held.
+
+    Args:
+        conf: the closed configuration.
+        rtol: relative tolerance of the first-order rank decisions.
+        order: the highest order of the conditions checked (2..8).
+        order_tol: relative tolerance of the conditions.
+        seed: of the random directions (cone points, tracing directions, samples).
+        motions: the instantaneous platform motions to judge (default: the closed chain's, classified
+            here; :func:`pinmob.analyze` passes its platform mobility's, so the labels are its own).
+
+    Raises:
+        ConfigurationError: a bad order bound, or a joint type the conditions cannot treat.
+    """
+    order = check_order(order)
+
+    def compute() -> FiniteMobility:
+        mech = conf.mechanism
+        free = analyse_side(conf, rtol, order, order_tol, (), seed, motions)
+        locked = None
+        if mech.actuated:
+            held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
+            locked = analyse_side(conf, rtol, order, order_tol, held, seed)
+        return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf)
+
+    key = None if motions is None else tuple((m.label, m.twist.tobytes()) for m in motions)
+    return conf.memo(("finite", rtol, order, order_tol, seed, key), compute)

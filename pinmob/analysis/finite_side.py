@@ -1,0 +1,235 @@
+"""One side of the finite-mobility analysis: the mechanism as it is, or with some joints held.
+
+:func:`analyse_side` runs every step of :mod:`pinmob.analysis.finite` on the closed chain with the
+joints ``held`` kept still (none, or the actuated ones): the higher-order conditions and their
+cone (:mod:`pinmob.analysis.tangent_cone`), the branches (:mod:`pinmob.analysis.branches`), a
+verdict per instantaneous motion (:mod:`pinmob.analysis.verdicts`), each motion traced, and the
+local-dimension estimate from closed samples (:mod:`pinmob.analysis.local_dimension`). The finite
+DoF are those of the branches; where the samples, the tracer or the cone do not confirm them, they
+are None and a note says why.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pinmob.analysis.actuation import joint_rates
+from pinmob.analysis.branches import Branch, branch_of, platform_motions, tangent_rates
+from pinmob.analysis.closure_jacobian import closed_chain, closed_chain_columns, frame_rows
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.displacement import displacement
+from pinmob.analysis.higher_order import HigherOrder
+from pinmob.analysis.local_dimension import LocalDimension, local_dimension
+from pinmob.analysis.loop_screws import mechanism_loops
+from pinmob.analysis.motion import Motion
+from pinmob.analysis.motion_path import follow_motion, follow_rates
+from pinmob.analysis.tangent_cone import cone
+from pinmob.analysis.verdicts import MotionVerdict, Verdict, judge, orthonormal
+from pinmob.assembly.residual import compute_kinematics
+from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.screw.classify import MotionKind
+from pinmob.screw.rank import decide_rank
+
+#: Distance each motion is traced: a fraction of L for translations, radians otherwise, joint metric for joints.
+TRACE = 0.05
+#: Halvings of a failed tracing step (the first step is TRACE / 2; the smallest tried TRACE / 2 / 2^HALVINGS).
+HALVINGS = 2
+
+
+@dataclass(frozen=True)
+class Side:
+    """The finite analysis of the closed chain, free or with some joints held.
+
+    Attributes:
+        held: the joints held (names).
+        dof: the platform's instantaneous DoF (None without a platform).
+        motion_type: the platform's instantaneous motion type (None without a platform).
+        mechanism_dof: the closed chain's instantaneous DoF.
+        finite_dof: the platform's finite DoF (None: no platform, or cannot decide).
+        finite_mechanism_dof: the closed chain's finite DoF (None: cannot decide).
+        branches: the motion branches through q.
+        motions: a verdict per instantaneous platform motion.
+        internal: a verdict per internal motion (platform still to first order; free side only).
+        samples: the local-dimension estimate.
+        notes: why a finite DoF could not be decided.
+        tolerance: the absolute tolerance of the conditions.
+    """
+
+    held: tuple[str, ...]
+    dof: int | None
+    motion_type: str | None
+    mechanism_dof: int
+    finite_dof: int | None
+    finite_mechanism_dof: int | None
+    branches: tuple[Branch, ...]
+    motions: tuple[MotionVerdict, ...]
+    internal: tuple[MotionVerdict, ...]
+    samples: LocalDimension
+    notes: tuple[str, ...]
+    tolerance: float
+
+
+def internal_motions(conf: Configuration, rates: Array) -> list[tuple[str, Array]]:
+    """Internal motions (orthonormal columns of ``rates`` (nv, g)) split by limb: (label, rates) each.
+
+    The motions moving only one limb's joints come first (``limb A``, or ``limb A 1``, ``limb A 2``),
+    then the rest (``coupled 1``, ...); a mechanism without limbs gives ``motion 1``, ``motion 2``, ...
+    """
+    mech = conf.mechanism
+    g = rates.shape[1]
+    if g == 0:
+        return []
+    if not mech.limbs:
+        return [(f"motion {i + 1}", rates[:, i]) for i in range(g)]
+    out: list[tuple[str, Array]] = []
+    found: list[Array] = []
+    for limb in mech.limbs:
+        outside = np.ones(mech.model.nv, bool)
+        outside[limb.screw_v_indices] = False
+        local = decide_rank(rates[outside], 1e-9, n=g, at_least=1.0).null_space.T
+        for i in range(local.shape[1]):
+            label = f"limb {limb.name}" + (f" {i + 1}" if local.shape[1] > 1 else "")
+            out.append((label, rates @ local[:, i]))
+        found.append(local)
+    taken = orthonormal(found, g)
+    rest = decide_rank(taken.T, 1e-9, n=g, at_least=1.0).null_space.T if taken.size else np.eye(g)
+    out += [(f"coupled {i + 1}", rates @ rest[:, i]) for i in range(rest.shape[1])]
+    return out
+
+
+def _trace_motion(conf: Configuration, motion: Motion, rtol: float) -> float:
+    mech = conf.mechanism
+    amp = TRACE * mech.length_scale if motion.kind is MotionKind.TRANSLATION else TRACE
+    path = follow_motion(
+        mech, conf.q, motion, amplitude=amp, steps=2, rtol=rtol, closure_tol=conf.closure_tol, halvings=HALVINGS
+    )
+    return max(path.reached)
+
+
+def _trace_rates(
+    conf: Configuration, rates: Array, held: tuple[int, ...], rtol: float, twist: Array | None = None
+) -> float:
+    """Distance the rates were followed (joint metric), with ``twist`` only as far as the platform follows it.
+
+    With ``twist`` (a dimensionless platform twist), a direction whose end leaves the platform short of
+    half the first-order prediction along ``twist`` counts as not followed (it moved internal joints only).
+    """
+    mech = conf.mechanism
+    path = follow_rates(
+        mech,
+        conf.q,
+        rates,
+        amplitude=TRACE,
+        steps=2,
+        held=held,
+        rtol=rtol,
+        closure_tol=conf.closure_tol,
+        halvings=HALVINGS,
+    )
+    reached = max(path.reached)
+    if twist is None or reached == 0.0:
+        return reached
+    sign, end = (1.0, path.forward[-1]) if path.reached[0] >= path.reached[1] else (-1.0, path.backward[-1])
+    data = mech.model.createData()
+    compute_kinematics(mech.model, data, end)
+    moved = twist_scaling(mech.length_scale) * displacement(
+        conf.frame_placement(mech.platform_id), data.oMf[mech.platform_id]
+    )
+    predicted = sign * reached * (frame_rows(conf, mech.platform) @ rates) / np.linalg.norm(rates)
+    unit = twist / np.linalg.norm(twist)
+    return reached if moved @ unit >= 0.5 * abs(predicted @ unit) > 0 else 0.0
+
+
+def analyse_side(
+    conf: Configuration,
+    rtol: float,
+    order: int,
+    order_tol: float,
+    held: tuple[int, ...] = (),
+    seed: int = 0,
+    given: tuple[Motion, ...] | None = None,
+) -> Side:
+    """The :class:`Side` of ``conf`` with the joints of velocity indices ``held`` kept still.
+
+    ``given``: the platform motions to judge (default: the closed chain's, classified here); the
+    report passes those of its first block, so that the labels are the same.
+    """
+    mech = conf.mechanism
+    nv = mech.model.nv
+    rng = np.random.default_rng(seed)
+    ho = HigherOrder(mechanism_loops(conf), rtol, held, order_tol)
+    found = cone(ho, order, seed)
+    branches = tuple(branch_of(conf, ho, c, rtol, held, seed + i) for i, c in enumerate(found.components))
+    kernel = tangent_rates(ho, np.eye(ho.m))
+    notes: list[str] = []
+    if not held and ho.m != closed_chain(conf, rtol).null.shape[1]:
+        notes.append(
+            f"the loop screws give {ho.m} instantaneous DoF, the closure Jacobian "
+            f"{closed_chain(conf, rtol).null.shape[1]}: a rank decision is too close to its tolerance"
+        )
+    if not found.linear:
+        notes.append("the second-order cone is not a union of linear spaces: its branches cannot be told apart")
+    notes += [f"branch {i + 1}: {b.note}" for i, b in enumerate(branches) if b.note]
+    col = closed_chain_columns(conf)
+    model = mech.model
+    names = tuple(
+        model.names[j] for j in range(1, model.njoints) if model.joints[j].nv and model.joints[j].idx_v in held
+    )
+    motions: list[MotionVerdict] = []
+    internal: list[MotionVerdict] = []
+    dof = kind = None
+    lifts = np.eye(ho.m)
+    if mech.has_platform:
+        rows = frame_rows(conf, mech.platform)
+        on_kernel = rows @ ho.kernel[:nv]
+        dof, kind, found_motions = platform_motions(conf, kernel, rtol)
+        found_motions = found_motions if given is None else given
+        lifts = decide_rank(on_kernel, rtol, n=ho.m, at_least=1.0).null_space.T
+        spans = [orthonormal([rows @ b.rates], 6) for b in branches]
+        w = twist_scaling(mech.length_scale)
+        for mo in found_motions:
+            target = w * mo.twist
+            test = ho.test(np.asarray(np.linalg.lstsq(on_kernel, target, rcond=None)[0], float), lifts, order, rng)
+            traced = (
+                _trace_motion(conf, mo, rtol) if not held else _trace_rates(conf, test.rates[:nv], held, rtol, target)
+            )
+            motions.append(judge(mo.label, target, spans, test, traced, motion=mo))
+    if not held:
+        spans = [b.rates for b in branches]
+        for label, rates in internal_motions(conf, ho.kernel[:nv] @ lifts):
+            y = np.asarray(np.linalg.lstsq(ho.kernel[:nv], rates, rcond=None)[0], float)
+            test = ho.test(y, None, order, rng)
+            traced = _trace_rates(conf, rates, held, rtol)
+            internal.append(judge(label, rates, spans, test, traced, joint_rates(mech, col * rates)))
+    samples = local_dimension(conf, kernel, [b.rates for b in branches], held, rtol=rtol, seed=seed)
+    finite_mech = max((b.dimension for b in branches), default=0)
+    finite_dof = max((b.dof or 0 for b in branches), default=0) if mech.has_platform else None
+    undecided = [v.label for v in motions + internal if v.verdict is Verdict.UNDECIDED]
+    if undecided:
+        notes.append(f"the verdict on {', '.join(undecided)} is undecided, so the finite DoF too")
+    if samples.unexplained:
+        notes.append(f"{samples.unexplained} closed sample(s) near q lie on none of the branches found")
+    if samples.dimension != finite_mech:
+        notes.append(
+            f"the closed samples span {samples.dimension} dimension(s) on a branch, the branches {finite_mech}"
+        )
+    platform_note = None
+    if finite_dof is not None and samples.platform != finite_dof:
+        platform_note = f"the samples' platform poses span {samples.platform} dimension(s), the branches' platform motions {finite_dof}"
+    decided = not notes
+    return Side(
+        names,
+        dof,
+        kind,
+        ho.m,
+        finite_dof if decided and platform_note is None else None,
+        finite_mech if decided else None,
+        branches,
+        tuple(motions),
+        tuple(internal),
+        samples,
+        tuple(notes + ([platform_note] if platform_note else [])),
+        ho.tol,
+    )

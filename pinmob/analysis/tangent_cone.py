@@ -1,0 +1,162 @@
+"""The second-order tangent cone at a configuration, split into linear components: the motion branches.
+
+The first-order motions y (kernel coordinates of :class:`pinmob.analysis.higher_order.HigherOrder`)
+that pass the order-2 conditions form the cone ``{y : y^T H_l y = 0 for every l}``, the quadratic forms
+of order 2 (Müller, J. Mechanisms Robotics 8(4):041013, 2016). Where motion branches cross
+transversally it is the union of their tangent spaces: :func:`cone` finds those linear components
+(definite forms first, exactly; then cone points from random starts, grouped by their polar values),
+and checks each to the order bound. A cone that is not a finite union of linear spaces (a quadric
+cone: a branch that is itself singular at q) is reported as such: its branches cannot be told apart.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from pinmob.analysis.higher_order import ORDER, HigherOrder, OrderTest
+from pinmob.frozen import ReadOnlyArrays
+from pinmob.screw.algebra import Array
+
+#: Random starts per instantaneous DoF when sampling the second-order cone.
+CONE_STARTS = 4
+#: Two cone points span a line of the cone when their polar values are below this (relative to max |H|).
+POLAR_TOL = 1e-4
+
+
+@dataclass(frozen=True)
+class ConeComponent(ReadOnlyArrays):
+    """A linear component of the second-order tangent cone: the tangent space of a motion branch.
+
+    Attributes:
+        basis: (m, d) orthonormal basis in kernel coordinates (``x^(1) = N y``).
+        test: the higher-order conditions along a random direction of it.
+    """
+
+    basis: Array
+    test: OrderTest
+
+    @property
+    def dimension(self) -> int:
+        """Its dimension d."""
+        return int(self.basis.shape[1])
+
+
+@dataclass(frozen=True)
+class Cone:
+    """The second-order tangent cone at q, split into linear components (:meth:`HigherOrder.cone`).
+
+    Attributes:
+        components: its linear components passing every condition up to the order bound.
+        blocked: components passing order 2 but blocked at a higher order.
+        linear: the cone was found to be a union of linear spaces (False: some cone points lie on no
+            linear component of dimension > 0 found, e.g. a quadric cone; the branches cannot be told).
+        points: cone points found (directions in kernel coordinates) and starts tried.
+    """
+
+    components: tuple[ConeComponent, ...]
+    blocked: tuple[ConeComponent, ...]
+    linear: bool
+    points: tuple[int, int]
+
+
+def _span(points: Array) -> Array:
+    """(m, d) orthonormal basis of the span of unit rows ``points`` (directions closer than 1e-3 merged)."""
+    _, s, vt = np.linalg.svd(points)
+    return vt[: int(np.sum(s > 1e-3 * s[0]))].T
+
+
+def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
+    """The second-order cone ``{y : Q(y) = 0}`` at q as a union of linear components, each checked to ``order``.
+
+    When every form vanishes, the cone is the whole kernel. Otherwise points of the cone on the unit
+    sphere are found from ``CONE_STARTS * m`` random starts (least squares on ``[Q(y); |y|^2 - 1]``);
+    two points lie on one linear component when every polar value ``y_i^T H_l y_j`` vanishes
+    (``POLAR_TOL`` of ``max |H|``): components are the groups of pairwise polar points, spanned. A
+    component is kept when Q vanishes on its whole span and a random direction of it passes the
+    conditions up to ``order``.
+    """
+    rng = np.random.default_rng(seed)
+    m = ho.m
+    h = ho.forms()
+    if m == 0:
+        return Cone((), (), True, (0, 0))
+    top = float(np.max(np.abs(h))) if h.size else 0.0
+    sub = definite_reduction(h, ho.tol)
+    hs = np.einsum("lab,ai,bj->lij", h, sub, sub)
+    if sub.shape[1] == 0 or float(np.max(np.abs(hs), initial=0.0)) <= ho.tol:
+        return _classify([sub] if sub.shape[1] else [], ho, order, rng, True, (sub.shape[1], 0))
+    k = sub.shape[1]
+    pad = np.zeros(max(0, k - hs.shape[0] - 1))
+
+    def fun(y: Array) -> Array:
+        return np.concatenate([np.einsum("lab,a,b->l", hs, y, y), [y @ y - 1.0], pad])
+
+    def jac(y: Array) -> Array:
+        return np.vstack([2 * np.einsum("lab,b->la", hs, y), 2 * y, np.zeros((pad.size, k))])
+
+    starts = CONE_STARTS * max(k, 2)
+    found = []
+    for _ in range(starts):
+        fit = least_squares(fun, rng.normal(size=k), jac=jac, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
+        y = sub @ (fit.x / np.linalg.norm(fit.x))
+        if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) <= ho.tol:
+            found.append(y)
+    groups: list[list[Array]] = []
+    for y in found:
+        for group in groups:
+            if all(float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, x)))) <= POLAR_TOL * top for x in group):
+                group.append(y)
+                break
+        else:
+            groups.append([y])
+    spans: list[Array] = []
+    for group in sorted(groups, key=len, reverse=True):
+        if len(group) < 2:
+            continue  # a lone point: on no linear component seen twice
+        basis = _span(np.array(group))
+        restricted = np.einsum("lab,ai,bj->lij", h, basis, basis)
+        if float(np.max(np.abs(restricted))) > POLAR_TOL * top:
+            continue
+        if any(np.linalg.matrix_rank(np.hstack([s, basis]), 1e-3) == s.shape[1] for s in spans):
+            continue  # inside a component found already
+        spans = [s for s in spans if np.linalg.matrix_rank(np.hstack([s, basis]), 1e-3) > basis.shape[1]] + [basis]
+    # a finite union of linear spaces is hit several times per component; a continuum of lines (a
+    # quadric cone) leaves lone points
+    linear = all(len(g) > 1 for g in groups)
+    return _classify(spans, ho, order, rng, linear, (len(found), starts))
+
+
+def definite_reduction(h: Array, tol: float) -> Array:
+    """(m, k) a basis of the subspace the cone ``{y : y^T H_l y = 0 for all l}`` lies in, from its definite forms.
+
+    A semidefinite form vanishes exactly on its null space, so the cone lies in it: restrict every
+    form to that null space and repeat while some non-zero form (or the sum of two) is semidefinite.
+    Exact linear algebra; it settles the cones of shaky linkages (sums of squares) at once.
+    """
+    basis = np.eye(h.shape[1])
+    while basis.shape[1]:
+        hs = np.einsum("lab,ai,bj->lij", h, basis, basis)
+        candidates = list(hs) + [hs[i] + sign * hs[j] for i in range(len(hs)) for j in range(i) for sign in (1, -1)]
+        for form in candidates:
+            values, vectors = np.linalg.eigh(form)
+            if np.max(np.abs(values)) > tol and (values.min() >= -tol or values.max() <= tol):
+                basis = basis @ vectors[:, np.abs(values) <= tol]
+                break
+        else:
+            return basis
+    return basis
+
+
+def _classify(
+    spans: list[Array], ho: HigherOrder, order: int, rng: np.random.Generator, linear: bool, points: tuple[int, int]
+) -> Cone:
+    """Each span tested to ``order`` along a random direction: kept or blocked."""
+    kept: list[ConeComponent] = []
+    blocked: list[ConeComponent] = []
+    for basis in spans:
+        test = ho.test(basis @ rng.normal(size=basis.shape[1]), None, order, rng)
+        (blocked if test.blocked_at else kept).append(ConeComponent(basis, test))
+    return Cone(tuple(kept), tuple(blocked), linear, points)

@@ -1,0 +1,203 @@
+"""Per-motion verdicts: is an instantaneous motion finite, blocked at some order, or where branches meet?
+
+Each instantaneous motion (a platform motion, or an internal motion of the mechanism) gets two
+independent answers:
+
+- from the higher-order conditions (:mod:`pinmob.analysis.tangent_cone`): the motion is tangent
+  to a motion branch (its twist lies in the branch's first-order platform image, or its joint rates
+  in the branch's tangent rates): *finite*; it is a combination of the tangents of two or more
+  branches and of none alone: *branch point*; else the lowest order k at which no choice (of the
+  internal motions it may be combined with, and of the higher derivatives) satisfies the
+  conditions: *blocked at order k* (shaky: first-order free, impossible at order k);
+- from tracing it with the path follower: the distance it could be followed (either way).
+
+A condition whose residual lies within a factor ``MARGIN`` of its tolerance decides nothing: the
+motion is then *cannot decide*, with the numbers.
+
+The verdict is *finite* when the motion is on a branch and the tracer moved; *blocked* when the
+conditions block it and the tracer could not move at all; *branch point* from the conditions (the
+tracer's distance is reported, not judged: along a combination of branch tangents it lands on one
+branch). Every other combination is *cannot decide*, with both answers in the note.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from enum import StrEnum
+from typing import Any
+
+import numpy as np
+
+from pinmob.analysis.higher_order import OrderTest
+from pinmob.analysis.motion import Motion
+from pinmob.frozen import ReadOnlyArrays
+from pinmob.screw.algebra import Array
+
+#: A motion lies in a span when the sine of its angle to it is at most this.
+MEMBER_SIN = 1e-4
+#: A condition's residual within this factor of its tolerance (either side) decides nothing.
+MARGIN = 10.0
+
+
+class Verdict(StrEnum):
+    """What became of an instantaneous motion at finite amplitude."""
+
+    FINITE = "finite"
+    BLOCKED = "blocked"
+    BRANCH_POINT = "branch point"
+    UNDECIDED = "cannot decide"
+
+
+@dataclass(frozen=True)
+class MotionVerdict(ReadOnlyArrays):
+    """One instantaneous motion's verdict.
+
+    Attributes:
+        label: the motion's label (``T1 z``, ``limb A``, ...).
+        verdict: finite, blocked, branch point or cannot decide.
+        order: the order at which it is blocked (None unless blocked).
+        branches: indices (from 1) of the branches it is tangent to (finite) or combines (branch point).
+        traced: the largest distance the tracer followed it (m for translations, rad for rotations and
+            screws, the dimensionless joint metric for joint motions).
+        test: the higher-order conditions along it.
+        note: the numbers behind a "cannot decide", or a remark.
+        joints: its rates by joint name (internal motions; empty for platform motions).
+        motion: the platform motion (None for an internal motion).
+    """
+
+    label: str
+    verdict: Verdict
+    order: int | None
+    branches: tuple[int, ...]
+    traced: float
+    test: OrderTest = field(repr=False)
+    note: str = ""
+    joints: dict[str, float] = field(default_factory=dict)
+    motion: Motion | None = field(default=None, repr=False)
+
+    def line(self, many: bool = False, origin: Array | None = None, length: float = 1.0) -> str:
+        """The motion's line of the instantaneous report (or its label and joints) and the verdict.
+
+        Args:
+            many: several branches pass through q.
+            origin: (3,) world position [m] of the platform origin (the axis point is printed in world coordinates).
+            length: the mechanism's length scale L [m].
+        """
+        if self.motion is not None:
+            head = self.motion.line(np.zeros(3) if origin is None else origin, length)
+        else:
+            items = list(self.joints.items())
+            rates = ", ".join(f"{k} {v:+.3g}" for k, v in items[:4]) + (" ..." if len(items) > 4 else "")
+            head = f"  {self.label:<10} {rates}"
+        return f"{head}: {self.words(many)}"
+
+    @property
+    def finite(self) -> bool | None:
+        """True: finite; False: blocked or only a combination of branches; None: cannot decide."""
+        return None if self.verdict is Verdict.UNDECIDED else self.verdict is Verdict.FINITE
+
+    def words(self, many: bool = False) -> str:
+        """``finite``, ``blocked at order 2 (shaky)``, ``branch point (...)``, ``cannot decide: ...``.
+
+        Args:
+            many: several branches pass through q (then a finite motion names its branch).
+        """
+        on = ", ".join(str(b) for b in self.branches)
+        if self.verdict is Verdict.FINITE:
+            return f"finite (on branch{'es' if len(self.branches) > 1 else ''} {on})" if many else "finite"
+        if self.verdict is Verdict.BLOCKED:
+            return f"blocked at order {self.order} (shaky)"
+        if self.verdict is Verdict.BRANCH_POINT:
+            return f"branch point: only a combination of branches {on}"
+        return f"cannot decide: {self.note}"
+
+    def to_dict(self) -> dict[str, Any]:
+        """``{label, finite, verdict, order, branches, traced, residuals, note}`` (+ ``joints``)."""
+        out: dict[str, Any] = {
+            "label": self.label,
+            "kind": None if self.motion is None else self.motion.kind.value,
+            "finite": self.finite,
+            "verdict": self.verdict.value,
+            "order": self.order,
+            "branches": list(self.branches),
+            "traced": self.traced,
+            "residuals": list(self.test.residuals),
+            "note": self.note,
+        }
+        if self.joints:
+            out["joints"] = dict(self.joints)
+        return out
+
+
+def sine_to(vector: Array, basis: Array) -> float:
+    """Sine of the angle between ``vector`` and the column span of the orthonormal ``basis`` (1 when empty)."""
+    size = float(np.linalg.norm(vector))
+    if size == 0.0:
+        return 0.0
+    if basis.size == 0:
+        return 1.0
+    return float(np.linalg.norm(vector - basis @ (basis.T @ vector))) / size
+
+
+def orthonormal(columns: list[Array], rows: int) -> Array:
+    """(rows, k) orthonormal basis of the span of the given column blocks (directions below 1e-9 dropped)."""
+    stacked = np.hstack(columns) if columns else np.zeros((rows, 0))
+    if stacked.size == 0:
+        return np.zeros((rows, 0))
+    u, s, _ = np.linalg.svd(stacked, full_matrices=False)
+    return u[:, : int(np.sum(s > 1e-9 * max(1.0, s[0])))]
+
+
+def judge(
+    label: str,
+    vector: Array,
+    spans: list[Array],
+    test: OrderTest,
+    traced: float,
+    joints: dict[str, float] | None = None,
+    motion: Motion | None = None,
+) -> MotionVerdict:
+    """The verdict of one motion (see the module docstring).
+
+    Args:
+        label: the motion's label.
+        vector: the motion in the space the branches are described in (dimensionless platform twist,
+            or joint rates).
+        spans: per branch, an orthonormal basis of its image in that space (its tangent).
+        test: the higher-order conditions along the motion.
+        traced: the tracer's largest distance along it.
+        joints: its rates by joint name, for internal motions.
+        motion: the platform motion, for platform motions.
+    """
+    on = tuple(i + 1 for i, s in enumerate(spans) if s.size and sine_to(vector, s) <= MEMBER_SIN)
+    joints = joints or {}
+    if on:
+        if traced > 0:
+            return MotionVerdict(label, Verdict.FINITE, None, on, traced, test, "", joints, motion)
+        note = f"it is tangent to branch {on[0]}, but the tracer could not follow it"
+        return MotionVerdict(label, Verdict.UNDECIDED, None, on, traced, test, note, joints, motion)
+    used = tuple(i + 1 for i, s in enumerate(spans) if s.size)
+    if len(used) > 1 and sine_to(vector, orthonormal([s for s in spans if s.size], vector.size)) <= MEMBER_SIN:
+        return MotionVerdict(label, Verdict.BRANCH_POINT, None, used, traced, test, "", joints, motion)
+    if test.margin < MARGIN:
+        order, residual = test.deciding
+        note = (
+            f"the order-{order} condition's residual {residual:.2e} is within a factor {MARGIN:g} of its tolerance "
+            f"{test.tolerance:.2e}"
+            + (f"; the tracer followed it {traced:.3g}" if traced else "; the tracer could not follow it")
+        )
+        return MotionVerdict(label, Verdict.UNDECIDED, None, (), traced, test, note, joints, motion)
+    if test.blocked_at is not None and traced == 0.0:
+        return MotionVerdict(label, Verdict.BLOCKED, test.blocked_at, (), traced, test, "", joints, motion)
+    if test.blocked_at is not None:
+        note = (
+            f"the conditions block it at order {test.blocked_at} (residual {test.residuals[-1]:.2e}, tolerance "
+            f"{test.tolerance:.2e}), yet the tracer followed it {traced:.3g}"
+        )
+    else:
+        note = (
+            f"every condition up to order {test.order} holds (largest residual {max(test.residuals):.2e}, tolerance "
+            f"{test.tolerance:.2e}) but it is on no branch found"
+            + ("" if traced else ", and the tracer could not follow it")
+        )
+    return MotionVerdict(label, Verdict.UNDECIDED, None, (), traced, test, note, joints, motion)

@@ -1,0 +1,178 @@
+"""Where tasks run: this process, a Dask ``LocalCluster`` started here, or an existing Dask cluster."""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Iterable, Iterator
+from typing import Any, TypeVar
+
+from pinmob.engine.tasks import Lost, ordered_results
+from pinmob.exceptions import ConfigurationError, EngineError
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+#: Seconds to wait for the scheduler of an existing cluster to answer.
+CONNECT_TIMEOUT = 20.0
+
+#: The only interface a LocalCluster pinmob starts listens on (scheduler, workers, their HTTP servers).
+LOOPBACK = "127.0.0.1"
+
+#: The preload module of the workers pinmob starts (:mod:`pinmob.engine.worker`).
+WORKER_SETUP = "pinmob.engine.worker"
+
+
+def check_workers(workers: object, option: str = "--workers") -> int:
+    """``workers`` as a positive integer; anything else is a :class:`ConfigurationError` naming the option."""
+    if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
+        raise ConfigurationError(f"{option} must be a whole number of worker processes, at least 1, got {workers!r}")
+    return workers
+
+
+def _close_quietly(clusters: set[Any]) -> None:
+    """Close clusters left half-started (else Dask closes them at exit, printing their errors)."""
+    import gc
+    import logging
+
+    # the event loop's start-up tasks that failed report themselves when collected, maybe only at exit
+    logging.getLogger("asyncio").setLevel(logging.CRITICAL)
+    for cluster in clusters:
+        try:
+            cluster.close(timeout=10)
+        except BaseException:  # noqa: BLE001  (a half-started cluster fails to close in many ways)
+            pass
+    gc.collect()
+
+
+class Engine:
+    """Where tasks run (a context manager: the cluster it starts is closed on leaving, whatever happened).
+
+    Args:
+        workers: worker processes of a ``LocalCluster`` started here; 1 (and no
+            ``scheduler``): tasks run one after the other in this process.
+        scheduler: address of the scheduler of an existing Dask cluster
+            (e.g. ``tcp://10.0.0.5:8786``); ``workers`` is then ignored.
+
+    Attributes:
+        lost_workers: workers that disappeared while :meth:`map` ran (their tasks were computed again).
+    """
+
+    def __init__(self, workers: int = 1, scheduler: str | None = None) -> None:
+        self.workers = check_workers(workers)
+        if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
+            raise ConfigurationError(f"--scheduler must be the address of a Dask scheduler, got {scheduler!r}")
+        self.scheduler = scheduler
+        self.lost_workers = 0
+        self._client: Any = None
+        self._cluster: Any = None
+
+    @property
+    def in_process(self) -> bool:
+        """Tasks run in this process (one worker, no scheduler)."""
+        return self.scheduler is None and self.workers == 1
+
+    def describe(self) -> str:
+        """Where the tasks run, for the summary line (e.g. ``2 worker(s), Dask LocalCluster``)."""
+        if self.in_process:
+            return "1 worker (this process)"
+        if self.scheduler is not None:
+            return f"{self.nthreads()} worker thread(s), Dask cluster at {self.scheduler}"
+        return f"{self.workers} worker(s), Dask LocalCluster"
+
+    def nthreads(self) -> int:
+        """Worker threads of the cluster now (1 in process)."""
+        if self._client is None:
+            return 1
+        return max(1, sum(self._client.nthreads().values()))
+
+    def __enter__(self) -> Engine:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.close()
+
+    def start(self) -> None:
+        """Start the ``LocalCluster`` or connect to the scheduler (nothing in process).
+
+        Raises:
+            EngineError: the scheduler does not answer, or the cluster cannot start.
+        """
+        if self.in_process or self._client is not None:
+            return
+        import logging
+
+        from dask.distributed import Client, LocalCluster
+        from distributed.deploy.spec import SpecCluster
+
+        before = set(SpecCluster._instances)
+        # the worker processes write to the standard error they inherit: a Ctrl-C or a hang-up, which reaches the
+        # whole process group, would have each starting worker print a KeyboardInterrupt traceback there (once
+        # started, they ignore both: pinmob.engine.worker). They get /dev/null instead; pinmob keeps its own.
+        saved = os.dup(2)
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, 2)
+        os.close(devnull)
+        try:
+            if self.scheduler is not None:
+                self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT)
+            else:
+                self._cluster = LocalCluster(
+                    n_workers=self.workers,
+                    threads_per_worker=1,
+                    processes=True,
+                    host=LOOPBACK,
+                    dashboard_address=f"{LOOPBACK}:0",
+                    worker_dashboard_address=f"{LOOPBACK}:0",
+                    silence_logs=logging.CRITICAL,
+                    preload=[WORKER_SETUP],
+                )
+                self._client = Client(self._cluster)
+        except (OSError, TimeoutError, ValueError, RuntimeError) as exc:
+            self.close()
+            _close_quietly(set(SpecCluster._instances) - before)
+            where = f"the Dask scheduler at {self.scheduler!r}" if self.scheduler else "a Dask LocalCluster"
+            raise EngineError(f"cannot use {where}: {' '.join(str(exc).split()) or type(exc).__name__}") from None
+        except BaseException:  # Ctrl-C or a handled signal while starting: stop what started, say nothing more
+            self.close()
+            _close_quietly(set(SpecCluster._instances) - before)
+            raise
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+
+    def close(self) -> None:
+        """Disconnect, and stop the ``LocalCluster`` this engine started (its worker processes end)."""
+        client, cluster = self._client, self._cluster
+        self._client = self._cluster = None
+        for thing in (client, cluster):
+            if thing is not None:
+                try:
+                    thing.close()
+                except Exception:  # noqa: BLE001  (closing after a failure must not hide it)
+                    pass
+
+    def map(
+        self, fn: Callable[[Any, T], R], shared: Any, items: Iterable[T], window: int | None = None
+    ) -> Iterator[R | Lost]:
+        """``fn(shared, item)`` for each item, yielded in the order of the items.
+
+        Args:
+            fn: a module-level function (workers import it by name).
+            shared: what every task needs (sent with each task: keep it small, a mechanism or a spec).
+            items: the task inputs, read lazily as tasks complete.
+            window: most tasks submitted and not yet yielded (default: four per worker thread, at least 8).
+
+        Yields:
+            each result, or a :class:`Lost` for a task Dask gave up on (it killed its workers).
+        """
+        if self.in_process:
+            for item in items:
+                yield fn(shared, item)
+            return
+        self.start()
+        size = window or max(8, 4 * self.nthreads())
+        yield from ordered_results(self._client, fn, shared, items, size, self._count_lost)
+
+    def _count_lost(self, count: int) -> None:
+        self.lost_workers += count

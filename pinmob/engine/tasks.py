@@ -1,0 +1,143 @@
+"""Results of Dask tasks in the order of their inputs, a bounded number in flight, watched for lost workers.
+
+Dask recomputes the tasks of a worker that died (its nanny starts a new
+worker). Two things it does not do are done here: stop waiting when the cluster
+has had no worker at all for ``NO_WORKER_TIMEOUT`` seconds (a hang otherwise),
+and turn a task that killed ``distributed.scheduler.allowed-failures`` workers
+(Dask's ``KilledWorker``) into a :class:`Lost` result that names why, which the
+caller records or reports.
+"""
+
+from __future__ import annotations
+
+import time
+import uuid
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass
+from typing import Any
+
+from pinmob.exceptions import EngineError
+
+#: Seconds without any worker after which waiting stops with an error.
+NO_WORKER_TIMEOUT = 60.0
+
+#: Seconds between two looks at the cluster's workers while waiting.
+POLL = 0.5
+
+
+@dataclass(frozen=True)
+class Lost:
+    """A task Dask gave up on: the workers running it died each time (e.g. killed for using too much memory)."""
+
+    reason: str
+
+
+def ordered_results(
+    client: Any,
+    fn: Callable[[Any, Any], Any],
+    shared: Any,
+    items: Iterable[Any],
+    window: int,
+    on_lost: Callable[[int], None],
+) -> Iterator[Any]:
+    """``fn(shared, item)`` on the cluster for each item, yielded in item order (:meth:`pinmob.engine.Engine.map`).
+
+        At most ``window`` tasks are submitted and not yet yielded. Each task carries
+    ``shared`` itself (no dependency between tasks): Dask then queues them on the
+    scheduler and gives each worker thread one at a time, so that when a worker
+    dies only the task it was running is suspected (Dask counts a task that was
+    on ``allowed-failures`` dead workers as their cause). ``on_lost(n)`` is
+        called when n workers have disappeared since the last look. Pending tasks are
+        cancelled when the caller stops early (an interruption, an error).
+
+    Raises:
+            EngineError: no worker for ``NO_WORKER_TIMEOUT`` seconds, the scheduler gone, a task cancelled by Dask.
+    """
+    from distributed import wait
+
+    token = uuid.uuid4().hex[:12]
+    pending: dict[Any, int] = {}
+    done: dict[int, Any] = {}
+    source = iter(items)
+    exhausted, submitted, yielded = False, 0, 0
+    watch = _Watch(client, on_lost)
+    try:
+        while True:
+            while not exhausted and len(pending) + len(done) < window:
+                try:
+                    item = next(source)
+                except StopIteration:
+                    exhausted = True
+                    break
+                pending[client.submit(fn, shared, item, key=f"pinmob-{token}-{submitted}")] = submitted
+                submitted += 1
+            if yielded in done:
+                yield done.pop(yielded)
+                yielded += 1
+                continue
+            if not pending:
+                if exhausted:
+                    return
+                continue
+            try:
+                finished = wait(list(pending), timeout=POLL, return_when="FIRST_COMPLETED").done
+            except TimeoutError:
+                finished = set()
+            for future in finished:
+                done[pending.pop(future)] = _outcome(future)
+                future.release()
+            watch.look()
+    finally:
+        for future in pending:
+            future.cancel()
+
+
+def _outcome(future: Any) -> Any:
+    """The task's result, a :class:`Lost` for Dask's ``KilledWorker``; the task's own exception is raised."""
+    if future.status == "error":
+        exc = future.exception()
+        if type(exc).__name__ == "KilledWorker":
+            return Lost(
+                "the Dask workers computing it died each time it was tried (distributed.scheduler.allowed-failures); "
+                "out of memory?"
+            )
+        future.result()  # raises the task's own exception, with its traceback
+    if future.status == "cancelled":
+        raise EngineError("Dask cancelled a task (was the scheduler restarted or lost?); the work stopped")
+    return future.result()
+
+
+class _Watch:
+    """Looks at the cluster's workers at most every ``POLL`` seconds: counts the lost ones, stops a workerless wait."""
+
+    def __init__(self, client: Any, on_lost: Callable[[int], None]) -> None:
+        self.client, self.on_lost = client, on_lost
+        self.known = self._workers()
+        self.last = time.monotonic()
+        self.alone_since: float | None = None
+
+    def _workers(self) -> set[str]:
+        try:
+            return set(self.client.nthreads())
+        except Exception as exc:  # noqa: BLE001  (any comm failure means the scheduler is gone)
+            raise EngineError(
+                f"the Dask scheduler does not answer any more ({type(exc).__name__}); the work stopped"
+            ) from None
+
+    def look(self) -> None:
+        now = time.monotonic()
+        if now - self.last < POLL:
+            return
+        self.last = now
+        current = self._workers()
+        if self.known - current:
+            self.on_lost(len(self.known - current))
+        self.known = current
+        if current:
+            self.alone_since = None
+            return
+        self.alone_since = self.alone_since or now
+        if now - self.alone_since > NO_WORKER_TIMEOUT:
+            raise EngineError(
+                f"the Dask cluster has had no worker for {NO_WORKER_TIMEOUT:.0f} s (all lost?); the work stopped"
+            )

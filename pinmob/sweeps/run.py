@@ -1,0 +1,100 @@
+"""Running a sweep: every design's record, in design order, in this process or on Dask (:mod:`pinmob.engine`)."""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from pinmob.engine import Engine, Lost
+from pinmob.engine.cluster import check_workers
+from pinmob.sweeps.record import empty_record, evaluate_design, failed
+from pinmob.sweeps.spec import SweepSpec
+from pinmob.sweeps.spec_file import load_spec
+
+
+class SweepRun:
+    """The records of a sweep, one per design in design order (iterate over it).
+
+    Attributes:
+        spec: the sweep.
+        where: where the designs were computed (known once iteration started).
+        lost_workers: Dask workers lost during the run (their designs were computed again).
+    """
+
+    def __init__(
+        self,
+        spec: SweepSpec,
+        workers: int,
+        scheduler: str | None,
+        progress: bool | None,
+        skip: np.ndarray | None,
+    ) -> None:
+        self.spec = spec
+        self.engine = Engine(check_workers(workers), scheduler)
+        self.progress = progress
+        self.skip = skip
+        self.where = self.engine.describe()
+        self.lost_workers = 0
+
+    def todo(self) -> int:
+        """Designs this run computes (the others are skipped)."""
+        return self.spec.count - (int(np.count_nonzero(self.skip)) if self.skip is not None else 0)
+
+    def _items(self) -> Iterator[tuple[int, dict[str, float]]]:
+        for i in range(self.spec.count):
+            if self.skip is None or not self.skip[i]:
+                yield i, self.spec.values(i)
+
+    def __iter__(self) -> Iterator[dict[str, Any]]:
+        from tqdm import tqdm
+
+        disable = None if self.progress is None else not self.progress
+        bar = tqdm(total=self.todo(), disable=disable, unit="design", desc=f"sweep {self.spec.name}", leave=False)
+        items = self._items()
+        if self.todo() == 0:
+            bar.close()
+            return
+        try:
+            with self.engine:
+                self.where = self.engine.describe()
+                for item, result in zip(self._items(), self.engine.map(evaluate_design, self.spec, items)):
+                    if isinstance(result, Lost):
+                        result = failed(empty_record(self.spec, *item), result.reason)
+                    bar.update(1)
+                    self.lost_workers = self.engine.lost_workers
+                    yield result
+        finally:
+            bar.close()
+
+
+def sweep(
+    spec: SweepSpec | str | Path,
+    workers: int = 1,
+    scheduler: str | None = None,
+    progress: bool | None = False,
+    skip: np.ndarray | None = None,
+) -> SweepRun:
+    """The records of a design-space sweep, one per design, in design order.
+
+    Args:
+        spec: a :class:`~pinmob.sweeps.spec.SweepSpec` or the path of a sweep spec file
+            (:func:`~pinmob.sweeps.spec_file.load_spec`).
+        workers: worker processes of a Dask ``LocalCluster`` (1: this process); the records do not depend on it.
+        scheduler: address of an existing Dask cluster's scheduler to compute the designs on.
+        progress: a tqdm bar on stderr (None: on a terminal).
+        skip: (count,) booleans, True for designs not to compute (already written).
+
+    Returns:
+        an iterable :class:`SweepRun` of records (dicts: ``design``, the parameters, then
+        :data:`pinmob.sweeps.fields.FIELDS`); a design that fails is a record with its reason.
+
+    Raises:
+        ConfigurationError: a bad spec (before any design is computed) or ``workers``.
+        EngineError: the Dask cluster cannot be used or loses every worker.
+    """
+    if not isinstance(spec, SweepSpec):
+        spec = load_spec(spec)
+    return SweepRun(spec, workers, scheduler, progress, skip)

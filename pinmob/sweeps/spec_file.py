@@ -1,0 +1,238 @@
+"""Reading a sweep spec (TOML): every mistake is one error naming the key and the valid choices, before any work.
+
+::
+
+    title = "3-PUU: link length against guide radius"   # optional
+    family = "3-PUU"                  # a built-in family (pinmob.catalog.families), or:
+    # template = "robot.toml"         # a pinmob mechanism file with {parameter} placeholders
+    # files = ["robot.urdf"]          # the files beside it that it needs (default: the URDF it names)
+
+    [parameters]                      # values common to every design (a family's others keep their defaults)
+    small_r = 0.15
+
+    [units]                           # a template's parameter units, for the records and plots (optional)
+
+    [design]
+    method = "grid"                   # grid, random, latin-hypercube or table
+    # samples = 200, seed = 1         # random and latin-hypercube
+    # table = "designs.csv"           # table: a CSV file with a header of parameter names, or
+    # rows = [{link = 0.2}, ...]      # the rows inline
+    [design.parameters]
+    link = [0.2, 0.35, 7]             # grid: [low, high, count]; random and latin-hypercube: [low, high]
+    big_r = [0.25, 0.4, 7]
+
+    [scan]                            # per design, as pinmob scan: a grid ...
+    grid = ["x:-0.06:0.06:9", "y:-0.06:0.06:9"]
+    at = "generic"                    # default: the design's first configuration
+    # from = "generic", to = "offset", samples = 21, joints = false   # ... or a path
+    # rtol = 1e-6
+
+    [plots]                           # optional
+    atlas = { x = "link", y = "big_r", color = "singularity_free" }
+    pareto = { x = "assembled", y = "min_distance", x_goal = "max", y_goal = "max" }
+"""
+
+from __future__ import annotations
+
+import tomllib
+from pathlib import Path
+from typing import Any
+
+from pinmob.catalog.families import family
+from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.scan.spec import POSE_COORDS, parse_grid_axis
+from pinmob.screw.rank import check_rtol
+from pinmob.sweeps.fields import TYPES
+from pinmob.sweeps.source import Source, template_source
+from pinmob.sweeps.spec import ScanSettings, SweepSpec
+from pinmob.sweeps.spec_designs import integer, keys, number, read_designs, table_of
+
+TOP = ("title", "family", "template", "files", "parameters", "units", "design", "scan", "plots")
+SCAN = ("grid", "at", "from", "to", "samples", "joints", "rtol")
+GOALS = ("max", "min")
+
+
+def load_spec(path: str | Path) -> SweepSpec:
+    """The sweep a TOML file describes (see the module docstring).
+
+    Raises:
+        ConfigurationError: the file is missing or not TOML, an unknown key, family or parameter, an empty
+            range, a template placeholder with no value, an unknown configuration, a plot of an unknown field.
+    """
+    path = Path(path).expanduser()
+    where = str(path)
+    try:
+        doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise ConfigurationError(f"sweep spec {where!r} does not exist") from None
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ConfigurationError(f"sweep spec {where!r} cannot be read as UTF-8 text: {exc}") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise ConfigurationError(f"{where}: TOML syntax error: {exc}") from None
+    keys(where, "", doc, TOP)
+    source = _source(path, doc)
+    known = source.parameters()
+    fixed = {k: number(where, f"parameters.{k}", v) for k, v in table_of(where, "parameters", doc).items()}
+    designs = read_designs(path, table_of(where, "design", doc))
+    for name in (*fixed, *designs.names):
+        if name not in known:
+            what = "placeholder of the template uses" if not source.family else f"family {source.family!r} has"
+            raise ConfigurationError(f"{where}: unknown parameter {name!r}: no {what} it; valid: {choices(known)}")
+    both = sorted(set(fixed) & set(designs.names))
+    if both:
+        raise ConfigurationError(f"{where}: parameter {both[0]!r} is both fixed ([parameters]) and swept ([design])")
+    if not source.family:
+        _every_placeholder_has_a_value(where, source, set(fixed) | set(designs.names))
+    scan = _scan(where, table_of(where, "scan", doc))
+    spec = SweepSpec(str(doc.get("title") or path.stem), source, fixed, designs, scan)
+    spec = _with_references(where, spec)
+    return _with_plots(where, spec, table_of(where, "plots", doc))
+
+
+def _source(path: Path, doc: dict[str, Any]) -> Source:
+    where = str(path)
+    if ("family" in doc) == ("template" in doc):
+        raise ConfigurationError(
+            f"{where}: give either family = NAME (a built-in family) or template = FILE (a mechanism file with "
+            "{parameter} placeholders), not both nor neither"
+        )
+    units = table_of(where, "units", doc)
+    if "family" in doc:
+        for key in ("files", "units"):
+            if key in doc:
+                raise ConfigurationError(f"{where}: {key!r} belongs to a template; a family knows its files and units")
+        try:
+            fam = family(str(doc["family"]))
+        except PinmobError as exc:
+            raise ConfigurationError(f"{where}: {exc}") from None
+        return Source(family=fam.name, units=fam.units())
+    files = doc.get("files", [])
+    if not isinstance(files, list) or not all(isinstance(f, str) for f in files):
+        raise ConfigurationError(f"{where}: files must be a list of file names, got {files!r}")
+    if not all(isinstance(u, str) for u in units.values()):
+        raise ConfigurationError(f'{where}: [units] values must be strings such as "m" or "rad"')
+    return template_source(path.parent / str(doc["template"]), files, units, where)
+
+
+def _every_placeholder_has_a_value(where: str, source: Source, given: set[str]) -> None:
+    from pinmob.sweeps.template import names_used, placeholders
+
+    for fname, text in source.texts:
+        for expr in placeholders(text):
+            missing = sorted(names_used(expr, fname) - given)
+            if missing:
+                raise ConfigurationError(
+                    f"{where}: template placeholder {{{expr}}} in {fname} uses {missing[0]!r}, which has no value; "
+                    f"give it in [parameters] or [design.parameters] (given: {choices(given)})"
+                )
+
+
+def _scan(where: str, table: dict[str, Any]) -> ScanSettings:
+    keys(where, "scan.", table, SCAN)
+    rtol = check_rtol(table["rtol"], "scan.rtol") if "rtol" in table else ScanSettings.rtol
+    if "grid" in table:
+        path_keys = [k for k in ("from", "to", "samples", "joints") if k in table]
+        if path_keys:
+            raise ConfigurationError(
+                f"{where}: scan.grid scans a workspace slice; {', '.join(path_keys)} belong to a path"
+            )
+        grid = table["grid"]
+        if not isinstance(grid, list) or len(grid) != 2:
+            raise ConfigurationError(f'{where}: scan.grid must be two axes ["x:LO:HI:N", "y:LO:HI:N"], got {grid!r}')
+        axes = tuple(parse_grid_axis(text, "scan.grid") for text in grid)
+        for name, lo, hi, n in axes:
+            if name not in POSE_COORDS:
+                raise ConfigurationError(
+                    f"{where}: unknown scan.grid coordinate {name!r}; valid: {choices(POSE_COORDS)}"
+                )
+            if n < 1 or lo > hi:
+                raise ConfigurationError(f"{where}: scan.grid axis {name} is an empty range ({lo}, {hi}, {n})")
+        if axes[0][0] == axes[1][0]:
+            raise ConfigurationError(f"{where}: scan.grid needs two different coordinates, got {axes[0][0]!r} twice")
+        return ScanSettings(axes=axes, at=_text(where, table, "at"), rtol=rtol)
+    if "at" in table:
+        raise ConfigurationError(
+            f"{where}: scan.at fixes the other coordinates of a scan.grid; a path takes from and to"
+        )
+    samples = integer(where, "scan.samples", table.get("samples", 21), 2)
+    joints = table.get("joints", False)
+    if not isinstance(joints, bool):
+        raise ConfigurationError(f"{where}: scan.joints must be true or false, got {joints!r}")
+    return ScanSettings(start=_text(where, table, "from"), end=_text(where, table, "to"), samples=samples,
+                        joints=joints, rtol=rtol)  # fmt: skip
+
+
+def _text(where: str, table: dict[str, Any], key: str) -> str | None:
+    value = table.get(key)
+    if value is not None and not isinstance(value, str):
+        raise ConfigurationError(f"{where}: scan.{key} must be a configuration name or a pose 'x,y,z,roll,pitch,yaw'")
+    return value
+
+
+def _with_references(where: str, spec: SweepSpec) -> SweepSpec:
+    """Configuration names checked against the first design's mechanism file; defaults filled in."""
+    from dataclasses import replace
+
+    try:
+        names = spec.source.configuration_names(spec.values(0))
+    except PinmobError as exc:
+        raise ConfigurationError(f"{where}: the first design's mechanism file cannot be read: {exc}") from None
+    scan = spec.scan
+    wanted = {"at": scan.at} if scan.is_grid else {"from": scan.start, "to": scan.end}
+    needed = 1 if scan.is_grid else 2
+    for i, (key, value) in enumerate(wanted.items()):
+        if value is None:
+            if len(names) < needed:
+                raise ConfigurationError(
+                    f"{where}: the mechanism has {len(names)} named configuration(s); give scan.{key}"
+                )
+            wanted[key] = names[i]
+        elif value not in names and len(value.split(",")) != 6:
+            raise ConfigurationError(
+                f"{where}: scan.{key} {value!r} is neither a configuration of {spec.source.name!r} "
+                f"({choices(names)}) nor a pose 'x,y,z,roll,pitch,yaw' [m, rad]"
+            )
+    if scan.is_grid:
+        return replace(spec, scan=replace(scan, at=wanted["at"]))
+    return replace(spec, scan=replace(scan, start=wanted["from"], end=wanted["to"]))
+
+
+def _with_plots(where: str, spec: SweepSpec, table: dict[str, Any]) -> SweepSpec:
+    from dataclasses import replace
+
+    keys(where, "plots.", table, ("atlas", "pareto"))
+    numeric = [n for n, k in spec.fields() if k in ("int", "float", "bool") and n != "design"]
+    fields = [n for n, _ in spec.fields() if n != "design"]
+    swept = spec.designs.names
+    plots: dict[str, dict[str, str]] = {}
+    atlas = dict(table.get("atlas", {}))
+    keys(where, "plots.atlas.", atlas, ("x", "y", "color"))
+    if atlas or len(swept) >= 2:
+        atlas = {
+            "x": swept[0] if swept else "",
+            "y": swept[1] if len(swept) > 1 else "",
+            "color": "singularity_free",
+        } | atlas
+        for key in ("x", "y"):
+            if atlas[key] not in spec.parameters:
+                raise ConfigurationError(
+                    f"{where}: plots.atlas.{key} {atlas[key]!r} is not a parameter; valid: {choices(spec.parameters)}"
+                )
+        if atlas["color"] not in fields:
+            raise ConfigurationError(
+                f"{where}: plots.atlas.color {atlas['color']!r} is not a record field; valid: {choices(fields)}"
+            )
+        plots["atlas"] = atlas
+    pareto = {"x": "assembled", "y": "min_distance", "x_goal": "max", "y_goal": "max"} | dict(table.get("pareto", {}))
+    keys(where, "plots.pareto.", pareto, ("x", "y", "x_goal", "y_goal"))
+    for key in ("x", "y"):
+        if pareto[key] not in numeric or TYPES.get(pareto[key]) == "bool":
+            raise ConfigurationError(
+                f"{where}: plots.pareto.{key} {pareto[key]!r} is not a numeric field; valid: {choices(numeric)}"
+            )
+        if pareto[f"{key}_goal"] not in GOALS:
+            raise ConfigurationError(
+                f"{where}: plots.pareto.{key}_goal must be one of {choices(GOALS)}, got {pareto[key + '_goal']!r}"
+            )
+    plots["pareto"] = pareto
+    return replace(spec, plots=plots)

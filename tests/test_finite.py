@@ -1,0 +1,259 @@
+"""Finite versus instantaneous mobility on classical cases, each against a hand derivation or a second method.
+
+The source of every expected value is in the test's docstring (or in :mod:`finite_cases`).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from finite_cases import bricard_line_symmetric, four_bar_flat, generic_6r, three_rpr_radial
+from millimetres import in_millimetres, q_in_millimetres
+from numpy.testing import assert_allclose
+
+import pinmob
+from pinmob.analysis.finite import finite_mobility
+from pinmob.analysis.motion_path import follow_rates
+from pinmob.analysis.verdicts import Verdict
+from pinmob.exceptions import ConfigurationError
+
+
+def finite(mech: pinmob.Mechanism, q, **kw) -> pinmob.Report:
+    return pinmob.analyze(mech, q, finite=True, **kw)
+
+
+def parallel(a: np.ndarray, b: np.ndarray) -> bool:
+    """Two vectors along one line (either sense)."""
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    return abs(abs(a @ b) / (np.linalg.norm(a) * np.linalg.norm(b)) - 1.0) < 1e-6
+
+
+def test_four_bar_branches_cross_at_the_change_point() -> None:
+    """Equal opposite links, all four collinear (Müller 2016, the planar four-bar's bifurcation).
+
+    By hand (:func:`finite_cases.four_bar_flat`): instantaneous DoF 2, two branches of DoF 1 with joint
+    rates (1, -1, 1) (parallelogram) and (1, k, k), k = (ground + crank) / (crank - ground) = -2
+    (antiparallelogram). With the crank held, B is fixed and C lies on two internally tangent circles
+    (radius ground about B, crank about D, |BD| = ground - crank): one point, first-order free, rigid.
+    """
+    mech = four_bar_flat()
+    fm = finite(mech, mech.neutral()).finite
+    assert fm.free.mechanism_dof == 2 and fm.finite_mechanism_dof == 1
+    assert [b.dimension for b in fm.free.branches] == [1, 1]
+    tangents = [b.rates[:, 0] for b in fm.free.branches]
+    for expected in ([1, -1, 1], [1, -2, -2]):
+        assert sum(parallel(t, expected) for t in tangents) == 1, (expected, tangents)
+    assert all(b.traced > 0 for b in fm.free.branches)
+    assert all(v.verdict is Verdict.BRANCH_POINT for v in fm.free.internal)  # the kernel's basis: no branch alone
+    assert fm.locked is not None and fm.locked.mechanism_dof == 1 and fm.finite_dof_locked == 0
+    assert fm.free.samples.unexplained == 0 and fm.free.samples.per_branch == (1, 1)
+
+
+def test_flat_3puu_rotation_and_internal_motions_are_shaky() -> None:
+    """The seed paper's beta = 0 (README): with links exactly R - r, every vertex must stay within R - r of its
+    guide horizontally; a rotation about z or a tilt of any link needs more, at second order. The
+    platform only translates along z (with the sliders): 1T finite, 1T1R instantaneous; each limb's
+    internal motion (its U joints turning against each other, the slider following) is blocked at order 2.
+    With the sliders held nothing moves: a tilted link is shorter horizontally (R - r) cos(beta).
+    """
+    report = finite(pinmob.load("3-PUU-flat"), "flat")
+    fm = report.finite
+    assert (fm.free.dof, fm.finite_dof, fm.free.mechanism_dof, fm.finite_mechanism_dof) == (2, 1, 5, 1)
+    verdicts = {v.label: v for v in fm.motions}
+    assert verdicts["T1 z"].verdict is Verdict.FINITE and verdicts["T1 z"].traced > 0
+    assert verdicts["R1 z"].verdict is Verdict.BLOCKED and verdicts["R1 z"].order == 2
+    assert verdicts["R1 z"].traced == 0.0
+    assert [v.label for v in fm.free.internal] == ["limb A", "limb B", "limb C"]
+    for v in fm.free.internal:
+        assert v.verdict is Verdict.BLOCKED and v.order == 2 and v.traced == 0.0
+        assert set(v.joints) <= {f"{v.label[-1]}_{j}" for j in ("slider", "u1a", "u1b", "u2a", "u2b")}
+    assert [b.motion_type for b in fm.free.branches] == ["1T"]
+    assert fm.finite_dof_locked == 0 and all(v.order == 2 for v in fm.locked.motions)
+    doc = report.to_dict()
+    assert (doc["finite_dof"], doc["finite_mechanism_dof"], doc["finite_dof_locked"]) == (1, 1, 0)
+    assert {m["label"]: (m["finite"], m["order"]) for m in doc["finite"]["motions"]} == {
+        "T1 z": (True, None),
+        "R1 z": (False, 2),
+    }
+
+
+def test_3rpr_at_a_type_ii_singularity_is_shaky_with_the_legs_held() -> None:
+    """Radial legs (:func:`finite_cases.three_rpr_radial`): leg length^2 = (R - r)^2 + R r phi^2 + O(phi^4) for a
+    platform rotation phi about the centre. Legs held: instantaneous 1 (R1 z), finite 0, blocked at order 2.
+    Legs free: the regular 2T1R of a planar 3-RPR.
+    """
+    mech = three_rpr_radial()
+    fm = finite(mech, mech.neutral(), generic_rank=3).finite
+    assert (fm.free.dof, fm.finite_dof) == (3, 3)
+    assert fm.locked.dof == 1 and fm.finite_dof_locked == 0
+    (motion,) = fm.locked.motions
+    assert motion.label == "R1 z" and motion.verdict is Verdict.BLOCKED and motion.order == 2
+    assert_allclose(motion.motion.point, [0, 0, 0], atol=1e-9)
+
+
+def test_overconstrained_bennett_and_bricard_move_and_a_generic_6r_does_not() -> None:
+    """Bennett (1903): 4R, Grubler-Kutzbach 6 (4 - 1) - 5 x 4 = -2, moves with 1 DoF. Bricard's line-symmetric
+    6R (1897): Grubler-Kutzbach 0, 1 DoF, and by the half-turn symmetry |w1| = |w4|, |w2| = |w5|, |w3| = |w6|
+    along the motion (:func:`finite_cases.bricard_line_symmetric`). Six random axes: rigid.
+    """
+    bennett = finite(pinmob.load("Bennett"), "generic")
+    assert bennett.mechanism_mobility.grubler == -2
+    assert bennett.finite.finite_dof == 1 and bennett.finite.finite_mechanism_dof == 1
+    assert bennett.finite.motions[0].verdict is Verdict.FINITE
+    bricard = bricard_line_symmetric()
+    report = finite(bricard, bricard.neutral(), generic_rank=5)
+    assert report.mechanism_mobility.grubler == 0
+    fm = report.finite
+    assert fm.finite_mechanism_dof == 1 and fm.finite_dof == 1 and fm.free.branches[0].traced > 0
+    rates = fm.free.branches[0].rates[:, 0]
+    names = list(bricard.model.names[1:])
+    w = {n: abs(rates[i]) for i, n in enumerate(names)}
+    for a, b in (("X_j1", "Y_j4"), ("X_j2", "Y_j5"), ("X_j3", "Y_j6")):
+        assert w[a] == pytest.approx(w[b], rel=1e-6)
+    rigid = generic_6r()
+    fm = finite(rigid, rigid.neutral(), generic_rank=6).finite
+    assert (fm.free.mechanism_dof, fm.finite_mechanism_dof, fm.finite_dof) == (0, 0, 0)
+
+
+def _leg_lengths(anchors: np.ndarray, platform_points: np.ndarray, pose: pin.SE3) -> np.ndarray:
+    """|p + R b_i - a_i| for each leg (hand-coded geometry, no Pinocchio kinematics)."""
+    return np.linalg.norm(pose.translation + platform_points @ pose.rotation.T - anchors, axis=1)
+
+
+def test_gough_stewart_at_fichters_pose_is_shaky_with_the_legs_held() -> None:
+    """Fichter (1986): the platform turned by 90 deg has one uncontrolled twist with the legs held.
+
+    Second method, by hand: leg lengths l(M exp(s t)) from the anchor points alone; J = dl/dxi (6 x 6, rank
+    5), t its null vector, c its left null vector. A second-order motion exists iff ``c . l''(t, t) = 0``
+    (no pose acceleration w can cancel it in ``J w + l''``); it is not: shaky, finite 0.
+    """
+    mech = pinmob.load("6-UPS")
+    report = finite(mech, "type2")
+    fm = report.finite
+    assert fm.locked.dof == 1 and fm.finite_dof_locked == 0
+    (motion,) = fm.locked.motions
+    assert motion.verdict is Verdict.BLOCKED and motion.order == 2
+    model, data = mech.model, mech.model.createData()
+    pin.framesForwardKinematics(model, data, report.state.q)
+    pose = data.oMf[mech.platform_id].copy()
+    anchors, points = [], []
+    for limb in mech.limbs:
+        ids = [model.getJointId(j) for j in limb.joints]
+        anchors.append(data.oMi[ids[0]].translation.copy())
+        points.append(pose.actInv(data.oMi[ids[-1]].translation.copy()))
+    a, b = np.array(anchors), np.array(points)
+    h = 1e-5
+    jac = np.column_stack(
+        [
+            (_leg_lengths(a, b, pose * pin.exp6(h * e)) - _leg_lengths(a, b, pose * pin.exp6(-h * e))) / (2 * h)
+            for e in np.eye(6)
+        ]
+    )
+    u, s, vt = np.linalg.svd(jac)
+    assert s[-1] < 1e-6 * s[0] < s[-2]
+    t, c = vt[-1], u[:, -1]
+    k = 1e-3
+    second = (
+        _leg_lengths(a, b, pose * pin.exp6(k * t))
+        + _leg_lengths(a, b, pose * pin.exp6(-k * t))
+        - 2 * _leg_lengths(a, b, pose)
+    ) / k**2
+    assert abs(c @ second) > 1e-3 * np.abs(second).max()
+
+
+def test_sarrus_at_its_top_dead_centre_moves_only_at_second_order() -> None:
+    """Both limbs straight: to first order the platform is rigid and each knee may bend alone; at second order
+    knee A lowers the platform by k_A a^2 and knee B by k_B b^2, which must agree: ``k_A a^2 = k_B b^2``,
+    two lines (knees in/out together). Finite: 1 DoF on each, the platform translating along z
+    (downwards only): finite 1T where the first-order analysis says rigid.
+    """
+    fm = finite(pinmob.load("Sarrus"), "stretched").finite
+    assert (fm.free.dof, fm.finite_dof, fm.free.mechanism_dof, fm.finite_mechanism_dof) == (0, 1, 2, 1)
+    assert [(b.dimension, b.motion_type, b.where) for b in fm.free.branches] == [(1, "1T", "near q")] * 2
+    assert all(v.verdict is Verdict.BRANCH_POINT for v in fm.free.internal)
+    assert [b.motions[0].label for b in fm.free.branches] == ["T1 z", "T1 z"]
+
+
+def test_delta_with_stretched_arms_reaches_a_full_workspace() -> None:
+    """Arms stretched (the bottom of the workspace): first-order rigid, yet the platform moves up into the
+    workspace in 3T (finite 3): the lost freedoms appear at second order.
+    """
+    fm = finite(pinmob.load("Delta"), "arms-stretched").finite
+    assert (fm.free.dof, fm.finite_dof) == (0, 3)
+    assert [b.motion_type for b in fm.free.branches] == ["3T"]
+
+
+def test_4ruu_is_kinematotropic_at_its_parallel_axes_configuration() -> None:
+    """Two branches of different DoF meet (a kinematotropic point): the Schoenflies mode (4 DoF, 3T1R) and a
+    2-DoF mode. Confirmed away from q: each branch is followed 0.3 rad and the first-order analysis there
+    (a generic point of the branch) gives its DoF.
+    """
+    mech = pinmob.load("4-RUU")
+    report = finite(mech, "parallel-axes")
+    fm = report.finite
+    assert sorted((b.dimension, b.motion_type) for b in fm.free.branches) == [(2, "2R"), (4, "3T1R")]
+    rng = np.random.default_rng(1)
+    for branch in fm.free.branches:
+        path = follow_rates(
+            mech, report.state.q, branch.rates @ rng.normal(size=branch.dimension), amplitude=0.3, steps=10
+        )
+        assert path.reached == (0.3, 0.3)
+        far = pinmob.analyze(mech, path.forward[-1])
+        assert far.dof == branch.dimension == far.mechanism_mobility.mechanism_dof
+
+
+def test_delta_rods_horizontal_cannot_be_decided() -> None:
+    """The Delta with horizontal rods: two quadratic conditions of rank 4 on 11 instantaneous motions, whose
+    cone is not a union of linear spaces: the branches cannot be told apart, and the closed samples find
+    motions on none of the linear components. The analysis says so, never guesses.
+    """
+    fm = finite(pinmob.load("Delta"), "rods-horizontal").finite
+    assert fm.finite_mechanism_dof is None and fm.finite_dof is None
+    assert any("not a union of linear spaces" in n for n in fm.free.notes)
+    assert "cannot decide" in str(fm)
+
+
+def test_finite_analysis_does_not_depend_on_units() -> None:
+    """The flat 3-PUU in millimetres: same verdicts, orders and finite DoF (pitches and points scale)."""
+    mech = pinmob.load("3-PUU-flat")
+    q = pinmob.closed_configuration(mech, "flat")
+    mm = in_millimetres(mech)
+    a = finite(mech, q, generic_rank=4).finite
+    b = finite(mm, q_in_millimetres(mech, q), generic_rank=4).finite
+    assert [(v.label, v.verdict, v.order) for v in a.motions] == [(v.label, v.verdict, v.order) for v in b.motions]
+    assert (a.finite_dof, a.finite_mechanism_dof, a.finite_dof_locked) == (
+        b.finite_dof,
+        b.finite_mechanism_dof,
+        b.finite_dof_locked,
+    )
+    assert a.tolerance == pytest.approx(b.tolerance, rel=1e-6)
+
+
+def test_finite_analysis_does_not_depend_on_placement_or_limb_order() -> None:
+    """The radial 3-RPR turned and moved in space, its limbs declared in another order: the same finite DoF,
+    free and held, the same verdicts and orders, and the held rotation's axis through the moved centre."""
+    rot = pin.rpy.rpyToMatrix(0.4, -0.3, 1.2)
+    shift = (0.5, -0.2, 0.3)
+    results = []
+    for mech, centre in (
+        (three_rpr_radial(), np.zeros(3)),
+        (three_rpr_radial(order="CAB", rotation=rot, shift=shift), np.array(shift)),
+    ):
+        fm = finite(mech, mech.neutral(), generic_rank=3).finite
+        verdicts = sorted((v.motion.kind.value, v.verdict.value, v.order) for v in fm.motions + fm.locked.motions)
+        results.append((fm.finite_dof, fm.finite_mechanism_dof, fm.finite_dof_locked, verdicts))
+        (held,) = fm.locked.motions
+        axis_point = fm.conf.platform_origin + held.motion.point
+        assert_allclose(np.cross(axis_point - centre, held.motion.direction), 0, atol=1e-9)
+    assert results[0] == results[1]
+
+
+def test_order_bound_is_checked() -> None:
+    mech = pinmob.load("3-PUU")
+    with pytest.raises(ConfigurationError, match="integer from 2 to 8, got 1"):
+        pinmob.analyze(mech, "generic", finite=True, finite_order=1)
+    fm = finite(mech, "generic", finite_order=2).finite
+    assert fm.order == 2 and all(len(v.test.residuals) == 1 for v in fm.motions)
+    conf = pinmob.Configuration(mech, "generic")
+    assert finite_mobility(conf, 1e-6) is finite_mobility(conf, 1e-6)  # computed once per configuration

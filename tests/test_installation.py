@@ -1,0 +1,84 @@
+"""An installed pinmob writes nothing inside its own package: its numba cache goes to a per-user folder."""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import pinmob
+from pinmob.io import builtin_dir
+
+SCRIPT = """
+import contextlib, io
+import pinmob
+from pinmob.analysis.batch import analyze_batch
+from pinmob.analysis.batch_kernel import ranks
+from pinmob.cli import main
+
+mech = pinmob.load("3-PUU")
+print(pinmob.__file__)
+print(analyze_batch(mech, pinmob.closed_configuration(mech, "generic")[None]).dof.tolist())
+print(sum(ranks.stats.cache_hits.values()))
+with contextlib.redirect_stdout(io.StringIO()):  # the CLI's paths too: analysis, scan with a plot
+    assert main(["analyze", "3-PUU"]) == 0
+    assert main(["scan", "3-PUU", "--from", "generic", "--to", "offset", "-n", "3", "--plot", "s.png", "--force"]) == 0
+"""
+
+
+def _files(folder: Path) -> dict[str, int]:
+    return {str(p.relative_to(folder)): p.stat().st_mtime_ns for p in sorted(folder.rglob("*"))}
+
+
+@pytest.fixture
+def package(tmp_path) -> Path:
+    """A fresh copy of the installed package (pinmob/ with its models/, as pip lays it out), no __pycache__."""
+    package = tmp_path / "site" / "pinmob"
+    shutil.copytree(Path(pinmob.__file__).parent, package, ignore=shutil.ignore_patterns("__pycache__"))
+    if not (package / "models").is_dir():  # editable install: the models sit in the checkout's models/
+        shutil.copytree(builtin_dir(), package / "models", ignore=shutil.ignore_patterns("__pycache__"))
+    return package
+
+
+def run_batch(package: Path, cache_home: Path) -> int:
+    """Run the compiled batch path (and the CLI's analyze and scan) on the copy in a new process; returns the
+    loop's cache hits there."""
+    env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "PYTHONPATH")}
+    env |= {"PYTHONPATH": str(package.parent), "XDG_CACHE_HOME": str(cache_home), "PYTHONDONTWRITEBYTECODE": "1"}
+    run = subprocess.run(
+        [sys.executable, "-c", SCRIPT], capture_output=True, text=True, env=env, cwd=package.parent, timeout=300
+    )
+    assert run.returncode == 0, run.stderr
+    where, dof, hits = run.stdout.split()
+    assert Path(where).parent == package and dof == "[3]"
+    return int(hits)
+
+
+def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
+    """The compiled batch path, twice in new processes: no file appears or changes under pinmob/ (numba's
+    ``cache=True`` wrote ``pinmob/__pycache__/batch._ranks-*.nbi`` there, which then shadowed a later editable
+    install of the same environment), the cache is in ``$XDG_CACHE_HOME/pinmob/numba`` and the second process
+    loads the loop from it."""
+    before = _files(package)
+    cache = tmp_path / "cache"
+    assert [run_batch(package, cache), run_batch(package, cache)] == [0, 1]
+    assert _files(package) == before
+    assert sorted(p.name.split("-")[0] for p in (cache / "pinmob" / "numba").rglob("*.nbi")) == [
+        "batch_kernel.complement",
+        "batch_kernel.ranks",
+        "batch_kernel.span",
+    ]
+
+
+def test_unwritable_cache_folder_means_no_disk_cache(package, tmp_path):
+    """When the cache folder cannot be created (here ``$XDG_CACHE_HOME`` is a file), the loop is compiled in
+    the process and still nothing is written under pinmob/."""
+    before = _files(package)
+    blocker = tmp_path / "not-a-folder"
+    blocker.write_text("")
+    assert run_batch(package, blocker) == 0
+    assert _files(package) == before and blocker.read_text() == ""

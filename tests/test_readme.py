@@ -1,0 +1,186 @@
+"""The README is the first thing users try: its commands and snippet print what it says they print.
+
+Run as a user would, with the installed ``pinmob`` entry point (``python -m pinmob`` when there is none), in a
+fresh folder holding links to the checkout's ``tests/`` (paths such as ``tests/data/...`` work, files written
+by a command such as ``flat.html`` land in the fresh folder):
+
+* every ```` ```text ```` block made of ``$ pinmob ...`` lines, each followed by its output;
+* the first command (in the ```` ```bash ```` block of "Two commands") and the output block that follows it;
+* every ```` ```python ```` block followed by "prints" and a ```` ```text ```` block.
+
+Output is stdout and stderr as a terminal shows them (interleaved in the order written), compared line by line.
+Exact, except for what legitimately differs between runs and machines (:func:`same_line`):
+
+* a line ``...`` in the README stands for any lines (an excerpt);
+* numbers below 1e-6 in magnitude are round-off (1e-6 is the analysis' rank tolerance, below which pinmob
+  counts a value as zero): any two of them match (e.g. ``8.9e-16 rad`` and ``0 rad``, a residual
+  ``5.4e-16``);
+* in ``N samples in T s (R samples/s, W worker(s))`` the elapsed time T and the rate R are timings: any
+  numbers match there.
+
+The exit status must be 2 when the output shows ``pinmob: error:``, else 0.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shlex
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+README = ROOT / "README.md"
+BLOCK = re.compile(r"^```(\w*)\n(.*?)^```$", re.MULTILINE | re.DOTALL)
+NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+TIMING = re.compile(r"(\d+ samples in )[-+\d.eE]+( s \()[-+\d.eE]+( samples/s)")
+#: magnitude below which a printed number is round-off (the default rank tolerance rtol)
+ROUND_OFF = 1e-6
+
+
+@dataclass(frozen=True)
+class Example:
+    """One documented run: a shell command (``pinmob ...``) or Python code, and the lines the README shows."""
+
+    name: str
+    command: list[str] | None
+    code: str | None
+    expected: list[str]
+
+
+def blocks(text: str) -> list[tuple[str, str, int, int]]:
+    """(language, body, start and end offsets) of every fenced block of a Markdown text."""
+    return [(m.group(1), m.group(2), m.start(), m.end()) for m in BLOCK.finditer(text)]
+
+
+def examples(text: str) -> list[Example]:
+    """The README's runnable examples (module docstring), in order."""
+    found: list[Example] = []
+    fenced = blocks(text)
+    for i, (lang, body, _, end) in enumerate(fenced):
+        if lang == "text" and body.startswith("$ "):
+            command: list[str] | None = None
+            for line in body.splitlines():
+                if line.startswith("$ "):
+                    command = shlex.split(line[2:])
+                    found.append(Example(f"$ {line[2:]}", command, None, []))
+                else:
+                    found[-1].expected.append(line)
+        elif lang == "bash" and "/pinmob analyze" in body:
+            args = shlex.split(body[body.index("/pinmob analyze") + 1 :].splitlines()[0])
+            after = next(b for b in fenced[i + 1 :] if b[0] == "text")
+            found.append(Example(f"first command: $ {' '.join(args)}", args, None, after[1].splitlines()))
+        elif lang == "python" and i + 1 < len(fenced):
+            between = text[end : fenced[i + 1][2]]
+            if between.strip() == "prints" and fenced[i + 1][0] == "text":
+                number = sum(e.code is not None for e in found) + 1
+                found.append(Example(f"python snippet {number}", None, body, fenced[i + 1][1].splitlines()))
+    return found
+
+
+def same_line(expected: str, actual: str) -> bool:
+    """One line of output against the README's (module docstring: round-off numbers, timings)."""
+    expected, actual = TIMING.sub(r"\1T\2R\3", expected), TIMING.sub(r"\1T\2R\3", actual)
+    if NUMBER.split(expected) != NUMBER.split(actual):
+        return False
+    for a, b in zip(NUMBER.findall(expected), NUMBER.findall(actual)):
+        if a != b and not (abs(float(a)) < ROUND_OFF and abs(float(b)) < ROUND_OFF):
+            return False
+    return True
+
+
+def matches(expected: list[str], actual: list[str]) -> bool:
+    """Whether ``actual`` lines are ``expected``, where a line ``...`` stands for any lines."""
+    if not expected:
+        return not actual
+    if expected[0] == "...":
+        return any(matches(expected[1:], actual[k:]) for k in range(len(actual) + 1))
+    return bool(actual) and same_line(expected[0], actual[0]) and matches(expected[1:], actual[1:])
+
+
+def pinmob_command() -> list[str]:
+    """The installed entry point beside this Python, else ``python -m pinmob``."""
+    script = Path(sys.executable).parent / "pinmob"
+    return [str(script)] if script.exists() else [sys.executable, "-m", "pinmob"]
+
+
+def run(example: Example, cwd: Path) -> subprocess.CompletedProcess[str]:
+    env = os.environ | {"PYTHONUNBUFFERED": "1", "COLUMNS": "200"}
+    if example.command is not None:
+        assert example.command[0] == "pinmob", example.name
+        argv = pinmob_command() + example.command[1:]
+    else:
+        argv = [sys.executable, "-c", example.code or ""]
+    return subprocess.run(
+        argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, cwd=cwd, env=env, timeout=300
+    )
+
+
+EXAMPLES = examples(README.read_text())
+
+
+def test_readme_examples_are_found():
+    """The parser finds what the README shows: the first command, the Python snippet, each ``$`` block."""
+    names = [e.name for e in EXAMPLES]
+    assert names[0] == "first command: $ pinmob analyze 3-PUU --config generic", names
+    assert sum(e.code is not None for e in EXAMPLES) == 1 and len(names) >= 7, names
+    assert all(e.expected for e in EXAMPLES), names
+
+
+@pytest.mark.parametrize("example", EXAMPLES, ids=[e.name for e in EXAMPLES])
+def test_readme_example_prints_what_the_readme_shows(example, tmp_path):
+    (tmp_path / "tests").symlink_to(ROOT / "tests")
+    out = run(example, tmp_path)
+    lines = out.stdout.splitlines()
+    shown = "\n".join(lines)
+    assert matches(example.expected, lines), f"{example.name} printed:\n{shown}"
+    error = any(line.startswith("pinmob: error:") for line in lines)
+    assert out.returncode == (2 if error else 0), f"{example.name}: exit status {out.returncode}\n{shown}"
+
+
+@pytest.mark.parametrize(
+    ("expected", "actual", "same"),
+    [
+        (["a 0.0424 m, 8.9e-16 rad"], ["a 0.0424 m, 0 rad"], True),
+        (["a 0.0424 m"], ["a 0.0425 m"], False),
+        (["distance 2.67e-12"], ["distance 2e-06"], False),
+        (
+            ["7 samples in 0.09 s (82.1 samples/s, 1 worker(s))"],
+            ["7 samples in 1.5 s (4.7 samples/s, 1 worker(s))"],
+            True,
+        ),
+        (
+            ["7 samples in 0.09 s (82.1 samples/s, 1 worker(s))"],
+            ["8 samples in 0.09 s (82.1 samples/s, 1 worker(s))"],
+            False,
+        ),
+        (
+            ["7 samples in 0.09 s (82.1 samples/s, 1 worker(s))"],
+            ["7 samples in 0.09 s (82.1 samples/s, 2 worker(s))"],
+            False,
+        ),
+        (["x", "...", "y"], ["x", "1", "2", "y"], True),
+        (["x", "...", "y"], ["x", "y"], True),
+        (["x", "...", "y"], ["x", "1", "z"], False),
+        (["x"], ["x", "extra"], False),
+        (["x", "y"], ["x"], False),
+    ],
+)
+def test_comparison_rule(expected, actual, same):
+    """The rule of the module docstring: what it lets through, and what it does not."""
+    assert matches(expected, actual) == same
+
+
+def test_print_report_is_what_the_cli_prints():
+    """The README: ``print(report)`` prints exactly what the installed ``pinmob analyze`` prints."""
+    import pinmob
+
+    report = pinmob.analyze(pinmob.load("3-PUU"), "generic")
+    cli = subprocess.run(
+        [*pinmob_command(), "analyze", "3-PUU", "--config", "generic"], capture_output=True, text=True, timeout=120
+    )
+    assert cli.returncode == 0 and cli.stdout == str(report) + "\n"

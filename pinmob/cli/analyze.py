@@ -42,7 +42,10 @@ def run(args: argparse.Namespace) -> int:
         finite=args.finite,
         finite_order=args.finite_order,
     )
-    print(json.dumps(report.to_dict(), indent=2, allow_nan=False) if args.json else report)
+    if args.json:
+        print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
+    else:
+        print(report.brief() if args.brief else report)
     return check_status(args, report)
 
 

@@ -266,7 +266,7 @@ def mechanism_mobility(
     dec = chain.decision
     idx = joint_velocity_indices(mech, list(acts))
     split = lock(
-        selector(mech.model.nv, idx, chain.col) @ chain.null,
+        selector(mech.model.nv, idx) @ chain.null,
         output_rows(conf, outs) @ chain.null,
         rtol,
         chain.null.shape[1],

@@ -109,11 +109,16 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
     return np.vstack(rows) if rows else np.zeros((0, model.nv))
 
 
-def selector(nv: int, idx: Array, col: Array) -> Array:
-    """(len(idx), nv) rows picking the rates ``idx``, in the dimensionless coordinates."""
+def selector(nv: int, idx: Array) -> Array:
+    """(len(idx), nv) rows picking the rates ``idx``, in the dimensionless coordinates (each row a unit vector).
+
+    The closed chain's motions are dimensionless rates (prismatic rates per L): a row scaled by L
+    would weigh a slider's rate by the unit of length against the output rows (in nanometres it
+    outweighed every output and idle motions appeared; far enough the other way it would vanish).
+    """
     sel = np.zeros((len(idx), nv))
     sel[np.arange(len(idx)), idx] = 1.0
-    return sel * col
+    return sel
 
 
 @one_blas_thread

@@ -81,11 +81,21 @@ def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
 
     Uses the joint placements (link vectors) and the given frames' placements;
     it scales with the model's units and does not depend on the configuration.
-    Falls back to 1 m for a model with no offset at all.
+    The placements on the fixed base (joints and frames whose parent is the
+    world) are positions in the world, not links: they count from their
+    centroid, so that L does not change when the whole mechanism is moved
+    (a base mounted 3 m up is not a 3 m link; a single base joint adds no offset).
+    An offset counts as zero below ``1e-12`` times the largest. Falls back to
+    1 m for a model with no offset at all.
     """
-    offsets = [np.linalg.norm(model.jointPlacements[j].translation) for j in range(1, model.njoints)]
-    offsets += [np.linalg.norm(model.frames[f].placement.translation) for f in frame_ids]
-    nonzero = np.array([o for o in offsets if o > 1e-12])
+    links = [model.jointPlacements[j].translation for j in range(1, model.njoints) if model.parents[j] != 0]
+    links += [model.frames[f].placement.translation for f in frame_ids if model.frames[f].parentJoint != 0]
+    based = [model.jointPlacements[j].translation for j in range(1, model.njoints) if model.parents[j] == 0]
+    based += [model.frames[f].placement.translation for f in dict.fromkeys(frame_ids) if model.frames[f].parentJoint == 0]
+    vectors = np.array(links + (list(np.array(based) - np.mean(based, axis=0)) if based else [])).reshape(-1, 3)
+    norms = np.linalg.norm(vectors, axis=1)
+    top = float(norms.max()) if norms.size else 0.0
+    nonzero = norms[norms > 1e-12 * top] if np.isfinite(top) and top > 0 else np.zeros(0)
     return float(np.sqrt(np.mean(nonzero**2))) if nonzero.size else 1.0
 
 

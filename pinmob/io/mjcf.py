@@ -33,6 +33,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.schema import errors_at, file_error
 from pinmob.model.closure import make_closure
 from pinmob.model.mechanism import Mechanism
@@ -224,7 +225,9 @@ def load_mjcf(path: str | Path) -> Mechanism:
             raise file_error(path, f"Pinocchio's MJCF parser failed: {' '.join(str(exc).split())[:300]}") from None
         visual = None
         try:
-            visual = pin.buildGeomFromMJCF(model, str(source), pin.GeometryType.VISUAL)
+            visual = confine(
+                pin.buildGeomFromMJCF(model, str(source), pin.GeometryType.VISUAL), mesh_roots(path), path.name
+            )
         except Exception as exc:
             warnings.warn(
                 f"{path.name}: visual geometry not loaded ({' '.join(str(exc).split())[:200]}); kinematics only",

@@ -20,6 +20,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from pinmob.exceptions import MechanismFileError
+from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.model.geometry import Geometry
 
 
@@ -129,7 +130,11 @@ def load_geometry(model: pin.Model, urdf: Path) -> Geometry:
 def build_geometry(
     model: pin.Model, urdf: Path, kinds: tuple[str, ...] = ("VISUAL", "COLLISION")
 ) -> tuple[pin.GeometryModel | None, pin.GeometryModel | None]:
-    """Visual and collision geometry of a URDF for ``model`` (the ``kinds`` asked for); None with a warning on failure."""
+    """Visual and collision geometry of a URDF for ``model`` (the ``kinds`` asked for); None with a warning on failure.
+
+    Meshes whose file or textures lie outside the model's folders are left out, with a warning
+    (:func:`pinmob.io.mesh_files.confine`).
+    """
     geoms: list[pin.GeometryModel | None] = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
         if kind.name not in kinds:
@@ -137,7 +142,8 @@ def build_geometry(
             continue
         try:
             with native_stderr() as printed:
-                geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=package_dirs(urdf)))
+                built = pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=package_dirs(urdf))
+            geoms.append(confine(built, mesh_roots(urdf, package_dirs(urdf)), urdf.name))
         except Exception as exc:
             said = native_messages(printed)
             warnings.warn(

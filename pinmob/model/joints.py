@@ -91,7 +91,9 @@ def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
     links = [model.jointPlacements[j].translation for j in range(1, model.njoints) if model.parents[j] != 0]
     links += [model.frames[f].placement.translation for f in frame_ids if model.frames[f].parentJoint != 0]
     based = [model.jointPlacements[j].translation for j in range(1, model.njoints) if model.parents[j] == 0]
-    based += [model.frames[f].placement.translation for f in dict.fromkeys(frame_ids) if model.frames[f].parentJoint == 0]
+    based += [
+        model.frames[f].placement.translation for f in dict.fromkeys(frame_ids) if model.frames[f].parentJoint == 0
+    ]
     vectors = np.array(links + (list(np.array(based) - np.mean(based, axis=0)) if based else [])).reshape(-1, 3)
     norms = np.linalg.norm(vectors, axis=1)
     top = float(norms.max()) if norms.size else 0.0

@@ -69,11 +69,13 @@ class Replacing:
         return self.path
 
     def commit(self) -> None:
-        """Rename the temporary file over the target (refused if the target became a link meanwhile)."""
+        """Rename the temporary file over the target (refused if the target became a link, folder or device meanwhile)."""
         if self.path is None or self.committed:
             return
         if self.target.is_symlink():
             raise ConfigurationError(f"{str(self.target)!r} became a symbolic link while pinmob ran; not written")
+        if self.target.exists() and not stat.S_ISREG(self.target.stat().st_mode):
+            raise ConfigurationError(f"{str(self.target)!r} became a folder or a device while pinmob ran; not written")
         os.chmod(self.path, 0o666 & ~_umask())
         os.replace(self.path, self.target)
         self.committed = True

@@ -80,7 +80,7 @@ def limb_rates(conf: Configuration, limb: Limb, rtol: float, locked: tuple[str, 
     """Joint-rate directions behind a limb's screws: velocity indices E (e,) and rates D (e, k).
 
     Without internal loops, E are the limb's velocity indices minus those of
-    the ``locked`` joints and D the identity. With internal closures, E are its
+    the ``locked`` joints and D = diag(col), one dimensionless rate per joint. With internal closures, E are its
     joints and loop joints (:attr:`Limb.screw_v_indices`) and
     ``D = diag(col) N``, N an orthonormal basis of
     ``null([K_hat[:, E]; S_locked])`` (closure rows per L, prismatic rates
@@ -92,7 +92,7 @@ def limb_rates(conf: Configuration, limb: Limb, rtol: float, locked: tuple[str, 
     held = {model.joints[model.getJointId(j)].idx_v for j in locked}
     if not limb.closures:
         idx = np.array([int(v) for v in limb.v_indices if v not in held], dtype=int)
-        return idx, np.eye(idx.size)
+        return idx, np.diag(rate_scale(mech)[idx])
     idx = limb.screw_v_indices
     col = rate_scale(mech)[idx]
     loops = tuple(c for c in mech.closures if c.name in limb.closures)

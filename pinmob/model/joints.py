@@ -79,23 +79,17 @@ def one_degree_indices(model: pin.Model, names: Iterable[str], owner: str) -> Ar
 def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
     """Default L [m]: root mean square of the model's non-zero link offsets.
 
-    Uses the joint placements (link vectors) and the given frames' placements;
-    it scales with the model's units and does not depend on the configuration.
-    The placements on the fixed base (joints and frames whose parent is the
-    world) are positions in the world, not links: they count from their
-    centroid, so that L does not change when the whole mechanism is moved
-    (a base mounted 3 m up is not a 3 m link; a single base joint adds no offset).
-    An offset counts as zero below ``1e-12`` times the largest. Falls back to
-    1 m for a model with no offset at all.
+    The joint placements and the given frames' placements; it scales with the units and does not
+    depend on the configuration. Those on the fixed base (parent: the world) are positions, not
+    links: they count from their centroid, so that a rigid move of the whole mechanism leaves L as
+    it is (a base 3 m up is no 3 m link). Offsets below ``1e-12`` times the largest count as zero;
+    1 m for a model with none.
     """
-    links = [model.jointPlacements[j].translation for j in range(1, model.njoints) if model.parents[j] != 0]
-    links += [model.frames[f].placement.translation for f in frame_ids if model.frames[f].parentJoint != 0]
-    based = [model.jointPlacements[j].translation for j in range(1, model.njoints) if model.parents[j] == 0]
-    based += [
-        model.frames[f].placement.translation for f in dict.fromkeys(frame_ids) if model.frames[f].parentJoint == 0
-    ]
-    vectors = np.array(links + (list(np.array(based) - np.mean(based, axis=0)) if based else [])).reshape(-1, 3)
-    norms = np.linalg.norm(vectors, axis=1)
+    joints = [(model.parents[j], model.jointPlacements[j].translation) for j in range(1, model.njoints)]
+    frames = [(model.frames[f].parentJoint, model.frames[f].placement.translation) for f in dict.fromkeys(frame_ids)]
+    based = np.array([t for parent, t in joints + frames if parent == 0]).reshape(-1, 3)
+    links = [t for parent, t in joints + frames if parent != 0] + list(based - based.mean(axis=0) if len(based) else [])
+    norms = np.linalg.norm(np.array(links).reshape(-1, 3), axis=1)
     top = float(norms.max()) if norms.size else 0.0
     nonzero = norms[norms > 1e-12 * top] if np.isfinite(top) and top > 0 else np.zeros(0)
     return float(np.sqrt(np.mean(nonzero**2))) if nonzero.size else 1.0

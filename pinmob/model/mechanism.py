@@ -28,6 +28,10 @@ from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
 
+#: A declared length scale must lie within these multiples of the geometry's own (characteristic_length):
+#: on the built-in models the answers first change at 1/1000 and 10000 times.
+LENGTH_RANGE = (1e-2, 1e2)
+
 
 @dataclass(frozen=True)
 class Mechanism:
@@ -103,8 +107,9 @@ class Mechanism:
 
         Raises:
             FrameError: a tip, platform or actuated joint does not exist.
-            ConfigurationError: two limbs share a joint, a limb has no joint, or
-                there is neither a limb nor a closure.
+            ConfigurationError: two limbs share a joint, a limb has no joint, there is
+                neither a limb nor a closure, or ``length_scale`` is outside
+                :data:`LENGTH_RANGE` times the geometry's own length (where round-off decides).
         """
         pairs = list(limbs.items()) if isinstance(limbs, Mapping) else list(limbs)
         if not pairs and not closures:
@@ -155,9 +160,16 @@ class Mechanism:
         if platform:
             frame_id(model, platform)
         frames = [b.tip_id for b in built] + [i for c in closures for i in (c.frame_a_id, c.frame_b_id)]
-        scale = float(length_scale) if length_scale else characteristic_length(model, frames)
+        own = characteristic_length(model, frames)
+        scale = float(length_scale) if length_scale else own
         if not np.isfinite(scale) or scale <= 0:
             raise ConfigurationError(f"length_scale must be a positive number of metres, got {length_scale!r}")
+        if not LENGTH_RANGE[0] * own <= scale <= LENGTH_RANGE[1] * own:  # else round-off decides the ranks
+            raise ConfigurationError(
+                f"length_scale {scale:g} m is outside [{LENGTH_RANGE[0] * own:.3g}, {LENGTH_RANGE[1] * own:.3g}] m "
+                f"(1/100 to 100 times the mechanism's own size, {own:.3g} m): ranks would be decided by round-off; "
+                "give a length in that range, or none"
+            )
         if generic_rank is not None and (
             not isinstance(generic_rank, int) or isinstance(generic_rank, bool) or not 0 <= generic_rank <= 6
         ):

@@ -23,7 +23,8 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigurationError("--html writes a file and uses no server: drop --zmq-url, --port and --detach")
     options = {"motion": args.motion, "wrenches": args.wrenches, "amplitude": args.amplitude, "steps": args.steps}
     if args.html is not None:
-        scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
+        with signals_interrupt():  # SIGTERM/SIGHUP as Ctrl-C: the temporary file is removed, the old file kept
+            scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
         print_scene(mech.name, config, scene)
         return 0
     # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:

@@ -101,7 +101,32 @@ def read_urdf(urdf: Path) -> pin.Model:
     said = native_messages(printed)
     if said:
         warnings.warn(f"{urdf.name}: {said}", stacklevel=4)
+    check_axes(model, str(urdf))
     return model
+
+
+def check_axes(model: pin.Model, label: str) -> None:
+    """Refuse a joint whose axis is zero or not finite (a prismatic ``<axis xyz="0 0 0"/>`` moves nothing).
+
+    Each joint's motion subspace S at the neutral configuration (Pinocchio's, per joint) must have
+    finite columns of non-zero length.
+
+    Raises:
+        MechanismFileError: naming the file and the joint.
+    """
+    import numpy as np
+
+    q = pin.neutral(model)
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        data = joint.createData()
+        joint.calc(data, q)
+        s = np.asarray(data.S).reshape(6, -1)
+        if not np.isfinite(s).all() or (np.linalg.norm(s, axis=0) < 1e-9).any():
+            raise MechanismFileError(
+                f"{label}: joint {model.names[j]!r} has a zero or non-finite axis; give its <axis xyz=...> a "
+                "finite, non-zero direction"
+            )
 
 
 def load_geometry(model: pin.Model, urdf: Path) -> Geometry:

@@ -1,0 +1,158 @@
+"""Hostile and unlucky mechanism files: one line naming the file and the problem, exit 2, no traceback, no hang.
+
+Issue 14, classes 8 (a small file that exhausts the machine), 9 (tracebacks instead of one line) and
+10 (degenerate geometry accepted). Each file is run through the CLI in a subprocess with a time
+bound; the 473-byte YAML alias bomb grew memory by 75 MB/s before, now its message is bounded.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from numpy.testing import assert_allclose
+
+import pinmob
+from pinmob.model.closure import make_closure
+
+MODELS = Path(pinmob.io.builtin_dir())
+FIVE_BAR = Path(__file__).parent / "data" / "example-parallel-robots" / "5bar_linkage"
+SIDECAR = "closed_loop: [['closedloop1_A', 'closedloop1_B']]\ntype: ['6d']\nname_mot: ['mot1', 'mot2']\n"
+
+
+def alias_bomb() -> bytes:
+    """Ten levels of nine aliases: 9^10 (3.5e9) strings when expanded, 400-odd bytes on disk."""
+    text, previous = 'a: &a ["x","x","x","x","x","x","x","x","x"]\n', "a"
+    for level in range(1, 10):
+        name = chr(ord("a") + level)
+        text += f"{name}: &{name} [{', '.join([f'*{previous}'] * 9)}]\n"
+        previous = name
+    return (text + f"closed_loop: *{previous}\ntype: ['6d']\n").encode()
+
+
+YAML: dict[str, tuple[bytes, str]] = {
+    "not UTF-8": (b"closed_loop: [['\xff\xfe', 'b']]\n", "not a UTF-8 text file"),
+    "binary": (bytes(range(256)) * 4, "not a UTF-8 text file"),
+    "nested lists": (b"closed_loop: " + b"[" * 5000 + b"]" * 5000 + b"\n", "nested too deeply"),
+    "nested mappings": (b"closed_loop: " + b"{a: " * 5000 + b"1" + b"}" * 5000 + b"\n", "nested too deeply"),
+    "5000-digit integer": (SIDECAR.encode() + b"extra: " + b"9" * 5000 + b"\n", "value cannot be read"),
+    "alias bomb": (alias_bomb(), "'closed_loop' must be a list of [frame_a, frame_b] pairs"),
+}
+
+
+def run(*args: str, env: dict[str, str] | None = None) -> tuple[subprocess.CompletedProcess, float]:
+    start = time.monotonic()
+    out = subprocess.run([sys.executable, "-m", "pinmob", *args], capture_output=True, text=True, timeout=60, env=env)
+    return out, time.monotonic() - start
+
+
+def one_line_error(out: subprocess.CompletedProcess, *expected: str) -> None:
+    assert out.returncode == 2 and "Traceback" not in out.stderr, out.stderr[-2000:]
+    assert out.stderr.count("\n") == 1 and out.stderr.startswith("pinmob: error: "), out.stderr[-2000:]
+    assert len(out.stderr) < 1000
+    for text in expected:
+        assert text in out.stderr, out.stderr
+
+
+@pytest.mark.parametrize("case", YAML)
+def test_hostile_yaml_sidecar(case: str, tmp_path: Path) -> None:
+    content, said = YAML[case]
+    (tmp_path / "robot.urdf").write_text((FIVE_BAR / "robot.urdf").read_text())
+    (tmp_path / "robot.yaml").write_bytes(content)
+    out, seconds = run("analyze", str(tmp_path / "robot.yaml"))
+    one_line_error(out, "robot.yaml", said)
+    assert seconds < 30
+
+
+def test_a_folder_named_like_a_sidecar(tmp_path: Path) -> None:
+    (tmp_path / "robot.yaml").mkdir()
+    out, _ = run("analyze", str(tmp_path / "robot.yaml"))
+    one_line_error(out, "is a folder")
+
+
+def puu_toml(tmp: Path, text: str | None = None, urdf: str | None = None) -> Path:
+    (tmp / "3puu.urdf").write_text(urdf if urdf is not None else (MODELS / "3puu.urdf").read_text())
+    (tmp / "3puu.toml").write_text(text if text is not None else (MODELS / "3puu.toml").read_text())
+    return tmp / "3puu.toml"
+
+
+BIG = "1" + "0" * 400  # an integer no float holds
+TOML: dict[str, tuple[Callable[[str], str], str]] = {
+    "nested arrays": (lambda t: t + "\nx = " + "[" * 5000 + "]" * 5000 + "\n", "nested too deeply"),
+    "nested inline tables": (lambda t: t + "\ny = " + "{a=" * 3000 + "1" + "}" * 3000 + "\n", "nested too deeply"),
+    "5000-digit integer": (lambda t: t + "\nz = " + "9" * 5000 + "\n", "value cannot be read"),
+    "400-digit joint value": (
+        lambda t: t.replace("A_slider = 0.0, B_slider", f"A_slider = {BIG}, B_slider", 1),
+        "joints.A_slider must be a finite number",
+    ),
+    "400-digit length scale": (lambda t: f"length_scale = {BIG}\n" + t, "length_scale must be a positive number"),
+}
+
+
+@pytest.mark.parametrize("case", TOML)
+def test_hostile_toml(case: str, tmp_path: Path) -> None:
+    change, said = TOML[case]
+    path = puu_toml(tmp_path, change((MODELS / "3puu.toml").read_text()))
+    out, seconds = run("analyze", str(path))
+    one_line_error(out, "3puu.toml", said)
+    assert seconds < 30
+
+
+def test_a_file_over_the_size_bound_is_refused_naming_the_bound_and_how_to_raise_it(tmp_path: Path) -> None:
+    path = puu_toml(tmp_path)
+    size = path.stat().st_size
+    out, _ = run("analyze", str(path), env={**os.environ, "PINMOB_MAX_FILE_BYTES": str(size - 1)})
+    one_line_error(out, f"{size} bytes, over the {size - 1}-byte bound", "PINMOB_MAX_FILE_BYTES")
+    out, _ = run("analyze", str(path), env={**os.environ, "PINMOB_MAX_FILE_BYTES": str(size)})
+    assert out.returncode == 0, out.stderr
+
+
+def test_a_named_pipe_is_not_read(tmp_path: Path) -> None:
+    """Opening a pipe to read it blocks until a writer comes: it is refused before that."""
+    os.mkfifo(tmp_path / "m.toml")
+    out, seconds = run("analyze", str(tmp_path / "m.toml"))
+    one_line_error(out, "not a regular file")
+
+
+def with_axis(joint: str, axis: str) -> str:
+    text = (MODELS / "3puu.urdf").read_text()
+    start = text.index(f'<joint name="{joint}"')
+    end = text.index("</joint>", start)
+    head, block = text[:start], text[start:end]
+    old = block[block.index("<axis") : block.index("/>", block.index("<axis")) + 2]
+    return head + block.replace(old, f'<axis xyz="{axis}"/>') + text[end:]
+
+
+@pytest.mark.parametrize("joint", ["A_slider", "B_u1a"])
+def test_a_zero_joint_axis_is_refused_naming_the_joint(joint: str, tmp_path: Path) -> None:
+    """A zero prismatic axis gave 3-PUU '2 DoF 2T', a zero revolute one 'does not close, residual nan'."""
+    path = puu_toml(tmp_path, urdf=with_axis(joint, "0 0 0"))
+    with pytest.raises(pinmob.MechanismFileError, match=f"joint '{joint}' has a zero or non-finite axis"):
+        pinmob.load(path)
+    out, _ = run("analyze", str(path))
+    one_line_error(out, f"joint '{joint}'")
+
+
+def test_a_closure_axis_near_the_largest_float_is_a_direction() -> None:
+    """[1e308, 1e308, 0] overflowed the norm: the axis came out zero and the analysis raised LinAlgError."""
+    mech = pinmob.load("3-PUU")
+    frames = [f.name for f in mech.model.frames if f.parentJoint != 0][:2]
+    closure = make_closure(mech.model, "c", frames[0], frames[1], "revolute", axis=[1e308, 1e308, 0.0])
+    assert closure.axis is not None
+    assert_allclose(closure.axis, [np.sqrt(0.5), np.sqrt(0.5), 0.0], atol=1e-15)
+
+
+def test_extended_urdf_parser_output_is_one_line(tmp_path: Path) -> None:
+    """urdfdom printed its own diagnostics on the Extended URDF path; now they are part of the one line."""
+    (tmp_path / "robot.urdf").write_text('<robot name="r"><link name="a"/><joint name="j" type="bogus"/></robot>')
+    (tmp_path / "robot.yaml").write_text(SIDECAR)
+    out, _ = run("analyze", str(tmp_path / "robot.yaml"))
+    one_line_error(out, "robot.yaml", "does not parse")
+    assert pin.__version__  # the parser is Pinocchio's own (urdfdom inside)

@@ -156,3 +156,59 @@ def test_extended_urdf_parser_output_is_one_line(tmp_path: Path) -> None:
     out, _ = run("analyze", str(tmp_path / "robot.yaml"))
     one_line_error(out, "robot.yaml", "does not parse")
     assert pin.__version__  # the parser is Pinocchio's own (urdfdom inside)
+
+
+def chain(tmp: Path, joints: int) -> Path:
+    """A serial chain of ``joints`` revolutes (one limb)."""
+    links = "".join(f'<link name="l{i}"/>' for i in range(joints + 1))
+    body = "".join(
+        f'<joint name="j{i}" type="revolute"><parent link="l{i}"/><child link="l{i + 1}"/><origin xyz="0.01 0 0"/>'
+        f'<axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="1" velocity="1"/></joint>'
+        for i in range(joints)
+    )
+    (tmp / "chain.urdf").write_text(f'<robot name="c">{links}{body}</robot>')
+    (tmp / "chain.toml").write_text(
+        f'name = "chain"\nurdf = "chain.urdf"\ngeneric_rank = 0\n[[limbs]]\nname = "A"\ntip = "l{joints}"\n'
+    )
+    return tmp / "chain.toml"
+
+
+def test_a_model_over_the_joint_bound_is_refused_before_pinocchio_builds_its_data(tmp_path: Path) -> None:
+    """400 joints made createData take 4 GB (1000 got the process killed): the bound is 200, raised by a variable."""
+    out, seconds = run("analyze", str(chain(tmp_path, 400)))
+    one_line_error(out, "chain.urdf", "400 joints, over the bound of 200", "PINMOB_MAX_JOINTS")
+    assert seconds < 30
+    small = chain(tmp_path, 30)
+    out, _ = run("analyze", str(small), env={**os.environ, "PINMOB_MAX_JOINTS": "20"})
+    one_line_error(out, "30 joints, over the bound of 20")
+    out, _ = run("analyze", str(small), "--json")
+    assert out.returncode == 0, out.stderr
+
+
+OPTIONS = {
+    "path samples": (["scan", "3-PUU", "-n", "100000000"], "100,000,000 samples", "PINMOB_MAX_SAMPLES"),
+    "grid samples": (
+        ["scan", "3-PUU", "--grid", "x:0:0.1:100000", "y:0:0.1:100000"],
+        "10,000,000,000 samples",
+        "PINMOB_MAX_SAMPLES",
+    ),
+    "animation steps": (["show", "3-PUU", "--steps", "100000", "--html", "out.html"], "100,000 steps", "MAX_STEPS"),
+    "restarts": (["analyze", "3-PUU", "--restarts", "1000000"], "1,000,000 restarts", "PINMOB_MAX_RESTARTS"),
+}
+
+
+@pytest.mark.parametrize("case", OPTIONS)
+def test_an_option_over_its_bound_is_refused_at_once(case: str, tmp_path: Path) -> None:
+    """-n 1e8 built 678 MB of chunk descriptors first, a 1e5 x 1e5 grid ran out of memory, --steps 100000 and
+    --restarts 1e6 ran for minutes: refused before any work, naming the bound and how to raise it; nothing written."""
+    args, said, variable = OPTIONS[case]
+    args = [str(tmp_path / a) if a == "out.html" else a for a in args]
+    out, seconds = run(*args, "--csv", str(tmp_path / "s.csv")) if args[0] == "scan" else run(*args)
+    one_line_error(out, said, variable)
+    assert seconds < 20 and list(tmp_path.iterdir()) == []
+
+
+def test_an_output_pinmob_cannot_create_is_one_line(tmp_path: Path) -> None:
+    """--csv in /proc (writable to root by its mode, yet no file can be made there) gave a FileNotFoundError traceback."""
+    out, _ = run("scan", "3-PUU", "-n", "3", "--no-progress", "--csv", "/proc/pinmob-test.csv")
+    one_line_error(out, "/proc/pinmob-test.csv")

@@ -50,6 +50,7 @@ from pinmob.analysis.displacement import Displacement, measure_displacement
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
+from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
@@ -165,6 +166,7 @@ def follow_motion(
     """
     if steps < 1:
         raise ConfigurationError(f"steps must be at least 1, got {steps}")
+    check_bound("steps", steps, "the animation (--steps)")
     amp = default_amplitude(motion, mech.length_scale) if amplitude is None else float(amplitude)
     if not np.isfinite(amp) or amp <= 0:
         raise ConfigurationError(

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pinocchio as pin
 
+from pinmob.bounds import check_bound
 from pinmob.exceptions import MechanismFileError
 from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.model.geometry import Geometry
@@ -101,6 +102,7 @@ def read_urdf(urdf: Path) -> pin.Model:
     said = native_messages(printed)
     if said:
         warnings.warn(f"{urdf.name}: {said}", stacklevel=4)
+    check_bound("joints", model.njoints - 1, f"urdf {str(urdf)!r}")  # before anything builds its Data
     check_axes(model, str(urdf))
     return model
 

@@ -63,7 +63,10 @@ class Replacing:
 
     def __enter__(self) -> Path:
         folder = self.target.parent if str(self.target.parent) else Path(".")
-        fd, name = tempfile.mkstemp(dir=folder, prefix=f".{self.target.name}.", suffix=TEMP_SUFFIX)
+        try:
+            fd, name = tempfile.mkstemp(dir=folder, prefix=f".{self.target.name}.", suffix=TEMP_SUFFIX)
+        except OSError as exc:
+            raise ConfigurationError(f"cannot write {str(self.target)!r}: {exc.strerror or exc}") from None
         os.close(fd)
         self.path = Path(name)
         return self.path

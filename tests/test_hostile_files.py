@@ -212,3 +212,30 @@ def test_an_output_pinmob_cannot_create_is_one_line(tmp_path: Path) -> None:
     """--csv in /proc (writable to root by its mode, yet no file can be made there) gave a FileNotFoundError traceback."""
     out, _ = run("scan", "3-PUU", "-n", "3", "--no-progress", "--csv", "/proc/pinmob-test.csv")
     one_line_error(out, "/proc/pinmob-test.csv")
+
+
+@pytest.mark.parametrize("where", ["mechanism", "limb", "joint"])
+def test_a_name_with_a_terminal_escape_is_refused_and_shown_escaped(where: str, tmp_path: Path) -> None:
+    """A name could clear the screen (ESC [2J) when printed: refused at load, the message shows it escaped."""
+    toml = (MODELS / "3puu.toml").read_text()
+    urdf = (MODELS / "3puu.urdf").read_text()
+    if where == "mechanism":
+        toml = toml.replace('name = "3-PUU"', 'name = "3-PUU\\u001b[2J"', 1)
+    elif where == "limb":
+        toml = toml.replace('name = "A"', 'name = "A\\u001b[2J"', 1)
+    else:
+        urdf = urdf.replace('name="A_u1a"', 'name="A_u1a&#27;[2J"')
+    path = puu_toml(tmp_path, toml, urdf)
+    out, _ = run("analyze", str(path))
+    one_line_error(out, "\\x1b[2J")
+    assert "\x1b" not in out.stderr + out.stdout
+
+
+@pytest.mark.parametrize("amplitude", ["1e300", "21"])
+def test_an_amplitude_too_large_for_its_steps_is_refused(amplitude: str, tmp_path: Path) -> None:
+    """--amplitude 1e300 printed numpy's overflow warnings; 21 m in 2 steps called the 3-PUU's translations "only
+    instantaneous" (each step 10.5 m, halved 4 times, never re-closed): a step over 0.5 L is refused, saying how
+    many steps would do."""
+    out, _ = run("show", "3-PUU", "--amplitude", amplitude, "--steps", "2", "--html", str(tmp_path / "a.html"))
+    one_line_error(out, "in 2 steps makes steps of", "0.5 L for translations", "use at least")
+    assert "Warning" not in out.stderr and "overflow" not in out.stderr and not (tmp_path / "a.html").exists()

@@ -21,6 +21,9 @@ from pinmob.screw.algebra import Array
 
 #: Random starts per instantaneous DoF when sampling the second-order cone.
 CONE_STARTS = 4
+#: Up to this many times CONE_STARTS starts while a point of the cone was hit only once (a line of a
+#: union of lines missed by chance: 8 starts left one of the Sarrus's two lines with one hit)
+CONE_ROUNDS = 4
 #: Two cone points span a line of the cone when their polar values are below this (relative to max |H|).
 POLAR_TOL = 1e-4
 
@@ -97,22 +100,17 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
         return np.vstack([2 * np.einsum("lab,b->la", hs, y), 2 * y, np.zeros((pad.size, k))])
 
     starts = CONE_STARTS * max(k, 2)
-    found = []
-    for _ in range(starts):
-        from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
+    found: list[Array] = []
+    from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
 
+    for _ in range(starts * CONE_ROUNDS):
         fit = least_squares(fun, rng.normal(size=k), jac=jac, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
         y = sub @ (fit.x / np.linalg.norm(fit.x))
         if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) <= ho.tol:
             found.append(y)
-    groups: list[list[Array]] = []
-    for y in found:
-        for group in groups:
-            if all(float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, x)))) <= POLAR_TOL * top for x in group):
-                group.append(y)
-                break
-        else:
-            groups.append([y])
+        groups = _groups(found, h, POLAR_TOL * top)
+        if len(found) >= starts and all(len(g) > 1 for g in groups):
+            break  # every point seen twice: a union of linear spaces; a lone point asks for more starts
     spans: list[Array] = []
     for group in sorted(groups, key=len, reverse=True):
         if len(group) < 2:
@@ -128,6 +126,19 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
     # quadric cone) leaves lone points
     linear = all(len(g) > 1 for g in groups)
     return _classify(spans, ho, order, rng, linear, (len(found), starts))
+
+
+def _groups(found: list[Array], h: Array, tol: float) -> list[list[Array]]:
+    """Cone points grouped by pairwise vanishing polar values ``|y^T H_l x| <= tol``: one group per linear component."""
+    groups: list[list[Array]] = []
+    for y in found:
+        for group in groups:
+            if all(float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, x)))) <= tol for x in group):
+                group.append(y)
+                break
+        else:
+            groups.append([y])
+    return groups
 
 
 def definite_reduction(h: Array, tol: float) -> Array:

@@ -34,9 +34,9 @@ def run(args: argparse.Namespace) -> int:
     with signals_interrupt():
         server, serving = None, False
         try:
-            scene = viewer.show(
-                mech, config, zmq_url=args.zmq_url, port=args.port, **options
-            )  # stops it if interrupted
+            scene = viewer.show(  # stops it if interrupted; tied: a SIGKILL of pinmob stops it too
+                mech, config, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
+            )
             server = scene.server
             print_scene(mech.name, config, scene)
             print(f"open {scene.url}")

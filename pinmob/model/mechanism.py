@@ -24,12 +24,12 @@ from pinmob.model.geometry import Geometry
 from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, q_from_values, velocity_indices
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
+from pinmob.model.names import check_names
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
 
-#: A declared length scale must lie within these multiples of the geometry's own (characteristic_length):
-#: on the built-in models the answers first change at 1/1000 and 10000 times.
+#: A declared length scale's range, times the geometry's own (built-ins' answers change at 1/1000 and 10000).
 LENGTH_RANGE = (1e-2, 1e2)
 
 
@@ -174,6 +174,7 @@ class Mechanism:
             not isinstance(generic_rank, int) or isinstance(generic_rank, bool) or not 0 <= generic_rank <= 6
         ):
             raise ConfigurationError(f"generic_rank must be an integer from 0 to 6, got {generic_rank!r}")
+        check_names(model, mechanism=[name], limb=dict(pairs), closure=names, configuration=configurations or {})
         mech = cls(
             name=name,
             model=model,

@@ -1,4 +1,4 @@
-"""Bounds on what an option or a file can cost: samples of a scan, steps of an animation, restarts, joints.
+"""Bounds on what an option or a file can cost: scan samples, animation steps, restarts, joints, file size.
 
 A typing slip (``-n 1e8``, ``--steps 100000``, ``--restarts 1000000``) used to
 run for minutes or exhaust the memory before anything was printed. Each bound
@@ -20,6 +20,7 @@ BOUNDS: dict[str, tuple[int, str]] = {
     "restarts": (10_000, "PINMOB_MAX_RESTARTS"),
     # Pinocchio's Data for n joints takes about n^3 / 20000 MB (200: 0.6 GB, 400: 4 GB); robots have tens
     "joints": (200, "PINMOB_MAX_JOINTS"),
+    "bytes": (4_000_000, "PINMOB_MAX_FILE_BYTES"),  # of a mechanism file (TOML, YAML): they are a few kilobytes
 }
 
 

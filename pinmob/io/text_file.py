@@ -1,8 +1,8 @@
 """Reading a small text file of a mechanism (TOML, YAML) so that no file can cost a traceback, a hang or the memory.
 
 A mechanism file is a few kilobytes. :func:`read_text` refuses what is not a
-regular file, a file over :func:`max_bytes` (``PINMOB_MAX_FILE_BYTES`` raises
-the bound) and text that is not UTF-8; :func:`parsing` turns what a parser
+regular file, a file over 4 MB (``PINMOB_MAX_FILE_BYTES`` raises the bound:
+:mod:`pinmob.bounds`) and text that is not UTF-8; :func:`parsing` turns what a parser
 raises on hostile input (nesting thousands of levels deep: ``RecursionError``;
 an integer of thousands of digits: ``ValueError``) into one
 :class:`~pinmob.exceptions.MechanismFileError` naming the file; :func:`shown`
@@ -12,43 +12,25 @@ expands to billions of items when printed whole).
 
 from __future__ import annotations
 
-import os
 import reprlib
 import stat
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-from pinmob.exceptions import ConfigurationError, MechanismFileError
-
-#: Default largest mechanism file read [bytes]; the environment variable overrides it.
-MAX_BYTES = 4_000_000
-MAX_BYTES_VARIABLE = "PINMOB_MAX_FILE_BYTES"
+from pinmob.bounds import BOUNDS, bound
+from pinmob.exceptions import MechanismFileError
 
 _SHORT = reprlib.Repr()
 _SHORT.maxlevel, _SHORT.maxlist, _SHORT.maxdict, _SHORT.maxstring, _SHORT.maxother = 3, 6, 6, 60, 60
 _SHORT.maxlong = 40
 
 
-def max_bytes() -> int:
-    """The largest mechanism file read [bytes]: ``PINMOB_MAX_FILE_BYTES`` if set, else :data:`MAX_BYTES`."""
-    text = os.environ.get(MAX_BYTES_VARIABLE, "")
-    if not text:
-        return MAX_BYTES
-    try:
-        value = int(text)
-    except ValueError:
-        value = 0
-    if value <= 0:
-        raise ConfigurationError(f"{MAX_BYTES_VARIABLE} must be a positive whole number of bytes, got {text[:40]!r}")
-    return value
-
-
 def read_text(path: Path, kind: str) -> str:
     """The UTF-8 text of the mechanism file ``path`` (a ``kind`` file: ``TOML``, ``YAML``).
 
     Raises:
-        MechanismFileError: missing, a folder or not a regular file, larger than :func:`max_bytes`,
+        MechanismFileError: missing, a folder or not a regular file, larger than its bound,
             unreadable, or not UTF-8.
     """
     try:
@@ -59,14 +41,14 @@ def read_text(path: Path, kind: str) -> str:
         raise MechanismFileError(f"mechanism file {str(path)!r} is a folder, not a {kind} file")
     if not stat.S_ISREG(info.st_mode):
         raise MechanismFileError(f"mechanism file {str(path)!r} is not a regular file (a device, pipe or socket)")
-    bound = max_bytes()
-    if info.st_size > bound:
+    limit = bound("bytes")
+    if info.st_size > limit:
         raise MechanismFileError(
-            f"{path}: {info.st_size} bytes, over the {bound}-byte bound on a mechanism file; "
-            f"set {MAX_BYTES_VARIABLE} to raise it"
+            f"{path}: {info.st_size} bytes, over the {limit}-byte bound on a mechanism file; "
+            f"set {BOUNDS['bytes'][1]} to raise it"
         )
     try:
-        data = path.read_bytes()[: bound + 1]
+        data = path.read_bytes()[: limit + 1]
     except OSError as exc:
         raise MechanismFileError(f"{path}: cannot be read: {exc.strerror or exc}") from None
     try:

@@ -104,7 +104,7 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
         for j in range(1, model.njoints)
     ]
     for c in mech.all_closures:  # a cut joint's centre; a 6d cut is inside one rigid body
-        if c.type != "6d":
+        if c.type not in ("6d", "joint"):
             rows.append(conf.frame_jacobian(c.frame_a_id)[:3] * col / length)
     return np.vstack(rows) if rows else np.zeros((0, model.nv))
 

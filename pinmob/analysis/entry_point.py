@@ -31,10 +31,16 @@ def found_configuration(
         except ClosureError as exc:
             bad = unclosable(mech)
             hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
+            relaxable = [c.name for c in mech.closures if c.type not in ("3d", "joint")]
+            advice = (
+                "Rerun with --relax (Python: relax=True) to turn the over-constraining closures into 3d (ball) "
+                "closures. "
+                if relaxable
+                else "Relaxing cannot help (every closure is a point or joint coupling already). "
+            )
             raise ClosureError(
                 f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random "
-                f"restarts. {hint}Rerun with --relax (Python: relax=True) to turn the over-constraining closures into "
-                f"3d (ball) closures. Largest residual of the best attempt: "
+                f"restarts. {hint}{advice}Largest residual of the best attempt: "
                 f"{worst_residual(exc.residuals, mech.length_scale):.2e} (m / L or rad)",
                 exc.residuals,
             ) from None

@@ -36,6 +36,7 @@ from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
+from pinmob.model.joint_values import values_by_name
 
 
 @dataclass(frozen=True)
@@ -203,6 +204,8 @@ class Report:
                 out["paper_view"] = self.paper.to_dict()
             sing = self.singularity
             out["singularity"] = sing.to_dict() if sing is not None else None
+        mech = self.state.mechanism
+        out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz)
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
         if self.finite is not None:

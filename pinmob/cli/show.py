@@ -7,23 +7,29 @@ import math
 import warnings
 
 from pinmob import viewer
-from pinmob.cli.common import pick_configuration, signals_interrupt
+from pinmob.analysis.entry_point import found_configuration
+from pinmob.cli.common import chosen_state, closure_tol_of, load_for, signals_interrupt
 from pinmob.exceptions import ConfigurationError
-from pinmob.io.loader import load
 
 
 def run(args: argparse.Namespace) -> int:
     """``pinmob show``: the mechanism and its free motions, animated, in meshcat (or a self-contained HTML file)."""
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
-    mech = load(args.mechanism)
-    config = pick_configuration(mech, args.config)
+    mech = load_for(args)
+    closure_tol = closure_tol_of(args)
+    state = chosen_state(mech, args, closure_tol)
+    if state is None:  # a file without a configuration: a closed one found from neutral
+        state, _ = found_configuration(mech, restarts=20, relax=False, closure_tol=closure_tol)
+    if not isinstance(state, str) and state.name is None:
+        state = state.with_name("found closed configuration")
+    config = state if isinstance(state, str) else str(state.name)
     if args.html is None and args.force:
         raise ConfigurationError("--force only applies to --html FILE")
     if args.html is not None and (args.zmq_url or args.port is not None or args.detach):
         raise ConfigurationError("--html writes a file and uses no server: drop --zmq-url, --port and --detach")
     options = {"motion": args.motion, "wrenches": args.wrenches, "amplitude": args.amplitude, "steps": args.steps}
     if args.html is not None:
-        scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
+        scene = viewer.export_html(mech, state, args.html, overwrite=args.force, **options)
         print_scene(mech.name, config, scene)
         return 0
     # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:
@@ -33,9 +39,7 @@ def run(args: argparse.Namespace) -> int:
     with signals_interrupt():
         server, serving = None, False
         try:
-            scene = viewer.show(
-                mech, config, zmq_url=args.zmq_url, port=args.port, **options
-            )  # stops it if interrupted
+            scene = viewer.show(mech, state, zmq_url=args.zmq_url, port=args.port, **options)  # stops it if interrupted
             server = scene.server
             print_scene(mech.name, config, scene)
             print(f"open {scene.url}")

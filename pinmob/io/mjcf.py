@@ -219,4 +219,4 @@ def load_mjcf(path: str | Path) -> Mechanism:
             closures=closures,
             geometry=Geometry(partial(load_visuals, path)),
         )
-    return replace(mech, configurations=named_configurations(m, tree, mech.length_scale))
+    return replace(mech, configurations=named_configurations(m, tree, mech.length_scale), quaternion_wxyz=True)

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pinmob.analysis.closed_chain import MechanismMobility
-from pinmob.analysis.configuration import as_configuration
+from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.mobility import Mobility
@@ -53,7 +53,7 @@ class Prepared:
 
 def prepare(
     mech: Mechanism,
-    q: Array | str,
+    q: Array | str | Configuration,
     mobility: Mobility | Report | None,
     amplitude: float | None,
     steps: int,

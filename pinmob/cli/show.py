@@ -5,11 +5,16 @@ from __future__ import annotations
 import argparse
 import math
 import warnings
+from dataclasses import replace
+
+import pinocchio as pin
 
 from pinmob import viewer
-from pinmob.analysis.entry_point import found_configuration
+from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.entry_point import analyze, found_configuration
 from pinmob.cli.common import chosen_state, closure_tol_of, load_for, signals_interrupt
 from pinmob.exceptions import ConfigurationError
+from pinmob.model.mechanism import Mechanism
 
 
 def run(args: argparse.Namespace) -> int:
@@ -22,7 +27,10 @@ def run(args: argparse.Namespace) -> int:
         state, _ = found_configuration(mech, restarts=20, relax=False, closure_tol=closure_tol)
     if not isinstance(state, str) and state.name is None:
         state = state.with_name("found closed configuration")
+    mech, state, note = with_viewed_frame(mech, state, closure_tol)
     config = state if isinstance(state, str) else str(state.name)
+    if note:
+        print(f"note: {note}")
     if args.html is None and args.force:
         raise ConfigurationError("--force only applies to --html FILE")
     if args.html is not None and (args.zmq_url or args.port is not None or args.detach):
@@ -58,6 +66,35 @@ def run(args: argparse.Namespace) -> int:
             if server is not None and not args.detach:
                 server.stop()
     return 0
+
+
+def with_viewed_frame(
+    mech: Mechanism, state: Configuration | str, closure_tol: float
+) -> tuple[Mechanism, Configuration | str, str]:
+    """The mechanism and state to show: a mechanism without a platform shows its output frame that moves most.
+
+    The outputs are those of the analysis (the tree's free leaf bodies), else every moving body; the
+    one with the most DoF (the deepest in the tree among equals) becomes the platform of a copy of the
+    mechanism, and the note says so.
+    """
+    if mech.has_platform:
+        return mech, state, ""
+    conf = as_configuration(mech, state, closure_tol=closure_tol)
+    frames = analyze(conf, closure_tol=closure_tol).mechanism_mobility.frames
+    if not frames:
+        bodies = [f.name for f in mech.model.frames if f.type == pin.FrameType.BODY and f.parentJoint > 0]
+        frames = analyze(conf, closure_tol=closure_tol, frames=bodies).mechanism_mobility.frames
+    if not frames:
+        raise ConfigurationError(f"{mech.name!r} has no platform and no moving body to show")
+    model = mech.model
+    best = max(frames, key=lambda f: (f.dof, model.frames[model.getFrameId(f.frame)].parentJoint))
+    viewed = replace(mech, platform=best.frame)
+    conf = Configuration(viewed, conf.q, closure_tol=closure_tol, name=conf.name or "found", source=conf.source)
+    note = (
+        f"{mech.name!r} names no platform: showing the motions of its output frame {best.frame!r} "
+        f"({best.dof} DoF of the mechanism's outputs)"
+    )
+    return viewed, conf, note
 
 
 def print_scene(name: str, config: str, scene: viewer.Scene) -> None:

@@ -38,6 +38,10 @@ from pinmob.screw.algebra import Array
 T = TypeVar("T")
 
 
+#: The rank tolerance is at least this times the configuration's closure residual (:meth:`Configuration.rank_rtol`).
+RESIDUAL_FACTOR = 10.0
+
+
 class Configuration:
     """A closed configuration ``q`` of ``mechanism``, validated, closed and with its kinematics computed.
 
@@ -140,6 +144,14 @@ class Configuration:
     def residual(self) -> float:
         """The largest residual, ``max(|p| / L, |r|)`` (dimensionless)."""
         return worst_residual(self._residuals, self._mechanism.length_scale)
+
+    def rank_rtol(self, rtol: float) -> float:
+        """The rank tolerance at this configuration: ``max(rtol, RESIDUAL_FACTOR * residual)``.
+
+        Loops that close only to a residual r (CAD geometry closes to about a micron) leave singular
+        values of order r in the closure and limb matrices that are not structural: they are not counted.
+        """
+        return max(rtol, RESIDUAL_FACTOR * self.residual)
 
     @property
     def data(self) -> pin.Data:

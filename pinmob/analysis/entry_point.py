@@ -110,6 +110,7 @@ def analyze(
             conf, relaxed = found_configuration(mech, restarts, relax, closure_tol)
             q, mech = conf, conf.mechanism
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    asked, rtol = rtol, conf.rank_rtol(rtol)  # loops closed only to CAD accuracy: a coarser rank tolerance
     options = Options(
         frames=tuple(frames or ()),
         outputs=None if outputs is None else tuple(outputs),
@@ -121,6 +122,7 @@ def analyze(
         relaxed=relaxed,
         finite=finite,
         finite_order=finite_order,
+        rtol_asked=asked,
     )
     mobility = platform_mobility(conf, rtol) if conf.mechanism.has_platform else None
     return Report(conf, rtol, mobility, options)

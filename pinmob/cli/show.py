@@ -14,6 +14,7 @@ from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.entry_point import analyze, found_configuration
 from pinmob.cli.common import chosen_state, closure_tol_of, load_for, signals_interrupt
 from pinmob.exceptions import ConfigurationError
+from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Mechanism
 
 
@@ -87,7 +88,7 @@ def with_viewed_frame(
     if not frames:
         raise ConfigurationError(f"{mech.name!r} has no platform and no moving body to show")
     model = mech.model
-    best = max(frames, key=lambda f: (f.dof, model.frames[model.getFrameId(f.frame)].parentJoint))
+    best = max(frames, key=lambda f: (f.dof, model.frames[frame_id(model, f.frame)].parentJoint))
     viewed = replace(mech, platform=best.frame)
     conf = Configuration(viewed, conf.q, closure_tol=closure_tol, name=conf.name or "found", source=conf.source)
     note = (

@@ -22,13 +22,20 @@ IndexArray = NDArray[np.intp]
 
 
 def frame_id(model: pin.Model, name: str) -> int:
-    """Index of frame ``name`` (exactly); a :class:`FrameError` suggesting close names and listing the frames otherwise."""
+    """Index of frame ``name`` (exactly); a :class:`FrameError` suggesting close names and listing the frames otherwise.
+
+    Several frames may share a name (a URDF link and a joint called alike): the BODY frame (the link) is meant.
+    """
     if not model.existFrame(name):
         names = [f.name for f in model.frames]
         raise FrameError(
             f"no frame {name!r} in model {model.name!r}{did_you_mean(name, names)}; valid frames: {choices(names)}"
         )
-    return model.getFrameId(name)
+    try:
+        return model.getFrameId(name)
+    except ValueError:  # "Several frames match the filter"
+        ids = [i for i, f in enumerate(model.frames) if f.name == name]
+        return next((i for i in ids if model.frames[i].type == pin.FrameType.BODY), ids[0])
 
 
 def frame_name(model: pin.Model, name: str) -> str:

@@ -252,7 +252,7 @@ class Mechanism:
     @cached_property
     def platform_id(self) -> int:
         """Pinocchio frame index of the platform frame."""
-        return self.model.getFrameId(self.platform)
+        return frame_id(self.model, self.platform)
 
     @cached_property
     def actuated(self) -> tuple[str, ...]:

@@ -26,7 +26,7 @@ from pinmob.io.mjcf_tree import qpos_to_q
 DATA = Path(__file__).parent / "data" / "third_party"
 
 #: file -> (mechanism DoF, redundant closure equations, idle motions), counted by hand:
-HAND = {
+HAND: dict[str, tuple[int, int, int]] = {
     # Cassie: 6 (free base) + 2 x 13 joints. Per leg, the plantar loop (foot-crank, plantar-rod, foot:
     # three parallel hinges, closed by a ball) is a planar four-bar: 3 rows, the out-of-plane one implied
     # (1 redundant); the Achilles loop (a ball rod from the hip to the heel spring, closed by a ball) has
@@ -35,21 +35,28 @@ HAND = {
     # xArm7 gripper: each side a planar four-bar (driver, finger, inner knuckle: 3 parallel hinges, a ball
     # closure: 1 redundant row) and the two drivers coupled (<equality joint>, 1 row): rows 7, rank 5 of nv 6.
     "menagerie_xarm7_hand/hand.xml": (1, 2, 0),
-    # three free beams pinned by a point each (to the world, to a box, site to site): 18 - 9.
-    "mujoco_testdata/connect.xml": (9, 0, None),
-    # three free bodies: a connect and two welds (site to site): 18 - 15, the connected body's rotations.
-    "mujoco_testdata/equality_site.xml": (3, 0, None),
-    # a hinge and a planar body (slide x, slide z, hinge y) pinned together: the y row is implied. 4 - 2.
-    "mujoco_testdata/jdotv_connect_2d.xml": (2, 1, None),
-    # a ball-jointed pendulum and a free body, pinned tip to tip: 9 - 3.
-    "mujoco_testdata/jdotv_connect_3d.xml": (6, 0, None),
-    # the same, welded: 9 - 6.
-    "mujoco_testdata/jdotv_weld_3d.xml": (3, 0, None),
+    # three free beams pinned by a point each (to the world, to a box, site to site): 18 - 9. Idle (moving
+    # no joint centre and no closure point): beam1 is pinned at its own origin (3), the others turn only
+    # about the line through their origin and pin (1 each): 5.
+    "mujoco_testdata/connect.xml": (9, 0, 5),
+    # three free bodies: a connect and two welds (site to site): 18 - 15, the connected body's rotations,
+    # about its own origin where its site is: idle.
+    "mujoco_testdata/equality_site.xml": (3, 0, 3),
+    # a hinge and a planar body (slide x, slide z, hinge y) pinned together: the y row is implied. 4 - 2;
+    # the body turns idle about its origin, the pin.
+    "mujoco_testdata/jdotv_connect_2d.xml": (2, 1, 1),
+    # a ball-jointed pendulum and a free body, pinned tip to tip (the body's origin): 9 - 3; idle: the body's
+    # 3 rotations about its origin, the pendulum's spin about the line from its ball to its tip: 4.
+    "mujoco_testdata/jdotv_connect_3d.xml": (6, 0, 4),
+    # the same, welded: 9 - 6; idle: the spin about the line from the ball to the weld: 1.
+    "mujoco_testdata/jdotv_weld_3d.xml": (3, 0, 1),
     # a slide fixed by a joint equality (1), a free body welded to a fixed one (6), another pinned (3):
-    # 14 - 10, the other slide and the pinned body's rotations.
-    "mujoco_testdata/multiple_constraints.xml": (4, 0, None),
-    # five free beams welded (6 each) but one weld with torquescale 0 (a point: 3): 30 - 27.
-    "mujoco_testdata/weld.xml": (3, 0, None),
+    # 14 - 10, the other slide and the pinned body's rotations (idle: only the one about the line from its
+    # origin to the pin).
+    "mujoco_testdata/multiple_constraints.xml": (4, 0, 1),
+    # five free beams welded (6 each) but one weld with torquescale 0 (a point: 3): 30 - 27; idle: that
+    # beam's turn about the line from its origin to the anchor: 1.
+    "mujoco_testdata/weld.xml": (3, 0, 1),
 }
 
 
@@ -90,8 +97,7 @@ def test_counts_agree_with_mujoco_and_by_hand(name):
     dof, redundant, idle = HAND[name]
     assert (doc["mechanism_dof"], doc["redundant_constraints"]) == (dof, redundant)
     assert (nv - rank, rows - rank) == (dof, redundant)
-    if idle is not None:
-        assert doc["idle_dof"] == idle
+    assert doc["idle_dof"] == idle
     assert doc["ambiguous_ranks"] == [] and doc["rank_tolerance_note"] is None
 
 

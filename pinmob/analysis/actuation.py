@@ -6,8 +6,8 @@ independent on the closed chain over-determine it. Idle motions move no output
 frame, no joint centre and no closure point
 (:func:`pinmob.analysis.closure_jacobian.output_rows`).
 
-A floating base (a free-flyer joint at the root of the tree: a legged robot's pelvis, a free body of
-an MJCF file) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
+A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
+pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
 (:func:`held_indices`), and the verdict says so.
 """
 
@@ -84,12 +84,16 @@ class Actuation:
 
 
 def floating_bases(mech: Mechanism) -> tuple[str, ...]:
-    """The free-flyer joints at the root of the tree (floating bases), by name."""
+    """The floating bases, by name: free-flyer joints at the root of the tree that carry other joints.
+
+    A free body that carries no joint (a part pinned or welded into a loop) is a part of the
+    mechanism, not a robot's base.
+    """
     model = mech.model
     return tuple(
         model.names[j]
         for j in range(1, model.njoints)
-        if model.parents[j] == 0 and model.joints[j].shortname() == "JointModelFreeFlyer"
+        if model.parents[j] == 0 and model.joints[j].shortname() == "JointModelFreeFlyer" and len(model.subtrees[j]) > 1
     )
 
 

@@ -314,3 +314,14 @@ def test_show_html_for_mjcf_extended_urdf_and_bare_urdf(tmp_path, capsys):
         assert main(["show", str(source), "--html", str(out), "--steps", "2"]) == 0, source
         text = capsys.readouterr().out
         assert "names no platform: showing the motions of its output frame" in text and out.stat().st_size > 10_000
+
+
+def test_one_joint_welded_to_the_world(tmp_path):
+    """nv = 1 (Pinocchio gives its Jacobians as (6,) vectors): a hinge welded to the world. By hand 6 rows on
+    one column, rank 1: DoF 0, 5 redundant; MuJoCo's efc_J says the same."""
+    path = tmp_path / "one.xml"
+    path.write_text('<mujoco><worldbody><body name="a"><joint name="j"/><geom size=".1"/></body></worldbody>'
+                    '<equality><weld body1="a"/></equality></mujoco>')  # fmt: skip
+    doc = pinmob.analyze(pinmob.load(path)).to_dict()
+    nv, rows, rank, gap = mujoco_counts(path, doc["joint_values"])
+    assert gap < 1e-12 and (doc["mechanism_dof"], doc["redundant_constraints"]) == (nv - rank, rows - rank) == (0, 5)

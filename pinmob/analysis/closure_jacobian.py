@@ -100,7 +100,7 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
     col = closed_chain_columns(conf)
     rows = [frame_rows(conf, name) for name in frames]
     rows += [
-        pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:3] * col / length
+        np.reshape(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))[:3] * col / length
         for j in range(1, model.njoints)
     ]
     for c in mech.all_closures:  # a cut joint's centre; a 6d cut is inside one rigid body

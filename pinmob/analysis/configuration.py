@@ -28,6 +28,7 @@ from pinmob.assembly.residual import (
     check_closed,
     check_closure_tol,
     compute_kinematics,
+    frame_jacobian,
     worst_residual,
 )
 from pinmob.exceptions import ConfigurationError
@@ -179,7 +180,7 @@ class Configuration:
         """(6, nv) Jacobian of frame index ``frame`` (cached per frame and reference)."""
         return self.memo(
             ("frame_jacobian", frame, reference),
-            lambda: pin.getFrameJacobian(self._mechanism.model, self._data, frame, reference),
+            lambda: frame_jacobian(self._mechanism.model, self._data, frame, reference),
         )
 
     def memo(self, key: Any, compute: Callable[[], T]) -> T:

@@ -46,6 +46,11 @@ def check_closure_tol(tol: object, name: str = "closure_tol") -> float:
     return value
 
 
+def frame_jacobian(model: pin.Model, data: pin.Data, frame: int, ref: pin.ReferenceFrame) -> Array:
+    """``pin.getFrameJacobian`` as a (6, nv) array (Pinocchio returns a (6,) vector when nv = 1)."""
+    return np.reshape(pin.getFrameJacobian(model, data, frame, ref), (6, model.nv))
+
+
 def relative_error(model: pin.Model, data: pin.Data, frame_a: int, frame_b: int) -> tuple[Array, Array]:
     """Error of frame b relative to frame a and its Jacobian; kinematics must be computed.
 
@@ -55,15 +60,15 @@ def relative_error(model: pin.Model, data: pin.Data, frame_a: int, frame_b: int)
     oma, omb = data.oMf[frame_a], data.oMf[frame_b]
     m = oma.actInv(omb)
     e = pin.log6(m).vector
-    ja = pin.getFrameJacobian(model, data, frame_a, pin.LOCAL)
-    jb = pin.getFrameJacobian(model, data, frame_b, pin.LOCAL)
+    ja = frame_jacobian(model, data, frame_a, pin.LOCAL)
+    jb = frame_jacobian(model, data, frame_b, pin.LOCAL)
     return e, pin.Jlog6(m) @ (jb - m.inverse().action @ ja)
 
 
 def pose_error(model: pin.Model, data: pin.Data, frame: int, target: pin.SE3) -> tuple[Array, Array]:
     """``e = log6(target^-1 oM_f)`` and its Jacobian (6, nv); kinematics must be computed."""
     m = target.actInv(data.oMf[frame])
-    return pin.log6(m).vector, pin.Jlog6(m) @ pin.getFrameJacobian(model, data, frame, pin.LOCAL)
+    return pin.log6(m).vector, pin.Jlog6(m) @ frame_jacobian(model, data, frame, pin.LOCAL)
 
 
 def _perp(u: Array) -> Array:
@@ -120,8 +125,8 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     oma, omb = data.oMf[a], data.oMf[b]
     ra = oma.rotation
     e = ra.T @ (omb.translation - oma.translation)
-    ja_w = pin.getFrameJacobian(model, data, a, pin.LOCAL_WORLD_ALIGNED)
-    jb_w = pin.getFrameJacobian(model, data, b, pin.LOCAL_WORLD_ALIGNED)
+    ja_w = frame_jacobian(model, data, a, pin.LOCAL_WORLD_ALIGNED)
+    jb_w = frame_jacobian(model, data, b, pin.LOCAL_WORLD_ALIGNED)
     wa_local = ra.T @ ja_w[3:]
     jac = ra.T @ (jb_w[:3] - ja_w[:3]) + pin.skew(e) @ wa_local
     if c.type == "3d":

@@ -325,3 +325,25 @@ def test_one_joint_welded_to_the_world(tmp_path):
     doc = pinmob.analyze(pinmob.load(path)).to_dict()
     nv, rows, rank, gap = mujoco_counts(path, doc["joint_values"])
     assert gap < 1e-12 and (doc["mechanism_dof"], doc["redundant_constraints"]) == (nv - rank, rows - rank) == (0, 5)
+
+
+def test_cassie_limits_and_reference_are_mujocos():
+    """Cassie's knee (ref -45 deg, range -164..-37 deg) and tarsus (ref 58, range 50..170): q is MuJoCo's qpos,
+    so the limits are the file's range (not shifted by -ref) and the joints outside their limits at the
+    reference pose are those MuJoCo's qpos0 puts outside its range (the feet, at 0 of -140..-30 deg)."""
+    from pinmob.model.joints import outside_limits
+
+    mech = pinmob.load(DATA / "pinocchio_closed_chain" / "closed_chain.xml")
+    model = mech.model
+    for name, ref, lo, hi in (("left-knee", -45, -164, -37), ("left-tarsus", 58, 50, 170)):
+        i = model.joints[model.getJointId(name)].idx_q
+        assert_allclose([model.lowerPositionLimit[i], model.upperPositionLimit[i]], np.radians([lo, hi]), atol=1e-12)
+        assert_allclose(pinmob.analyze(mech).to_dict()["joint_values"][name], np.radians(ref), atol=1e-12)
+    m = mujoco.MjModel.from_xml_path(str(DATA / "pinocchio_closed_chain" / "closed_chain.xml"))
+    theirs = {
+        m.joint(j).name
+        for j in range(m.njnt)
+        if m.jnt_limited[j] and not m.jnt_range[j, 0] <= m.qpos0[m.jnt_qposadr[j]] <= m.jnt_range[j, 1]
+    }
+    ours = outside_limits(model, pinmob.Configuration(mech, "reference").q)
+    assert {entry.split(" ")[0] for entry in ours} == theirs and len(theirs) == 4

@@ -347,3 +347,22 @@ def test_cassie_limits_and_reference_are_mujocos():
     }
     ours = outside_limits(model, pinmob.Configuration(mech, "reference").q)
     assert {entry.split(" ")[0] for entry in ours} == theirs and len(theirs) == 4
+
+
+def test_actuated_and_joints_on_the_command_line(tmp_path, capsys):
+    """A URDF says nothing of its motors: --actuated names them (j1 drives the spherical four-bar's one DoF:
+    valid; j1 and j4 over-determine it, one of them implied). --joints sets joint values, solving the others
+    when they do not close as given; a malformed item is one line, exit 2."""
+    path = tmp_path / "robot.urdf"
+    path.write_text(spherical_urdf())
+    assert main(["analyze", str(path), "--actuated", "j1", "--joints", "j1=0.2", "--json"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["actuation"]["valid"] and doc["joint_values"]["j1"] == 0.2
+    assert doc["closed_configuration"]["residual"] < 1e-12
+    assert main(["analyze", str(path), "--actuated", "j1,j4", "--json"]) == 0
+    act = json.loads(capsys.readouterr().out)["actuation"]
+    assert not act["valid"] and act["redundant_actuators"] == 1
+    for bad in ("j1", "j1=x", "j1=1,,j4=2", "=1"):
+        assert main(["analyze", str(path), "--joints", bad]) == 2
+        err = capsys.readouterr().err
+        assert err.count("\n") == 1 and "is not name=value" in err

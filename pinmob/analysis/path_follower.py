@@ -29,7 +29,7 @@ from pinmob.analysis.motion import Motion
 from pinmob.analysis.motion_limits import describe, limiting_limbs
 from pinmob.assembly.assemble import assemble_pose as _assemble_pose
 from pinmob.assembly.assemble import project
-from pinmob.assembly.residual import closure_residual, compute_kinematics, stacked_error
+from pinmob.assembly.residual import closure_residual, compute_kinematics, frame_jacobian, stacked_error
 from pinmob.assembly.solver import solve
 from pinmob.exceptions import ClosureError
 from pinmob.model.joints import linear_velocity_mask, short_difference
@@ -91,7 +91,7 @@ class Follower:
         model, data = self.model, self.data
         compute_kinematics(model, data, q)
         _, k = stacked_error(self.mech, model, data, self.mech.all_closures)
-        jp = self.w[:, None] * pin.getFrameJacobian(model, data, self.pid, pin.LOCAL_WORLD_ALIGNED)
+        jp = self.w[:, None] * frame_jacobian(model, data, self.pid, pin.LOCAL_WORLD_ALIGNED)
         rhs = np.concatenate([np.zeros(k.shape[0]), self.w * projected * ds])
         dv = np.linalg.lstsq(np.vstack([k, jp]), rhs, rcond=None)[0]
         return pin.integrate(model, q, dv)

@@ -41,6 +41,24 @@ class Parser(argparse.ArgumentParser):
         return parsed
 
 
+def add_model_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``analyze`` and ``show`` that say which configuration, which actuation, which closure tolerance."""
+    p.add_argument(
+        "--joints",
+        metavar="NAME=VALUE,...",
+        help="analyse at these joint values [rad or m] (the others from the first named configuration, else "
+        "neutral); analyze --json prints a configuration's values as joint_values",
+    )
+    p.add_argument("--actuated", metavar="A,B,...", help="the actuated joints (replacing the file's, if any)")
+    p.add_argument(
+        "--closure-tol",
+        type=float,
+        default=None,
+        help="largest closure residual accepted, position / L and rotation [rad] (default 1e-6; CAD models "
+        "closing to a micron need about 1e-5)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``pinmob`` argument parser with its five commands."""
     parser = Parser(
@@ -106,6 +124,7 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="K",
         help="with --finite: the highest order of the conditions checked (2..8, default 4)",
     )
+    add_model_options(p)
 
     p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat", epilog=GLOSSARY)
     p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
@@ -128,6 +147,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(default: 0.2 L for translations, L the mechanism's length scale; 0.35 rad for rotations and screws)",
     )
     p.add_argument("--steps", type=int, default=12, help="continuation steps per direction (default 12)")
+    add_model_options(p)
     p = sub.add_parser(
         "scan", help="mobility and singularities along a path or over a workspace slice", epilog=GLOSSARY
     )

@@ -73,6 +73,12 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
             yield start, stops[start], found.pop(start)
 
 
+def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]:
+    """The scan's rows computed in this process, chunk after chunk (what :func:`scan` does with one worker)."""
+    for job in chunk_seeds(mech, spec):
+        yield from run_chunk(mech, spec, *job)
+
+
 def _chunk_task(shared: tuple[Mechanism, ScanSpec], job: tuple[int, int, Array]) -> list[dict[str, Any]]:
     """One chunk on a worker (:meth:`pinmob.engine.Engine.map`)."""
     return run_chunk(shared[0], shared[1], *job)

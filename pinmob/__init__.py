@@ -19,13 +19,14 @@ The package is layered; imports only go down:
 - :mod:`pinmob.engine`, :mod:`pinmob.sweeps`: parallel work on Dask, and design-space sweeps (:func:`sweep`).
 """
 
+from typing import TYPE_CHECKING, Any
+
 from pinmob.analysis.actuation import Actuation
 from pinmob.analysis.closed_chain import ClosureRank, FrameMobility, MechanismMobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.limbs import LimbMobility
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.modes import assembly_modes
 from pinmob.analysis.motion import Constraint, Method, Motion, View
 from pinmob.analysis.report import Report
 from pinmob.analysis.shortcuts import (
@@ -51,9 +52,30 @@ from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, Mech
 from pinmob.io import builtin_models, load
 from pinmob.model import Closure, ClosureType, Expectation, Limb, Mechanism, NamedConfiguration
 from pinmob.screw import RTOL, MotionKind, WrenchKind
-from pinmob.sweeps import SweepSpec, load_spec, sweep
 
 __version__ = "0.1.0"
+
+if TYPE_CHECKING:
+    from pinmob.analysis.modes import assembly_modes
+    from pinmob.sweeps import SweepSpec, load_spec, sweep
+
+
+def __getattr__(name: str) -> Any:
+    """The rarely used parts of the API, imported when first asked for (``import pinmob`` stays light).
+
+    ``assembly_modes``, and the design-space sweeps (``sweep``, ``SweepSpec``, ``load_spec``: their
+    package brings the model builder, the catalog and the Dask engine).
+    """
+    if name == "assembly_modes":
+        from pinmob.analysis.modes import assembly_modes
+
+        return assembly_modes
+    if name in ("sweep", "SweepSpec", "load_spec"):
+        import pinmob.sweeps
+
+        return getattr(pinmob.sweeps, name)
+    raise AttributeError(f"module 'pinmob' has no attribute {name!r}")
+
 
 __all__ = [
     "CLOSURE_TOL",

@@ -16,6 +16,7 @@ import time
 from pathlib import Path
 
 import pytest
+from distributed.diagnostics.plugin import WorkerPlugin
 from processes import alive, children, dask_workers
 
 import pinmob
@@ -142,34 +143,56 @@ def test_an_unreachable_scheduler_is_one_clear_error():
     assert time.monotonic() - t0 < 60
 
 
+class KillOnFirstChunk(WorkerPlugin):
+    """A Dask worker plugin: the worker that starts the first pinmob task kills itself with ``sig``.
+
+    One shot across the cluster (the first to create ``flag`` does it), so the kill lands while a chunk is being
+    computed whatever the speed of the machine (waiting for a busy worker from outside could find the scan done).
+    """
+
+    name = "pinmob-test-kill-on-first-chunk"
+
+    def __init__(self, flag: str, sig: int) -> None:
+        super().__init__()
+        self.flag, self.sig = flag, sig
+
+    def transition(self, key: object, start: str, finish: str, **kwargs: object) -> None:
+        if finish != "executing" or "pinmob-" not in str(key):
+            return
+        try:
+            os.close(os.open(self.flag, os.O_CREAT | os.O_EXCL))
+        except FileExistsError:
+            return
+        os.kill(os.getpid(), self.sig)
+
+
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
 def test_cli_scan_survives_a_killed_worker(dask_cluster, tmp_path, sig):
-    """``pinmob scan --scheduler``: one of the cluster's workers is killed while it computes a chunk; the scan
-    finishes (Dask computes the chunk again) with the rows of the in-process scan."""
+    """``pinmob scan --scheduler``: the worker computing the first chunk on the cluster is killed while it does;
+    the scan finishes (Dask computes the chunk again) with the rows of the in-process scan."""
+    import cloudpickle
     from dask.distributed import Client
 
+    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers cannot import this test module
     grid = ["--grid", "x:-0.08:0.08:12", "y:-0.08:0.08:24", "--no-progress"]
     serial, cluster = tmp_path / "serial.csv", tmp_path / "cluster.csv"
     assert main(["scan", "6-UPS", *grid, "--csv", str(serial)]) == 0
+    flag = tmp_path / "killed"
     with Client(dask_cluster.scheduler_address) as client:
-        pids = client.run(os.getpid)
-        proc = subprocess.Popen(
-            [*PINMOB, "scan", "6-UPS", *grid, "--csv", str(cluster), "--scheduler", dask_cluster.scheduler_address],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-        )
-        deadline = time.monotonic() + 90
-        busy: list[str] = []
-        while not busy and time.monotonic() < deadline and proc.poll() is None:
-            busy = [w for w, tasks in client.processing().items() if tasks and any("pinmob-" in t for t in tasks)]
-            time.sleep(0.05)
-        assert busy, "no chunk ever ran on the cluster"
-        os.kill(pids[busy[0]], sig)
-        out, err = proc.communicate(timeout=180)
+        client.register_plugin(KillOnFirstChunk(str(flag), int(sig)), name=KillOnFirstChunk.name)
+        try:
+            run = subprocess.run(
+                [*PINMOB, "scan", "6-UPS", *grid, "--csv", str(cluster), "--scheduler", dask_cluster.scheduler_address],
+                capture_output=True,
+                text=True,
+                timeout=240,
+            )
+        finally:
+            client.unregister_worker_plugin(KillOnFirstChunk.name)
         client.wait_for_workers(2, timeout=60)
-    assert proc.returncode == 0, err
-    assert "lost and replaced" in out and "Traceback" not in err
+    assert flag.exists(), "no chunk ever ran on the cluster"
+    assert run.returncode == 0, run.stderr
+    assert "lost and replaced" in run.stdout and "Traceback" not in run.stderr
     assert cluster.read_text() == serial.read_text()
 
 

@@ -113,7 +113,7 @@ def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):
 def uninterrupted(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("whole")
     whole = folder / "whole.parquet"
-    assert main(["sweep", str(_spec(folder, n=6, m=9)), "--out", str(whole), "--no-progress", "--no-plots"]) == 0
+    assert main(["sweep", str(_spec(folder, n=6, m=13)), "--out", str(whole), "--no-progress", "--no-plots"]) == 0
     return whole
 
 
@@ -122,7 +122,7 @@ def test_resuming_an_interrupted_sweep_gives_the_uninterrupted_file(tmp_path, si
     """Interrupted once the first records are in the journal (handled: the file so far is published, marked
     incomplete; SIGKILL: the journal beside the file is recovered), then run again with the same command: the
     same file, byte for byte, as a run never interrupted."""
-    spec = _spec(tmp_path, n=6, m=9)
+    spec = _spec(tmp_path, n=6, m=13)
     whole, cut = uninterrupted, tmp_path / "cut.parquet"
     args = [*PINMOB, "sweep", str(spec), "--out", str(cut), "--no-progress", "--no-plots"]
     proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)

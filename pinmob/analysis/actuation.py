@@ -20,6 +20,7 @@ import numpy as np
 from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, selector
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
@@ -137,6 +138,7 @@ def actuation(
     )
 
 
+@one_blas_thread
 def actuator_sets(
     conf: Configuration,
     size: int,

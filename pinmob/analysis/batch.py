@@ -1,21 +1,25 @@
 """Many configurations at once: DoF, ranks, singular values and singularity classes.
 
-The same numbers as :func:`pinmob.analyze` and
-:func:`pinmob.analyze_singularity` (without classifying the
-motions), for N closed configurations. Pinocchio runs once per
+The same numbers as :func:`pinmob.analyze` and :func:`pinmob.analyze_singularity`
+(without classifying the motions), for N closed configurations, with the same
+matrices and the same rank rule (:func:`pinmob.screw.rank.rank_rule`: singular
+values above ``rtol`` times the largest count). Pinocchio runs once per
 configuration (``computeJointJacobians`` and the platform frame's placement);
-the linear algebra runs in one compiled loop over the configurations
-(:func:`pinmob.analysis.batch_kernel.ranks`, numba):
+then, per configuration:
 
-* ``A_i = D_t T_i`` (6, n_i), limb i's joint screws made dimensionless, an
-  orthonormal basis ``Q_i`` of their span and its rank (the limb's twist
-  rank), by Gram-Schmidt with column pivoting (:func:`_span`);
-* the limb's constraint wrenches ``W_i``: an orthonormal basis of the
-  complement of ``span(Q_i)`` (:func:`_complement`); stacked for all limbs,
-  ``C = [W_1, ..., W_k]`` has the rank d of the constraint space: ``dof = 6 - d``;
-* the same with the actuated columns removed gives the locked DoF.
+* ``A_i = D_t T_i`` (6, n_i), limb i's joint screws made dimensionless; the rank
+  of ``A_i^T`` is the limb's twist rank and its null space the limb's constraint
+  wrenches ``W_i``; stacked for all limbs, ``C = [W_1, ..., W_k]^T`` has the rank
+  d of the constraint space: ``dof = 6 - d``;
+* the same with each actuated limb's actuated columns removed (and, for the
+  other limbs, their screws with unit columns, as the singularity report does)
+  gives the locked DoF.
 
-Singular values (optional) come from batched LAPACK SVDs.
+Two engines give the same numbers: ``numpy`` (batched LAPACK SVDs, the very
+calls :func:`pinmob.analyze` makes, so the same bits) and ``numba`` (a compiled
+loop over the configurations with a one-sided Jacobi SVD per matrix,
+:mod:`pinmob.analysis.batch_kernel`; the same numbers to round-off), used when
+numba is installed (``pip install "pinmob[fast]"``).
 """
 
 from __future__ import annotations
@@ -26,21 +30,24 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from pinmob.analysis.batch_kernel import ranks
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import column_joints, limb_decisions, limb_screws_at, limb_twists, unit_columns
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import ratio
 from pinmob.analysis.singularity_analysis import require_platform, singularity_from_twists
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import RTOL
+from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
+from pinmob.screw.rank import RTOL, rank_rule_rows, svd
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]
+
+#: The engines of :func:`analyze_batch`.
+ENGINES = ("numba", "numpy")
 
 
 @dataclass(frozen=True)
@@ -50,12 +57,13 @@ class BatchResult(ReadOnlyArrays):
     Attributes:
         dof: (N,) platform DoF, ``6 - constraint_rank``.
         constraint_rank: (N,) rank of the stacked limb wrenches.
-        singular_values: (N, 6) of the stacked dimensionless limb wrenches.
+        singular_values: (N, 6) of the stacked dimensionless limb wrenches (NaN unless asked for).
         limb_twist_rank: (N, k) rank of each limb's joint screws.
         limb_ratio: (N, k) ``sigma_r / sigma_1`` of each limb's unit-normalised dimensionless joint screws, r
-            its generic rank: the limb distances of :func:`pinmob.analyze_singularity`.
+            its generic rank: the limb distances of :func:`pinmob.analyze_singularity` (NaN unless asked for).
         locked_dof: (N,) platform DoF with the actuated joints locked.
-        actuation_singular_values: (N, 6) of the stacked dimensionless locked-limb wrenches.
+        actuation_singular_values: (N, 6) of the stacked dimensionless locked-limb wrenches (NaN unless asked for).
+        engine: ``numba`` or ``numpy`` (:func:`analyze_batch`); limbs with loops: ``per configuration``.
     """
 
     dof: Ints
@@ -65,6 +73,7 @@ class BatchResult(ReadOnlyArrays):
     limb_ratio: Array
     locked_dof: Ints
     actuation_singular_values: Array
+    engine: str = "numpy"
 
 
 def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) -> tuple[Array, Array]:
@@ -95,52 +104,48 @@ def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
     return [limb_screws_at(full, origin, limb.v_indices) for limb in mech.limbs]
 
 
-def _null_columns(a: Array, rtol: float) -> tuple[Array, Array, Array]:
-    """Left null space of each (6, m) slice of ``a`` (N, 6, m), as masked columns.
-
-    Returns:
-        (N, 6, 6) left singular vectors with the columns of the row space zeroed,
-        (N,) ranks, (N, min(6, m)) singular values.
-    """
-    n = a.shape[0]
-    if a.shape[2] == 0:
-        return np.broadcast_to(np.eye(6), (n, 6, 6)).copy(), np.zeros(n, int), np.zeros((n, 0))
-    u, s, _ = np.linalg.svd(a, full_matrices=True)
-    rank = np.sum(s > rtol * s[:, :1], axis=1) * (s[:, 0] > 0)
-    mask = np.arange(6)[None, :] >= rank[:, None]
-    return u * mask[:, None, :], rank, s
+def numba_available() -> bool:
+    """Numba can be imported (the ``fast`` extra): :func:`analyze_batch` then uses its compiled loop."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return False
+    return True
 
 
+@one_blas_thread
 def analyze_batch(
     mech: Mechanism,
     qs: Array,
     *,
     rtol: float = RTOL,
     singular_values: bool = False,
+    engine: str | None = None,
 ) -> BatchResult:
     """Mobility and singularity numbers at N closed configurations, fast.
 
-    Ranks come from the compiled loop :func:`pinmob.analysis.batch_kernel.ranks` (no per-matrix LAPACK
-    call): the limb twist spans ``Q_i``, the limb wrenches ``W_i`` as their
-    orthonormal complements, stacked for the constraint rank; the same with
-    the actuated columns removed for the locked DoF. With ``singular_values=True`` the singular values (as in
-    :func:`pinmob.analyze`) and the limb ratios are computed too, by batched SVDs.
-    Closure is not checked (the caller assembles the configurations). The first
-    call in a new installation compiles the loop (seconds; cached on disk).
-    A mechanism with loops inside its limbs (the Delta's parallelograms) is
-    analysed one configuration at a time instead (loop-aware limb screws,
-    :func:`pinmob.analysis.singularity_analysis.singularity_from_twists`): the same results, at the speed
-    of :func:`pinmob.analyze`.
+    The ranks, DoF and singular values of :func:`pinmob.analyze` and
+    :func:`pinmob.analyze_singularity` at each configuration (see the module
+    docstring); the limb ratios and singular values only with
+    ``singular_values=True``. Closure is not checked (the caller assembles the
+    configurations). The first call of the numba engine in a new installation
+    compiles its loop (seconds; cached on disk). A mechanism with loops inside
+    its limbs (the Delta's parallelograms) is analysed one configuration at a
+    time instead (loop-aware limb screws,
+    :func:`pinmob.analysis.singularity_analysis.singularity_from_twists`): the
+    same results, at the speed of :func:`pinmob.analyze`.
 
     Args:
         mech: the mechanism.
         qs: (N, nq) closed configurations.
         rtol: relative tolerance of every rank decision.
-        singular_values: also compute the singular values (slower).
+        singular_values: also give the singular values and the limb ratios.
+        engine: ``numba`` or ``numpy`` (default: numba when installed, else numpy).
 
     Raises:
-        ConfigurationError: qs has the wrong shape or non-finite values, or the
-            mechanism has no platform or closures that couple its limbs.
+        ConfigurationError: qs has the wrong shape or non-finite values, the
+            mechanism has no platform or closures that couple its limbs, or the
+            engine is unknown or not installed.
     """
     qs = np.atleast_2d(np.asarray(qs, float))
     if qs.ndim != 2 or qs.shape[1] != mech.model.nq or not np.all(np.isfinite(qs)):
@@ -148,17 +153,31 @@ def analyze_batch(
             f"analyze_batch needs finite configurations of shape (N, {mech.model.nq}), got shape {qs.shape}"
         )
     require_platform(mech, "analyze_batch")
+    if engine is None:
+        engine = "numba" if numba_available() else "numpy"
+    if engine not in ENGINES:
+        raise ConfigurationError(f"unknown batch engine {engine!r}; valid: {', '.join(ENGINES)}")
+    if engine == "numba" and not numba_available():
+        raise ConfigurationError("the numba engine needs numba: pip install 'pinmob[fast]'")
     if any(limb.closures for limb in mech.limbs):
         return _per_configuration(mech, qs, rtol, singular_values)
-    n = qs.shape[0]
     full, origin = world_jacobians(mech, qs)
+    if engine == "numba":
+        return _numba(mech, full, origin, rtol, singular_values)
+    return _numpy(mech, full, origin, rtol, singular_values)
+
+
+def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
+    """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch_kernel.ranks`."""
+    from pinmob.analysis.batch_kernel import ranks
+
     columns = np.concatenate([np.asarray(limb.v_indices, np.int64) for limb in mech.limbs])
     offsets = np.cumsum([0] + [len(limb.v_indices) for limb in mech.limbs]).astype(np.int64)
     free, free_offsets = [], [0]
     for limb, start in zip(mech.limbs, offsets):
         free += [start + c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
         free_offsets.append(len(free))
-    limb_rank, d, locked_rank = ranks(
+    limb_rank, d, locked_rank, sv, asv, ratios = ranks(
         full,
         origin,
         float(mech.length_scale),
@@ -166,22 +185,75 @@ def analyze_batch(
         offsets,
         np.array(free, np.int64),
         np.array(free_offsets, np.int64),
+        np.array([bool(limb.actuated) for limb in mech.limbs]),
+        np.array(generic_twist_ranks(mech), np.int64),
         float(rtol),
+        bool(singular_values),
     )
-    sv, asv = np.full((n, 6), np.nan), np.full((n, 6), np.nan)
-    ratio = np.full((n, len(mech.limbs)), np.nan)
-    if singular_values:
-        st = twist_scaling(mech.length_scale)[None, :, None]
-        sv, asv, ratio = _singular_values(mech, [st * jac for jac in limb_jacobians(mech, full, origin)], rtol)
-    return BatchResult(
-        dof=6 - d,
-        constraint_rank=d,
-        singular_values=sv,
-        limb_twist_rank=limb_rank,
-        limb_ratio=ratio,
-        locked_dof=6 - locked_rank,
-        actuation_singular_values=asv,
-    )
+    if not singular_values:
+        sv, asv, ratios = np.full_like(sv, np.nan), np.full_like(asv, np.nan), np.full_like(ratios, np.nan)
+    return BatchResult(6 - d, d, sv, limb_rank, ratios, 6 - locked_rank, asv, "numba")
+
+
+def _null_rows(a: Array, rtol: float) -> tuple[Ints, Array, Array]:
+    """Ranks, singular values and ``V^T`` of each (m, 6) matrix of a stack (N, m, 6): decide_rank's SVD, batched."""
+    _, s, vt = svd(a, full_matrices=a.shape[1] < a.shape[2])
+    return rank_rule_rows(s, rtol), s, vt
+
+
+def _stacked(blocks: list[tuple[Ints, Array]], rtol: float, scale: Array | None) -> tuple[Ints, Array]:
+    """Rank and (N, 6) singular values of the null rows of every limb stacked, per configuration.
+
+    ``blocks``: per limb, (N,) ranks and (N, 6, 6) ``V^T`` (its null rows are those beyond the rank). The
+    configurations with the same ranks are stacked and decomposed together. With ``scale`` (the wrench
+    scaling), each block goes to SI and back, as :func:`pinmob.analysis.mobility.mobility_from_wrenches` takes it.
+    """
+    n = blocks[0][0].shape[0]
+    ranks, values = np.zeros(n, np.int64), np.zeros((n, 6))
+    pattern = np.stack([r for r, _ in blocks], axis=1)
+    for key in np.unique(pattern, axis=0):
+        where = np.flatnonzero((pattern == key).all(axis=1))
+        rows = [vt[where, r:, :] for r, (_, vt) in zip(key, blocks)]
+        if scale is not None:
+            si = np.concatenate([np.swapaxes(w, 1, 2) / scale for w in rows], axis=2)
+            stacked = np.swapaxes(scale * si, 1, 2)
+        else:
+            stacked = np.concatenate(rows, axis=1)
+        if stacked.shape[1] == 0:
+            continue
+        r, s, _ = _null_rows(stacked, rtol)
+        ranks[where], values[where, : s.shape[1]] = r, s[:, :6]
+    return ranks, values
+
+
+def _numpy(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
+    """:func:`analyze_batch` with batched LAPACK SVDs: the matrices and calls of the single analyses, per limb."""
+    st, sw = twist_scaling(mech.length_scale)[:, None], wrench_scaling(mech.length_scale)[:, None]
+    generic = generic_twist_ranks(mech)
+    wrenches, locked, ratios = [], [], []
+    for limb, g, twists in zip(mech.limbs, generic, limb_jacobians(mech, full, origin)):
+        a = st * twists  # (N, 6, n_i)
+        rank, _, vt = _null_rows(np.swapaxes(a, 1, 2), rtol)
+        wrenches.append((rank, vt))
+        unit = None
+        if singular_values or not limb.actuated:
+            unit = _null_rows(np.swapaxes(unit_columns(a), 1, 2), rtol)
+            ratios.append(ratio(unit[1], g))
+        if limb.actuated:
+            keep = [c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
+            lr, _, lvt = _null_rows(np.swapaxes(a[:, :, keep], 1, 2), rtol)
+            locked.append((lr, lvt))
+        elif unit is not None:
+            locked.append((unit[0], unit[2]))
+    d, sv = _stacked(wrenches, rtol, sw)
+    locked_rank, asv = _stacked(locked, rtol, None)
+    n = full.shape[0]
+    if not singular_values:
+        sv, asv, ratio_array = np.full((n, 6), np.nan), np.full((n, 6), np.nan), np.full((n, len(mech.limbs)), np.nan)
+    else:
+        ratio_array = np.stack(ratios, axis=1)
+    limb_rank = np.stack([r for r, _ in wrenches], axis=1)
+    return BatchResult(6 - d, d, sv, limb_rank, ratio_array, 6 - locked_rank, asv, "numpy")
 
 
 def _per_configuration(mech: Mechanism, qs: Array, rtol: float, singular_values: bool) -> BatchResult:
@@ -201,22 +273,4 @@ def _per_configuration(mech: Mechanism, qs: Array, rtol: float, singular_values:
         if singular_values:
             sv[i], asv[i] = mob.singular_values, np.nan_to_num(sing.actuation_singular_values)
             ratios[i] = [sing.distances[f"limb {limb.name}"] for limb in mech.limbs]
-    return BatchResult(dof, rank, sv, limb_rank, ratios, locked, asv)
-
-
-def _singular_values(mech: Mechanism, scaled: list[Array], rtol: float) -> tuple[Array, Array, Array]:
-    """Singular values of the stacked wrenches and locked wrenches, and limb ratios, by batched SVD."""
-    wrench_blocks, locked_blocks, ratios = [], [], []
-    for limb, generic, a in zip(mech.limbs, generic_twist_ranks(mech), scaled):
-        w, _, _ = _null_columns(a, rtol)
-        wrench_blocks.append(w)
-        ratios.append(ratio(np.linalg.svd(unit_columns(a), compute_uv=False), generic))
-        if limb.actuated:
-            keep = [c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
-            locked_blocks.append(_null_columns(a[:, :, keep], rtol)[0])
-        else:
-            locked_blocks.append(w)
-    pad = lambda x: np.pad(x, ((0, 0), (0, 6 - x.shape[1])))  # noqa: E731
-    s = np.linalg.svd(np.concatenate(wrench_blocks, axis=2), compute_uv=False)[:, :6]
-    ls = np.linalg.svd(np.concatenate(locked_blocks, axis=2), compute_uv=False)[:, :6]
-    return pad(s), pad(ls), np.stack(ratios, axis=1)
+    return BatchResult(dof, rank, sv, limb_rank, ratios, locked, asv, "per configuration")

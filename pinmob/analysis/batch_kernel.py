@@ -1,6 +1,12 @@
-"""The compiled loop behind :func:`pinmob.analysis.batch.analyze_batch`: ranks of N configurations at once.
+"""The compiled loop behind :func:`pinmob.analysis.batch.analyze_batch` (numba, the optional ``fast`` extra).
 
-Pivoted Gram-Schmidt on 6-row matrices, compiled with numba (cached by :mod:`pinmob.jit_cache`).
+Per configuration, the same matrices and the same rank rule as
+:func:`pinmob.analyze` (:func:`pinmob.screw.rank.rank_rule`: singular values above
+``rtol`` times the largest count), with the singular values and right singular
+vectors of each small matrix from a one-sided Jacobi SVD (:func:`span`)
+instead of LAPACK's: the same numbers to round-off (the tests compare them with
+the numpy path, which calls LAPACK). Importing this module imports numba; the
+compiled code is cached by :mod:`pinmob.jit_cache` (outside the installed package).
 """
 
 from __future__ import annotations
@@ -14,63 +20,108 @@ from pinmob.screw.algebra import Array
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]
 
+#: Columns count as orthogonal when ``|g_j . g_l| <= ORTHOGONAL * rows * |g_j| |g_l|`` (round-off of the dot product).
+ORTHOGONAL = 2.0**-52
+
 
 @njit
-def span(a: Array, cols: Ints, tol: float, r: Array, q: Array, first: int) -> int:
-    """Orthonormal basis of the span of the columns ``cols`` of a (6, m) matrix; returns the rank.
+def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
+    """Rank of ``g[:rows]`` (rows, p) by a one-sided Jacobi SVD, in place: singular values ``sv`` (p,), vectors ``v``.
 
-    Gram-Schmidt with column pivoting on a copy ``r`` (6, len(cols)): at each of
-    at most six steps the remaining column of largest norm is normalised into
-    ``q[:, first + rank]`` and projected out of the others; the steps stop when
-    the largest remaining norm is at most ``tol``. This is the rank-revealing QR
-    decision, which agrees with the SVD's ``sigma_k > tol`` except within a
-    factor ``sqrt(m)`` of the threshold.
+    Plane rotations of pairs of columns (Hestenes) until every pair is
+    orthogonal to round-off: ``g V = U diag(sv)``; ``sv`` sorted descending, the
+    columns of ``v`` (the right singular vectors) sorted alike: the first ``rank``
+    span the row space, the others its complement. Columns shorter than
+    round-off of the whole matrix are zero and left alone. ``g`` is overwritten.
+    The rank is :func:`pinmob.screw.rank.rank_rule`'s: the singular values above
+    ``rtol`` times the largest (0 when they are all zero).
     """
-    m = cols.size
-    for c in range(m):
-        for i in range(6):
-            r[i, c] = a[i, cols[c]]
-    rank = 0
-    for _ in range(min(6, m)):
-        best, j = 0.0, -1
-        for c in range(m):
-            norm = 0.0
-            for i in range(6):
-                norm += r[i, c] * r[i, c]
-            if norm > best:
-                best, j = norm, c
-        best = np.sqrt(best)
-        if j < 0 or best <= tol:
+    p = g.shape[1]
+    for i in range(p):
+        for j in range(p):
+            v[i, j] = 1.0 if i == j else 0.0
+    total = 0.0
+    for i in range(rows):
+        for j in range(p):
+            total += g[i, j] * g[i, j]
+    negligible = (ORTHOGONAL * ORTHOGONAL) * total  # a column this short is zero to round-off: not rotated
+    for _ in range(60):
+        rotated = False
+        for j in range(p - 1):
+            for k in range(j + 1, p):
+                alpha = beta = gamma = 0.0
+                for i in range(rows):
+                    alpha += g[i, j] * g[i, j]
+                    beta += g[i, k] * g[i, k]
+                    gamma += g[i, j] * g[i, k]
+                if gamma == 0.0 or min(alpha, beta) <= negligible:
+                    continue
+                if abs(gamma) <= ORTHOGONAL * max(rows, 1) * np.sqrt(alpha * beta):
+                    continue
+                zeta = (beta - alpha) / (2.0 * gamma)
+                if abs(zeta) > 1e150:
+                    t = 0.5 / zeta
+                else:
+                    t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
+                c = 1.0 / np.sqrt(1.0 + t * t)
+                s = c * t
+                if s == 0.0:
+                    continue
+                rotated = True
+                for i in range(rows):
+                    a, b = g[i, j], g[i, k]
+                    g[i, j], g[i, k] = c * a - s * b, s * a + c * b
+                for i in range(p):
+                    a, b = v[i, j], v[i, k]
+                    v[i, j], v[i, k] = c * a - s * b, s * a + c * b
+        if not rotated:
             break
-        col = first + rank
-        for i in range(6):
-            q[i, col] = r[i, j] / best
-        for c in range(m):
-            dot = 0.0
-            for i in range(6):
-                dot += q[i, col] * r[i, c]
-            for i in range(6):
-                r[i, c] -= dot * q[i, col]
-        rank += 1
+    for j in range(p):
+        norm = 0.0
+        for i in range(rows):
+            norm += g[i, j] * g[i, j]
+        sv[j] = np.sqrt(norm)
+    for j in range(1, p):  # insertion sort, descending, columns of v alike
+        k = j
+        while k > 0 and sv[k - 1] < sv[k]:
+            sv[k - 1], sv[k] = sv[k], sv[k - 1]
+            for i in range(p):
+                v[i, k - 1], v[i, k] = v[i, k], v[i, k - 1]
+            k -= 1
+    if rows == 0 or sv[0] <= 0.0:
+        return 0
+    rank = 0
+    for x in sv:
+        if x > rtol * sv[0]:
+            rank += 1
     return rank
 
 
 @njit
-def complement(q: Array, rank: int, proj: Array, r: Array, out: Array, first: int) -> int:
-    """Orthonormal basis of the complement of ``span(q[:, :rank])``, written to ``out[:, first:]``; returns 6 - rank.
+def complement(
+    a: Array, cols: Ints, unit: bool, rtol: float, g: Array, sv: Array, v: Array, out: Array, first: int
+) -> tuple[int, int]:
+    """The complement of the span of ``a[:, cols]`` (6, n) (its columns unit length when ``unit``), as rows of ``out``.
 
-    The wrenches reciprocal to the twists Q: pivoted Gram-Schmidt on the
-    columns of the projector ``I - Q Q^T`` (6, 6), whose rank is 6 - rank. The
-    column norms of a projector of rank p sum to p, so while vectors are left
-    the largest norm is at least ``sqrt(1/6)``; 0.1 separates them from round-off.
+    The null space of ``M = a[:, cols]^T`` (:func:`span`), written to ``out[first:]``: the wrenches reciprocal
+    to those screws.
+
+    Returns:
+        M's rank and the number of rows written (6 - rank).
     """
-    for i in range(6):
-        for j in range(6):
-            dot = 0.0
-            for k in range(rank):
-                dot += q[i, k] * q[j, k]
-            proj[i, j] = (1.0 if i == j else 0.0) - dot
-    return span(proj, np.arange(6), 0.1, r, out, first)
+    n = cols.size
+    for r in range(n):
+        norm = 0.0
+        for i in range(6):
+            norm += a[i, cols[r]] * a[i, cols[r]]
+        scale = 1.0 / np.sqrt(norm) if unit and norm > 0.0 else 1.0
+        for i in range(6):
+            g[r, i] = a[i, cols[r]] * scale
+    rank = span(g, n, rtol, sv, v)
+    for k in range(rank, 6):
+        for i in range(6):
+            out[first + k - rank, i] = v[i, k]
+    return rank, 6 - rank
 
 
 @njit
@@ -82,17 +133,22 @@ def ranks(
     offsets: Ints,
     free: Ints,
     free_offsets: Ints,
+    actuated: NDArray[np.bool_],
+    generic: Ints,
     rtol: float,
-) -> tuple[Ints, Ints, Ints]:
-    """Limb twist ranks, constraint rank and locked constraint rank of N configurations.
+    ratios: bool,
+) -> tuple[Ints, Ints, Ints, Array, Array, Array]:
+    """Limb twist ranks, constraint ranks, locked ranks, their singular values and the limb ratios of N configurations.
 
     Per configuration, the limbs' joint screws are carried to the platform origin
-    p and made dimensionless, ``[(v + w x p) / L; w]``; each limb's span and its
-    orthonormal complement (the limb's wrenches) are found by :func:`span` and
-    :func:`complement`; the stacked wrenches (orthonormal per limb) are ranked.
+    p and made dimensionless, ``[(v + w x p) / L; w]``; per limb, the null space of
+    its transposed screws (the limb's wrenches; with unit rows for an unactuated
+    limb's locked wrenches and the limb ratios, as the singularity report does)
+    and, for an actuated limb, of its unactuated screws; the stacked wrenches
+    and locked wrenches are ranked (:func:`span`, :func:`complement`).
 
     Args:
-        full: (N, 6, nv) world Jacobians (:func:`world_jacobians`).
+        full: (N, 6, nv) world Jacobians.
         origin: (N, 3) platform origins [m].
         length: length scale L [m].
         columns: (m,) velocity indices of every limb's joints, limb i's at
@@ -101,49 +157,56 @@ def ranks(
         free: positions in ``columns`` of the joints that are not actuated, limb i's at
             ``free[free_offsets[i]:free_offsets[i + 1]]``.
         free_offsets: (k + 1,) offsets into ``free``.
-        rtol: a limb's columns count while above ``rtol`` times its largest
-            column norm; the stacked unit wrenches while above ``rtol``.
+        actuated: (k,) the limb has actuated joints.
+        generic: (k,) each limb's generic twist rank (for the limb ratios).
+        rtol: relative tolerance of every rank decision.
+        ratios: compute the limb ratios (else they are left 0).
 
     Returns:
-        (N, k) limb twist ranks, (N,) constraint ranks, (N,) locked constraint ranks.
+        (N, k) limb twist ranks, (N,) constraint ranks, (N,) locked ranks, (N, 6) singular values of the
+        stacked wrenches and of the stacked locked wrenches, (N, k) limb ratios ``sigma_g / sigma_1``.
     """
     n, k, m = full.shape[0], offsets.size - 1, columns.size
     limb_rank = np.zeros((n, k), np.int64)
     rank = np.zeros(n, np.int64)
     locked_rank = np.zeros(n, np.int64)
+    sv_out, asv_out = np.zeros((n, 6)), np.zeros((n, 6))
+    ratio = np.zeros((n, k))
     a = np.zeros((6, m))
-    q = np.zeros((6, 6))
-    proj = np.zeros((6, 6))
-    r = np.zeros((6, max(m, 6 * k)))
-    wrenches = np.zeros((6, 6 * k))
-    locked_wrenches = np.zeros((6, 6 * k))
-    every = np.arange(max(m, 6 * k))
+    rows = max(6 * k, max(m, 6))
+    g = np.zeros((rows, 6))
+    sv = np.zeros(6)
+    v = np.zeros((6, 6))
+    wrenches = np.zeros((6 * k, 6))
+    locked = np.zeros((6 * k, 6))
+    scratch = np.zeros((6, 6))
+    every = np.arange(m)
     for s in range(n):
         px, py, pz = origin[s, 0], origin[s, 1], origin[s, 2]
         for c in range(m):
             j = columns[c]
             wx, wy, wz = full[s, 3, j], full[s, 4, j], full[s, 5, j]
-            a[0, c] = (full[s, 0, j] + wy * pz - wz * py) / length
-            a[1, c] = (full[s, 1, j] + wz * px - wx * pz) / length
-            a[2, c] = (full[s, 2, j] + wx * py - wy * px) / length
+            a[0, c] = (full[s, 0, j] + (wy * pz - wz * py)) / length
+            a[1, c] = (full[s, 1, j] + (wz * px - wx * pz)) / length
+            a[2, c] = (full[s, 2, j] + (wx * py - wy * px)) / length
             a[3, c], a[4, c], a[5, c] = wx, wy, wz
         used = locked_used = 0
         for i in range(k):
             cols = every[offsets[i] : offsets[i + 1]]
-            largest = 0.0
-            for c in cols:
-                norm = 0.0
-                for row in range(6):
-                    norm += a[row, c] * a[row, c]
-                largest = max(largest, np.sqrt(norm))
-            tol = rtol * largest
-            twist_rank = span(a, cols, tol, r, q, 0) if largest > 0 else 0
-            limb_rank[s, i] = twist_rank
-            used += complement(q, twist_rank, proj, r, wrenches, used)
-            kept = free[free_offsets[i] : free_offsets[i + 1]]
-            if kept.size < cols.size:
-                twist_rank = span(a, kept, tol, r, q, 0) if largest > 0 else 0
-            locked_used += complement(q, twist_rank, proj, r, locked_wrenches, locked_used)
-        rank[s] = span(wrenches, every[:used], rtol, r, q, 0)
-        locked_rank[s] = span(locked_wrenches, every[:locked_used], rtol, r, q, 0)
-    return limb_rank, rank, locked_rank
+            r, added = complement(a, cols, False, rtol, g, sv, v, wrenches, used)
+            limb_rank[s, i] = r
+            used += added
+            if actuated[i]:
+                kept = free[free_offsets[i] : free_offsets[i + 1]]
+                _, added = complement(a, kept, False, rtol, g, sv, v, locked, locked_used)
+            else:
+                _, added = complement(a, cols, True, rtol, g, sv, v, locked, locked_used)
+            locked_used += added
+            if ratios:  # sigma_g / sigma_1 of the limb's screws with unit rows
+                complement(a, cols, True, rtol, g, sv, v, scratch, 0)
+                ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
+        rank[s] = span(wrenches, used, rtol, sv, v)  # the stacked wrenches (rebuilt for each configuration)
+        sv_out[s] = sv
+        locked_rank[s] = span(locked, locked_used, rtol, sv, v)
+        asv_out[s] = sv
+    return limb_rank, rank, locked_rank, sv_out, asv_out, ratio

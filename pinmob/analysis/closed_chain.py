@@ -39,8 +39,9 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.joints import frame_id
+from pinmob.model.joints import frame_id, velocity_spans
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import classify_twists, motion_type
@@ -198,14 +199,12 @@ def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str
         return ()
     size = np.linalg.norm(basis, axis=1)
     top = float(size.max()) or 1.0
-    return tuple(
-        model.names[j]
-        for j in range(1, model.njoints)
-        if model.joints[j].nv
-        and size[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv].max() > tol * top
-    )
+    joints, starts = velocity_spans(model)
+    largest = np.maximum.reduceat(size, starts) if starts.size else np.zeros(0)
+    return tuple(model.names[int(j)] for j, big in zip(joints, largest) if big > tol * top)
 
 
+@one_blas_thread
 def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobility:
     """Free motions of ``frame`` on the closed chain, at its origin with world axes.
 
@@ -227,6 +226,7 @@ def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobilit
     return FrameMobility(frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]))
 
 
+@one_blas_thread
 def mechanism_mobility(
     conf: Configuration,
     rtol: float,
@@ -275,7 +275,12 @@ def mechanism_mobility(
         mechanism_dof=mech.model.nv - dec.rank,
         grubler=mech.model.nv - rows,
         closures=closure_ranks(
-            mech, chain.k_hat, rtol, float(dec.singular_values[0]) if dec.singular_values.size else 0.0
+            mech,
+            chain.k_hat,
+            rtol,
+            float(dec.singular_values[0]) if dec.singular_values.size else 0.0,
+            chain.left_null,
+            dec.margin,
         ),
         idle_dof=split.idle.shape[1],
         idle_joints=moving_joints(mech, chain.null @ split.idle),

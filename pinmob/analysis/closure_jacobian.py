@@ -22,9 +22,10 @@ import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.residual import stacked_error
+from pinmob.blas import one_blas_thread
 from pinmob.model.joints import frame_id, linear_velocity_mask
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
-from pinmob.screw.rank import RankDecision, decide_rank
+from pinmob.screw.rank import RankDecision, decide_rank, decision, svd
 
 
 @dataclass(frozen=True)
@@ -35,11 +36,14 @@ class ClosedChain:
         col: (nv,) column scaling to dimensionless rates (L on prismatic rates, 1 elsewhere).
         k_hat: (rows, nv) dimensionless closure Jacobian.
         decision: the rank decision on ``k_hat``.
+        left_null: (rows, rows - rank) orthonormal basis of ``{y : y^T K_hat = 0}``, the dependencies
+            among the closure equations (the left singular vectors beyond the rank, from the same SVD).
     """
 
     col: Array
     k_hat: Array
     decision: RankDecision
+    left_null: Array
 
     @property
     def null(self) -> Array:
@@ -56,16 +60,26 @@ def closed_chain(conf: Configuration, rtol: float) -> ClosedChain:
         col = closed_chain_columns(conf)
         _, jac = stacked_error(mech, model, conf.data, mech.all_closures)
         k_hat = jac * col
-        return ClosedChain(col, k_hat, decide_rank(k_hat, rtol, n=model.nv))
+        if not k_hat.size:
+            return ClosedChain(col, k_hat, decide_rank(k_hat, rtol, n=model.nv), np.zeros((k_hat.shape[0], 0)))
+        u, s, vt = svd(k_hat)  # full U and V: the null space and the left null space
+        dec = decision(s, vt, rtol)
+        return ClosedChain(col, k_hat, dec, u[:, dec.rank :])
 
     return conf.memo(("closed_chain", rtol), compute)
 
 
 def frame_rows(conf: Configuration, frame: str) -> Array:
-    """(6, nv) dimensionless Jacobian of ``frame`` (twist ``[v / L; w]`` per dimensionless joint rate)."""
+    """(6, nv) dimensionless Jacobian of ``frame`` (twist ``[v / L; w]`` per dimensionless joint rate; cached)."""
     mech = conf.mechanism
-    jac = conf.frame_jacobian(frame_id(mech.model, frame))
-    return twist_scaling(mech.length_scale)[:, None] * jac * closed_chain_columns(conf)
+
+    def compute() -> Array:
+        jac = conf.frame_jacobian(frame_id(mech.model, frame))
+        rows = twist_scaling(mech.length_scale)[:, None] * jac * closed_chain_columns(conf)
+        rows.flags.writeable = False
+        return rows
+
+    return conf.memo(("frame rows", frame), compute)
 
 
 def closed_chain_columns(conf: Configuration) -> Array:
@@ -101,6 +115,7 @@ def selector(nv: int, idx: Array, col: Array) -> Array:
     return sel * col
 
 
+@one_blas_thread
 def closure_jacobian_twists(conf: Configuration, rtol: float) -> Array:
     """Free platform twists from the global loop-closure Jacobian (an independent method).
 

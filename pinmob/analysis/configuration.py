@@ -7,15 +7,13 @@ and caches what several analyses share (limb twists, the closure Jacobian and
 its null space, ...) through :meth:`Configuration.memo`. Every analysis takes a
 ``Configuration``; its ``q`` is read-only.
 
-The ``pin.Data`` objects come from a small pool per model: creating one costs
-about as much as a whole analysis of a large mechanism (it grows with nv^3), so
-a ``Configuration`` takes a spare one and gives it back when it is collected.
+The ``pin.Data`` objects come from a small pool per model
+(:mod:`pinmob.model.data_pool`): a ``Configuration`` takes a spare one and gives
+it back when it is collected.
 """
 
 from __future__ import annotations
 
-import threading
-import weakref
 from collections.abc import Callable
 from typing import Any, TypeVar
 
@@ -23,7 +21,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named import named_vector
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
     Residuals,
@@ -33,34 +31,11 @@ from pinmob.assembly.residual import (
     worst_residual,
 )
 from pinmob.exceptions import ConfigurationError
+from pinmob.model.data_pool import acquire, release_with
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
-
-#: Spare ``pin.Data`` kept per model (each can weigh megabytes for a large model).
-POOL_SIZE = 2
-
-_POOL: weakref.WeakKeyDictionary[pin.Model, list[pin.Data]] = weakref.WeakKeyDictionary()
-_LOCK = threading.Lock()
-
-
-def _acquire(model: pin.Model) -> pin.Data:
-    with _LOCK:
-        spare = _POOL.get(model)
-        if spare:
-            return spare.pop()
-    return model.createData()
-
-
-def _release(model_ref: weakref.ref[pin.Model], data: pin.Data) -> None:
-    model = model_ref()
-    if model is None:
-        return
-    with _LOCK:
-        spare = _POOL.setdefault(model, [])
-        if len(spare) < POOL_SIZE:
-            spare.append(data)
 
 
 class Configuration:
@@ -91,7 +66,7 @@ class Configuration:
     ) -> None:
         tol = check_closure_tol(closure_tol)
         if isinstance(q, str):
-            vec = closed_configuration(mechanism, q, tol)
+            vec, _ = named_vector(mechanism, q, tol)  # its closure is checked below, with the kinematics
             name = q if name is None else name
             source = source or f"named configuration {q!r}"
         else:
@@ -123,8 +98,8 @@ class Configuration:
 
     def _kinematics(self) -> pin.Data:
         model = self._mechanism.model
-        data = _acquire(model)
-        weakref.finalize(self, _release, weakref.ref(model), data)
+        data = acquire(model)
+        release_with(self, model, data)
         compute_kinematics(model, data, self._q)
         return data
 

@@ -18,12 +18,9 @@ length nor the units of the joint rates matter.
 
 from __future__ import annotations
 
-import weakref
 from collections import Counter
-from collections.abc import Callable
 from dataclasses import replace
 from itertools import combinations
-from typing import Any, TypeVar
 
 import numpy as np
 import pinocchio as pin
@@ -40,21 +37,6 @@ from pinmob.screw.rank import RTOL, decide_rank
 
 #: Largest limb set whose generic rank is estimated (a minimal deficient set has at most 6 limbs).
 MAX_SET = 6
-
-T = TypeVar("T")
-
-_CACHE: dict[tuple[Any, ...], tuple[weakref.ref[Mechanism], Any]] = {}
-
-
-def cached(mech: Mechanism, key: tuple[Any, ...], compute: Callable[[], T]) -> T:
-    """``compute()`` once per mechanism object and key (the entry goes when the mechanism does)."""
-    full = (id(mech), *key)
-    hit = _CACHE.get(full)
-    if hit is not None and hit[0]() is mech:
-        return hit[1]
-    value = compute()
-    _CACHE[full] = (weakref.ref(mech, lambda _: _CACHE.pop(full, None)), value)
-    return value
 
 
 def generic_twist_ranks(mech: Mechanism, samples: int = 3) -> tuple[int, ...]:
@@ -86,7 +68,7 @@ def generic_twist_ranks(mech: Mechanism, samples: int = 3) -> tuple[int, ...]:
                 best[i] = max(best[i], decide_rank((st * screws).T, RTOL).rank)
         return tuple(best)
 
-    return cached(mech, ("twist ranks", samples), compute)
+    return mech.memo(("twist ranks", samples), compute)
 
 
 def stacked_rank(blocks: list[Array], rtol: float) -> int:
@@ -134,7 +116,7 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
             )
         return tuple(closed)
 
-    return list(cached(mech, ("configurations", samples, seed), compute))
+    return list(mech.memo(("configurations", samples, seed), compute))
 
 
 def generic_set_ranks(
@@ -165,7 +147,7 @@ def generic_set_ranks(
                 counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
         return {s: _mode(c) for s, c in counts.items()}
 
-    return dict(cached(mech, ("sets", rtol, samples, seed), compute))
+    return dict(mech.memo(("sets", rtol, samples, seed), compute))
 
 
 def _mode(counts: Counter[int]) -> int:

@@ -27,7 +27,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from pinmob.analysis.loop_screws import MechanismLoops
 from pinmob.frozen import ReadOnlyArrays
@@ -180,6 +179,8 @@ class HigherOrder:
         best = np.zeros(g.shape[1])
         if g.shape[1] and self.r:  # from no lift, then (if that does not do) from two random ones
             for w in [best] + [rng.normal(scale=0.5, size=g.shape[1]) for _ in range(2)]:
+                from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
+
                 fit = least_squares(second, w, method="trf", xtol=1e-15, ftol=1e-15, gtol=1e-15)
                 if not np.any(best) or np.max(np.abs(fit.fun)) < np.max(np.abs(second(best))):
                     best = fit.x
@@ -227,6 +228,8 @@ class HigherOrder:
             return self.chain(yy[None], zz, k)[0].ravel()
 
         p0 = np.concatenate([np.zeros(nw)] + list(zs) + [np.zeros(m)] * (k - 2 - len(zs)))
+        from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
+
         fit = least_squares(fun, p0, method="trf", max_nfev=JOINT_SOLVE_EVALUATIONS, xtol=1e-15, ftol=1e-15)
         yy, zz = unpack(fit.x)
         out = self.chain(yy[None], zz, k)[0]

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.residual import stacked_error
@@ -22,11 +23,14 @@ from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.limb import Limb
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import RankDecision, decide_rank, reciprocal_wrenches
+from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
+from pinmob.screw.rank import RankDecision, decide_rank, decide_ranks
+
+#: Integer index array.
+Indices = NDArray[np.intp]
 
 
-def limb_screws_at(world: Array, origin: Array, columns: Array, rates: Array | None = None) -> Array:
+def limb_screws_at(world: Array, origin: Array, columns: NDArray[Any], rates: Array | None = None) -> Array:
     """Joint screws carried to a point: ``[v + w x p; w]`` of the chosen world Jacobian columns, times ``rates``.
 
     Args:
@@ -104,17 +108,50 @@ def limb_twists(conf: Configuration, rtol: float, lock_actuated: bool = False) -
     (:func:`limb_screws_at`), restricted to the rates that keep its internal
     loops closed (:func:`limb_rates`); with ``lock_actuated``, also its
     actuated joints still. Limbs with loops give screws per unit
-    dimensionless rate.
+    dimensionless rate. The limbs without loops are carried in one call (the
+    screws are computed column by column: the same as one limb at a time), and
+    their locked screws are the columns of the unlocked ones.
     """
 
     def compute() -> tuple[Array, ...]:
+        mech = conf.mechanism
         world, origin = conf.world_jacobian, conf.platform_origin
+        columns, bounds, kept = open_limb_columns(mech)
+        every = limb_screws_at(world, origin, columns)
+        every.flags.writeable = False
         out = []
-        for limb in conf.mechanism.limbs:
-            out.append(limb_screws(conf, limb, rtol, origin, limb.actuated if lock_actuated else (), world))
+        for limb, (start, stop), keep in zip(mech.limbs, bounds, kept):
+            if limb.closures:
+                out.append(limb_screws(conf, limb, rtol, origin, limb.actuated if lock_actuated else (), world))
+            else:
+                out.append(every[:, keep] if lock_actuated else every[:, start:stop])
         return tuple(out)
 
     return conf.memo(("limb_twists", rtol, lock_actuated), compute)
+
+
+def open_limb_columns(mech: Mechanism) -> tuple[Indices, list[tuple[int, int]], list[Indices]]:
+    """Velocity indices of the limbs without loops, end to end; each limb's slice of them; its unactuated positions.
+
+    Computed once per mechanism (limbs with loops get an empty slice).
+    """
+
+    def compute() -> tuple[Indices, list[tuple[int, int]], list[Indices]]:
+        model = mech.model
+        columns: list[int] = []
+        bounds, kept = [], []
+        for limb in mech.limbs:
+            start = len(columns)
+            if not limb.closures:
+                held = {model.joints[model.getJointId(j)].idx_v for j in limb.actuated}
+                columns += [int(v) for v in limb.v_indices]
+                kept.append(np.array([start + k for k, v in enumerate(limb.v_indices) if v not in held], dtype=np.intp))
+            else:
+                kept.append(np.zeros(0, dtype=np.intp))
+            bounds.append((start, len(columns)))
+        return np.array(columns, dtype=np.intp), bounds, kept
+
+    return mech.memo("open limb columns", compute)
 
 
 def unit_columns(matrix: Array) -> Array:
@@ -133,10 +170,9 @@ def limb_decisions(mech: Mechanism, twists: tuple[Array, ...] | list[Array], rto
     values do not depend on which basis, while unit columns would.
     """
     st = twist_scaling(mech.length_scale)[:, None]
-    return [
-        decide_rank((st * t if limb.closures else unit_columns(st * t)).T, rtol, n=6)
-        for limb, t in zip(mech.limbs, twists)
-    ]
+    return decide_ranks(
+        [(st * t if limb.closures else unit_columns(st * t)).T for limb, t in zip(mech.limbs, twists)], rtol, n=6
+    )
 
 
 def wrench_blocks(decisions: list[RankDecision]) -> list[Array]:
@@ -219,14 +255,16 @@ def limbwise_obstacle(mech: Mechanism) -> str:
 
 
 def limb_wrenches(conf: Configuration, rtol: float) -> list[tuple[Array, int]]:
-    """Per limb: its constraint wrenches (6, 6 - r_i), reciprocal to its joint screws, and its twist rank r_i."""
+    """Per limb: its constraint wrenches (6, 6 - r_i), reciprocal to its joint screws, and its twist rank r_i.
+
+    :func:`~pinmob.screw.rank.reciprocal_wrenches` of each limb's screws, the limbs' rank decisions in one
+    batched SVD per shape (:func:`~pinmob.screw.rank.decide_ranks`).
+    """
     length = conf.mechanism.length_scale
 
     def compute() -> list[tuple[Array, int]]:
-        rows = []
-        for twists in limb_twists(conf, rtol):
-            w, dec = reciprocal_wrenches(twists, length, rtol)
-            rows.append((w, dec.rank))
-        return rows
+        st, sw = twist_scaling(length)[:, None], wrench_scaling(length)[:, None]
+        decisions = decide_ranks([(st * t).T for t in limb_twists(conf, rtol)], rtol, n=6)
+        return [(dec.null_space.T / sw, dec.rank) for dec in decisions]
 
     return conf.memo(("limb_wrenches", rtol), compute)

@@ -38,6 +38,7 @@ from pinmob.analysis.motion import (
     numbers,
     vector,
 )
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array, wrench_scaling
@@ -135,9 +136,9 @@ class Mobility(ReadOnlyArrays):
             "rotations": self.rotations,
             "screws": self.screws,
             "motions": [m.to_dict() for m in self.motions],
-            "free_twists": [vector(c) for c in self.free_twists.T],
+            "free_twists": self.free_twists.T.tolist(),
             "constraints": [c.to_dict() for c in self.constraints],
-            "constraint_wrenches": [vector(c) for c in self.constraint_wrenches.T],
+            "constraint_wrenches": self.constraint_wrenches.T.tolist(),
             "constraint_rank": self.constraint_rank,
             "singular_values": vector(self.singular_values),
             "tolerance": self.tolerance,
@@ -235,6 +236,7 @@ def mobility_from_wrenches(
     )
 
 
+@one_blas_thread
 def platform_mobility(conf: Configuration, rtol: float) -> Mobility:
     """Mobility of the platform at a closed configuration: limb-wise, or by the closure Jacobian where it must.
 

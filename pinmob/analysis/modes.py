@@ -21,6 +21,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.assemble import Assembly, joint_velocity_indices, project, solve_actuated
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.assembly.seeds import random_configuration
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ClosureError, ConfigurationError, choices
 from pinmob.model.joints import frame_id, linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
@@ -83,6 +84,7 @@ def _moving(mech: Mechanism, q: Array, held: Sequence[str], frames: Sequence[str
     return act.locked_dof - act.idle_dof
 
 
+@one_blas_thread
 def assembly_modes(
     mech: Mechanism,
     values: Mapping[str, float] | None = None,

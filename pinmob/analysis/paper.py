@@ -22,6 +22,7 @@ from pinmob.analysis.limbs import limb_twists, limb_wrenches
 from pinmob.analysis.mobility import Mobility, mobility_from_wrenches
 from pinmob.analysis.motion import View
 from pinmob.assembly.named import closed_configuration
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError, choices
 from pinmob.model.joints import joint_names
 from pinmob.model.mechanism import Mechanism
@@ -64,6 +65,7 @@ def _direction(mech: Mechanism, approach: Array | Mapping[str, float]) -> Array:
     return dv
 
 
+@one_blas_thread
 def paper_mobility(
     conf: Configuration,
     rtol: float,

@@ -32,7 +32,6 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite import FiniteMobility, finite_mobility
 from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.paper import paper_mobility
 from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.exceptions import ConfigurationError
@@ -128,6 +127,8 @@ class Report:
         """The seed paper's view (only when asked for with ``paper=True``)."""
         if not self.options.paper:
             return None
+        from pinmob.analysis.paper import paper_mobility  # only on request
+
         return paper_mobility(self.state, self.rtol, self.options.approach)  # type: ignore[arg-type]
 
     @cached_property

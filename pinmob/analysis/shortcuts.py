@@ -20,7 +20,6 @@ from pinmob.analysis.closed_chain import frame_mobility as _frame_mobility
 from pinmob.analysis.closure_jacobian import closure_jacobian_twists as _closure_jacobian_twists
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.paper import paper_mobility
 from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.assembly.residual import CLOSURE_TOL
@@ -119,4 +118,6 @@ def paper_view(
     See :func:`pinmob.analysis.paper.paper_mobility`.
     """
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    from pinmob.analysis.paper import paper_mobility  # imported when first asked for
+
     return paper_mobility(conf, check_rtol(rtol), approach)  # type: ignore[arg-type]

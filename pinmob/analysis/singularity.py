@@ -202,8 +202,14 @@ def ratio(singular_values: NDArray[np.floating], rank: int) -> Array:
 
 
 def distance_of(singular_values: ArrayLike, rank: int) -> float:
-    """``sigma_rank / sigma_1`` of one set of singular values (see :func:`ratio`)."""
-    return float(ratio(np.asarray(singular_values, float)[None, :], rank)[0])
+    """``sigma_rank / sigma_1`` of one set of singular values (see :func:`ratio`, the same for rows of them)."""
+    s = np.asarray(singular_values, float)
+    if rank <= 0:
+        return 1.0
+    if s.size < rank:
+        return 0.0
+    top = float(s[0])
+    return float(s[rank - 1]) / top if top > 0 else 0.0
 
 
 def padded(values: Array) -> Array:

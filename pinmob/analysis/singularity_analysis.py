@@ -9,11 +9,12 @@ from pinmob.analysis.generic import dependent_limbs, generic_constraint_rank, ge
 from pinmob.analysis.limbs import column_joints, limb_decisions, limb_twists, unit_columns, wrench_blocks
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.singularity import Singularity, distance_of, generic_locked_dof, padded
+from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
 from pinmob.screw.classify import classify_twists
-from pinmob.screw.rank import RTOL, RankDecision, decide_rank
+from pinmob.screw.rank import RTOL, RankDecision, decide_rank, decide_ranks
 
 
 def require_platform(mech: Mechanism, what: str = "a singularity report") -> None:
@@ -72,11 +73,8 @@ def singularity_from_twists(
     blocks = wrench_blocks(decisions)
     generic_ranks = generic_twist_ranks(mech)
     distances: dict[str, float] = {}
-    locked_blocks, act_wrenches = [], []
     limb_joints, limb_ranks = {}, {}
-    for limb, generic, t, t_locked, dec, w_hat in zip(
-        mech.limbs, generic_ranks, twists, locked_twists, decisions, blocks
-    ):
+    for limb, generic, t, dec in zip(mech.limbs, generic_ranks, twists, decisions):
         limb_ranks[limb.name] = dec.rank
         distances[f"limb {limb.name}"] = distance_of(dec.singular_values, generic)
         if dec.rank < generic:
@@ -85,14 +83,18 @@ def singularity_from_twists(
                 if not limb.closures
                 else limb.joints + limb.loop_joints  # columns are loop-closing rate combinations, not joints
             )
-        if limb.actuated:
-            locked = decide_rank((st * t_locked).T, rtol, n=6).null_space.T
-            extra = locked - w_hat @ (w_hat.T @ locked)  # actuation wrenches: outside the limb's constraint space
-            basis = decide_rank(extra.T, rtol, n=6).row_space.T if extra.size else np.zeros((6, 0))
-            act_wrenches.append(basis / sw)
-            locked_blocks.append(locked)
-        else:
-            locked_blocks.append(w_hat)
+    # actuated limbs: the wrenches reciprocal to the unactuated screws, and those outside the limb's constraint space
+    acting = [i for i, limb in enumerate(mech.limbs) if limb.actuated]
+    locked_decisions = decide_ranks([(st * locked_twists[i]).T for i in acting], rtol, n=6)
+    locked_blocks = list(blocks)
+    extras = []
+    for i, ldec in zip(acting, locked_decisions):
+        locked = locked_blocks[i] = ldec.null_space.T
+        extras.append(locked - blocks[i] @ (blocks[i].T @ locked))  # actuation wrenches
+    act_wrenches = [
+        dec.row_space.T / sw if extra.size else np.zeros((6, 0))
+        for extra, dec in zip(extras, decide_ranks([e.T for e in extras], rtol, n=6))
+    ]
 
     cdec = decide_rank(np.hstack(blocks).T, rtol, n=6)
     constraint = cdec.rank < g
@@ -133,6 +135,7 @@ def singularity_from_twists(
     )
 
 
+@one_blas_thread
 def singularity(conf: Configuration, rtol: float, generic_rank: int | None = None) -> Singularity:
     """Singularity classes, uncontrolled motions and distances at a closed configuration (cached per tolerance).
 

@@ -14,7 +14,6 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from pinmob.analysis.higher_order import ORDER, HigherOrder, OrderTest
 from pinmob.frozen import ReadOnlyArrays
@@ -100,6 +99,8 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
     starts = CONE_STARTS * max(k, 2)
     found = []
     for _ in range(starts):
+        from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
+
         fit = least_squares(fun, rng.normal(size=k), jac=jac, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
         y = sub @ (fit.x / np.linalg.norm(fit.x))
         if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) <= ho.tol:

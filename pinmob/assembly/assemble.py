@@ -40,6 +40,7 @@ from pinmob.assembly.residual import (
 from pinmob.assembly.solver import SolverResult, solve
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
+from pinmob.model.data_pool import borrowed
 from pinmob.model.joints import linear_velocity_mask, one_degree_indices, outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
@@ -103,9 +104,9 @@ def _finish(
     mech: Mechanism, result: SolverResult, method: str, tol: float, what: str, extra: Residuals | None = None
 ) -> Assembly:
     """The :class:`Assembly` at ``result.q``, or a :class:`ClosureError` when a residual exceeds ``tol``."""
-    data = mech.model.createData()
-    compute_kinematics(mech.model, data, result.q)
-    res = mechanism_residuals(mech, data) | (extra or {})
+    with borrowed(mech.model) as data:
+        compute_kinematics(mech.model, data, result.q)
+        res = mechanism_residuals(mech, data) | (extra or {})
     worst = worst_residual(res, mech.length_scale)
     if worst > tol:
         raise ClosureError(
@@ -204,32 +205,35 @@ def assemble_pose(
     if not isinstance(pose, pin.SE3) or not np.isfinite(pose.homogeneous).all():
         raise ConfigurationError(f"the platform pose must be a finite pin.SE3, got {pose!r}")
     model = mech.model
-    data = model.createData()
     scale = twist_scaling(mech.length_scale)
     pid = mech.platform_id
     body = model.frames[pid].parentJoint
     frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
-
-    def residual(q: Array) -> tuple[Array, Array]:
-        compute_kinematics(model, data, q)
-        blocks = [pose_error(model, data, f, pose) for f in frames]
-        e1, j1 = stacked_error(mech, model, data, mech.closures)
-        return (
-            np.concatenate([scale * e for e, _ in blocks] + [e1]),
-            np.vstack([scale[:, None] * j for _, j in blocks] + [j1]),
-        )
-
     q0 = mech.neutral() if seed is None else mech.check_q(seed)
-    result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale)
-    compute_kinematics(model, data, result.q)
-    e_pose = pin.log6(pose.actInv(data.oMf[pid])).vector
-    res_pose = (float(np.linalg.norm(e_pose[:3])), float(np.linalg.norm(e_pose[3:])))
-    res = mechanism_residuals(mech, data) | {"pose": res_pose}
+    with borrowed(model) as data:
+        rows = scale[:, None]
+
+        def residual(q: Array) -> tuple[Array, Array]:
+            compute_kinematics(model, data, q)
+            blocks = [pose_error(model, data, f, pose) for f in frames]
+            errors, jacobians = [scale * e for e, _ in blocks], [rows * j for _, j in blocks]
+            if mech.closures:
+                e1, j1 = stacked_error(mech, model, data, mech.closures)
+                errors.append(e1)
+                jacobians.append(j1)
+            return np.concatenate(errors), np.vstack(jacobians)
+
+        result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale)
+        compute_kinematics(model, data, result.q)
+        e_pose = pin.log6(pose.actInv(data.oMf[pid])).vector
+        res_pose = (float(np.linalg.norm(e_pose[:3])), float(np.linalg.norm(e_pose[3:])))
+        closures = mechanism_residuals(mech, data)
+    res = closures | {"pose": res_pose}
     if worst_residual(res, mech.length_scale) > tol:
         raise ClosureError(
             f"could not assemble {mech.name!r} at platform pose xyz={np.round(pose.translation, 6).tolist()}: "
             f"after {result.iterations} iterations, platform pose residual {res_pose[0]:.2e} m, {res_pose[1]:.2e} rad; "
-            f"closures {format_residuals(mechanism_residuals(mech, data))}. The pose may be out of reach; try another seed.",
+            f"closures {format_residuals(closures)}. The pose may be out of reach; try another seed.",
             res,
         )
     warn_outside_limits(mech, result.q, "assembly at a platform pose")

@@ -21,11 +21,28 @@ def closed_configuration(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -
         ConfigurationError: no configuration ``name`` (the message lists them).
         ClosureError: the configuration does not close, or its pose cannot be assembled.
     """
+    q, checked = named_vector(mech, name, tol)
+    if not checked:
+        check_closed(mech, q, tol, f"configuration {name!r}")
+    return q
+
+
+def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[Array, bool]:
+    """The named configuration's vector, and whether its closure was checked.
+
+    A pose is assembled (and so checked); joint values are returned as they
+    are, for a caller that checks the closure itself (a
+    :class:`~pinmob.analysis.configuration.Configuration` does, with the kinematics
+    it computes anyway, and says the same as :func:`closed_configuration` when it
+    does not close).
+
+    Raises:
+        ConfigurationError: no configuration ``name`` (the message lists them).
+        ClosureError: its pose cannot be assembled.
+    """
     if name not in mech.configurations:
         raise ConfigurationError(f"no configuration {name!r} in {mech.name!r}; valid: {choices(mech.configurations)}")
     conf = mech.configurations[name]
     if conf.pose is not None:
-        return assemble_pose(mech, conf.pose, mech.q_from_joints(conf.seed), tol)
-    q = mech.q_from_joints(conf.joints)
-    check_closed(mech, q, tol, f"configuration {name!r}")
-    return q
+        return assemble_pose(mech, conf.pose, mech.q_from_joints(conf.seed), tol), True
+    return mech.q_from_joints(conf.joints), False

@@ -18,6 +18,7 @@ import pinocchio as pin
 from pinmob.assembly.solver import ResidualFn
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import Closure
+from pinmob.model.data_pool import acquire, borrowed, release_with
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
 
@@ -216,9 +217,11 @@ def check_closed(
         the residual per limb (position [m], rotation [rad]).
     """
     if data is None:
-        data = mech.model.createData()
-        compute_kinematics(mech.model, data, mech.check_q(q))
-    res = mechanism_residuals(mech, data)
+        with borrowed(mech.model) as data:
+            compute_kinematics(mech.model, data, mech.check_q(q))
+            res = mechanism_residuals(mech, data)
+    else:
+        res = mechanism_residuals(mech, data)
     if not is_within(res, mech.length_scale, tol):
         raise ClosureError(
             f"{what} of {mech.name!r} does not close: residuals {format_residuals(res)} "
@@ -230,10 +233,11 @@ def check_closed(
 
 def closure_residual(mech: Mechanism) -> ResidualFn:
     """``q -> (e, J)``: every closure residual of ``mech``, stacked dimensionless (:func:`stacked_error`)."""
-    model, data, closures = mech.model, mech.model.createData(), mech.all_closures
+    model, data, closures = mech.model, acquire(mech.model), mech.all_closures
 
     def residual(q: Array) -> tuple[Array, Array]:
         compute_kinematics(model, data, q)
         return stacked_error(mech, model, data, closures)
 
+    release_with(residual, model, data)  # back to the pool when the function is collected
     return residual

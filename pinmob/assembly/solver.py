@@ -48,8 +48,10 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
+from pinmob.blas import one_blas_thread
 from pinmob.model.joints import linear_velocity_mask, wrap_angles
 from pinmob.screw.algebra import Array, Mask
+from pinmob.screw.rank import svd
 
 #: Integer index array.
 IndexArray = NDArray[np.intp]
@@ -116,7 +118,7 @@ class _Problem:
     def svd(self, x: _State) -> tuple[Array, Array, Array, Array]:
         """Scaled Jacobian J' (m, k) on the free columns, and U^T e, s, V^T of its SVD (s < RCOND s_1 zeroed)."""
         js = x.jac[:, self.cols] * self.col[self.cols]
-        u, s, vt = np.linalg.svd(js, full_matrices=False)
+        u, s, vt = svd(js, full_matrices=False)
         return js, u.T @ x.e, np.where(s > RCOND * s[0], s, 0.0), vt
 
     def cap(self, dz: Array) -> Array:
@@ -184,6 +186,7 @@ def _gauss_newton(p: _Problem, x: _State, floor: float) -> tuple[_State, int]:
     return x, steps
 
 
+@one_blas_thread
 def solve(
     model: pin.Model,
     residual: ResidualFn,

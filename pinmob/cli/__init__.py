@@ -15,16 +15,47 @@ import warnings
 from collections.abc import Callable, Sequence
 from typing import TextIO
 
-from pinmob.cli import analyze, models, scan, show, sweep
 from pinmob.cli.parser import build_parser
 from pinmob.exceptions import PinmobError
 
+
+def _models(args: argparse.Namespace) -> int:
+    from pinmob.cli import models
+
+    return models.run(args)
+
+
+def _analyze(args: argparse.Namespace) -> int:
+    from pinmob.cli import analyze
+
+    return analyze.run(args)
+
+
+def _show(args: argparse.Namespace) -> int:
+    from pinmob.cli import show
+
+    return show.run(args)
+
+
+def _scan(args: argparse.Namespace) -> int:
+    from pinmob.cli import scan
+
+    return scan.run(args)
+
+
+def _sweep(args: argparse.Namespace) -> int:
+    from pinmob.cli import sweep
+
+    return sweep.run(args)
+
+
+#: The commands; each imports its module when it runs (``pinmob analyze`` loads neither the viewer nor the scans nor Dask).
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
-    "models": models.run,
-    "analyze": analyze.run,
-    "show": show.run,
-    "scan": scan.run,
-    "sweep": sweep.run,
+    "models": _models,
+    "analyze": _analyze,
+    "show": _show,
+    "scan": _scan,
+    "sweep": _sweep,
 }
 
 

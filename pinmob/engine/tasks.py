@@ -99,6 +99,7 @@ def ordered_results(
                 continue
             if not pending:
                 if exhausted:
+                    watch.look(force=True)  # a worker lost and replaced within the last POLL still counts
                     return
                 continue
             try:

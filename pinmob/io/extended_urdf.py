@@ -145,7 +145,7 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             raise file_error(path, f"joint_type {jtype!r} of {jname!r} is not supported; valid: {choices(JOINT_TYPES)}")
     if joint_names:
         model = replace_joints(model, {n: str(t).upper() for n, t in zip(joint_names, joint_types)})
-    visual, collision = load_geometry(model, urdf)
+    geometry = load_geometry(model, urdf)
     with errors_at(path):
         closures = []
         for (a, b), t in zip(loops, types):
@@ -159,7 +159,6 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             actuated={"": _names(path, doc, "name_mot")},
             description=f"Extended URDF {urdf.name} + {path.name}",
             source=path,
-            visual_model=visual,
-            collision_model=collision,
+            geometry=geometry,
             closures=closures,
         )

@@ -7,10 +7,23 @@ from pathlib import Path
 
 from pinmob.exceptions import MechanismFileError, choices
 from pinmob.io.builtin import builtin_models
-from pinmob.io.extended_urdf import load_extended_urdf
-from pinmob.io.mjcf import load_mjcf
 from pinmob.io.toml_file import load_toml
 from pinmob.model.mechanism import Mechanism
+
+
+def load_extended_urdf(path: Path) -> Mechanism:
+    """:func:`pinmob.io.extended_urdf.load_extended_urdf` (its module, and YAML, imported when first used)."""
+    from pinmob.io.extended_urdf import load_extended_urdf
+
+    return load_extended_urdf(path)
+
+
+def load_mjcf(path: Path) -> Mechanism:
+    """:func:`pinmob.io.mjcf.load_mjcf` (its module, and the XML parser, imported when first used)."""
+    from pinmob.io.mjcf import load_mjcf
+
+    return load_mjcf(path)
+
 
 #: Loaders by file suffix.
 LOADERS: dict[str, Callable[[Path], Mechanism]] = {

@@ -8,7 +8,6 @@ TOML booleans are not numbers here (``dof = true`` is an error).
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
@@ -108,6 +107,8 @@ def toml_text(value: object, limit: int = 80) -> str:
     if isinstance(value, bool):
         text = "true" if value else "false"
     elif isinstance(value, str):
+        import json  # only for an error message
+
         text = json.dumps(value, ensure_ascii=False)
     elif isinstance(value, float) and not math.isfinite(value):
         text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")

@@ -5,7 +5,6 @@ See the README for the format. Every error names the file and the key.
 
 from __future__ import annotations
 
-import tomllib
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -31,6 +30,7 @@ from pinmob.io.schema import (
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.io.urdf import package_dirs as package_dirs
 from pinmob.model.closure import Closure, make_closure
+from pinmob.model.geometry import Geometry
 from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
 
@@ -50,14 +50,16 @@ def _joints(path: Path, where: str, joint_names: set[str], names: list[str]) -> 
     return names
 
 
-def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, pin.GeometryModel | None, pin.GeometryModel | None]:
-    """Kinematic model of the URDF a mechanism file names (:func:`pinmob.io.urdf.read_urdf`) and its geometry."""
+def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry]:
+    """Kinematic model of the URDF a mechanism file names (:func:`pinmob.io.urdf.read_urdf`) and its geometry.
+
+    The geometry's meshes are checked now and loaded when first drawn (:func:`pinmob.io.urdf.load_geometry`).
+    """
     try:
         model = read_urdf(urdf)
     except MechanismFileError as exc:
         raise file_error(path, str(exc)) from None
-    visual, collision = load_geometry(model, urdf)
-    return model, visual, collision
+    return model, load_geometry(model, urdf)
 
 
 def read_toml(path: Path) -> dict[str, Any]:
@@ -66,6 +68,8 @@ def read_toml(path: Path) -> dict[str, Any]:
         raise MechanismFileError(f"mechanism file {str(path)!r} does not exist")
     if path.is_dir():
         raise MechanismFileError(f"mechanism file {str(path)!r} is a folder, not a TOML file")
+    import tomllib  # imported when a file is read, not with pinmob
+
     try:
         with path.open("rb") as fh:
             return tomllib.load(fh)
@@ -90,7 +94,7 @@ def load_toml(path: str | Path) -> Mechanism:
     for key in ("name", "urdf"):
         if not doc.get(key):
             raise file_error(path, f"required key {key!r} must be a non-empty string")
-    model, visual, collision = load_urdf(path, path.parent / doc["urdf"])
+    model, geometry = load_urdf(path, path.parent / doc["urdf"])
     joint_names = set(list(model.names)[1:])
 
     closures = _closures(path, doc.get("closures", []), model)
@@ -121,8 +125,7 @@ def load_toml(path: str | Path) -> Mechanism:
             expected=expected,
             description=doc.get("description", ""),
             source=path,
-            visual_model=visual,
-            collision_model=collision,
+            geometry=geometry,
             generic_rank=generic_rank,
             closures=closures,
         )

@@ -9,9 +9,9 @@ sees one line instead of the C++ parser's output.
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
-import tempfile
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -20,6 +20,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from pinmob.exceptions import MechanismFileError
+from pinmob.model.geometry import Geometry
 
 
 def package_dirs(urdf: Path) -> list[str]:
@@ -57,6 +58,8 @@ def native_stderr() -> Iterator[list[str]]:
     if saved < 0:
         yield lines
         return
+    import tempfile  # imported when a file is read, not with pinmob
+
     with tempfile.TemporaryFile() as tmp:
         os.dup2(tmp.fileno(), 2)
         try:
@@ -100,10 +103,38 @@ def read_urdf(urdf: Path) -> pin.Model:
     return model
 
 
-def load_geometry(model: pin.Model, urdf: Path) -> tuple[pin.GeometryModel | None, pin.GeometryModel | None]:
-    """Visual and collision geometry of a URDF for ``model``; ``None`` with a warning when meshes are missing."""
+def load_geometry(model: pin.Model, urdf: Path) -> Geometry:
+    """Visual and collision geometry of a URDF for ``model``, its meshes loaded when first drawn.
+
+    The mesh files are looked for now, where Pinocchio will look for them
+    (:func:`missing_meshes`): a kind of geometry with a missing file gets a
+    warning and no geometry (kinematics only), as when Pinocchio fails to load
+    it (the message names the first missing file, as Pinocchio's would); the
+    others are built by :func:`build_geometry` when first asked for.
+    """
+    kinds = []
+    for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
+        missing = missing_meshes(urdf, kind.name.lower())
+        if missing:
+            warnings.warn(
+                f"{urdf.name}: {kind.name.lower()} geometry not loaded (Mesh {missing[0][:200]} could not be found.); "
+                "kinematics only",
+                stacklevel=4,
+            )
+        else:
+            kinds.append(kind.name)
+    return Geometry(loader=functools.partial(build_geometry, urdf=urdf, kinds=tuple(kinds)))
+
+
+def build_geometry(
+    model: pin.Model, urdf: Path, kinds: tuple[str, ...] = ("VISUAL", "COLLISION")
+) -> tuple[pin.GeometryModel | None, pin.GeometryModel | None]:
+    """Visual and collision geometry of a URDF for ``model`` (the ``kinds`` asked for); None with a warning on failure."""
     geoms: list[pin.GeometryModel | None] = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
+        if kind.name not in kinds:
+            geoms.append(None)
+            continue
         try:
             with native_stderr() as printed:
                 geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=package_dirs(urdf)))
@@ -117,3 +148,36 @@ def load_geometry(model: pin.Model, urdf: Path) -> tuple[pin.GeometryModel | Non
             )
             geoms.append(None)
     return geoms[0], geoms[1]
+
+
+def missing_meshes(urdf: Path, kind: str) -> list[str]:
+    """The mesh file names of the URDF's ``kind`` (``visual`` or ``collision``) elements that cannot be found.
+
+    Each is looked for as Pinocchio resolves it: ``package://`` (and ``model://``) paths
+    in :func:`package_dirs`, ``file://`` paths as they are, relative paths in the same
+    folders, absolute paths as they are; other schemes are not handled.
+    """
+    text = urdf.read_bytes()
+    if b"<mesh" not in text:
+        return []
+    import xml.etree.ElementTree as ET  # only for URDFs with meshes
+
+    names = [
+        mesh.get("filename", "")
+        for link in ET.fromstring(text).iter("link")
+        for element in link.findall(kind)
+        for mesh in element.iter("mesh")
+    ]
+    dirs = package_dirs(urdf) if names else []
+    return [name for name in dict.fromkeys(names) if not _found(name, dirs)]
+
+
+def _found(name: str, dirs: list[str]) -> bool:
+    scheme, sep, rest = name.partition("://")
+    if sep:
+        if scheme in ("package", "model"):
+            return any((Path(d) / rest).exists() for d in dirs)
+        return scheme == "file" and Path(rest).exists()
+    if not Path(name).is_absolute():
+        return any(Path(d + "/" + name).exists() for d in dirs)
+    return Path(name).exists()

@@ -99,12 +99,9 @@ def linear_velocity_mask(model: pin.Model) -> Mask:
     """(nv,) True where a velocity component is a translation [m/s] (prismatic, free-flyer linear part).
 
     Read from each joint's motion subspace at the neutral configuration: a
-    column with no angular part is a translation.
+    column with no angular part is a translation. Cached per model (read-only).
     """
-    mask = np.zeros(model.nv, bool)
-    for _, iv, sub in _columns(model):
-        mask[iv : iv + sub.shape[1]] = np.linalg.norm(sub[3:], axis=0) < 1e-12
-    return mask
+    return _masks(model, model.njoints, model.nq, model.nv)[0]
 
 
 def angle_mask(model: pin.Model) -> Mask:
@@ -112,15 +109,41 @@ def angle_mask(model: pin.Model) -> Mask:
 
     A coordinate is an angle when its joint has one coordinate per velocity
     (not a quaternion or a (cos, sin) pair) and its motion-subspace column is
-    a pure rotation: revolute joints and composites of revolutes.
+    a pure rotation: revolute joints and composites of revolutes. Cached per model (read-only).
     """
-    mask = np.zeros(model.nq, bool)
-    for iq, _, sub in _columns(model):
+    return _masks(model, model.njoints, model.nq, model.nv)[1]
+
+
+@functools.lru_cache(maxsize=16)
+def _masks(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[Mask, Mask]:
+    """:func:`linear_velocity_mask` and :func:`angle_mask`, cached per model object and size."""
+    linear, angle = np.zeros(nv, bool), np.zeros(nq, bool)
+    for iq, iv, sub in _columns(model):
+        linear[iv : iv + sub.shape[1]] = np.linalg.norm(sub[3:], axis=0) < 1e-12
         if iq >= 0:
-            mask[iq : iq + sub.shape[1]] = (np.linalg.norm(sub[:3], axis=0) < 1e-12) & (
+            angle[iq : iq + sub.shape[1]] = (np.linalg.norm(sub[:3], axis=0) < 1e-12) & (
                 np.linalg.norm(sub[3:], axis=0) > 0
             )
-    return mask
+    linear.flags.writeable = angle.flags.writeable = False
+    return linear, angle
+
+
+def velocity_spans(model: pin.Model) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """The joints with a velocity (indices in 1..njoints-1) and where each one's velocity components start.
+
+    Cached per model (read-only); the components of joint ``joints[i]`` are
+    ``starts[i] : starts[i] + nv_i``, in increasing order.
+    """
+    return _spans(model, model.njoints, model.nq, model.nv)
+
+
+@functools.lru_cache(maxsize=16)
+def _spans(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    moving = [j for j in range(1, njoints) if model.joints[j].nv]
+    joints = np.array(moving, dtype=np.intp)
+    starts = np.array([model.joints[j].idx_v for j in moving], dtype=np.intp)
+    joints.flags.writeable = starts.flags.writeable = False
+    return joints, starts
 
 
 def wrap_angles(model: pin.Model, q: Array) -> Array:
@@ -133,13 +156,15 @@ def wrap_angles(model: pin.Model, q: Array) -> Array:
     as [0, 0]) count as no limits.
     """
     out = np.array(q, float)
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
-    for i in np.flatnonzero(angle_mask(model)):
-        x = float(np.pi - np.mod(np.pi - out[i], 2 * np.pi))  # in (-pi, pi]
-        if lower[i] < upper[i] and not lower[i] <= x <= upper[i]:
-            inside = [x + 2 * np.pi * k for k in range(-3, 4) if lower[i] <= x + 2 * np.pi * k <= upper[i]]
-            x = min(inside, key=abs) if inside else x
-        out[i] = x
+    idx = _angles(model, model.njoints, model.nq, model.nv)
+    if not idx.size:
+        return out
+    lower, upper = model.lowerPositionLimit[idx], model.upperPositionLimit[idx]
+    x = np.pi - np.mod(np.pi - out[idx], 2 * np.pi)  # in (-pi, pi]
+    for k in np.flatnonzero((lower < upper) & ((x < lower) | (x > upper))):
+        inside = [x[k] + 2 * np.pi * n for n in range(-3, 4) if lower[k] <= x[k] + 2 * np.pi * n <= upper[k]]
+        x[k] = min(inside, key=abs) if inside else x[k]
+    out[idx] = x
     return out
 
 
@@ -155,6 +180,14 @@ def short_difference(model: pin.Model, q0: Array, q1: Array) -> Array:
     return d
 
 
+@functools.lru_cache(maxsize=16)
+def _angles(model: pin.Model, njoints: int, nq: int, nv: int) -> NDArray[np.intp]:
+    """Indices of the revolute angles (:func:`angle_mask`), cached per model object and size."""
+    idx = np.flatnonzero(angle_mask(model))
+    idx.flags.writeable = False
+    return idx
+
+
 def outside_limits(model: pin.Model, q: Array, tol: float = 1e-9) -> tuple[str, ...]:
     """``"name [lower, upper]"`` for each one-coordinate joint of q outside its position limits [rad or m].
 
@@ -165,16 +198,26 @@ def outside_limits(model: pin.Model, q: Array, tol: float = 1e-9) -> tuple[str, 
         q: (nq,) the configuration.
         tol: allowance [rad or m] beyond the limits.
     """
-    out = []
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
-    for j in range(1, model.njoints):
+    idx, names = _one_coordinate(model, model.njoints, model.nq, model.nv)
+    lower, upper = model.lowerPositionLimit[idx], model.upperPositionLimit[idx]
+    x = np.asarray(q, float)[idx]
+    bad = np.flatnonzero((lower < upper) & ((x < lower - tol) | (x > upper + tol)))
+    return tuple(f"{names[k]} [{lower[k]:.6g}, {upper[k]:.6g}]" for k in bad)
+
+
+@functools.lru_cache(maxsize=16)
+def _one_coordinate(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[NDArray[np.intp], tuple[str, ...]]:
+    """Coordinates of the joints with one coordinate per velocity, and each one's joint name (cached per model)."""
+    idx: list[int] = []
+    names: list[str] = []
+    for j in range(1, njoints):
         joint = model.joints[j]
-        if joint.nq != joint.nv:
-            continue
-        for i in range(joint.idx_q, joint.idx_q + joint.nq):
-            if lower[i] < upper[i] and (q[i] < lower[i] - tol or q[i] > upper[i] + tol):
-                out.append(f"{model.names[j]} [{lower[i]:.6g}, {upper[i]:.6g}]")
-    return tuple(out)
+        if joint.nq == joint.nv:
+            idx += range(joint.idx_q, joint.idx_q + joint.nq)
+            names += [model.names[j]] * joint.nq
+    out = np.array(idx, dtype=np.intp)
+    out.flags.writeable = False
+    return out, tuple(names)
 
 
 def check_q(model: pin.Model, q: object, owner: str) -> Array:

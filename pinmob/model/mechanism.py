@@ -9,47 +9,24 @@ the closed configuration and what is computed from it in
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Hashable, Mapping
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
+from typing import Any, TypeVar
 
 import numpy as np
 import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError, choices
 from pinmob.model.closure import Closure, ClosureType, group_closures
+from pinmob.model.geometry import Geometry
 from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
 from pinmob.model.limb import Limb
+from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.screw.algebra import Array
 
-
-@dataclass(frozen=True)
-class NamedConfiguration:
-    """A named configuration: joint values, or a platform pose to assemble.
-
-    Attributes:
-        name: configuration name.
-        joints: joint values by joint name [m or rad]; omitted joints are neutral.
-        pose: platform pose (``pin.SE3``) to be assembled, or ``None``.
-        seed: joint values that start the closure solver (select the assembly mode).
-        approach: joint-space direction by joint name used by the paper's view
-            (:func:`pinmob.paper_view`); empty when not declared.
-    """
-
-    name: str
-    joints: Mapping[str, float] = field(default_factory=dict)
-    pose: pin.SE3 | None = None
-    seed: Mapping[str, float] = field(default_factory=dict)
-    approach: Mapping[str, float] = field(default_factory=dict)
-
-
-@dataclass(frozen=True)
-class Expectation:
-    """Mobility stated by the literature for a named configuration."""
-
-    dof: int
-    motion_type: str
-    source: str = ""
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -70,8 +47,8 @@ class Mechanism:
         expected: literature mobility per configuration name.
         description: free text.
         source: the file it was loaded from, if any.
-        visual_model: Pinocchio visual geometry, if loaded.
-        collision_model: Pinocchio collision geometry, if loaded.
+        geometry: the visual and collision geometry (:class:`~pinmob.model.geometry.Geometry`; meshes
+            are loaded when first drawn), read as :attr:`visual_model` and :attr:`collision_model`.
         generic_rank: constraint rank at generic configurations, when declared
             (else :mod:`pinmob.analysis.singularity` estimates it from random closed
             configurations).
@@ -90,8 +67,7 @@ class Mechanism:
     expected: Mapping[str, Expectation] = field(default_factory=dict, repr=False)
     description: str = ""
     source: Path | None = None
-    visual_model: pin.GeometryModel | None = field(default=None, repr=False)
-    collision_model: pin.GeometryModel | None = field(default=None, repr=False)
+    geometry: Geometry | None = field(default=None, repr=False, compare=False)
     generic_rank: int | None = None
     closures: tuple[Closure, ...] = ()
     extra_actuated: tuple[str, ...] = ()
@@ -114,6 +90,7 @@ class Mechanism:
         source: Path | None = None,
         visual_model: pin.GeometryModel | None = None,
         collision_model: pin.GeometryModel | None = None,
+        geometry: Geometry | None = None,
         generic_rank: int | None = None,
         closures: list[Closure] | tuple[Closure, ...] = (),
     ) -> Mechanism:
@@ -195,8 +172,7 @@ class Mechanism:
             expected=dict(expected or {}),
             description=description,
             source=source,
-            visual_model=visual_model,
-            collision_model=collision_model,
+            geometry=geometry if geometry is not None else Geometry(visual=visual_model, collision=collision_model),
             generic_rank=generic_rank,
             closures=tuple(closures),
             extra_actuated=extra,
@@ -206,16 +182,44 @@ class Mechanism:
     # ------------------------------------------------------------------ queries
 
     @property
+    def visual_model(self) -> pin.GeometryModel | None:
+        """Pinocchio visual geometry (None without one); its meshes are loaded the first time it is asked for."""
+        return self.geometry.models(self.model)[0] if self.geometry is not None else None
+
+    @property
+    def collision_model(self) -> pin.GeometryModel | None:
+        """Pinocchio collision geometry (None without one), loaded the first time it is asked for."""
+        return self.geometry.models(self.model)[1] if self.geometry is not None else None
+
+    @property
     def has_platform(self) -> bool:
         """True when a platform frame is named."""
         return bool(self.platform)
 
-    @property
+    def memo(self, key: Hashable, compute: Callable[[], T]) -> T:
+        """The value cached under ``key``, computed once by ``compute()`` (per mechanism object).
+
+        What depends only on the mechanism (index arrays, generic ranks, ...)
+        is computed once this way; :func:`dataclasses.replace` makes a new
+        mechanism with an empty cache.
+        """
+        try:
+            return self._memo[key]
+        except KeyError:
+            value = self._memo[key] = compute()
+            return value
+
+    @cached_property
+    def _memo(self) -> dict[Hashable, Any]:
+        return {}
+
+    @cached_property
     def all_closures(self) -> tuple[Closure, ...]:
         """Every loop closure: each limb tip welded (6d) to the platform frame, then :attr:`closures`.
 
         A limb whose tip is fixed to the platform frame's body (same parent
-        joint) closes nothing and is left out.
+        joint) closes nothing and is left out. Computed once per mechanism, as
+        the other constants below.
         """
         if not self.platform:
             return self.closures
@@ -235,14 +239,18 @@ class Mechanism:
         The limb-wise method cannot treat them (:func:`pinmob.analyze`
         then uses the closure Jacobian of the whole mechanism).
         """
+        return dict(self._coupling)
+
+    @cached_property
+    def _coupling(self) -> dict[str, tuple[str, ...]]:
         return group_closures(self.model, self.limbs, self.closures).coupling
 
-    @property
+    @cached_property
     def platform_id(self) -> int:
         """Pinocchio frame index of the platform frame."""
         return self.model.getFrameId(self.platform)
 
-    @property
+    @cached_property
     def actuated(self) -> tuple[str, ...]:
         """All actuated joint names, limb by limb, then those outside limbs."""
         return tuple(a for limb in self.limbs for a in limb.actuated) + self.extra_actuated

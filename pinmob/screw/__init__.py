@@ -1,6 +1,6 @@
 """Screw algebra: twists, wrenches, reciprocity, the one rank decision rule, classification.
 
-Pure numpy (SciPy's LAPACK and ``eigh`` are imported on first use); no pinocchio.
+Pure numpy (LAPACK through numpy's own gufuncs); no pinocchio, no SciPy.
 Submodules: :mod:`~pinmob.screw.algebra` (conventions, shifts, unit scaling),
 :mod:`~pinmob.screw.rank` (:func:`decide_rank`, reciprocal bases, ``rtol`` checks),
 :mod:`~pinmob.screw.bases` (canonical directions, labels, subspace gaps),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -20,6 +22,14 @@ def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
     by that axis and each vector points along its axis, so the basis depends only
     on the subspace, not on the input basis.
 
+    The greedy steps have a closed form per dimension r of the subspace
+    (:func:`canonical_directions_greedy` runs them one by one; the tests compare
+    both): r = 3 gives the world axes; r = 1 the unit direction u, pointing along
+    its largest component; r = 2, with unit normal n, first
+    ``(e_a - n_a n) / |e_a - n_a n|`` for the axis a least inclined to the plane
+    (smallest ``|n_a|``), then the unit vector ``n x`` that one, pointing along its
+    largest component.
+
     Args:
         basis: (3, k) spanning vectors, k <= 3 (need not be orthonormal).
         tol: relative tolerance of the rank of ``basis``.
@@ -28,6 +38,37 @@ def canonical_directions(basis: ArrayLike, tol: float = 1e-9) -> Array:
         (3, r) orthonormal canonical basis, r the rank of ``basis`` (singular
         values above ``tol * max(1, sigma_max)``).
     """
+    d = np.asarray(basis, float).reshape(3, -1)
+    if d.shape[1] == 0:
+        return np.zeros((3, 0))
+    dec = decide_rank(d.T, tol, at_least=1.0)  # the column span of d: row_space (r, 3), normal(s): null_space
+    if dec.rank == 0:
+        return np.zeros((3, 0))
+    if dec.rank == 3:
+        return np.eye(3)
+    if dec.rank == 1:
+        return clean(positive(dec.row_space[0], tol))[:, None]
+    n = dec.null_space[0].tolist()
+    norms = [math.sqrt(max(0.0, 1.0 - x * x)) for x in n]
+    a = _first_within(norms, tol)
+    first = [(float(i == a) - n[a] * x) / norms[a] for i, x in enumerate(n)]
+    w = np.array(
+        [n[1] * first[2] - n[2] * first[1], n[2] * first[0] - n[0] * first[2], n[0] * first[1] - n[1] * first[0]]
+    )
+    w /= np.linalg.norm(w)
+    b = _first_within(np.abs(w).tolist(), tol)
+    picked = sorted([(a, np.array(first)), (b, w if w[b] >= 0 else -w)], key=lambda p: p[0])
+    return np.column_stack([clean(v) for _, v in picked])
+
+
+def _first_within(values: list[float], tol: float) -> int:
+    """Index of the first value within ``tol`` of the largest (the greedy's tie rule)."""
+    top = max(values) - tol
+    return next(i for i, x in enumerate(values) if x > top)
+
+
+def canonical_directions_greedy(basis: ArrayLike, tol: float = 1e-9) -> Array:
+    """:func:`canonical_directions` by its greedy steps, one projection at a time (the reference for the tests)."""
     d = np.asarray(basis, float).reshape(3, -1)
     if d.shape[1] == 0:
         return np.zeros((3, 0))

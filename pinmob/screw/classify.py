@@ -114,7 +114,19 @@ def principal_screws(
     span = _orthonormal_span(np.vstack([v, w]), rtol)
     if span.shape[1] == 0:
         return np.zeros((3, 0)), []
+    if span.shape[1] == 6:  # every screw: the free vectors along x, y, z and the lines x, y, z through the origin
+        return np.eye(3), [(np.eye(3)[i], np.zeros(3), 0.0) for i in range(3)]
+    return principal_screws_of_span(span, rtol)
+
+
+def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, list[tuple[Array, Array, float]]]:
+    """:func:`principal_screws` of an orthonormal basis ``span`` (6, r) of ``[moment; direction]`` (steps 1-4).
+
+    :func:`principal_screws` answers the whole space (r = 6) in closed form; the tests compare it with these steps.
+    """
     v, w = span[:3], span[3:]
+    if float(np.sqrt((w * w).sum())) <= rtol:  # every singular value of w is below rtol: no direction, all free
+        return canonical_directions(v), []
     split = decide_rank(w, rtol, at_least=1.0)  # directions of the orthonormal span: natural scale 1
     wr = split.rank
     trans = canonical_directions(v @ split.null_space.T) if wr < w.shape[1] else np.zeros((3, 0))
@@ -165,12 +177,14 @@ def principal_screws(
 def _generalised_eigh(a: Array, b: Array) -> tuple[Array, Array]:
     """Eigenvalues (ascending) and B-orthonormal eigenvectors of ``a x = h b x`` (symmetric a, positive definite b).
 
-    SciPy's ``eigh`` (imported on first use, so that ``import pinmob`` does not load SciPy).
+    LAPACK's reduction (``dsygv``, what SciPy's ``eigh(a, b)`` calls), with numpy: ``b = L L^T``
+    (Cholesky), the eigenpairs ``(h, z)`` of the symmetric ``L^-1 a L^-T``, and ``x = L^-T z``
+    (so that ``x^T b x = I``).
     """
-    from scipy.linalg import eigh
-
-    vals, vecs = eigh(a, b)
-    return np.asarray(vals, dtype=np.float64), np.asarray(vecs, dtype=np.float64)
+    low = np.linalg.cholesky(b)
+    c = np.linalg.solve(low, np.linalg.solve(low, a).T)  # L^-1 a L^-T (a is symmetric)
+    vals, z = np.linalg.eigh(0.5 * (c + c.T))
+    return np.asarray(vals, dtype=np.float64), np.asarray(np.linalg.solve(low.T, z), dtype=np.float64)
 
 
 def _orthonormal_span(m: Array, rtol: float, tol: float = 1e-12) -> Array:

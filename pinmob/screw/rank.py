@@ -14,18 +14,27 @@ singular values and tolerance, and how clearly the rank was decided
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from pinmob.exceptions import ConfigurationError
 from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
 
 #: Default relative tolerance on singular values for rank decisions.
 RTOL = 1e-6
-_LAPACK: Any = None
+
+try:  # numpy >= 2: the gufuncs behind np.linalg.svd (full U and V, reduced, values only)
+    from numpy.linalg import _umath_linalg
+
+    _SVD_F: Any = _umath_linalg.svd_f
+    _SVD_S: Any = _umath_linalg.svd_s
+    _SVD_N: Any = _umath_linalg.svd
+except (ImportError, AttributeError):  # older numpy names them by shape: use np.linalg.svd
+    _SVD_F = _SVD_S = _SVD_N = None
 
 
 def check_rtol(rtol: object, name: str = "rtol") -> float:
@@ -50,21 +59,34 @@ def check_rtol(rtol: object, name: str = "rtol") -> float:
 
 
 def svd(a: Array, full_matrices: bool = True) -> tuple[Array, Array, Array]:
-    """``U, s, V^T`` of a small non-empty (m, n) matrix: LAPACK's ``dgesdd``, as ``np.linalg.svd`` calls it.
+    """``U, s, V^T`` of a small non-empty (m, n) float matrix (or a stack (..., m, n)): LAPACK's ``dgesdd``.
 
-    Called straight through SciPy's LAPACK wrapper (imported on first use): the same routine and
-    results, without ``np.linalg.svd``'s per-call overhead, which dominates for 6 x 6 matrices.
-    Falls back to ``np.linalg.svd`` (which raises ``LinAlgError``) if LAPACK reports a failure.
+    Called straight through numpy's own LAPACK gufunc, the one ``np.linalg.svd``
+    calls: the same routine and results, without ``np.linalg.svd``'s per-call
+    argument handling, which costs as much as the SVD of a 6 x 6 matrix. Falls
+    back to ``np.linalg.svd`` (which raises ``LinAlgError``) when LAPACK does not
+    converge, and on numpy versions without that gufunc.
     """
-    global _LAPACK
-    if _LAPACK is None:
-        from scipy.linalg import lapack
+    gufunc = _SVD_F if full_matrices else _SVD_S
+    if gufunc is not None:
+        u, s, vt = gufunc(a)
+        if _converged(s):
+            return u, s, vt
+    return tuple(np.linalg.svd(a, full_matrices=full_matrices))  # type: ignore[return-value]
 
-        _LAPACK = lapack
-    u, s, vt, info = _LAPACK.dgesdd(a, compute_uv=1, full_matrices=int(full_matrices))
-    if info != 0:
-        return tuple(np.linalg.svd(a, full_matrices=full_matrices))  # type: ignore[return-value]
-    return u, s, vt
+
+def _converged(s: Array) -> bool:
+    """LAPACK converged: no NaN among the singular values (the gufuncs fill a failed matrix with NaN)."""
+    return bool(s.ndim == 1 and (s.size == 0 or s[0] == s[0])) or (s.ndim > 1 and not np.isnan(s).any())
+
+
+def singular_values(a: Array) -> Array:
+    """Singular values of a float matrix (or a stack (..., m, n)), descending (``dgesdd`` without vectors)."""
+    if _SVD_N is not None:
+        s = _SVD_N(a)
+        if _converged(s):
+            return np.asarray(s, dtype=np.float64)
+    return np.asarray(np.linalg.svd(a, compute_uv=False), dtype=np.float64)
 
 
 @dataclass(frozen=True)
@@ -100,6 +122,38 @@ class RankDecision:
         return float(min(kept, dropped))
 
 
+def rank_rule(
+    singular_values: Array, rtol: float, *, reference: float | None = None, at_least: float = 0.0
+) -> tuple[int, float]:
+    """The one rank rule: ``(rank, tolerance)`` of descending singular values (see :func:`decide_rank`).
+
+    The tolerance is ``rtol * max(at_least, reference)`` (reference: the largest
+    singular value unless given); the rank counts the singular values above it
+    (0 when they are all zero). Every rank in pinmob is decided by this function,
+    on singular values from one SVD (:func:`decide_rank`) or from a batch of them.
+    """
+    smax = float(singular_values[0]) if singular_values.size else 0.0
+    tol = rtol * max(at_least, smax if reference is None else float(reference))
+    return (int(np.count_nonzero(singular_values > tol)) if smax > 0 else 0), tol
+
+
+def rank_rule_rows(singular_values: Array, rtol: float) -> NDArray[np.int64]:
+    """:func:`rank_rule` of each row of (N, m) descending singular values (the reference: each row's largest)."""
+    s = np.asarray(singular_values, float)
+    if s.shape[-1] == 0:
+        return np.zeros(s.shape[:-1], np.int64)
+    top = s[..., :1]
+    return np.where(top[..., 0] > 0, np.count_nonzero(s > rtol * top, axis=-1), 0).astype(np.int64)
+
+
+def decision(
+    singular_values: Array, vt: Array, rtol: float, *, reference: float | None = None, at_least: float = 0.0
+) -> RankDecision:
+    """The :class:`RankDecision` from an SVD already computed (``s`` descending, ``V^T`` (n, n)), by :func:`rank_rule`."""
+    rank, tol = rank_rule(singular_values, rtol, reference=reference, at_least=at_least)
+    return RankDecision(rank, singular_values, tol, vt[:rank], vt[rank:])
+
+
 def decide_rank(
     matrix: ArrayLike,
     rtol: float = RTOL,
@@ -120,19 +174,43 @@ def decide_rank(
             orthonormal bases, whose natural scale is 1 and which must have rank
             0 when it is zero.
 
-    An empty matrix (m = 0) has rank 0 and the whole space as null space.
+    An empty matrix (m = 0) has rank 0 and the whole space as null space. A
+    matrix with at least as many rows as columns gets the reduced SVD (its
+    ``V^T`` is the full one, bit for bit; ``U`` is not used).
     """
     a = np.asarray(matrix, float)
     if a.ndim != 2:
         raise ValueError(f"expected a 2-D matrix, got shape {a.shape}")
-    cols = a.shape[1] if n is None else n
     if a.size == 0:
+        cols = a.shape[1] if n is None else n
         return RankDecision(0, np.zeros(0), 0.0, np.zeros((0, cols)), np.eye(cols))
-    _, s, vt = svd(a)
-    smax = float(s[0]) if s.size else 0.0
-    tol = rtol * max(at_least, smax if reference is None else float(reference))
-    rank = int(np.sum(s > tol)) if smax > 0 else 0
-    return RankDecision(rank, s, tol, vt[:rank], vt[rank:])
+    _, s, vt = svd(a, full_matrices=a.shape[0] < a.shape[1])
+    return decision(s, vt, rtol, reference=reference, at_least=at_least)
+
+
+def decide_ranks(matrices: Sequence[ArrayLike], rtol: float = RTOL, n: int | None = None) -> list[RankDecision]:
+    """:func:`decide_rank` of each matrix, with one batched SVD per shape (the same bits as one call each).
+
+    Args:
+        matrices: dimensionless (m_i, n) matrices, e.g. every limb's transposed joint screws.
+        rtol: relative tolerance (each matrix's reference is its own largest singular value).
+        n: number of columns of the empty ones.
+    """
+    arrays = [np.asarray(m, float) for m in matrices]
+    out: list[RankDecision | None] = [None] * len(arrays)
+    shapes: dict[tuple[int, ...], list[int]] = {}
+    for i, a in enumerate(arrays):
+        if a.ndim != 2:
+            raise ValueError(f"expected 2-D matrices, got shape {a.shape}")
+        if a.size == 0:
+            out[i] = decide_rank(a, rtol, n)
+        else:
+            shapes.setdefault(a.shape, []).append(i)
+    for (rows, cols), which in shapes.items():
+        _, s, vt = svd(np.stack([arrays[i] for i in which]), full_matrices=rows < cols)
+        for k, i in enumerate(which):
+            out[i] = decision(s[k], vt[k], rtol)
+    return out  # type: ignore[return-value]
 
 
 def reciprocal_wrenches(twists: ArrayLike, length: float, rtol: float = RTOL) -> tuple[Array, RankDecision]:

@@ -1,0 +1,58 @@
+"""Reusable ``pin.Data``: a small pool per model.
+
+Creating a ``pin.Data`` costs about as much as a whole analysis of a large
+mechanism (it grows with nv^3: 24 us at nv 15, 0.24 ms at nv 36), so the
+configurations, the closure solver and the assembly functions borrow one from
+the model's pool and give it back when they are done with it. The pool holds at
+most ``POOL_SIZE`` spare ones per model and goes with the model.
+"""
+
+from __future__ import annotations
+
+import threading
+import weakref
+from collections.abc import Iterator
+from contextlib import contextmanager
+
+import pinocchio as pin
+
+#: Spare ``pin.Data`` kept per model (each can weigh megabytes for a large model).
+POOL_SIZE = 2
+
+_POOL: weakref.WeakKeyDictionary[pin.Model, list[pin.Data]] = weakref.WeakKeyDictionary()
+_LOCK = threading.Lock()
+
+
+def acquire(model: pin.Model) -> pin.Data:
+    """A spare ``pin.Data`` of ``model``, or a new one; its contents are whatever the last user left."""
+    with _LOCK:
+        spare = _POOL.get(model)
+        if spare:
+            return spare.pop()
+    return model.createData()
+
+
+def release(model_ref: weakref.ref[pin.Model], data: pin.Data) -> None:
+    """Give ``data`` back to the pool of the model ``model_ref`` refers to (dropped when the model is gone)."""
+    model = model_ref()
+    if model is None:
+        return
+    with _LOCK:
+        spare = _POOL.setdefault(model, [])
+        if len(spare) < POOL_SIZE:
+            spare.append(data)
+
+
+def release_with(owner: object, model: pin.Model, data: pin.Data) -> None:
+    """Give ``data`` back to the pool when ``owner`` (an object that uses it) is collected."""
+    weakref.finalize(owner, release, weakref.ref(model), data)
+
+
+@contextmanager
+def borrowed(model: pin.Model) -> Iterator[pin.Data]:
+    """A pooled ``pin.Data`` of ``model`` for the duration of the block."""
+    data = acquire(model)
+    try:
+        yield data
+    finally:
+        release(weakref.ref(model), data)

@@ -1,0 +1,363 @@
+"""Each faster computation against the straightforward one it replaces, on random matrices and the built-in models."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import scipy.linalg
+from numpy.testing import assert_allclose
+
+from pinmob.screw.classify import _generalised_eigh
+from pinmob.screw.rank import singular_values, svd
+
+
+@pytest.mark.parametrize("shape", [(5, 6), (6, 6), (6, 3), (18, 15), (30, 36), (4, 5, 6)])
+def test_svd_is_numpys(shape):
+    """rank.svd calls the LAPACK gufunc behind np.linalg.svd: bit for bit the same, one matrix or a stack."""
+    a = np.random.default_rng(3).normal(size=shape)
+    for full in (True, False):
+        for mine, ref in zip(svd(a, full_matrices=full), np.linalg.svd(a, full_matrices=full)):
+            assert np.array_equal(mine, ref)
+    assert np.array_equal(singular_values(a), np.linalg.svd(a, compute_uv=False))
+
+
+def test_svd_of_a_stack_is_the_svd_of_each():
+    a = np.random.default_rng(4).normal(size=(7, 5, 6))
+    stacked = svd(a)
+    for i in range(a.shape[0]):
+        for s, one in zip(stacked, svd(a[i])):
+            assert np.array_equal(s[i], one)
+
+
+def test_svd_of_a_matrix_with_nan_raises():
+    with pytest.raises(np.linalg.LinAlgError), np.errstate(invalid="ignore"):
+        svd(np.full((3, 3), np.nan))
+
+
+@pytest.mark.parametrize("size", [1, 2, 3])
+def test_generalised_eigh_is_scipys(size):
+    """The Cholesky reduction gives SciPy's eigenvalues and, up to sign, its B-orthonormal eigenvectors."""
+    rng = np.random.default_rng(size)
+    for _ in range(20):
+        m = rng.normal(size=(size, size))
+        a = m + m.T
+        g = rng.normal(size=(size, size))
+        b = g @ g.T + 0.1 * np.eye(size)
+        vals, vecs = _generalised_eigh(a, b)
+        ref_vals, ref_vecs = scipy.linalg.eigh(a, b)
+        assert_allclose(vals, ref_vals, rtol=1e-10, atol=1e-12)
+        assert_allclose(vecs.T @ b @ vecs, np.eye(size), atol=1e-10)
+        assert_allclose(np.abs(vecs.T @ b @ ref_vecs), np.eye(size), atol=1e-8)  # distinct eigenvalues
+
+
+HEAVY = ("numba", "scipy", "yaml", "matplotlib", "meshcat", "mujoco", "dask")
+
+
+def test_import_pinmob_loads_no_optional_package():
+    """``import pinmob`` (and a whole analysis, as ``pinmob analyze`` runs it) loads none of the heavy packages."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, pinmob\n"
+        f"heavy = {HEAVY!r}\n"
+        "print(sorted(m for m in heavy if m in sys.modules))\n"
+        "r = pinmob.analyze(pinmob.load('3-PUU'), 'generic'); r.to_dict(); str(r)\n"
+        "print(sorted(m for m in heavy if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split("\n")
+    assert out[0] == "[]", out[0]
+    assert out[1] == "[]", out[1]
+
+
+def closed_configurations() -> list[tuple[str, object]]:
+    """(label, Configuration) of every built-in model's named configurations and of the 11 Extended URDF robots."""
+    import warnings
+    from pathlib import Path
+
+    import pinmob
+    from pinmob.assembly.relaxation import find_closed_relaxed
+
+    out = []
+    for name in pinmob.builtin_models():
+        mech = pinmob.load(name)
+        out += [(f"{name}/{c}", pinmob.Configuration(mech, c)) for c in mech.configurations]
+    folder = Path(__file__).resolve().parent / "data" / "example-parallel-robots"
+    for robot in sorted(p.name for p in folder.iterdir() if (p / "robot.yaml").exists()):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # their meshes are not included
+            mech, found, _ = find_closed_relaxed(pinmob.load(folder / robot / "robot.yaml"), restarts=3)
+        out.append((robot, pinmob.Configuration(mech, found.q)))
+    return out
+
+
+@pytest.fixture(scope="module")
+def configurations() -> list[tuple[str, object]]:
+    return closed_configurations()
+
+
+def test_closure_ranks_from_the_left_null_space(configurations):
+    """Per-closure redundancy from one SVD of K (its left null space) equals the SVDs of K without each closure.
+
+    At the default tolerance the one-SVD path decides every case; at loose tolerances, where a soft
+    dependency sits near the threshold, it declines (and the SVDs per closure decide).
+    """
+    from pinmob.analysis.closure_jacobian import closed_chain
+    from pinmob.analysis.redundancy import closure_ranks, closure_ranks_by_removal, implied_rows
+    from pinmob.screw.rank import RTOL
+
+    redundant, declined = 0, 0
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        for rtol in (RTOL, 1e-9, 1e-7, 1e-5, 1e-4, 1e-3, 1e-2):
+            chain = closed_chain(conf, rtol)  # type: ignore[arg-type]
+            s = chain.decision.singular_values
+            ref = float(s[0]) if s.size else 0.0
+            straight = closure_ranks_by_removal(mech, chain.k_hat, rtol, ref)
+            assert closure_ranks(mech, chain.k_hat, rtol, ref, chain.left_null, chain.decision.margin) == straight
+            implied = implied_rows(mech, chain.left_null, rtol, chain.decision.margin)
+            if implied is None:
+                assert rtol != RTOL, label
+                declined += 1
+                continue
+            assert implied == [c.rows - c.essential for c in straight], (label, rtol)
+            redundant += sum(implied)
+    assert redundant > 0  # the cases include closures with equations implied by the others
+    assert declined < 30
+
+
+def test_canonical_directions_closed_form_is_the_greedy():
+    """The closed forms per dimension give the greedy's basis: random subspaces, axis-aligned ones and ties."""
+    from pinmob.screw.bases import canonical_directions, canonical_directions_greedy
+
+    rng = np.random.default_rng(5)
+    cases = [np.eye(3)[:, :k] for k in range(4)]
+    cases += [np.array([[1.0, 1.0], [1.0, -1.0], [0.0, 0.0]]), np.array([[1.0], [1.0], [0.0]]), np.ones((3, 1))]
+    for _ in range(2000):
+        r = int(rng.integers(1, 4))
+        m = rng.normal(size=(3, r)) @ rng.normal(size=(r, int(rng.integers(1, 4))))
+        cases.append(np.round(m) if rng.random() < 0.3 else m)
+    for m in cases:
+        fast, greedy = canonical_directions(m), canonical_directions_greedy(m)
+        assert fast.shape == greedy.shape
+        assert_allclose(fast, greedy, atol=1e-12)
+
+
+def test_principal_screws_of_the_whole_space():
+    """The whole space in closed form (3 free vectors, 3 lines through the origin) is what the steps find."""
+    from pinmob.screw.classify import principal_screws, principal_screws_of_span
+
+    rng = np.random.default_rng(6)
+    for _ in range(100):
+        basis = rng.normal(size=(6, 6)) * rng.uniform(0.01, 100.0, 6)
+        q = np.linalg.qr(basis)[0]
+        trans, screws = principal_screws(basis[:3], basis[3:])
+        ref_trans, ref_screws = principal_screws_of_span(q)
+        assert_allclose(trans, ref_trans, atol=1e-12)
+        assert len(screws) == len(ref_screws) == 3
+        for (u, p, h), (ru, rp, rh) in zip(screws, ref_screws):
+            assert_allclose(u, ru, atol=1e-12)
+            assert_allclose(p, rp, atol=1e-12)
+            assert h == rh == 0.0
+
+
+def test_builtin_names_read_from_their_name_line(tmp_path):
+    """The built-in names from each file's name line are the parsed files' names; other files are parsed."""
+    import tomllib
+
+    from pinmob.io.builtin import builtin_dir, builtin_models, model_name
+
+    parsed = {}
+    for path in sorted(builtin_dir().glob("*.toml")):
+        with path.open("rb") as fh:
+            parsed[str(tomllib.load(fh).get("name", path.stem))] = path
+    assert builtin_models() == parsed
+    odd = {
+        "a.toml": 'description = """\nname = "not this"\n"""\nname = "this"\n',
+        "b.toml": "name = 'literal'\n",
+        "c.toml": '[limbs]\nname = "a limb"\n',
+        "d.toml": 'name = "with \\"quotes\\""\n',
+    }
+    for file, text in odd.items():
+        (tmp_path / file).write_text(text)
+        assert model_name(tmp_path / file) == str(tomllib.loads(text).get("name", Path(file).stem))
+
+
+def test_meshes_are_loaded_only_when_drawn():
+    """Loading and analysing the 3-UR5 (what pinmob analyze does) loads no mesh; its visual model does, once."""
+    import pickle
+
+    import pinmob
+
+    mech = pinmob.load("3-UR5")
+    assert mech.geometry is not None and not mech.geometry.loaded
+    report = pinmob.analyze(mech, "generic")
+    report.to_dict()
+    str(report)
+    assert not mech.geometry.loaded
+    copy = pickle.loads(pickle.dumps(mech))
+    visual = mech.visual_model
+    assert mech.geometry.loaded and visual is not None and visual.ngeoms == 21
+    assert mech.visual_model is visual  # loaded once
+    assert copy.geometry is not None and not copy.geometry.loaded  # a copy loads its own when it draws
+    assert copy.visual_model is not None and copy.visual_model.ngeoms == 21
+
+
+def test_rank_rule_rows_is_the_rank_rule():
+    from pinmob.screw.rank import rank_rule, rank_rule_rows
+
+    rng = np.random.default_rng(8)
+    s = -np.sort(-np.abs(rng.normal(size=(300, 6))) * 10.0 ** rng.integers(-12, 2, size=(300, 6)), axis=1)
+    s[:5] = 0.0
+    for rtol in (1e-6, 1e-3, 1e-9):
+        assert list(rank_rule_rows(s, rtol)) == [rank_rule(row, rtol)[0] for row in s]
+
+
+def _batch_cases():
+    import pinocchio as pin
+
+    import pinmob
+
+    rng = np.random.default_rng(9)
+    for name in pinmob.builtin_models():
+        mech = pinmob.load(name)
+        if not mech.has_platform or not mech.limbs or mech.coupling_closures or any(b.closures for b in mech.limbs):
+            continue
+        qs = [pinmob.closed_configuration(mech, c) for c in mech.configurations]
+        for _ in range(3):  # nearby closed configurations: generic, where the named ones are special
+            try:
+                qs.append(
+                    pinmob.project(mech, pin.integrate(mech.model, qs[0], rng.normal(0.0, 0.02, mech.model.nv))).q
+                )
+            except pinmob.ClosureError:
+                break
+        yield name, mech, np.array(qs)
+
+
+def test_batch_numpy_engine_is_the_single_analysis_bit_for_bit():
+    """The numpy engine makes the single analyses' SVDs, batched: the same ranks and singular values, bit for bit."""
+    import pinmob
+    from pinmob.analysis.batch import analyze_batch
+
+    for name, mech, qs in _batch_cases():
+        batch = analyze_batch(mech, qs, singular_values=True, engine="numpy")
+        for i, q in enumerate(qs):
+            report = pinmob.analyze(mech, q)
+            sing = pinmob.analyze_singularity(report.state)
+            assert batch.dof[i] == report.dof and batch.locked_dof[i] == sing.locked_dof, name
+            assert list(batch.limb_twist_rank[i]) == [limb.twist_rank for limb in report.limbs]
+            assert np.array_equal(batch.singular_values[i], report.singular_values), name
+            assert np.array_equal(batch.actuation_singular_values[i], np.nan_to_num(sing.actuation_singular_values))
+            assert np.array_equal(batch.limb_ratio[i], [sing.distances[f"limb {b.name}"] for b in mech.limbs])
+
+
+def test_batch_engines_agree():
+    """numba's compiled loop (one-sided Jacobi SVDs) and the numpy engine (LAPACK): same ranks, values to round-off."""
+    pytest.importorskip("numba")
+    from pinmob.analysis.batch import analyze_batch
+
+    checked = 0
+    for name, mech, qs in _batch_cases():
+        fast = analyze_batch(mech, qs, singular_values=True, engine="numba")
+        ref = analyze_batch(mech, qs, singular_values=True, engine="numpy")
+        assert (fast.engine, ref.engine) == ("numba", "numpy")
+        for field in ("dof", "constraint_rank", "limb_twist_rank", "locked_dof"):
+            assert np.array_equal(getattr(fast, field), getattr(ref, field)), (name, field)
+        for field in ("singular_values", "actuation_singular_values", "limb_ratio"):
+            assert_allclose(getattr(fast, field), getattr(ref, field), atol=1e-12, err_msg=f"{name} {field}")
+        checked += len(qs)
+    assert checked > 20
+
+
+def test_jacobi_svd_is_lapacks():
+    """The compiled loop's one-sided Jacobi SVD (span): LAPACK's singular values, the rank, a null space orthogonal to the rows."""
+    pytest.importorskip("numba")
+    from pinmob.analysis.batch_kernel import span
+
+    rng = np.random.default_rng(10)
+    for _ in range(300):
+        rows, rank = int(rng.integers(1, 19)), int(rng.integers(0, 7))
+        a = rng.normal(size=(rows, rank)) @ rng.normal(size=(rank, 6)) if rank else np.zeros((rows, 6))
+        a *= 10.0 ** rng.uniform(-3, 3)
+        g, sv, v = np.zeros((18, 6)), np.zeros(6), np.zeros((6, 6))
+        g[:rows] = a
+        rank = span(g, rows, 1e-9, sv, v)
+        ref = np.zeros(6)
+        ref[: min(rows, 6)] = np.linalg.svd(a, compute_uv=False)
+        scale = max(1.0, float(ref[0]))
+        assert_allclose(sv, ref, atol=1e-13 * scale)
+        assert_allclose(v.T @ v, np.eye(6), atol=1e-13)
+        true_rank = int(np.sum(ref > 1e-10 * scale))
+        assert rank == true_rank
+        assert np.abs(a @ v[:, true_rank:]).max(initial=0.0) <= 1e-12 * scale
+
+
+def test_batch_without_numba():
+    """Without numba (an optional extra) the batch path runs on numpy; asking for numba says how to install it."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys; sys.modules['numba'] = None\n"
+        "import pinmob\n"
+        "from pinmob.analysis.batch import analyze_batch\n"
+        "mech = pinmob.load('3-PUU'); q = pinmob.closed_configuration(mech, 'generic')\n"
+        "r = analyze_batch(mech, q[None, :])\n"
+        "print(r.engine, int(r.dof[0]))\n"
+        "try:\n"
+        "    analyze_batch(mech, q[None, :], engine='numba')\n"
+        "except pinmob.ConfigurationError as exc:\n"
+        "    print(exc)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.splitlines()
+    assert out[0] == "numpy 3"
+    assert "pinmob[fast]" in out[1]
+
+
+def test_free_vectors_only_shortcut():
+    """A system without direction parts (|w| <= rtol) is all free vectors: the shortcut skips the SVD of w, and
+    the canonical directions do not depend on the basis it would have given (any orthonormal one)."""
+    from pinmob.screw.bases import canonical_directions
+    from pinmob.screw.classify import principal_screws
+
+    rng = np.random.default_rng(11)
+    for k in (1, 2, 3):
+        for _ in range(50):
+            v = np.linalg.qr(rng.normal(size=(3, 3)))[0][:, :k]
+            w = rng.normal(size=(3, k)) * 1e-9
+            trans, screws = principal_screws(v, w)
+            basis = np.linalg.qr(rng.normal(size=(k, k)))[0]
+            assert screws == []
+            assert_allclose(trans, canonical_directions(v @ basis), atol=1e-12)
+
+
+def test_every_array_of_a_report_is_read_only():
+    """The arrays found by their annotations are every array the results hold (walked through a whole report)."""
+    import dataclasses
+
+    import pinmob
+
+    seen = 0
+
+    def walk(value: object) -> None:
+        nonlocal seen
+        if isinstance(value, np.ndarray):
+            assert not value.flags.writeable
+            seen += 1
+        elif dataclasses.is_dataclass(value) and not isinstance(value, type):
+            for f in dataclasses.fields(value):
+                walk(getattr(value, f.name))
+        elif isinstance(value, (tuple, list)):
+            for v in value:
+                walk(v)
+        elif isinstance(value, dict):
+            for v in value.values():
+                walk(v)
+
+    for name in ("3-PUU-flat", "6-UPS", "Delta"):
+        mech = pinmob.load(name)
+        report = pinmob.analyze(mech, next(iter(mech.configurations)), paper=True)
+        walk([report.mobility, report.mechanism_mobility, report.singularity, report.paper])
+    assert seen > 50

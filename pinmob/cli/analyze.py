@@ -7,6 +7,7 @@ import json
 import sys
 
 from pinmob.analysis.entry_point import analyze
+from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.report import Report
 from pinmob.cli.common import pick_configuration
 from pinmob.exceptions import ConfigurationError, choices
@@ -39,8 +40,8 @@ def run(args: argparse.Namespace) -> int:
         actuator_search=args.search_actuators,
         restarts=args.restarts,
         relax=args.relax,
-        finite=args.finite,
-        finite_order=args.finite_order,
+        finite=args.finite or args.finite_order is not None,  # --finite-order K implies --finite
+        finite_order=ORDER if args.finite_order is None else args.finite_order,
     )
     print(json.dumps(report.to_dict(), indent=2, allow_nan=False) if args.json else report)
     return check_status(args, report)

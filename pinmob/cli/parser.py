@@ -86,9 +86,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--finite-order",
         type=int,
-        default=4,
+        default=None,
         metavar="K",
-        help="with --finite: the highest order of the conditions checked (2..8, default 4)",
+        help="the highest order of the conditions the finite analysis checks (2..8, default 4); implies --finite",
     )
 
     p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat")

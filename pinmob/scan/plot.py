@@ -47,14 +47,20 @@ def _pyplot() -> Any:
     return plt
 
 
-def _save(plt: Any, fig: Any, title: str, png_path: str | Path) -> Path:
-    """Title, lay out, write the PNG (110 dpi, through a temporary file renamed at the end) and close the figure."""
-    fig.suptitle(title, fontsize=11)
+def save_png(fig: Any, png_path: str | Path, title: str | None = None, metadata: dict[str, str] | None = None) -> Path:
+    """Title (if any), lay out, write the PNG and close the figure (the scans' and the sweeps' plots alike).
+
+    110 dpi, ``metadata`` in the PNG's text chunks, written through a temporary file renamed at the end.
+    """
+    import matplotlib.pyplot as plt
+
+    if title is not None:
+        fig.suptitle(title, fontsize=11)
     fig.tight_layout()
     replacing = Replacing(png_path)
     try:
         with replacing as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
+            fig.savefig(tmp, dpi=110, format="png", metadata=metadata)
             replacing.commit()
     finally:
         plt.close(fig)
@@ -91,9 +97,8 @@ PATH_COLUMNS = ["s", "refined", "reachable", "singularity", "singular_limbs", "n
 
 def plot_path(csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL) -> Path:
     """Singular values, distance and DoF along a path scan; returns the PNG path."""
-    plt = _pyplot()
     fig = path_figure(read_columns(csv_path, PATH_COLUMNS), rtol)
-    return _save(plt, fig, title or "scan along a path", png_path)
+    return save_png(fig, png_path, title or "scan along a path")
 
 
 def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL) -> Any:
@@ -174,10 +179,9 @@ MAP_COLUMNS = ["refined", "reachable", "singularity", "near_singular", "distance
 
 def plot_map(csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL) -> Path:
     """A grid scan as two maps: motion type, and distance to singularity; returns the PNG path."""
-    plt = _pyplot()
     keys = [k for k in header(csv_path) if k.startswith("grid_")]
     fig = map_figure(read_columns(csv_path, keys + MAP_COLUMNS), keys, rtol)
-    return _save(plt, fig, title or "scan over a workspace slice (blank: not assembled)", png_path)
+    return save_png(fig, png_path, title or "scan over a workspace slice (blank: not assembled)")
 
 
 def map_figure(c: dict[str, np.ndarray], keys: list[str], rtol: float = RTOL) -> Any:

@@ -17,6 +17,7 @@ The package is layered; imports only go down:
 - :mod:`pinmob.scan`, :mod:`pinmob.viewer`, :mod:`pinmob.cli`: scans, the meshcat viewer, the command line;
 - :mod:`pinmob.builder`, :mod:`pinmob.catalog`: authoring the built-in models; :mod:`pinmob.testing`: assertions;
 - :mod:`pinmob.engine`, :mod:`pinmob.sweeps`: parallel work on Dask, and design-space sweeps (:func:`sweep`).
+- :mod:`pinmob.progress`: progress of long steps, shown by whoever listens (the command line).
 """
 
 from typing import TYPE_CHECKING, Any

@@ -242,3 +242,60 @@ def test_curved_motions_are_followed_the_full_amplitude(name):
     for moved in path.displacement:
         assert moved.rotation > 0.25
     assert max(d.deviation for d in path.displacement) > MAX_DEVIATION
+
+
+def _reach_limit(mech: pinmob.Mechanism, q: np.ndarray, limb: str, axis: np.ndarray, sign: float, top: float) -> float:
+    """Largest angle [rad] the platform turns about ``sign * axis`` (through O) before ``limb`` cannot reach.
+
+    A spherical RRR limb with link angles a1 (axes 1-2) and a2 (axes 2-3) reaches the platform
+    exactly when the angle between its base axis u1 and its platform axis u3 lies in
+    [|a1 - a2|, a1 + a2] (spherical triangle inequality); turning the platform turns u3.
+    Bisection on that angle, up to ``top`` (inf when never out of reach).
+    """
+    model, data = mech.model, mech.model.createData()
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    u1, u2, u3 = (data.J[3:, model.joints[model.getJointId(j)].idx_v] for j in mech.limb(limb).joints)
+    a1, a2 = np.arccos(u1 @ u2), np.arccos(u2 @ u3)
+
+    def inside(theta: float) -> bool:
+        angle = np.arccos(np.clip(u1 @ (pin.exp3(sign * theta * axis) @ u3), -1.0, 1.0))
+        return abs(a1 - a2) <= angle <= a1 + a2
+
+    if inside(top):
+        return np.inf
+    lo, hi = 0.0, top
+    for _ in range(60):
+        lo, hi = ((lo + hi) / 2, hi) if inside((lo + hi) / 2) else (lo, (lo + hi) / 2)
+    return lo
+
+
+def test_short_spherical_clips_stop_at_a_limb_reach_limit_and_say_which_limb():
+    # 'generic' is regular (singularity distance 0.0316), yet most clips stop after 0.005-0.3 rad:
+    # limb A is 0.005 rad from its stretched pose there. Each stop must be where a limb really
+    # stops reaching (the spherical triangle inequality, independent of the analysis), within one
+    # continuation step, and the note must name that limb -- the nearest limit along the motion.
+    mech = pinmob.load("3-RRR-spherical")
+    q = pinmob.closed_configuration(mech, "generic")
+    steps, stopped = 12, 0
+    for motion in pinmob.analyze(mech, q).motions:
+        path = follow_motion(mech, q, motion, steps=steps)
+        step = path.amplitude / steps
+        for sign, word, reached in ((1.0, "forwards", path.reached[0]), (-1.0, "backwards", path.reached[1])):
+            limits = {b.name: _reach_limit(mech, q, b.name, motion.direction, sign, 0.5) for b in mech.limbs}
+            nearest = min(limits, key=limits.__getitem__)
+            note = [n for n in path.notes if f"stopped {word}" in n]
+            if limits[nearest] > path.amplitude:
+                assert not note and reached == pytest.approx(path.amplitude)
+                continue
+            stopped += 1
+            assert limits[nearest] - step <= reached <= limits[nearest], (motion.label, word, reached, limits)
+            assert len(note) == 1 and f"limb {nearest} reaches the edge of its workspace" in note[0], note
+    assert stopped == 5
+
+
+def test_the_flat_rotation_names_the_stretched_limbs(flat):
+    q = pinmob.closed_configuration(flat, "flat")
+    motion = next(m for m in pinmob.analyze(flat, q).motions if m.label == "R1 z")
+    (note,) = follow_motion(flat, q, motion, steps=4).notes
+    assert "limbs A, B, C are already at the edge of their workspace (a serial singularity" in note

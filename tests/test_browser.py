@@ -1,12 +1,18 @@
 """The viewer in a real browser: headless Chromium (Debian's package) driven by Playwright.
 
-Against the live meshcat server page and the exported HTML file: the mechanism
+Against pinmob's live server page and the exported HTML file: the mechanism
 is drawn (enough pixels differ from the empty scene around the platform), two
 animation times differ there (the motion is visible), every clip is in the
-scene, and the motion menu switches clips. These tests never skip: without
-Chromium they fail and say how to install it (``.ci/browser-deps.sh``). They
-carry the ``browser`` marker: ``pytest -m "not browser"`` leaves them out on
-purpose, ``pytest -m browser`` runs only them; CI (``.ci/run``) runs them all.
+scene, and the panel's rows switch clips. The panel's text, read from the DOM,
+says what the analysis says (DoF, motion type, each motion's direction, world
+axis point and pitch, how far its clip went and why it stopped, the
+singularity class, the whole mechanism's DoF); clicking a row plays that
+motion, which moves the platform on screen, or the panel says why it cannot;
+the glyphs' labels are drawn, apart, where their glyphs are. These tests never
+skip: without Chromium they fail and say how to install it
+(``.ci/browser-deps.sh``). They carry the ``browser`` marker: ``pytest -m "not
+browser"`` leaves them out on purpose, ``pytest -m browser`` runs only them; CI
+(``.ci/run``) runs them all.
 
 Set ``PINMOB_DOCS_SCREENSHOTS=1`` to also write the screenshots of 3-PUU-flat
 to ``docs/``.
@@ -16,15 +22,18 @@ from __future__ import annotations
 
 import io
 import os
+import re
 import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 from millimetres import in_millimetres
+from numpy.testing import assert_allclose
 
 import pinmob
 from pinmob import viewer
+from pinmob.viewer.scene import INSTANTANEOUS_OPACITY
 
 CHROMIUM = os.environ.get("PINMOB_CHROMIUM", "/usr/bin/chromium")
 FLAGS = [
@@ -41,7 +50,7 @@ FLAGS = [
     "--use-angle=swiftshader",
     "--enable-unsafe-swiftshader",
 ]
-WIDTH, HEIGHT = 900, 650
+WIDTH, HEIGHT = 1100, 700
 DOCS = Path(__file__).resolve().parent.parent / "docs"
 
 pytestmark = pytest.mark.browser  # every test here: select with -m browser, leave out with -m "not browser"
@@ -77,8 +86,8 @@ def open_page(browser, url: str):
     errors: list[str] = []
     page.on("pageerror", lambda e: errors.append(str(e)))
     page.goto(url)
-    # the scene has arrived when the animation clips are loaded (the live page gets them by websocket)
-    page.wait_for_function("window.viewer && viewer.animator.actions.length > 0", timeout=20000)
+    # the scene has arrived when the panel is there and a clip is loaded (the live page gets them by websocket)
+    page.wait_for_function("window.pinmob && pinmob.state && viewer.animator.actions.length > 0", timeout=20000)
     page.wait_for_timeout(500)
     assert errors == [], errors
     return page
@@ -152,18 +161,16 @@ def check_scene(page, scene: viewer.Scene, name: str | None = None) -> None:
     if name and os.environ.get("PINMOB_DOCS_SCREENSHOTS"):
         page.screenshot(path=str(DOCS / f"{name}_T1.png"))
 
-    # the motion menu offers every clip of the analysis and loads the chosen one
-    options = page.evaluate(
-        "Array.from(viewer.gui_controllers['motion'].domElement.querySelectorAll('option')).map((o) => o.value)"
-    )
-    assert options == [m.label for m in scene.mobility.motions] == list(scene.clips)
+    # the panel has one row per motion of the analysis; clicking one loads and plays its clip
+    rows = page.eval_on_selector_all("tr.pinmob-motion", "(rows) => rows.map((r) => r.dataset.label)")
+    assert rows == [m.label for m in scene.mobility.motions] == list(scene.clips)
     for label in scene.clips[1:] + scene.clips[:1]:
-        page.evaluate("(l) => viewer.gui_controllers['motion'].setValue(l)", label)
+        page.click(f'tr.pinmob-motion[data-label="{label}"]')
         page.wait_for_timeout(200)
         assert loaded_clips(page) == {label}
         assert page.evaluate("viewer.animator.playing")
     if name and os.environ.get("PINMOB_DOCS_SCREENSHOTS"):
-        page.evaluate("(l) => viewer.gui_controllers['motion'].setValue(l)", scene.clips[1])
+        page.click(f'tr.pinmob-motion[data-label="{scene.clips[1]}"]')
         seek(page, 0.0)
         page.screenshot(path=str(DOCS / f"{name}_R1.png"))
 
@@ -176,21 +183,20 @@ def test_exported_html_in_chromium(browser, flat, tmp_path):
 
 
 def test_instantaneous_only_motion_is_drawn_as_such(browser, flat, tmp_path):
-    """The flat 3-PUU's R1 z is blocked at order 2 (tests/test_finite.py): its menu entry says so, its glyph is
+    """The flat 3-PUU's R1 z is blocked at order 2 (tests/test_finite.py): its row's verdict says so, its glyph is
     grey and half transparent, and its clip makes the glyph pulse while the mechanism stays still."""
     scene = viewer.export_html(flat, "flat", tmp_path / "flat.html", motion="R1 z")
     assert scene.verdicts == {"T1 z": "finite", "R1 z": "blocked at order 2 (shaky)"}
     assert (scene.paths["T1 z"].finite, scene.paths["R1 z"].finite) == (True, False)
     page = open_page(browser, (tmp_path / "flat.html").as_uri())
-    options = page.evaluate(
-        "Array.from(viewer.gui_controllers['motion'].domElement.querySelectorAll('option'))"
-        ".map((o) => [o.value, o.textContent])"
+    verdicts = page.eval_on_selector_all(
+        "tr.pinmob-motion", "(rows) => rows.map((r) => [r.dataset.label, r.querySelector('td.verdict').innerText])"
     )
-    assert options == [["T1 z", "T1 z"], ["R1 z", "R1 z: instantaneous only (blocked at order 2 (shaky))"]]
+    assert verdicts == [["T1 z", "finite"], ["R1 z", "blocked at order 2 (shaky)"]]
     still, moving = ["meshcat", "pinmob", "glyphs", "R1 z"], ["meshcat", "pinmob", "glyphs", "T1 z"]
     material = "(p) => { const m = viewer.scene_tree.find(p).object.material; return [m.color.getHex(), m.opacity]; }"
-    assert page.evaluate(material, [*still, "<object>"]) == [0x9E9E9E, pytest.approx(0.45)]
-    assert page.evaluate(material, [*moving, "<object>"])[1] == 1.0
+    assert page.evaluate(material, [*still, "<object>"]) == [0x9E9E9E, pytest.approx(INSTANTANEOUS_OPACITY)]
+    assert page.evaluate(material, [*moving, "<object>"])[0] != 0x9E9E9E
     scale = "(p) => viewer.scene_tree.find(p).object.scale.x"
     seek(page, 0.0)
     start = page.evaluate(scale, still)
@@ -247,3 +253,192 @@ def test_camera_and_lights_frame_a_model_in_millimetres(browser, tmp_path):
     assert shares[0] > 0.03
     assert abs(shares[0] - shares[1]) < 0.25 * shares[0]
     assert abs(brightness[0] - brightness[1]) < 0.05 * brightness[0], brightness
+
+
+# --------------------------------------------------------------------------- the panel
+
+
+NUMBER = re.compile(r"[-+−]?\d+(?:\.\d+)?(?:e[-+]?\d+)?")
+
+
+def numbers(text: str) -> list[float]:
+    """The numbers written in a panel cell ('(0.1, −0.02, 0)' -> [0.1, -0.02, 0.0])."""
+    return [float(x.replace("−", "-")) for x in NUMBER.findall(text)]
+
+
+def panel_rows(page) -> dict[str, dict[str, str]]:
+    """Each motion row's cells (label, kind, direction, point, pitch, clip) and its explanation line, from the DOM."""
+    return page.evaluate(
+        """() => Object.fromEntries(Array.from(document.querySelectorAll('tr.pinmob-motion')).map((row) => {
+             const cells = {};
+             for (const td of row.querySelectorAll('td')) cells[td.className] = td.innerText.trim();
+             const why = document.querySelector(`tr.pinmob-why[data-label="${row.dataset.label}"] .pinmob-reason`);
+             cells.why = why.innerText.trim();
+             return [row.dataset.label, cells];
+           }))"""
+    )
+
+
+def check_panel(page, scene: viewer.Scene, mech: pinmob.Mechanism) -> None:
+    """The panel's words, read from the DOM, against the analysis and the followed paths."""
+    mob = scene.mobility
+    report = pinmob.analyze(mech, mob.configuration)
+    text = page.inner_text("#pinmob-panel")
+    assert page.inner_text("#pinmob-panel h1") == f"{mech.name} at '{mob.configuration}'"
+    assert page.inner_text(".pinmob-dof") == f"{report.dof} DoF"
+    assert page.inner_text(".pinmob-type") == report.motion_type
+    rows = panel_rows(page)
+    assert list(rows) == [m.label for m in report.motions]
+    for m in report.motions:
+        row, path = rows[m.label], scene.paths[m.label]
+        assert row["kind"] == {"T": "translation", "R": "rotation", "H": "screw"}[m.kind.value]
+        assert_allclose(numbers(row["direction"]), m.direction, atol=1e-3)
+        if m.point is None:
+            assert row["point"] == "–"
+        else:  # written in world coordinates: the platform origin plus the analysis' relative point
+            assert_allclose(
+                numbers(row["point"]), report.platform_origin + m.point, rtol=1e-3, atol=1e-3 * mech.length_scale
+            )
+            assert_allclose(numbers(row["pitch"]), [m.pitch], atol=1e-3 * mech.length_scale)
+        if path.complete:
+            assert numbers(row["clip"]) == pytest.approx([path.amplitude], rel=5e-3)  # 3 significant digits
+            assert "moves the whole amplitude" in row["why"]
+        elif path.reached == (0.0, 0.0):
+            assert row["clip"] == "stays still" and "exists only to first order" in row["why"]
+        else:
+            assert [abs(x) for x in numbers(row["clip"])] == pytest.approx(list(path.reached), rel=5e-3)
+        for note in path.notes:  # every stop reason of the clip is told, in short, in the row
+            if "reaches the edge" in note or "already at the edge" in note:
+                limbs = note.split("limb", 1)[1].split(" reach")[0].split(" are")[0].split(" is")[0]
+                assert f"limb{limbs}" in row["why"], (note, row["why"])
+    sing = report.singularity
+    if sing is not None:
+        singular = page.inner_text(".pinmob-singularity")
+        assert singular.startswith(sing.label.replace("+", " + ") if sing.classes else "none here")
+        for limb in sing.limbs:
+            assert limb in singular
+    chain = report.mechanism_mobility
+    mechanism = page.inner_text(".pinmob-mechanism")
+    assert mechanism.startswith(f"{chain.mechanism_dof} DoF")
+    if chain.internal_dof:
+        assert f"+ {chain.internal_dof} internal motion(s)" in mechanism
+    assert "Legend" in text and "world axes" in text
+
+
+def visible_labels(page) -> list[dict]:
+    return page.evaluate(
+        """() => Array.from(document.querySelectorAll('.pinmob-label')).filter((n) => n.style.display !== 'none')
+             .map((n) => { const r = n.getBoundingClientRect();
+                           return {text: n.innerText, left: r.left, top: r.top, right: r.right, bottom: r.bottom}; })"""
+    )
+
+
+def check_labels(page, scene: viewer.Scene) -> None:
+    """Every motion and world label is drawn inside the view, none overlapping another, and they show on screen."""
+    labels = visible_labels(page)
+    texts = [b["text"] for b in labels]
+    assert set(scene.clips) <= set(texts) and {"x", "y", "z", "world origin"} <= set(texts)
+    for b in labels:
+        assert 0 <= b["left"] and b["right"] <= WIDTH and 0 <= b["top"] and b["bottom"] <= HEIGHT, b
+    for i, a in enumerate(labels):
+        for b in labels[i + 1 :]:
+            apart = (
+                a["right"] <= b["left"] or b["right"] <= a["left"] or a["bottom"] <= b["top"] or b["bottom"] <= a["top"]
+            )
+            assert apart, (a, b)
+    seek(page, 0.0)
+    shown = image(page)
+    page.click("#pinmob-label-toggle")
+    page.wait_for_timeout(300)
+    hidden = image(page)
+    page.click("#pinmob-label-toggle")
+    for b in labels:
+        if b["text"] in scene.clips:
+            box = (slice(int(b["top"]), int(b["bottom"])), slice(int(b["left"]), int(b["right"])))
+            assert (np.abs(shown[box] - hidden[box]).max(axis=2) > 40).mean() > 0.05, f"label {b['text']} not drawn"
+
+
+def check_rows_play(page, scene: viewer.Scene) -> None:
+    """Clicking each row plays its clip and highlights its glyph: the platform moves on screen, or the panel says why not."""
+    box = platform_box(page, scene.mobility.platform_origin)
+    glyph = "(l) => viewer.scene_tree.find(['meshcat', 'pinmob', 'glyphs', l, '<object>']).object.material.opacity"
+    for label in scene.clips:
+        page.click(f'tr.pinmob-motion[data-label="{label}"]')
+        page.wait_for_timeout(200)
+        assert loaded_clips(page) == {label}
+        base = INSTANTANEOUS_OPACITY if scene.paths[label].finite is False else 1.0
+        assert page.evaluate(glyph, label) == pytest.approx(base)
+        assert all(page.evaluate(glyph, other) < 0.3 for other in scene.clips if other != label)
+        assert page.get_attribute(f'.pinmob-label.motion[data-label="{label}"]', "class").endswith("selected")
+        path = scene.paths[label]
+        set_visible(page, ["meshcat", "pinmob", "glyphs"], False)  # the mechanism alone (a still clip's glyph pulses)
+        seek(page, 0.0)
+        start = image(page)
+        # the farther end of the clip (frames: q, +, q, -, q): +amplitude, or as far as it went either way
+        f, b = len(path.forward) - 1, len(path.backward) - 1
+        seek(page, (f if path.reached[0] >= path.reached[1] else 2 * f + b) / viewer.FPS)
+        moved = (np.abs(image(page) - start).max(axis=2) > 40)[box].mean()
+        set_visible(page, ["meshcat", "pinmob", "glyphs"], True)
+        playing = page.inner_text(".pinmob-playing")
+        assert playing.startswith(f"Playing {label}")
+        if max(path.reached) > 0:
+            assert moved > 0.01, f"{label}: the platform does not move on screen ({moved:.2%})"
+        else:
+            assert moved == 0.0, f"{label}: a clip that cannot be followed should stay still"
+            assert "stays still" in playing and "exists only to first order" in playing
+
+
+def test_panel_of_the_flat_3puu_says_what_the_analysis_says(browser, flat, tmp_path):
+    scene = viewer.export_html(flat, "flat", tmp_path / "flat.html")
+    page = open_page(browser, (tmp_path / "flat.html").as_uri())
+    check_panel(page, scene, flat)
+    rows = panel_rows(page)
+    assert rows["R1 z"]["point"] == "(0, 0, 0)" and rows["R1 z"]["clip"] == "stays still"
+    assert "limbs A, B, C are already at the edge of their workspace" in rows["R1 z"]["why"]
+    check_rows_play(page, scene)
+    check_labels(page, scene)
+    page.close()
+
+
+@pytest.mark.parametrize(
+    ("name", "config"), [("Delta", "generic"), ("3-UR5", "generic"), ("3-RRR-spherical", "generic")]
+)
+def test_panel_clicks_and_labels_on_other_mechanisms(browser, tmp_path, name, config):
+    # the Delta (loops in its limbs, 3T), three UR5 arms with their meshes (3T3R), and the spherical
+    # wrist whose clips stop where a limb reaches the edge of its workspace
+    mech = pinmob.load(name)
+    scene = viewer.export_html(mech, config, tmp_path / "page.html", steps=6)
+    page = open_page(browser, (tmp_path / "page.html").as_uri())
+    check_panel(page, scene, mech)
+    check_rows_play(page, scene)
+    check_labels(page, scene)
+    page.close()
+
+
+def test_panel_on_the_live_page(browser, flat):
+    scene = viewer.show(flat, "flat", wrenches=True)
+    try:
+        page = open_page(browser, scene.url)
+        check_panel(page, scene, flat)
+        # the constraint wrenches were asked for: their table is there, one row per wrench, lines in world coordinates
+        wrenches = page.eval_on_selector_all("tr.pinmob-wrench", "(rows) => rows.map((r) => r.innerText)")
+        assert len(wrenches) == len(scene.mobility.constraints) == 4
+        assert page.is_visible(".pinmob-wrench-block")
+        check_rows_play(page, scene)
+        page.close()
+    finally:
+        scene.server.stop()
+
+
+def test_world_axes_and_grid_toggle(browser, flat, tmp_path):
+    viewer.export_html(flat, "flat", tmp_path / "flat.html", animate=False)
+    page = open_page(browser, (tmp_path / "flat.html").as_uri())
+    assert page.is_checked("#pinmob-world")
+    with_world = image(page)
+    page.click("#pinmob-world")
+    page.wait_for_timeout(300)
+    assert not page.evaluate("viewer.scene_tree.find(['meshcat', 'pinmob', 'world']).object.visible")
+    without = image(page)
+    assert (np.abs(with_world - without).max(axis=2) > 40).mean() > 0.01  # the grid covers much of the view
+    assert not {"x", "y", "z", "world origin"} & {b["text"] for b in visible_labels(page)}
+    page.close()

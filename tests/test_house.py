@@ -9,7 +9,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "pinmob"
 
 #: The layers, bottom first: a module may import only from its own layer or those below.
 LAYERS = [
-    {"pinmob.exceptions", "pinmob.frozen", "pinmob.jit_cache", "pinmob.blas", "pinmob.signals"},
+    {"pinmob.exceptions", "pinmob.frozen", "pinmob.jit_cache", "pinmob.blas", "pinmob.signals", "pinmob.progress"},
     {"pinmob.screw"},
     {"pinmob.model"},
     {"pinmob.assembly", "pinmob.io"},
@@ -20,7 +20,7 @@ LAYERS = [
     {"pinmob.cli", "pinmob", "pinmob.__main__"},
 ]
 #: Third-party packages only the presentation layers may import (the core never draws or plots).
-PRESENTATION = {"meshcat", "matplotlib", "zmq", "tqdm"}
+PRESENTATION = {"meshcat", "matplotlib", "zmq", "tqdm", "tornado", "umsgpack"}
 
 
 def module_name(path: Path) -> str:

@@ -247,6 +247,27 @@ def test_cli_models_subprocess():
     assert "3-RRR-spherical" in {r["name"] for r in json.loads(run.stdout)}
 
 
+def test_source_tree_without_the_install_finds_its_models():
+    """A source tree imported ahead of any install (``python -m pinmob`` in a checkout whose package is not
+    importable as ``pinmob.models``: no editable finder) reads the checkout's models/ folder."""
+    code = (
+        "import sys\n"
+        "sys.meta_path[:] = [f for f in sys.meta_path if 'editable' not in repr(f).lower()]\n"
+        f"sys.path.insert(0, {str(MODELS.parent)!r})\n"
+        "import pinmob\n"
+        "from pinmob.io.builtin import builtin_dir, builtin_models\n"
+        "print(pinmob.__file__)\n"
+        "print(builtin_dir())\n"
+        "print(len(builtin_models()))\n"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
+    assert run.returncode == 0, run.stderr
+    module, folder, count = run.stdout.split("\n")[:3]
+    assert Path(module).resolve() == MODELS.parent / "pinmob" / "__init__.py"
+    assert Path(folder) in (MODELS, MODELS.parent / "pinmob" / "models")  # the checkout's own files either way
+    assert int(count) == len(list(MODELS.glob("*.toml"))) > 0
+
+
 def test_installed_models_folder_holds_the_files():
     assert {p.name for p in builtin_dir().glob("*.toml")} >= {f"{s}.toml" for s in catalog.CATALOG}
 

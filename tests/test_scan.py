@@ -18,7 +18,7 @@ import pinmob
 import pinmob.scan.chunk as scan_module
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.cli import main
-from pinmob.scan import plot
+from pinmob.scan import plot, plot_map
 from pinmob.scan.output import RowWriter, read_columns
 from pinmob.scan.run import columns, scan
 from pinmob.scan.spec import STRIDE, ScanSpec, grid_spec, path_spec
@@ -384,15 +384,15 @@ def test_all_unreachable_grid_plots_and_leaves_no_temporary_file(tmp_path, monke
 def test_map_cells_are_centred_on_the_samples(tmp_path):
     """Cell edges lie half a spacing around each sample, so the image and the markers share data coordinates,
     also along an axis with a single sample (its cell is as wide as the other axis's spacing)."""
-    assert_allclose(plot._edges(np.array([0.0, 1.0, 2.0]), 7.0), [-0.5, 0.5, 1.5, 2.5])
-    assert_allclose(plot._edges(np.array([0.3]), 0.02), [0.29, 0.31])
+    assert_allclose(plot_map._edges(np.array([0.0, 1.0, 2.0]), 7.0), [-0.5, 0.5, 1.5, 2.5])
+    assert_allclose(plot_map._edges(np.array([0.3]), 0.02), [0.29, 0.31])
     mech = pinmob.load("3-PUU")
     c = tmp_path / "row.csv"
     spec = grid_spec(mech, "generic", [("x", -0.1, -0.1, 1), ("y", -0.02, 0.02, 3)])
     with RowWriter(columns(spec), {}, str(c)) as writer:
         for row in scan(mech, spec, progress=False):
             writer.write(row)
-    fig = plot.map_figure(read_columns(c, ["grid_x", "grid_y", *plot.MAP_COLUMNS]), ["grid_x", "grid_y"])
+    fig = plot_map.map_figure(read_columns(c, ["grid_x", "grid_y", *plot_map.MAP_COLUMNS]), ["grid_x", "grid_y"])
     ax = fig.axes[0]
     assert_allclose(ax.get_xlim(), [-0.11, -0.09]) and assert_allclose(ax.get_ylim(), [-0.03, 0.03])
     (mesh,) = ax.collections

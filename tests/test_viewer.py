@@ -159,23 +159,32 @@ def test_rotation_glyph_axis_passes_through_the_world_point(name, config, centre
         assert on_axis.sum() >= 24, f"{m.label}: the axis line is not through {through}"
 
 
-def test_couples_are_beside_the_translation_arrows():
+def test_couples_and_translations_keep_clear_of_each_other_and_of_the_axes():
     # 3-PUU (paper eq. 38): 3T, constrained by three couples along the same x, y, z as the
-    # translations. Each arrow is a shaft along its line with a cone of radius 2.2 r
-    # (r = 0.02 L for motions, 0.015 L for wrenches): a couple arrow must keep clear of
-    # every translation arrow's line by more than both cone radii.
-    from pinmob.viewer.glyphs import constraint_glyph
+    # translations; 3-UR5: 3T3R, three rotation axes through the platform origin along the same
+    # x, y, z as the translations. Each arrow is a shaft with a cone of radius 2.2 r (r = 0.02 L for
+    # motions, 0.015 L for wrenches): a couple arrow must keep clear of every translation arrow's
+    # line, and a translation arrow of every rotation axis, by more than the cone radii.
+    from pinmob.viewer.glyphs import constraint_glyph, free_vector_start, motion_glyph
 
-    mech = pinmob.load("3-PUU")
-    mob = pinmob.analyze(mech, "generic")
-    origin, length = mob.platform_origin, mech.length_scale
-    assert mob.motion_type == "3T" and len(mob.constraints) == 3
-    clearance = 2.2 * 0.02 * length + 2.2 * 0.015 * length
-    for i, c in enumerate(mob.constraints):
-        couple = constraint_glyph(c, i, origin, length)
-        for m in mob.motions:
-            gap = _distance_to_line(couple.vertices, origin, m.direction).min()
-            assert gap > clearance, f"couple {i + 1} touches {m.label} ({gap / length:.3f} L)"
+    for name, config in (("3-PUU", "generic"), ("3-UR5", "generic")):
+        mech = pinmob.load(name)
+        mob = pinmob.analyze(mech, config)
+        origin, length = mob.platform_origin, mech.length_scale
+        start = free_vector_start(mob.motions, origin, length)
+        couples = free_vector_start(mob.motions, origin, length, side=-1.0)
+        clearance = 2.2 * 0.02 * length + 2.2 * 0.015 * length
+        translations = [m for m in mob.motions if m.kind is pinmob.MotionKind.TRANSLATION]
+        for i, c in enumerate(mob.constraints):
+            couple = constraint_glyph(c, i, origin, length, couples)
+            for m in translations:
+                gap = _distance_to_line(couple.vertices, start, m.direction).min()
+                assert gap > clearance, f"{name}: couple {i + 1} touches {m.label} ({gap / length:.3f} L)"
+        for m in translations:
+            arrow = motion_glyph(m, origin, length, start)
+            for r in (r for r in mob.motions if r.point is not None):
+                gap = _distance_to_line(arrow.vertices, origin + r.point, r.direction).min()
+                assert gap > 2.2 * 0.02 * length, f"{name}: {m.label} lies on the axis of {r.label}"
 
 
 @pytest.mark.parametrize("port", ["99999", "0", "-5", "65536"])
@@ -254,25 +263,73 @@ def _messages_to_a_new_browser(web_url: str, quiet: float = 2.0) -> list[dict]:
     return asyncio.run(read())
 
 
-def test_a_rigid_scene_replaces_the_previous_clips_and_menu_on_a_reused_server():
+def test_a_rigid_scene_replaces_the_previous_clips_and_panel_on_a_reused_server():
     # 3-PUU (3 motions) then the Delta with its arms stretched (rigid: no motion) on one server:
-    # a browser that connects afterwards must get neither the 3-PUU's clip nor its motion menu
+    # a browser that connects afterwards must get neither the 3-PUU's clip nor its panel
     from pinmob.viewer.server import start_server
 
     server = start_server()
     try:
         viewer.show(pinmob.load("3-PUU"), "generic", zmq_url=server.zmq_url, steps=2)
         before = _messages_to_a_new_browser(server.web_url)
-        assert any(m["type"] == "set_control" and m["name"] == "motion" for m in before)
+        (panel,) = [m["document"] for m in before if m["type"] == "pinmob_panel"]
+        assert [m["label"] for m in panel["motions"]] == ["T1 x", "T2 y", "T3 z"] and set(panel["clips"]) == {
+            "T1 x",
+            "T2 y",
+            "T3 z",
+        }
+        assert before[-1]["type"] == "pinmob_panel"  # after the scene it describes
         assert any(m["type"] == "set_animation" and m["animations"] for m in before)
         scene = viewer.show(pinmob.load("Delta"), "arms-stretched", zmq_url=server.zmq_url, steps=2)
-        assert scene.mobility.dof == 0 and scene.clips == ()
+        assert scene.mobility.dof == 0 and scene.clips == () and scene.panel_shown
         after = _messages_to_a_new_browser(server.web_url)
-        assert not any(m["type"] == "set_control" for m in after)
+        (panel,) = [m["document"] for m in after if m["type"] == "pinmob_panel"]
+        assert panel["title"] == "Delta at 'arms-stretched'" and panel["motions"] == [] and panel["clips"] == {}
         assert [m["animations"] for m in after if m["type"] == "set_animation"] == [[]]
         assert any(m["type"] == "set_object" for m in after)  # the Delta itself is there
+        assert not any("3-PUU" in str(m.get("path", "")) for m in after)
     finally:
         server.stop()
+
+
+def test_a_plain_meshcat_server_shows_the_scene_without_the_panel_and_says_so(tmp_path):
+    # meshcat's own server (what `meshcat-server` runs) keeps meshcat's commands only: the scene goes
+    # there, the panel is refused, and pinmob says so instead of failing
+    from pinmob.viewer.server import probe
+
+    zmq_url = f"tcp://127.0.0.1:{_free_port()}"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "meshcat.servers.zmqserver", "--zmq-url", zmq_url],
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+        start_new_session=True,
+    )
+    try:
+        deadline = time.monotonic() + 30
+        while True:
+            try:
+                probe(zmq_url, timeout=1.0)
+                break
+            except ViewerError:
+                assert time.monotonic() < deadline, "meshcat's server did not start"
+        out = run("show", "3-PUU", "--zmq-url", zmq_url, "--steps", "2")
+        assert out.returncode == 0, out.stderr
+        assert f"note: the meshcat server at {zmq_url} is not pinmob's" in out.stdout
+    finally:
+        proc.terminate()
+        proc.wait(10)
+
+
+def test_the_installed_meshcat_is_in_the_declared_range():
+    # pinmob's page drives meshcat's viewer script (handle_command, scene_tree, animator, camera): it is
+    # declared for the meshcat versions it is written and tested against, and those are what runs here
+    import importlib.metadata
+
+    from packaging.requirements import Requirement
+
+    (spec,) = [Requirement(r) for r in importlib.metadata.requires("pinmob") if r.startswith("meshcat")]
+    assert str(spec.specifier) in ("<0.4,>=0.3.2", ">=0.3.2,<0.4")
+    assert importlib.metadata.version("meshcat") in spec.specifier
 
 
 def _free_port() -> int:
@@ -353,3 +410,20 @@ def test_sigterm_stops_the_server_it_started(model, when, status):
                 os.kill(pid, signal.SIGKILL)
             except ProcessLookupError:
                 pass
+
+
+def test_panel_document_of_the_spherical_wrist(tmp_path):
+    # 3-RRR-spherical at 'generic': three rotations about O = (0, 0, 0), each clip stopped by a limb
+    # reaching the edge of its workspace; the panel says so in short, per direction, and names the centre
+    scene = viewer.export_html(pinmob.load("3-RRR-spherical"), "generic", tmp_path / "s.html", steps=12)
+    doc = scene.panel
+    assert doc["answer"] == {"dof": 3, "motion_type": "3R", "words": "3 rotations"}
+    assert "The 3 rotation axes meet at (0, 0, 0) m: the platform turns about that point." in doc["summary"]
+    rows = {r["label"]: r for r in doc["motions"]}
+    assert [r["status"] for r in rows.values()] == ["partial"] * 3
+    assert rows["R1 x"]["why"][0].startswith("forwards, limb A reaches the edge of its workspace")
+    assert rows["R1 x"]["why"][1].startswith("backwards, limb C reaches the edge of its workspace")
+    assert len(rows["R3 z"]["why"]) == 1 and rows["R3 z"]["why"][0].startswith("forwards, limb A reaches")
+    for r in rows.values():
+        assert len(r["notes"]) == len(r["why"]) and all(note in " ".join(scene.notes) for note in r["notes"])
+        assert r["point"] is not None and abs(np.cross(r["point"], r["direction"])).max() < 1e-9  # through O

@@ -8,7 +8,7 @@
 and :mod:`~pinmob.analysis.singularity_analysis`, :mod:`~pinmob.analysis.paper`
 (the seed paper's view), :mod:`~pinmob.analysis.modes` (assembly modes),
 :mod:`~pinmob.analysis.motion_path` and :mod:`~pinmob.analysis.path_follower` (following a
-motion), finite versus instantaneous mobility (:mod:`~pinmob.analysis.finite`, from
+motion), :mod:`~pinmob.analysis.motion_limits` (what stops it), finite versus instantaneous mobility (:mod:`~pinmob.analysis.finite`, from
 :mod:`~pinmob.analysis.loop_screws`, :mod:`~pinmob.analysis.higher_order`,
 :mod:`~pinmob.analysis.tangent_cone`, :mod:`~pinmob.analysis.branches`,
 :mod:`~pinmob.analysis.verdicts`, :mod:`~pinmob.analysis.local_dimension` and

@@ -23,6 +23,7 @@ from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
+from pinmob.progress import step
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank
 
@@ -178,8 +179,10 @@ def actuator_sets(
     rates = selector(model.nv, joint_velocity_indices(mech, names), chain.col) @ n  # (len(names), m)
     out = output_rows(conf, outputs) @ n
     valid = []
-    for combo in itertools.combinations(range(len(names)), size):
-        split = lock(rates[list(combo)], out, rtol, n.shape[1])
-        if split.valid(size):
-            valid.append(tuple(names[i] for i in combo))
+    with step(f"trying every set of {size} actuated joints of {mech.name}", total=count) as bar:
+        for combo in itertools.combinations(range(len(names)), size):
+            split = lock(rates[list(combo)], out, rtol, n.shape[1])
+            if split.valid(size):
+                valid.append(tuple(names[i] for i in combo))
+            bar.update()
     return valid

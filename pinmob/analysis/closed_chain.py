@@ -14,7 +14,9 @@ With the dimensionless closure Jacobian ``K`` (rows, nv) of
 - Grubler-Kutzbach count ``sum f_joints - sum rows_closures = nv - rows``
   (``6 (n - 1 - j) + sum f`` with each closure as a joint of 6 - rows
   freedoms); it equals ``m`` only when no equation is redundant;
-- idle motions: closed-chain motions that move no actuated joint, no output
+- internal motions: closed-chain motions that leave the output frame still,
+  ``m`` minus the output's DoF (one output only);
+- idle motions: the internal motions that move no actuated joint, no output
   frame (the platform, else the tree's leaf bodies that carry no closure
   frame; frames named only to be reported are not outputs), no joint centre
   and no closure point; e.g. a rod spinning about the line through its two
@@ -34,14 +36,14 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.actuation import Actuation, actuation, lock
-from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, output_rows, selector
+from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, output_rows, selector
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.joints import frame_id, velocity_spans
+from pinmob.model.joints import frame_id, frame_name
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import classify_twists, motion_type
@@ -57,14 +59,16 @@ class FrameMobility(ReadOnlyArrays):
     motion_type: str
     motions: tuple[Motion, ...]
     free_twists: Array = field(repr=False)
+    origin: Array = field(default_factory=lambda: np.zeros(3), repr=False)
+    length_scale: float = 1.0
 
     def to_dict(self) -> dict[str, Any]:
-        """``{frame, dof, motion_type, motions}``."""
+        """``{frame, dof, motion_type, motions}`` (each motion with its ``world_point``)."""
         return {
             "frame": self.frame,
             "dof": self.dof,
             "motion_type": self.motion_type,
-            "motions": [m.to_dict() for m in self.motions],
+            "motions": [m.to_dict(self.origin, self.length_scale) for m in self.motions],
         }
 
 
@@ -101,6 +105,13 @@ class MechanismMobility(ReadOnlyArrays):
         return self.rows - self.rank
 
     @property
+    def internal_dof(self) -> int | None:
+        """Closed-chain motions with the output frame still: mechanism DoF minus its DoF (None unless one output)."""
+        if len(self.end_frames) != 1 or not self.frames or self.frames[0].frame != self.end_frames[0]:
+            return None
+        return self.mechanism_dof - self.frames[0].dof
+
+    @property
     def redundant_by_closure(self) -> dict[str, int]:
         """Per closure, its equations implied by the rest (:attr:`ClosureRank.redundant`); order-independent."""
         return {c.name: c.redundant for c in self.closures}
@@ -114,6 +125,7 @@ class MechanismMobility(ReadOnlyArrays):
             "closure_rows": self.rows,
             "closure_rank": self.rank,
             "mechanism_dof": self.mechanism_dof,
+            "internal_dof": self.internal_dof,
             "idle_dof": self.idle_dof,
             "idle_joints": list(self.idle_joints),
             "redundant_constraints": self.redundant_constraints,
@@ -136,15 +148,19 @@ class MechanismMobility(ReadOnlyArrays):
         lines = [
             f"{self.mechanism}{where}: mechanism DoF {self.mechanism_dof} (nv {self.nv} - closure rank {self.rank}), "
             f"Grubler-Kutzbach {self.grubler} (nv {self.nv} - {self.rows} closure equations)",
-            f"redundant closure equations: {self.redundant_constraints}"
-            + (
-                " (equations implied by the rest, per closure: "
-                + ", ".join(f"{k}: {v}" for k, v in self.redundant_by_closure.items() if v)
-                + ")"
-                if self.redundant_constraints
-                else ""
-            ),
         ]
+        internal = self.internal_dof
+        if internal:
+            out = self.frames[0]
+            lines.append(
+                f"  = {out.dof} DoF of frame {out.frame!r} + {internal} internal motion(s): joints moving while "
+                f"{out.frame!r} stays still ({self.idle_dof} of them idle)"
+            )
+        per_closure = ", ".join(f"{k}: {v}" for k, v in self.redundant_by_closure.items() if v)
+        redundant = (
+            f" (equations implied by the rest, per closure: {per_closure})" if self.redundant_constraints else ""
+        )
+        lines.append(f"redundant closure equations: {self.redundant_constraints}{redundant}")
         unneeded = [c.name for c in self.closures if not c.needed]
         if unneeded:
             lines.append(f"closures that add no constraint (removing one changes nothing): {', '.join(unneeded)}")
@@ -170,9 +186,9 @@ class MechanismMobility(ReadOnlyArrays):
             lines.append(
                 f"frame {f.frame!r}: {f.dof} DoF, {f.motion_type}"
                 + (f"; {rigid} DoF with the actuators locked" if rigid is not None else "")
-                + " (axis points relative to its origin, world axes)"
+                + " (axis points in world coordinates)"
             )
-            lines.extend(m.line() for m in f.motions)
+            lines.extend(m.line(f.origin, f.length_scale) for m in f.motions)
         lines.append(f"closure rank tolerance {self.tolerance:.2e}, L = {self.length_scale:.4g} m")
         return "\n".join(lines)
 
@@ -192,18 +208,6 @@ def default_end_frames(mech: Mechanism) -> tuple[str, ...]:
     return tuple(out)
 
 
-def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str, ...]:
-    """Joints with a rate above ``tol`` times the largest in the motions ``basis`` (nv, k)."""
-    model = mech.model
-    if basis.size == 0:
-        return ()
-    size = np.linalg.norm(basis, axis=1)
-    top = float(size.max()) or 1.0
-    joints, starts = velocity_spans(model)
-    largest = np.maximum.reduceat(size, starts) if starts.size else np.zeros(0)
-    return tuple(model.names[int(j)] for j, big in zip(joints, largest) if big > tol * top)
-
-
 @one_blas_thread
 def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobility:
     """Free motions of ``frame`` on the closed chain, at its origin with world axes.
@@ -216,14 +220,17 @@ def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobilit
         FrameError: no such frame (the message lists them).
     """
     mech = conf.mechanism
-    frame_id(mech.model, frame)
+    fid = frame_id(mech.model, frame)
     length = mech.length_scale
     image = frame_rows(conf, frame) @ closed_chain(conf, rtol).null
     dec = decide_rank(image.T, rtol, 6, at_least=1.0)
     basis = dec.row_space.T  # (6, rank): the image's orthonormal column span
     system = classify_twists(basis / twist_scaling(length)[:, None], length, rtol)
     motions = motions_of(system)
-    return FrameMobility(frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]))
+    origin = np.array(conf.frame_placement(fid).translation)
+    return FrameMobility(
+        frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]), origin, length
+    )
 
 
 @one_blas_thread
@@ -248,14 +255,13 @@ def mechanism_mobility(
             platform, else the tree's free leaf bodies).
 
     Raises:
-        FrameError: a frame does not exist.
+        FrameError: a frame does not exist (frame names are matched ignoring case where unambiguous).
     """
     mech = conf.mechanism
     acts = tuple(mech.actuated if actuated is None else actuated)
-    outs = tuple(default_end_frames(mech) if outputs is None else outputs)
-    reported = outs + tuple(f for f in dict.fromkeys(frames or ()) if f not in outs)
-    for name in reported:
-        frame_id(mech.model, name)
+    outs = tuple(default_end_frames(mech) if outputs is None else (frame_name(mech.model, f) for f in outputs))
+    named = (frame_name(mech.model, f) for f in frames or ())
+    reported = outs + tuple(f for f in dict.fromkeys(named) if f not in outs)
     chain = closed_chain(conf, rtol)
     dec = chain.decision
     idx = joint_velocity_indices(mech, list(acts))

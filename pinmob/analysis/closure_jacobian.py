@@ -23,7 +23,8 @@ import pinocchio as pin
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.residual import stacked_error
 from pinmob.blas import one_blas_thread
-from pinmob.model.joints import frame_id, linear_velocity_mask
+from pinmob.model.joints import frame_id, linear_velocity_mask, velocity_spans
+from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.rank import RankDecision, decide_rank, decision, svd
 
@@ -155,3 +156,15 @@ def closure_jacobian_twists(conf: Configuration, rtol: float) -> Array:
         return np.zeros((6, 0))
     dec = decide_rank(image.T, rtol, n=6, reference=reference)
     return dec.row_space.T / scale
+
+
+def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str, ...]:
+    """Joints with a rate above ``tol`` times the largest in the motions ``basis`` (nv, k)."""
+    model = mech.model
+    if basis.size == 0:
+        return ()
+    size = np.linalg.norm(basis, axis=1)
+    top = float(size.max()) or 1.0
+    joints, starts = velocity_spans(model)
+    largest = np.maximum.reduceat(size, starts) if starts.size else np.zeros(0)
+    return tuple(model.names[int(j)] for j, big in zip(joints, largest) if big > tol * top)

@@ -66,6 +66,7 @@ class Configuration:
     ) -> None:
         tol = check_closure_tol(closure_tol)
         if isinstance(q, str):
+            q = mechanism.configuration_name(q)
             vec, _ = named_vector(mechanism, q, tol)  # its closure is checked below, with the kinematics
             name = q if name is None else name
             source = source or f"named configuration {q!r}"

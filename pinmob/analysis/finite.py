@@ -127,6 +127,8 @@ class FiniteMobility:
         """The block ``pinmob analyze --finite`` prints."""
         free = self.free
         many = len(free.branches) > 1
+        origin = self.conf.platform_origin if self.platform else None
+        length = self.conf.mechanism.length_scale
         lines = [
             f"finite mobility: higher-order conditions up to order {self.order} (tolerance {self.tolerance:.2e}), "
             f"each motion traced, {free.samples.samples} closed samples within {free.samples.radius:g} of q"
@@ -135,7 +137,7 @@ class FiniteMobility:
             lines.append(
                 f"platform: {_finite(free, free.finite_dof)} (instantaneous: {free.dof} DoF, {free.motion_type})"
             )
-            lines += [m.line(many) for m in free.motions]
+            lines += [m.line(many, origin, length) for m in free.motions]
         internal = "; internal motions (the platform still to first order):" if free.internal and self.platform else ""
         internal = internal or (":" if free.internal else "")
         lines.append(
@@ -151,7 +153,7 @@ class FiniteMobility:
                 f"actuators held ({', '.join(lk.held)}): {what} {_finite(lk, self.finite_dof_locked, False)} "
                 f"(instantaneous: {inst})"
             )
-            lines += [m.line(len(lk.branches) > 1) for m in lk.motions]
+            lines += [m.line(len(lk.branches) > 1, origin, length) for m in lk.motions]
             lines += [f"  note: {n}" for n in lk.notes]
         return "\n".join(lines)
 

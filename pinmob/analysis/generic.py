@@ -32,6 +32,7 @@ from pinmob.assembly.named import closed_configuration
 from pinmob.assembly.seeds import random_configuration
 from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model.mechanism import Mechanism
+from pinmob.progress import step
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.rank import RTOL, decide_rank
 
@@ -98,17 +99,19 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
             ]
         )
         closed = []
-        for name in mech.configurations:
-            try:
-                q0 = closed_configuration(mech, name)
-            except PinmobError:
-                continue
-            for _ in range(samples):
-                q = pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit)
+        with step(f"closing random configurations of {mech.name} (generic ranks)", len(mech.configurations)) as bar:
+            for name in mech.configurations:
+                bar.update()
                 try:
-                    closed.append(assemble_joints(mech, {}, q))
+                    q0 = closed_configuration(mech, name)
                 except PinmobError:
                     continue
+                for _ in range(samples):
+                    q = pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit)
+                    try:
+                        closed.append(assemble_joints(mech, {}, q))
+                    except PinmobError:
+                        continue
         if not closed:
             raise PinmobError(
                 f"cannot estimate the generic constraint rank of {mech.name!r}: no named configuration closes; "

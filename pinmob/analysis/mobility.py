@@ -114,12 +114,29 @@ class Mobility(ReadOnlyArrays):
         return tuple(limb.name for limb in self.limbs if limb.serially_singular)
 
     @property
+    def rotation_centre(self) -> Array | None:
+        """(3,) the world point [m] where every rotation axis meets, when there are two or more and they do.
+
+        The least-squares point of the axes (lines ``p_i + t d_i``); None when it lies farther than
+        ``1e-9 L`` from any of them, or there are fewer than two rotations.
+        """
+        rotations = [m for m in self.motions if m.kind is MotionKind.ROTATION and m.point is not None]
+        if len(rotations) < 2:
+            return None
+        points = [self.platform_origin + m.point for m in rotations if m.point is not None]
+        projectors = [np.eye(3) - np.outer(m.direction, m.direction) for m in rotations]
+        rhs = np.concatenate([p @ a for p, a in zip(projectors, points)])
+        point = np.linalg.lstsq(np.vstack(projectors), rhs)[0]
+        off = max(float(np.linalg.norm(p @ (point - a))) for p, a in zip(projectors, points))
+        return clean(point, self.length_scale) if off <= 1e-9 * self.length_scale else None
+
+    @property
     def frame(self) -> str:
         """A sentence naming the frame twists and wrenches are expressed in."""
         p = ", ".join(f"{x:.6g}" for x in clean(self.platform_origin, self.length_scale))
         return (
             f"twists [v; w] and wrenches [f; tau] at the origin of frame {self.platform!r} "
-            f"(world position [{p}] m), world-aligned axes (pin.LOCAL_WORLD_ALIGNED)"
+            f"(world position [{p}] m), world-aligned axes (pin.LOCAL_WORLD_ALIGNED); axis points in world coordinates"
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -135,9 +152,9 @@ class Mobility(ReadOnlyArrays):
             "translations": self.translations,
             "rotations": self.rotations,
             "screws": self.screws,
-            "motions": [m.to_dict() for m in self.motions],
+            "motions": [m.to_dict(self.platform_origin, self.length_scale) for m in self.motions],
             "free_twists": self.free_twists.T.tolist(),
-            "constraints": [c.to_dict() for c in self.constraints],
+            "constraints": [c.to_dict(self.platform_origin, self.length_scale) for c in self.constraints],
             "constraint_wrenches": self.constraint_wrenches.T.tolist(),
             "constraint_rank": self.constraint_rank,
             "singular_values": vector(self.singular_values),
@@ -152,9 +169,13 @@ class Mobility(ReadOnlyArrays):
         where = f" at {self.configuration!r}" if self.configuration else ""
         view = " (paper's view: generic limb wrenches carried here)" if self.view is View.PAPER else ""
         lines = [f"{self.mechanism}{where}{view}: {self.dof} DoF, {self.motion_type}"]
-        lines.extend(m.line() for m in self.motions)
+        origin, length = self.platform_origin, self.length_scale
+        lines.extend(m.line(origin, length) for m in self.motions)
+        centre = self.rotation_centre
+        if centre is not None:
+            lines.append(f"  the {self.rotations} rotation axes meet at {numbers(centre)} m (world)")
         lines.append(f"constraint rank {self.constraint_rank}:")
-        lines.extend(c.line() for c in self.constraints)
+        lines.extend(c.line(origin, length) for c in self.constraints)
         if self.method_note:
             lines.append(f"method: {self.method.value} ({self.method_note})")
         lines.append("limbs:" if self.limbs else "limbs: none used")

@@ -25,6 +25,7 @@ from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ClosureError, ConfigurationError, choices
 from pinmob.model.joints import frame_id, linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
+from pinmob.progress import step
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -114,27 +115,29 @@ def assembly_modes(
     signatures: list[ModeSignature] = []
     moving: list[int] = []
     rigid = False
-    for k in range(seeds + 1):
-        start = mech.neutral() if k == 0 else random_configuration(mech, rng)
-        label = "neutral" if k == 0 else f"random seed {k} (seed {seed})"
-        try:
-            sol = solve_actuated(mech, values, start, tol) if values else project(mech, start, tol)
-        except ClosureError:
-            continue
-        sig = mode_signature(mech, sol.q, frames, held)
-        if any(mode_distance(mech, sig, other, held) <= distinct for other in signatures):
-            continue
-        found.append(replace(sol, method=f"{sol.method} from {label}"))
-        signatures.append(sig)
-        if not rigid:
-            left = _moving(mech, sol.q, held, frames, tol)
-            rigid = left == 0
-            moving += [left] if left else []
-        if not rigid and len(moving) >= 2:
-            what = f"with {', '.join(held)} held" if held else "with no joint held"
-            raise ConfigurationError(
-                f"{mech.name!r} {what} still moves ({moving[0]} motion(s) that are not idle at each solution found): "
-                "its closed configurations form a continuum, not discrete assembly modes; hold more joints "
-                f"(declared actuated: {choices(mech.actuated)})"
-            )
+    with step(f"searching the assembly modes of {mech.name}", total=seeds + 1) as bar:
+        for k in range(seeds + 1):
+            bar.update()
+            start = mech.neutral() if k == 0 else random_configuration(mech, rng)
+            label = "neutral" if k == 0 else f"random seed {k} (seed {seed})"
+            try:
+                sol = solve_actuated(mech, values, start, tol) if values else project(mech, start, tol)
+            except ClosureError:
+                continue
+            sig = mode_signature(mech, sol.q, frames, held)
+            if any(mode_distance(mech, sig, other, held) <= distinct for other in signatures):
+                continue
+            found.append(replace(sol, method=f"{sol.method} from {label}"))
+            signatures.append(sig)
+            if not rigid:
+                left = _moving(mech, sol.q, held, frames, tol)
+                rigid = left == 0
+                moving += [left] if left else []
+            if not rigid and len(moving) >= 2:
+                what = f"with {', '.join(held)} held" if held else "with no joint held"
+                raise ConfigurationError(
+                    f"{mech.name!r} {what} still moves ({moving[0]} motion(s) that are not idle at each solution found): "
+                    "its closed configurations form a continuum, not discrete assembly modes; hold more joints "
+                    f"(declared actuated: {choices(mech.actuated)})"
+                )
     return found

@@ -10,7 +10,7 @@ import numpy as np
 
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
-from pinmob.screw.bases import axis_label
+from pinmob.screw.bases import axis_label, clean
 from pinmob.screw.classify import MotionKind, ScrewSystem, WrenchKind
 
 #: Words for the motion kinds in text reports.
@@ -41,6 +41,21 @@ def numbers(a: Array, digits: int = 4) -> str:
     return "[" + ", ".join(f"{x: .{digits}g}" for x in np.asarray(a) + 0.0) + "]"
 
 
+def world_point(point: Array | None, origin: Array, length: float = 1.0) -> Array | None:
+    """``origin + point`` [m]: a point given relative to an origin, in world coordinates (None stays None).
+
+    Entries below ``1e-10 length`` [m] are zeroed (round-off of the sum).
+    """
+    return None if point is None else clean(np.asarray(origin, float) + point, length)
+
+
+def with_world_point(out: dict[str, Any], point: Array | None, origin: Array | None, length: float) -> dict[str, Any]:
+    """``out`` with ``world_point`` (see :func:`world_point`) added when ``origin`` is given."""
+    if origin is not None:
+        out["world_point"] = vector(world_point(point, origin, length))
+    return out
+
+
 @dataclass(frozen=True)
 class Motion(ReadOnlyArrays):
     """One free motion of the platform (SI units, Pinocchio order).
@@ -61,21 +76,32 @@ class Motion(ReadOnlyArrays):
     twist: Array
     label: str
 
-    def to_dict(self) -> dict[str, Any]:
-        """``{kind, label, direction, point, pitch}`` (plain JSON)."""
-        return {
+    def world_point(self, origin: Array, length: float = 1.0) -> Array | None:
+        """The axis point in world coordinates [m], ``origin + point`` (see :func:`world_point`)."""
+        return world_point(self.point, origin, length)
+
+    def to_dict(self, origin: Array | None = None, length: float = 1.0) -> dict[str, Any]:
+        """``{kind, label, direction, point, pitch}`` (plain JSON); ``world_point`` too when ``origin`` (3,) [m] is given (:func:`with_world_point`)."""
+        out = {
             "kind": self.kind.value,
             "label": self.label,
             "direction": vector(self.direction),
             "point": vector(self.point),
             "pitch": self.pitch,
         }
+        return with_world_point(out, self.point, origin, length)
 
-    def line(self) -> str:
-        """``  T1 x     translation direction [...]`` (+ ``through [...] m``, ``pitch ... m/rad``)."""
+    def line(self, origin: Array, length: float = 1.0) -> str:
+        """``  R1 z     rotation    direction [...], axis through [...] m (world)`` (+ ``pitch ... m/rad``).
+
+        Args:
+            origin: (3,) world position [m] of the origin the axis point is relative to.
+            length: the mechanism's length scale L [m] (entries below 1e-10 L print as 0).
+        """
         text = f"  {self.label:<8} {KIND_WORDS[self.kind]:<11} direction {numbers(self.direction)}"
-        if self.point is not None:
-            text += f" through {numbers(self.point)} m"
+        point = self.world_point(origin, length)
+        if point is not None:
+            text += f", axis through {numbers(point)} m (world)"
         if self.kind is MotionKind.SCREW:
             text += f", pitch {self.pitch:.4g} m/rad"
         return text
@@ -99,21 +125,32 @@ class Constraint(ReadOnlyArrays):
     pitch: float | None
     wrench: Array
 
-    def to_dict(self) -> dict[str, Any]:
-        """``{kind, direction, point, pitch, wrench}`` (plain JSON)."""
-        return {
+    def world_point(self, origin: Array, length: float = 1.0) -> Array | None:
+        """The point of the line of action in world coordinates [m], ``origin + point`` (see :func:`world_point`)."""
+        return world_point(self.point, origin, length)
+
+    def to_dict(self, origin: Array | None = None, length: float = 1.0) -> dict[str, Any]:
+        """``{kind, direction, point, pitch, wrench}`` (plain JSON); ``world_point`` too when ``origin`` (3,) [m] is given (:func:`with_world_point`)."""
+        out = {
             "kind": self.kind.value,
             "direction": vector(self.direction),
             "point": vector(self.point),
             "pitch": self.pitch,
             "wrench": vector(self.wrench),
         }
+        return with_world_point(out, self.point, origin, length)
 
-    def line(self) -> str:
-        """``  couple  direction [...]`` (+ ``through [...] m``, ``pitch ... m/rad``)."""
+    def line(self, origin: Array, length: float = 1.0) -> str:
+        """``  force   direction [...], line through [...] m (world)`` (+ ``pitch ... m/rad``); a couple has no line.
+
+        Args:
+            origin: (3,) world position [m] of the origin the point is relative to.
+            length: the mechanism's length scale L [m] (entries below 1e-10 L print as 0).
+        """
         text = f"  {self.kind.value:<7} direction {numbers(self.direction)}"
-        if self.point is not None:
-            text += f" through {numbers(self.point)} m"
+        point = self.world_point(origin, length)
+        if point is not None:
+            text += f", line through {numbers(point)} m (world)"
         if self.kind is WrenchKind.WRENCH:
             text += f", pitch {self.pitch:.4g} m/rad"
         return text

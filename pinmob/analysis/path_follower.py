@@ -27,6 +27,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import angle_between, displacement
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.motion import Motion
+from pinmob.analysis.motion_limits import describe, limiting_limbs
 from pinmob.assembly.assemble import assemble_pose as _assemble_pose
 from pinmob.assembly.assemble import project
 from pinmob.assembly.residual import closure_residual, compute_kinematics, stacked_error
@@ -35,6 +36,7 @@ from pinmob.exceptions import ClosureError
 from pinmob.model.joints import short_difference
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
+from pinmob.screw.classify import MotionKind
 from pinmob.screw.rank import decide_rank
 
 #: a step is halved at most this many times before the motion is declared stopped
@@ -142,25 +144,38 @@ class Follower:
 
     def branch(self, q: Array, unit: Array, amp: float, ds: float) -> tuple[list[Array], float, str]:
         """Configurations from q along ``unit`` up to ``amp``, the distance covered, and why it stopped ("" if not)."""
-        path, current, covered, start = [q], q, 0.0, self.pose(q)
+        path, current, covered, start = [q], q, [0.0], self.pose(q)
         limit = int(np.ceil(amp / ds)) * 2**self.halvings + 4  # every step covers at least ds / 2^halvings
-        while covered < amp * (1 - 1e-9):
+        while covered[-1] < amp * (1 - 1e-9):
             if len(path) > limit:
-                return path, covered, f"{limit} steps taken without reaching the amplitude"
+                return path, covered[-1], f"{limit} steps taken without reaching the amplitude"
             projected, why = self.project_free(current, self.direction_at(current, unit, start))
             if projected is None:
-                return path, covered, why
-            h = min(ds, amp - covered)
+                return path, covered[-1], why
+            h = first = min(ds, amp - covered[-1])
             for _ in range(self.halvings + 1):
                 nxt, why = self.step(current, projected, h)
                 if nxt is not None:
                     break
                 h /= 2
             if nxt is None:
-                return path, covered, f"{why} (also with steps down to {h * 2:.2g})"
+                return (
+                    path,
+                    covered[-1],
+                    self.stopped(path, covered, first, f"{why} (also with steps down to {h * 2:.2g})"),
+                )
             path.append(nxt)
-            current, covered = nxt, covered + h
-        return path, covered, ""
+            current = nxt
+            covered.append(covered[-1] + h)
+        return path, covered[-1], ""
+
+    def stopped(self, path: list[Array], covered: list[float], step: float, why: str) -> str:
+        """Why a platform motion stopped: the limbs reaching the edge of their workspace there, if any, then ``why``."""
+        if self.motion is None:
+            return why
+        limits = limiting_limbs(self.mech, path, covered, step, self.rtol)
+        unit = "m" if self.motion.kind is MotionKind.TRANSLATION else "rad"
+        return f"{describe(limits, unit)}, so {why}" if limits else why
 
 
 class RateFollower(Follower):

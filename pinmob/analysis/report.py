@@ -13,8 +13,7 @@ them all):
 * ``paper``: the seed paper's view, only when asked (``paper=True``);
 * ``actuator_sets``: every valid set of K actuated joints, only when asked
   (``actuator_search=K``);
-* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``;
-  :mod:`pinmob.analysis.finite`).
+* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
 """
 
 from __future__ import annotations
@@ -29,31 +28,14 @@ from numpy.typing import ArrayLike
 from pinmob.analysis.actuation import actuator_sets
 from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.expectation import ExpectationCheck, expectation_check
 from pinmob.analysis.finite import FiniteMobility, finite_mobility
 from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
+from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
-
-
-@dataclass(frozen=True)
-class ExpectationCheck:
-    """The mechanism file's expected mobility at the configuration, and whether the analysis agrees."""
-
-    dof: int
-    motion_type: str
-    source: str
-    agrees: bool
-
-    def to_dict(self) -> dict[str, Any]:
-        """The ``expected`` entry of the JSON document."""
-        return {"dof": self.dof, "motion_type": self.motion_type, "source": self.source, "agrees": self.agrees}
-
-    def __str__(self) -> str:
-        src = f" ({self.source})" if self.source else ""
-        verdict = "agrees with" if self.agrees else "DIFFERS from"
-        return f"expected {self.dof} DoF {self.motion_type}{src}: analysis {verdict} it"
 
 
 @dataclass(frozen=True)
@@ -162,13 +144,8 @@ class Report:
     @property
     def expectation(self) -> ExpectationCheck | None:
         """The file's expected mobility at this configuration and whether the analysis agrees (None if none)."""
-        mech, name = self.state.mechanism, self.state.name
-        exp = mech.expected.get(name) if name is not None else None
-        if exp is None:
-            return None
-        found: Mobility | FrameMobility | None = self.mobility if self.has_limbs else self.platform_frame
-        agrees = found is not None and (found.dof, found.motion_type) == (exp.dof, exp.motion_type)
-        return ExpectationCheck(exp.dof, exp.motion_type, exp.source, agrees)
+        found = self.mobility if self.has_limbs else self.platform_frame
+        return expectation_check(self.state.mechanism, self.state.name, found)
 
     # ------------------------------------------------------------------ the platform mobility's fields
 
@@ -267,6 +244,11 @@ class Report:
         lines.extend(["", str(self.finite)] if self.finite else [])
         return "\n".join(lines)
 
+    def brief(self) -> str:
+        """The one-line answer ``pinmob analyze --brief`` prints (:func:`~pinmob.analysis.summary.summary_line`)."""
+        chain = self.mechanism_mobility if self.mobility is None else None
+        return summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
+
     def _actuator_lines(self) -> list[str]:
         sets = self.actuator_sets
         if sets is None:
@@ -284,6 +266,7 @@ MECHANISM_KEYS = (
     "closure_rows",
     "closure_rank",
     "mechanism_dof",
+    "internal_dof",
     "idle_dof",
     "idle_joints",
     "redundant_constraints",

@@ -156,7 +156,11 @@ class Singularity(ReadOnlyArrays):
     def __str__(self) -> str:
         """The singularity section of the text report."""
         near = f"; near-singular (below {NEAR_FACTOR * self.rtol:.0e})" if self.near_singular else ""
-        lines = [f"singularity: {self.label} (distance {self.distance:.3g}; 0 = singular, 1 = best conditioned{near})"]
+        ties = [k for k, v in self.distances.items() if v <= self.distance * (1 + 1e-6) + 1e-15]
+        closest = f", closest: {', '.join(ties)}" if ties else ""
+        lines = [
+            f"singularity: {self.label} (distance {self.distance:.3g}{closest}; 0 = singular, 1 = best conditioned{near})"
+        ]
         gap = self.rank_gap
         lines.append(
             f"  constraint: {'SINGULAR' if self.constraint else 'no'} (rank {self.constraint_rank}, generic {self.generic_rank}"

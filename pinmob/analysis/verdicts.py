@@ -73,10 +73,16 @@ class MotionVerdict(ReadOnlyArrays):
     joints: dict[str, float] = field(default_factory=dict)
     motion: Motion | None = field(default=None, repr=False)
 
-    def line(self, many: bool = False) -> str:
-        """The motion's line of the instantaneous report (or its label and joints) and the verdict."""
+    def line(self, many: bool = False, origin: Array | None = None, length: float = 1.0) -> str:
+        """The motion's line of the instantaneous report (or its label and joints) and the verdict.
+
+        Args:
+            many: several branches pass through q.
+            origin: (3,) world position [m] of the platform origin (the axis point is printed in world coordinates).
+            length: the mechanism's length scale L [m].
+        """
         if self.motion is not None:
-            head = self.motion.line()
+            head = self.motion.line(np.zeros(3) if origin is None else origin, length)
         else:
             items = list(self.joints.items())
             rates = ", ".join(f"{k} {v:+.3g}" for k, v in items[:4]) + (" ..." if len(items) > 4 else "")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
-from pinmob.exceptions import ConfigurationError, choices
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 
@@ -18,7 +17,7 @@ def closed_configuration(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -
     within ``tol`` (position / L and rotation [rad]).
 
     Raises:
-        ConfigurationError: no configuration ``name`` (the message lists them).
+        ConfigurationError: no configuration ``name``, even ignoring case (the message lists them).
         ClosureError: the configuration does not close, or its pose cannot be assembled.
     """
     q, checked = named_vector(mech, name, tol)
@@ -40,8 +39,7 @@ def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[
         ConfigurationError: no configuration ``name`` (the message lists them).
         ClosureError: its pose cannot be assembled.
     """
-    if name not in mech.configurations:
-        raise ConfigurationError(f"no configuration {name!r} in {mech.name!r}; valid: {choices(mech.configurations)}")
+    name = mech.configuration_name(name)
     conf = mech.configurations[name]
     if conf.pose is not None:
         return assemble_pose(mech, conf.pose, mech.q_from_joints(conf.seed), tol), True

@@ -17,6 +17,7 @@ from pinmob.assembly.seeds import find_closed
 from pinmob.exceptions import ClosureError, ConfigurationError, choices
 from pinmob.model.closure import ClosureType
 from pinmob.model.mechanism import Mechanism
+from pinmob.progress import step
 
 
 def unclosable(mech: Mechanism, restarts: int = 4, seed: int = 0) -> tuple[str, ...]:
@@ -28,12 +29,15 @@ def unclosable(mech: Mechanism, restarts: int = 4, seed: int = 0) -> tuple[str, 
     whose joints cannot bring the two frames to the same orientation.
     """
     out = []
-    for c in mech.closures:
-        alone = replace(mech, limbs=(), platform="", closures=(c,))
-        try:
-            find_closed(alone, restarts=restarts, seed=seed)
-        except ClosureError:
-            out.append(c.name)
+    with step(f"testing each closure of {mech.name} alone", total=len(mech.closures)) as bar:
+        for c in mech.closures:
+            bar.set_postfix_str(c.name)
+            alone = replace(mech, limbs=(), platform="", closures=(c,))
+            try:
+                find_closed(alone, restarts=restarts, seed=seed)
+            except ClosureError:
+                out.append(c.name)
+            bar.update()
     return tuple(out)
 
 
@@ -69,13 +73,16 @@ def find_closed_relaxed(
     except ClosureError:
         pass
     names = list(unclosable(mech, seed=seed))
-    while True:
-        current = relax(mech, names)
-        try:
-            return current, find_closed(current, restarts=relax_restarts, seed=seed), tuple(names)
-        except ClosureError as exc:
-            left = {c.name for c in current.closures if c.type != "3d"}
-            worst = [(worst_residual({n: r}, mech.length_scale), n) for n, r in exc.residuals.items() if n in left]
-            if not worst:
-                raise
-            names.append(max(worst)[1])
+    with step(f"relaxing closures of {mech.name} to 3d") as bar:
+        while True:
+            bar.set_postfix_str(f"relaxed: {', '.join(names) or 'none'}")
+            current = relax(mech, names)
+            try:
+                return current, find_closed(current, restarts=relax_restarts, seed=seed), tuple(names)
+            except ClosureError as exc:
+                left = {c.name for c in current.closures if c.type != "3d"}
+                worst = [(worst_residual({n: r}, mech.length_scale), n) for n, r in exc.residuals.items() if n in left]
+                if not worst:
+                    raise
+                names.append(max(worst)[1])
+            bar.update()

@@ -17,6 +17,7 @@ from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
+from pinmob.progress import step
 from pinmob.screw.algebra import Array
 
 
@@ -46,17 +47,19 @@ def find_closed(
     rng = np.random.default_rng(seed)
     best: ClosureError | None = None
     length = mech.length_scale
-    for k in range(restarts + 1):
-        if k == 0:
-            q_start, label = (mech.neutral(), "neutral") if q0 is None else (q0, "given")
-        else:
-            q_start, label = random_configuration(mech, rng), f"random restart {k} (seed {seed})"
-        try:
-            found = project(mech, q_start, tol=tol, method=f"projection from {label}")
-            return found if found.iterations else replace(found, method=label)
-        except ClosureError as exc:
-            if best is None or worst_residual(exc.residuals, length) < worst_residual(best.residuals, length):
-                best = exc
+    with step(f"closing the loops of {mech.name} (restarts)", total=restarts + 1) as bar:
+        for k in range(restarts + 1):
+            if k == 0:
+                q_start, label = (mech.neutral(), "neutral") if q0 is None else (q0, "given")
+            else:
+                q_start, label = random_configuration(mech, rng), f"random restart {k} (seed {seed})"
+            try:
+                found = project(mech, q_start, tol=tol, method=f"projection from {label}")
+                return found if found.iterations else replace(found, method=label)
+            except ClosureError as exc:
+                if best is None or worst_residual(exc.residuals, length) < worst_residual(best.residuals, length):
+                    best = exc
+            bar.update()
     assert best is not None  # restarts >= 0: at least one attempt
     raise ClosureError(
         f"no closed configuration of {mech.name!r} found from the neutral configuration and {restarts} random restarts; best: {best}",

@@ -2,8 +2,10 @@
 
 The commands only parse, call the library and format. Errors are printed as
 one line on stderr (``pinmob: error: ...``) with exit status 2, never with a
-traceback; warnings as ``pinmob: warning: ...`` lines. :func:`main` leaves the
-interpreter's warning filters and format as it found them.
+traceback; warnings as ``pinmob: warning: ...`` lines. Steps that last more
+than two seconds show a progress bar on stderr when it is a terminal
+(:mod:`pinmob.cli.progress_bar`). :func:`main` leaves the interpreter's warning
+filters and format as it found them.
 """
 
 from __future__ import annotations
@@ -16,7 +18,9 @@ from collections.abc import Callable, Sequence
 from typing import TextIO
 
 from pinmob.cli.parser import build_parser
+from pinmob.cli.progress_bar import terminal_bar
 from pinmob.exceptions import PinmobError
+from pinmob.progress import reporting
 
 
 def _models(args: argparse.Namespace) -> int:
@@ -82,7 +86,8 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     try:
-        status = COMMANDS[args.command](args)
+        with reporting(terminal_bar):  # steps over two seconds show a bar on stderr, on a terminal only
+            status = COMMANDS[args.command](args)
         sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
         return status
     except PinmobError as exc:

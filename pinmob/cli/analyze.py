@@ -43,7 +43,10 @@ def run(args: argparse.Namespace) -> int:
         finite=args.finite or args.finite_order is not None,  # --finite-order K implies --finite
         finite_order=ORDER if args.finite_order is None else args.finite_order,
     )
-    print(json.dumps(report.to_dict(), indent=2, allow_nan=False) if args.json else report)
+    if args.json:
+        print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
+    else:
+        print(report.brief() if args.brief else report)
     return check_status(args, report)
 
 

@@ -14,17 +14,15 @@ from pinmob.model.mechanism import Mechanism
 
 
 def pick_configuration(mech: Mechanism, config: str | None) -> str:
-    """The named configuration to use: the one asked for, else the file's first."""
+    """The named configuration to use: the one asked for (any case), else the file's first."""
     if config is None:
         if not mech.configurations:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; name one in the mechanism file")
         return next(iter(mech.configurations))
-    if config not in mech.configurations:
-        raise ConfigurationError(
-            f"no configuration {config!r} in {mech.name!r}; valid: {choices(mech.configurations)}"
-            + elsewhere(config, mech)
-        )
-    return config
+    try:
+        return mech.configuration_name(config)
+    except ConfigurationError as exc:
+        raise ConfigurationError(f"{exc}{elsewhere(config, mech)}") from None
 
 
 def elsewhere(config: str, mech: Mechanism | None = None) -> str:

@@ -8,31 +8,15 @@ from typing import Any
 
 from pinmob.io.builtin import builtin_models
 from pinmob.io.loader import load
+from pinmob.progress import Bar, step
 
 
 def run(args: argparse.Namespace) -> int:
     """``pinmob models``: the built-in mechanisms, their configurations and expected mobility."""
-    rows: list[dict[str, Any]] = []
-    for name in builtin_models():
-        mech = load(name)
-        rows.append(
-            {
-                "name": name,
-                "limbs": [{"name": b.name, "joints": list(b.joints), "actuated": list(b.actuated)} for b in mech.limbs],
-                "closures": [{"name": c.name, "frames": [c.frame_a, c.frame_b], "type": c.type} for c in mech.closures],
-                "configurations": {
-                    c: {
-                        "expected": (
-                            {"dof": mech.expected[c].dof, "motion_type": mech.expected[c].motion_type}
-                            if c in mech.expected
-                            else None
-                        )
-                    }
-                    for c in mech.configurations
-                },
-                "description": mech.description,
-            }
-        )
+    names = builtin_models()
+    with step("loading the built-in models", total=len(names)) as bar:
+        rows = [_row(name, bar) for name in names]
+
     if args.json:
         print(json.dumps(rows, indent=2))
         return 0
@@ -48,3 +32,27 @@ def run(args: argparse.Namespace) -> int:
             print(f"    {c}" + (f": expected {exp['dof']} DoF {exp['motion_type']}" if exp else ""))
     print("(* actuated; joint names without the limb prefix)")
     return 0
+
+
+def _row(name: str, bar: Bar) -> dict[str, Any]:
+    """One built-in model as a plain dictionary (limbs, closures, configurations, description)."""
+    bar.set_postfix_str(name)
+    mech = load(name)
+    row = {
+        "name": name,
+        "limbs": [{"name": b.name, "joints": list(b.joints), "actuated": list(b.actuated)} for b in mech.limbs],
+        "closures": [{"name": c.name, "frames": [c.frame_a, c.frame_b], "type": c.type} for c in mech.closures],
+        "configurations": {
+            c: {
+                "expected": (
+                    {"dof": mech.expected[c].dof, "motion_type": mech.expected[c].motion_type}
+                    if c in mech.expected
+                    else None
+                )
+            }
+            for c in mech.configurations
+        },
+        "description": mech.description,
+    }
+    bar.update()
+    return row

@@ -6,6 +6,15 @@ import argparse
 from collections.abc import Sequence
 from typing import NoReturn
 
+from pinmob import __version__
+
+#: where every term the reports use is explained (shown by every ``--help``)
+GLOSSARY = (
+    "Terms used in the reports (DoF, T/R/H, pitch, axis point, constraint wrench and rank, generic, twist rank, "
+    "Type I/II, distance to singularity, L, rtol, pin.LOCAL_WORLD_ALIGNED, closure rank, Grubler-Kutzbach, "
+    "internal and idle motions, ...) are explained in docs/glossary.md of pinmob's sources."
+)
+
 
 class Parser(argparse.ArgumentParser):
     """argparse with usage errors on one line, ``pinmob: error: ...``, exit status 2 (``--help`` unchanged).
@@ -34,16 +43,23 @@ class Parser(argparse.ArgumentParser):
 
 def build_parser() -> argparse.ArgumentParser:
     """The ``pinmob`` argument parser with its five commands."""
-    parser = Parser(prog="pinmob", description="Platform mobility of parallel and closed-chain robots.")
+    parser = Parser(
+        prog="pinmob", description="Platform mobility of parallel and closed-chain robots.", epilog=GLOSSARY
+    )
+    parser.add_argument("--version", action="version", version=f"pinmob {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
 
-    p = sub.add_parser("models", help="list the built-in mechanisms")
+    p = sub.add_parser("models", help="list the built-in mechanisms", epilog=GLOSSARY)
     p.add_argument("--json", action="store_true", help="print JSON")
 
-    p = sub.add_parser("analyze", help="mobility of the platform at a configuration")
-    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p = sub.add_parser("analyze", help="mobility of the platform at a configuration", epilog=GLOSSARY)
+    p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
-    p.add_argument("--json", action="store_true", help="print the result as JSON")
+    form = p.add_mutually_exclusive_group()
+    form.add_argument("--json", action="store_true", help="print the result as JSON")
+    form.add_argument(
+        "--brief", action="store_true", help="print only the one-line answer (DoF, type, motions, singularity)"
+    )
     p.add_argument(
         "--paper-view",
         action="store_true",
@@ -91,8 +107,8 @@ def build_parser() -> argparse.ArgumentParser:
         help="the highest order of the conditions the finite analysis checks (2..8, default 4); implies --finite",
     )
 
-    p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat")
-    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat", epilog=GLOSSARY)
+    p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
     p.add_argument("--html", metavar="FILE", help="write a self-contained HTML file instead of using a server")
     p.add_argument("--force", action="store_true", help="with --html: overwrite FILE if it exists")
@@ -106,11 +122,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--motion", help="free motion shown first, by label (e.g. 'T1 x'; default: the first)")
     p.add_argument("--wrenches", action="store_true", help="show the constraint wrenches")
     p.add_argument(
-        "--amplitude", type=float, help="distance of each motion: m for translations, rad for rotations/screws"
+        "--amplitude",
+        type=float,
+        help="distance of each motion: m for translations, rad for rotations/screws "
+        "(default: 0.2 L for translations, L the mechanism's length scale; 0.35 rad for rotations and screws)",
     )
     p.add_argument("--steps", type=int, default=12, help="continuation steps per direction (default 12)")
-    p = sub.add_parser("scan", help="mobility and singularities along a path or over a workspace slice")
-    p.add_argument("mechanism", help="built-in model name or path to a mechanism file")
+    p = sub.add_parser(
+        "scan", help="mobility and singularities along a path or over a workspace slice", epilog=GLOSSARY
+    )
+    p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument(
         "--from",
         dest="start",
@@ -144,12 +165,14 @@ def build_parser() -> argparse.ArgumentParser:
         type=int,
         default=1,
         help="worker processes of a Dask LocalCluster, used when the scan is long enough to pay for it "
-        "(results identical to 1)",
+        "(results identical to 1; default 1)",
     )
     p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
-    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar (none either when not a terminal)")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
-    p = sub.add_parser("sweep", help="a design-space sweep: per design its mobility and a workspace scan")
+    p = sub.add_parser(
+        "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY
+    )
     p.add_argument("spec", help="sweep spec file (TOML): a family or template, the designs, the scan of each")
     p.add_argument("--out", metavar="FILE.parquet", help="write the records here (streamed; re-running resumes)")
     p.add_argument("--csv", metavar="FILE.csv", help="also write the records as CSV (at the end of a complete run)")

@@ -17,7 +17,8 @@ from pinmob.exceptions import ConfigurationError
 from pinmob.io.loader import load
 from pinmob.scan import columns, grid_spec, path_spec, scan
 from pinmob.scan.output import RowWriter
-from pinmob.scan.plot import plot_map, plot_path
+from pinmob.scan.plot import plot_path, varied_joint
+from pinmob.scan.plot_map import plot_map
 from pinmob.scan.spec import parse_grid_axis
 from pinmob.screw.rank import RTOL, check_rtol
 
@@ -92,7 +93,11 @@ def _run(args: argparse.Namespace) -> int:
             if path:
                 print(f"{label}: {path}")
         if args.plot and csv_path:
-            (plot_map if args.grid else plot_path)(csv_path, args.plot, f"{mech.name}: {what}", rtol=rtol)
+            title = f"{mech.name}: {what}"
+            if args.grid:
+                plot_map(csv_path, args.plot, title, rtol=rtol)
+            else:
+                plot_path(csv_path, args.plot, title, rtol, mech.length_scale, varied_joint(mech, spec))
             print(f"plot: {args.plot}")
     return 0
 

@@ -79,5 +79,10 @@ def print_scene(name: str, config: str, scene: viewer.Scene) -> None:
         print(f"note: {note}")
     if scene.generated_geometry:
         print("drawn as a generated stick figure (the URDF has no visuals)")
+    if not scene.panel_shown:
+        print(
+            f"note: the meshcat server at {scene.zmq_url} is not pinmob's: its page shows the scene without pinmob's "
+            "panel (motions, clips, labels, legend); leave out --zmq-url for pinmob's own server"
+        )
     if scene.html is not None:
         print(f"wrote {scene.html} (open it in a browser; no server needed)")

@@ -15,7 +15,9 @@ def builtin_dir() -> Path:
     spec = importlib.util.find_spec("pinmob.models")
     if spec is not None and spec.submodule_search_locations:
         return Path(next(iter(spec.submodule_search_locations)))
-    return Path(__file__).resolve().parent.parent / "models"  # running from a source tree that is not installed
+    return (
+        Path(__file__).resolve().parents[2] / "models"
+    )  # a source tree on sys.path before the install (pinmob/io/ -> ./models)
 
 
 def builtin_models() -> dict[str, Path]:

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from pinmob.exceptions import MechanismFileError, choices
+from pinmob.exceptions import MechanismFileError, choices, did_you_mean
 from pinmob.io.builtin import builtin_models
 from pinmob.io.toml_file import load_toml
 from pinmob.model.mechanism import Mechanism
@@ -36,7 +36,7 @@ LOADERS: dict[str, Callable[[Path], Mechanism]] = {
 
 
 def load(name_or_path: str | Path) -> Mechanism:
-    """Load a mechanism: a built-in model name, or a path to a mechanism file.
+    """Load a mechanism: a built-in model name (matched ignoring case where unambiguous), or a path to a mechanism file.
 
     Raises:
         MechanismFileError: the file is missing, does not parse, or is invalid;
@@ -45,13 +45,15 @@ def load(name_or_path: str | Path) -> Mechanism:
     text = str(name_or_path)
     path = Path(text).expanduser()
     builtins = builtin_models()
-    if text in builtins and not path.exists():
-        return load_toml(builtins[text])
-    suffix = path.suffix.lower()
     if not path.exists():
+        same = [name for name in builtins if name.casefold() == text.casefold()]
+        if text in builtins or len(same) == 1:
+            return load_toml(builtins[text if text in builtins else same[0]])
         raise MechanismFileError(
-            f"{text!r} is neither a built-in model nor an existing file; built-in models: {choices(builtins)}"
+            f"{text!r} is neither a built-in model nor an existing file{did_you_mean(text, builtins)}; "
+            f"built-in models: {choices(builtins)}"
         )
+    suffix = path.suffix.lower()
     if suffix in LOADERS:
         return LOADERS[suffix](path)
     raise MechanismFileError(f"{text!r}: unknown mechanism file type {suffix!r}; valid: {choices(LOADERS)}")

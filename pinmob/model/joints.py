@@ -8,13 +8,13 @@ configuration vector.
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping
 
 import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.exceptions import ConfigurationError, FrameError, choices, did_you_mean
 from pinmob.screw.algebra import Array, Mask
 
 #: Integer index array.
@@ -22,12 +22,26 @@ IndexArray = NDArray[np.intp]
 
 
 def frame_id(model: pin.Model, name: str) -> int:
-    """Index of frame ``name``; a :class:`FrameError` listing the frames otherwise."""
+    """Index of frame ``name`` (exactly); a :class:`FrameError` suggesting close names and listing the frames otherwise."""
     if not model.existFrame(name):
+        names = [f.name for f in model.frames]
         raise FrameError(
-            f"no frame {name!r} in model {model.name!r}; valid frames: {choices(f.name for f in model.frames)}"
+            f"no frame {name!r} in model {model.name!r}{did_you_mean(name, names)}; valid frames: {choices(names)}"
         )
     return model.getFrameId(name)
+
+
+def frame_name(model: pin.Model, name: str) -> str:
+    """The frame ``name`` stands for, matched ignoring case where that is unambiguous (a name typed by a user).
+
+    Raises:
+        FrameError: no such frame (the message suggests close names and lists the frames).
+    """
+    same = [f.name for f in model.frames if f.name.casefold() == name.casefold()]
+    if model.existFrame(name) or len(same) != 1:
+        frame_id(model, name)  # the name itself, or the error
+        return name
+    return same[0]
 
 
 def joint_names(model: pin.Model) -> list[str]:
@@ -246,3 +260,35 @@ def check_q(model: pin.Model, q: object, owner: str) -> Array:
             "configuration is not normalised (a quaternion or (cos, sin) pair is off the unit sphere)"
         )
     return arr
+
+
+def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, owner: str) -> Array:
+    """A copy of ``base`` (nq,) with the named joints set: a value [m or rad] per one-degree joint.
+
+    A continuous joint takes an angle (stored as its ``(cos, sin)`` pair).
+
+    Raises:
+        FrameError: an unknown joint (the message lists them).
+        ConfigurationError: a value that is not a finite number, or a joint of several coordinates.
+    """
+    q = np.array(base, float)
+    for jname, value in values.items():
+        if not model.existJointName(jname):
+            raise FrameError(f"unknown joint {jname!r} in {owner!r}; valid: {choices(joint_names(model))}")
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise ConfigurationError(f"joint {jname!r}: value {value!r} is not a number") from None
+        if not np.isfinite(x):
+            raise ConfigurationError(f"joint {jname!r}: value {value!r} is not finite")
+        joint = model.joints[model.getJointId(jname)]
+        if joint.nq == 1:
+            q[joint.idx_q] = x
+        elif joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
+            q[joint.idx_q : joint.idx_q + 2] = (np.cos(x), np.sin(x))
+        else:
+            raise ConfigurationError(
+                f"joint {jname!r} ({joint.shortname()}) has {joint.nq} coordinates: give the whole "
+                "configuration vector instead of a value by name"
+            )
+    return q

@@ -18,10 +18,10 @@ from typing import Any, TypeVar
 import numpy as np
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.exceptions import ConfigurationError, FrameError, choices, match_name
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.geometry import Geometry
-from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
+from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, q_from_values, velocity_indices
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.screw.algebra import Array
@@ -255,6 +255,14 @@ class Mechanism:
         """All actuated joint names, limb by limb, then those outside limbs."""
         return tuple(a for limb in self.limbs for a in limb.actuated) + self.extra_actuated
 
+    def configuration_name(self, name: str) -> str:
+        """The named configuration ``name`` stands for, matched ignoring case where that is unambiguous.
+
+        Raises:
+            ConfigurationError: no such configuration (the message suggests close names and lists them).
+        """
+        return match_name(name, self.configurations, "configuration", f" in {self.name!r}")
+
     def limb(self, name: str) -> Limb:
         """The limb called ``name``."""
         for limb in self.limbs:
@@ -269,29 +277,9 @@ class Mechanism:
     def q_from_joints(self, values: Mapping[str, float], base: Array | None = None) -> Array:
         """Configuration vector from joint values by name; others from ``base`` (default neutral).
 
-        One-degree joints take a value [m or rad]; continuous joints take an angle.
+        One-degree joints take a value [m or rad]; continuous joints take an angle (:func:`q_from_values`).
         """
-        q = np.array(self.neutral() if base is None else base, float)
-        for jname, value in values.items():
-            if not self.model.existJointName(jname):
-                raise FrameError(f"unknown joint {jname!r} in {self.name!r}; valid: {choices(joint_names(self.model))}")
-            try:
-                x = float(value)
-            except (TypeError, ValueError):
-                raise ConfigurationError(f"joint {jname!r}: value {value!r} is not a number") from None
-            if not np.isfinite(x):
-                raise ConfigurationError(f"joint {jname!r}: value {value!r} is not finite")
-            joint = self.model.joints[self.model.getJointId(jname)]
-            if joint.nq == 1:
-                q[joint.idx_q] = x
-            elif joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
-                q[joint.idx_q : joint.idx_q + 2] = (np.cos(x), np.sin(x))
-            else:
-                raise ConfigurationError(
-                    f"joint {jname!r} ({joint.shortname()}) has {joint.nq} coordinates: give the whole "
-                    "configuration vector instead of a value by name"
-                )
-        return q
+        return q_from_values(self.model, values, self.neutral() if base is None else base, self.name)
 
     def check_q(self, q: object) -> Array:
         """Validate a configuration vector: shape (nq,), finite, normalised where needed (a float copy)."""

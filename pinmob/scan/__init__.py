@@ -3,7 +3,8 @@
 :mod:`~pinmob.scan.spec` (what to scan: paths and grids), :mod:`~pinmob.scan.run`
 (the scan itself: warm-started assembly, analysis, refinement, workers),
 :mod:`~pinmob.scan.refine` (singular points between samples),
-:mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.plot` (PNG plots).
+:mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.plot` and
+:mod:`~pinmob.scan.plot_map` (PNG plots).
 """
 
 from pinmob.scan.chunk import evaluate, run_chunk

@@ -180,7 +180,7 @@ def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, floa
 
 def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
     """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, closed q)."""
-    if text in mech.configurations:
+    if any(text.casefold() == name.casefold() for name in mech.configurations):
         q = closed_configuration(mech, text)
         return platform_pose(mech, q), q
     try:

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.scan.plot import save_png
+from pinmob.scan.plot import pyplot, save_figure
 from pinmob.sweeps.fields import TYPES
 from pinmob.sweeps.spec import SweepSpec
 
@@ -36,16 +36,11 @@ def _columns(path: Path, names: list[str]) -> dict[str, np.ndarray]:
 
 
 def _save(fig: Any, png: Path, spec: SweepSpec) -> Path:
-    return save_png(fig, png, metadata={"Description": f"pinmob sweep {spec.identity()}"})
+    return save_figure(pyplot(), fig, None, png, metadata={"Description": f"pinmob sweep {spec.identity()}"})
 
 
 def _figure() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt.subplots(figsize=(7.5, 5.8))
+    return pyplot().subplots(figsize=(7.5, 5.8))
 
 
 def plot_atlas(parquet: str | Path, png: str | Path, spec: SweepSpec) -> Path:

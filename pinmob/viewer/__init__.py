@@ -13,14 +13,24 @@ What the scene holds (meshcat paths):
   animation clip of that name moving its geometry: the platform goes a finite
   amount along the motion and back, then the other way and back, every frame
   a closed configuration (:func:`pinmob.analysis.motion_path.follow_motion`). The first
-  (or the chosen) clip plays in a loop; the ``motion`` menu of the controls
-  (pinmob's server and HTML export) loads another. A motion that exists only to first
-  order (:mod:`pinmob.analysis.finite`: blocked at some order, or only a combination of motion
-  branches) is drawn as such: its glyph grey and half transparent, pulsing in its clip while the
-  mechanism stays still, and its menu entry says ``instantaneous only (...)``.
+  (or the chosen) clip plays in a loop; a row of the panel loads another. A motion that exists
+  only to first order (:mod:`pinmob.analysis.finite`: blocked at some order, or only a combination
+  of motion branches) is drawn as such: its glyph grey and half transparent, pulsing in its clip
+  while the mechanism stays still, and its row's verdict says so.
 - ``/pinmob/glyphs/<label>``: the free motions at the platform
   (:mod:`pinmob.viewer.glyphs`): arrows, axis + ring, axis + helix.
 - ``/pinmob/wrenches/<kind i>``: the constraint wrenches, hidden unless asked for.
+- ``/pinmob/world``: the world axes at the world origin and a grid in z = 0
+  (:mod:`pinmob.viewer.world`).
+
+Over the 3D view, pinmob's panel (plain HTML: :mod:`pinmob.viewer.panel`,
+``static/panel.js``) says what the scene shows: the mechanism, the DoF and
+motion type, one row per motion (direction, world axis point, pitch, how far
+its clip went and why it stopped) that plays the motion when clicked, the
+singularity class, the whole mechanism's DoF, the constraint wrenches, a
+legend, toggles; labels name the glyphs in the scene. The exported page and
+pinmob's own server (:mod:`pinmob.viewer.bridge`) show it; a plain meshcat
+server shows the scene without it.
 
 Everything under ``/pinmob`` is shifted by ``-Scene.center`` (meshcat's orbit
 controls look at the origin). The scene is built by :mod:`pinmob.viewer.scene`; :func:`export_html` (from
@@ -36,10 +46,12 @@ import contextlib
 import io
 
 from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.report import Report
 from pinmob.exceptions import ConfigurationError, ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.html import export_html, scene_html
-from pinmob.viewer.scene import FPS, ROOT, Array, Scene, build, prepare, require_meshcat
+from pinmob.viewer.prepared import prepare
+from pinmob.viewer.scene import FPS, ROOT, Array, Scene, build, require_meshcat
 
 __all__ = ["FPS", "ROOT", "Scene", "export_html", "scene_html", "show"]
 
@@ -47,7 +59,7 @@ __all__ = ["FPS", "ROOT", "Scene", "export_html", "scene_html", "show"]
 def show(
     mech: Mechanism,
     q: Array | str,
-    mobility: Mobility | None = None,
+    mobility: Mobility | Report | None = None,
     *,
     zmq_url: str | None = None,
     port: int | None = None,
@@ -68,7 +80,7 @@ def show(
     Args:
         mech: the mechanism.
         q: configuration (nq,) or the name of one of ``mech.configurations``.
-        mobility: its platform mobility, if already computed.
+        mobility: its platform mobility (or its whole Report), if already computed.
         zmq_url: a running meshcat server (``tcp://127.0.0.1:6000``); default:
             start one on 127.0.0.1 (``scene.server``; it lives until
             ``scene.server.stop()`` or until killed, not with this process).
@@ -80,7 +92,7 @@ def show(
         steps: continuation steps per direction.
         animate: follow the motions (False: a still scene).
         finite: tell each motion's finite verdict; a motion that exists only to first order is drawn
-            as such (grey glyph pulsing in its clip, the motion menu says so).
+            as such (grey glyph pulsing in its clip, its row in the panel says so).
 
     Raises:
         ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
@@ -93,7 +105,7 @@ def show(
     check_port(port)
     if zmq_url is not None and port is not None:
         raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
-    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
+    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
     require_meshcat()
     import zmq
     from meshcat.visualizer import Visualizer
@@ -108,7 +120,7 @@ def show(
             vis = Visualizer(zmq_url=zmq_url)
         vis.window.zmq_socket.setsockopt(zmq.RCVTIMEO, int(timeout * 1000))
         vis.window.zmq_socket.setsockopt(zmq.LINGER, 0)
-        scene = build(vis, mech, q, mob, paths, motion=motion, wrenches=wrenches)
+        scene = build(vis, mech, prep, wrenches=wrenches)
     except zmq.ZMQError as exc:
         if server is not None:
             server.stop()

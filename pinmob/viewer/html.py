@@ -2,25 +2,25 @@
 
 meshcat's ``Visualizer`` is given a window (:class:`_Recorder`) that records
 every command (msgpack bytes) instead of sending it to a server; the page
-holds meshcat's viewer script and those commands, base64-encoded, replayed in
-order when it opens. No server is needed to build or to open it.
+(:func:`pinmob.viewer.page.static_page`) holds meshcat's viewer script, pinmob's
+panel and those commands, compressed, replayed in order when it opens. No
+server is needed to build or to open it.
 """
 
 from __future__ import annotations
 
-import base64
-import gzip
-import html
-import json
 import os
 import tempfile
 from pathlib import Path
 from typing import Any
 
 from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.report import Report
 from pinmob.exceptions import ViewerError
 from pinmob.model.mechanism import Mechanism
-from pinmob.viewer.scene import Array, Scene, build, prepare, require_meshcat
+from pinmob.viewer.page import static_page
+from pinmob.viewer.prepared import prepare
+from pinmob.viewer.scene import Array, Scene, build, require_meshcat
 
 
 class _Recorder:
@@ -37,54 +37,10 @@ class _Recorder:
         self.commands.append(umsgpack.packb(command.lower()))
 
 
-def _html(commands: list[bytes], title: str) -> str:
-    """Self-contained page: meshcat's viewer script and the scene's commands, replayed in order.
-
-    The commands are concatenated, gzip-compressed and base64-encoded once
-    (URDF meshes are mostly text: the file is several times smaller); the page
-    inflates them with the browser's ``DecompressionStream`` and replays them.
-    """
-    import meshcat
-
-    script = (Path(meshcat.__file__).parent / "viewer" / "dist" / "main.min.js").read_text()
-    blob = base64.b64encode(gzip.compress(b"".join(commands), compresslevel=9, mtime=0)).decode()
-    sizes = json.dumps([len(c) for c in commands])
-    return f"""<!DOCTYPE html>
-<html>
-<head><meta charset="utf-8"><title>{html.escape(title)}</title></head>
-<body>
-<div id="meshcat-pane"></div>
-<script>
-{script}
-</script>
-<script>
-var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));
-var pinmob_sizes = {sizes};
-var pinmob_commands = "{blob}";
-(async () => {{
-  const packed = Uint8Array.from(atob(pinmob_commands), (ch) => ch.charCodeAt(0));
-  const stream = new Blob([packed]).stream().pipeThrough(new DecompressionStream("gzip"));
-  const bytes = new Uint8Array(await new Response(stream).arrayBuffer());
-  let offset = 0;
-  for (const size of pinmob_sizes) {{
-    viewer.handle_command_bytearray(bytes.slice(offset, offset + size));
-    offset += size;
-  }}
-}})();
-</script>
-<style>
-body {{ margin: 0; }}
-#meshcat-pane {{ width: 100vw; height: 100vh; overflow: hidden; }}
-</style>
-</body>
-</html>
-"""
-
-
 def scene_html(
     mech: Mechanism,
     q: Array | str,
-    mobility: Mobility | None = None,
+    mobility: Mobility | Report | None = None,
     *,
     motion: str | None = None,
     wrenches: bool = False,
@@ -94,21 +50,22 @@ def scene_html(
     finite: bool = True,
 ) -> tuple[str, Scene]:
     """The scene as a self-contained HTML page (no server, no file); see :func:`export_html`."""
-    q, mob, paths = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
+    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
     require_meshcat()
     from meshcat.visualizer import Visualizer
 
     recorder = _Recorder()
-    scene = build(Visualizer(window=recorder), mech, q, mob, paths, motion=motion, wrenches=wrenches)
+    scene = build(Visualizer(window=recorder), mech, prep, wrenches=wrenches)
+    mob = prep.mobility
     title = f"pinmob: {mech.name}" + (f" at {mob.configuration}" if mob.configuration else "") + f" ({mob.motion_type})"
-    return _html(recorder.commands, title), scene
+    return static_page(recorder.commands, title), scene
 
 
 def export_html(
     mech: Mechanism,
     q: Array | str,
     path: str | Path,
-    mobility: Mobility | None = None,
+    mobility: Mobility | Report | None = None,
     *,
     overwrite: bool = False,
     motion: str | None = None,
@@ -128,7 +85,7 @@ def export_html(
         mech: the mechanism.
         q: (nq,) closed configuration or the name of one of ``mech.configurations``.
         path: the ``.html`` file to write.
-        mobility: the analysis to show (default: ``analyze(mech, q)``).
+        mobility: the platform mobility (or the Report) to show (default: ``analyze(mech, q)``).
         overwrite: replace an existing file; otherwise an existing file is an error.
         motion: label of the motion visible on opening (default: the first).
         wrenches: show the constraint wrenches (they are in the scene, hidden, otherwise).
@@ -136,7 +93,7 @@ def export_html(
         steps: continuation steps per direction.
         animate: follow the motions; False shows them as static glyphs only.
         finite: tell each motion's finite verdict (:mod:`pinmob.analysis.finite`); a motion that exists
-            only to first order is drawn as such (grey glyph pulsing in its clip, the menu says so).
+            only to first order is drawn as such (grey glyph pulsing in its clip, the panel says so).
 
     Raises:
         ViewerError: the file exists and ``overwrite`` is False, or cannot be written.

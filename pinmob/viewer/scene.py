@@ -1,11 +1,14 @@
 """The meshcat scene of a mobility analysis, shown by :mod:`pinmob.viewer`, written by :mod:`pinmob.viewer.html`.
 
-:func:`prepare` does everything that can fail before meshcat is touched (the
-closed configuration, its mobility, the followed motions and, by default, each motion's
-finite-mobility verdict, :mod:`pinmob.analysis.finite`); :func:`build` sends
+:func:`pinmob.viewer.prepared.prepare` does everything that can fail before
+meshcat is touched (the closed configuration, its analysis, the followed
+motions and, by default, each motion's finite-mobility verdict,
+:mod:`pinmob.analysis.finite`); :func:`build` sends
 the scene (the mechanism once, one animation clip per free motion, glyphs,
-wrenches, camera, lights, motion menu) to a live or recording meshcat ``Visualizer`` and returns a
-:class:`Scene`. See :mod:`pinmob.viewer` for the scene's meshcat paths.
+wrenches, the world axes and grid, camera, lights, and pinmob's panel with the
+motions' clips: :mod:`pinmob.viewer.panel`) to a live or recording meshcat
+``Visualizer`` and returns a :class:`Scene`. See :mod:`pinmob.viewer` for the
+scene's meshcat paths.
 """
 
 from __future__ import annotations
@@ -18,16 +21,24 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.configuration import as_configuration
-from pinmob.analysis.finite import finite_mobility
-from pinmob.analysis.mobility import Mobility, platform_mobility
-from pinmob.analysis.motion_path import MotionPath, follow_motion
-from pinmob.exceptions import ConfigurationError, ViewerError, choices
+from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.motion_path import MotionPath
+from pinmob.exceptions import ViewerError
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.rank import RTOL
-from pinmob.viewer.commands import DeleteControl, SetAnimation, SetControl, selector_callback
-from pinmob.viewer.glyphs import Glyph, constraint_glyph, motion_glyph
+from pinmob.viewer.commands import SetAnimation
+from pinmob.viewer.glyphs import (
+    INSTANTANEOUS_COLOR,
+    INSTANTANEOUS_OPACITY,
+    Glyph,
+    arrow,
+    constraint_glyph,
+    free_vector_start,
+    motion_glyph,
+)
+from pinmob.viewer.panel import PanelCommand, panel_document
+from pinmob.viewer.prepared import Prepared
 from pinmob.viewer.skeleton import visual_geometry
+from pinmob.viewer.world import AXIS_COLORS, GRID_COLOR, world_frame
 
 Array = np.ndarray
 
@@ -41,8 +52,8 @@ POINT_LIGHTS = {"PointLightNegativeX": (1.5, 1.5, 2.0), "PointLightPositiveX": (
 LIGHT_REACH = 10.0
 #: glyphs are drawn after everything else (three.js renderOrder)
 GLYPH_RENDER_ORDER = 10
-#: glyph of a motion that exists only to first order: grey, half transparent, pulsing in its clip
-INSTANTANEOUS_COLOR, INSTANTANEOUS_OPACITY, PULSE = 0x9E9E9E, 0.45, 0.35
+#: how much the glyph of a motion that exists only to first order (grey, half transparent) pulses in its clip
+PULSE = 0.35
 
 
 @dataclass
@@ -76,16 +87,13 @@ class Scene:
     zmq_url: str | None = None
     html: Path | None = None
     server: Any = field(default=None, repr=False)
+    panel: dict[str, Any] = field(default_factory=dict, repr=False)
+    panel_shown: bool = True
 
     @property
     def verdicts(self) -> dict[str, str]:
         """Each clip's finite-mobility verdict in words (``finite``, ``blocked at order 2 (shaky)``, ...)."""
         return {label: self.paths[label].verdict for label in self.clips}
-
-
-def menu_text(label: str, path: MotionPath) -> str:
-    """The motion menu's text for a clip: the label, and what its motion is when it is only instantaneous."""
-    return label if path.finite is not False else f"{label}: instantaneous only ({path.verdict})"
 
 
 # --------------------------------------------------------------------------- meshcat plumbing
@@ -108,62 +116,29 @@ def require_meshcat() -> Any:
     return meshcat
 
 
-def _mesh(glyph: Glyph, opacity: float = 1.0) -> Any:
-    """A glyph's meshcat object, drawn after (``renderOrder``) and over (no depth test) the mechanism."""
+def _mesh(glyph: Glyph, order: int = GLYPH_RENDER_ORDER, opacity: float = 1.0) -> Any:
+    """A glyph's meshcat object, drawn after (``renderOrder`` ``order``) and over (no depth test) the mechanism."""
     import meshcat.geometry as mg
 
     class GlyphMesh(mg.Mesh):
         def lower(self) -> dict[str, Any]:
             data: dict[str, Any] = super().lower()
-            data["object"]["renderOrder"] = GLYPH_RENDER_ORDER
+            data["object"]["renderOrder"] = order
             return data
 
     material = mg.MeshPhongMaterial(color=glyph.color, depthTest=False, transparent=True, opacity=opacity)
     return GlyphMesh(mg.TriangularMeshGeometry(glyph.vertices, glyph.faces), material)
 
 
+def _lines(segments: Array, color: int) -> Any:
+    """Line segments (k, 2, 3) [m] of one colour, as a meshcat object."""
+    import meshcat.geometry as mg
+
+    points = np.asarray(segments, float).reshape(-1, 3).T
+    return mg.LineSegments(mg.PointsGeometry(points), mg.LineBasicMaterial(color=color))
+
+
 # --------------------------------------------------------------------------- scene
-
-
-def prepare(
-    mech: Mechanism,
-    q: Array | str,
-    mobility: Mobility | None,
-    amplitude: float | None,
-    steps: int,
-    animate: bool,
-    motion: str | None = None,
-    finite: bool = True,
-) -> tuple[Array, Mobility, dict[str, MotionPath]]:
-    """Closed q, its mobility and the followed motions (everything that can fail before meshcat).
-
-    With ``finite`` (and a platform), each path carries its motion's verdict from
-    :func:`pinmob.analysis.finite.finite_mobility`: a motion that exists only to first order is then
-    drawn as such by :func:`build`.
-
-    Raises:
-        ConfigurationError: ``motion`` is not the label of a free motion at q.
-        ClosureError: q does not close.
-    """
-    conf = as_configuration(mech, q)
-    q = conf.q
-    mob = mobility if mobility is not None else platform_mobility(conf, RTOL)
-    labels = [m.label for m in mob.motions]
-    if motion is not None and motion not in labels:
-        raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
-    paths = {}
-    for m in mob.motions:
-        if animate:
-            paths[m.label] = follow_motion(mech, q, m, amplitude=amplitude, steps=steps)
-        else:
-            paths[m.label] = MotionPath(m.label, (q,), (q,), (0.0, 0.0), 0.0)
-    if finite and mech.has_platform and mob.motions:
-        verdicts = {v.label: v for v in finite_mobility(conf, RTOL, motions=mob.motions).motions}
-        for label, path in paths.items():
-            v = verdicts.get(label)
-            if v is not None:
-                paths[label] = replace(path, finite=v.finite, verdict=v.words())
-    return q, mob, paths
 
 
 def _frame_camera(vis: Any, points: Array) -> tuple[Array, float]:
@@ -199,24 +174,14 @@ def _place_lights(vis: Any, distance: float) -> None:
         light.set_property("distance", LIGHT_REACH * scale)
 
 
-def build(
-    vis: Any,
-    mech: Mechanism,
-    q: Array,
-    mob: Mobility,
-    paths: dict[str, MotionPath],
-    *,
-    motion: str | None,
-    wrenches: bool,
-) -> Scene:
-    """Send the whole scene to ``vis`` (a live or recording meshcat Visualizer)."""
+def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene:
+    """Send the whole scene to ``vis`` (a live or recording meshcat Visualizer); the panel last."""
     from meshcat.animation import Animation, AnimationClip, js_position, js_quaternion
     from pinocchio.visualize import MeshcatVisualizer
 
+    q, mob, paths = prep.q, prep.mobility, prep.paths
     labels = [m.label for m in mob.motions]
-    if motion is not None and motion not in labels:  # prepare() checks it before any server is touched
-        raise ConfigurationError(f"no free motion {motion!r} at this configuration; valid: {choices(labels)}")
-    visible = motion or (labels[0] if labels else None)
+    visible = prep.motion or (labels[0] if labels else None)
     geometry, generated = visual_geometry(mech, q)
     model = mech.model
     data, gdata = model.createData(), pin.GeometryData(geometry)
@@ -224,7 +189,7 @@ def build(
     vis[ROOT].delete()
     vis["/Background"].set_property("top_color", [0.97, 0.97, 0.98])
     vis["/Background"].set_property("bottom_color", [0.78, 0.8, 0.84])
-    vis["/Grid"].set_property("visible", False)
+    vis["/Grid"].set_property("visible", False)  # meshcat's own sit at the scene's centre, not at the world origin
     vis["/Axes"].set_property("visible", False)
     points: list[Array] = []
     # the mechanism once (each mesh defined once); each clip animates its geometry nodes' transforms
@@ -234,7 +199,7 @@ def build(
     viz.display(q)
     nodes = [vis[viz.getViewerNodeName(obj, pin.GeometryType.VISUAL)].path for obj in geometry.geometryObjects]
     clips: dict[str, list[dict[str, Any]]] = {}
-    clip_labels: list[str | None] = [*labels] if labels else [None]
+    clip_labels: list[str | None] = [*labels] or [None]
     for label in clip_labels:
         animation = Animation(default_framerate=FPS)
         still = label is not None and paths[label].finite is False  # only instantaneous: its glyph pulses
@@ -257,34 +222,61 @@ def build(
         if label is not None:
             clips[label] = animation.lower()
 
-    origin = mob.platform_origin
-    length = mech.length_scale
+    origin, length = mob.platform_origin, mech.length_scale
+    drawn: list[tuple[str, list[str], Glyph]] = []
+    start = free_vector_start(mob.motions, origin, length)
     for m in mob.motions:
-        glyph = motion_glyph(m, origin, length)
+        glyph = motion_glyph(m, origin, length, start)
         node = vis[f"{ROOT}/glyphs/{glyph.name}"]
         if paths[m.label].finite is False:  # only instantaneous: grey, half transparent, centred on its node
             centre = glyph.vertices.mean(axis=0)
             shown = replace(glyph, vertices=glyph.vertices - centre, color=INSTANTANEOUS_COLOR)
-            node.set_object(_mesh(shown, INSTANTANEOUS_OPACITY))
+            node.set_object(_mesh(shown, opacity=INSTANTANEOUS_OPACITY))
             node.set_transform(pin.SE3(np.eye(3), centre).homogeneous)
+            glyph = replace(glyph, color=INSTANTANEOUS_COLOR)
         else:
             node.set_object(_mesh(glyph))
+        drawn.append(("motion", ["meshcat", ROOT, "glyphs", glyph.name], glyph))
         points.extend(glyph.vertices)
+    couples = free_vector_start(mob.motions, origin, length, side=-1.0)
     for i, c in enumerate(mob.constraints):
-        glyph = constraint_glyph(c, i, origin, length)
+        glyph = constraint_glyph(c, i, origin, length, couples)
         vis[f"{ROOT}/wrenches/{glyph.name}"].set_object(_mesh(glyph))
-        if not wrenches:
-            vis[f"{ROOT}/wrenches/{glyph.name}"].set_property("visible", False)
-        else:
+        drawn.append(("wrench", ["meshcat", ROOT, "wrenches", glyph.name], glyph))
+        if wrenches:
             points.extend(glyph.vertices)
+    vis[f"{ROOT}/wrenches"].set_property("visible", bool(wrenches))
+    world = world_frame(np.array(points), length)
+    for name, axis, color in zip("xyz", world.axes, AXIS_COLORS):
+        shaft = arrow(axis[0], axis[1], 0.008 * length)
+        world_axis = Glyph(name, *shaft, color, axis[1])  # over the mechanism, under the glyphs
+        vis[f"{ROOT}/world/axis {name}"].set_object(_mesh(world_axis, GLYPH_RENDER_ORDER // 2, opacity=0.85))
+    vis[f"{ROOT}/world/grid"].set_object(_lines(world.grid, GRID_COLOR))
+    points.append(np.zeros(3))  # the world origin, labelled, stays in view
     center, distance = _frame_camera(vis, np.array(points))
     _place_lights(vis, distance)
     # always replace the animation: a rigid scene on a reused server must not keep the previous scene's clip
     vis.window.send(SetAnimation(clips[visible] if visible is not None else []))
-    if visible is not None:  # there are motions to choose from
-        texts = {menu_text(label, paths[label]): label for label in labels}
-        vis.window.send(SetControl("motion", selector_callback(clips, visible), visible, texts))
-    else:
-        vis.window.send(DeleteControl("motion"))
+    document = panel_document(
+        mech.name, mob, paths, singularity=prep.singularity, chain=prep.chain, glyphs=drawn, world=world,
+        paths_of={"world": ["meshcat", ROOT, "world"], "wrenches": ["meshcat", ROOT, "wrenches"]},
+        clips=clips, visible=visible, wrenches=wrenches, generated=generated,
+        verdicts={label: path.verdict for label, path in paths.items() if path.verdict},
+    )  # fmt: skip
+    panel_shown = send_panel(vis, PanelCommand(document))
     notes = tuple(n for p in paths.values() for n in p.notes)
-    return Scene(tuple(labels), visible, notes, generated, mob, paths, center, distance)
+    return Scene(
+        tuple(labels), visible, notes, generated, mob, paths, center, distance, panel=document, panel_shown=panel_shown
+    )
+
+
+def send_panel(vis: Any, command: PanelCommand) -> bool:
+    """Send the panel; False when a live server refuses it (a meshcat server that is not pinmob's)."""
+    socket = getattr(vis.window, "zmq_socket", None)
+    if socket is None:  # recording for an HTML file
+        vis.window.send(command)
+        return True
+    import umsgpack
+
+    socket.send_multipart([command.lower()["type"].encode(), b"", umsgpack.packb(command.lower())])
+    return bool(socket.recv() == b"ok")

@@ -1,10 +1,11 @@
 """A meshcat server on 127.0.0.1, started and probed without ever hanging.
 
-``python -m pinmob.viewer.server [--port P] [--zmq-port Z]`` runs meshcat's
-own server (``meshcat.servers.zmqserver.ZMQWebSocketBridge``) bound to
-127.0.0.1, prints ``zmq_url=...`` and ``web_url=...`` and serves until killed.
-Unlike ``meshcat-server`` it takes the web port to use, and fails with a
-one-line message when that port is taken instead of silently moving on.
+``python -m pinmob.viewer.server [--port P] [--zmq-port Z]`` runs pinmob's
+meshcat server (:class:`pinmob.viewer.bridge.Bridge`: meshcat's command
+protocol, meshcat's viewer with pinmob's panel) bound to 127.0.0.1, prints
+``zmq_url=...`` and ``web_url=...`` and serves until killed. Unlike
+``meshcat-server`` it takes the web port to use, and fails with a one-line
+message when that port is taken instead of silently moving on.
 :func:`start_server` launches it as a child process and waits at most a few
 seconds for those lines; :func:`probe` asks an existing server for its web URL
 with a timeout. meshcat is imported only in the child process and in
@@ -22,12 +23,8 @@ import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
 
 from pinmob.exceptions import ConfigurationError, ViewerError
-
-if TYPE_CHECKING:
-    from tornado.websocket import WebSocketHandler
 
 HOST = "127.0.0.1"
 #: valid TCP ports
@@ -189,63 +186,28 @@ def probe(zmq_url: str, timeout: float = 3.0) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    """``python -m pinmob.viewer.server``: run meshcat's server on 127.0.0.1 and print its URLs."""
+    """``python -m pinmob.viewer.server``: run pinmob's meshcat server on 127.0.0.1 and print its URLs."""
     parser = argparse.ArgumentParser(prog="python -m pinmob.viewer.server", description=__doc__.splitlines()[0])
     parser.add_argument("--port", type=int, default=None, help="web port (default: first free from 7000)")
     parser.add_argument("--zmq-port", type=int, default=None, help="command port (default: first free from 6000)")
     args = parser.parse_args(argv)
     try:
-        from meshcat.servers.zmqserver import ZMQWebSocketBridge
+        import zmq
+
+        from pinmob.viewer.bridge import Bridge
     except ImportError as exc:
         print(f"meshcat is not installed ({exc}); install it with: pip install meshcat", file=sys.stderr)
         return 3
-    zmq_url = None if args.zmq_port is None else f"tcp://{HOST}:{args.zmq_port}"
-
-    class Bridge(ZMQWebSocketBridge):
-        """meshcat's bridge on 127.0.0.1 only, also keeping ``set_control`` commands (pinmob's motion menu).
-
-        They are kept for browsers that connect later, until a ``delete_control`` or a deletion of the whole scene.
-        """
-
-        controls: dict[str, bytes] = {}
-
-        def make_app(self) -> Any:
-            app = super().make_app()
-            listen = app.listen
-            app.listen = lambda port, **kw: listen(port, address=HOST, **kw)  # meshcat's default: every interface
-            return app
-
-        def handle_zmq(self, frames: list[bytes]) -> None:
-            if frames[0] in (b"set_control", b"delete_control") and len(frames) == 3:
-                import umsgpack
-
-                name = umsgpack.unpackb(frames[2])["name"]
-                if frames[0] == b"set_control":
-                    self.controls[name] = frames[2]
-                else:
-                    self.controls.pop(name, None)
-                self.forward_to_websockets(frames)
-                self.zmq_socket.send(b"ok")
-            else:
-                if frames[0] == b"delete" and len(frames) == 3 and frames[1] in (b"", b"/"):
-                    self.controls.clear()
-                super().handle_zmq(frames)
-
-        def send_scene(self, websocket: WebSocketHandler) -> None:
-            super().send_scene(websocket)
-            for data in self.controls.values():
-                websocket.write_message(data, binary=True)
-
     try:
-        bridge = Bridge(zmq_url=zmq_url, host=HOST, port=args.port)
+        bridge = Bridge(port=args.port, zmq_port=args.zmq_port)
     except OSError as exc:
         print(
-            f"web port {args.port} on {HOST} is in use ({exc.strerror}): "
+            f"web port {args.port} on {HOST} is in use ({exc.strerror or exc}): "
             "choose another port, or none to take a free one",
             file=sys.stderr,
         )
         return 4
-    except Exception as exc:  # zmq.ZMQError: command port taken
+    except zmq.ZMQError as exc:
         print(f"command port {args.zmq_port} on {HOST} is in use ({exc}): choose another, or none", file=sys.stderr)
         return 4
     print(f"zmq_url={bridge.zmq_url}")

@@ -1,0 +1,105 @@
+"""Scan plots a designer can read: units on every axis, a legend for every colour, no empty panel."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.testing import assert_allclose
+
+import pinmob
+from pinmob.scan import plot, plot_map
+from pinmob.scan.output import RowWriter, read_columns
+from pinmob.scan.run import columns, scan
+from pinmob.scan.spec import grid_spec, path_spec
+
+UNIT = re.compile(r"\[(m|rad)\]")
+
+
+def scanned(mech: pinmob.Mechanism, spec, path: Path) -> Path:
+    with RowWriter(columns(spec), {}, str(path)) as writer:
+        for row in scan(mech, spec, progress=False):
+            writer.write(row)
+    return path
+
+
+def legend_labels(ax) -> list[str]:
+    legend = ax.get_legend()
+    return [t.get_text() for t in legend.get_texts()] if legend else []
+
+
+def test_a_yaw_path_is_drawn_against_yaw_in_radians_without_an_empty_panel(tmp_path):
+    # the 6-UPS has no constraint wrench (six 6-DoF limbs): no panel for that empty matrix;
+    # the path turns the platform from yaw 0 to 2.0944 rad about its own origin, nothing else changes
+    mech = pinmob.load("6-UPS")
+    spec = path_spec(mech, "home", "0,0,0.4,0,0,2.0944", 7)
+    c = read_columns(scanned(mech, spec, tmp_path / "p.csv"), plot.PATH_COLUMNS)
+    axis = plot.path_abscissa(c, mech.length_scale)
+    assert axis.label == "platform yaw [rad]"
+    assert_allclose(axis.values[c["refined"] == 0], np.linspace(0, 2.0944, 7), atol=1e-9)
+    fig = plot.path_figure(c, abscissa=axis)
+    titled = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title() for ax in titled] == ["actuation: stacked locked-limb wrenches (actuators locked)"]
+    assert not any("no wrench" in t.get_text() for ax in fig.axes for t in ax.texts)
+    assert [ax.get_xlabel() for ax in fig.axes if ax.get_xlabel()] == ["platform yaw [rad]"]
+    assert [ax.get_xlabel() for ax in fig.axes[0].child_axes] == ["path parameter s"]  # the top axis
+    for ax in fig.axes:
+        if ax.get_ylabel() and "relative" not in ax.get_ylabel():
+            assert "DoF" in ax.get_ylabel() or "distance" in ax.get_ylabel()
+    distance = next(ax for ax in fig.axes if ax.get_ylabel().startswith("distance"))
+    line = next(ln for ln in distance.lines if ln.get_label() == "distance to singularity")
+    assert_allclose(line.get_xdata(), np.linspace(0, 2.0944, 7), atol=1e-9)
+    assert "platform DoF (right axis)" in legend_labels(distance)
+
+
+def test_a_joint_path_is_drawn_against_the_joint_varying_most(tmp_path):
+    mech = pinmob.load("3-PUU")
+    spec = path_spec(mech, "generic", "offset", 5, joints=True)
+    joint = plot.varied_joint(mech, spec)
+    a, b = spec.a, spec.b
+    k = int(np.argmax(np.abs(np.asarray(b) - np.asarray(a))))  # all three are sliders [m]
+    assert joint == (mech.actuated[k], "m", a[k], b[k])
+    png = tmp_path / "j.png"
+    plot.plot_path(scanned(mech, spec, tmp_path / "j.csv"), png, rtol=1e-6, joint=joint)
+    assert png.read_bytes()[:4] == b"\x89PNG"
+    c = read_columns(tmp_path / "j.csv", plot.PATH_COLUMNS)
+    assert plot.path_abscissa(c, joint=joint).label == f"actuated joint {mech.actuated[k]} [m]"
+
+
+def test_unreachable_samples_have_a_legend_entry_on_paths_and_maps(tmp_path):
+    # 3-PUU from 'generic' to x = 0.3 m: the far end cannot be assembled
+    mech = pinmob.load("3-PUU")
+    spec = path_spec(mech, "generic", "0.3,0,-0.2,0,0,0", 6)
+    c = read_columns(scanned(mech, spec, tmp_path / "p.csv"), plot.PATH_COLUMNS)
+    assert (c["reachable"] == 0).any()
+    fig = plot.path_figure(c, abscissa=plot.path_abscissa(c, mech.length_scale))
+    distance = next(ax for ax in fig.axes if ax.get_ylabel().startswith("distance"))
+    assert "not assembled" in legend_labels(distance)
+    assert next(ax.get_xlabel() for ax in fig.axes if ax.get_xlabel()) == "platform x [m]"
+
+    grid = grid_spec(mech, "generic", [("x", -0.1, 0.3, 5), ("yaw", -0.2, 0.2, 3)])
+    cols = read_columns(scanned(mech, grid, tmp_path / "g.csv"), ["grid_x", "grid_yaw", *plot_map.MAP_COLUMNS])
+    assert (cols["reachable"] == 0).any()
+    fig = plot_map.map_figure(cols, ["grid_x", "grid_yaw"])
+    maps = [ax for ax in fig.axes if ax.get_title()]
+    assert len(maps) == 2
+    for ax in maps:
+        assert (ax.get_xlabel(), ax.get_ylabel()) == ("platform x [m]", "platform yaw [rad]")
+        assert "not assembled (blank)" in legend_labels(ax)
+    colorbars = [ax for ax in fig.axes if not ax.get_title()]
+    assert any(UNIT.search(ax.get_ylabel()) is None and "distance" in ax.get_ylabel() for ax in colorbars)
+
+
+@pytest.mark.parametrize("grid", [False, True])
+def test_the_cli_writes_plots_with_units(tmp_path, grid, capsys):
+    from pinmob.cli import main
+
+    png = tmp_path / "out.png"
+    args = ["scan", "3-PUU", "--plot", str(png), "--no-progress"]
+    args += (
+        ["--grid", "x:-0.05:0.05:3", "y:-0.05:0.05:3"] if grid else ["--from", "generic", "--to", "offset", "-n", "4"]
+    )
+    assert main(args) == 0
+    assert png.read_bytes()[:4] == b"\x89PNG" and f"plot: {png}" in capsys.readouterr().out

@@ -24,6 +24,7 @@ from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.motion_path import follow_rates
 from pinmob.analysis.verdicts import Verdict
 from pinmob.exceptions import ConfigurationError
+from pinmob.scan import path_spec, with_finite
 
 
 def finite(mech: pinmob.Mechanism, q, **kw) -> pinmob.Report:
@@ -52,7 +53,8 @@ def test_four_bar_branches_cross_at_the_change_point() -> None:
     for expected in ([1, -1, 1], [1, -2, -2]):
         assert sum(parallel(t, expected) for t in tangents) == 1, (expected, tangents)
     assert all(b.traced > 0 for b in fm.free.branches)
-    assert all(v.verdict is Verdict.BRANCH_POINT for v in fm.free.internal)  # the kernel's basis: no branch alone
+    # the kernel's basis (two motions): neither lies on a branch alone
+    assert [v.verdict for v in fm.free.internal] == [Verdict.BRANCH_POINT] * 2
     assert fm.locked is not None and fm.locked.mechanism_dof == 1 and fm.finite_dof_locked == 0
     assert fm.free.samples.unexplained == 0 and fm.free.samples.per_branch == (1, 1)
 
@@ -84,7 +86,7 @@ def test_flat_3puu_rotation_and_internal_motions_are_shaky() -> None:
     (branch,) = fm.free.branches
     assert min(joints_follow(mech, q, branch.rates[:, 0])) > 0.99
     assert [b.motion_type for b in fm.free.branches] == ["1T"]
-    assert fm.finite_dof_locked == 0 and all(v.order == 2 for v in fm.locked.motions)
+    assert fm.finite_dof_locked == 0 and [(v.label, v.order) for v in fm.locked.motions] == [("T1 z", 2), ("R1 z", 2)]
     doc = report.to_dict()
     assert (doc["finite_dof"], doc["finite_mechanism_dof"], doc["finite_dof_locked"]) == (1, 1, 0)
     assert {m["label"]: (m["finite"], m["order"]) for m in doc["finite"]["motions"]} == {
@@ -186,7 +188,7 @@ def test_sarrus_at_its_top_dead_centre_moves_only_at_second_order() -> None:
     fm = finite(pinmob.load("Sarrus"), "stretched").finite
     assert (fm.free.dof, fm.finite_dof, fm.free.mechanism_dof, fm.finite_mechanism_dof) == (0, 1, 2, 1)
     assert [(b.dimension, b.motion_type, b.where) for b in fm.free.branches] == [(1, "1T", "near q")] * 2
-    assert all(v.verdict is Verdict.BRANCH_POINT for v in fm.free.internal)
+    assert [(v.label, v.verdict) for v in fm.free.internal] == [(f"limb {x}", Verdict.BRANCH_POINT) for x in "AB"]
     assert [b.motions[0].label for b in fm.free.branches] == ["T1 z", "T1 z"]
 
 
@@ -298,11 +300,41 @@ def test_finite_analysis_does_not_depend_on_placement_or_limb_order() -> None:
     assert results[0] == results[1]
 
 
-def test_order_bound_is_checked() -> None:
+def test_order_bound_is_checked(capsys) -> None:
+    from pinmob.cli import main
+
+    assert main(["analyze", "3-PUU", "--finite-order", "3"]) == 0  # implies --finite (it was silently ignored)
+    assert "higher-order conditions up to order 3" in capsys.readouterr().out
     mech = pinmob.load("3-PUU")
     with pytest.raises(ConfigurationError, match="integer from 2 to 8, got 1"):
         pinmob.analyze(mech, "generic", finite=True, finite_order=1)
     fm = finite(mech, "generic", finite_order=2).finite
-    assert fm.order == 2 and all(len(v.test.residuals) == 1 for v in fm.motions)
+    assert fm.order == 2 and [len(v.test.residuals) for v in fm.motions] == [1, 1, 1]  # the 3-PUU's 3T: order 2 only
     conf = pinmob.Configuration(mech, "generic")
     assert finite_mobility(conf, 1e-6) is finite_mobility(conf, 1e-6)  # computed once per configuration
+
+
+def test_scan_gives_each_samples_finite_dof(tmp_path, capsys) -> None:
+    """``pinmob scan --finite``: the flat 3-PUU's path from 'flat' to 'flat-raised' stays in the flat family, where
+    every configuration is shaky like 'flat' (the README's derivation: links exactly R - r): 2 DoF 1T1R to first
+    order, finite 1 (and 1 for the whole mechanism) at every sample. The 3-PUU's generic-to-offset path is regular:
+    finite = instantaneous = 3. ``--finite-order`` alone implies ``--finite``."""
+    import csv
+
+    from pinmob.cli import main
+
+    flat, regular = tmp_path / "flat.csv", tmp_path / "regular.csv"
+    assert main(["scan", "3-PUU-flat", "--from", "flat", "--to", "flat-raised", "-n", "4", "--finite",
+                 "--csv", str(flat), "--no-progress"]) == 0  # fmt: skip
+    assert "finite DoF of the platform at the assembled samples: 4 x 1 DoF" in capsys.readouterr().out
+    rows = list(csv.DictReader(flat.open()))
+    assert [(r["dof"], r["finite_dof"], r["finite_mechanism_dof"]) for r in rows] == [("2", "1", "1")] * 4
+    assert main(["scan", "3-PUU", "--from", "generic", "--to", "offset", "-n", "3", "--finite-order", "3",
+                 "--csv", str(regular), "--no-progress"]) == 0  # fmt: skip
+    assert "order bound 3" in capsys.readouterr().out
+    rows = list(csv.DictReader(regular.open()))
+    assert [(r["dof"], r["finite_dof"], r["finite_mechanism_dof"]) for r in rows] == [("3", "3", "3")] * 3
+    with pytest.raises(ConfigurationError, match="integer from 2 to 8, got 9"):
+        with_finite(pinmob.load("3-PUU"), path_spec(pinmob.load("3-PUU"), "generic", "offset", 2), 9)
+    assert main(["scan", "3-PUU", "--finite-order", "1", "--csv", str(regular), "--force"]) == 2
+    assert capsys.readouterr().err.startswith("pinmob: error: the order bound of the finite analysis")

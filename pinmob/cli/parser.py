@@ -170,6 +170,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (none either when not a terminal)")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    p.add_argument(
+        "--finite",
+        action="store_true",
+        help="also give each sample's finite DoF (platform and mechanism; the finite analysis per sample: "
+        "10 to 500 ms each, see docs/finite-mobility.md)",
+    )
+    p.add_argument(
+        "--finite-order",
+        type=int,
+        default=None,
+        metavar="K",
+        help="the highest order of the conditions the finite analysis checks (2..8, default 4); implies --finite",
+    )
     p = sub.add_parser(
         "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY
     )

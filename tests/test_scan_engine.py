@@ -16,8 +16,9 @@ import time
 from pathlib import Path
 
 import pytest
-from distributed.diagnostics.plugin import WorkerPlugin
+import worker_plugins
 from processes import alive, children, dask_workers
+from worker_plugins import KillOnFirstChunk
 
 import pinmob
 from pinmob.cli import main
@@ -143,29 +144,6 @@ def test_an_unreachable_scheduler_is_one_clear_error():
     assert time.monotonic() - t0 < 60
 
 
-class KillOnFirstChunk(WorkerPlugin):
-    """A Dask worker plugin: the worker that starts the first pinmob task kills itself with ``sig``.
-
-    One shot across the cluster (the first to create ``flag`` does it), so the kill lands while a chunk is being
-    computed whatever the speed of the machine (waiting for a busy worker from outside could find the scan done).
-    """
-
-    name = "pinmob-test-kill-on-first-chunk"
-
-    def __init__(self, flag: str, sig: int) -> None:
-        super().__init__()
-        self.flag, self.sig = flag, sig
-
-    def transition(self, key: object, start: str, finish: str, **kwargs: object) -> None:
-        if finish != "executing" or "pinmob-" not in str(key):
-            return
-        try:
-            os.close(os.open(self.flag, os.O_CREAT | os.O_EXCL))
-        except FileExistsError:
-            return
-        os.kill(os.getpid(), self.sig)
-
-
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
 def test_cli_scan_survives_a_killed_worker(dask_cluster, tmp_path, sig):
     """``pinmob scan --scheduler``: the worker computing the first chunk on the cluster is killed while it does;
@@ -173,7 +151,7 @@ def test_cli_scan_survives_a_killed_worker(dask_cluster, tmp_path, sig):
     import cloudpickle
     from dask.distributed import Client
 
-    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers cannot import this test module
+    cloudpickle.register_pickle_by_value(worker_plugins)  # the workers cannot import the tests
     grid = ["--grid", "x:-0.08:0.08:12", "y:-0.08:0.08:24", "--no-progress"]
     serial, cluster = tmp_path / "serial.csv", tmp_path / "cluster.csv"
     assert main(["scan", "6-UPS", *grid, "--csv", str(serial)]) == 0

@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
+import worker_plugins
+from worker_plugins import HoldAfter, KillOnFirstChunk
 
 import pinmob
 from pinmob.cli import main
@@ -86,26 +88,28 @@ def test_a_design_record_agrees_with_pinmob_scan(tmp_path):
 
 
 def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):
+    """The worker that starts the first design is killed while it computes it (a worker plugin: whatever the
+    machine's speed); Dask computes the design again and the file is the serial one."""
+    import cloudpickle
     from dask.distributed import Client
 
+    cloudpickle.register_pickle_by_value(worker_plugins)  # the workers cannot import the tests
     spec = _spec(tmp_path, n=3, m=7)
     assert main(["sweep", str(spec), "--out", str(tmp_path / "serial.parquet"), "--no-progress", "--no-plots"]) == 0
+    flag = tmp_path / "killed"
     with Client(dask_cluster.scheduler_address) as client:
-        pids = client.run(os.getpid)
-        proc = subprocess.Popen([*PINMOB, "sweep", str(spec), "--out", str(tmp_path / "dask.parquet"), "--no-plots",
-                                 "--scheduler", dask_cluster.scheduler_address], stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)  # fmt: skip
-        busy: list[str] = []
-        deadline = time.monotonic() + 90
-        while not busy and time.monotonic() < deadline and proc.poll() is None:
-            busy = [w for w, tasks in client.processing().items() if any("pinmob-" in t for t in tasks)]
-            time.sleep(0.02)
-        assert busy, "no design ever ran on the cluster"
-        os.kill(pids[busy[0]], signal.SIGKILL)
-        out, err = proc.communicate(timeout=180)
+        plugin = KillOnFirstChunk(str(flag), int(signal.SIGKILL))
+        client.register_plugin(plugin, name=KillOnFirstChunk.name)
+        try:
+            run = subprocess.run([*PINMOB, "sweep", str(spec), "--out", str(tmp_path / "dask.parquet"), "--no-plots",
+                                  "--scheduler", dask_cluster.scheduler_address], capture_output=True, text=True,
+                                 timeout=240)  # fmt: skip
+        finally:
+            client.unregister_worker_plugin(KillOnFirstChunk.name)
         client.wait_for_workers(2, timeout=60)
-    assert proc.returncode == 0, err
-    assert "lost and replaced" in out
+    assert flag.exists(), "no design ever ran on the cluster"
+    assert run.returncode == 0, run.stderr
+    assert "lost and replaced" in run.stdout
     assert pq.read_table(tmp_path / "dask.parquet").equals(pq.read_table(tmp_path / "serial.parquet"))
 
 
@@ -113,28 +117,46 @@ def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):
 def uninterrupted(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("whole")
     whole = folder / "whole.parquet"
-    assert main(["sweep", str(_spec(folder, n=6, m=13)), "--out", str(whole), "--no-progress", "--no-plots"]) == 0
+    assert main(["sweep", str(_spec(folder, n=6, m=5)), "--out", str(whole), "--no-progress", "--no-plots"]) == 0
     return whole
 
 
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM", "SIGKILL"])
-def test_resuming_an_interrupted_sweep_gives_the_uninterrupted_file(tmp_path, sig, uninterrupted):
+def test_resuming_an_interrupted_sweep_gives_the_uninterrupted_file(tmp_path, sig, uninterrupted, dask_cluster):
     """Interrupted once the first records are in the journal (handled: the file so far is published, marked
     incomplete; SIGKILL: the journal beside the file is recovered), then run again with the same command: the
-    same file, byte for byte, as a run never interrupted."""
-    spec = _spec(tmp_path, n=6, m=13)
+    same file, byte for byte, as a run never interrupted.
+
+    The interrupted run computes its designs on the test's cluster, where a worker plugin holds every design past
+    the first six until the test has sent the signal: the run is interrupted while running, whatever the machine's
+    speed (a signal sent on seeing the journal raced the run's end).
+    """
+    import cloudpickle
+    from dask.distributed import Client
+
+    cloudpickle.register_pickle_by_value(worker_plugins)  # the workers cannot import the tests
+    spec = _spec(tmp_path, n=6, m=5)
     whole, cut = uninterrupted, tmp_path / "cut.parquet"
     args = [*PINMOB, "sweep", str(spec), "--out", str(cut), "--no-progress", "--no-plots"]
-    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    gate = tmp_path / "gate"
+    gate.mkdir()
     journal = tmp_path / ".cut.parquet.pinmob-journal"
-    deadline = time.monotonic() + 120
-    written = 0
-    while time.monotonic() < deadline and proc.poll() is None and not written:
-        written = sum(1 for _ in journal_records(journal))  # read as the store reads it: complete batches only
-        time.sleep(0.01)
-    assert proc.poll() is None and 0 < written < 36, (written, proc.communicate())  # interrupted while running
-    os.kill(proc.pid, getattr(signal, sig))
-    out, err = proc.communicate(timeout=60)
+    with Client(dask_cluster.scheduler_address) as client:
+        client.register_plugin(HoldAfter(str(gate), free=6), name=HoldAfter.name)
+        try:
+            proc = subprocess.Popen([*args, "--scheduler", dask_cluster.scheduler_address], stdout=subprocess.PIPE,
+                                    stderr=subprocess.PIPE, text=True)  # fmt: skip
+            deadline = time.monotonic() + 120  # a guard against a hang: the record comes, however slowly
+            written = 0
+            while time.monotonic() < deadline and proc.poll() is None and not written:
+                written = sum(1 for _ in journal_records(journal))  # as the store reads it: complete batches only
+                time.sleep(0.01)
+            assert proc.poll() is None and 0 < written < 36, (written, proc.communicate())  # held: still running
+            os.kill(proc.pid, getattr(signal, sig))
+            out, err = proc.communicate(timeout=60)
+        finally:
+            (gate / "release").touch()
+            client.unregister_worker_plugin(HoldAfter.name)
     if sig == "SIGKILL":
         assert proc.returncode == -9 and journal.exists()
     else:

@@ -29,15 +29,7 @@ def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:
             sl = slice(joint.idx_q, joint.idx_q + joint.nq)
             lower[sl], upper[sl] = 1000 * lower[sl], 1000 * upper[sl]
     model.lowerPositionLimit, model.upperPositionLimit = lower, upper
-    actuated = {b.name: list(b.actuated) for b in mech.limbs} | {"": list(mech.extra_actuated)}
-    return pinmob.Mechanism.from_model(
-        model,
-        {b.name: b.tip for b in mech.limbs},
-        name=mech.name,
-        platform=mech.platform,
-        closures=mech.closures,
-        actuated=actuated,
-    )
+    return _with_model(mech, model)
 
 
 def q_in_millimetres(mech: pinmob.Mechanism, q: np.ndarray) -> np.ndarray:
@@ -60,6 +52,11 @@ def moved(mech: pinmob.Mechanism, rotation: np.ndarray, shift: np.ndarray) -> pi
     for f in model.frames:
         if f.parentJoint == 0:
             f.placement = move * f.placement
+    return _with_model(mech, model)
+
+
+def _with_model(mech: pinmob.Mechanism, model: pin.Model) -> pinmob.Mechanism:
+    """``mech``'s limbs, platform, closures and actuated joints on another (rescaled or moved) model."""
     actuated = {b.name: list(b.actuated) for b in mech.limbs} | {"": list(mech.extra_actuated)}
     return pinmob.Mechanism.from_model(
         model,

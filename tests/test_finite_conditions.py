@@ -46,41 +46,58 @@ def _fit_derivatives(ts: np.ndarray, values: np.ndarray, count: int) -> np.ndarr
     return np.array([coef[i] * math.factorial(i) for i in range(count)])
 
 
-@pytest.mark.parametrize(("name", "config"), [("3-PUU", "generic"), ("Bennett", "generic"), ("3-UR5", "generic")])
-def test_body_twist_derivatives_match_pinocchio(name: str, config: str) -> None:
-    """``V_b^(n)``, n = 0..3, from the brackets equal the derivatives of ``J_b(q(t)) q'(t)`` (Pinocchio, fitted)."""
-    mech = pinmob.load(name)
-    conf = pinmob.Configuration(mech, config)
-    loops = mechanism_loops(conf)
-    system, nv, col = loops.system, loops.nv, loops.columns
-    rng = np.random.default_rng(1)
-    x = np.zeros((4, system.size))
-    x[:, :nv] = rng.normal(size=(4, nv))
-    model, data = mech.model, mech.model.createData()
-    ts = np.linspace(-4e-3, 4e-3, 9)
-    twists = []
-    for t in ts:  # revolute and prismatic joints: q(t) = q + sum t^i / i! x^(i), exactly
-        dq = sum(t ** (i + 1) / math.factorial(i + 1) * x[i, :nv] for i in range(4)) * col
-        rate = sum(t**i / math.factorial(i) * x[i, :nv] for i in range(4)) * col
-        pin.computeJointJacobians(model, data, pin.integrate(model, conf.q, dq))
-        rows = []
-        for j in range(1, model.njoints):
-            mask = np.zeros(nv)
-            for k in model.supports[j][1:]:
-                mask[model.joints[k].idx_v : model.joints[k].idx_v + model.joints[k].nv] = 1.0
-            rows.append(
-                shift_twists(np.array(data.J) @ (mask * rate), loops.reference) * twist_scaling(mech.length_scale)
-            )
-        twists.append(np.concatenate(rows))
-    measured = _fit_derivatives(ts, np.array(twists), 4)
-    # the recursion's body twists: V^(n) = support U^(n), the loop rows being differences of them
+def _body_twists(mech: pinmob.Mechanism, loops, data: pin.Data, q: np.ndarray, rate: np.ndarray) -> np.ndarray:
+    """Every body's twist ``J_b(q) rate`` from Pinocchio's joint Jacobians, as the recursion expresses it (at the
+    loops' reference point, scaled by L), stacked body after body."""
+    model = mech.model
+    pin.computeJointJacobians(model, data, q)
+    rows = []
+    for j in range(1, model.njoints):
+        mask = np.zeros(model.nv)
+        for k in model.supports[j][1:]:
+            mask[model.joints[k].idx_v : model.joints[k].idx_v + model.joints[k].nv] = 1.0
+        rows.append(shift_twists(np.array(data.J) @ (mask * rate), loops.reference) * twist_scaling(mech.length_scale))
+    return np.concatenate(rows)
+
+
+def _random_rates(loops, seed: int) -> np.ndarray:
+    """Random joint-rate derivatives ``x^(1..4)`` (4, size): the joints' random, the cut joints' zero."""
+    x = np.zeros((4, loops.system.size))
+    x[:, : loops.nv] = np.random.default_rng(seed).normal(size=(4, loops.nv))
+    return x
+
+
+def _recursion(loops, x: np.ndarray, njoints: int) -> np.ndarray:
+    """The body twists' derivatives ``V^(n)``, n = 0..3, from the bracket recursion (``V^(n) = support U^(n)``) along
+    the joint-rate derivatives ``x`` (4, size), stacked as :func:`_body_twists` stacks them."""
+    system = loops.system
     s, v = [system.screws], []
     for n in range(4):
         if n:
             s.append(sum(math.comb(n - 1, a) * bracket(v[a][system.body], s[n - 1 - a]) for a in range(n)))
         u = sum(math.comb(n, b) * s[b] * x[n - b][:, None] for b in range(n + 1))
         v.append(system.support @ u)
-    computed = np.array([vn[1 : model.njoints].ravel() for vn in v])
+    return np.array([vn[1:njoints].ravel() for vn in v])
+
+
+@pytest.mark.parametrize(("name", "config"), [("3-PUU", "generic"), ("Bennett", "generic"), ("3-UR5", "generic")])
+def test_body_twist_derivatives_match_pinocchio(name: str, config: str) -> None:
+    """``V_b^(n)``, n = 0..3, from the brackets equal the derivatives of ``J_b(q(t)) q'(t)`` (Pinocchio, fitted)."""
+    mech = pinmob.load(name)
+    conf = pinmob.Configuration(mech, config)
+    loops = mechanism_loops(conf)
+    nv, col = loops.nv, loops.columns
+    x = _random_rates(loops, 1)
+    model, data = mech.model, mech.model.createData()
+    ts = np.linspace(-4e-3, 4e-3, 9)
+    twists = []
+    for t in ts:  # revolute and prismatic joints: q(t) = q + sum t^i / i! x^(i), exactly
+        dq = sum(t ** (i + 1) / math.factorial(i + 1) * x[i, :nv] for i in range(4)) * col
+        rate = sum(t**i / math.factorial(i) * x[i, :nv] for i in range(4)) * col
+        twists.append(_body_twists(mech, loops, data, pin.integrate(model, conf.q, dq), rate))
+    measured = _fit_derivatives(ts, np.array(twists), 4)
+    # the recursion's body twists: V^(n) = support U^(n), the loop rows being differences of them
+    computed = _recursion(loops, x, model.njoints)
     scale = np.abs(measured).max(axis=1, keepdims=True)
     assert_allclose(computed / scale, measured / scale, atol=2e-5)
 
@@ -137,10 +154,8 @@ def test_body_twist_derivatives_match_pinocchio_for_every_supported_joint(kind: 
     mech, q = _chain_through(kind)
     conf = pinmob.Configuration(mech, q)
     loops = mechanism_loops(conf)
-    system, nv, col = loops.system, loops.nv, loops.columns
-    rng = np.random.default_rng(3)
-    x = np.zeros((4, system.size))
-    x[:, :nv] = rng.normal(size=(4, nv))
+    nv, col = loops.nv, loops.columns
+    x = _random_rates(loops, 3)
     model, data = mech.model, mech.model.createData()
 
     def rate(t: float) -> np.ndarray:
@@ -149,24 +164,9 @@ def test_body_twist_derivatives_match_pinocchio_for_every_supported_joint(kind: 
     ts = np.linspace(-4e-3, 4e-3, 9)
     twists = []
     for t, qt in zip(ts, _curve(model, q, rate, ts)):
-        pin.computeJointJacobians(model, data, qt)
-        rows = []
-        for j in range(1, model.njoints):
-            mask = np.zeros(nv)
-            for k in model.supports[j][1:]:
-                mask[model.joints[k].idx_v : model.joints[k].idx_v + model.joints[k].nv] = 1.0
-            rows.append(
-                shift_twists(np.array(data.J) @ (mask * rate(t)), loops.reference) * twist_scaling(mech.length_scale)
-            )
-        twists.append(np.concatenate(rows))
+        twists.append(_body_twists(mech, loops, data, qt, rate(t)))
     measured = _fit_derivatives(ts, np.array(twists), 4)
-    s, v = [system.screws], []
-    for n in range(4):
-        if n:
-            s.append(sum(math.comb(n - 1, a) * bracket(v[a][system.body], s[n - 1 - a]) for a in range(n)))
-        u = sum(math.comb(n, b) * s[b] * x[n - b][:, None] for b in range(n + 1))
-        v.append(system.support @ u)
-    computed = np.array([vn[1 : model.njoints].ravel() for vn in v])
+    computed = _recursion(loops, x, model.njoints)
     scale = np.abs(measured).max(axis=1, keepdims=True)
     assert_allclose(computed / scale, measured / scale, atol=2e-5)
 

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
+import sweep_specs
 import worker_plugins
 from worker_plugins import HoldAfter, KillOnFirstChunk
 
@@ -28,19 +29,9 @@ from pinmob.sweeps.store import sweep_metadata
 PINMOB = [sys.executable, "-m", "pinmob"]
 ROOT = Path(__file__).parent.parent
 
-SPEC = """
-family = "3-PUU"
-[parameters]
-small_r = 0.15
-[design]
-method = "grid"
-[design.parameters]
-link = [0.2, 0.35, {n}]
-big_r = [0.25, 0.4, {n}]
-[scan]
-grid = ["x:-0.05:0.05:{m}", "y:-0.05:0.05:{m}"]
-at = "generic"
-"""
+
+#: n x n designs: link in [0.2, 0.35], big_r in [0.25, 0.4]
+SPEC = sweep_specs.SPEC.replace("{title}", "s").replace("{lo}", "0.2").replace("{hi}", "0.35")
 
 
 def _spec(folder: Path, n: int = 3, m: int = 5, name: str = "s.toml") -> Path:

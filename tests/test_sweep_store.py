@@ -15,6 +15,7 @@ from pathlib import Path
 import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
+import sweep_specs
 
 import pinmob
 from pinmob.cli import main
@@ -25,20 +26,9 @@ from pinmob.sweeps.store import META, Store, sweep_metadata
 
 PINMOB = [sys.executable, "-m", "pinmob"]
 
-SPEC = """
-title = "{title}"
-family = "3-PUU"
-[parameters]
-small_r = 0.15
-[design]
-method = "grid"
-[design.parameters]
-link = [{lo}, {hi}, 4]
-big_r = [0.25, 0.4, 4]
-[scan]
-grid = ["x:-0.05:0.05:{m}", "y:-0.05:0.05:{m}"]
-at = "generic"
-"""
+
+#: 4 x 4 designs: link in [lo, hi], big_r in [0.25, 0.4]
+SPEC = sweep_specs.SPEC.replace("{n}", "4")
 
 
 def _spec(folder: Path, name: str, lo: float, hi: float, m: int = 5) -> Path:

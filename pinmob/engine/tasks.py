@@ -64,8 +64,8 @@ def ordered_results(
     its item and the dataset's name. The tasks have no dependency: at most
     ``window`` are submitted and not yet yielded, Dask queues them on the scheduler
     and gives each worker thread one at a time, so that when a worker dies only the
-    task it was running is suspected (Dask counts a task that was on
-    ``allowed-failures`` dead workers as their cause), and a worker that replaces it
+    task it was running is suspected (Dask gives a task up once it was on
+    ``allowed-failures`` + 1 dead workers), and a worker that replaces it
     fetches the dataset again. ``watch`` counts the workers that disappear. Pending
     tasks are cancelled, and the dataset dropped, when the caller stops early (an
     interruption, an error) or the map ends.
@@ -124,10 +124,9 @@ def _outcome(future: Any) -> Any:
     if future.status == "error":
         exc = future.exception()
         if type(exc).__name__ == "KilledWorker":
-            return Lost(
-                "the Dask workers computing it died each time it was tried (distributed.scheduler.allowed-failures); "
-                "out of memory?"
-            )
+            tries = getattr(exc, "allowed_failures", None)  # Dask gives up after allowed-failures + 1 dead workers
+            times = "" if tries is None else f" ({tries + 1} times: distributed.scheduler.allowed-failures + 1)"
+            return Lost(f"the Dask workers computing it died each time it was tried{times}; out of memory?")
         future.result()  # raises the task's own exception, with its traceback
     if future.status == "cancelled":
         raise EngineError("Dask cancelled a task (was the scheduler restarted or lost?); the work stopped")

@@ -3,12 +3,10 @@
 from __future__ import annotations
 
 import itertools
-import os
 import shutil
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
@@ -16,7 +14,8 @@ import pyarrow.parquet as pq
 import pytest
 import sweep_specs
 import worker_plugins
-from worker_plugins import HoldAfter, KillOnFirstChunk
+from held_runs import interrupted
+from worker_plugins import KillOnFirstChunk
 
 import pinmob
 from pinmob.cli import main
@@ -122,39 +121,23 @@ def test_resuming_an_interrupted_sweep_gives_the_uninterrupted_file(tmp_path, si
     the first six until the test has sent the signal: the run is interrupted while running, whatever the machine's
     speed (a signal sent on seeing the journal raced the run's end).
     """
-    import cloudpickle
-    from dask.distributed import Client
-
-    cloudpickle.register_pickle_by_value(worker_plugins)  # the workers cannot import the tests
     spec = _spec(tmp_path, n=6, m=5)
     whole, cut = uninterrupted, tmp_path / "cut.parquet"
-    args = [*PINMOB, "sweep", str(spec), "--out", str(cut), "--no-progress", "--no-plots"]
-    gate = tmp_path / "gate"
-    gate.mkdir()
+    args = ["sweep", str(spec), "--out", str(cut), "--no-progress", "--no-plots"]
     journal = tmp_path / ".cut.parquet.pinmob-journal"
-    with Client(dask_cluster.scheduler_address) as client:
-        client.register_plugin(HoldAfter(str(gate), free=6), name=HoldAfter.name)
-        try:
-            proc = subprocess.Popen([*args, "--scheduler", dask_cluster.scheduler_address], stdout=subprocess.PIPE,
-                                    stderr=subprocess.PIPE, text=True)  # fmt: skip
-            deadline = time.monotonic() + 120  # a guard against a hang: the record comes, however slowly
-            written = 0
-            while time.monotonic() < deadline and proc.poll() is None and not written:
-                written = sum(1 for _ in journal_records(journal))  # as the store reads it: complete batches only
-                time.sleep(0.01)
-            assert proc.poll() is None and 0 < written < 36, (written, proc.communicate())  # held: still running
-            os.kill(proc.pid, getattr(signal, sig))
-            out, err = proc.communicate(timeout=60)
-        finally:
-            (gate / "release").touch()
-            client.unregister_worker_plugin(HoldAfter.name)
+
+    def ready() -> bool:  # the journal holds a record (read as the store reads it: complete batches only)
+        return 0 < sum(1 for _ in journal_records(journal)) < 36
+
+    proc = interrupted(dask_cluster.scheduler_address, args, tmp_path / "gate", ready, getattr(signal, sig))
+    out, err = proc.stdout, proc.stderr
     if sig == "SIGKILL":
         assert proc.returncode == -9 and journal.exists()
     else:
         assert proc.returncode == 130 and "Traceback" not in err and "run the same command to resume" in out
         meta = sweep_metadata(cut)
         assert meta is not None and not meta["complete"] and 0 < meta["written"] < 36
-    again = subprocess.run(args, capture_output=True, text=True, timeout=120)
+    again = subprocess.run([*PINMOB, *args], capture_output=True, text=True, timeout=120)
     assert again.returncode == 0, again.stderr
     assert "resuming" in again.stdout and "already written, skipped" in again.stdout
     assert pq.read_table(cut).equals(pq.read_table(whole))

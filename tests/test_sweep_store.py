@@ -7,7 +7,6 @@ from __future__ import annotations
 import json
 import os
 import signal
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -16,6 +15,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 import sweep_specs
+from held_runs import interrupted
 
 import pinmob
 from pinmob.cli import main
@@ -49,24 +49,18 @@ def _dot_files(folder: Path) -> list[str]:
     return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
 
 
-def _kill_after_first_record(args: list[str], journal: Path, count: int) -> None:
-    """Run ``pinmob`` with ``args``; SIGKILL it once its journal holds a record but not all (read as the store reads
-    it), checking it was still running then."""
-    proc = subprocess.Popen([*PINMOB, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
-    deadline = time.monotonic() + 120
-    written = 0
-    while time.monotonic() < deadline and proc.poll() is None:
-        written = sum(1 for _ in journal_records(journal))
-        if written:
-            break
-        time.sleep(0.01)
-    assert proc.poll() is None and 0 < written < count, (written, proc.communicate())
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.communicate(timeout=60)
-    assert proc.returncode == -9 and journal.exists()
+def _kill_after_first_record(scheduler: str, args: list[str], journal: Path, count: int) -> None:
+    """Run ``pinmob`` with ``args`` on the test cluster; SIGKILL it once its journal holds a record but not all (read
+    as the store reads it), the run held until then (:func:`held_runs.interrupted`)."""
+
+    def ready() -> bool:
+        return 0 < sum(1 for _ in journal_records(journal)) < count
+
+    run = interrupted(scheduler, args, journal.parent / "gate", ready, signal.SIGKILL)
+    assert run.returncode == -9 and journal.exists()
 
 
-def test_a_forced_run_killed_then_forced_again_holds_only_its_own_records(tmp_path, capsys):
+def test_a_forced_run_killed_then_forced_again_holds_only_its_own_records(tmp_path, capsys, dask_cluster):
     """Reviewer's repro: b's records in out.parquet; a (other link range) run with --force and SIGKILLed after its
     first journal flush; a again with --force: the file must hold a's records only (it said "16 of 16 designs
     already written, skipped", metadata name 'a', complete, rows of b)."""
@@ -74,7 +68,8 @@ def test_a_forced_run_killed_then_forced_again_holds_only_its_own_records(tmp_pa
     out, journal = tmp_path / "out.parquet", tmp_path / ".out.parquet.pinmob-journal"
     quiet = ["--no-progress", "--no-plots"]
     assert main(["sweep", str(b), "--out", str(out), *quiet]) == 0
-    _kill_after_first_record(["sweep", str(a), "--out", str(out), "--force", *quiet], journal, 16)
+    _kill_after_first_record(dask_cluster.scheduler_address, ["sweep", str(a), "--out", str(out), "--force", *quiet],
+                             journal, 16)  # fmt: skip
     assert sweep_metadata(out)["name"] == "b"  # the killed run replaced nothing
     _one_line(capsys, ["sweep", str(a), "--out", str(out), *quiet], "another sweep ('b'", "--force")
     killed = [".out.parquet.pinmob-journal", ".out.parquet.pinmob-lock"]  # what SIGKILL leaves (the lock not held)
@@ -90,14 +85,15 @@ def test_a_forced_run_killed_then_forced_again_holds_only_its_own_records(tmp_pa
     assert _dot_files(tmp_path) == []
 
 
-def test_a_file_that_is_not_a_sweep_file_is_never_read_as_one(tmp_path, capsys):
+def test_a_file_that_is_not_a_sweep_file_is_never_read_as_one(tmp_path, capsys, dask_cluster):
     """`echo mine > out.parquet`, a --force run killed: the next runs are one-line refusals (they were tracebacks,
     every time), the file untouched and no lock left behind; --force then replaces it."""
     a = _spec(tmp_path, "a", 0.26, 0.32)
     out, journal = tmp_path / "out.parquet", tmp_path / ".out.parquet.pinmob-journal"
     out.write_text("mine\n")
     quiet = ["--no-progress", "--no-plots"]
-    _kill_after_first_record(["sweep", str(a), "--out", str(out), "--force", *quiet], journal, 16)
+    _kill_after_first_record(dask_cluster.scheduler_address, ["sweep", str(a), "--out", str(out), "--force", *quiet],
+                             journal, 16)  # fmt: skip
     for _ in range(2):
         _one_line(capsys, ["sweep", str(a), "--out", str(out), *quiet], "not a pinmob sweep file", "--force")
     assert out.read_text() == "mine\n"
@@ -157,19 +153,14 @@ def test_a_store_interrupted_before_any_record_publishes_nothing(tmp_path):
     assert _dot_files(tmp_path) == []
 
 
-def test_the_interruption_message_is_true(tmp_path):
-    """SIGINT as soon as the journal exists (the first record may or may not have landed): the message names exactly
-    what the file holds, or says no file was created."""
-    spec = _spec(tmp_path, "a", 0.26, 0.32, m=15)
+def test_the_interruption_message_is_true(tmp_path, dask_cluster):
+    """SIGINT as soon as the journal exists (the first record may or may not have landed; the run held until then:
+    :func:`held_runs.interrupted`): the message names exactly what the file holds, or says no file was created."""
+    spec = _spec(tmp_path, "a", 0.26, 0.32, m=5)
     out, journal = tmp_path / "out.parquet", tmp_path / ".out.parquet.pinmob-journal"
-    proc = subprocess.Popen([*PINMOB, "sweep", str(spec), "--out", str(out), "--no-progress", "--no-plots"],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)  # fmt: skip
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None and not journal.exists():
-        time.sleep(0.005)
-    assert proc.poll() is None
-    os.kill(proc.pid, signal.SIGINT)
-    text, err = proc.communicate(timeout=60)
+    args = ["sweep", str(spec), "--out", str(out), "--no-progress", "--no-plots"]
+    proc = interrupted(dask_cluster.scheduler_address, args, tmp_path / "gate", journal.exists, signal.SIGINT)
+    text, err = proc.stdout, proc.stderr
     assert proc.returncode == 130 and "Traceback" not in err, err
     (line,) = [t for t in text.splitlines() if t.startswith("interrupted:")]
     if out.exists():

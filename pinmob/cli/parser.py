@@ -164,8 +164,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
     _finite_options(
         p,
-        "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample: "
-        "10 to 500 ms each, see docs/finite-mobility.md)",
+        "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample, "
+        "tens to hundreds of ms each: see docs/finite-mobility.md)",
     )
     p = sub.add_parser(
         "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY

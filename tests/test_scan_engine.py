@@ -220,7 +220,7 @@ def _leftovers(folder: Path) -> list[str]:
     ids=["ctrl-c-to-the-group", "sigterm", "sighup", "sigterm-in-process"],
 )
 def test_an_interrupted_scan_leaves_the_old_files_and_no_temporary(tmp_path, sig, workers, group):
-    """Interrupted while it writes (with --force over an old CSV): exit 130 with one line, the old CSV as it was
+    """Interrupted while it writes, thousands of samples before its end (with --force over an old CSV): exit 130 with one line, the old CSV as it was
     (it was truncated at the start), no new JSON (it was an invalid half document after SIGTERM), no temporary
     file, no traceback from a worker, and no worker process left."""
     old = tmp_path / "s.csv"
@@ -230,12 +230,19 @@ def test_an_interrupted_scan_leaves_the_old_files_and_no_temporary(tmp_path, sig
     proc = subprocess.Popen([*PINMOB, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)  # fmt: skip
     workers_seen = dask_workers(proc.pid, 2) if workers > 1 else []
-    time.sleep(0.3 if workers > 1 else 4.0)
-    assert proc.poll() is None, proc.communicate()
-    if group:
-        os.killpg(proc.pid, getattr(signal, sig))
-    else:
-        os.kill(proc.pid, getattr(signal, sig))
+    send = os.killpg if group else os.kill
+    deadline = time.monotonic() + 120  # a guard against a hang only
+    while time.monotonic() < deadline and proc.poll() is None and not list(tmp_path.glob(".s.csv.*")):
+        time.sleep(0.01)
+    # the scan frozen while the test looks: rows left to compute, then the signal, pending until SIGCONT, is handled
+    # before any of them (a signal sent after a sleep raced the scan's end on a fast machine)
+    send(proc.pid, signal.SIGSTOP)
+    try:
+        (partial,) = tmp_path.glob(".s.csv.*")  # the CSV being written; a stopped process has not ended
+        assert proc.poll() is None and len(partial.read_text().splitlines()) < 10_000 - 1000
+        send(proc.pid, getattr(signal, sig))
+    finally:
+        send(proc.pid, signal.SIGCONT)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
     assert err.strip() == "pinmob: interrupted", err

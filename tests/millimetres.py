@@ -29,6 +29,34 @@ def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:
             sl = slice(joint.idx_q, joint.idx_q + joint.nq)
             lower[sl], upper[sl] = 1000 * lower[sl], 1000 * upper[sl]
     model.lowerPositionLimit, model.upperPositionLimit = lower, upper
+    return _with_model(mech, model)
+
+
+def q_in_millimetres(mech: pinmob.Mechanism, q: np.ndarray) -> np.ndarray:
+    """The same configuration in millimetres: prismatic joint values times 1000."""
+    dv = pin.difference(mech.model, mech.neutral(), q)
+    return pin.integrate(mech.model, mech.neutral(), np.where(linear_velocity_mask(mech.model), 1000 * dv, dv))
+
+
+def moved(mech: pinmob.Mechanism, rotation: np.ndarray, shift: np.ndarray) -> pinmob.Mechanism:
+    """``mech`` placed elsewhere: the whole mechanism turned by ``rotation`` (3, 3) and moved by ``shift`` [m].
+
+    The joints on the ground and the frames fixed to it are placed by the rigid move; everything else rides
+    along. The joint values (hence every configuration vector) are unchanged.
+    """
+    model = pin.Model(mech.model)
+    move = pin.SE3(np.asarray(rotation, float), np.asarray(shift, float))
+    for j in range(1, model.njoints):
+        if model.parents[j] == 0:
+            model.jointPlacements[j] = move * model.jointPlacements[j]
+    for f in model.frames:
+        if f.parentJoint == 0:
+            f.placement = move * f.placement
+    return _with_model(mech, model)
+
+
+def _with_model(mech: pinmob.Mechanism, model: pin.Model) -> pinmob.Mechanism:
+    """``mech``'s limbs, platform, closures and actuated joints on another (rescaled or moved) model."""
     actuated = {b.name: list(b.actuated) for b in mech.limbs} | {"": list(mech.extra_actuated)}
     return pinmob.Mechanism.from_model(
         model,
@@ -38,9 +66,3 @@ def in_millimetres(mech: pinmob.Mechanism) -> pinmob.Mechanism:
         closures=mech.closures,
         actuated=actuated,
     )
-
-
-def q_in_millimetres(mech: pinmob.Mechanism, q: np.ndarray) -> np.ndarray:
-    """The same configuration in millimetres: prismatic joint values times 1000."""
-    dv = pin.difference(mech.model, mech.neutral(), q)
-    return pin.integrate(mech.model, mech.neutral(), np.where(linear_velocity_mask(mech.model), 1000 * dv, dv))

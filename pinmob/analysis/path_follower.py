@@ -22,6 +22,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
+from pinmob.analysis.closure_jacobian import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import angle_between, displacement
 from pinmob.analysis.mobility import platform_mobility
@@ -32,7 +33,7 @@ from pinmob.assembly.assemble import project
 from pinmob.assembly.residual import closure_residual, compute_kinematics, frame_jacobian, stacked_error
 from pinmob.assembly.solver import solve
 from pinmob.exceptions import ClosureError
-from pinmob.model.joints import linear_velocity_mask, short_difference
+from pinmob.model.joints import short_difference
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.classify import MotionKind
@@ -44,6 +45,19 @@ MAX_HALVINGS = 4
 MIN_SHARE = 0.5
 #: smallest share of a step the platform must follow along the intended motion
 MIN_PROGRESS = 0.5
+
+
+def closed_rates(conf: Configuration, held: Sequence[int], rtol: float) -> Array:
+    """(nv, m) orthonormal dimensionless joint rates of the closed chain at conf, the ``held`` joints still.
+
+    ``null [K_hat; rows picking the held rates]`` (:mod:`pinmob.analysis.closure_jacobian`'s
+    dimensionless closure Jacobian), by the one rank rule.
+    """
+    mech = conf.mechanism
+    nv = mech.model.nv
+    _, k = stacked_error(mech, mech.model, conf.data, mech.all_closures)
+    rows = np.vstack([k * closed_chain_columns(conf), np.eye(nv)[list(held)]])
+    return decide_rank(rows, rtol, n=nv).null_space.T
 
 
 class Follower:
@@ -177,7 +191,7 @@ class RateFollower(Follower):
         self.free = np.ones(self.model.nv, bool)
         self.free[self.held] = False
         self.residual = closure_residual(mech)
-        self.col = np.where(linear_velocity_mask(self.model), mech.length_scale, 1.0)
+        self.col = closed_chain_columns(Configuration.unchecked(mech, mech.neutral()))  # per mechanism
 
     def direction_at(self, q: Array, unit: Array, start: pin.SE3) -> Array:
         """The rates stay the same (joint space has no screw to carry along)."""
@@ -185,9 +199,7 @@ class RateFollower(Follower):
 
     def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
         """The direction projected on the closed chain's rates at q (held joints still), or (None, reason)."""
-        k = self.residual(q)[1] * self.col
-        rows = np.vstack([k, np.eye(self.model.nv)[self.held]])
-        null = decide_rank(rows, self.rtol, n=self.model.nv).null_space.T
+        null = closed_rates(Configuration.unchecked(self.mech, q), self.held.tolist(), self.rtol)
         projected = null @ (null.T @ direction)
         share = float(np.linalg.norm(projected) / np.linalg.norm(direction))
         if share < MIN_SHARE:

@@ -132,7 +132,9 @@ class Report:
             return None
         platform = self.mobility if self.has_limbs else self.platform_frame
         motions = None if platform is None else platform.motions
-        return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions)
+        sing = self.singularity if self.state.mechanism.actuated else None
+        locked = sing.uncontrolled if sing is not None and sing.actuation is not None else None
+        return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions, locked_motions=locked)
 
     @property
     def platform_frame(self) -> FrameMobility | None:

@@ -7,6 +7,7 @@ import json
 import sys
 
 from pinmob.analysis.entry_point import analyze
+from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.report import Report
 from pinmob.cli.common import chosen_state, closure_tol_of, load_for
 from pinmob.exceptions import ConfigurationError, choices
@@ -40,8 +41,8 @@ def run(args: argparse.Namespace) -> int:
         actuator_search=args.search_actuators,
         restarts=args.restarts,
         relax=args.relax,
-        finite=args.finite,
-        finite_order=args.finite_order,
+        finite=args.finite or args.finite_order is not None,  # --finite-order K implies --finite
+        finite_order=ORDER if args.finite_order is None else args.finite_order,
     )
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))

@@ -134,17 +134,28 @@ def signals_interrupt() -> Iterator[None]:
             signal.signal(sig, handler)
 
 
-def check_outputs(paths: dict[str, str | None], force: bool) -> None:
-    """Refuse, before any work, output files that exist (unless ``force``), are links, folders or devices, or lie in no folder.
+def check_distinct(paths: dict[str, str | Path | None]) -> None:
+    """Refuse two outputs that name the same file (one would overwrite the other); ``paths``: option -> path or None."""
+    given = {option: Path(path).expanduser() for option, path in paths.items() if path}
+    seen: dict[Path, str] = {}
+    for option, path in given.items():
+        key = path.resolve()
+        if key in seen:
+            raise ConfigurationError(
+                f"{seen[key]} and {option} name the same file {str(path)!r}: one would overwrite the other; "
+                "give each output its own file name"
+            )
+        seen[key] = option
 
-    See :func:`pinmob.scan.files.check_target`.
+
+def check_outputs(paths: dict[str, str | None], force: bool) -> None:
+    """Refuse, before any work, outputs naming one file, or files that exist (unless ``force``) or cannot be outputs.
+
+    An output cannot be a link, a folder or a device, nor lie in no folder (:func:`pinmob.scan.files.check_target`).
     """
     from pinmob.scan.files import check_target
 
-    given = {option: Path(path).expanduser() for option, path in paths.items() if path}
-    if len({p.resolve() for p in given.values()}) < len(given):
-        raise ConfigurationError(
-            f"{', '.join(given)} must name different files, got {choices(map(str, given.values()))}"
-        )
-    for option, target in given.items():
-        check_target(option, target, force)
+    check_distinct(dict(paths))
+    for option, path in paths.items():
+        if path:
+            check_target(option, Path(path).expanduser(), force)

@@ -111,18 +111,10 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="K",
         help="also list every valid set of K actuated joints (exhaustive)",
     )
-    p.add_argument(
-        "--finite",
-        action="store_true",
-        help="also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
+    _finite_options(
+        p,
+        "also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
         "(higher-order conditions, tracing, closed samples)",
-    )
-    p.add_argument(
-        "--finite-order",
-        type=int,
-        default=4,
-        metavar="K",
-        help="with --finite: the highest order of the conditions checked (2..8, default 4)",
     )
     add_model_options(p)
 
@@ -190,6 +182,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (none either when not a terminal)")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    _finite_options(
+        p,
+        "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample, "
+        "tens to hundreds of ms each: see docs/finite-mobility.md)",
+    )
     p = sub.add_parser(
         "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY
     )
@@ -204,3 +201,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--force", action="store_true", help="overwrite --csv and plot files, or an --out of another sweep")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
+
+
+def _finite_options(p: argparse.ArgumentParser, what: str) -> None:
+    """``--finite`` (helped by ``what``) and ``--finite-order K``, which implies it (``pinmob analyze`` and ``scan``)."""
+    p.add_argument("--finite", action="store_true", help=what)
+    p.add_argument(
+        "--finite-order",
+        type=int,
+        default=None,
+        metavar="K",
+        help="the highest order of the conditions the finite analysis checks (2..8, default 4); implies --finite",
+    )

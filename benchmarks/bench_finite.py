@@ -8,6 +8,10 @@ per platform motion, no tracing and no sampling). Each is the median of ``--repe
 the issue's target, 1000 ms per configuration. The machine's load average is printed with the figures (the
 development machine is shared: figures taken under load are slower).
 
+Then the cost of ``pinmob scan --finite`` per sample: the same path scanned with and without the finite DoF of
+each sample (``scan_ms`` per sample without, ``scan_finite_ms`` with), on the 3-PUU (generic to offset, regular)
+and the flat 3-PUU (flat to flat-raised, shaky).
+
 Usage: ``python benchmarks/bench_finite.py [--repeat N] [--only NAME]``; the last line is one JSON object.
 """
 
@@ -29,6 +33,7 @@ from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.higher_order import HigherOrder
 from pinmob.analysis.loop_screws import mechanism_loops
 from pinmob.analysis.tangent_cone import cone
+from pinmob.scan import path_spec, scan, with_finite
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL, decide_rank
 
@@ -84,6 +89,22 @@ def main() -> None:
         print(f"{name:16s} {config:20s} total {total:7.1f} ms  screw-based part {screws:6.1f} ms")
     worst = max(v["total_ms"] for v in out.values())
     print(f"slowest {worst:.0f} ms (reference {REFERENCE_MS:.0f} ms); load average {os.getloadavg()[0]:.1f}")
+    for name, start, end in (("3-PUU", "generic", "offset"), ("3-PUU-flat", "flat", "flat-raised")):
+        if args.only not in (None, name):
+            continue
+        mech = pinmob.load(name)
+        spec = path_spec(mech, start, end, 11)
+        per = {}
+        for key, run in (("scan_ms", spec), ("scan_finite_ms", with_finite(mech, spec))):
+            times = []
+            for _ in range(args.repeat):
+                t0 = time.perf_counter()
+                rows = list(scan(mech, run, progress=False))
+                times.append((time.perf_counter() - t0) / len(rows))
+            per[key] = round(1e3 * statistics.median(times), 1)
+        out[f"scan {name}:{start}->{end}"] = per
+        print(f"pinmob scan {name} --from {start} --to {end}: {per['scan_ms']:.1f} ms per sample, "
+              f"{per['scan_finite_ms']:.1f} ms with --finite")  # fmt: skip
     print(json.dumps(out))
 
 

@@ -46,8 +46,7 @@ def main() -> None:
     import pinmob
     from pinmob.analysis.entry_point import analyze
     from pinmob.engine.cluster import WORKER_SETUP
-    from pinmob.scan.chunk import run_chunk
-    from pinmob.scan.run import chunk_seeds
+    from pinmob.scan.run import scan_in_process
     from pinmob.sweeps.designs import DesignSet
 
     spec = pinmob.load_spec(EXAMPLE)
@@ -66,8 +65,8 @@ def main() -> None:
             scan = spec.scan.spec(mech)
             analyze(mech, scan.q_ref, rtol=scan.rtol, generic_rank=scan.generic_rank).mechanism_mobility  # noqa: B018
             t2 = time.perf_counter()
-            for job in chunk_seeds(mech, scan):
-                run_chunk(mech, scan, *job)
+            for _ in scan_in_process(mech, scan):
+                pass
             t3 = time.perf_counter()
         build, analysis, scanning = build + t1 - t0, analysis + t2 - t1, scanning + t3 - t2
     n = spec.count

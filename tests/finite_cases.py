@@ -144,3 +144,82 @@ def arm_closed_by(kind: str, seed: int = 11) -> pinmob.Mechanism:
     axis_b = np.cross(u, [1.0, 0, 0]) if kind == "universal" else None  # perpendicular to u (frames b = a at q)
     b.closure("cut", "ground_end", "arm_end", kind, axis=axis, axis_b=axis_b)
     return b.mechanism()
+
+
+def _project(mech: pinmob.Mechanism, q: np.ndarray, du: np.ndarray, held: tuple[int, ...]) -> np.ndarray | None:
+    """q moved by the dimensionless joint step ``du`` and projected back on the closed set by the minimum-norm
+    damped solver (``held`` joints kept); None when it does not close."""
+    import pinocchio as pin
+
+    from pinmob.assembly.residual import closure_residual
+    from pinmob.assembly.solver import solve
+    from pinmob.model.joints import linear_velocity_mask
+
+    model = mech.model
+    col = np.where(linear_velocity_mask(model), mech.length_scale, 1.0)
+    free = np.ones(model.nv, bool)
+    free[list(held)] = False
+    res = solve(model, closure_residual(mech), pin.integrate(model, q, col * du), tol=1e-12, max_iter=200,
+                length=mech.length_scale, free=free)  # fmt: skip
+    return res.q if res.residual <= 1e-9 else None
+
+
+def platform_follows(
+    mech: pinmob.Mechanism, q: np.ndarray, twist: np.ndarray, held: tuple[int, ...] = (), step: float = 0.02
+) -> tuple[float, float]:
+    """How far the platform follows a first-order motion at finite amplitude, measured without the finite analysis.
+
+    The joint rates moving the platform along ``twist`` ([v; w] at the platform origin, world axes) at unit
+    dimensionless speed (least squares on the closed chain's rates, ``held`` joints still, from the closure
+    Jacobian's SVD) are stepped by ``+-step`` and projected back on the closed set by the minimum-norm solver; the
+    platform's displacement (Pinocchio's kinematics, ``[dx / L; log(R R0^T)]``) along the motion, as a fraction of
+    ``step``, is returned for both signs. A motion that exists at finite amplitude gives about 1 (the projection
+    moves little: the step left the closed set by O(step^2)); one blocked at order 2 gives about 0 (the closed
+    set holds no curve along it: the projection falls back onto what does move).
+    """
+    import pinocchio as pin
+
+    from pinmob.assembly.residual import closure_residual
+    from pinmob.model.joints import linear_velocity_mask
+
+    model, data = mech.model, mech.model.createData()
+    length = mech.length_scale
+    col = np.where(linear_velocity_mask(model), length, 1.0)
+    w = np.r_[np.full(3, 1 / length), np.ones(3)]
+    rows = np.vstack([closure_residual(mech)(q)[1] * col, np.eye(model.nv)[list(held)]])
+    _, s, vt = np.linalg.svd(rows)
+    null = vt[int(np.sum(s > 1e-6 * s[0])) :].T
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    jp = w[:, None] * pin.getFrameJacobian(model, data, mech.platform_id, pin.LOCAL_WORLD_ALIGNED) * col
+    t = w * np.asarray(twist, float)
+    t /= np.linalg.norm(t)
+    u = null @ np.linalg.lstsq(jp @ null, t, rcond=None)[0]
+    u /= np.linalg.norm(jp @ u)
+    start = data.oMf[mech.platform_id].copy()
+    out = []
+    for sign in (1.0, -1.0):
+        moved = _project(mech, q, sign * step * u, held)
+        if moved is None:
+            out.append(float("nan"))
+            continue
+        pin.framesForwardKinematics(model, data, moved)
+        end = data.oMf[mech.platform_id]
+        d = np.r_[end.translation - start.translation, pin.log3(end.rotation @ start.rotation.T)]
+        out.append(float(sign * (w * d) @ t / step))
+    return out[0], out[1]
+
+
+def joints_follow(mech: pinmob.Mechanism, q: np.ndarray, rates: np.ndarray, step: float = 0.02) -> tuple[float, float]:
+    """Like :func:`platform_follows` for dimensionless joint rates: the projected joint displacement along them."""
+    from pinmob.model.joints import linear_velocity_mask, short_difference
+
+    col = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
+    u = np.asarray(rates, float) / np.linalg.norm(rates)
+    out = []
+    for sign in (1.0, -1.0):
+        moved = _project(mech, q, sign * step * u, ())
+        out.append(
+            float("nan") if moved is None else float(sign * (short_difference(mech.model, q, moved) / col) @ u / step)
+        )
+    return out[0], out[1]

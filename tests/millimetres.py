@@ -96,3 +96,12 @@ def q_in_units(mech: pinmob.Mechanism, q: np.ndarray, factor: float) -> np.ndarr
     """The same configuration in the unit of :func:`in_units`: prismatic joint values times ``factor``."""
     dv = pin.difference(mech.model, mech.neutral(), q)
     return pin.integrate(mech.model, mech.neutral(), np.where(linear_velocity_mask(mech.model), factor * dv, dv))
+
+
+def moved(mech: pinmob.Mechanism, rotation: np.ndarray, shift: np.ndarray) -> pinmob.Mechanism:
+    """``mech`` placed elsewhere: turned by ``rotation`` (3, 3) and moved by ``shift`` [m] (:func:`placed`).
+
+    The joint values (hence every configuration vector) are unchanged; no named configuration.
+    """
+    move = pin.SE3(np.asarray(rotation, float), np.asarray(shift, float))
+    return placed(mech, move, configurations=False)

@@ -442,3 +442,26 @@ def test_world_axes_and_grid_toggle(browser, flat, tmp_path):
     assert (np.abs(with_world - without).max(axis=2) > 40).mean() > 0.01  # the grid covers much of the view
     assert not {"x", "y", "z", "world origin"} & {b["text"] for b in visible_labels(page)}
     page.close()
+
+
+def test_mjcf_gripper_html_in_chromium(browser, tmp_path):
+    """The Menagerie xArm7 gripper (MJCF, MuJoCo's meshes, no platform): the exported page draws its meshes
+    and animates the frame pinmob shows (``pinmob show``'s choice, its most mobile output frame)."""
+    from pinmob.cli.show import with_viewed_frame
+
+    mech = pinmob.load(Path(__file__).parent / "data" / "third_party" / "menagerie_xarm7_hand" / "hand.xml")
+    viewed, conf, note = with_viewed_frame(mech, "reference", 1e-6)
+    assert "names no platform" in note and viewed.visual_model is not None and viewed.visual_model.ngeoms == 7
+    scene = viewer.export_html(viewed, conf, tmp_path / "hand.html")
+    page = open_page(browser, (tmp_path / "hand.html").as_uri())
+    visuals = ["meshcat", "pinmob", "mechanism", "visuals"]
+    assert page.evaluate("(p) => viewer.scene_tree.find(p).object.children.length", visuals) == 7  # the meshes
+    seek(page, 0.0)
+    drawn = image(page)
+    set_visible(page, ["meshcat", "pinmob"], False)
+    empty = image(page)
+    set_visible(page, ["meshcat", "pinmob"], True)
+    assert (np.abs(drawn - empty).max(axis=2) > 40).mean() > 0.02  # the gripper fills part of the view
+    seek(page, (len(scene.paths[scene.visible].forward) - 1) / viewer.FPS)
+    assert (np.abs(image(page) - drawn).max(axis=2) > 40).mean() > 0.001  # the fingers moved
+    page.close()

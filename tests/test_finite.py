@@ -8,8 +8,15 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from finite_cases import bricard_line_symmetric, four_bar_flat, generic_6r, three_rpr_radial
-from millimetres import in_millimetres, q_in_millimetres
+from finite_cases import (
+    bricard_line_symmetric,
+    four_bar_flat,
+    generic_6r,
+    joints_follow,
+    platform_follows,
+    three_rpr_radial,
+)
+from millimetres import in_millimetres, moved, q_in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
@@ -17,6 +24,7 @@ from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.motion_path import follow_rates
 from pinmob.analysis.verdicts import Verdict
 from pinmob.exceptions import ConfigurationError
+from pinmob.scan import path_spec, with_finite
 
 
 def finite(mech: pinmob.Mechanism, q, **kw) -> pinmob.Report:
@@ -45,7 +53,8 @@ def test_four_bar_branches_cross_at_the_change_point() -> None:
     for expected in ([1, -1, 1], [1, -2, -2]):
         assert sum(parallel(t, expected) for t in tangents) == 1, (expected, tangents)
     assert all(b.traced > 0 for b in fm.free.branches)
-    assert all(v.verdict is Verdict.BRANCH_POINT for v in fm.free.internal)  # the kernel's basis: no branch alone
+    # the kernel's basis (two motions): neither lies on a branch alone
+    assert [v.verdict for v in fm.free.internal] == [Verdict.BRANCH_POINT] * 2
     assert fm.locked is not None and fm.locked.mechanism_dof == 1 and fm.finite_dof_locked == 0
     assert fm.free.samples.unexplained == 0 and fm.free.samples.per_branch == (1, 1)
 
@@ -61,15 +70,23 @@ def test_flat_3puu_rotation_and_internal_motions_are_shaky() -> None:
     fm = report.finite
     assert (fm.free.dof, fm.finite_dof, fm.free.mechanism_dof, fm.finite_mechanism_dof) == (2, 1, 5, 1)
     verdicts = {v.label: v for v in fm.motions}
-    assert verdicts["T1 z"].verdict is Verdict.FINITE and verdicts["T1 z"].traced > 0
+    assert verdicts["T1 z"].verdict is Verdict.FINITE
     assert verdicts["R1 z"].verdict is Verdict.BLOCKED and verdicts["R1 z"].order == 2
-    assert verdicts["R1 z"].traced == 0.0
+    # a trace without the finite analysis: a step along each motion projected back on the closed set
+    q = report.state.q
+    mech = report.state.mechanism
+    assert min(platform_follows(mech, q, verdicts["T1 z"].motion.twist)) > 0.5
+    assert max(map(abs, platform_follows(mech, q, verdicts["R1 z"].motion.twist))) < 0.01
     assert [v.label for v in fm.free.internal] == ["limb A", "limb B", "limb C"]
     for v in fm.free.internal:
-        assert v.verdict is Verdict.BLOCKED and v.order == 2 and v.traced == 0.0
+        assert v.verdict is Verdict.BLOCKED and v.order == 2
         assert set(v.joints) <= {f"{v.label[-1]}_{j}" for j in ("slider", "u1a", "u1b", "u2a", "u2b")}
+        # what survives the projection is only its share along the finite branch (the sliders' 0.07)
+        assert max(map(abs, joints_follow(mech, q, v.test.rates[: mech.model.nv]))) < 0.2
+    (branch,) = fm.free.branches
+    assert min(joints_follow(mech, q, branch.rates[:, 0])) > 0.99
     assert [b.motion_type for b in fm.free.branches] == ["1T"]
-    assert fm.finite_dof_locked == 0 and all(v.order == 2 for v in fm.locked.motions)
+    assert fm.finite_dof_locked == 0 and [(v.label, v.order) for v in fm.locked.motions] == [("T1 z", 2), ("R1 z", 2)]
     doc = report.to_dict()
     assert (doc["finite_dof"], doc["finite_mechanism_dof"], doc["finite_dof_locked"]) == (1, 1, 0)
     assert {m["label"]: (m["finite"], m["order"]) for m in doc["finite"]["motions"]} == {
@@ -171,7 +188,7 @@ def test_sarrus_at_its_top_dead_centre_moves_only_at_second_order() -> None:
     fm = finite(pinmob.load("Sarrus"), "stretched").finite
     assert (fm.free.dof, fm.finite_dof, fm.free.mechanism_dof, fm.finite_mechanism_dof) == (0, 1, 2, 1)
     assert [(b.dimension, b.motion_type, b.where) for b in fm.free.branches] == [(1, "1T", "near q")] * 2
-    assert all(v.verdict is Verdict.BRANCH_POINT for v in fm.free.internal)
+    assert [(v.label, v.verdict) for v in fm.free.internal] == [(f"limb {x}", Verdict.BRANCH_POINT) for x in "AB"]
     assert [b.motions[0].label for b in fm.free.branches] == ["T1 z", "T1 z"]
 
 
@@ -230,6 +247,40 @@ def test_finite_analysis_does_not_depend_on_units() -> None:
     assert a.tolerance == pytest.approx(b.tolerance, rel=1e-6)
 
 
+def _summary(fm) -> tuple:
+    """What must not change with units, placement or the random seed: finite DoF, branches, verdicts, notes."""
+    verdicts = sorted((v.motion.kind.value, v.verdict.value, v.order) for v in fm.motions)
+    locked = sorted((v.motion.kind.value, v.verdict.value, v.order) for v in fm.locked.motions) if fm.locked else []
+    branches = sorted((b.dimension, b.dof, b.motion_type, b.where) for b in fm.free.branches)
+    return fm.finite_dof, fm.finite_mechanism_dof, fm.finite_dof_locked, branches, verdicts, locked, fm.free.notes
+
+
+@pytest.mark.parametrize(("name", "config", "expected"), [("4-RUU", "parallel-axes", 4), ("Sarrus", "stretched", 1)])
+def test_branches_do_not_depend_on_units_placement_or_seed(name: str, config: str, expected: int) -> None:
+    """The 4-RUU (a 4-DoF and a 2-DoF branch) and the Sarrus (two 1-DoF branches) in metres, in millimetres, turned
+    and moved, under eight seeds: the same branches and verdicts (the cone's sampling missed the 4-RUU's 2R branch for
+    2 seeds of 30, the Sarrus's second branch for 2, and the 4-RUU in millimetres said "cannot decide": "not a union
+    of linear spaces")."""
+    mech = pinmob.load(name)
+    q = pinmob.closed_configuration(mech, config)
+    generic = pinmob.analyze(mech, config).singularity.generic_rank
+    rot = pin.rpy.rpyToMatrix(0.7, -0.4, 2.1)
+    variants = [(mech, q), (in_millimetres(mech), q_in_millimetres(mech, q)), (moved(mech, rot, [0.4, -1.2, 3.0]), q)]
+    variants.append((moved(variants[1][0], rot, [400.0, -1200.0, 3000.0]), variants[1][1]))
+    reference = _summary(finite(mech, q, generic_rank=generic).finite)
+    assert reference[0] == expected and reference[-1] == ()
+    for variant, qv in variants:
+        assert _summary(finite(variant, qv, generic_rank=generic).finite) == reference
+        conf = pinmob.Configuration(variant, qv)
+        for seed in range(1, 8):
+            fm = finite_mobility(conf, 1e-6, seed=seed)
+            assert (fm.finite_dof, sorted(b.dimension for b in fm.free.branches), fm.free.notes) == (
+                reference[0],
+                sorted(b[0] for b in reference[3]),
+                (),
+            )
+
+
 def test_finite_analysis_does_not_depend_on_placement_or_limb_order() -> None:
     """The radial 3-RPR turned and moved in space, its limbs declared in another order: the same finite DoF,
     free and held, the same verdicts and orders, and the held rotation's axis through the moved centre."""
@@ -249,11 +300,41 @@ def test_finite_analysis_does_not_depend_on_placement_or_limb_order() -> None:
     assert results[0] == results[1]
 
 
-def test_order_bound_is_checked() -> None:
+def test_order_bound_is_checked(capsys) -> None:
+    from pinmob.cli import main
+
+    assert main(["analyze", "3-PUU", "--finite-order", "3"]) == 0  # implies --finite (it was silently ignored)
+    assert "higher-order conditions up to order 3" in capsys.readouterr().out
     mech = pinmob.load("3-PUU")
     with pytest.raises(ConfigurationError, match="integer from 2 to 8, got 1"):
         pinmob.analyze(mech, "generic", finite=True, finite_order=1)
     fm = finite(mech, "generic", finite_order=2).finite
-    assert fm.order == 2 and all(len(v.test.residuals) == 1 for v in fm.motions)
+    assert fm.order == 2 and [len(v.test.residuals) for v in fm.motions] == [1, 1, 1]  # the 3-PUU's 3T: order 2 only
     conf = pinmob.Configuration(mech, "generic")
     assert finite_mobility(conf, 1e-6) is finite_mobility(conf, 1e-6)  # computed once per configuration
+
+
+def test_scan_gives_each_samples_finite_dof(tmp_path, capsys) -> None:
+    """``pinmob scan --finite``: the flat 3-PUU's path from 'flat' to 'flat-raised' stays in the flat family, where
+    every configuration is shaky like 'flat' (the README's derivation: links exactly R - r): 2 DoF 1T1R to first
+    order, finite 1 (and 1 for the whole mechanism) at every sample. The 3-PUU's generic-to-offset path is regular:
+    finite = instantaneous = 3. ``--finite-order`` alone implies ``--finite``."""
+    import csv
+
+    from pinmob.cli import main
+
+    flat, regular = tmp_path / "flat.csv", tmp_path / "regular.csv"
+    assert main(["scan", "3-PUU-flat", "--from", "flat", "--to", "flat-raised", "-n", "4", "--finite",
+                 "--csv", str(flat), "--no-progress"]) == 0  # fmt: skip
+    assert "finite DoF of the platform at the assembled samples: 4 x 1 DoF" in capsys.readouterr().out
+    rows = list(csv.DictReader(flat.open()))
+    assert [(r["dof"], r["finite_dof"], r["finite_mechanism_dof"]) for r in rows] == [("2", "1", "1")] * 4
+    assert main(["scan", "3-PUU", "--from", "generic", "--to", "offset", "-n", "3", "--finite-order", "3",
+                 "--csv", str(regular), "--no-progress"]) == 0  # fmt: skip
+    assert "order bound 3" in capsys.readouterr().out
+    rows = list(csv.DictReader(regular.open()))
+    assert [(r["dof"], r["finite_dof"], r["finite_mechanism_dof"]) for r in rows] == [("3", "3", "3")] * 3
+    with pytest.raises(ConfigurationError, match="integer from 2 to 8, got 9"):
+        with_finite(pinmob.load("3-PUU"), path_spec(pinmob.load("3-PUU"), "generic", "offset", 2), 9)
+    assert main(["scan", "3-PUU", "--finite-order", "1", "--csv", str(regular), "--force"]) == 2
+    assert capsys.readouterr().err.startswith("pinmob: error: the order bound of the finite analysis")

@@ -28,6 +28,7 @@ from pinmob.analysis.loop_screws import mechanism_loops
 from pinmob.analysis.tangent_cone import cone
 from pinmob.assembly.residual import closure_residual
 from pinmob.assembly.solver import solve
+from pinmob.model.closure import make_closure
 from pinmob.model.joints import short_difference
 from pinmob.screw.algebra import shift_twists, twist_scaling
 from pinmob.screw.lie import bracket
@@ -45,41 +46,127 @@ def _fit_derivatives(ts: np.ndarray, values: np.ndarray, count: int) -> np.ndarr
     return np.array([coef[i] * math.factorial(i) for i in range(count)])
 
 
-@pytest.mark.parametrize(("name", "config"), [("3-PUU", "generic"), ("Bennett", "generic"), ("3-UR5", "generic")])
-def test_body_twist_derivatives_match_pinocchio(name: str, config: str) -> None:
-    """``V_b^(n)``, n = 0..3, from the brackets equal the derivatives of ``J_b(q(t)) q'(t)`` (Pinocchio, fitted)."""
-    mech = pinmob.load(name)
-    conf = pinmob.Configuration(mech, config)
-    loops = mechanism_loops(conf)
-    system, nv, col = loops.system, loops.nv, loops.columns
-    rng = np.random.default_rng(1)
-    x = np.zeros((4, system.size))
-    x[:, :nv] = rng.normal(size=(4, nv))
-    model, data = mech.model, mech.model.createData()
-    ts = np.linspace(-4e-3, 4e-3, 9)
-    twists = []
-    for t in ts:  # revolute and prismatic joints: q(t) = q + sum t^i / i! x^(i), exactly
-        dq = sum(t ** (i + 1) / math.factorial(i + 1) * x[i, :nv] for i in range(4)) * col
-        rate = sum(t**i / math.factorial(i) * x[i, :nv] for i in range(4)) * col
-        pin.computeJointJacobians(model, data, pin.integrate(model, conf.q, dq))
-        rows = []
-        for j in range(1, model.njoints):
-            mask = np.zeros(nv)
-            for k in model.supports[j][1:]:
-                mask[model.joints[k].idx_v : model.joints[k].idx_v + model.joints[k].nv] = 1.0
-            rows.append(
-                shift_twists(np.array(data.J) @ (mask * rate), loops.reference) * twist_scaling(mech.length_scale)
-            )
-        twists.append(np.concatenate(rows))
-    measured = _fit_derivatives(ts, np.array(twists), 4)
-    # the recursion's body twists: V^(n) = support U^(n), the loop rows being differences of them
+def _body_twists(mech: pinmob.Mechanism, loops, data: pin.Data, q: np.ndarray, rate: np.ndarray) -> np.ndarray:
+    """Every body's twist ``J_b(q) rate`` from Pinocchio's joint Jacobians, as the recursion expresses it (at the
+    loops' reference point, scaled by L), stacked body after body."""
+    model = mech.model
+    pin.computeJointJacobians(model, data, q)
+    rows = []
+    for j in range(1, model.njoints):
+        mask = np.zeros(model.nv)
+        for k in model.supports[j][1:]:
+            mask[model.joints[k].idx_v : model.joints[k].idx_v + model.joints[k].nv] = 1.0
+        rows.append(shift_twists(np.array(data.J) @ (mask * rate), loops.reference) * twist_scaling(mech.length_scale))
+    return np.concatenate(rows)
+
+
+def _random_rates(loops, seed: int) -> np.ndarray:
+    """Random joint-rate derivatives ``x^(1..4)`` (4, size): the joints' random, the cut joints' zero."""
+    x = np.zeros((4, loops.system.size))
+    x[:, : loops.nv] = np.random.default_rng(seed).normal(size=(4, loops.nv))
+    return x
+
+
+def _recursion(loops, x: np.ndarray, njoints: int) -> np.ndarray:
+    """The body twists' derivatives ``V^(n)``, n = 0..3, from the bracket recursion (``V^(n) = support U^(n)``) along
+    the joint-rate derivatives ``x`` (4, size), stacked as :func:`_body_twists` stacks them."""
+    system = loops.system
     s, v = [system.screws], []
     for n in range(4):
         if n:
             s.append(sum(math.comb(n - 1, a) * bracket(v[a][system.body], s[n - 1 - a]) for a in range(n)))
         u = sum(math.comb(n, b) * s[b] * x[n - b][:, None] for b in range(n + 1))
         v.append(system.support @ u)
-    computed = np.array([vn[1 : model.njoints].ravel() for vn in v])
+    return np.array([vn[1:njoints].ravel() for vn in v])
+
+
+@pytest.mark.parametrize(("name", "config"), [("3-PUU", "generic"), ("Bennett", "generic"), ("3-UR5", "generic")])
+def test_body_twist_derivatives_match_pinocchio(name: str, config: str) -> None:
+    """``V_b^(n)``, n = 0..3, from the brackets equal the derivatives of ``J_b(q(t)) q'(t)`` (Pinocchio, fitted)."""
+    mech = pinmob.load(name)
+    conf = pinmob.Configuration(mech, config)
+    loops = mechanism_loops(conf)
+    nv, col = loops.nv, loops.columns
+    x = _random_rates(loops, 1)
+    model, data = mech.model, mech.model.createData()
+    ts = np.linspace(-4e-3, 4e-3, 9)
+    twists = []
+    for t in ts:  # revolute and prismatic joints: q(t) = q + sum t^i / i! x^(i), exactly
+        dq = sum(t ** (i + 1) / math.factorial(i + 1) * x[i, :nv] for i in range(4)) * col
+        rate = sum(t**i / math.factorial(i) * x[i, :nv] for i in range(4)) * col
+        twists.append(_body_twists(mech, loops, data, pin.integrate(model, conf.q, dq), rate))
+    measured = _fit_derivatives(ts, np.array(twists), 4)
+    # the recursion's body twists: V^(n) = support U^(n), the loop rows being differences of them
+    computed = _recursion(loops, x, model.njoints)
+    scale = np.abs(measured).max(axis=1, keepdims=True)
+    assert_allclose(computed / scale, measured / scale, atol=2e-5)
+
+
+def _chain_through(kind: str) -> tuple[pinmob.Mechanism, np.ndarray]:
+    """An RX - ``kind`` - RY chain at a random configuration, its end frame welded (6d) to a ground frame there."""
+    rng = np.random.default_rng(7)
+    axis = rng.normal(size=3)
+    joint = {
+        "spherical": pin.JointModelSpherical(),
+        "planar": pin.JointModelPlanar(),
+        "helical": pin.JointModelHelicalUnaligned(axis / np.linalg.norm(axis), 0.04),
+        "helical-x": pin.JointModelHX(-0.03),
+        "translation": pin.JointModelTranslation(),
+        "free-flyer": pin.JointModelFreeFlyer(),
+    }[kind]
+    model = pin.Model()
+    parent = 0
+    for name, j in (("r0", pin.JointModelRX()), ("j", joint), ("r2", pin.JointModelRY())):
+        parent = model.addJoint(
+            parent, j, pin.SE3(pin.rpy.rpyToMatrix(*rng.normal(size=3)), rng.normal(scale=0.1, size=3)), name
+        )
+    model.addFrame(pin.Frame("b", parent, pin.SE3(np.eye(3), rng.normal(scale=0.1, size=3)), pin.FrameType.OP_FRAME))
+    q = pin.integrate(model, pin.neutral(model), rng.normal(size=model.nv))
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    model.addFrame(pin.Frame("a", 0, data.oMf[model.getFrameId("b")].copy(), pin.FrameType.OP_FRAME))
+    closure = make_closure(model, "weld", "a", "b", "6d")
+    return pinmob.Mechanism.from_model(model, [], name=kind, closures=[closure], length_scale=0.2), q
+
+
+def _curve(model: pin.Model, q: np.ndarray, rate, ts: np.ndarray, steps: int = 400) -> list[np.ndarray]:
+    """q(t) at the times ``ts`` (symmetric about 0) of the curve with velocity ``rate(t)`` (nv,) in Pinocchio's own
+    joint velocity coordinates from q(0) = q: exponential midpoint steps (second order; 1e-5 apart)."""
+    out = {}
+    for sign in (1.0, -1.0):
+        current, t = q.copy(), 0.0
+        h = sign * float(np.max(np.abs(ts))) / steps
+        marks = sorted((abs(u), u) for u in ts if np.sign(u) in (sign, 0.0))
+        for _ in range(steps + 1):
+            for a, u in marks:
+                if abs(abs(t) - a) < abs(h) / 2:
+                    out[u] = current.copy()
+            current = pin.integrate(model, current, h * rate(t + h / 2))
+            t += h
+    return [out[u] for u in ts]
+
+
+@pytest.mark.parametrize("kind", ["spherical", "planar", "helical", "helical-x", "translation", "free-flyer"])
+def test_body_twist_derivatives_match_pinocchio_for_every_supported_joint(kind: str) -> None:
+    """The bracket recursion on joints of several coordinates and of coupled screws (loop_screws.SUPPORTED_JOINTS
+    beyond revolute and prismatic): ``V_b^(n)``, n = 0..3, against the derivatives of Pinocchio's ``J_b(q(t)) q'(t)``
+    along a curve integrated in Pinocchio's velocity coordinates (a Lie group's q(t) is not q + a polynomial)."""
+    mech, q = _chain_through(kind)
+    conf = pinmob.Configuration(mech, q)
+    loops = mechanism_loops(conf)
+    nv, col = loops.nv, loops.columns
+    x = _random_rates(loops, 3)
+    model, data = mech.model, mech.model.createData()
+
+    def rate(t: float) -> np.ndarray:
+        return sum(t**i / math.factorial(i) * x[i, :nv] for i in range(4)) * col
+
+    ts = np.linspace(-4e-3, 4e-3, 9)
+    twists = []
+    for t, qt in zip(ts, _curve(model, q, rate, ts)):
+        twists.append(_body_twists(mech, loops, data, qt, rate(t)))
+    measured = _fit_derivatives(ts, np.array(twists), 4)
+    computed = _recursion(loops, x, model.njoints)
     scale = np.abs(measured).max(axis=1, keepdims=True)
     assert_allclose(computed / scale, measured / scale, atol=2e-5)
 
@@ -149,7 +236,7 @@ def test_second_order_cone_agrees_with_the_closure_residual(name: str, config: s
         assert _obstruction(mech, conf, rates / np.linalg.norm(rates)) < 1e-5
     for i in range(ho.m):  # the kernel's own basis: none lies on a branch here
         rates = ho.kernel[:nv, i] / np.linalg.norm(ho.kernel[:nv, i])
-        lie = float(np.linalg.norm(ho.quadratic(np.eye(ho.m)[i])))
+        lie = float(np.linalg.norm(ho.forms()[:, i, i]))  # g_2 of the i-th basis motion: y^T H_l y
         assert (lie > 1e3 * ho.tol) == (_obstruction(mech, conf, rates) > 1e-3)
 
 

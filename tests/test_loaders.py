@@ -7,9 +7,8 @@ one URDF) must give the same mechanism; the counts are derived by hand in each d
 from __future__ import annotations
 
 import shutil
-import tempfile
+import struct
 import warnings
-import xml.etree.ElementTree as ET
 from pathlib import Path
 
 import numpy as np
@@ -21,8 +20,7 @@ import pinmob
 from pinmob import analyze_mechanism
 from pinmob.assembly.assemble import solve_actuated
 from pinmob.cli import main
-from pinmob.exceptions import MechanismFileError, PinmobError
-from pinmob.io.mjcf import match_equalities, parseable
+from pinmob.exceptions import PinmobError
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.bases import subspace_gap
 
@@ -113,54 +111,24 @@ def test_mjcf_connect_anchor_is_in_body1_frame():
     assert_allclose(data.oMf[c.frame_b_id].translation, [0.3, 0.2, 0], atol=1e-12)
 
 
-def test_mjcf_is_read_in_place_and_its_copy_removed(tmp_path, monkeypatch):
-    """A file with one top-level body is parsed where it is (no copy); one with several goes through a
-    temporary copy that is gone once loaded."""
-    scratch = tmp_path / "scratch"
-    scratch.mkdir()
-    monkeypatch.setattr(tempfile, "tempdir", str(scratch))
-    several = FORMATS / "fourbar" / "fourbar.xml"
-    load(several)
-    assert list(scratch.iterdir()) == []
-    root = ET.parse(several).getroot()
-    world = root.find("worldbody")
-    assert world is not None and len(world.findall("body")) == 2
-    with parseable(several, root, expanded=False) as copy:
-        assert copy != several and copy.parent.parent == scratch and copy.exists()
-    assert not copy.exists() and list(scratch.iterdir()) == []
-    single = ET.parse(DATA / "fourbar_weld.xml").getroot()
-    wrap = ET.SubElement(single.find("worldbody"), "body", {"name": "all"})  # type: ignore[arg-type]
-    for b in single.find("worldbody").findall("body")[:-1]:  # type: ignore[union-attr]
-        single.find("worldbody").remove(b)  # type: ignore[union-attr]
-        wrap.append(b)
-    path = tmp_path / "one_body.xml"
-    ET.ElementTree(single).write(path)
-    with parseable(path, ET.parse(path).getroot(), expanded=False) as same:
-        assert same == path
-
-
-STL = """solid t
-facet normal 0 0 -1
-outer loop
-vertex 0 0 0
-vertex 0.01 0 0
-vertex 0 0.01 0
-endloop
-endfacet
-endsolid t
-"""
+def binary_stl() -> bytes:
+    """A binary STL (the only kind MuJoCo reads): a tetrahedron of 1 cm (MuJoCo wants 4 vertices at least)."""
+    o, x, y, z = (0, 0, 0), (0.01, 0, 0), (0, 0.01, 0), (0, 0, 0.01)
+    faces = [(o, y, x), (o, x, z), (o, z, y), (x, y, z)]
+    return (
+        b"\0" * 80 + struct.pack("<I", 4) + b"".join(struct.pack("<12fH", 0, 0, 0, *a, *b, *c, 0) for a, b, c in faces)
+    )
 
 
 def test_mjcf_includes_and_relative_meshdir(tmp_path):
     """A four-bar whose rocker body and equality sit in included files, with meshes under meshdir="meshes".
 
-    Pinocchio 4.1 ignores <include>; pinmob expands them (relative to the main file) and keeps the meshes
-    found: one closure (the connect), the mesh loaded from <folder>/meshes, DoF 1 (as the four-bar above),
+    MuJoCo's compiler expands them (relative to the main file) and finds the meshes: one closure (the connect), the mesh loaded from <folder>/meshes, DoF 1 (as the four-bar above),
     and the user's folder left as it was.
     """
     (tmp_path / "sub").mkdir()
     (tmp_path / "meshes").mkdir()
-    (tmp_path / "meshes" / "t.stl").write_text(STL)
+    (tmp_path / "meshes" / "t.stl").write_bytes(binary_stl())
     (tmp_path / "sub" / "rocker.xml").write_text(
         '<mujoco><body name="rocker" pos="0.3 0 0"><joint name="rocker" type="hinge" axis="0 0 1"/>'
         '<geom type="sphere" size="0.01"/></body></mujoco>'
@@ -184,21 +152,6 @@ def test_mjcf_includes_and_relative_meshdir(tmp_path):
     assert sorted(p.relative_to(tmp_path) for p in tmp_path.rglob("*")) == before
 
 
-def test_mjcf_equalities_matched_by_bodies_not_order():
-    """The delta's five connects: Pinocchio's constraints are paired with the equalities by the joints that
-    carry body1 and body2, whatever the order of the list; a constraint with no such equality is an error."""
-    path = FORMATS / "delta" / "delta.xml"
-    root = ET.parse(path).getroot()
-    equalities = [e for eq in root.findall("equality") for e in eq]
-    with parseable(path, root, expanded=False) as source:
-        model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(source))
-    constraints = list(constraints)
-    assert match_equalities(path, model, equalities, constraints) == [0, 1, 2, 3, 4]
-    assert match_equalities(path, model, equalities[::-1], constraints) == [4, 3, 2, 1, 0]
-    with pytest.raises(MechanismFileError, match="matches no <connect>/<weld>"):
-        match_equalities(path, model, equalities[1:], constraints)
-
-
 # --------------------------------------------------------------------------- loader errors
 
 URDF = FORMATS / "fivebar" / "robot.urdf"
@@ -217,16 +170,18 @@ ERRORS = {
         "joint_type 'BALL' of 'L_elbow' is not supported; valid: 'CARDAN', 'FIXED', 'SPHERICAL'",
     ),
     "unknown frame": ("robot.yaml", "closed_loop: [['L_tip', 'nowhere']]\n", "no frame 'nowhere'"),
-    "xml syntax": ("model.xml", "<mujoco><worldbody>\n", "XML syntax error"),
+    "xml syntax": ("model.xml", "<mujoco><worldbody>\n", "MuJoCo cannot compile it: XML parse error"),
     "equality kind": (
         "model.xml",
-        MJCF.replace("</equality>", '  <joint joint1="L_crank" joint2="R_rocker"/>\n  </equality>'),
-        "<equality> kind(s) <joint> are not loop closures pinmob reads; valid: <connect>, <weld>",
+        MJCF.replace("</equality>", '  <tendon tendon1="t"/>\n  </equality>').replace(
+            "<equality>", '<tendon><fixed name="t"><joint joint="L_crank" coef="1"/></fixed></tendon>\n  <equality>'
+        ),
+        "<equality> kind(s) <tendon> are not loop closures pinmob reads; valid: <connect>, <weld>, <joint>",
     ),
     "missing include": (
         "model.xml",
         MJCF.replace("<equality>", '<include file="nope.xml"/>\n  <equality>'),
-        "<include file='nope.xml'>: no such file",
+        "MuJoCo cannot compile it",
     ),
 }
 

@@ -331,7 +331,7 @@ def test_cli_never_overwrites_outputs_unless_forced(tmp_path, capsys):
     assert main(["scan", "3-UPU", "-n", "3", "--plot", str(tmp_path)]) == 2
     assert "is a folder" in capsys.readouterr().err
     assert main(["scan", "3-UPU", "-n", "3", "--csv", str(c), "--json", str(c), "--force"]) == 2
-    assert "different files" in capsys.readouterr().err
+    assert "name the same file" in capsys.readouterr().err
     # the plot is a PNG: any other name was a matplotlib traceback after the whole scan had run
     assert main(["scan", "3-UPU", "-n", "3", "--plot", str(tmp_path / "p.txt")]) == 2
     err = capsys.readouterr().err

@@ -16,8 +16,9 @@ import time
 from pathlib import Path
 
 import pytest
-from distributed.diagnostics.plugin import WorkerPlugin
+import worker_plugins
 from processes import alive, children, dask_workers
+from worker_plugins import KillOnFirstChunk
 
 import pinmob
 from pinmob.cli import main
@@ -72,38 +73,64 @@ def _script(body: str, timeout: float = 180) -> subprocess.CompletedProcess[str]
 
 
 @pytest.mark.parametrize("sig", ["SIGKILL", "SIGTERM"])
-def test_a_killed_worker_costs_no_result_and_no_hang(sig):
-    """A worker killed while it computes (as the out-of-memory killer would) is replaced and its tasks computed
-    again: every result comes back, in order, and the engine counts the lost worker."""
+def test_a_killed_worker_costs_no_result_and_no_hang(sig, tmp_path):
+    """A worker killed while it computes (as the out-of-memory killer would: the worker that starts the first task
+    kills itself, a worker plugin, whatever the machine's speed) is replaced and its task computed again: every
+    result comes back, in order, and the engine counts the lost worker."""
     out = _script(f"""
-        import os, signal
+        import signal
+        import cloudpickle
+        import worker_plugins
         from pinmob.engine import Engine
         from engine_tasks import slow_square
+        from worker_plugins import KillOnFirstChunk
+        cloudpickle.register_pickle_by_value(worker_plugins)
         if __name__ == "__main__":
             with Engine(workers=2) as engine:
-                results = []
-                for r in engine.map(slow_square, 0.3, range(16), window=4):
-                    if not results:
-                        pids = engine._client.run(os.getpid)
-                        busy = [w for w, tasks in engine._client.processing().items() if tasks]
-                        os.kill(pids[busy[0]], signal.{sig})
-                    results.append(r)
-                print(results == [x * x for x in range(16)], engine.lost_workers)
+                engine.start()
+                plugin = KillOnFirstChunk({str(tmp_path / "killed")!r}, int(signal.{sig}))
+                engine._client.register_plugin(plugin, name=KillOnFirstChunk.name)
+                results = list(engine.map(slow_square, 0.3, range(16), window=4))
+                print(results == [x * x for x in range(16)], engine.count_lost())
     """)
+    assert (tmp_path / "killed").exists()
     assert out.returncode == 0, out.stderr
     assert out.stdout.split() == ["True", "1"], out.stdout + out.stderr
     assert "Traceback" not in out.stderr, out.stderr
 
 
-def test_a_task_that_kills_every_worker_is_lost_not_hung():
-    """A task whose workers die each time it runs comes back as Lost (Dask's allowed-failures), the others
-    as results: no hang, no crash."""
+def test_what_every_task_shares_goes_to_the_cluster_once():
+    """``Engine.map(fn, shared, items)`` sends ``shared`` once (a task every task depends on), not with each task: it
+    is unpickled at most once per worker for 40 tasks (it was 40 times, once per task)."""
     out = _script("""
-        from pinmob.engine import Engine, Lost
-        from engine_tasks import exit_on
+        from pinmob.engine import Engine
+        from engine_tasks import Counted, size_plus, unpickled
         if __name__ == "__main__":
             with Engine(workers=2) as engine:
-                results = list(engine.map(exit_on, 3, range(6)))
+                results = list(engine.map(size_plus, Counted(b"x" * 100_000), range(40)))
+                counts = engine._client.run(unpickled)
+            print(results == [100_000 + x for x in range(40)], sum(counts.values()))
+    """)
+    assert out.returncode == 0, out.stderr
+    ok, count = out.stdout.split()
+    assert ok == "True" and 1 <= int(count) <= 2, out.stdout + out.stderr
+
+
+def test_a_task_that_kills_every_worker_is_lost_not_hung(tmp_path):
+    """A task whose workers die each time it runs comes back as Lost, the others as results: no hang, no crash.
+    Dask tries it ``distributed.scheduler.allowed-failures`` + 1 times (its scheduler's rule: given up when more
+    than allowed-failures workers died running it): 4 with Dask's default 3, counted by the task itself."""
+    import dask
+    import distributed  # noqa: F401  (its configuration defaults)
+
+    tries = dask.config.get("distributed.scheduler.allowed-failures") + 1
+    runs = tmp_path / "runs.txt"
+    out = _script(f"""
+        from pinmob.engine import Engine, Lost
+        from engine_tasks import exit_on_counting
+        if __name__ == "__main__":
+            with Engine(workers=2) as engine:
+                results = list(engine.map(exit_on_counting, (3, {str(runs)!r}), range(6)))
             print([type(r).__name__ if isinstance(r, Lost) else r for r in results])
             print(results[3].reason)
     """)
@@ -113,7 +140,8 @@ def test_a_task_that_kills_every_worker_is_lost_not_hung():
     # the killer is Lost; Dask blames the tasks that were on a dying worker with it too, so under load an
     # innocent neighbour may be Lost as well (never a wrong value, never a hang)
     assert got[3] == "Lost" and all(g in (i, "Lost") for i, g in enumerate(got)) and got.count("Lost") <= 2
-    assert "died each time" in reason
+    assert "died each time" in reason and f"({tries} times" in reason
+    assert tries == 4 and runs.read_text().count("ran") == tries
 
 
 def test_an_unreachable_scheduler_is_one_clear_error():
@@ -124,29 +152,6 @@ def test_an_unreachable_scheduler_is_one_clear_error():
     assert time.monotonic() - t0 < 60
 
 
-class KillOnFirstChunk(WorkerPlugin):
-    """A Dask worker plugin: the worker that starts the first pinmob task kills itself with ``sig``.
-
-    One shot across the cluster (the first to create ``flag`` does it), so the kill lands while a chunk is being
-    computed whatever the speed of the machine (waiting for a busy worker from outside could find the scan done).
-    """
-
-    name = "pinmob-test-kill-on-first-chunk"
-
-    def __init__(self, flag: str, sig: int) -> None:
-        super().__init__()
-        self.flag, self.sig = flag, sig
-
-    def transition(self, key: object, start: str, finish: str, **kwargs: object) -> None:
-        if finish != "executing" or "pinmob-" not in str(key):
-            return
-        try:
-            os.close(os.open(self.flag, os.O_CREAT | os.O_EXCL))
-        except FileExistsError:
-            return
-        os.kill(os.getpid(), self.sig)
-
-
 @pytest.mark.parametrize("sig", [signal.SIGKILL, signal.SIGTERM])
 def test_cli_scan_survives_a_killed_worker(dask_cluster, tmp_path, sig):
     """``pinmob scan --scheduler``: the worker computing the first chunk on the cluster is killed while it does;
@@ -154,7 +159,7 @@ def test_cli_scan_survives_a_killed_worker(dask_cluster, tmp_path, sig):
     import cloudpickle
     from dask.distributed import Client
 
-    cloudpickle.register_pickle_by_value(sys.modules[__name__])  # the workers cannot import this test module
+    cloudpickle.register_pickle_by_value(worker_plugins)  # the workers cannot import the tests
     grid = ["--grid", "x:-0.08:0.08:12", "y:-0.08:0.08:24", "--no-progress"]
     serial, cluster = tmp_path / "serial.csv", tmp_path / "cluster.csv"
     assert main(["scan", "6-UPS", *grid, "--csv", str(serial)]) == 0
@@ -215,7 +220,7 @@ def _leftovers(folder: Path) -> list[str]:
     ids=["ctrl-c-to-the-group", "sigterm", "sighup", "sigterm-in-process"],
 )
 def test_an_interrupted_scan_leaves_the_old_files_and_no_temporary(tmp_path, sig, workers, group):
-    """Interrupted while it writes (with --force over an old CSV): exit 130 with one line, the old CSV as it was
+    """Interrupted while it writes, thousands of samples before its end (with --force over an old CSV): exit 130 with one line, the old CSV as it was
     (it was truncated at the start), no new JSON (it was an invalid half document after SIGTERM), no temporary
     file, no traceback from a worker, and no worker process left."""
     old = tmp_path / "s.csv"
@@ -225,12 +230,19 @@ def test_an_interrupted_scan_leaves_the_old_files_and_no_temporary(tmp_path, sig
     proc = subprocess.Popen([*PINMOB, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)  # fmt: skip
     workers_seen = dask_workers(proc.pid, 2) if workers > 1 else []
-    time.sleep(0.3 if workers > 1 else 4.0)
-    assert proc.poll() is None, proc.communicate()
-    if group:
-        os.killpg(proc.pid, getattr(signal, sig))
-    else:
-        os.kill(proc.pid, getattr(signal, sig))
+    send = os.killpg if group else os.kill
+    deadline = time.monotonic() + 120  # a guard against a hang only
+    while time.monotonic() < deadline and proc.poll() is None and not list(tmp_path.glob(".s.csv.*")):
+        time.sleep(0.01)
+    # the scan frozen while the test looks: rows left to compute, then the signal, pending until SIGCONT, is handled
+    # before any of them (a signal sent after a sleep raced the scan's end on a fast machine)
+    send(proc.pid, signal.SIGSTOP)
+    try:
+        (partial,) = tmp_path.glob(".s.csv.*")  # the CSV being written; a stopped process has not ended
+        assert proc.poll() is None and len(partial.read_text().splitlines()) < 10_000 - 1000
+        send(proc.pid, getattr(signal, sig))
+    finally:
+        send(proc.pid, signal.SIGCONT)
     out, err = proc.communicate(timeout=60)
     assert proc.returncode == 130, err
     assert err.strip() == "pinmob: interrupted", err

@@ -3,41 +3,34 @@
 from __future__ import annotations
 
 import itertools
-import os
 import shutil
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
+import sweep_specs
+import worker_plugins
+from held_runs import interrupted
+from worker_plugins import KillOnFirstChunk
 
 import pinmob
 from pinmob.cli import main
 from pinmob.exceptions import ConfigurationError
 from pinmob.sweeps.designs import DesignSet, latin_hypercube
 from pinmob.sweeps.plot import pareto_front, written_by
+from pinmob.sweeps.reading import journal_records
 from pinmob.sweeps.store import sweep_metadata
 
 PINMOB = [sys.executable, "-m", "pinmob"]
 ROOT = Path(__file__).parent.parent
 
-SPEC = """
-family = "3-PUU"
-[parameters]
-small_r = 0.15
-[design]
-method = "grid"
-[design.parameters]
-link = [0.2, 0.35, {n}]
-big_r = [0.25, 0.4, {n}]
-[scan]
-grid = ["x:-0.05:0.05:{m}", "y:-0.05:0.05:{m}"]
-at = "generic"
-"""
+
+#: n x n designs: link in [0.2, 0.35], big_r in [0.25, 0.4]
+SPEC = sweep_specs.SPEC.replace("{title}", "s").replace("{lo}", "0.2").replace("{hi}", "0.35")
 
 
 def _spec(folder: Path, n: int = 3, m: int = 5, name: str = "s.toml") -> Path:
@@ -85,26 +78,28 @@ def test_a_design_record_agrees_with_pinmob_scan(tmp_path):
 
 
 def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):
+    """The worker that starts the first design is killed while it computes it (a worker plugin: whatever the
+    machine's speed); Dask computes the design again and the file is the serial one."""
+    import cloudpickle
     from dask.distributed import Client
 
+    cloudpickle.register_pickle_by_value(worker_plugins)  # the workers cannot import the tests
     spec = _spec(tmp_path, n=3, m=7)
     assert main(["sweep", str(spec), "--out", str(tmp_path / "serial.parquet"), "--no-progress", "--no-plots"]) == 0
+    flag = tmp_path / "killed"
     with Client(dask_cluster.scheduler_address) as client:
-        pids = client.run(os.getpid)
-        proc = subprocess.Popen([*PINMOB, "sweep", str(spec), "--out", str(tmp_path / "dask.parquet"), "--no-plots",
-                                 "--scheduler", dask_cluster.scheduler_address], stdout=subprocess.PIPE,
-                                stderr=subprocess.PIPE, text=True)  # fmt: skip
-        busy: list[str] = []
-        deadline = time.monotonic() + 90
-        while not busy and time.monotonic() < deadline and proc.poll() is None:
-            busy = [w for w, tasks in client.processing().items() if any("pinmob-" in t for t in tasks)]
-            time.sleep(0.02)
-        assert busy, "no design ever ran on the cluster"
-        os.kill(pids[busy[0]], signal.SIGKILL)
-        out, err = proc.communicate(timeout=180)
+        plugin = KillOnFirstChunk(str(flag), int(signal.SIGKILL))
+        client.register_plugin(plugin, name=KillOnFirstChunk.name)
+        try:
+            run = subprocess.run([*PINMOB, "sweep", str(spec), "--out", str(tmp_path / "dask.parquet"), "--no-plots",
+                                  "--scheduler", dask_cluster.scheduler_address], capture_output=True, text=True,
+                                 timeout=240)  # fmt: skip
+        finally:
+            client.unregister_worker_plugin(KillOnFirstChunk.name)
         client.wait_for_workers(2, timeout=60)
-    assert proc.returncode == 0, err
-    assert "lost and replaced" in out
+    assert flag.exists(), "no design ever ran on the cluster"
+    assert run.returncode == 0, run.stderr
+    assert "lost and replaced" in run.stdout
     assert pq.read_table(tmp_path / "dask.parquet").equals(pq.read_table(tmp_path / "serial.parquet"))
 
 
@@ -112,36 +107,37 @@ def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):
 def uninterrupted(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("whole")
     whole = folder / "whole.parquet"
-    assert main(["sweep", str(_spec(folder, n=6, m=13)), "--out", str(whole), "--no-progress", "--no-plots"]) == 0
+    assert main(["sweep", str(_spec(folder, n=6, m=5)), "--out", str(whole), "--no-progress", "--no-plots"]) == 0
     return whole
 
 
 @pytest.mark.parametrize("sig", ["SIGINT", "SIGTERM", "SIGKILL"])
-def test_resuming_an_interrupted_sweep_gives_the_uninterrupted_file(tmp_path, sig, uninterrupted):
+def test_resuming_an_interrupted_sweep_gives_the_uninterrupted_file(tmp_path, sig, uninterrupted, dask_cluster):
     """Interrupted once the first records are in the journal (handled: the file so far is published, marked
     incomplete; SIGKILL: the journal beside the file is recovered), then run again with the same command: the
-    same file, byte for byte, as a run never interrupted."""
-    spec = _spec(tmp_path, n=6, m=13)
+    same file, byte for byte, as a run never interrupted.
+
+    The interrupted run computes its designs on the test's cluster, where a worker plugin holds every design past
+    the first six until the test has sent the signal: the run is interrupted while running, whatever the machine's
+    speed (a signal sent on seeing the journal raced the run's end).
+    """
+    spec = _spec(tmp_path, n=6, m=5)
     whole, cut = uninterrupted, tmp_path / "cut.parquet"
-    args = [*PINMOB, "sweep", str(spec), "--out", str(cut), "--no-progress", "--no-plots"]
-    proc = subprocess.Popen(args, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    args = ["sweep", str(spec), "--out", str(cut), "--no-progress", "--no-plots"]
     journal = tmp_path / ".cut.parquet.pinmob-journal"
-    deadline = time.monotonic() + 60
-    while time.monotonic() < deadline and not (journal.exists() and journal.stat().st_size > 0):
-        time.sleep(0.01)
-    time.sleep(0.1)
-    empty = journal.stat().st_size  # the schema only
-    while time.monotonic() < deadline and journal.stat().st_size == empty:
-        time.sleep(0.01)  # the first batch of records (every 5 s)
-    os.kill(proc.pid, getattr(signal, sig))
-    out, err = proc.communicate(timeout=60)
+
+    def ready() -> bool:  # the journal holds a record (read as the store reads it: complete batches only)
+        return 0 < sum(1 for _ in journal_records(journal)) < 36
+
+    proc = interrupted(dask_cluster.scheduler_address, args, tmp_path / "gate", ready, getattr(signal, sig))
+    out, err = proc.stdout, proc.stderr
     if sig == "SIGKILL":
         assert proc.returncode == -9 and journal.exists()
     else:
         assert proc.returncode == 130 and "Traceback" not in err and "run the same command to resume" in out
         meta = sweep_metadata(cut)
         assert meta is not None and not meta["complete"] and 0 < meta["written"] < 36
-    again = subprocess.run(args, capture_output=True, text=True, timeout=120)
+    again = subprocess.run([*PINMOB, *args], capture_output=True, text=True, timeout=120)
     assert again.returncode == 0, again.stderr
     assert "resuming" in again.stdout and "already written, skipped" in again.stdout
     assert pq.read_table(cut).equals(pq.read_table(whole))
@@ -151,12 +147,12 @@ def test_resuming_an_interrupted_sweep_gives_the_uninterrupted_file(tmp_path, si
 
 
 def _one_line_error(capsys, args: list[str], *words: str) -> None:
-    t0 = time.monotonic()
     assert main(args) == 2
-    err = capsys.readouterr().err
+    captured = capsys.readouterr()
+    err = captured.err
     assert err.count("\n") == 1 and err.startswith("pinmob: error:"), err
     assert all(w in err for w in words), err
-    assert time.monotonic() - t0 < 5  # before any work
+    assert captured.out == ""  # before any work: the sweep's first line ("sweep ...: N designs") not printed
 
 
 def test_bad_specs_are_one_line_errors_before_any_work(tmp_path, capsys):
@@ -183,6 +179,17 @@ def test_bad_specs_are_one_line_errors_before_any_work(tmp_path, capsys):
     (tmp_path / "t.toml").write_text('template = "robot.toml"\n[parameters]\nk = 1\nq = 2\n[design]\n'
                                      "[design.parameters]\nL = [0.2, 0.3, 2]\n")  # fmt: skip
     _one_line_error(capsys, ["sweep", str(tmp_path / "t.toml")], "unknown parameter 'q'", "'L'", "'k'")
+    # a placeholder whose value is complex here ((-0.8) ** 0.5): a traceback at load, "internal error" records later
+    text = (ROOT / "models" / "3puu.toml").read_text().replace("name = ", "length_scale = {(L - 1) ** 0.5}\nname = ", 1)
+    (tmp_path / "robot.toml").write_text(text)
+    (tmp_path / "t.toml").write_text('template = "robot.toml"\n[design]\n[design.parameters]\nL = [0.2, 0.3, 2]\n')
+    _one_line_error(capsys, ["sweep", str(tmp_path / "t.toml")], "placeholder {(L - 1) ** 0.5}", "not a real number")
+    # the finite analysis's keys
+    for extra, words in (("finite = false\nfinite_order = 3\n", ["finite_order", "finite = false"]),
+                         ("finite_order = 9\n", ["finite_order", "from 2 to 8"]),
+                         ('finite = "yes"\n', ["finite must be true or false"])):  # fmt: skip
+        (tmp_path / "bad.toml").write_text(extra + SPEC.format(n=3, m=5))
+        _one_line_error(capsys, ["sweep", str(tmp_path / "bad.toml")], *words)
 
 
 def test_a_template_sweep_fills_its_placeholders(tmp_path):
@@ -250,3 +257,38 @@ def test_workers_is_checked(tmp_path, capsys):
     _one_line_error(capsys, ["sweep", str(_spec(tmp_path)), "--workers", "0"], "--workers")
     with pytest.raises(ConfigurationError, match="--workers"):
         pinmob.sweep(_spec(tmp_path), workers=0)
+
+
+def test_finite_mobility_in_each_record(tmp_path):
+    """``finite = true``: each record adds the finite analysis at the reference configuration. The 3-PUU's generic
+    configuration is regular (no constraint nor limb singularity): the closed set is a manifold of constant rank
+    there, so the finite DoF equal the instantaneous ones (3, every motion finite) and, the sliders held, 0."""
+    (tmp_path / "f.toml").write_text(
+        'family = "3-PUU"\nfinite = true\n[design]\nmethod = "table"\nrows = [{link = 0.25}, {link = 0.3}]\n'
+        '[scan]\nfrom = "generic"\nto = "offset"\nsamples = 3\n'
+    )
+    spec = pinmob.load_spec(tmp_path / "f.toml")
+    assert spec.finite_order == 4 and [n for n, _ in spec.fields()][-4:] == [
+        "finite_dof", "finite_mechanism_dof", "finite_dof_locked", "finite_motions"]  # fmt: skip
+    for record in pinmob.sweep(spec):
+        assert record["status"] == "ok" and record["dof"] == 3 and record["mechanism_dof"] == 3
+        assert (record["finite_dof"], record["finite_mechanism_dof"], record["finite_dof_locked"]) == (3, 3, 0)
+        assert record["finite_motions"] == "T1 x: finite; T2 y: finite; T3 z: finite"
+    plain = pinmob.load_spec(_spec(tmp_path))
+    assert plain.finite_order is None and "finite_dof" not in [n for n, _ in plain.fields()]
+    assert plain.identity() != spec.identity()
+
+
+def test_a_design_task_carries_its_values_not_the_design_table(tmp_path):
+    """What a Dask task needs besides its (index, values) is the same for 10 and for 100,000 Latin-hypercube designs
+    (each task carried the whole spec, design table included: 1.6 MB per task for 100,000 designs)."""
+    import pickle
+
+    sizes = []
+    for samples in (10, 100_000):
+        text = SPEC.format(n=3, m=5).replace('method = "grid"', f'method = "latin-hypercube"\nsamples = {samples}')
+        (tmp_path / "lhs.toml").write_text(text.replace(", 3]", "]"))
+        spec = pinmob.load_spec(tmp_path / "lhs.toml")
+        assert spec.count == samples
+        sizes.append(len(pickle.dumps(spec.job())))
+    assert sizes[0] == sizes[1] < 10_000

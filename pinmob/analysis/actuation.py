@@ -5,6 +5,10 @@ included) are all idle when the actuation is valid; actuated rates that are not
 independent on the closed chain over-determine it. Idle motions move no output
 frame, no joint centre and no closure point
 (:func:`pinmob.analysis.closure_jacobian.output_rows`).
+
+A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
+pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
+(:func:`held_indices`), and the verdict says so.
 """
 
 from __future__ import annotations
@@ -44,6 +48,7 @@ class Actuation:
         frame_dof: DoF of each end frame with the actuators locked (0 = rigid).
         remaining: the non-idle motions left, each as joint rates by name
             (largest 1, rates below 1e-6 dropped).
+        base: the floating bases held while judging (free-flyer joints at the root), by joint name.
     """
 
     actuated: tuple[str, ...]
@@ -53,6 +58,7 @@ class Actuation:
     redundant_actuators: int
     frame_dof: dict[str, int] = field(default_factory=dict)
     remaining: tuple[dict[str, float], ...] = ()
+    base: tuple[str, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The ``actuation`` entry of ``pinmob analyze --json``."""
@@ -65,7 +71,38 @@ class Actuation:
             "redundant_actuators": self.redundant_actuators,
             "overdetermined": self.redundant_actuators > 0,
             "frame_dof_locked": dict(self.frame_dof),
+            "base_held": list(self.base),
         }
+
+    @property
+    def base_note(self) -> str:
+        """`` (floating base 'x' held: its own 6 DoF)`` when there is one, else ``""``."""
+        if not self.base:
+            return ""
+        names = ", ".join(repr(b) for b in self.base)
+        return f" (floating base {names} held: {6 * len(self.base)} DoF of the base's own)"
+
+
+def floating_bases(mech: Mechanism) -> tuple[str, ...]:
+    """The floating bases, by name: free-flyer joints at the root of the tree that carry other joints.
+
+    A free body that carries no joint (a part pinned or welded into a loop) is a part of the
+    mechanism, not a robot's base.
+    """
+    model = mech.model
+    return tuple(
+        model.names[j]
+        for j in range(1, model.njoints)
+        if model.parents[j] == 0 and model.joints[j].shortname() == "JointModelFreeFlyer" and len(model.subtrees[j]) > 1
+    )
+
+
+def held_indices(mech: Mechanism, actuated: Sequence[str]) -> Array:
+    """Velocity indices held while judging the actuation: the actuated joints', then each floating base's six."""
+    model = mech.model
+    base = [model.joints[model.getJointId(b)] for b in floating_bases(mech)]
+    extra = [np.arange(j.idx_v, j.idx_v + 6) for j in base]
+    return np.concatenate([joint_velocity_indices(mech, list(actuated)), *extra]).astype(np.intp)
 
 
 def rank_of(matrix: Array, rtol: float) -> int:
@@ -128,14 +165,17 @@ def actuation(
     basis = decide_rank(rest.T, 0.5, m, at_least=1.0).row_space.T if rest.size else np.zeros((m, 0))
     remaining = [joint_rates(mech, chain.col * (n @ basis[:, i])) for i in range(basis.shape[1])]
     frame_dof = {name: rank_of(frame_rows(conf, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
+    base = floating_bases(mech)
+    count = len(actuated) + 6 * len(base)
     return Actuation(
         tuple(actuated),
-        split.valid(len(actuated)),
+        split.valid(count),
         locked.shape[1],
         idle.shape[1],
-        len(actuated) - split.rank_a,
+        count - split.rank_a,
         frame_dof,
         tuple(remaining),
+        base,
     )
 
 

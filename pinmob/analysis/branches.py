@@ -7,8 +7,11 @@ points: at q the platform's first-order image ``J_p T`` may be smaller (the Sarr
 both limbs stretched moves its platform only to second order), so when ``rank J_p T`` is below
 ``min(dim T, 6)`` the branch is followed a short way (:func:`pinmob.analysis.motion_path.follow_rates`)
 to a nearby point p, whose tangent space on the branch (the whole kernel when its dimension is
-``dim T``, else the cone component at p closest to T) gives the platform's motions there,
-classified like the instantaneous ones. The tracing is also the branch's numerical confirmation.
+``dim T``, else the cone component at p closest to T) gives the platform's rank there. Only when
+it is higher than at q (the platform moves less at q, to first order) are the branch's motions
+those of p, classified like the instantaneous ones, and the branch says ``near q``; otherwise (a
+regular point, where the platform simply has fewer DoF than the branch, e.g. the Delta's idle rod
+spins) they are those at q. The tracing is also the branch's numerical confirmation.
 """
 
 from __future__ import annotations
@@ -145,8 +148,10 @@ def branch_of(
     if there is None:
         note = "no tangent space of the same dimension at a nearby point of it"
         return Branch(d, None, None, (), "q", rates, component.test, traced, note)
-    dof, kind, motions = platform_motions(near, there, rtol)
-    return Branch(d, dof, kind, motions, "near q", rates, component.test, traced)
+    dof_near, kind_near, motions_near = platform_motions(near, there, rtol)
+    if dof_near <= dof:  # the platform moves as much at q as nearby (a regular point): classified at q
+        return Branch(d, dof, kind, motions, "q", rates, component.test, traced)
+    return Branch(d, dof_near, kind_near, motions_near, "near q", rates, component.test, traced)
 
 
 def branch_joints(conf: Configuration, branch: Branch) -> list[dict[str, float]]:

@@ -35,12 +35,11 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.actuation import Actuation, actuation, lock
+from pinmob.analysis.actuation import Actuation, actuation, held_indices, lock
 from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, output_rows, selector
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
-from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id, frame_name
@@ -171,7 +170,7 @@ class MechanismMobility(ReadOnlyArrays):
         )
         verdict = "valid" if act.valid else "NOT valid"
         lines.append(
-            f"actuation {verdict}: {len(act.actuated)} actuated joint(s); locked, {act.locked_dof} motion(s) remain "
+            f"actuation {verdict}{act.base_note}: {len(act.actuated)} actuated joint(s); locked, {act.locked_dof} motion(s) remain "
             f"({act.idle_dof} idle)"
             + (f"; {act.redundant_actuators} actuator(s) over-determine the chain" if act.redundant_actuators else "")
         )
@@ -264,7 +263,7 @@ def mechanism_mobility(
     reported = outs + tuple(f for f in dict.fromkeys(named) if f not in outs)
     chain = closed_chain(conf, rtol)
     dec = chain.decision
-    idx = joint_velocity_indices(mech, list(acts))
+    idx = held_indices(mech, acts)
     split = lock(
         selector(mech.model.nv, idx) @ chain.null,
         output_rows(conf, outs) @ chain.null,

@@ -100,11 +100,11 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
     col = closed_chain_columns(conf)
     rows = [frame_rows(conf, name) for name in frames]
     rows += [
-        pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED)[:3] * col / length
+        np.reshape(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))[:3] * col / length
         for j in range(1, model.njoints)
     ]
     for c in mech.all_closures:  # a cut joint's centre; a 6d cut is inside one rigid body
-        if c.type != "6d":
+        if c.type not in ("6d", "joint"):
             rows.append(conf.frame_jacobian(c.frame_a_id)[:3] * col / length)
     return np.vstack(rows) if rows else np.zeros((0, model.nv))
 

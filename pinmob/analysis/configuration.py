@@ -28,6 +28,7 @@ from pinmob.assembly.residual import (
     check_closed,
     check_closure_tol,
     compute_kinematics,
+    frame_jacobian,
     worst_residual,
 )
 from pinmob.exceptions import ConfigurationError
@@ -36,6 +37,10 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
+
+
+#: The rank tolerance is at least this times the configuration's closure residual (:meth:`Configuration.rank_rtol`).
+RESIDUAL_FACTOR = 10.0
 
 
 class Configuration:
@@ -141,6 +146,14 @@ class Configuration:
         """The largest residual, ``max(|p| / L, |r|)`` (dimensionless)."""
         return worst_residual(self._residuals, self._mechanism.length_scale)
 
+    def rank_rtol(self, rtol: float) -> float:
+        """The rank tolerance at this configuration: ``max(rtol, RESIDUAL_FACTOR * residual)``.
+
+        Loops that close only to a residual r (CAD geometry closes to about a micron) leave singular
+        values of order r in the closure and limb matrices that are not structural: they are not counted.
+        """
+        return max(rtol, RESIDUAL_FACTOR * self.residual)
+
     @property
     def data(self) -> pin.Data:
         """Pinocchio data with the kinematics at q (joint Jacobians, frame placements); do not modify."""
@@ -167,7 +180,7 @@ class Configuration:
         """(6, nv) Jacobian of frame index ``frame`` (cached per frame and reference)."""
         return self.memo(
             ("frame_jacobian", frame, reference),
-            lambda: pin.getFrameJacobian(self._mechanism.model, self._data, frame, reference),
+            lambda: frame_jacobian(self._mechanism.model, self._data, frame, reference),
         )
 
     def memo(self, key: Any, compute: Callable[[], T]) -> T:

@@ -32,10 +32,16 @@ def found_configuration(
         except ClosureError as exc:
             bad = unclosable(mech)
             hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
+            relaxable = [c.name for c in mech.closures if c.type not in ("3d", "joint")]
+            advice = (
+                "Rerun with --relax (Python: relax=True) to turn the over-constraining closures into 3d (ball) "
+                "closures. "
+                if relaxable
+                else "Relaxing cannot help (every closure is a point or joint coupling already). "
+            )
             raise ClosureError(
                 f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random "
-                f"restarts. {hint}Rerun with --relax (Python: relax=True) to turn the over-constraining closures into "
-                f"3d (ball) closures. Largest residual of the best attempt: "
+                f"restarts. {hint}{advice}Largest residual of the best attempt: "
                 f"{worst_residual(exc.residuals, mech.length_scale):.2e} (m / L or rad)",
                 exc.residuals,
             ) from None
@@ -106,6 +112,7 @@ def analyze(
             conf, relaxed = found_configuration(mech, restarts, relax, closure_tol)
             q, mech = conf, conf.mechanism
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    asked, rtol = rtol, conf.rank_rtol(rtol)  # loops closed only to CAD accuracy: a coarser rank tolerance
     options = Options(
         frames=tuple(frames or ()),
         outputs=None if outputs is None else tuple(outputs),
@@ -117,6 +124,7 @@ def analyze(
         relaxed=relaxed,
         finite=finite,
         finite_order=finite_order,
+        rtol_asked=asked,
     )
     mobility = platform_mobility(conf, rtol) if conf.mechanism.has_platform else None
     return Report(conf, rtol, mobility, options)

@@ -45,7 +45,7 @@ class FiniteMobility:
     Attributes:
         mechanism, configuration: names.
         order: the bound on the order of the conditions checked.
-        tolerance: the absolute tolerance of the conditions (``order_tol * sigma_max``).
+        tolerance: the absolute tolerance of the conditions (``order_tol * max(1, sigma_max(A))``).
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
@@ -200,6 +200,7 @@ def finite_mobility(
     order_tol: float = ORDER_TOL,
     seed: int = 0,
     motions: tuple[Motion, ...] | None = None,
+    locked_motions: tuple[Motion, ...] | None = None,
 ) -> FiniteMobility:
     """Finite and instantaneous mobility at ``conf``, free and with the declared actuators held.
 
@@ -211,6 +212,8 @@ def finite_mobility(
         seed: of the random directions (cone points, tracing directions, samples).
         motions: the instantaneous platform motions to judge (default: the closed chain's, classified
             here; :func:`pinmob.analyze` passes its platform mobility's, so the labels are its own).
+        locked_motions: likewise with the actuators held (the report passes its singularity block's
+            uncontrolled motions).
 
     Raises:
         ConfigurationError: a bad order bound, or a joint type the conditions cannot treat.
@@ -223,8 +226,10 @@ def finite_mobility(
         locked = None
         if mech.actuated:
             held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
-            locked = analyse_side(conf, rtol, order, order_tol, held, seed)
+            locked = analyse_side(conf, rtol, order, order_tol, held, seed, locked_motions)
         return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf)
 
-    key = None if motions is None else tuple((m.label, m.twist.tobytes()) for m in motions)
+    key = tuple(
+        None if ms is None else tuple((m.label, m.twist.tobytes()) for m in ms) for ms in (motions, locked_motions)
+    )
     return conf.memo(("finite", rtol, order, order_tol, seed, key), compute)

@@ -26,7 +26,7 @@ from pinmob.analysis.loop_screws import mechanism_loops
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.motion_path import follow_motion, follow_rates
 from pinmob.analysis.tangent_cone import cone
-from pinmob.analysis.verdicts import MotionVerdict, Verdict, judge, orthonormal
+from pinmob.analysis.verdicts import MEMBER_SIN, MotionVerdict, Verdict, judge, orthonormal, sine_to
 from pinmob.assembly.residual import compute_kinematics
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import MotionKind
@@ -154,7 +154,9 @@ def analyse_side(
     """The :class:`Side` of ``conf`` with the joints of velocity indices ``held`` kept still.
 
     ``given``: the platform motions to judge (default: the closed chain's, classified here); the
-    report passes those of its first block, so that the labels are the same.
+    report passes those of its first-order blocks (the free motions, or the uncontrolled ones with
+    the actuators held), so that the labels are the same. They are used when they are as many as
+    this side's instantaneous platform DoF and each lies in its image; else this side's own are.
     """
     mech = conf.mechanism
     nv = mech.model.nv
@@ -171,6 +173,8 @@ def analyse_side(
         )
     if not found.linear:
         notes.append("the second-order cone is not a union of linear spaces: its branches cannot be told apart")
+    if found.undecided:
+        notes.append(f"cannot decide the second-order cone: {found.undecided}")
     notes += [f"branch {i + 1}: {b.note}" for i, b in enumerate(branches) if b.note]
     col = closed_chain_columns(conf)
     model = mech.model
@@ -185,10 +189,12 @@ def analyse_side(
         rows = frame_rows(conf, mech.platform)
         on_kernel = rows @ ho.kernel[:nv]
         dof, kind, found_motions = platform_motions(conf, kernel, rtol)
-        found_motions = found_motions if given is None else given
+        w = twist_scaling(mech.length_scale)
+        image = orthonormal([on_kernel], 6)
+        if given is not None and len(given) == dof and all(sine_to(w * g.twist, image) <= MEMBER_SIN for g in given):
+            found_motions = given  # the report's own motions (same labels), when they span this side's image
         lifts = decide_rank(on_kernel, rtol, n=ho.m, at_least=1.0).null_space.T
         spans = [orthonormal([rows @ b.rates], 6) for b in branches]
-        w = twist_scaling(mech.length_scale)
         for mo in found_motions:
             target = w * mo.twist
             test = ho.test(np.asarray(np.linalg.lstsq(on_kernel, target, rcond=None)[0], float), lifts, order, rng)

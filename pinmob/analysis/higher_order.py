@@ -16,8 +16,9 @@ in the newest ``z_(k-1)``. A first-order motion y is *blocked at order k* when n
 set of y passing order 2, ``Q(y) = 0``, is the second-order tangent cone, whose linear components are
 the tangent spaces of the motion branches through q.
 
-Every residual is compared with ``tol = order_tol * sigma_max(A)`` after scaling by ``|y|^k`` (the
-conditions are homogeneous), so the answer does not depend on units or on the size of y.
+Every residual is compared with ``tol = order_tol * max(1, sigma_max(A))`` after scaling by ``|y|^k``
+(the conditions are homogeneous), so the answer does not depend on units or on the size of y (A is
+dimensionless: its natural scale is 1, the floor under a small A).
 The cone itself is split into its linear components by :mod:`pinmob.analysis.tangent_cone`.
 """
 
@@ -31,12 +32,14 @@ import numpy as np
 from pinmob.analysis.loop_screws import MechanismLoops
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank
+from pinmob.screw.rank import decide_rank, decision, svd
 
 #: Default bound on the order of the conditions checked.
 ORDER = 4
-#: Default relative tolerance of a condition's residual (times the largest singular value of A).
+#: Default relative tolerance of a condition's residual (times ``max(1, sigma_max(A))``).
 ORDER_TOL = 1e-7
+#: A condition's residual within this factor of its tolerance (either side) decides nothing ("cannot decide").
+MARGIN = 10.0
 #: Budget of function evaluations of a joint (non-linear) solve over every free parameter.
 JOINT_SOLVE_EVALUATIONS = 400
 
@@ -97,9 +100,14 @@ class HigherOrder:
         n = system.size
         free = np.ones(n, bool)
         free[list(held)] = False
-        dec = decide_rank(a[:, free], rtol, n=int(free.sum()))
+        a_free = a[:, free]
+        if a_free.size:  # one SVD gives the rank decision, the kernel, the cokernel and A^+
+            u, s, vt = svd(a_free, full_matrices=True)
+            dec = decision(s, vt, rtol)
+        else:
+            dec = decide_rank(a_free, rtol, n=int(free.sum()))
+            u, s = np.eye(a.shape[0]), np.zeros(0)
         self.decision = dec
-        u, s, _ = np.linalg.svd(a[:, free]) if a.size else (np.eye(a.shape[0]), np.zeros(0), None)
         rank = dec.rank
         self.kernel = np.zeros((n, n - int((~free).sum()) - rank))
         self.kernel[free] = dec.null_space.T
@@ -149,10 +157,6 @@ class HigherOrder:
                 h[:, a, b] = h[:, b, a] = diag[a] if a == b else (g[i] - diag[a] - diag[b]) / 2
             self._forms = h
         return self._forms
-
-    def quadratic(self, y: Array) -> Array:
-        """``g_2(y)`` (r,) for y (m,)."""
-        return np.einsum("lab,a,b->l", self.forms(), y, y)
 
     def test(
         self, y0: Array, lifts: Array | None = None, order: int = ORDER, rng: np.random.Generator | None = None

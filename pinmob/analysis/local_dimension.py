@@ -33,11 +33,11 @@ from pinmob.analysis.actuation import rank_of
 from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import displacement
-from pinmob.assembly.residual import closure_residual, compute_kinematics, stacked_error
+from pinmob.analysis.path_follower import closed_rates
+from pinmob.assembly.residual import closure_residual, compute_kinematics
 from pinmob.assembly.solver import solve
 from pinmob.model.joints import short_difference
 from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import decide_rank
 
 #: Size of the perturbations [rad, or m / L].
 RADIUS = 0.02
@@ -99,10 +99,7 @@ def _platform_rank(conf: Configuration, q: Array, held: tuple[int, ...], dimensi
     """The platform's DoF on the closed chain at q (held joints still), or None when q is not a regular point."""
     mech = conf.mechanism
     here = Configuration.unchecked(mech, q)
-    col = closed_chain_columns(here)
-    _, k = stacked_error(mech, mech.model, here.data, mech.all_closures)
-    rows = np.vstack([k * col, np.eye(mech.model.nv)[list(held)]])
-    null = decide_rank(rows, rtol, n=mech.model.nv).null_space.T
+    null = closed_rates(here, held, rtol)
     if null.shape[1] != dimension:
         return None
     return rank_of(frame_rows(here, mech.platform) @ null, rtol)

@@ -22,6 +22,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
+from pinmob.analysis.closure_jacobian import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import angle_between, displacement
 from pinmob.analysis.mobility import platform_mobility
@@ -29,10 +30,10 @@ from pinmob.analysis.motion import Motion
 from pinmob.analysis.motion_limits import describe, limiting_limbs
 from pinmob.assembly.assemble import assemble_pose as _assemble_pose
 from pinmob.assembly.assemble import project
-from pinmob.assembly.residual import closure_residual, compute_kinematics, stacked_error
+from pinmob.assembly.residual import closure_residual, compute_kinematics, frame_jacobian, stacked_error
 from pinmob.assembly.solver import solve
 from pinmob.exceptions import ClosureError
-from pinmob.model.joints import linear_velocity_mask, short_difference
+from pinmob.model.joints import short_difference
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.classify import MotionKind
@@ -44,6 +45,19 @@ MAX_HALVINGS = 4
 MIN_SHARE = 0.5
 #: smallest share of a step the platform must follow along the intended motion
 MIN_PROGRESS = 0.5
+
+
+def closed_rates(conf: Configuration, held: Sequence[int], rtol: float) -> Array:
+    """(nv, m) orthonormal dimensionless joint rates of the closed chain at conf, the ``held`` joints still.
+
+    ``null [K_hat; rows picking the held rates]`` (:mod:`pinmob.analysis.closure_jacobian`'s
+    dimensionless closure Jacobian), by the one rank rule.
+    """
+    mech = conf.mechanism
+    nv = mech.model.nv
+    _, k = stacked_error(mech, mech.model, conf.data, mech.all_closures)
+    rows = np.vstack([k * closed_chain_columns(conf), np.eye(nv)[list(held)]])
+    return decide_rank(rows, rtol, n=nv).null_space.T
 
 
 class Follower:
@@ -91,7 +105,7 @@ class Follower:
         model, data = self.model, self.data
         compute_kinematics(model, data, q)
         _, k = stacked_error(self.mech, model, data, self.mech.all_closures)
-        jp = self.w[:, None] * pin.getFrameJacobian(model, data, self.pid, pin.LOCAL_WORLD_ALIGNED)
+        jp = self.w[:, None] * frame_jacobian(model, data, self.pid, pin.LOCAL_WORLD_ALIGNED)
         rhs = np.concatenate([np.zeros(k.shape[0]), self.w * projected * ds])
         dv = np.linalg.lstsq(np.vstack([k, jp]), rhs, rcond=None)[0]
         return pin.integrate(model, q, dv)
@@ -177,7 +191,7 @@ class RateFollower(Follower):
         self.free = np.ones(self.model.nv, bool)
         self.free[self.held] = False
         self.residual = closure_residual(mech)
-        self.col = np.where(linear_velocity_mask(self.model), mech.length_scale, 1.0)
+        self.col = closed_chain_columns(Configuration.unchecked(mech, mech.neutral()))  # per mechanism
 
     def direction_at(self, q: Array, unit: Array, start: pin.SE3) -> Array:
         """The rates stay the same (joint space has no screw to carry along)."""
@@ -185,9 +199,7 @@ class RateFollower(Follower):
 
     def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
         """The direction projected on the closed chain's rates at q (held joints still), or (None, reason)."""
-        k = self.residual(q)[1] * self.col
-        rows = np.vstack([k, np.eye(self.model.nv)[self.held]])
-        null = decide_rank(rows, self.rtol, n=self.model.nv).null_space.T
+        null = closed_rates(Configuration.unchecked(self.mech, q), self.held.tolist(), self.rtol)
         projected = null @ (null.T @ direction)
         share = float(np.linalg.norm(projected) / np.linalg.norm(direction))
         if share < MIN_SHARE:

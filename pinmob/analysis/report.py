@@ -26,6 +26,7 @@ from typing import Any
 from numpy.typing import ArrayLike
 
 from pinmob.analysis.actuation import actuator_sets
+from pinmob.analysis.ambiguity import AmbiguousRank, ambiguous_ranks, raised_note
 from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
@@ -36,6 +37,7 @@ from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
+from pinmob.model.joint_values import values_by_name
 
 
 @dataclass(frozen=True)
@@ -52,6 +54,7 @@ class Options:
     relaxed: tuple[str, ...] = ()
     finite: bool = False
     finite_order: int = ORDER
+    rtol_asked: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -129,7 +132,9 @@ class Report:
             return None
         platform = self.mobility if self.has_limbs else self.platform_frame
         motions = None if platform is None else platform.motions
-        return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions)
+        sing = self.singularity if self.state.mechanism.actuated else None
+        locked = sing.uncontrolled if sing is not None and sing.actuation is not None else None
+        return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions, locked_motions=locked)
 
     @property
     def platform_frame(self) -> FrameMobility | None:
@@ -203,6 +208,10 @@ class Report:
                 out["paper_view"] = self.paper.to_dict()
             sing = self.singularity
             out["singularity"] = sing.to_dict() if sing is not None else None
+        mech = self.state.mechanism
+        out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz)
+        out["rank_tolerance_note"] = self._raised()
+        out["ambiguous_ranks"] = [a.to_dict() for a in self.ambiguous_ranks]
         if sets is not None:
             out["valid_actuator_sets"] = [list(x) for x in sets]
         if self.finite is not None:
@@ -219,7 +228,7 @@ class Report:
                     f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(self.options.relaxed)}"
                 )
             lines.append(str(self.mechanism_mobility))
-            lines.extend(self._actuator_lines() + (["", str(self.finite)] if self.finite else []))
+            lines.extend(self._rank_lines() + self._actuator_lines() + (["", str(self.finite)] if self.finite else []))
             return "\n".join(lines)
         mob = self._platform()
         sing = self.singularity
@@ -229,7 +238,7 @@ class Report:
             lines.append(str(self.expectation))
         lines.append("")
         lines.append(str(self.mechanism_mobility))
-        lines.extend(self._actuator_lines())
+        lines.extend(self._rank_lines() + self._actuator_lines())
         paper = self.paper
         if paper is not None:
             lines += ["", str(paper)]
@@ -246,6 +255,19 @@ class Report:
         """The one-line answer ``pinmob analyze --brief`` prints (:func:`~pinmob.analysis.summary.summary_line`)."""
         chain = self.mechanism_mobility if self.mobility is None else None
         return summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
+
+    @cached_property
+    def ambiguous_ranks(self) -> tuple[AmbiguousRank, ...]:
+        """The rank decisions without a clear gap around their tolerance (:func:`ambiguous_ranks`)."""
+        return ambiguous_ranks(self.mechanism_mobility, self.mobility)
+
+    def _raised(self) -> str | None:
+        asked = self.rtol if self.options.rtol_asked is None else self.options.rtol_asked
+        return raised_note(asked, self.rtol, self.state.residual)
+
+    def _rank_lines(self) -> list[str]:
+        note = self._raised()
+        return ([f"note: {note}"] if note else []) + [str(a) for a in self.ambiguous_ranks]
 
     def _actuator_lines(self) -> list[str]:
         sets = self.actuator_sets

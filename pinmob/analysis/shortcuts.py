@@ -2,7 +2,8 @@
 
 Each builds the :class:`~pinmob.analysis.configuration.Configuration` (with the
 same argument checks as :func:`pinmob.analyze`) and returns one part of the
-report. :func:`pinmob.analyze` gives them all at once, sharing one
+report, with the same rank tolerance (raised for a configuration that closes only to CAD accuracy:
+:meth:`~pinmob.analysis.configuration.Configuration.rank_rtol`). :func:`pinmob.analyze` gives them all at once, sharing one
 configuration; these are for code that needs one part, with its own errors
 (e.g. :func:`analyze_singularity` refuses a mechanism without limbs, where the
 report says "not analysed").
@@ -47,7 +48,7 @@ def analyze_mechanism(
     See :func:`pinmob.analysis.closed_chain.mechanism_mobility`.
     """
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
-    return mechanism_mobility(conf, check_rtol(rtol), actuated=actuated, frames=frames, outputs=outputs)
+    return mechanism_mobility(conf, conf.rank_rtol(check_rtol(rtol)), actuated=actuated, frames=frames, outputs=outputs)
 
 
 def analyze_singularity(
@@ -65,14 +66,15 @@ def analyze_singularity(
         ConfigurationError: the mechanism has no limbs or no platform frame, or a closure couples limbs.
     """
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
-    return singularity(conf, check_rtol(rtol), generic_rank)
+    return singularity(conf, conf.rank_rtol(check_rtol(rtol)), generic_rank)
 
 
 def frame_mobility(
     mech: Where, q: At, frame: str, *, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
 ) -> FrameMobility:
     """Free motions of any ``frame`` on the closed chain (see :func:`pinmob.analysis.closed_chain.frame_mobility`)."""
-    return _frame_mobility(as_configuration(mech, q, closure_tol=closure_tol), frame, check_rtol(rtol))
+    conf = as_configuration(mech, q, closure_tol=closure_tol)
+    return _frame_mobility(conf, frame, conf.rank_rtol(check_rtol(rtol)))
 
 
 def actuator_sets(
@@ -91,7 +93,7 @@ def actuator_sets(
     """
     conf = as_configuration(mech, q, closure_tol=closure_tol)
     outs = tuple(default_end_frames(conf.mechanism) if outputs is None else outputs)
-    return _actuator_sets(conf, size, outs, candidates=candidates, rtol=check_rtol(rtol))
+    return _actuator_sets(conf, size, outs, candidates=candidates, rtol=conf.rank_rtol(check_rtol(rtol)))
 
 
 def closure_jacobian_twists(
@@ -101,7 +103,8 @@ def closure_jacobian_twists(
 
     See :func:`pinmob.analysis.closure_jacobian.closure_jacobian_twists`.
     """
-    return _closure_jacobian_twists(as_configuration(mech, q, closure_tol=closure_tol), check_rtol(rtol))
+    conf = as_configuration(mech, q, closure_tol=closure_tol)
+    return _closure_jacobian_twists(conf, conf.rank_rtol(check_rtol(rtol)))
 
 
 def paper_view(
@@ -120,4 +123,4 @@ def paper_view(
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
     from pinmob.analysis.paper import paper_mobility  # imported when first asked for
 
-    return paper_mobility(conf, check_rtol(rtol), approach)  # type: ignore[arg-type]
+    return paper_mobility(conf, conf.rank_rtol(check_rtol(rtol)), approach)  # type: ignore[arg-type]

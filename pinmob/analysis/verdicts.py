@@ -28,15 +28,13 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.higher_order import OrderTest
+from pinmob.analysis.higher_order import MARGIN, OrderTest
 from pinmob.analysis.motion import Motion
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
 
 #: A motion lies in a span when the sine of its angle to it is at most this.
 MEMBER_SIN = 1e-4
-#: A condition's residual within this factor of its tolerance (either side) decides nothing.
-MARGIN = 10.0
 
 
 class Verdict(StrEnum):

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
 from pinmob.model.mechanism import Mechanism
@@ -43,4 +45,5 @@ def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[
     conf = mech.configurations[name]
     if conf.pose is not None:
         return assemble_pose(mech, conf.pose, mech.q_from_joints(conf.seed), tol), True
-    return mech.q_from_joints(conf.joints), False
+    base = None if conf.vector is None else np.array(conf.vector)
+    return mech.q_from_joints(conf.joints, base), False

@@ -17,13 +17,10 @@ import pinocchio as pin
 
 from pinmob.assembly.solver import ResidualFn
 from pinmob.exceptions import ClosureError, ConfigurationError
-from pinmob.model.closure import Closure
+from pinmob.model.closure import CLOSURE_TOL, Closure
 from pinmob.model.data_pool import acquire, borrowed, release_with
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
-
-#: Default closure tolerance: position residual / L and rotation residual [rad].
-CLOSURE_TOL = 1e-6
 
 #: Valid range of a closure tolerance (dimensionless): below, round-off decides; above, nothing is closed.
 CLOSURE_TOL_MIN, CLOSURE_TOL_MAX = 1e-14, 0.1
@@ -49,6 +46,11 @@ def check_closure_tol(tol: object, name: str = "closure_tol") -> float:
     return value
 
 
+def frame_jacobian(model: pin.Model, data: pin.Data, frame: int, ref: pin.ReferenceFrame) -> Array:
+    """``pin.getFrameJacobian`` as a (6, nv) array (Pinocchio returns a (6,) vector when nv = 1)."""
+    return np.reshape(pin.getFrameJacobian(model, data, frame, ref), (6, model.nv))
+
+
 def relative_error(model: pin.Model, data: pin.Data, frame_a: int, frame_b: int) -> tuple[Array, Array]:
     """Error of frame b relative to frame a and its Jacobian; kinematics must be computed.
 
@@ -58,15 +60,15 @@ def relative_error(model: pin.Model, data: pin.Data, frame_a: int, frame_b: int)
     oma, omb = data.oMf[frame_a], data.oMf[frame_b]
     m = oma.actInv(omb)
     e = pin.log6(m).vector
-    ja = pin.getFrameJacobian(model, data, frame_a, pin.LOCAL)
-    jb = pin.getFrameJacobian(model, data, frame_b, pin.LOCAL)
+    ja = frame_jacobian(model, data, frame_a, pin.LOCAL)
+    jb = frame_jacobian(model, data, frame_b, pin.LOCAL)
     return e, pin.Jlog6(m) @ (jb - m.inverse().action @ ja)
 
 
 def pose_error(model: pin.Model, data: pin.Data, frame: int, target: pin.SE3) -> tuple[Array, Array]:
     """``e = log6(target^-1 oM_f)`` and its Jacobian (6, nv); kinematics must be computed."""
     m = target.actInv(data.oMf[frame])
-    return pin.log6(m).vector, pin.Jlog6(m) @ pin.getFrameJacobian(model, data, frame, pin.LOCAL)
+    return pin.log6(m).vector, pin.Jlog6(m) @ frame_jacobian(model, data, frame, pin.LOCAL)
 
 
 def _perp(u: Array) -> Array:
@@ -101,6 +103,7 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     - ``revolute``, ``cylindrical``, ``planar``: ``e = S log6(M)``, the rows S
       of the relative motion the closure forbids (zero exactly on the allowed
       subgroup, for relative rotations below pi);
+    - ``joint``: ``e = (q1 - r1) - sum_k c_k (q2 - r2)^k`` (:func:`coupling_error`);
     - ``universal``: the 3d residual and ``u . (R_ab u_b)`` (hinge axes
       perpendicular), whose rate is ``(R_ab u_b x u) . w_rel`` (w_rel the
       relative angular velocity in frame a).
@@ -110,6 +113,8 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
         others are in radians or dimensionless).
     """
     a, b = c.frame_a_id, c.frame_b_id
+    if c.type == "joint":
+        return coupling_error(model, data, c)
     if c.type == "6d":
         e, jac = relative_error(model, data, a, b)
         return e, jac, np.array([True] * 3 + [False] * 3)
@@ -120,8 +125,8 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     oma, omb = data.oMf[a], data.oMf[b]
     ra = oma.rotation
     e = ra.T @ (omb.translation - oma.translation)
-    ja_w = pin.getFrameJacobian(model, data, a, pin.LOCAL_WORLD_ALIGNED)
-    jb_w = pin.getFrameJacobian(model, data, b, pin.LOCAL_WORLD_ALIGNED)
+    ja_w = frame_jacobian(model, data, a, pin.LOCAL_WORLD_ALIGNED)
+    jb_w = frame_jacobian(model, data, b, pin.LOCAL_WORLD_ALIGNED)
     wa_local = ra.T @ ja_w[3:]
     jac = ra.T @ (jb_w[:3] - ja_w[:3]) + pin.skew(e) @ wa_local
     if c.type == "3d":
@@ -132,6 +137,28 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     w_rel = ra.T @ (jb_w[3:] - ja_w[3:])
     row = np.cross(w, u) @ w_rel
     return np.append(e, u @ w), np.vstack([jac, row]), np.array([True] * 3 + [False])
+
+
+def coupling_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
+    """Residual ``(q1 - r1) - P(q2 - r2)`` of a ``joint`` closure (``P(x) = sum_k c_k x^k``), its row and mask.
+
+    The joint values are those of the last kinematics (``data.joints[j].joint_q``); the row has 1 at joint
+    1's velocity and ``-P'(q2 - r2)`` at joint 2's. It is a length when joint 1 slides.
+    """
+    j1 = model.getJointId(c.joints[0])
+    row = np.zeros((1, model.nv))
+    row[0, model.joints[j1].idx_v] = 1.0
+    e = float(data.joints[j1].joint_q[0]) - c.reference[0]
+    poly = np.polynomial.Polynomial(c.polycoef)
+    if len(c.joints) > 1:
+        j2 = model.getJointId(c.joints[1])
+        x = float(data.joints[j2].joint_q[0]) - c.reference[1]
+        e -= float(poly(x))
+        row[0, model.joints[j2].idx_v] -= float(poly.deriv()(x))
+    else:
+        e -= c.polycoef[0]
+    linear = "Prismatic" in model.joints[j1].shortname()
+    return np.array([e]), row, np.array([linear])
 
 
 def closure_residuals(mech: Mechanism, data: pin.Data, closures: tuple[Closure, ...] | None = None) -> Residuals:

@@ -7,10 +7,10 @@ import json
 import sys
 
 from pinmob.analysis.entry_point import analyze
+from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.report import Report
-from pinmob.cli.common import pick_configuration
+from pinmob.cli.common import chosen_state, closure_tol_of, load_for
 from pinmob.exceptions import ConfigurationError, choices
-from pinmob.io.loader import load
 from pinmob.screw.rank import RTOL, check_rtol
 
 
@@ -20,27 +20,29 @@ def run(args: argparse.Namespace) -> int:
     Returns:
         the exit status: 1 with ``--check`` when the analysis differs from the file's expectation, else 0.
     """
-    mech = load(args.mechanism)
+    mech = load_for(args)
     rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
+    closure_tol = closure_tol_of(args)
     if args.check and not mech.expected:
         raise ConfigurationError(f"--check: {mech.name!r} has no expected table in any configuration")
-    config = None if args.config is None and not mech.configurations else pick_configuration(mech, args.config)
-    if args.check and config not in mech.expected:
+    config = chosen_state(mech, args, closure_tol)
+    if args.check and (not isinstance(config, str) or config not in mech.expected):
         raise ConfigurationError(
-            f"--check: configuration {config!r} of {mech.name!r} has no expected table; configurations with one: "
+            f"--check: configuration {getattr(config, 'name', config)!r} of {mech.name!r} has no expected table; configurations with one: "
             f"{choices(mech.expected)}"
         )
     report = analyze(
         mech,
         config,
         rtol=rtol,
+        closure_tol=closure_tol,
         frames=args.frame,
         paper=args.paper_view,
         actuator_search=args.search_actuators,
         restarts=args.restarts,
         relax=args.relax,
-        finite=args.finite,
-        finite_order=args.finite_order,
+        finite=args.finite or args.finite_order is not None,  # --finite-order K implies --finite
+        finite_order=ORDER if args.finite_order is None else args.finite_order,
     )
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))

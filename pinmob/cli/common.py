@@ -2,14 +2,22 @@
 
 from __future__ import annotations
 
+import argparse
 import contextlib
 import re
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
 
-from pinmob.exceptions import ConfigurationError, choices
+import numpy as np
+
+from pinmob.analysis.configuration import Configuration
+from pinmob.assembly.assemble import solve_actuated
+from pinmob.assembly.named import named_vector
+from pinmob.assembly.residual import check_closure_tol
+from pinmob.exceptions import ClosureError, ConfigurationError, choices
 from pinmob.io.builtin import builtin_models
+from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
 
 
@@ -23,6 +31,68 @@ def pick_configuration(mech: Mechanism, config: str | None) -> str:
         return mech.configuration_name(config)
     except ConfigurationError as exc:
         raise ConfigurationError(f"{exc}{elsewhere(config, mech)}") from None
+
+
+def load_for(args: argparse.Namespace) -> Mechanism:
+    """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
+    from pinmob.io.loader import load
+    from pinmob.model.actuation import with_actuated
+
+    mech = load(args.mechanism)
+    if args.actuated is not None:
+        names = [n.strip() for n in args.actuated.split(",") if n.strip()]
+        if not names:
+            raise ConfigurationError(f"--actuated {args.actuated!r}: name the actuated joints, e.g. --actuated a,b")
+        mech = with_actuated(mech, names)
+    return mech
+
+
+def parse_joint_values(text: str) -> dict[str, float]:
+    """``"a=0.1,b=-2"`` -> ``{"a": 0.1, "b": -2.0}`` (``--joints``).
+
+    Raises:
+        ConfigurationError: an item that is not ``name=number``.
+    """
+    out: dict[str, float] = {}
+    for item in (t.strip() for t in text.split(",")):
+        name, sep, value = item.partition("=")
+        try:
+            number = float(value)
+        except ValueError:
+            number = float("nan")
+        if not item or not sep or not name.strip() or not np.isfinite(number):
+            raise ConfigurationError(
+                f"--joints {text!r}: {item!r} is not name=value (a finite number [rad or m]); e.g. --joints a=0.1,b=-0.2"
+            )
+        out[name.strip()] = number
+    return out
+
+
+def chosen_state(mech: Mechanism, args: argparse.Namespace, closure_tol: float) -> Configuration | str | None:
+    """What the command analyses: the ``--joints`` values, the ``--config`` name, the file's first, or None (find one).
+
+    With ``--joints``, the other joints start from the named configuration (``--config`` or the file's
+    first), else Pinocchio's neutral; when the values given do not close the loops as they are, the other
+    joints are solved with the given ones held (:func:`~pinmob.assembly.assemble.solve_actuated`).
+    """
+    config = None if args.config is None and not mech.configurations else pick_configuration(mech, args.config)
+    if args.joints is None:
+        return config
+    values = parse_joint_values(args.joints)
+    base = None if config is None else named_vector(mech, config, closure_tol)[0]
+    q = mech.q_from_joints(values, base)
+    name = f"--joints {args.joints}"
+    try:
+        return Configuration(mech, q, closure_tol=closure_tol, name=name, source="joint values given")
+    except ClosureError:
+        solved = solve_actuated(mech, values, seed=q, tol=closure_tol)
+        source = "joint values given, the other joints solved to close the loops"
+        return Configuration(mech, solved.q, closure_tol=closure_tol, name=name, source=source)
+
+
+def closure_tol_of(args: argparse.Namespace) -> float:
+    """``--closure-tol``, checked (default :data:`~pinmob.model.closure.CLOSURE_TOL`)."""
+    return CLOSURE_TOL if args.closure_tol is None else check_closure_tol(args.closure_tol, "--closure-tol")
 
 
 def elsewhere(config: str, mech: Mechanism | None = None) -> str:
@@ -64,17 +134,28 @@ def signals_interrupt() -> Iterator[None]:
             signal.signal(sig, handler)
 
 
-def check_outputs(paths: dict[str, str | None], force: bool) -> None:
-    """Refuse, before any work, output files that exist (unless ``force``), are links, folders or devices, or lie in no folder.
+def check_distinct(paths: dict[str, str | Path | None]) -> None:
+    """Refuse two outputs that name the same file (one would overwrite the other); ``paths``: option -> path or None."""
+    given = {option: Path(path).expanduser() for option, path in paths.items() if path}
+    seen: dict[Path, str] = {}
+    for option, path in given.items():
+        key = path.resolve()
+        if key in seen:
+            raise ConfigurationError(
+                f"{seen[key]} and {option} name the same file {str(path)!r}: one would overwrite the other; "
+                "give each output its own file name"
+            )
+        seen[key] = option
 
-    See :func:`pinmob.scan.files.check_target`.
+
+def check_outputs(paths: dict[str, str | None], force: bool) -> None:
+    """Refuse, before any work, outputs naming one file, or files that exist (unless ``force``) or cannot be outputs.
+
+    An output cannot be a link, a folder or a device, nor lie in no folder (:func:`pinmob.scan.files.check_target`).
     """
     from pinmob.scan.files import check_target
 
-    given = {option: Path(path).expanduser() for option, path in paths.items() if path}
-    if len({p.resolve() for p in given.values()}) < len(given):
-        raise ConfigurationError(
-            f"{', '.join(given)} must name different files, got {choices(map(str, given.values()))}"
-        )
-    for option, target in given.items():
-        check_target(option, target, force)
+    check_distinct(dict(paths))
+    for option, path in paths.items():
+        if path:
+            check_target(option, Path(path).expanduser(), force)

@@ -41,6 +41,24 @@ class Parser(argparse.ArgumentParser):
         return parsed
 
 
+def add_model_options(p: argparse.ArgumentParser) -> None:
+    """The options of ``analyze`` and ``show`` that say which configuration, which actuation, which closure tolerance."""
+    p.add_argument(
+        "--joints",
+        metavar="NAME=VALUE,...",
+        help="analyse at these joint values [rad or m] (the others from the first named configuration, else "
+        "neutral); analyze --json prints a configuration's values as joint_values",
+    )
+    p.add_argument("--actuated", metavar="A,B,...", help="the actuated joints (replacing the file's, if any)")
+    p.add_argument(
+        "--closure-tol",
+        type=float,
+        default=None,
+        help="largest closure residual accepted, position / L and rotation [rad] (default 1e-6; CAD models "
+        "closing to a micron need about 1e-5)",
+    )
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``pinmob`` argument parser with its five commands."""
     parser = Parser(
@@ -93,19 +111,12 @@ def build_parser() -> argparse.ArgumentParser:
         metavar="K",
         help="also list every valid set of K actuated joints (exhaustive)",
     )
-    p.add_argument(
-        "--finite",
-        action="store_true",
-        help="also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
+    _finite_options(
+        p,
+        "also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
         "(higher-order conditions, tracing, closed samples)",
     )
-    p.add_argument(
-        "--finite-order",
-        type=int,
-        default=4,
-        metavar="K",
-        help="with --finite: the highest order of the conditions checked (2..8, default 4)",
-    )
+    add_model_options(p)
 
     p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat", epilog=GLOSSARY)
     p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
@@ -128,6 +139,7 @@ def build_parser() -> argparse.ArgumentParser:
         "(default: 0.2 L for translations, L the mechanism's length scale; 0.35 rad for rotations and screws)",
     )
     p.add_argument("--steps", type=int, default=12, help="continuation steps per direction (default 12)")
+    add_model_options(p)
     p = sub.add_parser(
         "scan", help="mobility and singularities along a path or over a workspace slice", epilog=GLOSSARY
     )
@@ -170,6 +182,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (none either when not a terminal)")
     p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    _finite_options(
+        p,
+        "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample, "
+        "tens to hundreds of ms each: see docs/finite-mobility.md)",
+    )
     p = sub.add_parser(
         "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY
     )
@@ -184,3 +201,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--force", action="store_true", help="overwrite --csv and plot files, or an --out of another sweep")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
+
+
+def _finite_options(p: argparse.ArgumentParser, what: str) -> None:
+    """``--finite`` (helped by ``what``) and ``--finite-order K``, which implies it (``pinmob analyze`` and ``scan``)."""
+    p.add_argument("--finite", action="store_true", help=what)
+    p.add_argument(
+        "--finite-order",
+        type=int,
+        default=None,
+        metavar="K",
+        help="the highest order of the conditions the finite analysis checks (2..8, default 4); implies --finite",
+    )

@@ -15,7 +15,7 @@ from pinmob.cli.common import check_outputs, signals_interrupt
 from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
 from pinmob.io.loader import load
-from pinmob.scan import columns, grid_spec, path_spec, scan
+from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
 from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_path, varied_joint
 from pinmob.scan.plot_map import plot_map
@@ -56,11 +56,15 @@ def _run(args: argparse.Namespace) -> int:
         samples = 21 if args.samples is None else args.samples
         spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol)
         what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {samples} samples"
+    if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
+        spec = with_finite(mech, spec, args.finite_order)
+        what += f", finite DoF per sample (order bound {spec.finite_order})"
     band = NEAR_FACTOR * rtol
     meta = {"mechanism": mech.name, "scan": what, "generic_rank": spec.generic_rank, "rtol": rtol,
             "near_singular_band": band, "length_scale": mech.length_scale}  # fmt: skip
     counts: Counter[str] = Counter()
     tally: Counter[str] = Counter()
+    finite: Counter[str] = Counter()
     listed: list[dict[str, Any]] = []
     with tempfile.TemporaryDirectory() as tmp:
         csv_path = args.csv or (str(Path(tmp) / "scan.csv") if args.plot else None)
@@ -73,6 +77,9 @@ def _run(args: argparse.Namespace) -> int:
                 tally[kind] += 1
                 if not row["refined"]:
                     counts[f"{row['dof']} DoF {row['motion_type']}" if row["reachable"] else "unreachable"] += 1
+                    if spec.finite_order is not None and row["reachable"]:
+                        dof = row["finite_dof"]
+                        finite["cannot decide" if dof is None else f"{dof} DoF"] += 1
                 if kind != "regular" and len(listed) < 20:
                     listed.append(row)
         elapsed = time.perf_counter() - t0
@@ -82,6 +89,9 @@ def _run(args: argparse.Namespace) -> int:
               f"generic constraint rank {spec.generic_rank}")  # fmt: skip
         for key, k in sorted(counts.items()):
             print(f"  {k:5d} x {key}")
+        if finite:
+            print("finite DoF of the platform at the assembled samples: "
+                  + ", ".join(f"{k} x {key}" for key, k in sorted(finite.items())))  # fmt: skip
         print(f"singular samples: {tally['singular']}; near-singular samples (distance < {band:.0e}): "
               f"{tally['near-singular']}; refined singular points: {tally['refined']}")  # fmt: skip
         total = tally["singular"] + tally["near-singular"] + tally["refined"]
@@ -132,4 +142,8 @@ def _format_row(row: dict[str, Any]) -> str:
     limbs = f", limbs {row['singular_limbs']}" if row["singular_limbs"] else ""
     dep = f", dependent limbs {row['dependent_limbs']}" if row["dependent_limbs"] else ""
     unc = f", uncontrolled {row['uncontrolled']}" if row["uncontrolled"] else ""
-    return f"{where} ({params}): {label}{limbs}{dep}{unc}; {row['dof']} DoF {row['motion_type']}, distance {row['distance']:.2e}"
+    fin = ""
+    if "finite_dof" in row:  # --finite
+        fin = f" (finite {'cannot decide' if row['finite_dof'] is None else row['finite_dof']})"
+    return (f"{where} ({params}): {label}{limbs}{dep}{unc}; {row['dof']} DoF {row['motion_type']}{fin}, "
+            f"distance {row['distance']:.2e}")  # fmt: skip

@@ -5,18 +5,33 @@ from __future__ import annotations
 import argparse
 import math
 import warnings
+from dataclasses import replace
+
+import pinocchio as pin
 
 from pinmob import viewer
-from pinmob.cli.common import pick_configuration, signals_interrupt
+from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.entry_point import analyze, found_configuration
+from pinmob.cli.common import chosen_state, closure_tol_of, load_for, signals_interrupt
 from pinmob.exceptions import ConfigurationError
-from pinmob.io.loader import load
+from pinmob.model.joints import frame_id
+from pinmob.model.mechanism import Mechanism
 
 
 def run(args: argparse.Namespace) -> int:
     """``pinmob show``: the mechanism and its free motions, animated, in meshcat (or a self-contained HTML file)."""
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
-    mech = load(args.mechanism)
-    config = pick_configuration(mech, args.config)
+    mech = load_for(args)
+    closure_tol = closure_tol_of(args)
+    state = chosen_state(mech, args, closure_tol)
+    if state is None:  # a file without a configuration: a closed one found from neutral
+        state, _ = found_configuration(mech, restarts=20, relax=False, closure_tol=closure_tol)
+    if not isinstance(state, str) and state.name is None:
+        state = state.with_name("found closed configuration")
+    mech, state, note = with_viewed_frame(mech, state, closure_tol)
+    config = state if isinstance(state, str) else str(state.name)
+    if note:
+        print(f"note: {note}")
     if args.html is None and args.force:
         raise ConfigurationError("--force only applies to --html FILE")
     if args.html is not None and (args.zmq_url or args.port is not None or args.detach):
@@ -24,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     options = {"motion": args.motion, "wrenches": args.wrenches, "amplitude": args.amplitude, "steps": args.steps}
     if args.html is not None:
         with signals_interrupt():  # SIGTERM/SIGHUP as Ctrl-C: the temporary file is removed, the old file kept
-            scene = viewer.export_html(mech, config, args.html, overwrite=args.force, **options)
+            scene = viewer.export_html(mech, state, args.html, overwrite=args.force, **options)
         print_scene(mech.name, config, scene)
         return 0
     # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:
@@ -35,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
         server, serving = None, False
         try:
             scene = viewer.show(  # stops it if interrupted; tied: a SIGKILL of pinmob stops it too
-                mech, config, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
+                mech, state, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
             )
             server = scene.server
             print_scene(mech.name, config, scene)
@@ -55,6 +70,35 @@ def run(args: argparse.Namespace) -> int:
             if server is not None and not args.detach:
                 server.stop()
     return 0
+
+
+def with_viewed_frame(
+    mech: Mechanism, state: Configuration | str, closure_tol: float
+) -> tuple[Mechanism, Configuration | str, str]:
+    """The mechanism and state to show: a mechanism without a platform shows its output frame that moves most.
+
+    The outputs are those of the analysis (the tree's free leaf bodies), else every moving body; the
+    one with the most DoF (the deepest in the tree among equals) becomes the platform of a copy of the
+    mechanism, and the note says so.
+    """
+    if mech.has_platform:
+        return mech, state, ""
+    conf = as_configuration(mech, state, closure_tol=closure_tol)
+    frames = analyze(conf, closure_tol=closure_tol).mechanism_mobility.frames
+    if not frames:
+        bodies = [f.name for f in mech.model.frames if f.type == pin.FrameType.BODY and f.parentJoint > 0]
+        frames = analyze(conf, closure_tol=closure_tol, frames=bodies).mechanism_mobility.frames
+    if not frames:
+        raise ConfigurationError(f"{mech.name!r} has no platform and no moving body to show")
+    model = mech.model
+    best = max(frames, key=lambda f: (f.dof, model.frames[frame_id(model, f.frame)].parentJoint))
+    viewed = replace(mech, platform=best.frame)
+    conf = Configuration(viewed, conf.q, closure_tol=closure_tol, name=conf.name or "found", source=conf.source)
+    note = (
+        f"{mech.name!r} names no platform: showing the motions of its output frame {best.frame!r} "
+        f"({best.dof} DoF of the mechanism's outputs)"
+    )
+    return viewed, conf, note
 
 
 def print_scene(name: str, config: str, scene: viewer.Scene) -> None:

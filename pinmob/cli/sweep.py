@@ -10,7 +10,7 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-from pinmob.cli.common import signals_interrupt
+from pinmob.cli.common import check_distinct, signals_interrupt
 from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan.files import Replacing, check_target
@@ -29,14 +29,19 @@ def run(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
+    spec.check_count()
     check_workers(args.workers)
-    plots = _plot_targets(args, spec)
-    if args.csv:
-        check_target("--csv", args.csv, args.force)
     if args.out and Path(args.out).suffix.lower() != ".parquet":
         raise ConfigurationError(
             f"--out {args.out!r}: the records go to a Parquet file; give a name ending in .parquet"
         )
+    plots = _plot_targets(args, spec)
+    check_distinct({"--out": args.out, "--csv": args.csv} | {f"--{name}": png for name, png in plots.items()})
+    for name, png in plots.items():
+        ours = png.is_file() and not png.is_symlink() and written_by(png) == f"pinmob sweep {spec.identity()}"
+        check_target(f"--{name}", png, args.force or ours)
+    if args.csv:
+        check_target("--csv", args.csv, args.force)
     with tempfile.TemporaryDirectory(prefix="pinmob-sweep-") as scratch:
         out = Path(args.out) if args.out else Path(scratch) / "records.parquet"
         store = Store(out, spec, force=args.force)
@@ -44,6 +49,10 @@ def _run(args: argparse.Namespace) -> int:
         source = f"family {spec.source.family!r}" if spec.source.family else f"template {spec.source.name!r}"
         print(f"sweep {spec.name!r}: {spec.count} designs ({spec.designs.describe()}) of {source}")
         print(f"  per design: {spec.scan.describe()}")
+        if spec.finite_order is not None:
+            print(
+                f"  and the finite-mobility analysis at the reference configuration (order bound {spec.finite_order})"
+            )
         counts: Counter[str] = Counter()
         reasons: Counter[str] = Counter()
         t0 = time.perf_counter()
@@ -51,13 +60,16 @@ def _run(args: argparse.Namespace) -> int:
             with store:
                 if store.resumed:
                     print(f"resuming {out}: {store.resumed} of {spec.count} designs already written, skipped")
+                elif args.force and args.out:
+                    print(f"starting over (--force): {out} is replaced when this run publishes its records")
                 for record in records:
                     store.write(record)
                     _tally(record, counts, reasons)
         except KeyboardInterrupt:
             if args.out:
-                print(f"interrupted: {int(store.done.sum())} of {spec.count} designs are in {out} (marked incomplete); "
-                      "run the same command to resume")  # fmt: skip
+                again = " without --force" if args.force else ""
+                resume = f" (marked incomplete); run the same command{again} to resume" if store.in_file else ""
+                print(f"interrupted: {store.state()}{resume}")
             raise
         elapsed = time.perf_counter() - t0
         _summary(spec, counts, reasons, store.written, elapsed, records.where, records.lost_workers)
@@ -74,7 +86,7 @@ def _run(args: argparse.Namespace) -> int:
 
 
 def _plot_targets(args: argparse.Namespace, spec: SweepSpec) -> dict[str, Path]:
-    """The plots to write: --atlas/--pareto, else beside --out (STEM_atlas.png, STEM_pareto.png); checked now."""
+    """The plots to write: --atlas/--pareto, else beside --out (STEM_atlas.png, STEM_pareto.png)."""
     if args.no_plots:
         return {}
     out = Path(args.out) if args.out else None
@@ -93,8 +105,7 @@ def _plot_targets(args: argparse.Namespace, spec: SweepSpec) -> dict[str, Path]:
         png = Path(png)
         if png.suffix.lower() != ".png":
             raise ConfigurationError(f"--{name} {str(png)!r}: the plot is a PNG image; give a file name ending in .png")
-        ours = png.is_file() and not png.is_symlink() and written_by(png) == f"pinmob sweep {spec.identity()}"
-        targets[name] = check_target(f"--{name}", png, args.force or ours)
+        targets[name] = png
     return targets
 
 

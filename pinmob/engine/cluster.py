@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, TypeVar
 
-from pinmob.engine.tasks import Lost, ordered_results
+from pinmob.engine.tasks import Lost, Watch, ordered_results
 from pinmob.exceptions import ConfigurationError, EngineError
+from pinmob.signals import deferred_interrupts
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -27,6 +29,42 @@ def check_workers(workers: object, option: str = "--workers") -> int:
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
         raise ConfigurationError(f"{option} must be a whole number of worker processes, at least 1, got {workers!r}")
     return workers
+
+
+@contextlib.contextmanager
+def _stderr_of_children_to_devnull() -> Iterator[None]:
+    """File descriptor 2, which child processes inherit, on /dev/null; this process's ``sys.stderr`` kept as it was.
+
+    When ``sys.stderr`` writes to descriptor 2 it is replaced, for the block, by a stream on a copy of the
+    original descriptor (Python's warnings and messages still reach the terminal).
+    """
+    import io
+    import sys
+
+    saved = os.dup(2)
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    os.dup2(devnull, 2)
+    os.close(devnull)
+    previous = sys.stderr
+    try:
+        uses_fd2 = previous is not None and previous.fileno() == 2
+    except (AttributeError, OSError, ValueError):  # captured (pytest), or no file behind it
+        uses_fd2 = False
+    own = None
+    if uses_fd2:
+        previous.flush()
+        own = io.TextIOWrapper(  # its own copy of the descriptor: closed with it, whoever keeps it
+            io.FileIO(os.dup(saved), "w"), encoding=previous.encoding, errors=previous.errors, line_buffering=True
+        )
+        sys.stderr = own
+    try:
+        yield
+    finally:
+        if own is not None:
+            own.flush()
+            sys.stderr = previous
+        os.dup2(saved, 2)
+        os.close(saved)
 
 
 def _close_quietly(clusters: set[Any]) -> None:
@@ -54,7 +92,8 @@ class Engine:
             (e.g. ``tcp://10.0.0.5:8786``); ``workers`` is then ignored.
 
     Attributes:
-        lost_workers: workers that disappeared while :meth:`map` ran (their tasks were computed again).
+        lost_workers: workers that disappeared since the engine started, as of the last look (:meth:`count_lost`
+            looks now); their tasks were computed again.
     """
 
     def __init__(self, workers: int = 1, scheduler: str | None = None) -> None:
@@ -62,9 +101,20 @@ class Engine:
         if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
             raise ConfigurationError(f"--scheduler must be the address of a Dask scheduler, got {scheduler!r}")
         self.scheduler = scheduler
-        self.lost_workers = 0
         self._client: Any = None
         self._cluster: Any = None
+        self._watch: Watch | None = None
+
+    @property
+    def lost_workers(self) -> int:
+        """Workers lost since the engine started, as of the last look at the cluster."""
+        return self._watch.lost if self._watch is not None else 0
+
+    def count_lost(self) -> int:
+        """Workers lost since the engine started, looking at the cluster now (0 in process)."""
+        if self._watch is not None and self._client is not None:
+            self._watch.look(force=True)
+        return self.lost_workers
 
     @property
     def in_process(self) -> bool:
@@ -106,45 +156,48 @@ class Engine:
         from distributed.deploy.spec import SpecCluster
 
         before = set(SpecCluster._instances)
-        # the worker processes write to the standard error they inherit: a Ctrl-C or a hang-up, which reaches the
-        # whole process group, would have each starting worker print a KeyboardInterrupt traceback there (once
-        # started, they ignore both: pinmob.engine.worker). They get /dev/null instead; pinmob keeps its own.
-        saved = os.dup(2)
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, 2)
-        os.close(devnull)
+        # A Ctrl-C or a hang-up reaches the whole process group. Here it is held back while the cluster starts
+        # (not lost in a library's callback; raised once started, the cluster then closed). The worker processes
+        # inherit a standard error on /dev/null: one that receives it while it still starts, before it ignores
+        # it (pinmob.engine.worker), would print a KeyboardInterrupt traceback. This process keeps its own.
         try:
-            if self.scheduler is not None:
-                self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT)
-            else:
-                self._cluster = LocalCluster(
-                    n_workers=self.workers,
-                    threads_per_worker=1,
-                    processes=True,
-                    host=LOOPBACK,
-                    dashboard_address=f"{LOOPBACK}:0",
-                    worker_dashboard_address=f"{LOOPBACK}:0",
-                    silence_logs=logging.CRITICAL,
-                    preload=[WORKER_SETUP],
-                )
-                self._client = Client(self._cluster)
-        except (OSError, TimeoutError, ValueError, RuntimeError) as exc:
-            self.close()
-            _close_quietly(set(SpecCluster._instances) - before)
-            where = f"the Dask scheduler at {self.scheduler!r}" if self.scheduler else "a Dask LocalCluster"
-            raise EngineError(f"cannot use {where}: {' '.join(str(exc).split()) or type(exc).__name__}") from None
-        except BaseException:  # Ctrl-C or a handled signal while starting: stop what started, say nothing more
+            with deferred_interrupts() as received, _stderr_of_children_to_devnull():
+                try:
+                    if self.scheduler is not None:
+                        self._client = Client(self.scheduler, timeout=CONNECT_TIMEOUT)
+                    else:
+                        self._cluster = LocalCluster(
+                            n_workers=self.workers,
+                            threads_per_worker=1,
+                            processes=True,
+                            host=LOOPBACK,
+                            dashboard_address=f"{LOOPBACK}:0",
+                            worker_dashboard_address=f"{LOOPBACK}:0",
+                            silence_logs=logging.CRITICAL,
+                            preload=[WORKER_SETUP],
+                        )
+                        self._client = Client(self._cluster)
+                except (OSError, TimeoutError, ValueError, RuntimeError) as exc:
+                    if received:  # the workers stopped by the same Ctrl-C: an interruption, not an error
+                        raise KeyboardInterrupt from None
+                    self.close()
+                    _close_quietly(set(SpecCluster._instances) - before)
+                    where = f"the Dask scheduler at {self.scheduler!r}" if self.scheduler else "a Dask LocalCluster"
+                    raise EngineError(
+                        f"cannot use {where}: {' '.join(str(exc).split()) or type(exc).__name__}"
+                    ) from None
+        except KeyboardInterrupt:  # Ctrl-C or a handled signal while starting: stop what started, say nothing more
             self.close()
             _close_quietly(set(SpecCluster._instances) - before)
             raise
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
+        self._watch = Watch(self._client)
 
     def close(self) -> None:
         """Disconnect, and stop the ``LocalCluster`` this engine started (its worker processes end)."""
         client, cluster = self._client, self._cluster
         self._client = self._cluster = None
+        if self._watch is not None:
+            self._watch.client = None
         for thing in (client, cluster):
             if thing is not None:
                 try:
@@ -159,7 +212,7 @@ class Engine:
 
         Args:
             fn: a module-level function (workers import it by name).
-            shared: what every task needs (sent with each task: keep it small, a mechanism or a spec).
+            shared: what every task needs (sent to the cluster once per map, as a task every task depends on).
             items: the task inputs, read lazily as tasks complete.
             window: most tasks submitted and not yet yielded (default: four per worker thread, at least 8).
 
@@ -172,7 +225,12 @@ class Engine:
             return
         self.start()
         size = window or max(8, 4 * self.nthreads())
-        yield from ordered_results(self._client, fn, shared, items, size, self._count_lost)
-
-    def _count_lost(self, count: int) -> None:
-        self.lost_workers += count
+        assert self._watch is not None  # started
+        try:
+            yield from ordered_results(self._client, fn, shared, items, size, self._watch)
+        finally:
+            if self._client is not None:
+                try:
+                    self._watch.look(force=True)  # a worker lost near the end counts too
+                except Exception:  # noqa: BLE001  (the scheduler gone: nothing more to count)
+                    pass

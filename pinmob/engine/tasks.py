@@ -32,26 +32,46 @@ class Lost:
     reason: str
 
 
+#: What the tasks of the maps running on this worker share, by dataset name (a few kept, the latest last).
+_SHARED: dict[str, Any] = {}
+#: Shared values a worker keeps (older maps' are dropped).
+KEPT_SHARED = 4
+
+
+def _with_shared(name: str, fn: Callable[[Any, Any], Any], item: Any) -> Any:
+    """``fn(shared, item)`` on a worker, ``shared`` fetched from the scheduler's dataset ``name`` once per worker."""
+    if name not in _SHARED:
+        from distributed import get_client
+
+        _SHARED[name] = get_client().get_dataset(name)
+        while len(_SHARED) > KEPT_SHARED:
+            _SHARED.pop(next(iter(_SHARED)))
+    return fn(_SHARED[name], item)
+
+
 def ordered_results(
     client: Any,
     fn: Callable[[Any, Any], Any],
     shared: Any,
     items: Iterable[Any],
     window: int,
-    on_lost: Callable[[int], None],
+    watch: Watch,
 ) -> Iterator[Any]:
     """``fn(shared, item)`` on the cluster for each item, yielded in item order (:meth:`pinmob.engine.Engine.map`).
 
-        At most ``window`` tasks are submitted and not yet yielded. Each task carries
-    ``shared`` itself (no dependency between tasks): Dask then queues them on the
-    scheduler and gives each worker thread one at a time, so that when a worker
-    dies only the task it was running is suspected (Dask counts a task that was
-    on ``allowed-failures`` dead workers as their cause). ``on_lost(n)`` is
-        called when n workers have disappeared since the last look. Pending tasks are
-        cancelled when the caller stops early (an interruption, an error).
+    ``shared`` goes to the cluster once: it is published on the scheduler as a
+    dataset, which each worker fetches once (and keeps); each task carries only
+    its item and the dataset's name. The tasks have no dependency: at most
+    ``window`` are submitted and not yet yielded, Dask queues them on the scheduler
+    and gives each worker thread one at a time, so that when a worker dies only the
+    task it was running is suspected (Dask gives a task up once it was on
+    ``allowed-failures`` + 1 dead workers), and a worker that replaces it
+    fetches the dataset again. ``watch`` counts the workers that disappear. Pending
+    tasks are cancelled, and the dataset dropped, when the caller stops early (an
+    interruption, an error) or the map ends.
 
     Raises:
-            EngineError: no worker for ``NO_WORKER_TIMEOUT`` seconds, the scheduler gone, a task cancelled by Dask.
+        EngineError: no worker for ``NO_WORKER_TIMEOUT`` seconds, the scheduler gone, a task cancelled by Dask.
     """
     from distributed import wait
 
@@ -60,7 +80,8 @@ def ordered_results(
     done: dict[int, Any] = {}
     source = iter(items)
     exhausted, submitted, yielded = False, 0, 0
-    watch = _Watch(client, on_lost)
+    name = f"pinmob-{token}-shared"
+    client.publish_dataset(**{name: shared})
     try:
         while True:
             while not exhausted and len(pending) + len(done) < window:
@@ -69,7 +90,8 @@ def ordered_results(
                 except StopIteration:
                     exhausted = True
                     break
-                pending[client.submit(fn, shared, item, key=f"pinmob-{token}-{submitted}")] = submitted
+                future = client.submit(_with_shared, name, fn, item, key=f"pinmob-{token}-{submitted}")
+                pending[future] = submitted
                 submitted += 1
             if yielded in done:
                 yield done.pop(yielded)
@@ -91,6 +113,10 @@ def ordered_results(
     finally:
         for future in pending:
             future.cancel()
+        try:
+            client.unpublish_dataset(name)
+        except Exception:  # noqa: BLE001  (the scheduler gone: nothing left to drop)
+            pass
 
 
 def _outcome(future: Any) -> Any:
@@ -98,24 +124,28 @@ def _outcome(future: Any) -> Any:
     if future.status == "error":
         exc = future.exception()
         if type(exc).__name__ == "KilledWorker":
-            return Lost(
-                "the Dask workers computing it died each time it was tried (distributed.scheduler.allowed-failures); "
-                "out of memory?"
-            )
+            tries = getattr(exc, "allowed_failures", None)  # Dask gives up after allowed-failures + 1 dead workers
+            times = "" if tries is None else f" ({tries + 1} times: distributed.scheduler.allowed-failures + 1)"
+            return Lost(f"the Dask workers computing it died each time it was tried{times}; out of memory?")
         future.result()  # raises the task's own exception, with its traceback
     if future.status == "cancelled":
         raise EngineError("Dask cancelled a task (was the scheduler restarted or lost?); the work stopped")
     return future.result()
 
 
-class _Watch:
-    """Looks at the cluster's workers at most every ``POLL`` seconds: counts the lost ones, stops a workerless wait."""
+class Watch:
+    """Looks at the cluster's workers: counts the lost ones, stops a wait without any worker.
 
-    def __init__(self, client: Any, on_lost: Callable[[int], None]) -> None:
-        self.client, self.on_lost = client, on_lost
+    Attributes:
+        lost: workers that disappeared since the watch started.
+    """
+
+    def __init__(self, client: Any) -> None:
+        self.client = client
         self.known = self._workers()
         self.last = time.monotonic()
         self.alone_since: float | None = None
+        self.lost = 0
 
     def _workers(self) -> set[str]:
         try:
@@ -126,14 +156,13 @@ class _Watch:
             ) from None
 
     def look(self, force: bool = False) -> None:
-        """Count the workers gone since the last look (at most every ``POLL`` s unless ``force``)."""
+        """Compare the workers with the last look (``force``: now, else only after ``POLL`` seconds)."""
         now = time.monotonic()
-        if now - self.last < POLL and not force:
+        if not force and now - self.last < POLL:
             return
         self.last = now
         current = self._workers()
-        if self.known - current:
-            self.on_lost(len(self.known - current))
+        self.lost += len(self.known - current)
         self.known = current
         if current:
             self.alone_since = None

@@ -25,6 +25,13 @@ def load_mjcf(path: Path) -> Mechanism:
     return load_mjcf(path)
 
 
+def load_closing_urdf(path: Path) -> Mechanism:
+    """:func:`pinmob.io.closing_frames.load_closing_urdf` (its module imported when first used)."""
+    from pinmob.io.closing_frames import load_closing_urdf
+
+    return load_closing_urdf(path)
+
+
 #: Loaders by file suffix.
 LOADERS: dict[str, Callable[[Path], Mechanism]] = {
     ".toml": load_toml,
@@ -32,6 +39,7 @@ LOADERS: dict[str, Callable[[Path], Mechanism]] = {
     ".yml": load_extended_urdf,
     ".xml": load_mjcf,
     ".mjcf": load_mjcf,
+    ".urdf": load_closing_urdf,
 }
 
 

@@ -1,32 +1,36 @@
-"""MJCF models with loops: ``<equality><connect/weld>`` through Pinocchio's MJCF parser.
+"""MJCF models read as MuJoCo reads them: MuJoCo's compiler, then the Pinocchio tree of the compiled model.
 
-Pinocchio (``pin.buildModelAndLegacyConstraintsFromMJCF``) builds the tree and
-one rigid constraint model per equality: ``connect`` is a ``3d`` closure (the
-anchor point, in body1's frame, meets the point of body2 where it is at the
-reference configuration: :func:`connect_placements`), ``weld`` a ``6d``
-closure (the relative pose of the reference configuration is kept). pinmob adds a frame
-for each side of each constraint (``<name>_a`` on body1, ``<name>_b`` on body2)
-and turns it into a :class:`~pinmob.model.closure.Closure`. Each constraint is
-paired with its ``<equality>`` element by name when Pinocchio gives one, else by
-kind and by the joints that carry body1 and body2 (and, between the same two
-bodies, by the anchor); a constraint that matches no element, or an element of
-another kind (``joint``, ``tendon``, ``distance``, ...), is an error. Actuated
-joints are those named by ``<actuator>`` elements (``joint="..."``).
+MuJoCo (the ``mujoco`` package, imported when an MJCF file is loaded) is the reference compiler of
+its format: it resolves includes, defaults (a joint ``pos`` given in a ``<default>`` class),
+``ref`` and ``qpos0``, sites, compiler settings and the data of each equality. pinmob builds its
+Pinocchio model from the compiled model (:mod:`pinmob.io.mjcf_tree`), so that Pinocchio's ``q``
+of a hinge or slide is MuJoCo's ``qpos`` and every anchor, axis and closure point is MuJoCo's.
 
-The file is parsed where it is. Pinocchio 4.1's parser reads only the first
-body under ``<worldbody>`` and ignores ``<include>``: a file with several
-top-level bodies or with includes is read through a temporary copy (includes
-expanded, top-level bodies wrapped into one fixed body, ``meshdir`` and
-``texturedir`` made absolute so that meshes still load), deleted once parsed.
+Closures, from the compiled ``eq_data`` (MuJoCo's ``mj_instantiateEquality``):
+
+- ``connect``: a ``3d`` closure. By body: ``eq_data[0:3]`` in body1's frame meets ``eq_data[3:6]``
+  in body2's frame (MuJoCo computes the second at the reference pose); by site: the two sites'
+  origins meet.
+- ``weld``: a ``6d`` closure between frame a = body1 ``* (relpose quat eq_data[6:10], eq_data[3:6])``
+  and frame b = body2 ``* (I, anchor eq_data[0:3])``; by site, the two site frames. A weld with
+  ``torquescale="0"`` transmits no couple: a ``3d`` closure at its anchor.
+- ``joint``: a ``joint`` coupling, ``qpos1 - qpos0_1 = sum_k c_k (qpos2 - qpos0_2)^k``
+  (``polycoef``; ``qpos1 - qpos0_1 = c_0`` without joint2).
+- ``tendon``, ``flex`` and any other kind are refused (one line naming them); an equality that is
+  inactive at the start (``active="false"``) is left out, with a warning.
+
+Actuated joints are those of actuators with a joint transmission (an actuator on a tendon, a site
+or a body is named in a warning). Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
+default) when the equalities hold there (MuJoCo's test models close only once simulated: without
+it, the analysis finds a closed configuration) and one per ``<keyframe><key>`` (its ``qpos``). The
+visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf_geometry`), built when first drawn.
 """
 
 from __future__ import annotations
 
-import tempfile
 import warnings
-import xml.etree.ElementTree as ET
-from collections.abc import Iterator
-from contextlib import contextmanager
+from dataclasses import replace
+from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -34,232 +38,186 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.io.mesh_files import confine, mesh_roots
+from pinmob.io.mjcf_tree import Tree, build_tree, name_of, qpos_to_q, se3, unique
 from pinmob.io.schema import errors_at, file_error
-from pinmob.model.closure import make_closure
+from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupling
+from pinmob.model.geometry import Geometry
 from pinmob.model.mechanism import Mechanism
+from pinmob.model.named import NamedConfiguration
 
-KINDS = {"connect": "3d", "weld": "6d"}
-#: Nested ``<include>`` levels followed before the file is refused.
-MAX_INCLUDE_DEPTH = 8
+#: The equality kinds pinmob reads as closures.
+SUPPORTED = ("connect", "weld", "joint")
+#: MuJoCo's object type of a site (``mjtObj.mjOBJ_SITE``).
+OBJ_SITE = 6
 
 
-def _read(path: Path, what: str) -> ET.Element:
+def compile_mjcf(path: Path) -> Any:
+    """The compiled ``mujoco.MjModel`` of the file, or a one-line error with MuJoCo's message.
+
+    Kinematics needs no mass: a moving body without mass or inertia (which MuJoCo refuses to simulate) is
+    given a tiny one (the compiler's ``boundmass`` and ``boundinertia``, when the file sets none).
+    """
+    import mujoco
+
     try:
-        return ET.parse(path).getroot()
-    except ET.ParseError as exc:
-        raise file_error(path, f"XML syntax error{what}: {exc}") from None
-    except OSError as exc:
-        raise file_error(path, f"cannot read{what}: {exc}") from None
+        spec = mujoco.MjSpec.from_file(str(path))
+        spec.compiler.boundmass = spec.compiler.boundmass or 1e-9
+        spec.compiler.boundinertia = spec.compiler.boundinertia or 1e-12
+        return spec.compile()
+    except Exception as exc:  # MuJoCo raises ValueError with the compiler's message
+        raise file_error(path, f"MuJoCo cannot compile it: {' '.join(str(exc).split())[:300]}") from None
 
 
-def _expand_includes(path: Path, root: ET.Element, folder: Path, depth: int = 0) -> bool:
-    """Replace every ``<include file=...>`` under ``root`` by the children of the included ``<mujoco>``.
+def _kind(m: Any, e: int) -> str:
+    import mujoco
 
-    Files are relative to the main file's ``folder`` (MuJoCo's rule). Returns
-    True when anything was included.
-    """
-    changed = False
-    for parent in list(root.iter()):
-        for i, child in enumerate(list(parent)):
-            if child.tag != "include":
-                continue
-            if depth >= MAX_INCLUDE_DEPTH:
-                raise file_error(path, f"<include> nested deeper than {MAX_INCLUDE_DEPTH} levels (a cycle?)")
-            name = child.get("file", "")
-            target = folder / name
-            if not name or not target.is_file():
-                raise file_error(path, f"<include file={name!r}>: no such file {str(target)!r}")
-            included = _read(target, f" in included file {str(target)!r}")
-            _expand_includes(path, included, folder, depth + 1)
-            parent.remove(child)
-            for k, item in enumerate(list(included)):
-                parent.insert(i + k, item)
-            changed = True
-    return changed
+    return mujoco.mjtEq(int(m.eq_type[e])).name.removeprefix("mjEQ_").lower()
 
 
-def _wrap_bodies(root: ET.Element) -> bool:
-    """Put the top-level bodies of ``<worldbody>`` under one fixed body; True when there were several."""
-    world = root.find("worldbody")
-    bodies = [] if world is None else world.findall("body")
-    if world is None or len(bodies) <= 1:
-        return False
-    wrapper = ET.SubElement(world, "body", {"name": "pinmob_world"})
-    for b in bodies:
-        world.remove(b)
-        wrapper.append(b)
-    return True
-
-
-def _absolute_dirs(root: ET.Element, folder: Path) -> None:
-    """Make ``<compiler meshdir/texturedir>`` absolute (relative to ``folder``), so that a copy elsewhere loads them."""
-    compiler = root.find("compiler")
-    if compiler is None:
-        compiler = ET.Element("compiler")
-        root.insert(0, compiler)
-    for key in ("meshdir", "texturedir"):  # MuJoCo: each falls back to assetdir, then to the file's folder
-        compiler.set(key, str((folder / (compiler.get(key) or compiler.get("assetdir") or "")).resolve()))
-
-
-@contextmanager
-def parseable(path: Path, root: ET.Element, expanded: bool) -> Iterator[Path]:
-    """The file for Pinocchio's parser: ``path`` itself, or a temporary rewritten copy deleted on exit.
-
-    Args:
-        path: the MJCF file.
-        root: the file's tree with its includes expanded (it is modified: top-level bodies wrapped).
-        expanded: the tree had includes.
-    """
-    if not (_wrap_bodies(root) | expanded):
-        yield path
-        return
-    _absolute_dirs(root, path.parent)
-    with tempfile.TemporaryDirectory(prefix="pinmob_mjcf_") as tmp:
-        out = Path(tmp) / path.name
-        ET.ElementTree(root).write(out)
-        yield out
-
-
-def _joint_of_body(model: pin.Model, body: str | None) -> int:
-    """Joint carrying an MJCF body (0 for the world); -1 when the model has no such body."""
-    if body in (None, "", "world"):
-        return 0
-    if not model.existFrame(body, pin.FrameType.BODY):
-        return -1
-    return int(model.frames[model.getFrameId(body, pin.FrameType.BODY)].parentJoint)
-
-
-def _anchor(eq: ET.Element) -> pin.SE3:
-    return pin.SE3(np.eye(3), np.array([float(x) for x in eq.get("anchor", "0 0 0").split()]))
-
-
-def _anchor_gap(model: pin.Model, eq: ET.Element, c: Any) -> float:
-    """Distance [m] between a connect's anchor and the constraint's point on joint 1 (0 for a weld).
-
-    The anchor is taken in body1's frame and in its joint's frame (Pinocchio's reading), the nearer counts.
-    """
-    if eq.tag != "connect":
-        return 0.0
-    body = model.frames[model.getFrameId(eq.get("body1", ""), pin.FrameType.BODY)].placement
-    t = c.joint1_placement.translation
-    anchor = _anchor(eq)
-    return float(min(np.linalg.norm((body * anchor).translation - t), np.linalg.norm(anchor.translation - t)))
-
-
-def connect_placements(model: pin.Model, eq: ET.Element) -> tuple[int, pin.SE3, int, pin.SE3]:
-    """(joint 1, anchor in joint 1's frame, joint 2, the same point in joint 2's frame) of a ``<connect>``.
-
-    MuJoCo's rule: the anchor is in body1's frame, and body2's point is where
-    the anchor is at the reference configuration (all joints zero: Pinocchio's
-    neutral). Pinocchio 4.1 puts the anchor in the frame of the joint carrying
-    body1, which differs when body1 is a body without a joint (merged into its
-    parent) or its joint is not at the body's origin; pinmob follows MuJoCo.
-    """
-    frame = model.frames[model.getFrameId(eq.get("body1", ""), pin.FrameType.BODY)]
-    j1, j2 = int(frame.parentJoint), _joint_of_body(model, eq.get("body2"))
-    on_1 = frame.placement * _anchor(eq)
-    data = model.createData()
-    pin.forwardKinematics(model, data, pin.neutral(model))
-    on_2 = data.oMi[j2].actInv(data.oMi[j1] * on_1)
-    return j1, on_1, j2, pin.SE3(np.eye(3), on_2.translation)
-
-
-def match_equalities(path: Path, model: pin.Model, equalities: list[ET.Element], constraints: list[Any]) -> list[int]:
-    """For each Pinocchio constraint, the index of its ``<equality>`` element.
-
-    By name when the constraint has one; else by kind (connect = 3d, weld =
-    6d) and the joints carrying body1 and body2; among equal candidates, the
-    connect whose anchor is the constraint's point.
-
-    Raises:
-        MechanismFileError: a constraint matches no unused element.
-    """
-    out: list[int] = []
-    for k, c in enumerate(constraints):
-        kind = "3d" if c.type == pin.ContactType.CONTACT_3D else "6d"
-        free = [i for i in range(len(equalities)) if i not in out and KINDS[equalities[i].tag] == kind]
-        if c.name:
-            cands = [i for i in free if equalities[i].get("name") == c.name]
+def _frames(m: Any, tree: Tree, e: int, on_site: bool) -> tuple[tuple[int, pin.SE3], tuple[int, pin.SE3]]:
+    """(joint, placement) of the two sides of connect or weld ``e``, before the equality's own data."""
+    out = []
+    for obj in (int(m.eq_obj1id[e]), int(m.eq_obj2id[e])):
+        if on_site:
+            body = int(m.site_bodyid[obj])
+            out.append((tree.body_joint[body], tree.body_placement[body] * se3(m.site_pos[obj], m.site_quat[obj])))
         else:
-            cands = [
-                i
-                for i in free
-                if (
-                    _joint_of_body(model, equalities[i].get("body1")),
-                    _joint_of_body(model, equalities[i].get("body2")),
-                )
-                == (c.joint1_id, c.joint2_id)
-            ]
-        if not cands:
-            raise file_error(
-                path,
-                f"Pinocchio's constraint {k} ({kind} between joints {model.names[c.joint1_id]!r} and "
-                f"{model.names[c.joint2_id]!r}{', name ' + repr(c.name) if c.name else ''}) matches no <connect>/<weld> "
-                "equality of the file (same kind and bodies); pinmob cannot tell which closure it is",
-            )
-        out.append(min(cands, key=lambda i: _anchor_gap(model, equalities[i], c)))
+            body = max(obj, 0)  # body2 omitted: the world
+            out.append((tree.body_joint[body], tree.body_placement[body]))
+    return out[0], out[1]
+
+
+def equality_closure(m: Any, tree: Tree, e: int, name: str) -> Closure:
+    """The :class:`Closure` of equality ``e`` of the compiled model (see the module docstring)."""
+    model, kind, data = tree.model, _kind(m, e), np.array(m.eq_data[e], float)
+    if kind == "joint":
+        joints = [tree.joint_names[int(j)] for j in (m.eq_obj1id[e], m.eq_obj2id[e]) if j >= 0]
+        refs = [float(m.qpos0[m.jnt_qposadr[int(j)]]) for j in (m.eq_obj1id[e], m.eq_obj2id[e]) if j >= 0]
+        return make_coupling(model, name, tuple(joints), tuple(data[:5]), tuple(refs))
+    on_site = int(m.eq_objtype[e]) == OBJ_SITE
+    (j1, m1), (j2, m2) = _frames(m, tree, e, on_site)
+    if kind == "connect" and not on_site:
+        m1, m2 = m1 * pin.SE3(np.eye(3), data[0:3]), m2 * pin.SE3(np.eye(3), data[3:6])
+    elif kind == "weld" and not on_site:
+        m1, m2 = m1 * se3(data[3:6], data[6:10]), m2 * pin.SE3(np.eye(3), data[0:3])
+    closure_kind = "3d" if kind == "connect" or data[10] == 0 else "6d"
+    taken = {f.name for f in model.frames}
+    fa = model.addFrame(pin.Frame(unique(f"{name}_a", taken), j1, m1, pin.FrameType.OP_FRAME), False)
+    fb = model.addFrame(pin.Frame(unique(f"{name}_b", taken), j2, m2, pin.FrameType.OP_FRAME), False)
+    return make_closure(model, name, model.frames[fa].name, model.frames[fb].name, closure_kind)
+
+
+def _actuated(path: Path, m: Any, tree: Tree) -> list[str]:
+    import mujoco
+
+    out, others = [], []
+    for a in range(m.nu):
+        if int(m.actuator_trntype[a]) == mujoco.mjtTrn.mjTRN_JOINT:
+            joint = tree.joint_names[int(m.actuator_trnid[a, 0])]
+            if joint not in out:
+                out.append(joint)
+        else:
+            others.append(name_of(m, "actuator", a) or f"actuator{a}")
+    if others:
+        warnings.warn(
+            f"{path.name}: actuator(s) {', '.join(others)} drive a tendon, site or body, not a joint: not counted "
+            "(name the actuated joints with --actuated)",
+            stacklevel=3,
+        )
     return out
 
 
+def reference_closes(m: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
+    """True when MuJoCo's equality residuals (``efc_pos``) at ``qpos0`` are within ``tol`` (lengths / L).
+
+    A weld's rotation rows are ``torquescale * sin(angle / 2) * axis``; a joint row is a length when
+    joint1 slides.
+    """
+    import mujoco
+
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    rows = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+    for e in range(m.neq):
+        pos = np.array(d.efc_pos[rows[d.efc_id[rows] == e]])
+        kind = _kind(m, e)
+        if kind == "joint":
+            slide = int(m.jnt_type[int(m.eq_obj1id[e])]) == mujoco.mjtJoint.mjJNT_SLIDE
+            worst = np.abs(pos).max(initial=0.0) / (length if slide else 1.0)
+        else:
+            worst = np.abs(pos[:3]).max(initial=0.0) / length
+            if kind == "weld" and m.eq_data[e, 10] > 0:
+                worst = max(worst, 2 * float(np.arcsin(min(1.0, np.linalg.norm(pos[3:6]) / m.eq_data[e, 10]))))
+        if worst > tol:
+            return False
+    return True
+
+
+def named_configurations(m: Any, tree: Tree, length: float) -> dict[str, NamedConfiguration]:
+    """``reference`` (MuJoCo's ``qpos0``, when it closes) and each keyframe (its ``qpos``), as whole vectors."""
+    model = tree.model
+    out = {}
+    if reference_closes(m, length):
+        out["reference"] = NamedConfiguration("reference", vector=tuple(qpos_to_q(model, m.qpos0)))
+    taken = set(out) | {"reference"}
+    for k in range(m.nkey):
+        name = unique(name_of(m, "key", k) or f"key{k}", taken)
+        out[name] = NamedConfiguration(name, vector=tuple(qpos_to_q(model, m.key_qpos[k])))
+    return out
+
+
+def load_visuals(path: Path, model: pin.Model) -> tuple[pin.GeometryModel | None, None]:
+    """The visual geometry of the MJCF file (:func:`pinmob.io.mjcf_geometry.visual_geometry`), built when first drawn."""
+    from pinmob.io.mjcf_geometry import visual_geometry
+
+    m = compile_mjcf(path)
+    geometry = confine(visual_geometry(m, build_tree(m, model.name), path), mesh_roots(path), path.name)
+    return (geometry if geometry.ngeoms else None), None
+
+
 def load_mjcf(path: str | Path) -> Mechanism:
-    """Load an MJCF file: the tree, its connect/weld equalities as closures, its actuated joints."""
+    """Load an MJCF file through MuJoCo's compiler: the tree, its equalities as closures, its actuated joints.
+
+    Raises:
+        MechanismFileError: MuJoCo cannot compile the file, an equality of an unsupported kind, or a
+            tree pinmob cannot build (the message says which).
+    """
     path = Path(path)
-    root = _read(path, "")
-    if root.tag != "mujoco":
-        raise file_error(path, f"root element is <{root.tag}>, not <mujoco>: not an MJCF file")
-    expanded = _expand_includes(path, root, path.parent)
-    elements = [e for eq in root.findall("equality") for e in eq]
-    unsupported = sorted({e.tag for e in elements if e.tag not in KINDS})
+    m = compile_mjcf(path)
+    kinds = [_kind(m, e) for e in range(m.neq)]
+    unsupported = sorted({k for k in kinds if k not in SUPPORTED})
     if unsupported:
         raise file_error(
             path,
             f"<equality> kind(s) {', '.join(f'<{t}>' for t in unsupported)} are not loop closures pinmob reads; "
-            f"valid: {', '.join(f'<{t}>' for t in KINDS)}",
+            f"valid: {', '.join(f'<{t}>' for t in SUPPORTED)}",
         )
-    equalities = elements
-    actuated = [a.get("joint", "") for act in root.findall("actuator") for a in act if a.get("joint")]
-    with parseable(path, root, expanded) as source:
-        try:
-            model, constraints = pin.buildModelAndLegacyConstraintsFromMJCF(str(source))
-        except Exception as exc:
-            raise file_error(path, f"Pinocchio's MJCF parser failed: {' '.join(str(exc).split())[:300]}") from None
-        visual = None
-        try:
-            visual = confine(
-                pin.buildGeomFromMJCF(model, str(source), pin.GeometryType.VISUAL), mesh_roots(path), path.name
-            )
-        except Exception as exc:
-            warnings.warn(
-                f"{path.name}: visual geometry not loaded ({' '.join(str(exc).split())[:200]}); kinematics only",
-                stacklevel=2,
-            )
-    if len(constraints) != len(equalities):
-        raise file_error(
-            path, f"Pinocchio built {len(constraints)} constraints for {len(equalities)} connect/weld equalities"
-        )
+    name = bytes(m.names).split(b"\0", 1)[0].decode() or path.stem  # the model's name comes first
+    try:
+        tree = build_tree(m, name)
+    except ValueError as exc:
+        raise file_error(path, str(exc)) from None
+    inactive = [e for e in range(m.neq) if not m.eq_active0[e]]
+    if inactive:
+        names = ", ".join(name_of(m, "equality", e) or f"{kinds[e]}{e}" for e in inactive)
+        warnings.warn(f"{path.name}: equalities {names} are inactive (active=false): left out", stacklevel=2)
     closures = []
+    taken: set[str] = set()
     with errors_at(path):
-        pairs = sorted(
-            zip(match_equalities(path, model, equalities, list(constraints)), constraints), key=lambda p: p[0]
-        )
-        for i, c in pairs:  # in the file's order
-            eq = equalities[i]
-            name = eq.get("name") or f"{eq.tag}{i}"
-            j1, m1, j2, m2 = (
-                connect_placements(model, eq)
-                if eq.tag == "connect"
-                else (c.joint1_id, c.joint1_placement, c.joint2_id, c.joint2_placement)
-            )
-            fa = model.addFrame(pin.Frame(f"{name}_a", j1, m1, pin.FrameType.OP_FRAME), False)
-            fb = model.addFrame(pin.Frame(f"{name}_b", j2, m2, pin.FrameType.OP_FRAME), False)
-            closures.append(make_closure(model, name, model.frames[fa].name, model.frames[fb].name, KINDS[eq.tag]))
-        return Mechanism.from_model(
-            model,
+        for e in range(m.neq):
+            if m.eq_active0[e]:
+                label = unique(name_of(m, "equality", e) or f"{kinds[e]}{e}", taken)
+                closures.append(equality_closure(m, tree, e, label))
+        if not closures:
+            raise file_error(path, "no active <connect>, <weld> or <joint> equality: no loop to analyse")
+        mech = Mechanism.from_model(
+            tree.model,
             [],
-            name=root.get("model") or path.stem,
-            actuated={"": actuated},
-            description=f"MJCF {path.name}",
+            name=name,
+            actuated={"": _actuated(path, m, tree)},
+            description=f"MJCF {path.name} (compiled by MuJoCo)",
             source=path,
-            visual_model=visual,
             closures=closures,
+            geometry=Geometry(partial(load_visuals, path)),
         )
+    return replace(mech, configurations=named_configurations(m, tree, mech.length_scale), quaternion_wxyz=True)

@@ -187,7 +187,7 @@ def missing_meshes(urdf: Path, kind: str) -> list[str]:
     """The mesh file names of the URDF's ``kind`` (``visual`` or ``collision``) elements that cannot be found.
 
     Each is looked for as Pinocchio resolves it: ``package://`` (and ``model://``) paths
-    in :func:`package_dirs`, ``file://`` paths as they are, relative paths in the same
+    in :func:`package_dirs` (``package:///x``, without a package name, as ``x`` there), ``file://`` paths as they are, relative paths in the same
     folders, absolute paths as they are; other schemes are not handled.
     """
     text = urdf.read_bytes()
@@ -208,8 +208,8 @@ def missing_meshes(urdf: Path, kind: str) -> list[str]:
 def _found(name: str, dirs: list[str]) -> bool:
     scheme, sep, rest = name.partition("://")
     if sep:
-        if scheme in ("package", "model"):
-            return any((Path(d) / rest).exists() for d in dirs)
+        if scheme in ("package", "model"):  # package:///x: no package name (onshape-to-robot), in the folders too
+            return any((Path(d) / rest.lstrip("/")).exists() for d in dirs)
         return scheme == "file" and Path(rest).exists()
     if not Path(name).is_absolute():
         return any(Path(d + "/" + name).exists() for d in dirs)

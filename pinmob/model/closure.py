@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError, FrameError, choices
 from pinmob.model.joints import frame_id
 from pinmob.screw.algebra import Array
 
@@ -26,9 +26,14 @@ class ClosureType(StrEnum):
     UNIVERSAL = "universal"
     CYLINDRICAL = "cylindrical"
     PLANAR = "planar"
+    JOINT = "joint"
 
 
-CLOSURE_TYPES = tuple(t.value for t in ClosureType)
+#: Default closure tolerance: position residual / L and rotation residual [rad].
+CLOSURE_TOL = 1e-6
+
+#: Closure types a mechanism file may declare between two frames (a ``joint`` coupling comes from MJCF).
+CLOSURE_TYPES = tuple(t.value for t in ClosureType if t is not ClosureType.JOINT)
 
 
 @dataclass(frozen=True)
@@ -49,6 +54,9 @@ class Closure:
       ⊥ u and couples ⊥ u.
     - ``planar`` (3 rows): slide ⊥ u and turn about u (u the plane normal);
       transmits the force along u and couples ⊥ u.
+    - ``joint`` (1 row): MuJoCo's ``<equality joint>``, a coupling of two one-degree joints,
+      ``q1 - r1 = sum_k c_k (q2 - r2)^k`` (``q1 - r1 = c_0`` without a second joint); its frames
+      are the two joints' frames (the world for a missing second joint).
 
     Attributes:
         name: closure name.
@@ -57,6 +65,9 @@ class Closure:
         axis: (3,) unit axis u in frame a (revolute, cylindrical, universal) or
             the plane normal (planar); ``None`` for 6d and 3d.
         axis_b: (3,) second hinge axis of a universal closure, in frame b.
+        joints: the coupled joints (``joint`` closures): ``(joint1,)`` or ``(joint1, joint2)``.
+        polycoef: the coupling's polynomial coefficients ``c_0, c_1, ...`` (``joint`` closures).
+        reference: the joints' reference values ``r1, r2`` [rad or m] (``joint`` closures).
     """
 
     name: str
@@ -67,6 +78,9 @@ class Closure:
     axis_b: Array | None = field(default=None, repr=False)
     frame_a_id: int = -1
     frame_b_id: int = -1
+    joints: tuple[str, ...] = ()
+    polycoef: tuple[float, ...] = ()
+    reference: tuple[float, ...] = ()
 
     @property
     def rows(self) -> int:
@@ -82,6 +96,7 @@ CLOSURE_ROWS = {
     ClosureType.UNIVERSAL: 4,
     ClosureType.CYLINDRICAL: 4,
     ClosureType.PLANAR: 3,
+    ClosureType.JOINT: 1,
 }
 
 
@@ -193,3 +208,41 @@ def make_closure(
     u = unit(axis, "'axis' (in frame a)") if ctype in ("revolute", "universal", "cylindrical", "planar") else None
     ub = unit(axis_b, "'axis_b' (second hinge axis, in frame b)") if ctype == "universal" else None
     return Closure(name, frame_a, frame_b, ctype, u, ub, ida, idb)
+
+
+def make_coupling(
+    model: pin.Model, name: str, joints: tuple[str, ...], polycoef: tuple[float, ...], reference: tuple[float, ...]
+) -> Closure:
+    """A ``joint`` closure: ``q1 - r1 = sum_k c_k (q2 - r2)^k`` between one-degree joints (MuJoCo's ``<equality joint>``).
+
+    Its frames are the joints' ``JOINT`` frames (frame 0, the world, for a missing second joint).
+
+    Raises:
+        FrameError: a joint does not exist or has no ``JOINT`` frame.
+        ConfigurationError: a joint is not a one-degree joint, or no coefficient is given.
+    """
+    frames = []
+    for j in joints:
+        if not model.existJointName(j) or j == "universe":
+            raise FrameError(f"closure {name!r}: no joint {j!r}; valid: {choices(list(model.names)[1:])}")
+        jid = model.getJointId(j)
+        if model.joints[jid].nq != 1 or model.joints[jid].nv != 1:
+            raise ConfigurationError(f"closure {name!r}: joint {j!r} is not a one-degree (hinge or slide) joint")
+        ids = [i for i, f in enumerate(model.frames) if f.parentJoint == jid and f.type == pin.FrameType.JOINT]
+        if not ids:
+            raise FrameError(f"closure {name!r}: joint {j!r} has no JOINT frame")
+        frames.append(ids[0])
+    if not polycoef or not np.isfinite(polycoef).all():
+        raise ConfigurationError(f"closure {name!r}: a joint coupling needs finite polynomial coefficients")
+    ida, idb = frames[0], frames[1] if len(frames) > 1 else 0
+    return Closure(
+        name,
+        model.frames[ida].name,
+        model.frames[idb].name,
+        ClosureType.JOINT,
+        frame_a_id=ida,
+        frame_b_id=idb,
+        joints=tuple(joints),
+        polycoef=tuple(float(c) for c in polycoef),
+        reference=tuple(float(r) for r in reference),
+    )

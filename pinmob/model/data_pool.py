@@ -33,14 +33,22 @@ def acquire(model: pin.Model) -> pin.Data:
 
 
 def release(model_ref: weakref.ref[pin.Model], data: pin.Data) -> None:
-    """Give ``data`` back to the pool of the model ``model_ref`` refers to (dropped when the model is gone)."""
+    """Give ``data`` back to the pool of the model ``model_ref`` refers to (dropped when the model is gone).
+
+    Dropped too when the pool is busy: ``release`` runs as a finalizer, which the garbage collector may call in the
+    middle of any allocation, including one made while this very thread holds the pool's lock (a blocking
+    acquisition there waited forever: a finite analysis hung in ``bench_finite.py``). A dropped Data only costs a
+    new one later.
+    """
     model = model_ref()
-    if model is None:
+    if model is None or not _LOCK.acquire(blocking=False):
         return
-    with _LOCK:
+    try:
         spare = _POOL.setdefault(model, [])
         if len(spare) < POOL_SIZE:
             spare.append(data)
+    finally:
+        _LOCK.release()
 
 
 def release_with(owner: object, model: pin.Model, data: pin.Data) -> None:

@@ -8,7 +8,7 @@ configuration vector.
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable
 
 import numpy as np
 import pinocchio as pin
@@ -22,13 +22,20 @@ IndexArray = NDArray[np.intp]
 
 
 def frame_id(model: pin.Model, name: str) -> int:
-    """Index of frame ``name`` (exactly); a :class:`FrameError` suggesting close names and listing the frames otherwise."""
+    """Index of frame ``name`` (exactly); a :class:`FrameError` suggesting close names and listing the frames otherwise.
+
+    Several frames may share a name (a URDF link and a joint called alike): the BODY frame (the link) is meant.
+    """
     if not model.existFrame(name):
         names = [f.name for f in model.frames]
         raise FrameError(
             f"no frame {name!r} in model {model.name!r}{did_you_mean(name, names)}; valid frames: {choices(names)}"
         )
-    return model.getFrameId(name)
+    try:
+        return model.getFrameId(name)
+    except ValueError:  # "Several frames match the filter"
+        ids = [i for i, f in enumerate(model.frames) if f.name == name]
+        return next((i for i in ids if model.frames[i].type == pin.FrameType.BODY), ids[0])
 
 
 def frame_name(model: pin.Model, name: str) -> str:
@@ -266,35 +273,3 @@ def check_q(model: pin.Model, q: object, owner: str) -> Array:
             "configuration is not normalised (a quaternion or (cos, sin) pair is off the unit sphere)"
         )
     return arr
-
-
-def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, owner: str) -> Array:
-    """A copy of ``base`` (nq,) with the named joints set: a value [m or rad] per one-degree joint.
-
-    A continuous joint takes an angle (stored as its ``(cos, sin)`` pair).
-
-    Raises:
-        FrameError: an unknown joint (the message lists them).
-        ConfigurationError: a value that is not a finite number, or a joint of several coordinates.
-    """
-    q = np.array(base, float)
-    for jname, value in values.items():
-        if not model.existJointName(jname):
-            raise FrameError(f"unknown joint {jname!r} in {owner!r}; valid: {choices(joint_names(model))}")
-        try:
-            x = float(value)
-        except (TypeError, ValueError):
-            raise ConfigurationError(f"joint {jname!r}: value {value!r} is not a number") from None
-        if not np.isfinite(x):
-            raise ConfigurationError(f"joint {jname!r}: value {value!r} is not finite")
-        joint = model.joints[model.getJointId(jname)]
-        if joint.nq == 1:
-            q[joint.idx_q] = x
-        elif joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
-            q[joint.idx_q : joint.idx_q + 2] = (np.cos(x), np.sin(x))
-        else:
-            raise ConfigurationError(
-                f"joint {jname!r} ({joint.shortname()}) has {joint.nq} coordinates: give the whole "
-                "configuration vector instead of a value by name"
-            )
-    return q

@@ -21,7 +21,8 @@ import pinocchio as pin
 from pinmob.exceptions import ConfigurationError, FrameError, choices, match_name
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.geometry import Geometry
-from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, q_from_values, velocity_indices
+from pinmob.model.joint_values import q_from_values
+from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.model.names import check_names
@@ -60,6 +61,8 @@ class Mechanism:
             (see :attr:`all_closures`).
         extra_actuated: actuated joints not attached to a limb (mechanisms
             described by closures only).
+        quaternion_wxyz: joint values give quaternions ``(w, x, y, z)``, MuJoCo's ``qpos`` order (MJCF
+            files), instead of Pinocchio's ``(x, y, z, w)``.
     """
 
     name: str
@@ -75,6 +78,7 @@ class Mechanism:
     generic_rank: int | None = None
     closures: tuple[Closure, ...] = ()
     extra_actuated: tuple[str, ...] = ()
+    quaternion_wxyz: bool = False
 
     # ------------------------------------------------------------------ build
 
@@ -261,7 +265,7 @@ class Mechanism:
     @cached_property
     def platform_id(self) -> int:
         """Pinocchio frame index of the platform frame."""
-        return self.model.getFrameId(self.platform)
+        return frame_id(self.model, self.platform)
 
     @cached_property
     def actuated(self) -> tuple[str, ...]:

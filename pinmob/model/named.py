@@ -19,6 +19,8 @@ class NamedConfiguration:
         seed: joint values that start the closure solver (select the assembly mode).
         approach: joint-space direction by joint name used by the paper's view
             (:func:`pinmob.paper_view`); empty when not declared.
+        vector: the whole configuration vector (nq,) the joint values start from (e.g. an MJCF
+            keyframe, with its free and ball joints), or ``None`` for Pinocchio's neutral.
     """
 
     name: str
@@ -26,6 +28,7 @@ class NamedConfiguration:
     pose: pin.SE3 | None = None
     seed: Mapping[str, float] = field(default_factory=dict)
     approach: Mapping[str, float] = field(default_factory=dict)
+    vector: tuple[float, ...] | None = None
 
 
 @dataclass(frozen=True)

@@ -21,6 +21,7 @@ from pinmob.scan.spec import (
     pose_from_vector,
     pose_vector,
     resolve_pose,
+    with_finite,
 )
 
 __all__ = [
@@ -40,4 +41,5 @@ __all__ = [
     "resolve_pose",
     "run_chunk",
     "scan",
+    "with_finite",
 ]

@@ -1,6 +1,8 @@
 """One chunk of a scan: its samples assembled warm-started along a line, analysed, and refined.
 
-See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule.
+See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule. With the spec's
+``finite_order`` each row kept (a sample, or a refined point; not the trial points of a refinement)
+adds its finite DoF (``FINITE_COLUMNS``).
 """
 
 from __future__ import annotations
@@ -10,6 +12,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import NEAR_FACTOR
@@ -26,6 +29,8 @@ from pinmob.screw.rank import RTOL
 REFINE_EVALS, REFINE_XTOL = 60, 1e-12
 
 SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
+#: The columns a scan with ``finite_order`` adds: the platform's and the closed chain's finite DoF.
+FINITE_COLUMNS = ("finite_dof", "finite_mechanism_dof")
 
 
 #: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
@@ -126,12 +131,25 @@ class _Chunk:
         extra: list[_Sample] = []
         for k in range(start, stop):
             extra += self.refine(k, done, first, last)
+        kept = _distinct(extra)
+        if self.spec.finite_order is not None:
+            for sample in [done[k] for k in range(start, stop)] + kept:
+                sample.row.update(self.finite(sample.q))
         rows = [(float(k), done[k].row) for k in range(start, stop)]
-        rows += [(float(e.row["_t"]), e.row) for e in _distinct(extra)]
+        rows += [(float(e.row["_t"]), e.row) for e in kept]
         rows.sort(key=lambda r: (r[0], r[1]["refined"]))
         for _, row in rows:
             row.pop("_t", None)
         return [row for _, row in rows]
+
+    def finite(self, q: Array | None) -> dict[str, int | None]:
+        """The finite DoF of a row (None: not assembled, or the analysis cannot decide)."""
+        if q is None:
+            return dict.fromkeys(FINITE_COLUMNS)
+        order = self.spec.finite_order
+        assert order is not None  # asked for
+        fm = finite_mobility(Configuration(self.mech, q), self.spec.rtol, order)
+        return {"finite_dof": fm.finite_dof, "finite_mechanism_dof": fm.finite_mechanism_dof}
 
     def refine(self, k: int, done: dict[int, _Sample], first: int, last: int) -> list[_Sample]:
         """Refined points around sample k (see the module docstring)."""

@@ -58,14 +58,20 @@ def pyplot() -> Any:
     return plt
 
 
-def save_figure(plt: Any, fig: Any, title: str, png_path: str | Path) -> Path:
-    """Title, lay out, write the PNG (110 dpi, through a temporary file renamed at the end) and close the figure."""
-    fig.suptitle(title, fontsize=11)
+def save_figure(
+    plt: Any, fig: Any, title: str | None, png_path: str | Path, metadata: dict[str, str] | None = None
+) -> Path:
+    """Title (if any), lay out, write the PNG and close the figure (the scans' and the sweeps' plots alike).
+
+    110 dpi, ``metadata`` in the PNG's text chunks, written through a temporary file renamed at the end.
+    """
+    if title is not None:
+        fig.suptitle(title, fontsize=11)
     fig.tight_layout()
     replacing = Replacing(png_path)
     try:
         with replacing as tmp:
-            fig.savefig(tmp, dpi=110, format="png")
+            fig.savefig(tmp, dpi=110, format="png", metadata=metadata)
             replacing.commit()
     finally:
         plt.close(fig)

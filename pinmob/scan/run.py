@@ -41,7 +41,7 @@ from pinmob.engine import Engine, Lost
 from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chunk import SV_COLUMNS, run_chunk
+from pinmob.scan.chunk import FINITE_COLUMNS, SV_COLUMNS, run_chunk
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.screw.algebra import Array
 
@@ -71,6 +71,12 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
         while order and order[0] in found:
             start = order.pop(0)
             yield start, stops[start], found.pop(start)
+
+
+def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]:
+    """The scan's rows computed in this process, chunk after chunk (what :func:`scan` does with one worker)."""
+    for job in chunk_seeds(mech, spec):
+        yield from run_chunk(mech, spec, *job)
 
 
 def _chunk_task(shared: tuple[Mechanism, ScanSpec], job: tuple[int, int, Array]) -> list[dict[str, Any]]:
@@ -163,6 +169,7 @@ def scan(
 def columns(spec: ScanSpec) -> list[str]:
     """CSV columns of a scan's rows, in order."""
     params = list(spec.params(0))
+    finite = list(FINITE_COLUMNS) if spec.finite_order is not None else []
     return ["index", *params, "refined", *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank",
             "locked_dof", "singularity", "near_singular", "closest", "singular_limbs", "dependent_limbs",
-            "uncontrolled", "distance", *SV_COLUMNS]  # fmt: skip
+            "uncontrolled", "distance", *SV_COLUMNS, *finite]  # fmt: skip

@@ -17,13 +17,17 @@ spec is :mod:`pinmob.scan`'s business.
 from __future__ import annotations
 
 from collections.abc import Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.finite import check_order
 from pinmob.analysis.generic import generic_constraint_rank
+from pinmob.analysis.higher_order import ORDER
+from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.named import closed_configuration
@@ -73,6 +77,8 @@ class ScanSpec:
         axes: two grid coordinates: (index in POSE_COORDS, low, high, count) each.
         rtol: relative tolerance of rank decisions.
         generic_rank: the mechanism's generic constraint rank.
+        finite_order: with a value, each row adds the finite DoF at its configuration (the finite-mobility
+            analysis with this order bound, :func:`pinmob.analysis.finite.finite_mobility`); None: not.
     """
 
     kind: str
@@ -85,6 +91,7 @@ class ScanSpec:
     axes: tuple[tuple[int, float, float, int], ...] = ()
     rtol: float = RTOL
     generic_rank: int = 0
+    finite_order: int | None = None
 
     @property
     def size(self) -> int:
@@ -241,6 +248,22 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
         q = assemble_pose(mech, pose, _nearest_seed(mech, pose))
     g = generic_constraint_rank(mech, rtol=rtol)
     return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g)
+
+
+def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> ScanSpec:
+    """``spec`` whose rows add each sample's finite DoF (``pinmob scan --finite``), checked before any sample.
+
+    Args:
+        mech: the mechanism scanned.
+        spec: the scan.
+        order: the order bound of the finite analysis (2..8; None: the default, 4).
+
+    Raises:
+        ConfigurationError: a bad order bound, or a joint type the higher-order conditions cannot treat.
+    """
+    order = check_order(ORDER if order is None else order)
+    check_joints(Configuration(mech, spec.q_ref))
+    return replace(spec, finite_order=order)
 
 
 def _nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:

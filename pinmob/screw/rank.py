@@ -29,6 +29,8 @@ RTOL = 1e-6
 #: The smallest tolerance allowed: below it round-off decides (double precision leaves singular values
 #: of these matrices about 1e-15 of the largest; on the built-in models the answers first change at 1e-13).
 RTOL_MIN = 1e-10
+#: A decision whose singular values come within this factor of the tolerance is ambiguous (:func:`ambiguity`).
+AMBIGUOUS_MARGIN = 10.0
 
 try:  # numpy >= 2: the gufuncs behind np.linalg.svd (full U and V, reduced, values only)
     from numpy.linalg import _umath_linalg
@@ -127,6 +129,22 @@ class RankDecision:
         kept = s[self.rank - 1] / tol if self.rank > 0 else np.inf
         dropped = tol / s[self.rank] if self.rank < s.size and s[self.rank] > 0 else np.inf
         return float(min(kept, dropped))
+
+
+def ambiguity(singular_values: Array, tolerance: float, rank: int) -> tuple[float, float] | None:
+    """``(sigma_rank, sigma_(rank+1))`` when either lies within :data:`AMBIGUOUS_MARGIN` of the tolerance, else None.
+
+    The two singular values either side of the tolerance: the last one counted (0 for rank 0) and the
+    first one dropped (0 when none is). Within that factor there is no clear gap: a change of ``rtol``,
+    of the geometry's accuracy or of the configuration's closure would change the rank.
+    """
+    s = np.asarray(singular_values, float)
+    if tolerance <= 0 or s.size == 0:
+        return None
+    kept = float(s[rank - 1]) if rank > 0 else 0.0
+    dropped = float(s[rank]) if rank < s.size else 0.0
+    close = (kept > 0 and kept < AMBIGUOUS_MARGIN * tolerance) or dropped * AMBIGUOUS_MARGIN > tolerance
+    return (kept, dropped) if close else None
 
 
 def rank_rule(

@@ -5,18 +5,38 @@ parameter values of design i without building the others (a grid's index is
 decomposed, the first parameter varying slowest; a random design is drawn from
 its own generator seeded with ``(seed, i)``), so that a sweep of 100,000
 designs holds at most the Latin hypercube's ``(count, d)`` table in memory.
+
+A design set holds at most ``max_designs`` designs (default ``MAX_DESIGNS``;
+a spec raises it with ``design.max_designs``): a sweep keeps a byte per design
+(which are written) and a table or Latin hypercube ``8 d`` bytes per design, and a
+grid of 1e5 x 1e5 values is a typing error more often than a plan.
 """
 
 from __future__ import annotations
 
+import hashlib
+import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from pinmob.exceptions import ConfigurationError
 from pinmob.screw.algebra import Array
 
 #: The design methods, in the order listed in error messages.
 METHODS = ("grid", "random", "latin-hypercube", "table")
+#: Default bound on the number of designs of a sweep (``design.max_designs`` raises it).
+MAX_DESIGNS = 1_000_000
+
+
+def check_count(count: int, bound: int, where: str = "the sweep") -> int:
+    """``count`` if it is within ``bound``; else a :class:`ConfigurationError` naming the bound and how to raise it."""
+    if count > bound:
+        raise ConfigurationError(
+            f"{where}: the design set has {count:,} designs, more than the bound of {bound:,}; split the sweep, "
+            f"or raise the bound in the spec's [design] table: max_designs = {count}"
+        )
+    return count
 
 
 @dataclass(frozen=True)
@@ -30,6 +50,7 @@ class DesignSet:
         samples: designs of a random or Latin-hypercube set.
         seed: seed of their generator.
         table: (count, len(names)) values of a table (and of a Latin hypercube, drawn once).
+        max_designs: the bound on the number of designs (not part of the identity: it changes no record).
     """
 
     method: str
@@ -38,12 +59,13 @@ class DesignSet:
     samples: int = 0
     seed: int = 0
     table: Array = field(default_factory=lambda: np.zeros((0, 0)), repr=False)
+    max_designs: int = MAX_DESIGNS
 
     @property
     def count(self) -> int:
-        """Number of designs."""
+        """Number of designs (a Python integer: a grid's product does not overflow)."""
         if self.method == "grid":
-            return int(np.prod([n for _, _, n in self.ranges], dtype=np.int64))
+            return math.prod(int(n) for _, _, n in self.ranges)
         if self.method == "random":
             return self.samples
         return int(self.table.shape[0])
@@ -62,8 +84,8 @@ class DesignSet:
         return {name: float(v) for name, v in zip(self.names, self.table[i])}
 
     def _strides(self) -> list[int]:
-        counts = [n for _, _, n in self.ranges]
-        return [int(np.prod(counts[k + 1 :], dtype=np.int64)) for k in range(len(counts))]
+        counts = [int(n) for _, _, n in self.ranges]
+        return [math.prod(counts[k + 1 :]) for k in range(len(counts))]
 
     def describe(self) -> str:
         """One line: the method and the swept parameters."""
@@ -79,8 +101,9 @@ class DesignSet:
             "ranges": [list(r) for r in self.ranges],
         }
         out |= {"samples": self.samples, "seed": self.seed}
-        if self.method == "table":
-            out["table"] = self.table.tolist()
+        if self.method in ("table", "latin-hypercube"):  # a digest: the table may hold max_designs rows
+            out["table"] = hashlib.sha256(np.ascontiguousarray(self.table, float).tobytes()).hexdigest()
+            out["shape"] = list(self.table.shape)
         return out
 
 

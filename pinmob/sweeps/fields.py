@@ -29,18 +29,42 @@ FIELDS: tuple[tuple[str, str, str, str], ...] = (
     ("min_distance_class", "str", "", "the test closest to singular there (constraint, actuation, a limb)"),
 )
 
-TYPES = {name: kind for name, kind, _, _ in FIELDS}
-UNITS = {name: unit for name, _, unit, _ in FIELDS}
+#: The fields a spec asking for the finite analysis (``finite = true``) adds, after ``FIELDS``.
+FINITE_FIELDS: tuple[tuple[str, str, str, str], ...] = (
+    ("finite_dof", "int", "", "platform DoF at finite amplitude at the reference (null: cannot decide)"),
+    ("finite_mechanism_dof", "int", "", "closed chain's DoF at finite amplitude there (null: cannot decide)"),
+    (
+        "finite_dof_locked",
+        "int",
+        "",
+        "platform DoF at finite amplitude with the actuators held (null: none declared, or cannot decide)",
+    ),
+    (
+        "finite_motions",
+        "str",
+        "",
+        "each instantaneous platform motion's verdict, e.g. 'T1 z: finite; R1 z: blocked at order 2'",
+    ),
+)
+
+TYPES = {name: kind for name, kind, _, _ in FIELDS + FINITE_FIELDS}
+UNITS = {name: unit for name, _, unit, _ in FIELDS + FINITE_FIELDS}
 
 #: Prefix of the fields giving the scan parameters where the smallest distance was found.
 MIN_AT = "min_distance_"
 
 
-def record_fields(parameters: tuple[str, ...], scan_parameters: list[str]) -> list[tuple[str, str]]:
-    """(name, type) of every field of a record, in order: ``design``, the parameters, ``FIELDS``, ``MIN_AT`` ones."""
+def record_fields(
+    parameters: tuple[str, ...], scan_parameters: list[str], finite: bool = False
+) -> list[tuple[str, str]]:
+    """(name, type) of every field of a record, in order.
+
+    ``design``, the parameters, ``FIELDS``, the ``MIN_AT`` ones, and with ``finite`` the ``FINITE_FIELDS``.
+    """
     return (
         [("design", "int")]
         + [(p, "float") for p in parameters]
         + [(name, kind) for name, kind, _, _ in FIELDS]
         + [(MIN_AT + p, "float") for p in scan_parameters]
+        + ([(name, kind) for name, kind, _, _ in FINITE_FIELDS] if finite else [])
     )

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.scan.files import Replacing
+from pinmob.scan.plot import pyplot, save_figure
 from pinmob.sweeps.fields import TYPES
 from pinmob.sweeps.spec import SweepSpec
 
@@ -36,26 +36,11 @@ def _columns(path: Path, names: list[str]) -> dict[str, np.ndarray]:
 
 
 def _save(fig: Any, png: Path, spec: SweepSpec) -> Path:
-    import matplotlib.pyplot as plt
-
-    fig.tight_layout()
-    replacing = Replacing(png)
-    try:
-        with replacing as tmp:
-            fig.savefig(tmp, dpi=110, format="png", metadata={"Description": f"pinmob sweep {spec.identity()}"})
-            replacing.commit()
-    finally:
-        plt.close(fig)
-    return png
+    return save_figure(pyplot(), fig, None, png, metadata={"Description": f"pinmob sweep {spec.identity()}"})
 
 
 def _figure() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt.subplots(figsize=(7.5, 5.8))
+    return pyplot().subplots(figsize=(7.5, 5.8))
 
 
 def plot_atlas(parquet: str | Path, png: str | Path, spec: SweepSpec) -> Path:

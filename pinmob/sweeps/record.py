@@ -2,7 +2,11 @@
 
 A design that cannot be built, closed or scanned is a record with ``status``
 ``failed`` and the one-line reason; an unexpected error inside pinmob is one
-too (its type and message), never a crash of the sweep.
+too (its type and message), never a crash of the sweep. With the spec's
+``finite = true`` the record adds the finite-mobility analysis at the reference
+configuration (:data:`pinmob.sweeps.fields.FINITE_FIELDS`); a mechanism it cannot
+treat (a joint type of no constant motion subspace) leaves those fields null and
+says why in ``finite_motions``.
 """
 
 from __future__ import annotations
@@ -14,17 +18,19 @@ from pathlib import Path
 from typing import Any
 
 from pinmob.analysis.entry_point import analyze
-from pinmob.exceptions import PinmobError
-from pinmob.scan.chunk import run_chunk
-from pinmob.scan.run import chunk_seeds
+from pinmob.analysis.finite import FiniteMobility
+from pinmob.analysis.higher_order import ORDER
+from pinmob.analysis.verdicts import MotionVerdict, Verdict
+from pinmob.exceptions import ConfigurationError, PinmobError
+from pinmob.scan.run import scan_in_process
 from pinmob.sweeps.fields import MIN_AT
-from pinmob.sweeps.spec import SweepSpec
+from pinmob.sweeps.spec import DesignJob
 
 
-def empty_record(spec: SweepSpec, index: int, values: dict[str, float]) -> dict[str, Any]:
+def empty_record(job: DesignJob, index: int, values: dict[str, float]) -> dict[str, Any]:
     """The record of design ``index`` with its parameters and every other field None."""
-    record: dict[str, Any] = dict.fromkeys(name for name, _ in spec.fields())
-    record.update(design=index, **{p: values[p] for p in spec.parameters})
+    record: dict[str, Any] = dict.fromkeys(name for name, _ in job.fields)
+    record.update(design=index, **{p: values[p] for p in job.parameters})
     return record
 
 
@@ -34,24 +40,26 @@ def failed(record: dict[str, Any], reason: str) -> dict[str, Any]:
     return record
 
 
-def evaluate_design(spec: SweepSpec, item: tuple[int, dict[str, float]]) -> dict[str, Any]:
+def evaluate_design(job: DesignJob, item: tuple[int, dict[str, float]]) -> dict[str, Any]:
     """The record of one design ``item = (index, parameter values)`` (a Dask task, or run in process)."""
     index, values = item
-    record = empty_record(spec, index, values)
+    record = empty_record(job, index, values)
     try:
         with warnings.catch_warnings(), tempfile.TemporaryDirectory(prefix="pinmob-design-") as folder:
             warnings.simplefilter("ignore")  # e.g. a template's meshes, not copied: kinematics only
-            return _evaluate(spec, record, values, Path(folder))
+            return _evaluate(job, record, values, Path(folder))
     except PinmobError as exc:
         return failed(record, str(exc))
     except Exception as exc:  # noqa: BLE001  (a record says so; the sweep goes on)
         return failed(record, f"internal error {type(exc).__name__}: {exc}")
 
 
-def _evaluate(spec: SweepSpec, record: dict[str, Any], values: dict[str, float], folder: Path) -> dict[str, Any]:
-    mech = spec.source.mechanism(values, folder)
-    scan = spec.scan.spec(mech)
-    report = analyze(mech, scan.q_ref, rtol=scan.rtol, generic_rank=scan.generic_rank)
+def _evaluate(job: DesignJob, record: dict[str, Any], values: dict[str, float], folder: Path) -> dict[str, Any]:
+    mech = job.source.mechanism(values, folder)
+    scan = job.scan.spec(mech)
+    finite = job.finite_order is not None
+    report = analyze(mech, scan.q_ref, rtol=scan.rtol, generic_rank=scan.generic_rank, finite=finite,
+                     finite_order=job.finite_order or ORDER)  # fmt: skip
     whole = report.mechanism_mobility
     record.update(
         status="ok",
@@ -67,19 +75,18 @@ def _evaluate(spec: SweepSpec, record: dict[str, Any], values: dict[str, float],
     samples = reachable = free = refined = 0
     types: set[str] = set()
     best: dict[str, Any] | None = None
-    params = spec.scan.parameters()
-    for job in chunk_seeds(mech, scan):
-        for row in run_chunk(mech, scan, *job):
-            if row["reachable"] and (best is None or row["distance"] < best["distance"]):
-                best = row
-            if row["refined"]:
-                refined += bool(row["reachable"])
-                continue
-            samples += 1
-            if row["reachable"]:
-                reachable += 1
-                free += row["singularity"] == "none"
-                types.add(row["motion_type"])
+    params = job.scan.parameters()
+    for row in scan_in_process(mech, scan):
+        if row["reachable"] and (best is None or row["distance"] < best["distance"]):
+            best = row
+        if row["refined"]:
+            refined += bool(row["reachable"])
+            continue
+        samples += 1
+        if row["reachable"]:
+            reachable += 1
+            free += row["singularity"] == "none"
+            types.add(row["motion_type"])
     record.update(
         samples=samples,
         assembled=reachable / samples if samples else None,
@@ -90,4 +97,27 @@ def _evaluate(spec: SweepSpec, record: dict[str, Any], values: dict[str, float],
     if best is not None and math.isfinite(best["distance"]):
         record.update(min_distance=float(best["distance"]), min_distance_class=best["closest"])
         record.update({MIN_AT + p: float(best[p]) for p in params})
+    if finite:
+        try:
+            fm = report.finite
+        except ConfigurationError as exc:  # e.g. a joint type the higher-order conditions cannot treat
+            record["finite_motions"] = "not analysed: " + " ".join(str(exc).split())
+        else:
+            assert fm is not None  # asked for
+            record.update(finite_fields(fm))
     return record
+
+
+def finite_fields(fm: FiniteMobility) -> dict[str, Any]:
+    """The record's finite-mobility fields (:data:`pinmob.sweeps.fields.FINITE_FIELDS`) from the analysis."""
+    return {
+        "finite_dof": fm.finite_dof,
+        "finite_mechanism_dof": fm.finite_mechanism_dof,
+        "finite_dof_locked": fm.finite_dof_locked,
+        "finite_motions": "; ".join(f"{v.label}: {short_verdict(v)}" for v in fm.motions),
+    }
+
+
+def short_verdict(v: MotionVerdict) -> str:
+    """``finite``, ``blocked at order k``, ``branch point`` or ``cannot decide`` (the note left out)."""
+    return f"blocked at order {v.order}" if v.verdict is Verdict.BLOCKED else v.verdict.value

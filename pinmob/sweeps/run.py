@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import deque
 from collections.abc import Iterator
 from pathlib import Path
 from typing import Any
@@ -10,6 +11,7 @@ import numpy as np
 
 from pinmob.engine import Engine, Lost
 from pinmob.engine.cluster import check_workers
+from pinmob.exceptions import ConfigurationError
 from pinmob.sweeps.record import empty_record, evaluate_design, failed
 from pinmob.sweeps.spec import SweepSpec
 from pinmob.sweeps.spec_file import load_spec
@@ -17,6 +19,10 @@ from pinmob.sweeps.spec_file import load_spec
 
 class SweepRun:
     """The records of a sweep, one per design in design order (iterate over it).
+
+    Each Dask task carries its design's index and values; what every design needs (the
+    :class:`~pinmob.sweeps.spec.DesignJob`: the source, the scan, the fields) goes to the
+    cluster once per run, not the design table.
 
     Attributes:
         spec: the sweep.
@@ -32,6 +38,11 @@ class SweepRun:
         progress: bool | None,
         skip: np.ndarray | None,
     ) -> None:
+        spec.check_count()
+        if skip is not None and np.shape(skip) != (spec.count,):
+            raise ConfigurationError(
+                f"skip must hold one boolean per design ({spec.count}), got shape {np.shape(skip)}"
+            )
         self.spec = spec
         self.engine = Engine(check_workers(workers), scheduler)
         self.progress = progress
@@ -43,26 +54,32 @@ class SweepRun:
         """Designs this run computes (the others are skipped)."""
         return self.spec.count - (int(np.count_nonzero(self.skip)) if self.skip is not None else 0)
 
-    def _items(self) -> Iterator[tuple[int, dict[str, float]]]:
-        for i in range(self.spec.count):
-            if self.skip is None or not self.skip[i]:
-                yield i, self.spec.values(i)
-
     def __iter__(self) -> Iterator[dict[str, Any]]:
         from tqdm import tqdm
 
-        disable = None if self.progress is None else not self.progress
-        bar = tqdm(total=self.todo(), disable=disable, unit="design", desc=f"sweep {self.spec.name}", leave=False)
-        items = self._items()
-        if self.todo() == 0:
-            bar.close()
+        todo = self.todo()
+        if todo == 0:
             return
+        skip = None if self.skip is None else np.array(self.skip, bool)  # as it is now: the caller may mark designs
+        job = self.spec.job()
+        sent: deque[tuple[int, dict[str, float]]] = deque()
+
+        def items() -> Iterator[tuple[int, dict[str, float]]]:
+            for i in range(self.spec.count):
+                if skip is None or not skip[i]:
+                    item = (i, self.spec.values(i))
+                    sent.append(item)
+                    yield item
+
+        disable = None if self.progress is None else not self.progress
+        bar = tqdm(total=todo, disable=disable, unit="design", desc=f"sweep {self.spec.name}", leave=False)
         try:
             with self.engine:
                 self.where = self.engine.describe()
-                for item, result in zip(self._items(), self.engine.map(evaluate_design, self.spec, items)):
+                for result in self.engine.map(evaluate_design, job, items()):
+                    item = sent.popleft()  # results come in the order of the items
                     if isinstance(result, Lost):
-                        result = failed(empty_record(self.spec, *item), result.reason)
+                        result = failed(empty_record(job, *item), result.reason)
                     bar.update(1)
                     self.lost_workers = self.engine.lost_workers
                     yield result
@@ -92,7 +109,8 @@ def sweep(
         :data:`pinmob.sweeps.fields.FIELDS`); a design that fails is a record with its reason.
 
     Raises:
-        ConfigurationError: a bad spec (before any design is computed) or ``workers``.
+        ConfigurationError: a bad spec (before any design is computed), more designs than the design set's
+            bound (``design.max_designs``), or a bad ``workers``.
         EngineError: the Dask cluster cannot be used or loses every worker.
     """
     if not isinstance(spec, SweepSpec):

@@ -1,24 +1,34 @@
-"""What a sweep does: its mechanisms, its designs, the workspace scan of each design, its plots (picklable)."""
+"""What a sweep does: its mechanisms, its designs, the workspace scan of each design, its plots (picklable).
+
+A sweep's *identity* (:meth:`SweepSpec.identity`) is a digest of everything that
+determines its records: the spec (family or template texts, fixed values, the
+designs, the scan, the finite analysis) and the code computing them (pinmob's
+version and a digest of its own source files, :func:`code_digest`: a development
+install whose code changed does not resume records of the old code). A file is
+resumed only by the sweep of the same identity.
+"""
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 from dataclasses import dataclass, field
+from pathlib import Path
 from typing import Any
 
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.spec import ScanSpec, grid_spec, path_spec
 from pinmob.screw.rank import RTOL
-from pinmob.sweeps.designs import DesignSet
+from pinmob.sweeps.designs import DesignSet, check_count
 from pinmob.sweeps.fields import UNITS, record_fields
 from pinmob.sweeps.source import Source
 
 #: Version of the record format: a sweep file written with another one is not resumed.
-FORMAT = 1
+FORMAT = 2
 
 
-def _version() -> str:
+def pinmob_version() -> str:
     """The installed pinmob's version (records of another version are not resumed)."""
     from importlib.metadata import PackageNotFoundError, version
 
@@ -26,6 +36,16 @@ def _version() -> str:
         return version("pinmob")
     except PackageNotFoundError:
         return "unknown"
+
+
+@functools.cache
+def code_digest() -> str:
+    """The installed pinmob's version and a digest of its Python source files (computed once per process)."""
+    root = Path(__file__).resolve().parent.parent
+    digest = hashlib.sha256(pinmob_version().encode())
+    for path in sorted(root.rglob("*.py")):
+        digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+    return digest.hexdigest()[:20]
 
 
 @dataclass(frozen=True)
@@ -78,6 +98,25 @@ class ScanSettings:
 
 
 @dataclass(frozen=True)
+class DesignJob:
+    """What computing one design needs, beside its index and values: sent to the Dask workers once per sweep.
+
+    Attributes:
+        source: the mechanisms (a family or a template).
+        scan: the workspace scan of each design.
+        parameters: the record's parameter fields, in order.
+        fields: (name, type) of every record field, in order.
+        finite_order: the order bound of the finite analysis at the reference configuration (None: none).
+    """
+
+    source: Source
+    scan: ScanSettings
+    parameters: tuple[str, ...]
+    fields: tuple[tuple[str, str], ...]
+    finite_order: int | None = None
+
+
+@dataclass(frozen=True)
 class SweepSpec:
     """A design-space sweep (see :func:`pinmob.sweeps.spec_file.load_spec` for the file that describes one).
 
@@ -88,6 +127,8 @@ class SweepSpec:
         designs: the swept parameters' values per design.
         scan: the workspace scan of each design.
         plots: ``atlas`` ``{x, y, color}`` and ``pareto`` ``{x, y, x_goal, y_goal}`` (goals ``max`` or ``min``).
+        finite_order: with a value, each record adds the finite-mobility analysis at the reference
+            configuration with this order bound (:func:`pinmob.analysis.finite.finite_mobility`); None: not.
     """
 
     name: str
@@ -96,11 +137,16 @@ class SweepSpec:
     designs: DesignSet
     scan: ScanSettings
     plots: dict[str, dict[str, str]] = field(default_factory=dict)
+    finite_order: int | None = None
 
     @property
     def count(self) -> int:
         """Number of designs."""
         return self.designs.count
+
+    def check_count(self) -> int:
+        """The number of designs, refused (:class:`ConfigurationError`) above the design set's bound."""
+        return check_count(self.count, self.designs.max_designs, f"sweep {self.name!r}")
 
     @property
     def parameters(self) -> tuple[str, ...]:
@@ -113,7 +159,11 @@ class SweepSpec:
 
     def fields(self) -> list[tuple[str, str]]:
         """(name, type) of each record field, in order."""
-        return record_fields(self.parameters, self.scan.parameters())
+        return record_fields(self.parameters, self.scan.parameters(), self.finite_order is not None)
+
+    def job(self) -> DesignJob:
+        """What a design's computation needs (not the design table: each task carries its own values)."""
+        return DesignJob(self.source, self.scan, self.parameters, tuple(self.fields()), self.finite_order)
 
     def unit(self, name: str) -> str:
         """The unit of a record field or parameter ('' when dimensionless or unknown)."""
@@ -123,16 +173,25 @@ class SweepSpec:
             return "rad" if name[18:] in ("roll", "pitch", "yaw") else "m"
         return UNITS.get(name, "")
 
+    def spec_digest(self) -> str:
+        """A digest of the spec alone: everything that determines the records but the code (computed once)."""
+        return self._digests[0]
+
     def identity(self) -> str:
-        """A digest of everything that determines the records (not where they are computed)."""
+        """A digest of everything that determines the records: the spec and the code (not where they are computed)."""
+        return self._digests[1]
+
+    @functools.cached_property
+    def _digests(self) -> tuple[str, str]:
         doc: dict[str, Any] = {
             "format": FORMAT,
-            "pinmob": _version(),
             "family": self.source.family,
             "template": [list(t) for t in self.source.texts],
             "fixed": self.fixed,
             "designs": self.designs.identity(),
             "scan": [list(a) for a in self.scan.axes] + [self.scan.at, self.scan.start, self.scan.end],
             "path": [self.scan.samples, self.scan.joints, self.scan.rtol],
+            "finite": self.finite_order,
         }
-        return hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:20]
+        spec = hashlib.sha256(json.dumps(doc, sort_keys=True).encode()).hexdigest()[:20]
+        return spec, hashlib.sha256(f"{spec} {code_digest()}".encode()).hexdigest()[:20]

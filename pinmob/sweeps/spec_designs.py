@@ -10,9 +10,9 @@ from typing import Any
 import numpy as np
 
 from pinmob.exceptions import ConfigurationError, choices
-from pinmob.sweeps.designs import METHODS, DesignSet, latin_hypercube
+from pinmob.sweeps.designs import MAX_DESIGNS, METHODS, DesignSet, check_count, latin_hypercube
 
-DESIGN = ("method", "parameters", "samples", "seed", "table", "rows")
+DESIGN = ("method", "parameters", "samples", "seed", "table", "rows", "max_designs")
 
 
 def keys(where: str, prefix: str, table: dict[str, Any], valid: tuple[str, ...]) -> None:
@@ -45,14 +45,19 @@ def integer(where: str, key: str, value: object, least: int) -> int:
 
 
 def read_designs(path: Path, table: dict[str, Any]) -> DesignSet:
-    """The design set of a [design] table (grid, random, Latin hypercube or table)."""
+    """The design set of a [design] table (grid, random, Latin hypercube or table).
+
+    The number of designs is checked against ``design.max_designs`` (default
+    :data:`~pinmob.sweeps.designs.MAX_DESIGNS`) before anything of that size is built.
+    """
     where = str(path)
     keys(where, "design.", table, DESIGN)
     method = table.get("method", "grid")
     if method not in METHODS:
         raise ConfigurationError(f"{where}: unknown design.method {method!r}; valid: {choices(METHODS)}")
+    bound = integer(where, "design.max_designs", table.get("max_designs", MAX_DESIGNS), 1)
     if method == "table":
-        return _design_table(path, table)
+        return _design_table(path, table, bound)
     params = table.get("parameters", {})
     if not isinstance(params, dict) or not params:
         raise ConfigurationError(f"{where}: [design.parameters] must name at least one swept parameter")
@@ -71,15 +76,18 @@ def read_designs(path: Path, table: dict[str, Any]) -> DesignSet:
         ranges.append((lo, hi, count))
     names = tuple(params)
     if method == "grid":
-        return DesignSet("grid", names, tuple(ranges))
-    samples = integer(where, "design.samples", table.get("samples", 0), 1)
+        grid = DesignSet("grid", names, tuple(ranges), max_designs=bound)
+        check_count(grid.count, bound, where)
+        return grid
+    samples = check_count(integer(where, "design.samples", table.get("samples", 0), 1), bound, where)
     seed = integer(where, "design.seed", table.get("seed", 0), 0)
     if method == "random":
-        return DesignSet("random", names, tuple(ranges), samples, seed)
-    return DesignSet(method, names, tuple(ranges), samples, seed, latin_hypercube(tuple(ranges), samples, seed))
+        return DesignSet("random", names, tuple(ranges), samples, seed, max_designs=bound)
+    hypercube = latin_hypercube(tuple(ranges), samples, seed)
+    return DesignSet(method, names, tuple(ranges), samples, seed, hypercube, max_designs=bound)
 
 
-def _design_table(path: Path, table: dict[str, Any]) -> DesignSet:
+def _design_table(path: Path, table: dict[str, Any], bound: int) -> DesignSet:
     where = str(path)
     if ("table" in table) == ("rows" in table):
         raise ConfigurationError(f'{where}: a table design takes table = "FILE.csv" or rows = [...], one of them')
@@ -91,6 +99,7 @@ def _design_table(path: Path, table: dict[str, Any]) -> DesignSet:
         for i, row in enumerate(rows):
             if tuple(row) != names:
                 raise ConfigurationError(f"{where}: design.rows[{i}] names {list(row)}, row 0 names {list(names)}")
+        check_count(len(rows), bound, where)
         values = [[number(where, f"design.rows[{i}].{k}", row[k]) for k in names] for i, row in enumerate(rows)]
     else:
         csv_path = path.parent / str(table["table"])
@@ -98,8 +107,16 @@ def _design_table(path: Path, table: dict[str, Any]) -> DesignSet:
             with open(csv_path, newline="", encoding="utf-8") as fh:
                 reader = csv.reader(fh)
                 names = tuple(h.strip() for h in next(reader, []))
-                lines = [line for line in reader if line]
-        except (OSError, UnicodeDecodeError) as exc:
+                lines = []
+                for line in reader:  # read no further than the bound
+                    if line:
+                        lines.append(line)
+                        if len(lines) > bound:
+                            raise ConfigurationError(
+                                f"{where}: design.table {str(csv_path)!r} has more than {bound:,} designs, the bound; "
+                                "split the sweep, or raise the bound in the spec's [design] table: max_designs = N"
+                            )
+        except (OSError, UnicodeDecodeError, csv.Error) as exc:
             raise ConfigurationError(f"{where}: design.table {str(csv_path)!r} cannot be read: {exc}") from None
         if not names or not lines:
             raise ConfigurationError(f"{where}: design.table {str(csv_path)!r} needs a header and at least one row")
@@ -117,4 +134,4 @@ def _design_table(path: Path, table: dict[str, Any]) -> DesignSet:
                 ) from None
             if not all(math.isfinite(v) for v in values[-1]):
                 raise ConfigurationError(f"{where}: {csv_path.name} row {i + 1} holds a value that is not finite")
-    return DesignSet("table", names, table=np.array(values, float))
+    return DesignSet("table", names, table=np.array(values, float), max_designs=bound)

@@ -30,6 +30,11 @@
     [plots]                           # optional
     atlas = { x = "link", y = "big_r", color = "singularity_free" }
     pareto = { x = "assembled", y = "min_distance", x_goal = "max", y_goal = "max" }
+
+Top-level, optional: ``finite = true`` adds to each record the finite-mobility analysis at the
+reference configuration (:data:`pinmob.sweeps.fields.FINITE_FIELDS`; ``finite_order = K``, 2..8,
+default 4, sets its order bound and implies ``finite = true``); ``[design] max_designs = N`` raises
+the bound on the number of designs (:data:`pinmob.sweeps.designs.MAX_DESIGNS`).
 """
 
 from __future__ import annotations
@@ -38,6 +43,8 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
+from pinmob.analysis.finite import check_order
+from pinmob.analysis.higher_order import ORDER
 from pinmob.catalog.families import family
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.scan.spec import POSE_COORDS, parse_grid_axis
@@ -47,7 +54,19 @@ from pinmob.sweeps.source import Source, template_source
 from pinmob.sweeps.spec import ScanSettings, SweepSpec
 from pinmob.sweeps.spec_designs import integer, keys, number, read_designs, table_of
 
-TOP = ("title", "family", "template", "files", "parameters", "units", "design", "scan", "plots")
+TOP = (
+    "title",
+    "family",
+    "template",
+    "files",
+    "parameters",
+    "units",
+    "design",
+    "scan",
+    "plots",
+    "finite",
+    "finite_order",
+)
 SCAN = ("grid", "at", "from", "to", "samples", "joints", "rtol")
 GOALS = ("max", "min")
 
@@ -84,9 +103,25 @@ def load_spec(path: str | Path) -> SweepSpec:
     if not source.family:
         _every_placeholder_has_a_value(where, source, set(fixed) | set(designs.names))
     scan = _scan(where, table_of(where, "scan", doc))
-    spec = SweepSpec(str(doc.get("title") or path.stem), source, fixed, designs, scan)
+    spec = SweepSpec(str(doc.get("title") or path.stem), source, fixed, designs, scan,
+                     finite_order=_finite_order(where, doc))  # fmt: skip
     spec = _with_references(where, spec)
     return _with_plots(where, spec, table_of(where, "plots", doc))
+
+
+def _finite_order(where: str, doc: dict[str, Any]) -> int | None:
+    """The finite analysis's order bound (None: not asked for); ``finite_order`` implies ``finite = true``."""
+    finite = doc.get("finite")
+    if finite is not None and not isinstance(finite, bool):
+        raise ConfigurationError(f"{where}: finite must be true or false, got {finite!r}")
+    if "finite_order" not in doc:
+        return ORDER if finite else None
+    if finite is False:
+        raise ConfigurationError(f"{where}: finite_order sets the finite analysis's order bound, but finite = false")
+    try:
+        return check_order(doc["finite_order"])
+    except PinmobError as exc:
+        raise ConfigurationError(f"{where}: finite_order: {exc}") from None
 
 
 def _source(path: Path, doc: dict[str, Any]) -> Source:

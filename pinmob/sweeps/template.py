@@ -70,14 +70,15 @@ def fill(text: str, values: Mapping[str, float], where: str) -> str:
 
     Raises:
         ConfigurationError: a placeholder uses a name with no value, or cannot be evaluated (e.g. sqrt of a
-            negative number): the message names the placeholder and the file.
+            negative number, or a fractional power of one, which is complex): the message names the
+            placeholder and the file.
     """
 
     def value(match: re.Match[str]) -> str:
         expr = match.group(1).strip()
         try:
             result = _evaluate(_parse(expr, where).body, values, expr, where)
-        except (ValueError, ZeroDivisionError, OverflowError) as exc:
+        except (ValueError, ZeroDivisionError, OverflowError, TypeError) as exc:
             raise ConfigurationError(f"{where}: placeholder {{{expr}}} cannot be evaluated here: {exc}") from None
         if not math.isfinite(result):
             raise ConfigurationError(f"{where}: placeholder {{{expr}}} is not finite here ({result})")
@@ -123,6 +124,13 @@ def _evaluate(node: ast.AST, values: Mapping[str, float], expr: str, where: str)
         return -x if isinstance(node.op, ast.USub) else x
     if isinstance(node, ast.BinOp):
         left = _evaluate(node.left, values, expr, where)
-        return _BINARY[type(node.op)](left, _evaluate(node.right, values, expr, where))
+        return _real(_BINARY[type(node.op)](left, _evaluate(node.right, values, expr, where)))
     assert isinstance(node, ast.Call) and isinstance(node.func, ast.Name)  # checked by _parse
-    return float(FUNCTIONS[node.func.id](*(_evaluate(a, values, expr, where) for a in node.args)))
+    return _real(FUNCTIONS[node.func.id](*(_evaluate(a, values, expr, where) for a in node.args)))
+
+
+def _real(value: object) -> float:
+    """``value`` as a float; a complex number (``(-1) ** 0.5``) is a ValueError, caught by :func:`fill`."""
+    if isinstance(value, complex):
+        raise ValueError(f"its value is not a real number ({value:.6g})")
+    return float(value)  # type: ignore[arg-type]  # a number: the operators and FUNCTIONS return numbers

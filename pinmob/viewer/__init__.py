@@ -45,6 +45,7 @@ from __future__ import annotations
 import contextlib
 import io
 
+from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report import Report
 from pinmob.exceptions import ConfigurationError, ViewerError
@@ -58,7 +59,7 @@ __all__ = ["FPS", "ROOT", "Scene", "export_html", "scene_html", "show"]
 
 def show(
     mech: Mechanism,
-    q: Array | str,
+    q: Array | str | Configuration,
     mobility: Mobility | Report | None = None,
     *,
     zmq_url: str | None = None,
@@ -80,7 +81,7 @@ def show(
 
     Args:
         mech: the mechanism.
-        q: configuration (nq,) or the name of one of ``mech.configurations``.
+        q: configuration (nq,), the name of one of ``mech.configurations``, or a :class:`Configuration`.
         mobility: its platform mobility (or its whole Report), if already computed.
         zmq_url: a running meshcat server (``tcp://127.0.0.1:6000``); default:
             start one on 127.0.0.1 (``scene.server``; it lives until

@@ -12,6 +12,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report import Report
 from pinmob.exceptions import ConfigurationError, ViewerError
@@ -38,7 +39,7 @@ class _Recorder:
 
 def scene_html(
     mech: Mechanism,
-    q: Array | str,
+    q: Array | str | Configuration,
     mobility: Mobility | Report | None = None,
     *,
     motion: str | None = None,
@@ -62,7 +63,7 @@ def scene_html(
 
 def export_html(
     mech: Mechanism,
-    q: Array | str,
+    q: Array | str | Configuration,
     path: str | Path,
     mobility: Mobility | Report | None = None,
     *,
@@ -82,7 +83,7 @@ def export_html(
 
     Args:
         mech: the mechanism.
-        q: (nq,) closed configuration or the name of one of ``mech.configurations``.
+        q: (nq,) closed configuration, the name of one of ``mech.configurations``, or a :class:`Configuration`.
         path: the ``.html`` file to write.
         mobility: the platform mobility (or the Report) to show (default: ``analyze(mech, q)``).
         overwrite: replace an existing file; otherwise an existing file is an error.

@@ -15,7 +15,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pinmob.analysis.closed_chain import MechanismMobility
-from pinmob.analysis.configuration import as_configuration
+from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.mobility import Mobility
@@ -53,7 +53,7 @@ class Prepared:
 
 def prepare(
     mech: Mechanism,
-    q: Array | str,
+    q: Array | str | Configuration,
     mobility: Mobility | Report | None,
     amplitude: float | None,
     steps: int,
@@ -63,7 +63,7 @@ def prepare(
 ) -> Prepared:
     """Closed q, its analysis and the followed motions (everything that can fail before meshcat).
 
-    With ``finite`` (and a platform), each path carries its motion's verdict from
+    With ``finite`` (and a platform, and no joint coupling), each path carries its motion's verdict from
     :func:`pinmob.analysis.finite.finite_mobility`: a motion that exists only to first order is then
     drawn as such by :func:`pinmob.viewer.scene.build` and the panel's verdict column says so.
 
@@ -85,11 +85,14 @@ def prepare(
         for m in mob.motions:
             bar.set_postfix_str(m.label)
             if animate:
-                paths[m.label] = follow_motion(mech, conf.q, m, amplitude=amplitude, steps=steps)
+                paths[m.label] = follow_motion(
+                    mech, conf.q, m, amplitude=amplitude, steps=steps, closure_tol=conf.closure_tol
+                )
                 bar.update()
             else:
                 paths[m.label] = MotionPath(m.label, (conf.q,), (conf.q,), (0.0, 0.0), 0.0)
-    if finite and mech.has_platform and mob.motions:
+    coupled = any(c.type == "joint" for c in mech.closures)  # beyond the finite analysis: no verdicts
+    if finite and mech.has_platform and mob.motions and not coupled:
         verdicts = {v.label: v for v in finite_mobility(conf, RTOL, motions=mob.motions).motions}
         for label, path in paths.items():
             v = verdicts.get(label)

@@ -1,0 +1,67 @@
+"""Plain URDF files with onshape-to-robot's closing frames: a loop closure per ``closing_<name>_1/_2`` pair.
+
+onshape-to-robot (and placo, which reads its exports) marks each loop of a URDF with two frames, links
+named ``closing_<name>_1`` and ``closing_<name>_2`` fixed on the two bodies the loop joins; the loop is
+closed when their origins meet (a point closure: what the exporter writes for MuJoCo, ``<connect
+site1 site2>``, and what placo solves). Each pair is a ``3d`` :class:`~pinmob.model.closure.Closure`
+named ``<name>``. A URDF says nothing of actuation: the actuated joints are given on the command line
+(``--actuated a,b``) or with :meth:`pinmob.model.mechanism.Mechanism.with_actuated`.
+"""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pinocchio as pin
+
+from pinmob.io.schema import errors_at, file_error
+from pinmob.io.urdf import load_geometry, read_urdf
+from pinmob.model.closure import make_closure
+from pinmob.model.mechanism import Mechanism
+
+#: A closing frame's name: ``closing_<name>_1`` or ``closing_<name>_2``.
+CLOSING = re.compile(r"^closing_(.+)_([12])$")
+
+
+def closing_pairs(path: Path, model: pin.Model) -> dict[str, tuple[str, str]]:
+    """``{loop name: (frame _1, frame _2)}`` of the URDF's closing frames (its links, BODY frames).
+
+    Raises:
+        MechanismFileError: a frame without its partner, or no closing frame at all (the message says
+            what to add).
+    """
+    sides: dict[str, dict[str, str]] = {}
+    for frame in model.frames:
+        match = CLOSING.match(frame.name)
+        if match and frame.type == pin.FrameType.BODY:
+            sides.setdefault(match.group(1), {})[match.group(2)] = frame.name
+    if not sides:
+        raise file_error(
+            path,
+            "a plain URDF has no loop closure: add onshape-to-robot's closing frames (links closing_<name>_1 and "
+            "closing_<name>_2 on the two bodies each loop joins), or describe the loops in a pinmob TOML file or an "
+            "Extended URDF YAML sidecar beside it (see docs/formats.md)",
+        )
+    lonely = sorted(f"closing_{n}_{'2' if '1' in s else '1'}" for n, s in sides.items() if len(s) < 2)
+    if lonely:
+        raise file_error(path, f"closing frame(s) without a partner: missing {', '.join(lonely)}")
+    return {n: (s["1"], s["2"]) for n, s in sorted(sides.items())}
+
+
+def load_closing_urdf(path: str | Path) -> Mechanism:
+    """Load a URDF with onshape-to-robot closing frames (see the module docstring); no actuated joint."""
+    path = Path(path)
+    model = read_urdf(path)
+    pairs = closing_pairs(path, model)
+    with errors_at(path):
+        closures = [make_closure(model, name, a, b, "3d") for name, (a, b) in pairs.items()]
+        return Mechanism.from_model(
+            model,
+            [],
+            name=path.parent.name if path.stem == "robot" else path.stem,
+            description=f"URDF {path.name} with onshape-to-robot closing frames",
+            source=path,
+            geometry=load_geometry(model, path),
+            closures=closures,
+        )

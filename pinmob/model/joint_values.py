@@ -1,0 +1,67 @@
+"""Joint values by name and configuration vectors: from one to the other."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.model.joints import joint_names
+from pinmob.screw.algebra import Array
+
+
+def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, owner: str) -> Array:
+    """A copy of ``base`` (nq,) with the named joints set: a value [m or rad] per one-degree joint.
+
+    A continuous joint takes an angle (stored as its ``(cos, sin)`` pair).
+
+    Raises:
+        FrameError: an unknown joint (the message lists them).
+        ConfigurationError: a value that is not a finite number, or a joint of several coordinates.
+    """
+    q = np.array(base, float)
+    for jname, value in values.items():
+        if not model.existJointName(jname):
+            raise FrameError(f"unknown joint {jname!r} in {owner!r}; valid: {choices(joint_names(model))}")
+        try:
+            x = float(value)
+        except (TypeError, ValueError):
+            raise ConfigurationError(f"joint {jname!r}: value {value!r} is not a number") from None
+        if not np.isfinite(x):
+            raise ConfigurationError(f"joint {jname!r}: value {value!r} is not finite")
+        joint = model.joints[model.getJointId(jname)]
+        if joint.nq == 1:
+            q[joint.idx_q] = x
+        elif joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
+            q[joint.idx_q : joint.idx_q + 2] = (np.cos(x), np.sin(x))
+        else:
+            raise ConfigurationError(
+                f"joint {jname!r} ({joint.shortname()}) has {joint.nq} coordinates: give the whole "
+                "configuration vector instead of a value by name"
+            )
+    return q
+
+
+def values_by_name(model: pin.Model, q: Array, quaternion_wxyz: bool = False) -> dict[str, float | list[float]]:
+    """The joint values of q by joint name: a number per one-degree joint [m or rad], a list per other joint.
+
+    A continuous joint gives its angle (from its ``(cos, sin)`` pair); a spherical or free joint its
+    coordinates, quaternions ``(x, y, z, w)`` (Pinocchio) or ``(w, x, y, z)`` (``quaternion_wxyz``:
+    MuJoCo's ``qpos`` order).
+    """
+    out: dict[str, float | list[float]] = {}
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        x = [float(v) for v in q[joint.idx_q : joint.idx_q + joint.nq]]
+        if joint.nq == 1:
+            out[model.names[j]] = x[0]
+        elif joint.nq == 2 and joint.nv == 1:
+            out[model.names[j]] = float(np.arctan2(x[1], x[0]))
+        else:
+            short = joint.shortname()
+            if quaternion_wxyz and short in ("JointModelSpherical", "JointModelFreeFlyer"):
+                x[-4:] = x[-1:] + x[-4:-1]
+            out[model.names[j]] = x
+    return out

@@ -83,25 +83,6 @@ def one_degree_indices(model: pin.Model, names: Iterable[str], owner: str) -> Ar
     return np.array(out, int)
 
 
-def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
-    """Default L [m]: root mean square of the model's non-zero link offsets.
-
-    The joint placements and the given frames' placements; it scales with the units and does not
-    depend on the configuration. Those on the fixed base (parent: the world) are positions, not
-    links: they count from their centroid, so that a rigid move of the whole mechanism leaves L as
-    it is (a base 3 m up is no 3 m link). Offsets below ``1e-12`` times the largest count as zero;
-    1 m for a model with none.
-    """
-    joints = [(model.parents[j], model.jointPlacements[j].translation) for j in range(1, model.njoints)]
-    frames = [(model.frames[f].parentJoint, model.frames[f].placement.translation) for f in dict.fromkeys(frame_ids)]
-    based = np.array([t for parent, t in joints + frames if parent == 0]).reshape(-1, 3)
-    links = [t for parent, t in joints + frames if parent != 0] + list(based - based.mean(axis=0) if len(based) else [])
-    norms = np.linalg.norm(np.array(links).reshape(-1, 3), axis=1)
-    top = float(norms.max()) if norms.size else 0.0
-    nonzero = norms[norms > 1e-12 * top] if np.isfinite(top) and top > 0 else np.zeros(0)
-    return float(np.sqrt(np.mean(nonzero**2))) if nonzero.size else 1.0
-
-
 def _columns(model: pin.Model) -> list[tuple[int, int, Array]]:
     """(idx_q, idx_v, motion subspace S (6, nv_j)) of every joint with a velocity, at the neutral configuration."""
     return _cached_columns(model, model.njoints, model.nq, model.nv)

@@ -15,23 +15,20 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, TypeVar
 
-import numpy as np
 import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError, choices, match_name
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.geometry import Geometry
 from pinmob.model.joint_values import q_from_values
-from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
+from pinmob.model.joints import check_q, frame_id, joint_names, velocity_indices
+from pinmob.model.length_scale import characteristic_length, check_length_scale
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.model.names import check_names
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
-
-#: A declared length scale's range, times the geometry's own (built-ins' answers change at 1/1000 and 10000).
-LENGTH_RANGE = (1e-2, 1e2)
 
 
 @dataclass(frozen=True)
@@ -113,7 +110,7 @@ class Mechanism:
             FrameError: a tip, platform or actuated joint does not exist.
             ConfigurationError: two limbs share a joint, a limb has no joint, there is
                 neither a limb nor a closure, or ``length_scale`` is outside
-                :data:`LENGTH_RANGE` times the geometry's own length (where round-off decides).
+                :data:`~pinmob.model.length_scale.LENGTH_RANGE` times the geometry's own length (where round-off decides).
         """
         pairs = list(limbs.items()) if isinstance(limbs, Mapping) else list(limbs)
         if not pairs and not closures:
@@ -164,16 +161,7 @@ class Mechanism:
         if platform:
             frame_id(model, platform)
         frames = [b.tip_id for b in built] + [i for c in closures for i in (c.frame_a_id, c.frame_b_id)]
-        own = characteristic_length(model, frames)
-        scale = float(length_scale) if length_scale else own
-        if not np.isfinite(scale) or scale <= 0:
-            raise ConfigurationError(f"length_scale must be a positive number of metres, got {length_scale!r}")
-        if not LENGTH_RANGE[0] * own <= scale <= LENGTH_RANGE[1] * own:  # else round-off decides the ranks
-            raise ConfigurationError(
-                f"length_scale {scale:g} m is outside [{LENGTH_RANGE[0] * own:.3g}, {LENGTH_RANGE[1] * own:.3g}] m "
-                f"(1/100 to 100 times the mechanism's own size, {own:.3g} m): ranks would be decided by round-off; "
-                "give a length in that range, or none"
-            )
+        scale = check_length_scale(length_scale, characteristic_length(model, frames))
         if generic_rank is not None and (
             not isinstance(generic_rank, int) or isinstance(generic_rank, bool) or not 0 <= generic_rank <= 6
         ):

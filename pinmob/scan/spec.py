@@ -31,6 +31,7 @@ from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.named import closed_configuration
+from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
@@ -213,6 +214,7 @@ def path_spec(
     require_platform(mech, "pinmob scan")
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
+    check_bound("samples", samples, "the path (--samples)")
     pa, qa = resolve_pose(mech, start)
     pb, qb = resolve_pose(mech, end)
     if qa.size == 0:
@@ -240,6 +242,7 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
         if n < 1 or not (np.isfinite(lo) and np.isfinite(hi)):
             raise ConfigurationError(f"grid axis {name}: need finite bounds and at least 1 sample, got {lo}, {hi}, {n}")
         out.append((POSE_COORDS.index(name), float(lo), float(hi), int(n)))
+    check_bound("samples", out[0][3] * out[1][3], f"the grid ({out[0][3]} x {out[1][3]})")
     pose, q = resolve_pose(mech, at)
     if q.size == 0:
         q = assemble_pose(mech, pose, _nearest_seed(mech, pose))

@@ -185,6 +185,20 @@ def test_a_model_over_the_joint_bound_is_refused_before_pinocchio_builds_its_dat
     assert out.returncode == 0, out.stderr
 
 
+def test_an_mjcf_over_the_joint_bound_is_refused_before_pinocchio_builds_its_data(tmp_path: Path) -> None:
+    """300 two-hinge chains pinned to the world (600 joints: 87 s and 20 GB before the bound held for MJCF)."""
+    chains = "".join(
+        f'<body name="a{i}" pos="{i} 0 0"><joint name="ja{i}"/><geom size="0.01"/>'
+        f'<body name="b{i}" pos="0 1 0"><joint name="jb{i}"/><geom size="0.01"/></body></body>'
+        for i in range(300)
+    )
+    pins = "".join(f'<connect body1="b{i}" body2="world" anchor="0 0 0"/>' for i in range(300))
+    path = tmp_path / "wide.xml"
+    path.write_text(f"<mujoco><worldbody>{chains}</worldbody><equality>{pins}</equality></mujoco>")
+    out, _ = run("analyze", str(path))
+    one_line_error(out, "wide.xml", "600 joints, over the bound of 200", "PINMOB_MAX_JOINTS")
+
+
 OPTIONS = {
     "path samples": (["scan", "3-PUU", "-n", "100000000"], "100,000,000 samples", "PINMOB_MAX_SAMPLES"),
     "grid samples": (

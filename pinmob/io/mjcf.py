@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from pinmob.bounds import check_bound
 from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.mjcf_tree import Tree, build_tree, name_of, qpos_to_q, se3, unique
 from pinmob.io.schema import errors_at, file_error
@@ -184,6 +185,7 @@ def load_mjcf(path: str | Path) -> Mechanism:
     """
     path = Path(path)
     m = compile_mjcf(path)
+    check_bound("joints", int(m.njnt), f"mjcf {str(path)!r}")  # before anything builds a Pinocchio Data
     kinds = [_kind(m, e) for e in range(m.neq)]
     unsupported = sorted({k for k in kinds if k not in SUPPORTED})
     if unsupported:

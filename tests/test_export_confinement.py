@@ -24,7 +24,7 @@ import pytest
 import pinmob
 from pinmob import viewer
 
-MODELS = Path(pinmob.__file__).resolve().parent.parent / "models"
+MODELS = Path(pinmob.io.builtin_dir())  # the built-in models, installed or in the checkout
 SECRET = b"TOPSECRET-not-for-the-page-0123456789"
 TRIANGLE = "v 0 0 0\nv 0.01 0 0\nv 0 0.01 0\nf 1 2 3\n"
 

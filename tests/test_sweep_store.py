@@ -273,3 +273,24 @@ def test_the_number_of_designs_is_bounded(tmp_path, capsys):
     lhs = lhs.replace(", 1500]", "]").replace(", 1000]", "]")
     (tmp_path / "lhs.toml").write_text(lhs)
     _one_line(capsys, ["sweep", str(tmp_path / "lhs.toml")], "5,000,000 designs", "max_designs")
+
+
+def test_the_code_digest_is_the_same_installed_and_in_the_checkout(tmp_path):
+    """An installed pinmob holds the built-in models' folder (with its __init__.py) inside the package; the
+    checkout has it beside: the digest of the code, which a resumed sweep must match, is the same for both (a
+    sweep run by ``python -m pinmob`` in the checkout resumes the file of the installed ``pinmob``), and it
+    still changes when a source file does."""
+    import shutil
+
+    from pinmob.sweeps.spec import package_digest
+
+    checkout = tmp_path / "checkout" / "pinmob"
+    shutil.copytree(Path(pinmob.__file__).resolve().parent, checkout, ignore=shutil.ignore_patterns("models"))
+    installed = tmp_path / "installed" / "pinmob"
+    shutil.copytree(checkout, installed)
+    (installed / "models").mkdir()
+    (installed / "models" / "__init__.py").write_text('"""The built-in models."""\n')
+    (installed / "models" / "3puu.toml").write_text('name = "3-PUU"\n')
+    assert package_digest(installed) == package_digest(checkout)
+    (checkout / "sweeps" / "spec.py").write_text((checkout / "sweeps" / "spec.py").read_text() + "\n# changed\n")
+    assert package_digest(installed) != package_digest(checkout)

@@ -40,11 +40,21 @@ def pinmob_version() -> str:
 
 @functools.cache
 def code_digest() -> str:
-    """The installed pinmob's version and a digest of its Python source files (computed once per process)."""
-    root = Path(__file__).resolve().parent.parent
+    """This pinmob's version and a digest of its Python source files (computed once per process)."""
+    return package_digest(Path(__file__).resolve().parent.parent)
+
+
+def package_digest(root: Path) -> str:
+    """The pinmob version and a digest of the Python source files of the package folder ``root``.
+
+    The built-in models' folder (``pinmob/models`` once installed, ``models/`` beside the package in a checkout)
+    is data, not code, and is left out: an installed pinmob and the checkout it came from have the same digest.
+    """
     digest = hashlib.sha256(pinmob_version().encode())
     for path in sorted(root.rglob("*.py")):
-        digest.update(path.relative_to(root).as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
+        relative = path.relative_to(root)
+        if relative.parts[0] != "models":
+            digest.update(relative.as_posix().encode() + b"\0" + path.read_bytes() + b"\0")
     return digest.hexdigest()[:20]
 
 

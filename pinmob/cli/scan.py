@@ -155,7 +155,8 @@ def _count_key(row: dict[str, Any]) -> str:
 def _format_chain_row(row: dict[str, Any]) -> str:
     """One listed row of a closed chain's joint path: where, class, DoF, motions left with the actuators locked."""
     where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
-    values = ", ".join(f"{k[2:]} = {row[k]:.6g}" for k in row if k.startswith("q_"))
+    names = [k for k in row if k.startswith("q_")]
+    values = ", ".join(f"{k[2:]} = {row[k]:.6g}" for k in names[:6]) + (", ..." if len(names) > 6 else "")
     label = row["singularity"] if row["singularity"] != "none" else f"near-singular ({row['closest']})"
     left = f", locked: {row['locked_dof']} motion(s) left ({row['uncontrolled']})" if row["uncontrolled"] else ""
     return (f"{where} (s = {round(row['s'], 12):.6g}; {values}): {label}; mechanism DoF {row['dof']}, "

@@ -50,15 +50,30 @@ from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
 SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
-#: The whole-mechanism columns of a joint path's rows, after ``index``, ``s``, ``refined`` and the actuated values.
+#: The whole-mechanism columns of a joint path's rows, after ``index``, ``s``, ``refined`` and the joint values.
 CHAIN_COLUMNS = ["reachable", "reason", "dof", "closure_rank", "closure_rows", "redundant_constraints", "idle_dof",
                  "locked_dof", "redundant_actuators", "actuation_valid", "singularity", "near_singular", "closest",
                  "uncontrolled", "distance", *SV_COLUMNS]  # fmt: skip
 
 
-def value_columns(actuated: tuple[str, ...] | list[str]) -> list[str]:
-    """The columns of the actuated joints' values [rad or m]: ``q_<name>``."""
-    return [f"q_{name}" for name in actuated]
+def value_columns(joints: tuple[str, ...] | list[str]) -> list[str]:
+    """The columns of joint values [rad or m, MuJoCo's ``qpos`` for MJCF files]: ``q_<name>``."""
+    return [f"q_{name}" for name in joints]
+
+
+def value_joints(mech: Mechanism) -> tuple[str, ...]:
+    """The joints whose values a closed chain's rows give: the actuated ones, then every other one-coordinate joint."""
+    model = mech.model
+    single = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nq == 1]
+    return tuple(mech.actuated) + tuple(n for n in single if n not in mech.actuated)
+
+
+def joint_row(mech: Mechanism, joints: tuple[str, ...], q: Array | None) -> dict[str, float]:
+    """``{q_<name>: value}`` of one-coordinate joints at q (NaN when q is None: not assembled)."""
+    model = mech.model
+    if q is None:
+        return dict.fromkeys(value_columns(joints), float("nan"))
+    return {f"q_{n}": float(q[model.joints[model.getJointId(n)].idx_q]) for n in joints}
 
 
 def check_actuated(mech: Mechanism) -> tuple[str, ...]:

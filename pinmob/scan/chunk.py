@@ -21,7 +21,7 @@ from pinmob.assembly.assemble import assemble_joints, assemble_pose
 from pinmob.exceptions import PinmobError
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain import evaluate_chain, unreachable_chain, value_columns
+from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, v_vertex
 from pinmob.scan.spec import POSE_COORDS, ScanSpec, pose_vector
 from pinmob.screw.algebra import Array
@@ -116,7 +116,8 @@ class _Chunk:
     def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER) -> _Sample:
         target = self.spec.target(t)
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
-        if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain), at the actuated values
+        if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain): joint values, the actuated ones known
+            head.update(joint_row(self.mech, self.spec.values, None))
             head.update(zip(value_columns(self.spec.joints), target[1].values()))
         try:
             q = assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol)
@@ -125,6 +126,7 @@ class _Chunk:
                 return _Sample(head | unreachable_chain(str(exc)), None, {})
             return _Sample(head | _unreachable(pose_vector(target[1]) if target[0] == "pose" else None), None, {})
         if not self.spec.platform:
+            head.update(joint_row(self.mech, self.spec.values, q))
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
             row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)

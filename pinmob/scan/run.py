@@ -172,7 +172,7 @@ def columns(spec: ScanSpec) -> list[str]:
     params = list(spec.params(0))
     finite = list(FINITE_COLUMNS) if spec.finite_order is not None else []
     if not spec.platform:
-        return ["index", *params, "refined", *value_columns(spec.joints), *CHAIN_COLUMNS, *finite]
+        return ["index", *params, "refined", *value_columns(spec.values), *CHAIN_COLUMNS, *finite]
     return ["index", *params, "refined", *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank",
             "locked_dof", "singularity", "near_singular", "closest", "singular_limbs", "dependent_limbs",
             "uncontrolled", "distance", *SV_COLUMNS, *finite]  # fmt: skip

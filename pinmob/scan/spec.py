@@ -37,7 +37,7 @@ from pinmob.assembly.named import closed_configuration
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain import check_actuated, generic_closure_rank, path_end
+from pinmob.scan.chain import check_actuated, generic_closure_rank, path_end, value_joints
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -86,6 +86,7 @@ class ScanSpec:
         platform: rows about the platform (else about the whole closed chain, :mod:`pinmob.scan.chain`; then
             ``generic_rank`` is the generic closure rank).
         closure_tol: largest closure residual of an assembled sample (position / L, rotation [rad]).
+        values: the joints whose values the rows give (a closed chain's, :func:`pinmob.scan.chain.value_joints`).
     """
 
     kind: str
@@ -101,6 +102,7 @@ class ScanSpec:
     finite_order: int | None = None
     platform: bool = True
     closure_tol: float = CLOSURE_TOL
+    values: tuple[str, ...] = ()
 
     @property
     def size(self) -> int:
@@ -223,9 +225,7 @@ def path_spec(
     else a path in platform poses.
 
     Raises:
-        ConfigurationError: fewer than 2 samples, a joint path without actuated joints, an end that is none of these.
-        FrameError: a joint that does not exist.
-        ClosureError: an end that does not close.
+        PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end.
     """
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
@@ -240,7 +240,8 @@ def path_spec(
         )
         idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in acts]
         return ScanSpec("joints", qa, qa[idx], qb[idx], samples, acts, rtol=rtol, generic_rank=g,
-                        platform=mech.has_platform, closure_tol=closure_tol)  # fmt: skip
+                        platform=mech.has_platform, closure_tol=closure_tol,
+                        values=() if mech.has_platform else value_joints(mech))  # fmt: skip
     pa, qa = resolve_pose(mech, start)
     pb, qb = resolve_pose(mech, end)
     if qa.size == 0:

@@ -84,7 +84,7 @@ def _run(args: argparse.Namespace) -> int:
                 if not row["refined"]:
                     counts[_count_key(row) if row["reachable"] else "unreachable"] += 1
                     if spec.finite_order is not None and row["reachable"]:
-                        dof = row["finite_dof"]
+                        dof = row["finite_dof" if spec.platform else "finite_mechanism_dof"]
                         finite["cannot decide" if dof is None else f"{dof} DoF"] += 1
                 if kind != "regular" and len(listed) < 20:
                     listed.append(row)
@@ -98,7 +98,7 @@ def _run(args: argparse.Namespace) -> int:
         for key, k in sorted(counts.items()):
             print(f"  {k:5d} x {key}")
         if finite:
-            print("finite DoF of the platform at the assembled samples: "
+            print(f"finite DoF of the {'platform' if spec.platform else 'mechanism'} at the assembled samples: "
                   + ", ".join(f"{k} x {key}" for key, k in sorted(finite.items())))  # fmt: skip
         print(f"singular samples: {tally['singular']}; near-singular samples (distance < {band:.0e}): "
               f"{tally['near-singular']}; refined singular points: {tally['refined']}")  # fmt: skip
@@ -159,6 +159,9 @@ def _format_chain_row(row: dict[str, Any]) -> str:
     values = ", ".join(f"{k[2:]} = {row[k]:.6g}" for k in names[:6]) + (", ..." if len(names) > 6 else "")
     label = row["singularity"] if row["singularity"] != "none" else f"near-singular ({row['closest']})"
     left = f", locked: {row['locked_dof']} motion(s) left ({row['uncontrolled']})" if row["uncontrolled"] else ""
+    if "finite_mechanism_dof" in row:  # --finite
+        dof = row["finite_mechanism_dof"]
+        left += f", finite mechanism DoF {'cannot decide' if dof is None else dof}"
     return (f"{where} (s = {round(row['s'], 12):.6g}; {values}): {label}; mechanism DoF {row['dof']}, "
             f"closure rank {row['closure_rank']}{left}, distance {row['distance']:.2e}")  # fmt: skip
 

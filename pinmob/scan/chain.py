@@ -105,7 +105,7 @@ def path_end(mech: Mechanism, text: str, seed: Array | None = None, closure_tol:
         if not any(text.casefold() == n.casefold() for n in mech.configurations):
             pose = "" if mech.has_platform else f" (a platform pose needs a platform frame; {mech.name!r} has none)"
             raise ConfigurationError(
-                f"{text!r} is neither a configuration of {mech.name!r} ({choices(mech.configurations)}) "
+                f"{text!r} is neither a configuration of {mech.name!r} ({choices(mech.configurations) if mech.configurations else 'it has none'}) "
                 f"nor joint values name=value,... [rad or m] of a joint path{pose}"
             )
         return closed_configuration(mech, text, closure_tol)

@@ -164,6 +164,9 @@ def test_cli_scan_of_mjcf_and_bare_urdf(files, capsys):
     ends = ["--from", "a1=0.9,a2=2.2", "--to", "a1=1,a2=2.1", "-n", "3"]
     assert main(["scan", urdf, "--actuated", "a1,a2", *ends]) == 0
     assert "3 x mechanism DoF 2, closure rank 2, 0 idle, actuation valid" in capsys.readouterr().out
+    # --finite: the five-bar moves in 2 DoF at finite amplitude everywhere, the aligned pose included (by hand)
+    assert main(["scan", str(files / "fivebar.xml"), *args[:4], "-n", "3", "--finite", "--no-progress"]) == 0
+    assert "finite DoF of the mechanism at the assembled samples: 3 x 2 DoF" in capsys.readouterr().out
 
 
 @pytest.mark.parametrize(
@@ -198,3 +201,20 @@ def test_workers_give_the_same_rows(files, dask_cluster):
             k: v for k, v in b.items() if isinstance(v, (str, bool, int))
         }
         np.testing.assert_allclose([a["distance"], a["q_p1"]], [b["distance"], b["q_p1"]], atol=1e-9)
+
+
+def test_platform_joint_path_from_joint_values_is_the_joints_flag_path(capsys):
+    """On a platform mechanism, joint values in --from/--to give the path that --joints gives between the
+    named configurations holding those values (the flag still works)."""
+    mech = pinmob.load("3-PUU-flat")
+    q = pinmob.closed_configuration(mech, "flat-raised")
+    model = mech.model
+    values = ",".join(f"{n}={float(q[model.joints[model.getJointId(n)].idx_q])!r}" for n in mech.actuated)
+    by_flag = path_spec(mech, "flat", "flat-raised", 5, joints=True)
+    by_values = path_spec(mech, "flat", values, 5)
+    assert by_values.kind == by_flag.kind == "joints" and by_values.platform
+    np.testing.assert_allclose(by_values.b, by_flag.b, atol=0)
+    rows = list(scan(mech, by_values, progress=False))
+    assert [r["z"] for r in rows] == pytest.approx([0.0, 0.025, 0.05, 0.075, 0.1], abs=1e-9)
+    assert main(["scan", "3-PUU-flat", "--from", "flat", "--to", values, "-n", "3", "--no-progress"]) == 0
+    assert "actuated-joint path" in capsys.readouterr().out

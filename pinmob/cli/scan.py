@@ -58,15 +58,16 @@ def _run(args: argparse.Namespace) -> int:
             raise ConfigurationError(f"{mech.name!r} has fewer than two configurations; give --from and --to")
         samples = 21 if args.samples is None else args.samples
         spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol, closure_tol=closure_tol)
-        joints = f" ({', '.join(spec.joints)})" if spec.kind == "joints" else ""
+        joints = "" if spec.platform else f" ({', '.join(spec.joints)})"  # a closed chain's actuated joints
         what = f"{'actuated-joint' if spec.kind == 'joints' else 'pose'} path{joints} {start!r} -> {end!r}, {samples} samples"
     if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
         spec = with_finite(mech, spec, args.finite_order)
         what += f", finite DoF per sample (order bound {spec.finite_order})"
     band = NEAR_FACTOR * rtol
     generic = "generic constraint rank" if spec.platform else "generic closure rank"
-    meta = {"mechanism": mech.name, "scan": what, "generic_rank" if spec.platform else "generic_closure_rank": spec.generic_rank, "rtol": rtol,
-            "near_singular_band": band, "length_scale": mech.length_scale}  # fmt: skip
+    key = "generic_rank" if spec.platform else "generic_closure_rank"
+    meta = {"mechanism": mech.name, "scan": what, key: spec.generic_rank, "rtol": rtol, "near_singular_band": band,
+            "length_scale": mech.length_scale}  # fmt: skip
     counts: Counter[str] = Counter()
     tally: Counter[str] = Counter()
     finite: Counter[str] = Counter()

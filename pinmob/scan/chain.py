@@ -103,9 +103,10 @@ def path_end(mech: Mechanism, text: str, seed: Array | None = None, closure_tol:
     """
     if "=" not in text:
         if not any(text.casefold() == n.casefold() for n in mech.configurations):
+            names = choices(mech.configurations) if mech.configurations else "it has none"
             pose = "" if mech.has_platform else f" (a platform pose needs a platform frame; {mech.name!r} has none)"
             raise ConfigurationError(
-                f"{text!r} is neither a configuration of {mech.name!r} ({choices(mech.configurations) if mech.configurations else 'it has none'}) "
+                f"{text!r} is neither a configuration of {mech.name!r} ({names}) "
                 f"nor joint values name=value,... [rad or m] of a joint path{pose}"
             )
         return closed_configuration(mech, text, closure_tol)

@@ -63,9 +63,12 @@ def test_vertical_translation_of_flat_3puu_keeps_links_horizontal(flat):
         check_closed(flat, qk, 1e-6)
         z = platform_pose(flat, qk).translation[2]
         # each limb is serially singular here: a slider offset d moves its tip by only
-        # d^2 / (2 (R - r)) along the link, so closing to 1e-6 L fixes the sliders to ~1e-5 m
-        assert_allclose(qk[idx], [z, z, z], atol=2e-5)
-    assert_allclose(platform_pose(flat, path.forward[-1]).translation, [0, 0, 0.03], atol=1e-9)
+        # d^2 / (2 (R - r)) along the link, so closing to 1e-6 L fixes the sliders to
+        # sqrt(2 (R - r) 1e-6 L) = 2.5e-4 m (the follower's route lands 1e-5 to 4e-5 m off,
+        # depending on how near-singular limb screws are weighed: 2e-5 held by luck before issue 14)
+        assert_allclose(qk[idx], [z, z, z], atol=np.sqrt(2 * 0.15 * 1e-6 * flat.length_scale))
+    # the last pose within the closure tolerance 1e-6 L of the target (1.2e-9 m off once slider rates are per L)
+    assert_allclose(platform_pose(flat, path.forward[-1]).translation, [0, 0, 0.03], atol=1e-6 * flat.length_scale)
 
 
 def test_rotation_of_flat_3puu_is_only_instantaneous(flat):

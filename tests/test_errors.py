@@ -127,6 +127,26 @@ def test_non_finite_numbers_in_the_file(tmp_path: Path, value: str) -> None:
             pinmob.load(path)
 
 
+@pytest.mark.parametrize("value", ["1e300", "1e-300", "1e-4", "100.0"])
+def test_length_scale_where_round_off_decides_is_refused(tmp_path: Path, value: str) -> None:
+    """length_scale = 1e300 gave 'rigid' (issue 14): a declared L must lie within 1/100..100 times the geometry's own.
+
+    The range is stated in metres: 1/100 and 100 times the L computed without the declaration.
+    """
+    path = write_mechanism(tmp_path, f"length_scale = {value}\n" + GOOD)
+    out = subprocess.run(
+        [sys.executable, "-m", "pinmob", "analyze", str(path)], capture_output=True, text=True, timeout=120
+    )
+    assert out.returncode == 2 and out.stderr.count("\n") == 1 and "Traceback" not in out.stderr, out.stderr
+    own = pinmob.load(write_mechanism(tmp_path, GOOD)).length_scale
+    assert f"length_scale {float(value):g} m is outside [{own / 100:.3g}, {own * 100:.3g}] m" in out.stderr, out.stderr
+
+
+def test_length_scale_inside_the_range_is_used(tmp_path: Path) -> None:
+    mech = pinmob.load(write_mechanism(tmp_path, "length_scale = 0.003\n" + GOOD))
+    assert mech.length_scale == 0.003
+
+
 def test_duplicate_limb_names(tmp_path: Path) -> None:
     path = write_mechanism(tmp_path, GOOD.replace('name = "B"', 'name = "A"'))
     with pytest.raises(pinmob.MechanismFileError, match=r"mech.toml: limbs\[1\].name: duplicate limb name 'A'"):
@@ -263,19 +283,22 @@ def test_pose_out_of_reach_is_a_closure_error_with_residuals(tmp_path: Path) -> 
     assert res["pose"][0] >= 0.30 - 1e-9
 
 
-@pytest.mark.parametrize("rtol", [0, -1e-6, 1.0, 2.0, float("nan"), float("inf"), True, "1e-6"])
+@pytest.mark.parametrize("rtol", [0, -1e-6, 1.0, 2.0, float("nan"), float("inf"), True, "1e-6", 1e-16, 1e-300, 9e-11])
 def test_rtol_is_checked_everywhere(puu: pinmob.Mechanism, rtol: object) -> None:
-    """rtol = 0 used to raise numpy's ValueError, nan gave 'rigid' and -1 gave '3H': now one clear error."""
+    """rtol = 0 used to raise numpy's ValueError, nan gave 'rigid' and -1 gave '3H': now one clear error.
+
+    Below 1e-10 round-off decides (issue 14: 1e-16 turned 3-PUU-flat into 1H, 1e-300 gave pitches of 1e16 m/rad).
+    """
     q = pinmob.closed_configuration(puu, "generic")
     for call in (pinmob.analyze, pinmob.paper_view, pinmob.closure_jacobian_twists):
-        with pytest.raises(pinmob.ConfigurationError, match=r"rtol must be .*number in \(0, 1\)"):
+        with pytest.raises(pinmob.ConfigurationError, match=r"rtol must be .*number in \[1e-10, 1\)"):
             call(puu, q, rtol=rtol)  # type: ignore[operator]
 
 
 def test_cli_rejects_bad_rtol(capsys: pytest.CaptureFixture[str]) -> None:
     assert main(["analyze", "3-PUU", "--rtol", "nan"]) == 2
     err = capsys.readouterr().err
-    assert err.startswith("pinmob: error: --rtol must be a finite number in (0, 1)") and err.count("\n") == 1
+    assert err.startswith("pinmob: error: --rtol must be a finite number in [1e-10, 1)") and err.count("\n") == 1
 
 
 def test_paper_view_and_second_method_check_closure(puu_flat: pinmob.Mechanism) -> None:

@@ -9,7 +9,15 @@ PACKAGE = Path(__file__).resolve().parent.parent / "pinmob"
 
 #: The layers, bottom first: a module may import only from its own layer or those below.
 LAYERS = [
-    {"pinmob.exceptions", "pinmob.frozen", "pinmob.jit_cache", "pinmob.blas", "pinmob.signals", "pinmob.progress"},
+    {
+        "pinmob.exceptions",
+        "pinmob.frozen",
+        "pinmob.jit_cache",
+        "pinmob.blas",
+        "pinmob.signals",
+        "pinmob.progress",
+        "pinmob.bounds",
+    },
     {"pinmob.screw"},
     {"pinmob.model"},
     {"pinmob.assembly", "pinmob.io"},

@@ -427,3 +427,40 @@ def test_panel_document_of_the_spherical_wrist(tmp_path):
     for r in rows.values():
         assert len(r["notes"]) == len(r["why"]) and all(note in " ".join(scene.notes) for note in r["notes"])
         assert r["point"] is not None and abs(np.cross(r["point"], r["direction"])).max() < 1e-9  # through O
+
+
+def test_sigkill_of_show_stops_the_server_it_started():
+    """SIGKILL cannot be handled: the server notices that its parent is gone (issue 14) and ends within seconds;
+    with --detach it is meant to outlive pinmob and does."""
+    import os
+    import signal
+
+    for detach in (False, True):
+        proc = subprocess.Popen(
+            [*PINMOB, "show", "3-PUU", "--port", str(_free_port()), *(["--detach"] if detach else [])],
+            stdout=subprocess.PIPE,
+        )
+        servers: list[int] = []
+        try:
+            out = _read_until(proc, rb"meshcat server (keeps running \()?pid \d+")
+            servers = [int(x) for x in __import__("re").findall(rb"pid (\d+)", out)[:1]]
+            assert servers and Path(f"/proc/{servers[0]}").exists()
+            proc.kill()
+            proc.wait()
+            deadline = time.monotonic() + 10
+            while Path(f"/proc/{servers[0]}").exists() and time.monotonic() < deadline:
+                time.sleep(0.1)
+                try:
+                    os.waitpid(servers[0], os.WNOHANG)  # reaped here if it was re-parented to this test
+                except ChildProcessError:
+                    pass
+            alive = (
+                Path(f"/proc/{servers[0]}").exists() and "zombie" not in Path(f"/proc/{servers[0]}/status").read_text()
+            )
+            assert alive == detach, "the meshcat server was left running" if alive else "the detached server stopped"
+        finally:
+            for pid in servers:
+                try:
+                    os.kill(pid, signal.SIGKILL)
+                except ProcessLookupError:
+                    pass

@@ -222,7 +222,7 @@ def actuator_sets(
         )
     chain = closed_chain(conf, rtol)
     n = chain.null
-    rates = selector(model.nv, joint_velocity_indices(mech, names), chain.col) @ n  # (len(names), m)
+    rates = selector(model.nv, joint_velocity_indices(mech, names)) @ n  # (len(names), m)
     out = output_rows(conf, outputs) @ n
     valid = []
     with step(f"trying every set of {size} actuated joints of {mech.name}", total=count) as bar:

@@ -7,7 +7,8 @@ values above ``rtol`` times the largest count). Pinocchio runs once per
 configuration (``computeJointJacobians`` and the platform frame's placement);
 then, per configuration:
 
-* ``A_i = D_t T_i`` (6, n_i), limb i's joint screws made dimensionless; the rank
+* ``A_i = D_t T_i`` (6, n_i), limb i's joint screws per dimensionless rate (prismatic
+  columns times L) made dimensionless; the rank
   of ``A_i^T`` is the limb's twist rank and its null space the limb's constraint
   wrenches ``W_i``; stacked for all limbs, ``C = [W_1, ..., W_k]^T`` has the rank
   d of the constraint space: ``dof = 6 - d``;
@@ -32,7 +33,7 @@ from numpy.typing import NDArray
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
-from pinmob.analysis.limbs import column_joints, limb_decisions, limb_screws_at, limb_twists, unit_columns
+from pinmob.analysis.limbs import column_joints, limb_decisions, limb_screws_at, limb_twists, rate_scale, unit_columns
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import ratio
 from pinmob.analysis.singularity_analysis import require_platform, singularity_from_twists
@@ -99,7 +100,8 @@ def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
     """Joint screws of every limb at every configuration: a list of k arrays (N, 6, n_i).
 
     :func:`pinmob.analysis.limbs.limb_screws_at` on the world screws of
-    :func:`world_jacobians`, as for one configuration.
+    :func:`world_jacobians` per dimensionless rate (times :func:`~pinmob.analysis.limbs.rate_scale`), as for one
+    configuration.
     """
     return [limb_screws_at(full, origin, limb.v_indices) for limb in mech.limbs]
 
@@ -162,6 +164,7 @@ def analyze_batch(
     if any(limb.closures for limb in mech.limbs):
         return _per_configuration(mech, qs, rtol, singular_values)
     full, origin = world_jacobians(mech, qs)
+    full *= rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
     if engine == "numba":
         return _numba(mech, full, origin, rtol, singular_values)
     return _numpy(mech, full, origin, rtol, singular_values)

@@ -265,7 +265,7 @@ def mechanism_mobility(
     dec = chain.decision
     idx = held_indices(mech, acts)
     split = lock(
-        selector(mech.model.nv, idx, chain.col) @ chain.null,
+        selector(mech.model.nv, idx) @ chain.null,
         output_rows(conf, outs) @ chain.null,
         rtol,
         chain.null.shape[1],

@@ -21,9 +21,10 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.limbs import rate_scale
 from pinmob.assembly.residual import stacked_error
 from pinmob.blas import one_blas_thread
-from pinmob.model.joints import frame_id, linear_velocity_mask, velocity_spans
+from pinmob.model.joints import frame_id, velocity_spans
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.rank import RankDecision, decide_rank, decision, svd
@@ -84,9 +85,8 @@ def frame_rows(conf: Configuration, frame: str) -> Array:
 
 
 def closed_chain_columns(conf: Configuration) -> Array:
-    """(nv,) the column scaling to dimensionless rates: L on prismatic rates, 1 elsewhere."""
-    mech = conf.mechanism
-    return conf.memo("columns", lambda: np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0))
+    """(nv,) the column scaling to dimensionless rates: L on prismatic rates, 1 elsewhere (:func:`~pinmob.analysis.limbs.rate_scale`)."""
+    return rate_scale(conf.mechanism)
 
 
 def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
@@ -109,11 +109,16 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
     return np.vstack(rows) if rows else np.zeros((0, model.nv))
 
 
-def selector(nv: int, idx: Array, col: Array) -> Array:
-    """(len(idx), nv) rows picking the rates ``idx``, in the dimensionless coordinates."""
+def selector(nv: int, idx: Array) -> Array:
+    """(len(idx), nv) rows picking the rates ``idx``, in the dimensionless coordinates (each row a unit vector).
+
+    The closed chain's motions are dimensionless rates (prismatic rates per L): a row scaled by L
+    would weigh a slider's rate by the unit of length against the output rows (in nanometres it
+    outweighed every output and idle motions appeared; far enough the other way it would vanish).
+    """
     sel = np.zeros((len(idx), nv))
     sel[np.arange(len(idx)), idx] = 1.0
-    return sel * col
+    return sel
 
 
 @one_blas_thread

@@ -14,6 +14,7 @@ from pinmob.analysis.report import Options, Report
 from pinmob.assembly.relaxation import find_closed_relaxed, unclosable
 from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol, worst_residual
 from pinmob.assembly.seeds import find_closed
+from pinmob.bounds import check_bound
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.rank import RTOL, check_rtol
@@ -102,6 +103,7 @@ def analyze(
     finite_order = check_order(finite_order)
     if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
         raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts!r}")
+    check_bound("restarts", restarts, "the closure search (--restarts)")
     relaxed: tuple[str, ...] = ()
     if q is None and isinstance(mech, Mechanism):
         if mech.configurations:

@@ -26,7 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, wrench_blocks
+from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, rate_scale, wrench_blocks
 from pinmob.assembly.assemble import assemble_joints, project
 from pinmob.assembly.named import closed_configuration
 from pinmob.assembly.seeds import random_configuration
@@ -91,13 +91,7 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
     def compute() -> tuple[Array, ...]:
         rng = np.random.default_rng(seed)
         model = mech.model
-        unit = np.array(
-            [
-                mech.length_scale if model.joints[j].shortname().startswith("JointModelP") else 1.0
-                for j in range(1, model.njoints)
-                for _ in range(model.joints[j].nv)
-            ]
-        )
+        unit = rate_scale(mech)  # steps of 0.05 L on prismatic joints, 0.05 rad on the others
         closed = []
         with step(f"closing random configurations of {mech.name} (generic ranks)", len(mech.configurations)) as bar:
             for name in mech.configurations:

@@ -7,6 +7,13 @@ the platform origin p by ``v += w x p``: the columns of its tip frame's
 parallelogram closed by a ``3d`` closure) moves only along the joint rates that
 keep those loops closed (:func:`limb_rates`). The same function serves one
 configuration and a batch of them (:func:`limb_screws_at`).
+
+Every screw is per unit *dimensionless* rate: a prismatic joint's rate [m/s] is
+counted in L per second (its column times L, :func:`rate_scale`), a revolute's
+in rad/s. So the columns ``[v / L; w]`` that every rank decision sees are the
+same numbers whatever the unit of length (a prismatic column per metre would be
+``1 / L`` against a revolute's ``1``: in micrometres the sliders would vanish
+below the tolerance, in kilometres the revolutes).
 """
 
 from __future__ import annotations
@@ -28,6 +35,20 @@ from pinmob.screw.rank import RankDecision, decide_rank, decide_ranks
 
 #: Integer index array.
 Indices = NDArray[np.intp]
+
+
+def rate_scale(mech: Mechanism) -> Array:
+    """(nv,) per velocity component: L [m] on translations (prismatic rates), 1 on rotations (read-only, per mechanism).
+
+    A joint screw times its entry is the screw per unit dimensionless rate (see the module docstring).
+    """
+
+    def compute() -> Array:
+        out = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
+        out.flags.writeable = False
+        return out
+
+    return mech.memo("rate scale", compute)
 
 
 def limb_screws_at(world: Array, origin: Array, columns: NDArray[Any], rates: Array | None = None) -> Array:
@@ -59,7 +80,7 @@ def limb_rates(conf: Configuration, limb: Limb, rtol: float, locked: tuple[str, 
     """Joint-rate directions behind a limb's screws: velocity indices E (e,) and rates D (e, k).
 
     Without internal loops, E are the limb's velocity indices minus those of
-    the ``locked`` joints and D the identity. With internal closures, E are its
+    the ``locked`` joints and D = diag(col), one dimensionless rate per joint. With internal closures, E are its
     joints and loop joints (:attr:`Limb.screw_v_indices`) and
     ``D = diag(col) N``, N an orthonormal basis of
     ``null([K_hat[:, E]; S_locked])`` (closure rows per L, prismatic rates
@@ -71,9 +92,9 @@ def limb_rates(conf: Configuration, limb: Limb, rtol: float, locked: tuple[str, 
     held = {model.joints[model.getJointId(j)].idx_v for j in locked}
     if not limb.closures:
         idx = np.array([int(v) for v in limb.v_indices if v not in held], dtype=int)
-        return idx, np.eye(idx.size)
+        return idx, np.diag(rate_scale(mech)[idx])
     idx = limb.screw_v_indices
-    col = np.where(linear_velocity_mask(model)[idx], mech.length_scale, 1.0)
+    col = rate_scale(mech)[idx]
     loops = tuple(c for c in mech.closures if c.name in limb.closures)
     _, k = stacked_error(mech, model, conf.data, loops)
     rows = np.vstack([k[:, idx] * col, np.eye(idx.size)[[i for i, v in enumerate(idx) if v in held]]])
@@ -88,7 +109,7 @@ def limb_screws(
     locked: tuple[str, ...] = (),
     world: Array | None = None,
 ) -> Array:
-    """A limb's joint screws at ``point`` [m], (6, k): per joint rate, or per loop-closing rate (:func:`limb_rates`).
+    """A limb's joint screws at ``point`` [m], (6, k): per dimensionless joint rate, or loop-closing rate (:func:`limb_rates`).
 
     Only the joints that support the tip move it: a loop joint (e.g. a parallelogram's second rod) acts
     through the rates that keep the loops closed, not through a screw of its own.
@@ -96,13 +117,13 @@ def limb_screws(
     world = conf.world_jacobian if world is None else world
     idx, rates = limb_rates(conf, limb, rtol, locked)
     if not limb.closures:
-        return limb_screws_at(world, point, idx)
+        return limb_screws_at(world, point, idx) * rate_scale(conf.mechanism)[idx]
     own = limb.v_indices.size  # the rates' first rows are the limb's own joints (Limb.screw_v_indices)
     return limb_screws_at(world, point, limb.v_indices, rates[:own])
 
 
 def limb_twists(conf: Configuration, rtol: float, lock_actuated: bool = False) -> tuple[Array, ...]:
-    """Joint screws of each limb, (6, n_i) each, at the platform origin, world axes (cached per configuration).
+    """Joint screws of each limb, (6, n_i) each, per unit dimensionless rate, at the platform origin, world axes.
 
     Each limb's world Jacobian columns carried to the platform origin
     (:func:`limb_screws_at`), restricted to the rates that keep its internal
@@ -110,14 +131,14 @@ def limb_twists(conf: Configuration, rtol: float, lock_actuated: bool = False) -
     actuated joints still. Limbs with loops give screws per unit
     dimensionless rate. The limbs without loops are carried in one call (the
     screws are computed column by column: the same as one limb at a time), and
-    their locked screws are the columns of the unlocked ones.
+    their locked screws are the columns of the unlocked ones. Cached per configuration.
     """
 
     def compute() -> tuple[Array, ...]:
         mech = conf.mechanism
         world, origin = conf.world_jacobian, conf.platform_origin
         columns, bounds, kept = open_limb_columns(mech)
-        every = limb_screws_at(world, origin, columns)
+        every = limb_screws_at(world, origin, columns) * rate_scale(mech)[columns]
         every.flags.writeable = False
         out = []
         for limb, (start, stop), keep in zip(mech.limbs, bounds, kept):

@@ -50,6 +50,7 @@ from pinmob.analysis.displacement import Displacement, measure_displacement
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
+from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
@@ -63,6 +64,9 @@ TRANSLATION_AMPLITUDE = 0.2
 ROTATION_AMPLITUDE = 0.35
 #: default largest angle [rad] between a step's platform displacement and the intended motion (W metric)
 MAX_DEVIATION = 0.05
+#: Largest step [L for translations, rad otherwise]: a larger one, halved MAX_HALVINGS times, could still
+#: miss a real motion (21 m in 2 steps made the 3-PUU's translations "only instantaneous")
+MAX_STEP = 0.5
 
 __all__ = ["MAX_DEVIATION", "MAX_HALVINGS", "MIN_PROGRESS", "MIN_SHARE", "MotionPath", "follow_motion", "follow_rates"]
 
@@ -165,6 +169,7 @@ def follow_motion(
     """
     if steps < 1:
         raise ConfigurationError(f"steps must be at least 1, got {steps}")
+    check_bound("steps", steps, "the animation (--steps)")
     amp = default_amplitude(motion, mech.length_scale) if amplitude is None else float(amplitude)
     if not np.isfinite(amp) or amp <= 0:
         raise ConfigurationError(
@@ -172,11 +177,18 @@ def follow_motion(
         )
     if not np.isfinite(max_deviation) or max_deviation <= 0:
         raise ConfigurationError(f"max_deviation must be a positive angle [rad], got {max_deviation!r}")
+    unit_name = "m" if motion.kind is MotionKind.TRANSLATION else "rad"
+    limit = MAX_STEP * (mech.length_scale if motion.kind is MotionKind.TRANSLATION else 1.0)
+    if amp / steps > limit:  # halved MAX_HALVINGS times, such a step could call a real motion instantaneous
+        raise ConfigurationError(
+            f"amplitude {amp:g} {unit_name} in {steps} steps makes steps of {amp / steps:.3g} {unit_name}, over "
+            f"{limit:.3g} {unit_name} ({MAX_STEP:g} L for translations, {MAX_STEP:g} rad otherwise); lower the "
+            f"amplitude or use at least {min(np.ceil(amp / limit), 1e18):.0f} steps"
+        )
     q = mech.check_q(q)
     check_closed(mech, q, closure_tol, what="the configuration to animate")
     unit = motion.twist / np.linalg.norm(motion.twist[_measure(motion)])
     follower = Follower(mech, motion, rtol, closure_tol, max_deviation, halvings)
-    unit_name = "m" if motion.kind is MotionKind.TRANSLATION else "rad"
     return _both_ways(follower, q, unit, unit, amp, steps, motion.label, unit_name)
 
 

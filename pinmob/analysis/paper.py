@@ -18,7 +18,7 @@ import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
-from pinmob.analysis.limbs import limb_twists, limb_wrenches
+from pinmob.analysis.limbs import limb_twists, limb_wrenches, rate_scale
 from pinmob.analysis.mobility import Mobility, mobility_from_wrenches
 from pinmob.analysis.motion import View
 from pinmob.assembly.named import closed_configuration
@@ -88,7 +88,7 @@ def paper_mobility(
             (None or an empty mapping): the named configuration's declared
             ``approach``, else the direction from q toward the mechanism's
             ``generic`` configuration (``pin.difference(model, q, q_generic)``).
-        eps: step along the approach direction (the direction is normalised).
+        eps: step along the approach direction (the direction is normalised in dimensionless rates: slides per L).
 
     Raises:
         ConfigurationError: the approach direction is invalid, or none is available where one is needed.
@@ -112,7 +112,7 @@ def paper_mobility(
     if approach is None and configuration != GENERIC and GENERIC in mech.configurations:
         approach = pin.difference(model, q, closed_configuration(mech, GENERIC, conf.closure_tol))
     dv = np.zeros(0) if approach is None else _direction(mech, approach)
-    norm = float(np.linalg.norm(dv)) if dv.size else 0.0
+    norm = float(np.linalg.norm(dv / rate_scale(mech))) if dv.size else 0.0  # dimensionless: slides per L
     if given and norm == 0.0:
         raise ConfigurationError("the approach direction is zero; give a non-zero joint-space direction")
     if norm == 0.0:

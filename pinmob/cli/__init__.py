@@ -105,6 +105,13 @@ def _run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         print("pinmob: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:  # the machine said no (a full disk, a file that cannot be written): one line
+        where = f": {exc.filename}" if exc.filename else ""
+        print(f"pinmob: error: {exc.strerror or exc}{where}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("pinmob: error: out of memory; ask for fewer samples, steps or restarts", file=sys.stderr)
+        return 2
 
 
 __all__ = ["COMMANDS", "build_parser", "main"]

@@ -38,7 +38,8 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigurationError("--html writes a file and uses no server: drop --zmq-url, --port and --detach")
     options = {"motion": args.motion, "wrenches": args.wrenches, "amplitude": args.amplitude, "steps": args.steps}
     if args.html is not None:
-        scene = viewer.export_html(mech, state, args.html, overwrite=args.force, **options)
+        with signals_interrupt():  # SIGTERM/SIGHUP as Ctrl-C: the temporary file is removed, the old file kept
+            scene = viewer.export_html(mech, state, args.html, overwrite=args.force, **options)
         print_scene(mech.name, config, scene)
         return 0
     # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:
@@ -48,7 +49,9 @@ def run(args: argparse.Namespace) -> int:
     with signals_interrupt():
         server, serving = None, False
         try:
-            scene = viewer.show(mech, state, zmq_url=args.zmq_url, port=args.port, **options)  # stops it if interrupted
+            scene = viewer.show(  # stops it if interrupted; tied: a SIGKILL of pinmob stops it too
+                mech, state, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
+            )
             server = scene.server
             print_scene(mech.name, config, scene)
             print(f"open {scene.url}")

@@ -25,9 +25,10 @@ from typing import Any
 
 import pinocchio as pin
 
-from pinmob.exceptions import choices
+from pinmob.exceptions import MechanismFileError, choices
 from pinmob.io.schema import errors_at, file_error
-from pinmob.io.urdf import load_geometry
+from pinmob.io.text_file import parsing, read_text, shown
+from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.model.closure import make_closure
 from pinmob.model.mechanism import Mechanism
 
@@ -82,10 +83,12 @@ def replace_joints(model: pin.Model, replacements: Mapping[str, str]) -> pin.Mod
 def _read_yaml(path: Path) -> dict[str, Any]:
     import yaml
 
-    try:
-        doc = yaml.safe_load(path.read_text())
-    except yaml.YAMLError as exc:
-        raise file_error(path, f"YAML syntax error: {' '.join(str(exc).split())}") from None
+    text = read_text(path, "YAML")
+    with parsing(path, "YAML"):
+        try:
+            doc = yaml.safe_load(text)
+        except yaml.YAMLError as exc:
+            raise file_error(path, f"YAML syntax error: {' '.join(str(exc).split())[:300]}") from None
     if not isinstance(doc, Mapping):
         raise file_error(path, f"must be a mapping with keys {choices(YAML_KEYS)}")
     return dict(doc)
@@ -94,7 +97,7 @@ def _read_yaml(path: Path) -> dict[str, Any]:
 def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
     value = doc.get(key) or []
     if not isinstance(value, list) or not all(isinstance(v, str) for v in value):
-        raise file_error(path, f"{key!r} must be a list of names, got {value!r}")
+        raise file_error(path, f"{key!r} must be a list of names, got {shown(value)}")
     return value
 
 
@@ -122,10 +125,10 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
     if not isinstance(loops, list) or not all(
         isinstance(p, list) and len(p) == 2 and all(isinstance(x, str) for x in p) for p in loops
     ):
-        raise file_error(path, f"'closed_loop' must be a list of [frame_a, frame_b] pairs, got {loops!r}")
+        raise file_error(path, f"'closed_loop' must be a list of [frame_a, frame_b] pairs, got {shown(loops)}")
     types = doc.get("type") or ["6d"] * len(loops)
     if not isinstance(types, list) or len(types) != len(loops):
-        raise file_error(path, f"'type' must list one of '6d', '3d' per closed loop ({len(loops)}), got {types!r}")
+        raise file_error(path, f"'type' must list one of '6d', '3d' per closed loop ({len(loops)}), got {shown(types)}")
     joint_names, joint_types = _names(path, doc, "joint_name"), _names(path, doc, "joint_type")
     if len(joint_names) != len(joint_types):
         raise file_error(
@@ -133,9 +136,9 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
         )
     urdf = find_urdf(path)
     try:
-        model = pin.buildModelFromUrdf(str(urdf))
-    except Exception as exc:
-        raise file_error(path, f"urdf {str(urdf)!r} does not parse: {' '.join(str(exc).split())[:200]}") from None
+        model = read_urdf(urdf)  # urdfdom's own messages go into the error or one warning, never raw to stderr
+    except MechanismFileError as exc:
+        raise file_error(path, str(exc)) from None
     for jname, jtype in zip(joint_names, joint_types):
         if not model.existJointName(jname):
             raise file_error(

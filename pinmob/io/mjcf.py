@@ -37,6 +37,8 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from pinmob.bounds import check_bound
+from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.mjcf_tree import Tree, build_tree, name_of, qpos_to_q, se3, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupling
@@ -170,7 +172,7 @@ def load_visuals(path: Path, model: pin.Model) -> tuple[pin.GeometryModel | None
     from pinmob.io.mjcf_geometry import visual_geometry
 
     m = compile_mjcf(path)
-    geometry = visual_geometry(m, build_tree(m, model.name), path)
+    geometry = confine(visual_geometry(m, build_tree(m, model.name), path), mesh_roots(path), path.name)
     return (geometry if geometry.ngeoms else None), None
 
 
@@ -183,6 +185,7 @@ def load_mjcf(path: str | Path) -> Mechanism:
     """
     path = Path(path)
     m = compile_mjcf(path)
+    check_bound("joints", int(m.njnt), f"mjcf {str(path)!r}")  # before anything builds a Pinocchio Data
     kinds = [_kind(m, e) for e in range(m.neq)]
     unsupported = sorted({k for k in kinds if k not in SUPPORTED})
     if unsupported:

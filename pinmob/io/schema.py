@@ -52,6 +52,14 @@ def _is_number(value: object) -> bool:
     return isinstance(value, (int, float)) and not isinstance(value, bool)
 
 
+def finite_number(value: object) -> bool:
+    """A number (not a boolean) that is finite as a float: TOML integers past 1.8e308 are not."""
+    try:
+        return _is_number(value) and math.isfinite(float(value))  # type: ignore[arg-type]
+    except OverflowError:
+        return False
+
+
 KIND_CHECKS: dict[Kind, Callable[[Any], bool]] = {
     Kind.STRING: lambda v: isinstance(v, str),
     Kind.NUMBER: _is_number,
@@ -163,7 +171,7 @@ def joint_values(path: Path, where: str, table: Mapping[str, Any], joint_names: 
     for k, v in table.items():
         if k not in joint_names:
             raise file_error(path, f"{where} names unknown joint {k!r}; valid joints: {choices(joint_names)}")
-        if not _is_number(v) or not np.isfinite(v):
+        if not finite_number(v):
             raise file_error(
                 path, f"{where}.{k} must be a finite number [m or rad], got {_toml_type(v)} {toml_text(v)}"
             )
@@ -175,7 +183,6 @@ def vector3(path: Path, where: str, value: list[float]) -> np.ndarray:
     """A 3-vector of finite numbers from a TOML array (errors name the key path)."""
     if len(value) != 3:
         raise file_error(path, f"{where} must be a list of 3 numbers, got {toml_text(value)}")
-    arr = np.array(value, float)
-    if not np.isfinite(arr).all():
+    if not all(finite_number(v) for v in value):
         raise file_error(path, f"{where} must be finite, got {toml_text(value)}")
-    return arr
+    return np.array(value, float)

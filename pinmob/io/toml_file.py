@@ -9,7 +9,6 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pinocchio as pin
 
 from pinmob.exceptions import FrameError, MechanismFileError, PinmobError, choices
@@ -23,10 +22,12 @@ from pinmob.io.schema import (
     check_table,
     errors_at,
     file_error,
+    finite_number,
     joint_values,
     toml_text,
     vector3,
 )
+from pinmob.io.text_file import parsing, read_text
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.io.urdf import package_dirs as package_dirs
 from pinmob.model.closure import Closure, make_closure
@@ -63,22 +64,17 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry]:
 
 
 def read_toml(path: Path) -> dict[str, Any]:
-    """Parse a TOML file; a missing, unreadable or non-UTF-8 file or a syntax error is a :class:`MechanismFileError`."""
+    """Parse a TOML file; a missing, unreadable, oversized, non-UTF-8 or too deeply nested file or a syntax error is a :class:`MechanismFileError`."""
     if not path.exists():
         raise MechanismFileError(f"mechanism file {str(path)!r} does not exist")
-    if path.is_dir():
-        raise MechanismFileError(f"mechanism file {str(path)!r} is a folder, not a TOML file")
+    text = read_text(path, "TOML")
     import tomllib  # imported when a file is read, not with pinmob
 
-    try:
-        with path.open("rb") as fh:
-            return tomllib.load(fh)
-    except tomllib.TOMLDecodeError as exc:
-        raise file_error(path, f"TOML syntax error: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise file_error(path, f"not a UTF-8 text file (TOML must be UTF-8): byte {exc.start} is invalid") from None
-    except OSError as exc:
-        raise file_error(path, f"cannot be read: {exc.strerror or exc}") from None
+    with parsing(path, "TOML"):
+        try:
+            return tomllib.loads(text)
+        except tomllib.TOMLDecodeError as exc:
+            raise file_error(path, f"TOML syntax error: {exc}") from None
 
 
 def load_toml(path: str | Path) -> Mechanism:
@@ -105,7 +101,7 @@ def load_toml(path: str | Path) -> Mechanism:
     configurations, expected = _configurations(path, doc.get("configurations", {}), joint_names)
 
     length = doc.get("length_scale")
-    if length is not None and not (np.isfinite(length) and length > 0):
+    if length is not None and not (finite_number(length) and length > 0):
         raise file_error(path, f"length_scale must be a positive number [m], got {toml_text(length)}")
     generic_rank = doc.get("generic_rank")
     if generic_rank is not None and not 0 <= generic_rank <= 6:

@@ -19,7 +19,9 @@ from pathlib import Path
 
 import pinocchio as pin
 
+from pinmob.bounds import check_bound
 from pinmob.exceptions import MechanismFileError
+from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.model.geometry import Geometry
 
 
@@ -100,7 +102,33 @@ def read_urdf(urdf: Path) -> pin.Model:
     said = native_messages(printed)
     if said:
         warnings.warn(f"{urdf.name}: {said}", stacklevel=4)
+    check_bound("joints", model.njoints - 1, f"urdf {str(urdf)!r}")  # before anything builds its Data
+    check_axes(model, str(urdf))
     return model
+
+
+def check_axes(model: pin.Model, label: str) -> None:
+    """Refuse a joint whose axis is zero or not finite (a prismatic ``<axis xyz="0 0 0"/>`` moves nothing).
+
+    Each joint's motion subspace S at the neutral configuration (Pinocchio's, per joint) must have
+    finite columns of non-zero length.
+
+    Raises:
+        MechanismFileError: naming the file and the joint.
+    """
+    import numpy as np
+
+    q = pin.neutral(model)
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        data = joint.createData()
+        joint.calc(data, q)
+        s = np.asarray(data.S).reshape(6, -1)
+        if not np.isfinite(s).all() or (np.linalg.norm(s, axis=0) < 1e-9).any():
+            raise MechanismFileError(
+                f"{label}: joint {model.names[j]!r} has a zero or non-finite axis; give its <axis xyz=...> a "
+                "finite, non-zero direction"
+            )
 
 
 def load_geometry(model: pin.Model, urdf: Path) -> Geometry:
@@ -129,7 +157,11 @@ def load_geometry(model: pin.Model, urdf: Path) -> Geometry:
 def build_geometry(
     model: pin.Model, urdf: Path, kinds: tuple[str, ...] = ("VISUAL", "COLLISION")
 ) -> tuple[pin.GeometryModel | None, pin.GeometryModel | None]:
-    """Visual and collision geometry of a URDF for ``model`` (the ``kinds`` asked for); None with a warning on failure."""
+    """Visual and collision geometry of a URDF for ``model`` (the ``kinds`` asked for); None with a warning on failure.
+
+    Meshes whose file or textures lie outside the model's folders are left out, with a warning
+    (:func:`pinmob.io.mesh_files.confine`).
+    """
     geoms: list[pin.GeometryModel | None] = []
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
         if kind.name not in kinds:
@@ -137,7 +169,8 @@ def build_geometry(
             continue
         try:
             with native_stderr() as printed:
-                geoms.append(pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=package_dirs(urdf)))
+                built = pin.buildGeomFromUrdf(model, str(urdf), kind, package_dirs=package_dirs(urdf))
+            geoms.append(confine(built, mesh_roots(urdf, package_dirs(urdf)), urdf.name))
         except Exception as exc:
             said = native_messages(printed)
             warnings.warn(

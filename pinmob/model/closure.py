@@ -198,10 +198,11 @@ def make_closure(
 
     def unit(value: object, what: str) -> Array:
         a = np.asarray(value, float) if value is not None else np.zeros(0)
-        if a.shape != (3,) or not np.isfinite(a).all() or np.linalg.norm(a) < 1e-12:
+        if a.shape != (3,) or not np.isfinite(a).all() or not np.abs(a).max() > 0:
             raise ConfigurationError(
                 f"closure {name!r} of type {ctype.value!r} needs {what} as a non-zero 3-vector, got {value!r}"
             )
+        a = a / np.abs(a).max()  # first to about 1: the norm of [1e308, 1e308, 0] overflows
         return a / np.linalg.norm(a)
 
     u = unit(axis, "'axis' (in frame a)") if ctype in ("revolute", "universal", "cylindrical", "planar") else None

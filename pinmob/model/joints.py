@@ -83,19 +83,6 @@ def one_degree_indices(model: pin.Model, names: Iterable[str], owner: str) -> Ar
     return np.array(out, int)
 
 
-def characteristic_length(model: pin.Model, frame_ids: list[int]) -> float:
-    """Default L [m]: root mean square of the model's non-zero link offsets.
-
-    Uses the joint placements (link vectors) and the given frames' placements;
-    it scales with the model's units and does not depend on the configuration.
-    Falls back to 1 m for a model with no offset at all.
-    """
-    offsets = [np.linalg.norm(model.jointPlacements[j].translation) for j in range(1, model.njoints)]
-    offsets += [np.linalg.norm(model.frames[f].placement.translation) for f in frame_ids]
-    nonzero = np.array([o for o in offsets if o > 1e-12])
-    return float(np.sqrt(np.mean(nonzero**2))) if nonzero.size else 1.0
-
-
 def _columns(model: pin.Model) -> list[tuple[int, int, Array]]:
     """(idx_q, idx_v, motion subspace S (6, nv_j)) of every joint with a velocity, at the neutral configuration."""
     return _cached_columns(model, model.njoints, model.nq, model.nv)

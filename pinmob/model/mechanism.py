@@ -15,16 +15,17 @@ from functools import cached_property
 from pathlib import Path
 from typing import Any, TypeVar
 
-import numpy as np
 import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError, choices, match_name
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.geometry import Geometry
 from pinmob.model.joint_values import q_from_values
-from pinmob.model.joints import characteristic_length, check_q, frame_id, joint_names, velocity_indices
+from pinmob.model.joints import check_q, frame_id, joint_names, velocity_indices
+from pinmob.model.length_scale import characteristic_length, check_length_scale
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
+from pinmob.model.names import check_names
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
@@ -107,8 +108,9 @@ class Mechanism:
 
         Raises:
             FrameError: a tip, platform or actuated joint does not exist.
-            ConfigurationError: two limbs share a joint, a limb has no joint, or
-                there is neither a limb nor a closure.
+            ConfigurationError: two limbs share a joint, a limb has no joint, there is
+                neither a limb nor a closure, or ``length_scale`` is outside
+                :data:`~pinmob.model.length_scale.LENGTH_RANGE` times the geometry's own length (where round-off decides).
         """
         pairs = list(limbs.items()) if isinstance(limbs, Mapping) else list(limbs)
         if not pairs and not closures:
@@ -159,13 +161,12 @@ class Mechanism:
         if platform:
             frame_id(model, platform)
         frames = [b.tip_id for b in built] + [i for c in closures for i in (c.frame_a_id, c.frame_b_id)]
-        scale = float(length_scale) if length_scale else characteristic_length(model, frames)
-        if not np.isfinite(scale) or scale <= 0:
-            raise ConfigurationError(f"length_scale must be a positive number of metres, got {length_scale!r}")
+        scale = check_length_scale(length_scale, characteristic_length(model, frames))
         if generic_rank is not None and (
             not isinstance(generic_rank, int) or isinstance(generic_rank, bool) or not 0 <= generic_rank <= 6
         ):
             raise ConfigurationError(f"generic_rank must be an integer from 0 to 6, got {generic_rank!r}")
+        check_names(model, mechanism=[name], limb=dict(pairs), closure=names, configuration=configurations or {})
         mech = cls(
             name=name,
             model=model,

@@ -39,7 +39,7 @@ import numpy as np
 from pinmob.analysis.closed_chain import mechanism_mobility
 from pinmob.analysis.closure_jacobian import closed_chain
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.generic import generic_configurations
+from pinmob.analysis.generic import generic_configurations, generic_constraint_rank
 from pinmob.analysis.singularity import NEAR_FACTOR, distance_of, padded
 from pinmob.assembly.named import close_joint_values, closed_configuration, named_vector
 from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError, choices
@@ -119,6 +119,25 @@ def path_end(mech: Mechanism, text: str, seed: Array | None = None, closure_tol:
         raise ClosureError(
             f"path end {text!r}: these joint values do not close the loops: {exc}", exc.residuals
         ) from None
+
+
+def joint_path_ends(
+    mech: Mechanism, start: str, end: str, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
+) -> tuple[tuple[str, ...], Array, Array, int]:
+    """A joint path's actuated joints, closed ends (:func:`path_end`; the end seeded at the start) and generic rank.
+
+    The generic rank is the platform's generic constraint rank, or for a mechanism without a platform the
+    generic closure rank (:func:`generic_closure_rank`).
+
+    Raises:
+        PinmobError: no actuated joint, an end that is neither a configuration nor joint values, or that does not close.
+    """
+    acts = check_actuated(mech)
+    qa = path_end(mech, start, None, closure_tol)
+    qb = path_end(mech, end, qa, closure_tol)
+    if mech.has_platform:
+        return acts, qa, qb, generic_constraint_rank(mech, rtol=rtol)
+    return acts, qa, qb, generic_closure_rank(mech, (qa, qb), rtol)
 
 
 def generic_closure_rank(mech: Mechanism, ends: tuple[Array, ...], rtol: float = RTOL) -> int:

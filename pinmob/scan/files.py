@@ -63,17 +63,22 @@ class Replacing:
 
     def __enter__(self) -> Path:
         folder = self.target.parent if str(self.target.parent) else Path(".")
-        fd, name = tempfile.mkstemp(dir=folder, prefix=f".{self.target.name}.", suffix=TEMP_SUFFIX)
+        try:
+            fd, name = tempfile.mkstemp(dir=folder, prefix=f".{self.target.name}.", suffix=TEMP_SUFFIX)
+        except OSError as exc:
+            raise ConfigurationError(f"cannot write {str(self.target)!r}: {exc.strerror or exc}") from None
         os.close(fd)
         self.path = Path(name)
         return self.path
 
     def commit(self) -> None:
-        """Rename the temporary file over the target (refused if the target became a link meanwhile)."""
+        """Rename the temporary file over the target (refused if the target became a link, folder or device meanwhile)."""
         if self.path is None or self.committed:
             return
         if self.target.is_symlink():
             raise ConfigurationError(f"{str(self.target)!r} became a symbolic link while pinmob ran; not written")
+        if self.target.exists() and not stat.S_ISREG(self.target.stat().st_mode):
+            raise ConfigurationError(f"{str(self.target)!r} became a folder or a device while pinmob ran; not written")
         os.chmod(self.path, 0o666 & ~_umask())
         os.replace(self.path, self.target)
         self.committed = True

@@ -34,10 +34,11 @@ from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.named import closed_configuration
+from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain import check_actuated, generic_closure_rank, path_end, value_joints
+from pinmob.scan.chain import joint_path_ends, value_joints
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -229,15 +230,9 @@ def path_spec(
     """
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
+    check_bound("samples", samples, "the path (--samples)")
     if joints or not mech.has_platform or "=" in start or "=" in end:
-        acts = check_actuated(mech)
-        qa = path_end(mech, start, None, closure_tol)
-        qb = path_end(mech, end, qa, closure_tol)
-        g = (
-            generic_constraint_rank(mech, rtol=rtol)
-            if mech.has_platform
-            else generic_closure_rank(mech, (qa, qb), rtol)
-        )
+        acts, qa, qb, g = joint_path_ends(mech, start, end, rtol, closure_tol)
         idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in acts]
         return ScanSpec("joints", qa, qa[idx], qb[idx], samples, acts, rtol=rtol, generic_rank=g,
                         platform=mech.has_platform, closure_tol=closure_tol,
@@ -262,6 +257,7 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
         if n < 1 or not (np.isfinite(lo) and np.isfinite(hi)):
             raise ConfigurationError(f"grid axis {name}: need finite bounds and at least 1 sample, got {lo}, {hi}, {n}")
         out.append((POSE_COORDS.index(name), float(lo), float(hi), int(n)))
+    check_bound("samples", out[0][3] * out[1][3], f"the grid ({out[0][3]} x {out[1][3]})")
     pose, q = resolve_pose(mech, at)
     if q.size == 0:
         q = assemble_pose(mech, pose, _nearest_seed(mech, pose))

@@ -26,6 +26,9 @@ from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
 
 #: Default relative tolerance on singular values for rank decisions.
 RTOL = 1e-6
+#: The smallest tolerance allowed: below it round-off decides (double precision leaves singular values
+#: of these matrices about 1e-15 of the largest; on the built-in models the answers first change at 1e-13).
+RTOL_MIN = 1e-10
 #: A decision whose singular values come within this factor of the tolerance is ambiguous (:func:`ambiguity`).
 AMBIGUOUS_MARGIN = 10.0
 
@@ -40,23 +43,27 @@ except (ImportError, AttributeError):  # older numpy names them by shape: use np
 
 
 def check_rtol(rtol: object, name: str = "rtol") -> float:
-    """A validated relative rank tolerance: a finite real number with ``0 < rtol < 1``.
+    """A validated relative rank tolerance: a finite real number with ``RTOL_MIN <= rtol < 1``.
 
-    Singular values below ``rtol * sigma_max`` count as zero, so ``rtol <= 0``
-    would call round-off a motion and ``rtol >= 1`` would drop real ones.
+    Singular values below ``rtol * sigma_max`` count as zero, so ``rtol`` below
+    :data:`RTOL_MIN` (1e-10) would let round-off decide (3-PUU-flat turned 1H at
+    1e-16) and ``rtol >= 1`` would drop real motions.
 
     Args:
         rtol: the tolerance to check (dimensionless).
         name: how the caller calls it in the message (``--rtol`` for the CLI).
 
     Raises:
-        ConfigurationError: not a real number, not finite, or outside (0, 1).
+        ConfigurationError: not a real number, not finite, or outside [1e-10, 1).
     """
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
-        raise ConfigurationError(f"{name} must be a number in (0, 1), got {rtol!r} ({type(rtol).__name__})")
+        raise ConfigurationError(f"{name} must be a number in [{RTOL_MIN:g}, 1), got {rtol!r} ({type(rtol).__name__})")
     value = float(rtol)
-    if not (np.isfinite(value) and 0.0 < value < 1.0):
-        raise ConfigurationError(f"{name} must be a finite number in (0, 1), e.g. {RTOL:g}; got {rtol!r}")
+    if not (np.isfinite(value) and RTOL_MIN <= value < 1.0):
+        raise ConfigurationError(
+            f"{name} must be a finite number in [{RTOL_MIN:g}, 1), e.g. {RTOL:g} (below {RTOL_MIN:g} round-off "
+            f"decides the ranks); got {rtol!r}"
+        )
     return value
 
 

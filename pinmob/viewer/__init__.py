@@ -71,6 +71,7 @@ def show(
     animate: bool = True,
     timeout: float = 20.0,
     finite: bool = True,
+    tied: bool = False,
 ) -> Scene:
     """Show the mechanism and its animated free motions in a meshcat server.
 
@@ -84,7 +85,7 @@ def show(
         mobility: its platform mobility (or its whole Report), if already computed.
         zmq_url: a running meshcat server (``tcp://127.0.0.1:6000``); default:
             start one on 127.0.0.1 (``scene.server``; it lives until
-            ``scene.server.stop()`` or until killed, not with this process).
+            ``scene.server.stop()`` or until killed, not with this process, unless ``tied``).
         port: web port of the server pinmob starts (default: first free from 7000).
         timeout: seconds to wait for the server to start or answer.
         motion: the motion shown first, by label (default: the first).
@@ -94,6 +95,8 @@ def show(
         animate: follow the motions (False: a still scene).
         finite: tell each motion's finite verdict; a motion that exists only to first order is drawn
             as such (grey glyph pulsing in its clip, its row in the panel says so).
+        tied: the server pinmob starts stops when this process ends, however it ends (even by SIGKILL);
+            ``pinmob show`` ties it unless ``--detach``.
 
     Raises:
         ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
@@ -113,7 +116,7 @@ def show(
 
     server = None
     if zmq_url is None:
-        server = start_server(port=port, timeout=timeout)
+        server = start_server(port=port, timeout=timeout, tied=tied)
         zmq_url = server.zmq_url
     try:
         probe(zmq_url, timeout=min(timeout, 5.0))

@@ -20,6 +20,7 @@ meshcat's viewer connects by default).
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -174,6 +175,19 @@ class Bridge:
             self.zmq_socket.send(b"ok")
         else:
             tornado.ioloop.IOLoop.current().call_later(0.1, self._reply_when_connected)
+
+    def stop_with(self, parent: int) -> None:
+        """Stop serving when process ``parent`` (this process's parent) has ended, checked twice a second.
+
+        An ended parent leaves this process to another (``os.getppid()`` changes), whatever ended it.
+        """
+
+        def check() -> None:
+            if os.getppid() != parent:
+                tornado.ioloop.IOLoop.current().stop()
+
+        tornado.ioloop.PeriodicCallback(check, 500).start()
+        check()
 
     def run(self) -> None:
         """Serve until the process is stopped."""

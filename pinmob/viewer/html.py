@@ -9,16 +9,15 @@ server is needed to build or to open it.
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 from typing import Any
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report import Report
-from pinmob.exceptions import ViewerError
+from pinmob.exceptions import ConfigurationError, ViewerError
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.files import Replacing, check_target
 from pinmob.viewer.page import static_page
 from pinmob.viewer.prepared import prepare
 from pinmob.viewer.scene import Array, Scene, build, require_meshcat
@@ -100,11 +99,10 @@ def export_html(
         ViewerError: the file exists and ``overwrite`` is False, or cannot be written.
         ClosureError: q does not close.
     """
-    target = Path(path).expanduser()
-    if target.exists() and not overwrite:
-        raise ViewerError(f"{str(target)!r} exists already; choose another file name or allow overwriting (--force)")
-    if target.is_dir():
-        raise ViewerError(f"{str(target)!r} is a directory; give a file name ending in .html")
+    try:
+        target = check_target("html file", path, overwrite)  # only a regular file or a new path, never a link
+    except ConfigurationError as exc:
+        raise ViewerError(str(exc)) from None
     page, scene = scene_html(
         mech,
         q,
@@ -116,23 +114,15 @@ def export_html(
         animate=animate,
         finite=finite,
     )
-    parent = target.parent if str(target.parent) else Path(".")
-    if not parent.is_dir():
-        raise ViewerError(f"cannot write {str(target)!r}: folder {str(parent)!r} does not exist")
-    fd, tmp = tempfile.mkstemp(prefix=".pinmob-", suffix=".html", dir=parent)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as fh:
-            fh.write(page)
-        umask = os.umask(0)
-        os.umask(umask)
-        os.chmod(tmp, 0o666 & ~umask)
-        if not overwrite and target.exists():
-            raise ViewerError(f"{str(target)!r} appeared while writing; not overwritten")
-        os.replace(tmp, target)
+        with (replacing := Replacing(target)) as tmp:  # the old file stays until the page is complete
+            tmp.write_text(page, encoding="utf-8")
+            if not overwrite and target.exists():
+                raise ViewerError(f"{str(target)!r} appeared while writing; not overwritten")
+            replacing.commit()
+    except ConfigurationError as exc:
+        raise ViewerError(str(exc)) from None
     except OSError as exc:
         raise ViewerError(f"cannot write {str(target)!r}: {exc.strerror or exc}") from None
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
     scene.html = target
     return scene

@@ -87,13 +87,16 @@ def check_port(port: object, what: str = "port") -> None:
         raise ConfigurationError(f"{what} must be an integer from {PORTS[0]} to {PORTS[-1]}, got {port!r}")
 
 
-def start_server(port: int | None = None, zmq_port: int | None = None, timeout: float = TIMEOUT) -> ServerProcess:
+def start_server(
+    port: int | None = None, zmq_port: int | None = None, timeout: float = TIMEOUT, tied: bool = False
+) -> ServerProcess:
     """Start a meshcat server on 127.0.0.1 in its own session (it survives Ctrl-C of the parent).
 
     Args:
         port: web port; None takes the first free one from 7000.
         zmq_port: command port; None takes the first free one from 6000.
         timeout: seconds to wait for the server to report its URLs.
+        tied: the server stops when this process ends, however it ends (``--parent``).
 
     Raises:
         ConfigurationError: a port is not an integer from 1 to 65535.
@@ -110,6 +113,8 @@ def start_server(port: int | None = None, zmq_port: int | None = None, timeout: 
         cmd += ["--port", str(int(port))]
     if zmq_port is not None:
         cmd += ["--zmq-port", str(int(zmq_port))]
+    if tied:  # the server stops when this process ends, however it ends (SIGKILL included)
+        cmd += ["--parent", str(os.getpid())]
     with log.open("wb") as err:
         proc = subprocess.Popen(
             cmd, stdout=subprocess.PIPE, stderr=err, stdin=subprocess.DEVNULL, start_new_session=True
@@ -190,6 +195,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m pinmob.viewer.server", description=__doc__.splitlines()[0])
     parser.add_argument("--port", type=int, default=None, help="web port (default: first free from 7000)")
     parser.add_argument("--zmq-port", type=int, default=None, help="command port (default: first free from 6000)")
+    parser.add_argument("--parent", type=int, default=None, help="stop when the process with this pid ends")
     args = parser.parse_args(argv)
     try:
         import zmq
@@ -214,6 +220,8 @@ def main(argv: list[str] | None = None) -> int:
     print(f"web_url={bridge.web_url}")
     sys.stdout.flush()
     sys.stdout = sys.stderr  # nothing else goes to the (possibly closed) pipe
+    if args.parent is not None:
+        bridge.stop_with(args.parent)
     try:
         bridge.run()
     except KeyboardInterrupt:

@@ -1,0 +1,54 @@
+"""Bounds on what an option or a file can cost: scan samples, animation steps, restarts, joints, file size.
+
+A typing slip (``-n 1e8``, ``--steps 100000``, ``--restarts 1000000``) used to
+run for minutes or exhaust the memory before anything was printed. Each bound
+is generous for real use and can be raised through its environment variable;
+:func:`check_bound` refuses a value over it with one line naming the option,
+the bound and the variable.
+"""
+
+from __future__ import annotations
+
+import os
+
+from pinmob.exceptions import ConfigurationError
+
+#: what -> (default bound, the environment variable that raises it)
+BOUNDS: dict[str, tuple[int, str]] = {
+    "samples": (1_000_000, "PINMOB_MAX_SAMPLES"),
+    "steps": (2_000, "PINMOB_MAX_STEPS"),
+    "restarts": (10_000, "PINMOB_MAX_RESTARTS"),
+    # Pinocchio's Data for n joints takes about n^3 / 20000 MB (200: 0.6 GB, 400: 4 GB); robots have tens
+    "joints": (200, "PINMOB_MAX_JOINTS"),
+    "bytes": (4_000_000, "PINMOB_MAX_FILE_BYTES"),  # of a mechanism file (TOML, YAML): they are a few kilobytes
+}
+
+
+def bound(what: str) -> int:
+    """The bound on ``what`` (a key of :data:`BOUNDS`): its environment variable if set, else the default."""
+    default, variable = BOUNDS[what]
+    text = os.environ.get(variable, "")
+    if not text:
+        return default
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value <= 0:
+        raise ConfigurationError(f"{variable} must be a positive whole number, got {text[:40]!r}")
+    return value
+
+
+def check_bound(what: str, value: int, option: str) -> int:
+    """``value`` if it is within the bound on ``what``; else a :class:`ConfigurationError` naming ``option``.
+
+    Raises:
+        ConfigurationError: ``value`` over the bound (the message says how to raise it).
+    """
+    limit = bound(what)
+    if value > limit:
+        raise ConfigurationError(
+            f"{option}: {value:,} {what}, over the bound of {limit:,}; ask for fewer, or set {BOUNDS[what][1]} "
+            "to raise the bound"
+        )
+    return value

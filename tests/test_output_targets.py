@@ -1,0 +1,116 @@
+"""Outputs go only to regular files or new paths, even with --force (issue 14, class 2).
+
+A symbolic link (to a file, or dangling), a folder, a named pipe or a device at an output path is
+refused before any work with one line naming the option and the path, exit 2; the thing at the
+path is left as it was. A regular file is replaced only with --force. (As root, the old export
+turned a device into a regular file: the device here is made in the test's folder, never /dev/null.)
+"""
+
+from __future__ import annotations
+
+import os
+import stat
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+
+import pinmob
+from pinmob import viewer
+from pinmob.cli import main
+from pinmob.exceptions import ViewerError
+
+
+def link_to_file(tmp: Path) -> Path:
+    (tmp / "mine.txt").write_text("user data")
+    (tmp / "out").symlink_to(tmp / "mine.txt")
+    return tmp / "out"
+
+
+def dangling_link(tmp: Path) -> Path:
+    (tmp / "out").symlink_to(tmp / "nowhere.txt")
+    return tmp / "out"
+
+
+def folder(tmp: Path) -> Path:
+    (tmp / "out").mkdir()
+    return tmp / "out"
+
+
+def fifo(tmp: Path) -> Path:
+    os.mkfifo(tmp / "out")
+    return tmp / "out"
+
+
+def device(tmp: Path) -> Path:
+    if os.geteuid() != 0:  # only root makes device nodes; the pipe covers the same class otherwise
+        os.mkfifo(tmp / "out")
+    else:
+        os.mknod(tmp / "out", stat.S_IFCHR | 0o666, os.makedev(1, 3))  # as /dev/null, in the test's folder
+    return tmp / "out"
+
+
+TARGETS: dict[str, Callable[[Path], Path]] = {
+    "link to a file": link_to_file,
+    "dangling link": dangling_link,
+    "folder": folder,
+    "named pipe": fifo,
+    "device": device,
+}
+
+
+def state(tmp: Path) -> dict[str, tuple[int, str]]:
+    """What the test folder holds: per name, its file type and (for a regular file) its text."""
+    out = {}
+    for p in sorted(tmp.iterdir()):
+        mode = os.lstat(p).st_mode
+        out[p.name] = (stat.S_IFMT(mode), p.read_text() if stat.S_ISREG(mode) else "")
+    return out
+
+
+@pytest.mark.parametrize("kind", TARGETS)
+def test_export_html_refuses_what_is_not_a_regular_file(kind, tmp_path):
+    target = TARGETS[kind](tmp_path)
+    before = state(tmp_path)
+    with pytest.raises(ViewerError, match="link|folder|not a regular file"):
+        viewer.export_html(pinmob.load("3-PUU-flat"), "flat", target, overwrite=True, animate=False)
+    assert state(tmp_path) == before
+
+
+@pytest.mark.parametrize("option", ["--csv", "--json", "--plot"])
+@pytest.mark.parametrize("kind", TARGETS)
+def test_scan_refuses_what_is_not_a_regular_file(kind, option, tmp_path, capsys):
+    target = TARGETS[kind](tmp_path)
+    before = state(tmp_path)
+    assert main(["scan", "3-PUU", "-n", "3", "--no-progress", option, str(target), "--force"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("pinmob: error: ") and option in err, err
+    assert state(tmp_path) == before
+
+
+@pytest.mark.parametrize("kind", TARGETS)
+def test_show_html_force_refuses_what_is_not_a_regular_file(kind, tmp_path):
+    target = TARGETS[kind](tmp_path)
+    before = state(tmp_path)
+    out = subprocess.run(
+        [sys.executable, "-m", "pinmob", "show", "3-PUU-flat", "--config", "flat", "--html", str(target), "--force"],
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert out.returncode == 2 and out.stderr.count("\n") == 1 and "Traceback" not in out.stderr, out.stderr
+    assert str(target) in out.stderr
+    assert state(tmp_path) == before
+
+
+def test_a_regular_file_is_replaced_with_force_only(tmp_path):
+    target = tmp_path / "mine.html"
+    target.write_text("user data")
+    mech = pinmob.load("3-PUU-flat")
+    with pytest.raises(ViewerError, match="exists already"):
+        viewer.export_html(mech, "flat", target, animate=False)
+    assert target.read_text() == "user data"
+    viewer.export_html(mech, "flat", target, overwrite=True, animate=False)
+    assert "MeshCat.Viewer" in target.read_text() and [p.name for p in tmp_path.iterdir()] == ["mine.html"]

@@ -362,11 +362,19 @@ def test_cli_lists_refined_and_near_singular_points(capsys):
 
 
 def test_cli_scan_of_a_closed_chain_without_platform_says_why(capsys):
-    robot = Path(__file__).parent / "data" / "fivebar" / "robot.yaml"
-    for extra in (["--from", "0,0,0,0,0,0", "--to", "0,0,0,0,0,1", "-n", "3"], [], ["--grid", "x:0:1:2", "y:0:1:2"]):
-        assert main(["scan", str(robot), *extra]) == 2
+    """An Extended URDF has no platform: pose ends and grids are refused in one line saying why; with no named
+    configuration the path's ends must be given; joint values scan the whole closed chain."""
+    robot = str(Path(__file__).parent / "data" / "fivebar" / "robot.yaml")
+    for extra, words in (
+        (["--from", "0,0,0,0,0,0", "--to", "0,0,0,0,0,1", "-n", "3"], ["platform frame", "joint values"]),
+        ([], ["give --from and --to"]),
+        (["--grid", "x:0:1:2", "y:0:1:2"], ["platform frame", "Extended URDF", "actuated joints"]),
+    ):
+        assert main(["scan", robot, *extra]) == 2
         err = capsys.readouterr().err
-        assert err.count("\n") == 1 and "platform frame" in err and "Extended URDF" in err
+        assert err.count("\n") == 1 and all(w in err for w in words), err
+    assert main(["scan", robot, "--from", "mot1=0,mot2=0", "--to", "mot1=0.3,mot2=0.2", "-n", "4"]) == 0
+    assert "4 x mechanism DoF 2, closure rank 2, 0 idle, actuation valid" in capsys.readouterr().out
 
 
 def test_all_unreachable_grid_plots_and_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):

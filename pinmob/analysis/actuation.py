@@ -49,6 +49,9 @@ class Actuation:
         remaining: the non-idle motions left, each as joint rates by name
             (largest 1, rates below 1e-6 dropped).
         base: the floating bases held while judging (free-flyer joints at the root), by joint name.
+        rate_singular_values: singular values of the held joints' rates on an orthonormal basis of the
+            closed chain's dimensionless motions (``S N``, (held, m)): the matrix whose rank ``rank_a`` is decided
+            (:func:`lock`); its tolerance is ``rtol * max(1, sigma_1)``.
     """
 
     actuated: tuple[str, ...]
@@ -59,6 +62,7 @@ class Actuation:
     frame_dof: dict[str, int] = field(default_factory=dict)
     remaining: tuple[dict[str, float], ...] = ()
     base: tuple[str, ...] = ()
+    rate_singular_values: tuple[float, ...] = ()
 
     def to_dict(self) -> dict[str, Any]:
         """The ``actuation`` entry of ``pinmob analyze --json``."""
@@ -117,6 +121,7 @@ class Locked:
     rank_a: int  # rank of the locked joints' rates on the closed chain
     locked: Array  # (m, l) motions that move no locked joint
     idle: Array  # (m, i) motions that move no locked joint and no output (a subspace of `locked`)
+    singular_values: Array = field(default_factory=lambda: np.zeros(0))  # of the rates, the rank decided
 
     def valid(self, count: int) -> bool:
         """``count`` locked joints are independent and leave only idle motions (a valid actuation)."""
@@ -132,7 +137,7 @@ def lock(rates: Array, outputs: Array, rtol: float, m: int) -> Locked:
     """
     dec = decide_rank(rates, rtol, m, at_least=1.0)
     idle = decide_rank(np.vstack([rates, outputs]), rtol, m, at_least=1.0).null_space.T
-    return Locked(dec.rank, dec.null_space.T, idle)
+    return Locked(dec.rank, dec.null_space.T, idle, dec.singular_values)
 
 
 def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
@@ -176,6 +181,7 @@ def actuation(
         frame_dof,
         tuple(remaining),
         base,
+        tuple(float(v) for v in split.singular_values),
     )
 
 

@@ -34,7 +34,8 @@ def require_platform(mech: Mechanism, what: str = "a singularity report") -> Non
         raise ConfigurationError(
             f"{what} needs limbs meeting at a platform frame; {mech.name!r} is described by loop closures only "
             "(Extended URDF, MJCF or a TOML file without limbs), so it has no platform to scan or classify: "
-            "`pinmob analyze` reports its mobility; to scan it, write a TOML mechanism file naming its limbs and platform"
+            "`pinmob analyze` reports its mobility and `pinmob scan --from A --to B` scans the whole closed chain along "
+            "a path in its actuated joints; a platform scan needs a TOML mechanism file naming its limbs and platform"
         )
 
 

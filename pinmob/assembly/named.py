@@ -1,11 +1,14 @@
-"""Named configurations of a mechanism file, closed: joint values checked, platform poses assembled."""
+"""Named configurations of a mechanism file, and joint values given by name, closed: checked, solved or assembled."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping
+
 import numpy as np
 
-from pinmob.assembly.assemble import assemble_pose
+from pinmob.assembly.assemble import assemble_pose, solve_actuated
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
+from pinmob.exceptions import ClosureError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 
@@ -47,3 +50,25 @@ def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[
         return assemble_pose(mech, conf.pose, mech.q_from_joints(conf.seed), tol), True
     base = None if conf.vector is None else np.array(conf.vector)
     return mech.q_from_joints(conf.joints, base), False
+
+
+def close_joint_values(
+    mech: Mechanism, values: Mapping[str, float], base: Array | None = None, tol: float = CLOSURE_TOL
+) -> tuple[Array, bool]:
+    """A closed configuration with the given joint values, and whether the other joints had to be solved.
+
+    The other joints come from ``base`` (default: Pinocchio's neutral); when that does not close within
+    ``tol``, they are solved with the given joints held (:func:`~pinmob.assembly.assemble.solve_actuated`,
+    seeded there).
+
+    Raises:
+        FrameError: an unknown joint (the message lists them).
+        ConfigurationError: a value that is not finite, or a joint of several coordinates.
+        ClosureError: the loops cannot be closed with these values from there.
+    """
+    q = mech.q_from_joints(values, base)
+    try:
+        check_closed(mech, q, tol, "joint values given")
+        return q, False
+    except ClosureError:
+        return solve_actuated(mech, values, seed=q, tol=tol).q, True

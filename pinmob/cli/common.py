@@ -9,15 +9,13 @@ import tomllib
 from collections.abc import Iterator
 from pathlib import Path
 
-import numpy as np
-
 from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.assemble import solve_actuated
-from pinmob.assembly.named import named_vector
+from pinmob.assembly.named import close_joint_values, named_vector
 from pinmob.assembly.residual import check_closure_tol
-from pinmob.exceptions import ClosureError, ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError, choices
 from pinmob.io.builtin import builtin_models
 from pinmob.model.closure import CLOSURE_TOL
+from pinmob.model.joint_values import parse_joint_values
 from pinmob.model.mechanism import Mechanism
 
 
@@ -47,27 +45,6 @@ def load_for(args: argparse.Namespace) -> Mechanism:
     return mech
 
 
-def parse_joint_values(text: str) -> dict[str, float]:
-    """``"a=0.1,b=-2"`` -> ``{"a": 0.1, "b": -2.0}`` (``--joints``).
-
-    Raises:
-        ConfigurationError: an item that is not ``name=number``.
-    """
-    out: dict[str, float] = {}
-    for item in (t.strip() for t in text.split(",")):
-        name, sep, value = item.partition("=")
-        try:
-            number = float(value)
-        except ValueError:
-            number = float("nan")
-        if not item or not sep or not name.strip() or not np.isfinite(number):
-            raise ConfigurationError(
-                f"--joints {text!r}: {item!r} is not name=value (a finite number [rad or m]); e.g. --joints a=0.1,b=-0.2"
-            )
-        out[name.strip()] = number
-    return out
-
-
 def chosen_state(mech: Mechanism, args: argparse.Namespace, closure_tol: float) -> Configuration | str | None:
     """What the command analyses: the ``--joints`` values, the ``--config`` name, the file's first, or None (find one).
 
@@ -78,16 +55,11 @@ def chosen_state(mech: Mechanism, args: argparse.Namespace, closure_tol: float) 
     config = None if args.config is None and not mech.configurations else pick_configuration(mech, args.config)
     if args.joints is None:
         return config
-    values = parse_joint_values(args.joints)
+    values = parse_joint_values(args.joints, "--joints")
     base = None if config is None else named_vector(mech, config, closure_tol)[0]
-    q = mech.q_from_joints(values, base)
-    name = f"--joints {args.joints}"
-    try:
-        return Configuration(mech, q, closure_tol=closure_tol, name=name, source="joint values given")
-    except ClosureError:
-        solved = solve_actuated(mech, values, seed=q, tol=closure_tol)
-        source = "joint values given, the other joints solved to close the loops"
-        return Configuration(mech, solved.q, closure_tol=closure_tol, name=name, source=source)
+    q, solved = close_joint_values(mech, values, base, closure_tol)
+    source = "joint values given" + (", the other joints solved to close the loops" if solved else "")
+    return Configuration(mech, q, closure_tol=closure_tol, name=f"--joints {args.joints}", source=source)
 
 
 def closure_tol_of(args: argparse.Namespace) -> float:

@@ -41,14 +41,15 @@ class Parser(argparse.ArgumentParser):
         return parsed
 
 
-def add_model_options(p: argparse.ArgumentParser) -> None:
-    """The options of ``analyze`` and ``show`` that say which configuration, which actuation, which closure tolerance."""
-    p.add_argument(
-        "--joints",
-        metavar="NAME=VALUE,...",
-        help="analyse at these joint values [rad or m] (the others from the first named configuration, else "
-        "neutral); analyze --json prints a configuration's values as joint_values",
-    )
+def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
+    """The options of ``analyze`` and ``show`` (``scan``: without ``--joints``): which configuration, actuation, tolerance."""
+    if joints:
+        p.add_argument(
+            "--joints",
+            metavar="NAME=VALUE,...",
+            help="analyse at these joint values [rad or m] (the others from the first named configuration, else "
+            "neutral); analyze --json prints a configuration's values as joint_values",
+        )
     p.add_argument("--actuated", metavar="A,B,...", help="the actuated joints (replacing the file's, if any)")
     p.add_argument(
         "--closure-tol",
@@ -147,13 +148,17 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--from",
         dest="start",
-        help="path start: configuration name or pose x,y,z,roll,pitch,yaw [m, rad] (default: first configuration)",
+        help="path start: configuration name, pose x,y,z,roll,pitch,yaw [m, rad], or joint values "
+        "NAME=VALUE,... [rad or m] (a joint path; default: first configuration)",
     )
-    p.add_argument("--to", dest="end", help="path end: configuration name or pose (default: second configuration)")
+    p.add_argument(
+        "--to", dest="end", help="path end: configuration name, pose or joint values (default: second configuration)"
+    )
     p.add_argument(
         "--joints",
         action="store_true",
-        help="interpolate the actuated joint values from --from to --to (forward kinematics) instead of platform poses",
+        help="interpolate the actuated joint values from --from to --to (forward kinematics) instead of platform "
+        "poses; implied by joint values in --from/--to and for a mechanism without a platform",
     )
     p.add_argument("--samples", "-n", type=int, default=None, help="samples along a path (default 21)")
     p.add_argument(
@@ -187,6 +192,7 @@ def build_parser() -> argparse.ArgumentParser:
         "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample, "
         "tens to hundreds of ms each: see docs/finite-mobility.md)",
     )
+    add_model_options(p, joints=False)
     p = sub.add_parser(
         "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY
     )

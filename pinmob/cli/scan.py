@@ -11,11 +11,11 @@ from typing import Any
 
 from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import require_platform
-from pinmob.cli.common import check_outputs, signals_interrupt
+from pinmob.cli.common import check_outputs, closure_tol_of, load_for, signals_interrupt
 from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
-from pinmob.io.loader import load
 from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
+from pinmob.scan.chain import check_actuated
 from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_path, varied_joint
 from pinmob.scan.plot_map import plot_map
@@ -39,33 +39,40 @@ def _run(args: argparse.Namespace) -> int:
     check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
     if args.plot and Path(args.plot).suffix.lower() != ".png":
         raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
-    mech = load(args.mechanism)
-    require_platform(mech, "pinmob scan")
+    mech = load_for(args)
+    closure_tol = closure_tol_of(args)
     names = list(mech.configurations)
     if args.grid:
+        require_platform(mech, "pinmob scan --grid")
         axes = [parse_grid_axis(text) for text in args.grid]
         if not names and not args.at:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
         spec = grid_spec(mech, args.at or names[0], axes, rtol)
         what = f"grid {args.grid[0]} x {args.grid[1]} at {args.at or names[0]!r}"
     else:
+        if args.joints or not mech.has_platform:
+            check_actuated(mech)
         start = args.start or (names[0] if names else None)
         end = args.end or (names[1] if len(names) > 1 else None)
         if start is None or end is None:
             raise ConfigurationError(f"{mech.name!r} has fewer than two configurations; give --from and --to")
         samples = 21 if args.samples is None else args.samples
-        spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol)
-        what = f"{'actuated-joint' if args.joints else 'pose'} path {start!r} -> {end!r}, {samples} samples"
+        spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol, closure_tol=closure_tol)
+        joints = "" if spec.platform else f" ({', '.join(spec.joints)})"  # a closed chain's actuated joints
+        what = f"{'actuated-joint' if spec.kind == 'joints' else 'pose'} path{joints} {start!r} -> {end!r}, {samples} samples"
     if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
         spec = with_finite(mech, spec, args.finite_order)
         what += f", finite DoF per sample (order bound {spec.finite_order})"
     band = NEAR_FACTOR * rtol
-    meta = {"mechanism": mech.name, "scan": what, "generic_rank": spec.generic_rank, "rtol": rtol,
-            "near_singular_band": band, "length_scale": mech.length_scale}  # fmt: skip
+    generic = "generic constraint rank" if spec.platform else "generic closure rank"
+    key = "generic_rank" if spec.platform else "generic_closure_rank"
+    meta = {"mechanism": mech.name, "scan": what, key: spec.generic_rank, "rtol": rtol, "near_singular_band": band,
+            "length_scale": mech.length_scale}  # fmt: skip
     counts: Counter[str] = Counter()
     tally: Counter[str] = Counter()
     finite: Counter[str] = Counter()
     listed: list[dict[str, Any]] = []
+    why = ""
     with tempfile.TemporaryDirectory() as tmp:
         csv_path = args.csv or (str(Path(tmp) / "scan.csv") if args.plot else None)
         t0 = time.perf_counter()
@@ -76,27 +83,31 @@ def _run(args: argparse.Namespace) -> int:
                 kind = _row_kind(row)
                 tally[kind] += 1
                 if not row["refined"]:
-                    counts[f"{row['dof']} DoF {row['motion_type']}" if row["reachable"] else "unreachable"] += 1
+                    counts[_count_key(row) if row["reachable"] else "unreachable"] += 1
                     if spec.finite_order is not None and row["reachable"]:
-                        dof = row["finite_dof"]
+                        dof = row["finite_dof" if spec.platform else "finite_mechanism_dof"]
                         finite["cannot decide" if dof is None else f"{dof} DoF"] += 1
                 if kind != "regular" and len(listed) < 20:
                     listed.append(row)
+                if not row["reachable"] and row.get("reason") and not why:
+                    why = f"#{row['index']} (s = {round(row['s'], 12):.6g}): {row['reason']}"
         elapsed = time.perf_counter() - t0
         n = spec.size
         print(f"{mech.name}: {what}")
         print(f"{n} samples in {elapsed:.2f} s ({n / elapsed:.1f} samples/s, {rows.where}); "
-              f"generic constraint rank {spec.generic_rank}")  # fmt: skip
+              f"{generic} {spec.generic_rank}")  # fmt: skip
         for key, k in sorted(counts.items()):
             print(f"  {k:5d} x {key}")
         if finite:
-            print("finite DoF of the platform at the assembled samples: "
+            print(f"finite DoF of the {'platform' if spec.platform else 'mechanism'} at the assembled samples: "
                   + ", ".join(f"{k} x {key}" for key, k in sorted(finite.items())))  # fmt: skip
         print(f"singular samples: {tally['singular']}; near-singular samples (distance < {band:.0e}): "
               f"{tally['near-singular']}; refined singular points: {tally['refined']}")  # fmt: skip
         total = tally["singular"] + tally["near-singular"] + tally["refined"]
+        if why:
+            print(f"first sample not assembled: {why}")
         for row in listed:
-            print("  " + _format_row(row))
+            print("  " + (_format_row(row) if spec.platform else _format_chain_row(row)))
         if total > len(listed):
             print(f"  ... ({total - len(listed)} more in the output files)")
         for label, path in (("csv", args.csv), ("json", args.json_out)):
@@ -107,7 +118,7 @@ def _run(args: argparse.Namespace) -> int:
             if args.grid:
                 plot_map(csv_path, args.plot, title, rtol=rtol)
             else:
-                plot_path(csv_path, args.plot, title, rtol, mech.length_scale, varied_joint(mech, spec))
+                plot_path(csv_path, args.plot, title, rtol, mech.length_scale, varied_joint(mech, spec), spec.platform)
             print(f"plot: {args.plot}")
     return 0
 
@@ -132,6 +143,28 @@ def _row_kind(row: dict[str, Any]) -> str:
     if row["reachable"] and row["singularity"] != "none":
         return "singular"
     return "near-singular" if row["near_singular"] else "regular"
+
+
+def _count_key(row: dict[str, Any]) -> str:
+    """How the summary counts an assembled sample: the platform's DoF and type, or the closed chain's DoF and verdict."""
+    if "motion_type" in row:
+        return f"{row['dof']} DoF {row['motion_type']}"
+    verdict = {True: "actuation valid", False: "actuation NOT valid"}.get(row["actuation_valid"], "no actuated joint")
+    return f"mechanism DoF {row['dof']}, closure rank {row['closure_rank']}, {row['idle_dof']} idle, {verdict}"
+
+
+def _format_chain_row(row: dict[str, Any]) -> str:
+    """One listed row of a closed chain's joint path: where, class, DoF, motions left with the actuators locked."""
+    where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
+    names = [k for k in row if k.startswith("q_")]
+    values = ", ".join(f"{k[2:]} = {row[k]:.6g}" for k in names[:6]) + (", ..." if len(names) > 6 else "")
+    label = row["singularity"] if row["singularity"] != "none" else f"near-singular ({row['closest']})"
+    left = f", locked: {row['locked_dof']} motion(s) left ({row['uncontrolled']})" if row["uncontrolled"] else ""
+    if "finite_mechanism_dof" in row:  # --finite
+        dof = row["finite_mechanism_dof"]
+        left += f", finite mechanism DoF {'cannot decide' if dof is None else dof}"
+    return (f"{where} (s = {round(row['s'], 12):.6g}; {values}): {label}; mechanism DoF {row['dof']}, "
+            f"closure rank {row['closure_rank']}{left}, distance {row['distance']:.2e}")  # fmt: skip
 
 
 def _format_row(row: dict[str, Any]) -> str:

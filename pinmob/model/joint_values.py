@@ -65,3 +65,28 @@ def values_by_name(model: pin.Model, q: Array, quaternion_wxyz: bool = False) ->
                 x[-4:] = x[-1:] + x[-4:-1]
             out[model.names[j]] = x
     return out
+
+
+def parse_joint_values(text: str, option: str = "joint values") -> dict[str, float]:
+    """``"a=0.1,b=-2"`` -> ``{"a": 0.1, "b": -2.0}`` (``--joints``, and the ends of a joint path).
+
+    Args:
+        text: ``name=value`` items [rad or m] separated by commas.
+        option: how the message calls the text (e.g. ``--joints``).
+
+    Raises:
+        ConfigurationError: an item that is not ``name=number``.
+    """
+    out: dict[str, float] = {}
+    for item in (t.strip() for t in text.split(",")):
+        name, sep, value = item.partition("=")
+        try:
+            number = float(value)
+        except ValueError:
+            number = float("nan")
+        if not item or not sep or not name.strip() or not np.isfinite(number):
+            raise ConfigurationError(
+                f"{option} {text!r}: {item!r} is not name=value (a finite number [rad or m]); e.g. a=0.1,b=-0.2"
+            )
+        out[name.strip()] = number
+    return out

@@ -2,6 +2,7 @@
 
 :mod:`~pinmob.scan.spec` (what to scan: paths and grids), :mod:`~pinmob.scan.run`
 (the scan itself: warm-started assembly, analysis, refinement, workers),
+:mod:`~pinmob.scan.chain` (a mechanism without a platform: the whole closed chain along a joint path),
 :mod:`~pinmob.scan.refine` (singular points between samples),
 :mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.plot` and
 :mod:`~pinmob.scan.plot_map` (PNG plots).

@@ -19,7 +19,9 @@ from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.assembly.assemble import assemble_joints, assemble_pose
 from pinmob.exceptions import PinmobError
+from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, v_vertex
 from pinmob.scan.spec import POSE_COORDS, ScanSpec, pose_vector
 from pinmob.screw.algebra import Array
@@ -41,12 +43,14 @@ MAX_ITER = 40
 REFINE_ITER = 100
 
 
-def assemble_target(mech: Mechanism, target: tuple[str, Any], seed: Array, max_iter: int = MAX_ITER) -> Array:
+def assemble_target(
+    mech: Mechanism, target: tuple[str, Any], seed: Array, max_iter: int = MAX_ITER, tol: float = CLOSURE_TOL
+) -> Array:
     """A closed configuration at a scan target (a platform pose, or actuated joint values), warm-started from ``seed``."""
     kind, value = target
     if kind == "pose":
-        return assemble_pose(mech, value, seed, max_iter=max_iter)
-    return assemble_joints(mech, value, seed, max_iter=max_iter)
+        return assemble_pose(mech, value, seed, tol, max_iter=max_iter)
+    return assemble_joints(mech, value, seed, tol, max_iter=max_iter)
 
 
 def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None) -> dict[str, Any]:
@@ -112,11 +116,20 @@ class _Chunk:
     def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER) -> _Sample:
         target = self.spec.target(t)
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
+        if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain): joint values, the actuated ones known
+            head.update(joint_row(self.mech, self.spec.values, None))
+            head.update(zip(value_columns(self.spec.joints), target[1].values()))
         try:
-            q = assemble_target(self.mech, target, seed, max_iter)
-        except PinmobError:
+            q = assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol)
+        except PinmobError as exc:
+            if not self.spec.platform:
+                return _Sample(head | unreachable_chain(str(exc)), None, {})
             return _Sample(head | _unreachable(pose_vector(target[1]) if target[0] == "pose" else None), None, {})
-        row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
+        if not self.spec.platform:
+            head.update(joint_row(self.mech, self.spec.values, q))
+            row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
+        else:
+            row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
         return _Sample(head | row, q, distances)
 
     def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:

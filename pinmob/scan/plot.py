@@ -103,6 +103,15 @@ def _relative(c: dict[str, np.ndarray], prefix: str) -> np.ndarray:
 
 PATH_COLUMNS = ["s", "refined", "reachable", "singularity", "singular_limbs", "near_singular", "distance", "dof",
                 *POSE_COORDS] + [f"{p}{i}" for p in ("sv", "av") for i in range(1, 7)]  # fmt: skip
+#: The columns of a joint path of a mechanism without a platform (:mod:`pinmob.scan.chain`).
+CHAIN_PATH_COLUMNS = [c for c in PATH_COLUMNS if c != "singular_limbs" and c not in POSE_COORDS]
+#: Panel titles (actuation, constraint) and the DoF axis of a platform's path plot, and of a closed chain's.
+PANELS = {
+    True: ("actuation: stacked locked-limb wrenches (actuators locked)", "constraint: stacked limb wrenches",
+           "platform DoF"),
+    False: ("actuation: actuated joints' rates on the closed chain's motions", "closure: closure Jacobian K",
+            "mechanism DoF"),
+}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -173,16 +182,22 @@ def plot_path(
     rtol: float = RTOL,
     length: float = 1.0,
     joint: tuple[str, str, float, float] | None = None,
+    platform: bool = True,
 ) -> Path:
-    """Singular values, distance and DoF along a path scan; returns the PNG path (see :func:`path_abscissa`)."""
+    """Singular values, distance and DoF along a path scan; returns the PNG path (see :func:`path_abscissa`).
+
+    ``platform`` False: a closed chain's joint path (:mod:`pinmob.scan.chain`): its panels and mechanism DoF.
+    """
     plt = pyplot()
-    c = read_columns(csv_path, PATH_COLUMNS)
-    fig = path_figure(c, rtol, path_abscissa(c, length, joint))
+    c = read_columns(csv_path, PATH_COLUMNS if platform else CHAIN_PATH_COLUMNS)
+    fig = path_figure(c, rtol, path_abscissa(c, length, joint), platform)
     return save_figure(plt, fig, title or "scan along a path", png_path)
 
 
-def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL, abscissa: Abscissa | None = None) -> Any:
-    """The figure of :func:`plot_path` from the columns ``PATH_COLUMNS`` of a path scan."""
+def path_figure(
+    c: dict[str, np.ndarray], rtol: float = RTOL, abscissa: Abscissa | None = None, platform: bool = True
+) -> Any:
+    """The figure of :func:`plot_path` from the columns ``PATH_COLUMNS`` (else ``CHAIN_PATH_COLUMNS``) of a path."""
     plt = pyplot()
     from matplotlib.lines import Line2D
     from matplotlib.patches import Patch
@@ -194,10 +209,7 @@ def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL, abscissa: Abscissa
     band = NEAR_FACTOR * rtol
     panels = [
         (prefix, name, _relative(c, prefix)[sample])
-        for prefix, name in (
-            ("av", "actuation: stacked locked-limb wrenches (actuators locked)"),
-            ("sv", "constraint: stacked limb wrenches"),
-        )
+        for prefix, name in (("av", PANELS[platform][0]), ("sv", PANELS[platform][1]))
     ]
     panels = [p for p in panels if not np.all(np.isnan(p[2]))]  # no panel for an empty matrix
     fig, axes = plt.subplots(len(panels) + 1, 1, figsize=(9, 3.4 * (len(panels) + 1)), sharex=True, squeeze=False)
@@ -225,8 +237,9 @@ def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL, abscissa: Abscissa
         if mask.any():
             ax.plot(u[mask], dist[mask], label=label, **MARKS[key])
     span = (float(np.nanmin(u)), float(np.nanmax(u))) if u.size else (0.0, 1.0)
+    limbs_of = c["singular_limbs"] if "singular_limbs" in c else np.full(s.shape, "", dtype=object)
     for x, sx, y, label, limbs in zip(u[m["refined"]], s[m["refined"]], dist[m["refined"]],
-                                      c["singularity"][m["refined"]], c["singular_limbs"][m["refined"]]):  # fmt: skip
+                                      c["singularity"][m["refined"]], limbs_of[m["refined"]]):  # fmt: skip
         text = f"{label} {limbs.replace(';', ',')}".strip() + (
             f"\nat {x:.6g} (s = {sx:.6g})" if u is not s else f"\ns = {x:.6g}"
         )
@@ -238,9 +251,10 @@ def path_figure(c: dict[str, np.ndarray], rtol: float = RTOL, abscissa: Abscissa
     twin = ax.twinx()
     reach = m["reach"]
     twin.step(u[reach], c["dof"][reach], "b-", where="mid", lw=1, alpha=0.5)
-    twin.set_ylabel("platform DoF (blue)", color="b")
-    twin.set_ylim(-0.5, 6.5)
-    extra: list[Any] = [Line2D([], [], color="b", alpha=0.5, label="platform DoF (right axis)")]
+    dof_label = PANELS[platform][2]
+    twin.set_ylabel(f"{dof_label} (blue)", color="b")
+    twin.set_ylim(-0.5, max(6, float(np.max(c["dof"][reach], initial=0))) + 0.5)
+    extra: list[Any] = [Line2D([], [], color="b", alpha=0.5, label=f"{dof_label} (right axis)")]
     if marked.any():
         extra.append(Line2D([], [], color="red", lw=0.8, alpha=0.4, label="singular sample or refined point"))
     unreachable = sample & ~m["reach"]

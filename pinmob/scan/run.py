@@ -41,6 +41,7 @@ from pinmob.engine import Engine, Lost
 from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS, SV_COLUMNS, run_chunk
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.screw.algebra import Array
@@ -63,7 +64,7 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     q = np.array(spec.q_ref, float)
     for target, k in spec.waypoints():
         try:
-            q = chunk.assemble_target(mech, target, q)
+            q = chunk.assemble_target(mech, target, q, tol=spec.closure_tol)
         except PinmobError:
             pass
         if k in stops:
@@ -170,6 +171,8 @@ def columns(spec: ScanSpec) -> list[str]:
     """CSV columns of a scan's rows, in order."""
     params = list(spec.params(0))
     finite = list(FINITE_COLUMNS) if spec.finite_order is not None else []
+    if not spec.platform:
+        return ["index", *params, "refined", *value_columns(spec.values), *CHAIN_COLUMNS, *finite]
     return ["index", *params, "refined", *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank",
             "locked_dof", "singularity", "near_singular", "closest", "singular_limbs", "dependent_limbs",
             "uncontrolled", "distance", *SV_COLUMNS, *finite]  # fmt: skip

@@ -2,7 +2,10 @@
 
 * ``pose path``: platform poses ``M(s) = M_A exp(s log(M_A^-1 M_B))``, s in [0, 1];
 * ``joint path``: actuated joint values ``a(s) = (1 - s) a_A + s a_B``, assembled
-  by forward kinematics (:func:`pinmob.assembly.assemble.assemble_joints`);
+  by forward kinematics (:func:`pinmob.assembly.assemble.assemble_joints`); its
+  ends are configuration names or joint values ``name=value,...``. A mechanism
+  without a platform is scanned this way only, each row the whole closed
+  chain's answer (:mod:`pinmob.scan.chain`);
 * ``grid``: two platform pose coordinates (x, y, z [m], roll, pitch, yaw [rad])
   on a grid, the other four fixed at a reference pose. Its *scan lines* are
   the rows (the first coordinate fixed, the second varying).
@@ -33,7 +36,9 @@ from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.named import closed_configuration
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.chain import joint_path_ends, value_joints
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -79,6 +84,10 @@ class ScanSpec:
         generic_rank: the mechanism's generic constraint rank.
         finite_order: with a value, each row adds the finite DoF at its configuration (the finite-mobility
             analysis with this order bound, :func:`pinmob.analysis.finite.finite_mobility`); None: not.
+        platform: rows about the platform (else about the whole closed chain, :mod:`pinmob.scan.chain`; then
+            ``generic_rank`` is the generic closure rank).
+        closure_tol: largest closure residual of an assembled sample (position / L, rotation [rad]).
+        values: the joints whose values the rows give (a closed chain's, :func:`pinmob.scan.chain.value_joints`).
     """
 
     kind: str
@@ -92,6 +101,9 @@ class ScanSpec:
     rtol: float = RTOL
     generic_rank: int = 0
     finite_order: int | None = None
+    platform: bool = True
+    closure_tol: float = CLOSURE_TOL
+    values: tuple[str, ...] = ()
 
     @property
     def size(self) -> int:
@@ -204,29 +216,32 @@ def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
 
 
 def path_spec(
-    mech: Mechanism, start: str, end: str, samples: int, *, joints: bool = False, rtol: float = RTOL
-) -> ScanSpec:
-    """A path from ``start`` to ``end`` (configuration names or poses; joint paths need names).
+    mech: Mechanism, start: str, end: str, samples: int, *, joints: bool = False, rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL
+) -> ScanSpec:  # fmt: skip
+    """A path from ``start`` to ``end``: configuration names, poses, or joint values ``name=value,...``.
+
+    A joint path (the actuated joints interpolated) when ``joints`` is set, when an end is joint values, or when
+    the mechanism has no platform (then each row is the whole closed chain's answer, :mod:`pinmob.scan.chain`);
+    else a path in platform poses.
 
     Raises:
-        ConfigurationError: fewer than 2 samples, no platform frame, a joint path without actuated joints or names.
+        PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end.
     """
-    require_platform(mech, "pinmob scan")
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
     check_bound("samples", samples, "the path (--samples)")
+    if joints or not mech.has_platform or "=" in start or "=" in end:
+        acts, qa, qb, g = joint_path_ends(mech, start, end, rtol, closure_tol)
+        idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in acts]
+        return ScanSpec("joints", qa, qa[idx], qb[idx], samples, acts, rtol=rtol, generic_rank=g,
+                        platform=mech.has_platform, closure_tol=closure_tol,
+                        values=() if mech.has_platform else value_joints(mech))  # fmt: skip
     pa, qa = resolve_pose(mech, start)
     pb, qb = resolve_pose(mech, end)
     if qa.size == 0:
         qa = assemble_pose(mech, pa, _nearest_seed(mech, pa))
     g = generic_constraint_rank(mech, rtol=rtol)
-    if joints:
-        if not mech.actuated:
-            raise ConfigurationError(f"{mech.name!r} declares no actuated joint; a joint path needs some")
-        if qb.size == 0:
-            raise ConfigurationError("a joint path goes between two named configurations")
-        idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in mech.actuated]
-        return ScanSpec("joints", qa, qa[idx], qb[idx], samples, mech.actuated, rtol=rtol, generic_rank=g)
     return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g)
 
 

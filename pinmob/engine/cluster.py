@@ -7,6 +7,7 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, TypeVar
 
+from pinmob.engine.quiet import install as quiet_logs
 from pinmob.engine.tasks import Lost, Watch, ordered_results
 from pinmob.exceptions import ConfigurationError, EngineError
 from pinmob.signals import deferred_interrupts
@@ -154,6 +155,8 @@ class Engine:
 
         from dask.distributed import Client, LocalCluster
         from distributed.deploy.spec import SpecCluster
+
+        quiet_logs()
 
         before = set(SpecCluster._instances)
         # A Ctrl-C or a hang-up reaches the whole process group. Here it is held back while the cluster starts

@@ -1,0 +1,80 @@
+"""Dask's ``sync`` interrupted while its call fails: the event loop's NameError is not printed (pinmob.engine.quiet).
+
+The race is made to happen, on Dask's real ``distributed.utils.sync`` and a real event loop: the called function
+itself interrupts the waiting main thread, waits until ``cancel()`` is queued, then fails before any future exists.
+"""
+
+from __future__ import annotations
+
+import logging
+import signal
+import threading
+import time
+
+import pytest
+from distributed.utils import LoopRunner, sync
+
+from pinmob.engine.quiet import LOGGERS, CancelBeforeStart, install
+
+
+class Records(logging.Handler):
+    """Keeps the records of the event loops' loggers."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.records: list[logging.LogRecord] = []
+
+    def emit(self, record: logging.LogRecord) -> None:
+        self.records.append(record)
+
+
+def interrupted_call() -> list[logging.LogRecord]:
+    """Run the race once; the records the event loop logged (after the filters of its loggers)."""
+    handler = Records()
+    for name in LOGGERS:
+        logging.getLogger(name).addHandler(handler)
+    runner = LoopRunner(asynchronous=False)
+    runner.start()
+    main = threading.get_ident()
+
+    def failing() -> None:  # runs on the loop thread, inside sync's f(), before its future exists
+        signal.pthread_kill(main, signal.SIGINT)
+        time.sleep(0.5)  # the main thread's wait raises KeyboardInterrupt and queues cancel()
+        raise ConnectionError("the scheduler is gone")
+
+    try:
+        with pytest.raises((KeyboardInterrupt, ConnectionError)):
+            sync(runner.loop, failing)
+        time.sleep(0.5)  # cancel() runs on the loop
+    finally:
+        runner.stop()
+        for name in LOGGERS:
+            logging.getLogger(name).removeHandler(handler)
+    return handler.records
+
+
+def name_errors(records: list[logging.LogRecord]) -> list[logging.LogRecord]:
+    return [r for r in records if r.exc_info and isinstance(r.exc_info[1], NameError)]
+
+
+def test_the_race_is_real_and_its_name_error_is_dropped():
+    for name in LOGGERS:  # as Dask leaves them
+        for f in [f for f in logging.getLogger(name).filters if isinstance(f, CancelBeforeStart)]:
+            logging.getLogger(name).removeFilter(f)
+    without = name_errors(interrupted_call())
+    assert without and "future" in str(without[0].exc_info[1])  # Dask logs its NameError (the reproduction holds)
+    install()
+    install()  # once per logger, however often
+    assert all(sum(isinstance(f, CancelBeforeStart) for f in logging.getLogger(n).filters) == 1 for n in LOGGERS)
+    assert name_errors(interrupted_call()) == []
+
+
+def test_other_records_pass():
+    try:
+        raise NameError("name 'x' is not defined")
+    except NameError as exc:
+        record = logging.LogRecord("tornado.application", logging.ERROR, __file__, 1, "Exception", None,
+                                   (NameError, exc, exc.__traceback__))  # fmt: skip
+    assert CancelBeforeStart().filter(record)
+    plain = logging.LogRecord("asyncio", logging.ERROR, __file__, 1, "no exception", None, None)
+    assert CancelBeforeStart().filter(plain)

@@ -72,6 +72,28 @@ def test_import_pinmob_loads_no_optional_package():
     assert out[1] == "[]", out[1]
 
 
+def test_the_finite_analysis_loads_when_asked_for():
+    """Its modules (branches, tangent cone, path follower, ...) are not part of ``import pinmob`` nor of an analysis
+    without ``finite=True``; with it they load and the report has the finite part."""
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, pinmob\n"
+        "finite = ('pinmob.analysis.finite', 'pinmob.analysis.tangent_cone', 'pinmob.analysis.motion_path')\n"
+        "print(sorted(m for m in finite if m in sys.modules))\n"
+        "mech = pinmob.load('3-PUU')\n"
+        "pinmob.analyze(mech, 'generic').to_dict()\n"
+        "print(sorted(m for m in finite if m in sys.modules))\n"
+        "print(pinmob.analyze(mech, 'generic', finite=True).to_dict()['finite_dof'])\n"
+        "print(sorted(m for m in finite if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split("\n")
+    assert out[:2] == ["[]", "[]"]
+    assert out[2] == "3"  # the 3-PUU's generic configuration is regular: finite = instantaneous = 3 (3T)
+    assert out[3] == str(["pinmob.analysis.finite", "pinmob.analysis.motion_path", "pinmob.analysis.tangent_cone"])
+
+
 def closed_configurations() -> list[tuple[str, object]]:
     """(label, Configuration) of every built-in model's named configurations and of the 11 Extended URDF robots."""
     import warnings

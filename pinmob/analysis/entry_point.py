@@ -7,8 +7,7 @@ from collections.abc import Mapping, Sequence
 from numpy.typing import ArrayLike
 
 from pinmob.analysis.configuration import Configuration, as_configuration
-from pinmob.analysis.finite import check_order
-from pinmob.analysis.higher_order import ORDER
+from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Options, Report
 from pinmob.assembly.relaxation import find_closed_relaxed, unclosable

@@ -28,14 +28,10 @@ from typing import Any
 from pinmob.analysis.branches import branch_joints
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite_side import Side, analyse_side
-from pinmob.analysis.higher_order import ORDER, ORDER_TOL
+from pinmob.analysis.higher_order import ORDER, ORDER_TOL, check_order
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.verdicts import MotionVerdict
 from pinmob.assembly.assemble import joint_velocity_indices
-from pinmob.exceptions import ConfigurationError
-
-#: Valid order bounds.
-ORDERS = range(2, 9)
 
 
 @dataclass(frozen=True)
@@ -178,19 +174,6 @@ def _branch_lines(side: Side) -> list[str]:
         plat = f"; the platform {b.dof} DoF, {b.motion_type}{where}" if b.dof is not None else ""
         lines.append(f"  branch {i + 1}: {b.dimension} DoF{plat}")
     return lines
-
-
-def check_order(order: object) -> int:
-    """A validated order bound: an integer in 2..8.
-
-    Raises:
-        ConfigurationError: naming the value and the valid range.
-    """
-    if isinstance(order, bool) or not isinstance(order, int) or order not in ORDERS:
-        raise ConfigurationError(
-            f"the order bound of the finite analysis must be an integer from {ORDERS[0]} to {ORDERS[-1]}, got {order!r}"
-        )
-    return order
 
 
 def finite_mobility(

@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinmob.analysis.loop_screws import MechanismLoops
+from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank, decision, svd
@@ -40,6 +41,24 @@ ORDER = 4
 ORDER_TOL = 1e-7
 #: A condition's residual within this factor of its tolerance (either side) decides nothing ("cannot decide").
 MARGIN = 10.0
+
+#: Valid order bounds.
+ORDERS = range(2, 9)
+
+
+def check_order(order: object) -> int:
+    """A validated order bound: an integer in 2..8.
+
+    Raises:
+        ConfigurationError: naming the value and the valid range.
+    """
+    if isinstance(order, bool) or not isinstance(order, int) or order not in ORDERS:
+        raise ConfigurationError(
+            f"the order bound of the finite analysis must be an integer from {ORDERS[0]} to {ORDERS[-1]}, got {order!r}"
+        )
+    return order
+
+
 #: Budget of function evaluations of a joint (non-linear) solve over every free parameter.
 JOINT_SOLVE_EVALUATIONS = 400
 

@@ -1,19 +1,17 @@
 """The whole answer at one closed configuration: :class:`Report`, from the one entry point :func:`analyze`.
 
-``Report.to_dict()`` is the document ``pinmob analyze --json`` prints and
-``str(report)`` the text ``pinmob analyze`` prints. The platform mobility is
-computed at once; the other parts when first used (``to_dict`` and ``str`` use
-them all):
+``Report.to_dict()`` is the document ``pinmob analyze --json`` prints and ``str(report)`` the text
+``pinmob analyze`` prints. The platform mobility is computed at once; the other parts when first used
+(``to_dict`` and ``str`` use them all):
 
-* ``mechanism_mobility``: the whole closed chain (closure Jacobian, redundancy,
-  idle motions, actuation, frame motions);
-* ``singularity``: the singularity classes and distances (the first report of a
-  mechanism also estimates its generic constraint rank, from random closed
-  configurations, unless the file declares it);
+* ``mechanism_mobility``: the whole closed chain (closure Jacobian, redundancy, idle motions, actuation,
+  frame motions);
+* ``singularity``: the singularity classes and distances (the first report of a mechanism also estimates
+  its generic constraint rank, from random closed configurations, unless the file declares it);
 * ``paper``: the seed paper's view, only when asked (``paper=True``);
-* ``actuator_sets``: every valid set of K actuated joints, only when asked
-  (``actuator_search=K``);
-* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
+* ``actuator_sets``: every valid set of K actuated joints, only when asked (``actuator_search=K``);
+* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`,
+  imported then).
 """
 
 from __future__ import annotations
@@ -21,7 +19,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from numpy.typing import ArrayLike
 
@@ -30,7 +28,6 @@ from pinmob.analysis.ambiguity import AmbiguousRank, ambiguous_ranks, raised_not
 from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
-from pinmob.analysis.finite import FiniteMobility, finite_mobility
 from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.singularity import Singularity
@@ -38,6 +35,9 @@ from pinmob.analysis.singularity_analysis import singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.joint_values import values_by_name
+
+if TYPE_CHECKING:
+    from pinmob.analysis.finite import FiniteMobility
 
 
 @dataclass(frozen=True)
@@ -134,6 +134,8 @@ class Report:
         motions = None if platform is None else platform.motions
         sing = self.singularity if self.state.mechanism.actuated else None
         locked = sing.uncontrolled if sing is not None and sing.actuation is not None else None
+        from pinmob.analysis.finite import finite_mobility  # its modules load when a finite analysis is asked for
+
         return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions, locked_motions=locked)
 
     @property
@@ -282,19 +284,7 @@ class Report:
 
 #: keys of the whole-mechanism document added to the JSON of a limb-and-platform analysis
 MECHANISM_KEYS = (
-    "nv",
-    "closure_rows",
-    "closure_rank",
-    "mechanism_dof",
-    "internal_dof",
-    "idle_dof",
-    "idle_joints",
-    "redundant_constraints",
-    "redundant_by_closure",
-    "redundant_by_closure_rule",
-    "grubler",
-    "actuation",
-    "closures",
-    "end_frames",
-    "frames",
-)
+    "nv", "closure_rows", "closure_rank", "mechanism_dof", "internal_dof", "idle_dof", "idle_joints",
+    "redundant_constraints", "redundant_by_closure", "redundant_by_closure_rule", "grubler", "actuation", "closures",
+    "end_frames", "frames",
+)  # fmt: skip

@@ -27,9 +27,8 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.finite import check_order
 from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.higher_order import ORDER
+from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose

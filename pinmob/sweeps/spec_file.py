@@ -43,8 +43,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from pinmob.analysis.finite import check_order
-from pinmob.analysis.higher_order import ORDER
+from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.catalog.families import family
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.scan.spec import POSE_COORDS, parse_grid_axis

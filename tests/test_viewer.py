@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from processes import children
 
 import pinmob
 from pinmob import viewer
@@ -339,20 +340,6 @@ def _free_port() -> int:
         return s.getsockname()[1]
 
 
-def _children(pid: int) -> list[int]:
-    """Processes whose parent is ``pid`` (Linux /proc)."""
-    out = []
-    for entry in Path("/proc").iterdir():
-        if entry.name.isdigit():
-            try:
-                stat = (entry / "stat").read_text()
-            except OSError:
-                continue
-            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
-                out.append(int(entry.name))
-    return out
-
-
 def _read_until(proc: subprocess.Popen, pattern: bytes, timeout: float = 90) -> bytes:
     """proc's stdout until a line matches ``pattern`` (raw reads: no buffering hides a line from select)."""
     import os
@@ -392,7 +379,7 @@ def test_sigterm_stops_the_server_it_started(model, when, status):
     try:
         deadline = time.monotonic() + 90
         while not servers and time.monotonic() < deadline and proc.poll() is None:
-            servers = _children(proc.pid)
+            servers = children(proc.pid)
             time.sleep(0.02)
         assert len(servers) == 1, f"expected one meshcat server, found {servers}"
         if when == "serving":

@@ -366,3 +366,21 @@ def test_actuated_and_joints_on_the_command_line(tmp_path, capsys):
         assert main(["analyze", str(path), "--joints", bad]) == 2
         err = capsys.readouterr().err
         assert err.count("\n") == 1 and "is not name=value" in err
+
+
+@pytest.mark.parametrize(
+    ("values", "rank", "other"),
+    [
+        ([1.0, 3e-6], 2, (1,)),  # the counted 3e-6 is within 10x above the tolerance 1e-6: rank 1 is possible
+        ([1.0, 3e-7], 1, (2,)),  # the dropped 3e-7 is within 10x below it: rank 2 is possible
+        ([1.0, 2e-6, 5e-7], 2, (1, 3)),  # both close
+    ],
+)
+def test_an_ambiguous_rank_names_the_count_the_geometry_may_mean(values, rank, other):
+    """Hand-chosen singular values around a tolerance of 1e-6 (the margin is a factor 10 either side)."""
+    from pinmob.analysis.ambiguity import ambiguous_rank
+
+    amb = ambiguous_rank("closure rank", np.array(values), 1e-6, rank)
+    assert amb is not None and amb.alternatives == other
+    assert f"the rank is {rank} as counted, {' or '.join(map(str, other))} if the geometry" in str(amb)
+    assert ambiguous_rank("closure rank", np.array([1.0, 1e-3, 1e-12]), 1e-6, 2) is None  # a clear gap

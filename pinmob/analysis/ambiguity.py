@@ -50,12 +50,19 @@ class AmbiguousRank:
             "tolerance": self.tolerance,
         }
 
+    @property
+    def alternatives(self) -> tuple[int, ...]:
+        """The other ranks the geometry may mean: one less (counted value close), one more (dropped one close)."""
+        out = (self.rank - 1,) if 0 < self.kept < AMBIGUOUS_MARGIN * self.tolerance else ()
+        return out + ((self.rank + 1,) if self.dropped * AMBIGUOUS_MARGIN > self.tolerance else ())
+
     def __str__(self) -> str:
-        """One line: the decision, the two singular values and the two counts they allow."""
+        """One line: the decision, the two singular values and the counts they allow."""
+        other = " or ".join(str(r) for r in self.alternatives)
         return (
             f"ambiguous {self.decision}: singular values {self.kept:.2e} (counted) and {self.dropped:.2e} (not) lie "
             f"within a factor {AMBIGUOUS_MARGIN:g} of the tolerance {self.tolerance:.2e}, no clear gap: the rank is "
-            f"{self.rank} as counted, {self.rank - 1 if self.kept else self.rank + 1} if the geometry means otherwise "
+            f"{self.rank} as counted, {other} if the geometry means otherwise "
             "(check the model's accuracy, or set --rtol / --closure-tol)"
         )
 

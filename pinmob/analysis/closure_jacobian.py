@@ -16,9 +16,10 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
-import pinocchio as pin
+from numpy.typing import NDArray
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.limbs import rate_scale
@@ -93,23 +94,59 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
     """Dimensionless rows whose zero set defines idle motions: frame twists, joint centres, closure points.
 
     An idle motion moves no output frame, no joint centre and no closure point
-    (e.g. a rod spinning about the line through its two ball joints).
+    (e.g. a rod spinning about the line through its two ball joints). A joint
+    centre's rows are ``(v_i - p_j x w_i) col_i / L`` for the joints i that
+    support joint j (the linear rows of Pinocchio's ``LOCAL_WORLD_ALIGNED``
+    joint Jacobian, computed here from the world Jacobian for every joint at
+    once), 0 for the others.
     """
     mech = conf.mechanism
     model, data, length = mech.model, conf.data, mech.length_scale
     col = closed_chain_columns(conf)
-    rows = [frame_rows(conf, name) for name in frames]
-    rows += [
-        np.reshape(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))[:3] * col / length
-        for j in range(1, model.njoints)
-    ]
-    for c in mech.all_closures:  # a cut joint's centre; a 6d cut is inside one rigid body
-        if c.type not in ("6d", "joint"):
-            rows.append(conf.frame_jacobian(c.frame_a_id)[:3] * col / length)
-    return np.vstack(rows) if rows else np.zeros((0, model.nv))
+    support = supported_columns(mech)  # (njoints - 1, nv)
+    points = [c.frame_a_id for c in mech.all_closures if c.type not in ("6d", "joint")]  # a cut joint's centre
+    out = np.empty((6 * len(frames) + 3 * support.shape[0] + 3 * len(points), model.nv))
+    for i, name in enumerate(frames):
+        out[6 * i : 6 * i + 6] = frame_rows(conf, name)
+    start = 6 * len(frames)
+    if support.shape[0]:
+        world = conf.world_jacobian
+        v, w = world[:3], world[3:]
+        p = np.array([x.translation for x in data.oMi.tolist()[1:]])  # (njoints - 1, 3) the joint centres
+        centres = out[start : start + 3 * support.shape[0]].reshape(support.shape[0], 3, model.nv)
+        centres[:, 0] = v[0] - (p[:, 1:2] * w[2] - p[:, 2:3] * w[1])
+        centres[:, 1] = v[1] - (p[:, 2:3] * w[0] - p[:, 0:1] * w[2])
+        centres[:, 2] = v[2] - (p[:, 0:1] * w[1] - p[:, 1:2] * w[0])
+        centres *= col
+        centres /= length
+        centres *= support[:, None, :]  # the columns of the joints that do not support it: 0
+        start += 3 * support.shape[0]
+    for k, fid in enumerate(points):
+        out[start + 3 * k : start + 3 * k + 3] = conf.frame_jacobian(fid)[:3] * col / length
+    return out
 
 
-def selector(nv: int, idx: Array) -> Array:
+def supported_columns(mech: Mechanism) -> Array:
+    """(njoints - 1, nv) 1 where velocity component i belongs to a joint supporting joint j (1..njoints-1), else 0.
+
+    The columns a joint's own Jacobian fills (its path to the root); read-only, computed once per mechanism.
+    """
+
+    def compute() -> Array:
+        model = mech.model
+        out = np.zeros((model.njoints - 1, model.nv))
+        for j in range(1, model.njoints):
+            for s in model.supports[j]:
+                joint = model.joints[s]
+                if s and joint.nv:
+                    out[j - 1, joint.idx_v : joint.idx_v + joint.nv] = 1.0
+        out.flags.writeable = False
+        return out
+
+    return mech.memo("supported columns", compute)
+
+
+def selector(nv: int, idx: NDArray[Any]) -> Array:
     """(len(idx), nv) rows picking the rates ``idx``, in the dimensionless coordinates (each row a unit vector).
 
     The closed chain's motions are dimensionless rates (prismatic rates per L): a row scaled by L

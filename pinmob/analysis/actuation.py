@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, selector
 from pinmob.analysis.configuration import Configuration
@@ -91,22 +92,40 @@ def floating_bases(mech: Mechanism) -> tuple[str, ...]:
     """The floating bases, by name: free-flyer joints at the root of the tree that carry other joints.
 
     A free body that carries no joint (a part pinned or welded into a loop) is a part of the
-    mechanism, not a robot's base.
+    mechanism, not a robot's base. Computed once per mechanism.
     """
-    model = mech.model
-    return tuple(
-        model.names[j]
-        for j in range(1, model.njoints)
-        if model.parents[j] == 0 and model.joints[j].shortname() == "JointModelFreeFlyer" and len(model.subtrees[j]) > 1
-    )
+
+    def compute() -> tuple[str, ...]:
+        model = mech.model
+        parents = model.parents.tolist()
+        return tuple(
+            model.names[j]
+            for j in range(1, model.njoints)
+            if parents[j] == 0 and model.joints[j].shortname() == "JointModelFreeFlyer" and len(model.subtrees[j]) > 1
+        )
+
+    return mech.memo("floating bases", compute)
 
 
-def held_indices(mech: Mechanism, actuated: Sequence[str]) -> Array:
-    """Velocity indices held while judging the actuation: the actuated joints', then each floating base's six."""
-    model = mech.model
-    base = [model.joints[model.getJointId(b)] for b in floating_bases(mech)]
-    extra = [np.arange(j.idx_v, j.idx_v + 6) for j in base]
-    return np.concatenate([joint_velocity_indices(mech, list(actuated)), *extra]).astype(np.intp)
+def held_indices(mech: Mechanism, actuated: Sequence[str]) -> NDArray[np.intp]:
+    """Velocity indices held while judging the actuation: the actuated joints', then each floating base's six.
+
+    Computed once per mechanism and set of actuated joints (read-only).
+
+    Raises:
+        FrameError: an unknown joint (the message lists them).
+        ConfigurationError: an actuated joint with more than one degree of freedom.
+    """
+
+    def compute() -> NDArray[np.intp]:
+        model = mech.model
+        base = [model.joints[model.getJointId(b)] for b in floating_bases(mech)]
+        extra = [np.arange(j.idx_v, j.idx_v + 6) for j in base]
+        out = np.concatenate([joint_velocity_indices(mech, list(actuated)), *extra]).astype(np.intp)
+        out.flags.writeable = False
+        return out
+
+    return mech.memo(("held indices", tuple(actuated)), compute)
 
 
 def rank_of(matrix: Array, rtol: float) -> int:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from enum import StrEnum
-from typing import Any, overload
+from typing import Any
 
 import numpy as np
 
@@ -156,43 +156,28 @@ class Constraint(ReadOnlyArrays):
         return text
 
 
-@overload
-def frozen(a: Array) -> Array: ...
-
-
-@overload
-def frozen(a: None) -> None: ...
-
-
-def frozen(a: Array | None) -> Array | None:
-    """``a`` made read-only (results are frozen for real); None stays None."""
-    if a is not None:
-        a.flags.writeable = False
-    return a
-
-
 def motions_of(system: ScrewSystem) -> tuple[Motion, ...]:
-    """The motions of a classified twist system, labelled ``T1 x``, ``R1 z``, ``H1 [..]`` in order."""
+    """The motions of a classified twist system, labelled ``T1 x``, ``R1 z``, ``H1 [..]`` in order.
+
+    Their arrays are the screws' own, made read-only by :class:`Motion` (results are frozen for real).
+    """
     out = []
     counters = dict.fromkeys(MotionKind, 0)
     for s in system.all:
         kind = MotionKind(s.kind)
         counters[kind] += 1
         label = f"{kind.value}{counters[kind]} {axis_label(s.direction)}"
-        out.append(Motion(kind, frozen(s.direction), frozen(s.point), s.pitch, frozen(s.vector), label))
+        out.append(Motion(kind, s.direction, s.point, s.pitch, s.vector, label))
     return tuple(out)
 
 
 def constraints_of(system: ScrewSystem) -> tuple[Constraint, ...]:
-    """The constraints of a classified wrench system."""
-    return tuple(
-        Constraint(WrenchKind(s.kind), frozen(s.direction), frozen(s.point), s.pitch, frozen(s.vector))
-        for s in system.all
-    )
+    """The constraints of a classified wrench system (their arrays made read-only by :class:`Constraint`)."""
+    return tuple(Constraint(WrenchKind(s.kind), s.direction, s.point, s.pitch, s.vector) for s in system.all)
 
 
 def columns(vectors: list[Array] | tuple[Array, ...], rows: int = 6) -> Array:
-    """The vectors as the columns of a (rows, k) array (read-only; (rows, 0) when there are none)."""
-    out = np.column_stack(vectors) if len(vectors) else np.zeros((rows, 0))
+    """The vectors (rows,) as the columns of a (rows, k) array (read-only; (rows, 0) when there are none)."""
+    out = np.array(vectors).T.copy() if len(vectors) else np.zeros((rows, 0))
     out.flags.writeable = False
     return out

@@ -88,12 +88,18 @@ def closure_ranks(
     implied = implied_rows(mech, left_null, rtol, margin)
     if implied is None:  # a rank too close to call: the straightforward computation decides it
         return closure_ranks_by_removal(mech, k_hat, rtol, reference)
-    starts = np.cumsum([0] + [c.rows for c in closures])
+    sizes = [c.rows for c in closures]
+    starts = [0]
+    for rows in sizes:
+        starts.append(starts[-1] + rows)
     own: dict[int, int] = {}
-    for rows in {c.rows for c in closures}:
-        which = [i for i, c in enumerate(closures) if c.rows == rows]
-        values = singular_values(np.stack([k_hat[starts[i] : starts[i + 1]] for i in which]))
-        for i, s in zip(which, values):
+    for rows in set(sizes):
+        which = [i for i, size in enumerate(sizes) if size == rows]
+        if len(which) == len(sizes):  # every closure has this many rows: K's rows are the stack already
+            stack = k_hat.reshape(len(sizes), rows, k_hat.shape[1])
+        else:
+            stack = np.stack([k_hat[starts[i] : starts[i + 1]] for i in which])
+        for i, s in zip(which, singular_values(stack)):
             own[i] = rank_rule(s, rtol, reference=reference)[0]
     return tuple(ClosureRank(c.name, str(c.type), c.rows, own[i], c.rows - implied[i]) for i, c in enumerate(closures))
 

@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, selector
+from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, rates_of
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
@@ -200,7 +200,7 @@ def actuation(
         frame_dof,
         tuple(remaining),
         base,
-        tuple(float(v) for v in split.singular_values),
+        tuple(split.singular_values.tolist()),
     )
 
 
@@ -241,7 +241,7 @@ def actuator_sets(
         )
     chain = closed_chain(conf, rtol)
     n = chain.null
-    rates = selector(model.nv, joint_velocity_indices(mech, names)) @ n  # (len(names), m)
+    rates = rates_of(n, joint_velocity_indices(mech, names))  # (len(names), m)
     out = output_rows(conf, outputs) @ n
     valid = []
     with step(f"trying every set of {size} actuated joints of {mech.name}", total=count) as bar:

@@ -36,7 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.actuation import Actuation, actuation, held_indices, lock
-from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, output_rows, selector
+from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, output_rows, rates_of
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
@@ -209,27 +209,33 @@ def default_end_frames(mech: Mechanism) -> tuple[str, ...]:
 
 @one_blas_thread
 def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobility:
-    """Free motions of ``frame`` on the closed chain, at its origin with world axes.
+    """Free motions of ``frame`` on the closed chain, at its origin with world axes (cached per frame and tolerance).
 
     The image ``J_frame null(K)`` of every closed-chain motion (all closures,
     limb tips welded to the platform included), classified like the
-    platform's (:func:`pinmob.screw.classify.classify_twists`).
+    platform's (:func:`pinmob.screw.classify.classify_twists`). Cached on the
+    configuration: the platform mobility of a mechanism whose limbs are coupled
+    and the whole-mechanism analysis share the platform's.
 
     Raises:
         FrameError: no such frame (the message lists them).
     """
     mech = conf.mechanism
     fid = frame_id(mech.model, frame)
-    length = mech.length_scale
-    image = frame_rows(conf, frame) @ closed_chain(conf, rtol).null
-    dec = decide_rank(image.T, rtol, 6, at_least=1.0)
-    basis = dec.row_space.T  # (6, rank): the image's orthonormal column span
-    system = classify_twists(basis / twist_scaling(length)[:, None], length, rtol)
-    motions = motions_of(system)
-    origin = np.array(conf.frame_placement(fid).translation)
-    return FrameMobility(
-        frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]), origin, length
-    )
+
+    def compute() -> FrameMobility:
+        length = mech.length_scale
+        image = frame_rows(conf, frame) @ closed_chain(conf, rtol).null
+        dec = decide_rank(image.T, rtol, 6, at_least=1.0)
+        basis = dec.row_space.T  # (6, rank): the image's orthonormal column span
+        system = classify_twists(basis / twist_scaling(length)[:, None], length, rtol)
+        motions = motions_of(system)
+        origin = np.array(conf.frame_placement(fid).translation)
+        return FrameMobility(
+            frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]), origin, length
+        )
+
+    return conf.memo(("frame_mobility", frame, rtol), compute)
 
 
 @one_blas_thread
@@ -265,7 +271,7 @@ def mechanism_mobility(
     dec = chain.decision
     idx = held_indices(mech, acts)
     split = lock(
-        selector(mech.model.nv, idx) @ chain.null,
+        rates_of(chain.null, idx),
         output_rows(conf, outs) @ chain.null,
         rtol,
         chain.null.shape[1],

@@ -146,16 +146,16 @@ def supported_columns(mech: Mechanism) -> Array:
     return mech.memo("supported columns", compute)
 
 
-def selector(nv: int, idx: NDArray[Any]) -> Array:
-    """(len(idx), nv) rows picking the rates ``idx``, in the dimensionless coordinates (each row a unit vector).
+def rates_of(motions: Array, idx: NDArray[Any]) -> Array:
+    """(len(idx), m) the rates ``idx`` of closed-chain motions (nv, m), in the dimensionless coordinates: ``motions[idx]``.
 
-    The closed chain's motions are dimensionless rates (prismatic rates per L): a row scaled by L
+    The closed chain's motions are dimensionless rates (prismatic rates per L): a rate scaled by L
     would weigh a slider's rate by the unit of length against the output rows (in nanometres it
     outweighed every output and idle motions appeared; far enough the other way it would vanish).
+    Picking the rows gives the numbers a selector matrix ``S`` (one unit row per index) times ``motions`` gives,
+    without the product.
     """
-    sel = np.zeros((len(idx), nv))
-    sel[np.arange(len(idx)), idx] = 1.0
-    return sel
+    return motions[np.asarray(idx, dtype=np.intp)]
 
 
 @one_blas_thread

@@ -97,12 +97,12 @@ def singularity_from_twists(
         for extra, dec in zip(extras, decide_ranks([e.T for e in extras], rtol, n=6))
     ]
 
-    cdec = decide_rank(np.hstack(blocks).T, rtol, n=6)
+    cdec = decide_rank(np.concatenate(blocks, axis=1).T, rtol, n=6)
     constraint = cdec.rank < g
     if g > 0:
         distances["constraint"] = distance_of(cdec.singular_values, g)
     g_locked = generic_locked_dof(mech, g)
-    ldec = decide_rank(np.hstack(locked_blocks).T, rtol, n=6)
+    ldec = decide_rank(np.concatenate(locked_blocks, axis=1).T, rtol, n=6)
     locked_dof = 6 - ldec.rank
     actuation: bool | None = None
     motions: tuple[Motion, ...] = ()
@@ -125,7 +125,7 @@ def singularity_from_twists(
         generic_locked_dof=g_locked,
         uncontrolled=motions,
         uncontrolled_twists=columns([m.twist for m in motions]),
-        actuation_wrenches=np.hstack(act_wrenches) if act_wrenches else np.zeros((6, 0)),
+        actuation_wrenches=np.concatenate(act_wrenches, axis=1) if act_wrenches else np.zeros((6, 0)),
         distance=min(distances.values(), default=1.0),
         distances=distances,
         limb_ranks=limb_ranks,

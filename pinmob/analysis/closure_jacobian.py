@@ -27,7 +27,7 @@ from pinmob.assembly.residual import stacked_error
 from pinmob.blas import one_blas_thread
 from pinmob.model.joints import frame_id, velocity_spans
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, shift_twists, twist_scaling
+from pinmob.screw.algebra import Array, Mask, shift_twists, twist_scaling
 from pinmob.screw.rank import RankDecision, decide_rank, decision, svd
 
 
@@ -119,27 +119,27 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
         centres[:, 2] = v[2] - (p[:, 0:1] * w[1] - p[:, 1:2] * w[0])
         centres *= col
         centres /= length
-        centres *= support[:, None, :]  # the columns of the joints that do not support it: 0
+        np.copyto(centres, 0.0, where=~support[:, None, :])  # the columns of the joints that do not support it: 0
         start += 3 * support.shape[0]
     for k, fid in enumerate(points):
         out[start + 3 * k : start + 3 * k + 3] = conf.frame_jacobian(fid)[:3] * col / length
     return out
 
 
-def supported_columns(mech: Mechanism) -> Array:
-    """(njoints - 1, nv) 1 where velocity component i belongs to a joint supporting joint j (1..njoints-1), else 0.
+def supported_columns(mech: Mechanism) -> Mask:
+    """(njoints - 1, nv) True where velocity component i belongs to a joint supporting joint j (1..njoints-1).
 
     The columns a joint's own Jacobian fills (its path to the root); read-only, computed once per mechanism.
     """
 
-    def compute() -> Array:
+    def compute() -> Mask:
         model = mech.model
-        out = np.zeros((model.njoints - 1, model.nv))
+        out = np.zeros((model.njoints - 1, model.nv), dtype=bool)
         for j in range(1, model.njoints):
             for s in model.supports[j]:
                 joint = model.joints[s]
                 if s and joint.nv:
-                    out[j - 1, joint.idx_v : joint.idx_v + joint.nv] = 1.0
+                    out[j - 1, joint.idx_v : joint.idx_v + joint.nv] = True
         out.flags.writeable = False
         return out
 

@@ -150,6 +150,56 @@ def test_closure_ranks_from_the_left_null_space(configurations):
     assert declined < 30
 
 
+def test_output_rows_are_pinocchios_joint_jacobians(configurations):
+    """The joint centres' rows, all at once from the world Jacobian, are Pinocchio's joint Jacobians.
+
+    Against the computation they replace: ``pin.getJointJacobian(..., LOCAL_WORLD_ALIGNED)[:3] * col / L``
+    per joint, with the same exact zeros (the columns of the joints that do not support it); the other
+    entries to round-off (the same operations: bit for bit where Pinocchio is built without fused multiply-adds).
+    """
+    import pinocchio as pin
+
+    from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows, output_rows
+
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        model, data, length = mech.model, conf.data, mech.length_scale  # type: ignore[attr-defined]
+        col = closed_chain_columns(conf)  # type: ignore[arg-type]
+        frames = [mech.platform] if mech.has_platform else []
+        rows = [frame_rows(conf, f) for f in frames]  # type: ignore[arg-type]
+        rows += [
+            np.reshape(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))[:3] * col / length
+            for j in range(1, model.njoints)
+        ]
+        rows += [
+            conf.frame_jacobian(c.frame_a_id)[:3] * col / length  # type: ignore[attr-defined]
+            for c in mech.all_closures
+            if c.type not in ("6d", "joint")
+        ]
+        ref = np.vstack(rows)
+        mine = output_rows(conf, frames)  # type: ignore[arg-type]
+        assert mine.shape == ref.shape, label
+        assert np.array_equal(mine == 0, ref == 0), label
+        assert_allclose(mine, ref, rtol=1e-14, atol=1e-14, err_msg=label)
+
+
+def test_rates_of_is_the_selector_product(configurations):
+    """The held joints' rates picked as rows of the closed chain's motions: the numbers of the selector matrix's product."""
+    from pinmob.analysis.actuation import held_indices
+    from pinmob.analysis.closure_jacobian import closed_chain, rates_of
+    from pinmob.screw.rank import RTOL
+
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        null = closed_chain(conf, RTOL).null  # type: ignore[arg-type]
+        idx = held_indices(mech, mech.actuated)
+        selector = np.zeros((idx.size, mech.model.nv))
+        selector[np.arange(idx.size), idx] = 1.0
+        product = selector @ null
+        mine = rates_of(null, idx)
+        assert mine.shape == product.shape and np.array_equal(mine, product), label
+
+
 def test_canonical_directions_closed_form_is_the_greedy():
     """The closed forms per dimension give the greedy's basis: random subspaces, axis-aligned ones and ties."""
     from pinmob.screw.bases import canonical_directions, canonical_directions_greedy

@@ -135,7 +135,7 @@ class MechanismMobility(ReadOnlyArrays):
             "closures": [c.to_dict() for c in self.closures],
             "end_frames": list(self.end_frames),
             "frames": [f.to_dict() for f in self.frames],
-            "singular_values": [float(s) for s in self.singular_values],
+            "singular_values": self.singular_values.tolist(),
             "tolerance": self.tolerance,
             "length_scale": self.length_scale,
         }

@@ -33,7 +33,7 @@ class Method(StrEnum):
 
 def vector(a: Array | None) -> list[float] | None:
     """A plain list of floats for JSON (None stays None)."""
-    return None if a is None else list(np.asarray(a, dtype=np.float64).tolist())
+    return None if a is None else np.asarray(a, dtype=np.float64).tolist()
 
 
 def numbers(a: Array, digits: int = 4) -> str:

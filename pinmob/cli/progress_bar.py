@@ -6,14 +6,35 @@ tqdm is imported when a step has lasted that long, not before: its import (about
 
 from __future__ import annotations
 
+import math
+import os
 import sys
 import time
 from typing import Any, TextIO
 
-from pinmob.progress import Bar
+from pinmob.exceptions import ConfigurationError
+from pinmob.progress import Bar, BarFactory
 
-#: seconds a step runs before its bar appears
+#: seconds a step runs before its bar appears (``PINMOB_PROGRESS_DELAY`` sets another)
 DELAY = 2.0
+
+
+def delay() -> float:
+    """Seconds a step runs before its bar appears: ``PINMOB_PROGRESS_DELAY`` when set, else :data:`DELAY`.
+
+    Raises:
+        ConfigurationError: the variable is not a finite number of seconds >= 0.
+    """
+    text = os.environ.get("PINMOB_PROGRESS_DELAY", "").strip()
+    if not text:
+        return DELAY
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value >= 0):
+        raise ConfigurationError(f"PINMOB_PROGRESS_DELAY must be a number of seconds >= 0 (e.g. 2), got {text[:40]!r}")
+    return value
 
 
 class LateBar:
@@ -72,6 +93,15 @@ class LateBar:
             self._bar.close()
 
 
-def terminal_bar(description: str, total: int | None) -> Bar:
-    """A bar on stderr for one step (:func:`pinmob.progress.step`), drawn by tqdm after :data:`DELAY` seconds."""
-    return LateBar(description, total)
+def terminal_bars() -> BarFactory:
+    """The command line's bar factory (:func:`pinmob.progress.reporting`): a :class:`LateBar` on stderr per step.
+
+    The delay is read once, here (:func:`delay`), so that a wrong ``PINMOB_PROGRESS_DELAY`` is reported
+    before the command starts.
+    """
+    seconds = delay()
+
+    def bar(description: str, total: int | None) -> Bar:
+        return LateBar(description, total, seconds)
+
+    return bar

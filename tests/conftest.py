@@ -28,9 +28,8 @@ def rng() -> np.random.Generator:
     return np.random.default_rng(20261122)
 
 
-@pytest.fixture(scope="session")
-def dask_cluster():
-    """A real Dask LocalCluster of two worker processes (pinmob's worker set-up preloaded), shared by the session."""
+def start_cluster():
+    """A real Dask LocalCluster of two worker processes (pinmob's worker set-up preloaded), and its client."""
     import logging
 
     from dask.distributed import Client, LocalCluster
@@ -45,7 +44,30 @@ def dask_cluster():
         silence_logs=logging.CRITICAL,
         preload=["pinmob.engine.worker"],
     )
-    client = Client(cluster)
-    yield cluster
+    return cluster, Client(cluster)
+
+
+@pytest.fixture(scope="session")
+def _dask_session():
+    """The session's cluster, in a list so that a test's check can replace it."""
+    held = [start_cluster()]
+    yield held
+    cluster, client = held[0]
     client.close()
     cluster.close()
+
+
+@pytest.fixture
+def dask_cluster(_dask_session):
+    """The session's LocalCluster, with its two workers up: a worker lost by an earlier test (its nanny
+    restarts it) is waited for, and a cluster whose workers do not come back within a minute is replaced,
+    so that one test's lost worker does not fail every later cluster test."""
+    cluster, client = _dask_session[0]
+    try:
+        client.wait_for_workers(2, timeout=60)
+    except Exception:  # TimeoutError, or a scheduler that is gone: start again
+        client.close()
+        cluster.close()
+        _dask_session[0] = start_cluster()
+        cluster = _dask_session[0][0]
+    return cluster

@@ -72,11 +72,11 @@ def test_steps_report_to_the_listener():
         unclosable(mech)  # silenced again inside
 
 
-def run_in_terminal(cmd: list[str], timeout: float = 120.0) -> tuple[int, str]:
+def run_in_terminal(cmd: list[str], timeout: float = 120.0, env: dict[str, str] | None = None) -> tuple[int, str]:
     """Run cmd with stderr on a pseudo-terminal (stdout a pipe); its exit status and everything it wrote there."""
     master, slave = pty.openpty()
     fcntl.ioctl(slave, termios.TIOCSWINSZ, struct.pack("HHHH", 24, 160, 0, 0))  # a new pty is 0 columns wide
-    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=slave)
+    proc = subprocess.Popen(cmd, stdin=subprocess.DEVNULL, stdout=subprocess.DEVNULL, stderr=slave, env=env)
     os.close(slave)
     chunks, deadline = [], time.monotonic() + timeout
     while time.monotonic() < deadline:
@@ -96,12 +96,22 @@ def run_in_terminal(cmd: list[str], timeout: float = 120.0) -> tuple[int, str]:
 
 
 def test_a_long_step_shows_a_bar_on_a_terminal_only():
-    status, terminal = run_in_terminal(SLOW)
+    # the restarts, then each closure tried alone: well under a second now, so the bars are asked for at once
+    # (PINMOB_PROGRESS_DELAY=0; the two-second delay itself: tests/test_cli_progress.py)
+    now = os.environ | {"PINMOB_PROGRESS_DELAY": "0"}
+    status, terminal = run_in_terminal(SLOW, env=now)
     assert status == 2, terminal[-2000:]
-    # the restarts, then each closure tried alone: together well over the two seconds a bar waits for
     assert re.search(r"pinmob: (closing the loops|testing each closure) of kangaroo_like", terminal), terminal[-2000:]
     assert "pinmob: error: 'kangaroo_like' (as declared) could not be closed" in terminal
-    piped = subprocess.run(SLOW, capture_output=True, text=True, timeout=120)
+    piped = subprocess.run(SLOW, capture_output=True, text=True, timeout=120, env=now)
     assert piped.returncode == 2
     assert not re.search(r"closing the loops|testing each closure", piped.stderr) and "\r" not in piped.stderr
     assert piped.stderr.splitlines()[-1].startswith("pinmob: error: 'kangaroo_like' (as declared)")
+
+
+def test_a_wrong_progress_delay_is_one_line():
+    status, terminal = run_in_terminal(SLOW, env=os.environ | {"PINMOB_PROGRESS_DELAY": "soon"})
+    assert status == 2
+    last = terminal.strip().splitlines()[-1]
+    assert last == "pinmob: error: PINMOB_PROGRESS_DELAY must be a number of seconds >= 0 (e.g. 2), got 'soon'", last
+    assert "Traceback" not in terminal

@@ -19,6 +19,7 @@ from pinmob.cli.parser import build_parser
 from pinmob.exceptions import ConfigurationError, match_name
 
 GLOSSARY = Path(__file__).resolve().parent.parent / "docs" / "glossary.md"
+FIVEBAR = Path(__file__).resolve().parent / "data" / "fivebar" / "robot.yaml"
 NUMBERS = r"\[([^\]]*)\]"
 
 
@@ -99,6 +100,19 @@ def test_brief_is_one_line_with_the_answer(capsys):
     assert out.strip() == report.brief()
     assert out.startswith("3-PUU-flat at 'flat': 2 DoF, 1T1R (T1 z translation along [0, 0, 1]; R1 z rotation about")
     assert "through [0, 0, 0] m" in out and out.strip().endswith("singularity: actuation+limb")
+
+
+def test_brief_with_finite_ends_with_the_finite_verdict(capsys):
+    # 3-PUU-flat at beta = 0: the rotation about z is first-order only (blocked at order 2), the z translation
+    # is real: 1T at finite amplitude, where the instantaneous answer (and the seed paper) says 1T1R
+    out = run(capsys, "analyze", "3-PUU-flat", "--config", "flat", "--brief", "--finite")
+    assert out.count("\n") == 1
+    assert out.strip().endswith("singularity: actuation+limb; finite: platform 1 DoF finite, 1T")
+    full = run(capsys, "analyze", "3-PUU-flat", "--config", "flat", "--finite")
+    assert "platform: 1 DoF finite, 1T (instantaneous: 2 DoF, 1T1R)" in full
+    chain = run(capsys, "analyze", str(FIVEBAR), "--brief", "--finite")
+    assert chain.strip() == "fivebar: mechanism DoF 2; finite: mechanism 2 DoF finite"
+    assert "finite" not in run(capsys, "analyze", "3-PUU-flat", "--config", "flat", "--brief")
 
 
 def test_brief_and_json_exclude_each_other(capsys):

@@ -428,3 +428,20 @@ def test_path_plot_draws_only_present_singular_values(tmp_path):
     assert any(
         lab.startswith("rank threshold") and line.get_ydata()[0] == 1e-6 for lab, line in zip(labels, constraint.lines)
     )
+
+
+@pytest.mark.parametrize("samples", [3, 5, 7, 9, 11])
+def test_both_edges_of_the_five_bar_reach_are_refined_whatever_the_sampling(samples):
+    """Five-bar (motors at (0, 0) and (0.2, 0) m, proximal links 0.15 m, distal 0.18 m to the shared point):
+    moving mot1 = 3 s, mot2 = -3 s, the elbows are 0.2 + 0.3 sin(3 s) apart, and the loop closes while that
+    is at most the two distal lengths: the reachable stretches end where sin(3 s) = (2 d - 0.2) / 0.3. A
+    refined point lies on each edge, also when the distance rises before it falls to the edge, or when the
+    samples next to the edge do not assemble (it missed one edge or the other with 5 and 7 samples)."""
+    mech = pinmob.load(Path(__file__).parent / "data" / "fivebar" / "robot.yaml")
+    distal = math.hypot(0.1, 0.15)
+    theta = math.asin((2 * distal - 0.2) / 0.3)
+    edges = [theta / 3, (math.pi - theta) / 3]
+    rows = list(scan(mech, path_spec(mech, "mot1=0,mot2=0", "mot1=3,mot2=-3", samples), progress=False))
+    refined = sorted(r["s"] for r in rows if r["refined"])
+    assert len(refined) == 2, refined
+    assert_allclose(refined, edges, atol=1e-6)

@@ -160,7 +160,11 @@ def lock(rates: Array, outputs: Array, rtol: float, m: int) -> Locked:
 
 
 def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
-    """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component."""
+    """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component.
+
+    Ordered by magnitude to three digits (as printed), then as the joints are in the model: rates equal by
+    symmetry (a five-bar's two elbows) keep one order rather than the one round-off picks.
+    """
     model = mech.model
     big = float(np.max(np.abs(dq))) if dq.size else 0.0
     out: dict[str, float] = {}
@@ -172,7 +176,7 @@ def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
         if part.size and np.max(np.abs(part)) > 1e-6:
             k = int(np.argmax(np.abs(part)))
             out[model.names[j]] = round(float(part[k]), 6)
-    return dict(sorted(out.items(), key=lambda kv: -abs(kv[1])))
+    return dict(sorted(out.items(), key=lambda kv: -round(abs(kv[1]), 3)))
 
 
 def actuation(

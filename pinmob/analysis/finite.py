@@ -119,6 +119,12 @@ class FiniteMobility:
             }
         return out
 
+    def brief(self) -> str:
+        """``platform 1 DoF finite, 1T`` (the closed chain's without a platform): ``--brief --finite`` adds it."""
+        if self.platform:
+            return f"platform {_finite(self.free, self.finite_dof)}"
+        return f"mechanism {_finite(self.free, self.finite_mechanism_dof, False)}"
+
     def __str__(self) -> str:
         """The block ``pinmob analyze --finite`` prints."""
         free = self.free

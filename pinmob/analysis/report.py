@@ -254,9 +254,13 @@ class Report:
         return "\n".join(lines)
 
     def brief(self) -> str:
-        """The one-line answer ``pinmob analyze --brief`` prints (:func:`~pinmob.analysis.summary.summary_line`)."""
+        """The one-line answer ``pinmob analyze --brief`` prints (:func:`~pinmob.analysis.summary.summary_line`).
+
+        With the finite analysis (``finite=True``), its verdict ends the line (:meth:`FiniteMobility.brief`).
+        """
         chain = self.mechanism_mobility if self.mobility is None else None
-        return summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
+        line = summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
+        return line if self.finite is None else f"{line}; finite: {self.finite.brief()}"
 
     @cached_property
     def ambiguous_ranks(self) -> tuple[AmbiguousRank, ...]:

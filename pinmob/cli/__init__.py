@@ -18,7 +18,7 @@ from collections.abc import Callable, Sequence
 from typing import TextIO
 
 from pinmob.cli.parser import build_parser
-from pinmob.cli.progress_bar import terminal_bar
+from pinmob.cli.progress_bar import terminal_bars
 from pinmob.exceptions import PinmobError
 from pinmob.progress import reporting
 
@@ -86,7 +86,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     try:
-        with reporting(terminal_bar):  # steps over two seconds show a bar on stderr, on a terminal only
+        with reporting(terminal_bars()):  # steps over two seconds show a bar on stderr, on a terminal only
             status = COMMANDS[args.command](args)
         sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
         return status

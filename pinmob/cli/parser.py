@@ -77,7 +77,9 @@ def build_parser() -> argparse.ArgumentParser:
     form = p.add_mutually_exclusive_group()
     form.add_argument("--json", action="store_true", help="print the result as JSON")
     form.add_argument(
-        "--brief", action="store_true", help="print only the one-line answer (DoF, type, motions, singularity)"
+        "--brief",
+        action="store_true",
+        help="print only the one-line answer (DoF, type, motions, singularity; with --finite, the finite DoF)",
     )
     p.add_argument(
         "--paper-view",

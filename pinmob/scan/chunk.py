@@ -29,6 +29,9 @@ from pinmob.screw.rank import RTOL
 
 #: Evaluations per refinement, and bracket width (in samples) at which it stops.
 REFINE_EVALS, REFINE_XTOL = 60, 1e-12
+#: Bisections on whether the mechanism assembles that locate an edge of the reachable set to 1/64 of a sample
+#: before the distance is minimised there.
+EDGE_STEPS = 6
 
 SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
 #: The columns a scan with ``finite_order`` adds: the platform's and the closed chain's finite DoF.
@@ -199,12 +202,22 @@ class _Chunk:
             trials[t] = self.sample(t, _seed(trials[near], self.spec.q_ref), REFINE_ITER)
             return value(trials[t])
 
-        lo = k - 1 if (k - 1) in done else k
-        hi = k + 1 if (k + 1) in done else k
-        if towards and done[k - towards if k - towards in done else k].q is None:
-            lo, hi = (k - 1, k) if towards < 0 else (k, k + 1)
-        best = minimise(f, lo, k, hi, value(done[lo]), value(done[k]), value(done[hi]),
-                        stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
+        if towards:  # the edge first, by bisection on whether the mechanism assembles: the distance need not
+            # fall all the way from sample k to the edge (it may rise first), but it falls to 0 right at a fold
+            near, far, f_near = float(k), float(k + towards), value(done[k])
+            for _ in range(EDGE_STEPS):
+                mid = 0.5 * (near + far)
+                f_mid = f(mid)
+                near, far, f_near = (near, mid, f_near) if math.isinf(f_mid) else (mid, far, f_mid)
+            a, c = (near, far) if towards > 0 else (far, near)
+            fa, fc = (f_near, math.inf) if towards > 0 else (math.inf, f_near)
+            best = minimise(f, a, near, c, fa, f_near, fc,
+                            stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
+        else:
+            lo = k - 1 if (k - 1) in done else k
+            hi = k + 1 if (k + 1) in done else k
+            best = minimise(f, lo, k, hi, value(done[lo]), value(done[k]), value(done[hi]),
+                            stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
         if best.t == k:
             return _Sample({}, None, {})
         return self._mark(trials[best.t], best.t)

@@ -29,7 +29,8 @@ GOLDEN = (3.0 - math.sqrt(5.0)) / 2.0
 #: assembled); each step that lands short leaves a tenth of the remaining fraction, an overshoot resets it.
 FOLD_STEP = 0.9
 
-#: Evaluations without halving the best value after which :func:`minimise` stops (assembly accuracy reached).
+#: Evaluations that assembled without halving the best value after which :func:`minimise` stops (assembly
+#: accuracy reached, or a dip that is not a zero); trials that cannot be assembled narrow the bracket and do not count.
 STALL = 5
 
 
@@ -115,11 +116,11 @@ def minimise(
         fc: ``f(c)``.
         stop: stop once ``f(b) <= stop``.
         xtol: stop once ``c - a <= xtol``.
-        max_eval: most evaluations of f; it also stops after ``STALL`` evaluations
-            that did not halve the best value.
+        max_eval: most evaluations of f; it also stops after ``STALL`` finite evaluations
+            that did not halve the best value (an inf one narrows the bracket: not counted).
     """
-    evals, slow, mark, mark_eval, reach = 0, False, fb, 0, FOLD_STEP
-    while evals < max_eval and fb > stop and c - a > xtol and evals - mark_eval < STALL:
+    evals, slow, mark, stalled, reach = 0, False, fb, 0, FOLD_STEP
+    while evals < max_eval and fb > stop and c - a > xtol and stalled < STALL:
         guess = None if slow else _model_point(a, b, c, fa, fb, fc, reach)
         model = guess is not None and a < guess < c and abs(guess - b) > 0.5 * xtol
         x = guess if guess is not None and model else _fallback(a, b, c, fa, fc)
@@ -140,7 +141,9 @@ def minimise(
         if model and math.isinf(fa) != math.isinf(fc):  # a fold step: trust the model more after each success
             reach = 1.0 - 0.1 * (1.0 - reach) if fx < before else FOLD_STEP
         if fb < 0.5 * mark:
-            mark, mark_eval = fb, evals
+            mark, stalled = fb, 0
+        elif math.isfinite(fx):  # a trial that cannot be assembled still narrows the bracket: not a stall
+            stalled += 1
     return Minimum(b, fb, evals)
 
 

@@ -268,15 +268,10 @@ def mechanism_mobility(
     named = (frame_name(mech.model, f) for f in frames or ())
     reported = outs + tuple(f for f in dict.fromkeys(named) if f not in outs)
     chain = closed_chain(conf, rtol)
-    dec = chain.decision
-    idx = held_indices(mech, acts)
-    split = lock(
-        rates_of(chain.null, idx),
-        output_rows(conf, outs) @ chain.null,
-        rtol,
-        chain.null.shape[1],
-    )
+    dec, null = chain.decision, chain.null
+    split = lock(rates_of(null, held_indices(mech, acts)), output_rows(conf, outs) @ null, rtol, null.shape[1])
     rows = int(chain.k_hat.shape[0])
+    top = float(dec.singular_values[0]) if dec.singular_values.size else 0.0
     return MechanismMobility(
         mechanism=mech.name,
         configuration=conf.name,
@@ -285,21 +280,14 @@ def mechanism_mobility(
         rank=dec.rank,
         mechanism_dof=mech.model.nv - dec.rank,
         grubler=mech.model.nv - rows,
-        closures=closure_ranks(
-            mech,
-            chain.k_hat,
-            rtol,
-            float(dec.singular_values[0]) if dec.singular_values.size else 0.0,
-            chain.left_null,
-            dec.margin,
-        ),
+        closures=closure_ranks(mech, chain.k_hat, rtol, top, chain.left_null, dec.margin),
         idle_dof=split.idle.shape[1],
-        idle_joints=moving_joints(mech, chain.null @ split.idle),
+        idle_joints=moving_joints(mech, null @ split.idle),
         actuation=actuation(conf, chain, acts, split, reported, rtol),
         frames=tuple(frame_mobility(conf, f, rtol) for f in reported),
         end_frames=outs,
         singular_values=dec.singular_values,
         tolerance=dec.tolerance,
         length_scale=mech.length_scale,
-        motions=chain.col[:, None] * chain.null,
+        motions=chain.col[:, None] * null,
     )

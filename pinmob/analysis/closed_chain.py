@@ -214,8 +214,8 @@ def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobilit
     The image ``J_frame null(K)`` of every closed-chain motion (all closures,
     limb tips welded to the platform included), classified like the
     platform's (:func:`pinmob.screw.classify.classify_twists`). Cached on the
-    configuration: the platform mobility of a mechanism whose limbs are coupled
-    and the whole-mechanism analysis share the platform's.
+    configuration: where the limb-wise method does not apply, the platform
+    mobility and the whole-mechanism analysis share the platform's.
 
     Raises:
         FrameError: no such frame (the message lists them).

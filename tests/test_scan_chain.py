@@ -218,3 +218,22 @@ def test_platform_joint_path_from_joint_values_is_the_joints_flag_path(capsys):
     assert [r["z"] for r in rows] == pytest.approx([0.0, 0.025, 0.05, 0.075, 0.1], abs=1e-9)
     assert main(["scan", "3-PUU-flat", "--from", "flat", "--to", values, "-n", "3", "--no-progress"]) == 0
     assert "actuated-joint path" in capsys.readouterr().out
+
+
+def test_a_joint_path_in_continuous_joints_gives_their_angles():
+    """The Bennett linkage (tests/data/bennett.toml: continuous joints J1..J4, twists alpha = 30 deg and
+    beta = 60 deg): its closure by hand is theta3 = -theta1 and tan(theta1 / 2) tan(theta2 / 2) =
+    sin((beta + alpha) / 2) / sin((beta - alpha) / 2). A continuous joint stores (cos, sin): the path
+    interpolated J1's cosine as an angle (J1 went 0.955 -> 0.697 for 0.3 -> 0.8) and the rows gave the cosine
+    of the result; the other joints were missing from the rows."""
+    mech = pinmob.load(Path(__file__).parent / "data" / "bennett.toml")
+    rows = list(scan(mech, path_spec(mech, "J1=0.3", "J1=0.8", 3), progress=False))
+    alpha, beta = math.radians(30), math.radians(60)
+    ratio = math.sin((beta + alpha) / 2) / math.sin((beta - alpha) / 2)
+    assert [r["q_J1"] for r in rows] == pytest.approx([0.3, 0.55, 0.8], abs=1e-9)
+    for r in rows:
+        assert r["q_J3"] == pytest.approx(-r["q_J1"], abs=1e-7)
+        assert math.tan(r["q_J1"] / 2) * math.tan(r["q_J2"] / 2) == pytest.approx(ratio, rel=1e-6)
+    # an end beyond pi is interpolated towards the value given, not towards its angle in (-pi, pi]
+    middle = list(scan(mech, path_spec(mech, "J1=0.3", "J1=3.5", 3), progress=False))[1]
+    assert middle["q_J1"] == pytest.approx(1.9, abs=1e-9)

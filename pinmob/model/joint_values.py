@@ -44,6 +44,34 @@ def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, ow
     return q
 
 
+def one_value(joint: pin.JointModel, q: Array) -> float | None:
+    """A one-degree joint's value at q [m or rad], None for a joint of several degrees.
+
+    Its coordinate, or a continuous joint's angle ``atan2(sin, cos)`` in (-pi, pi].
+    """
+    if joint.nq == 1:
+        return float(q[joint.idx_q])
+    if joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
+        return float(np.arctan2(q[joint.idx_q + 1], q[joint.idx_q]))
+    return None
+
+
+def joint_value(model: pin.Model, q: Array, name: str) -> float:
+    """The value at q [m or rad] of the one-degree joint ``name`` (:func:`one_value`).
+
+    Raises:
+        FrameError: no such joint (the message lists them).
+        ConfigurationError: a joint of several degrees (spherical, free, planar).
+    """
+    if not model.existJointName(name):
+        raise FrameError(f"unknown joint {name!r}; valid: {choices(joint_names(model))}")
+    joint = model.joints[model.getJointId(name)]
+    value = one_value(joint, q)
+    if value is None:
+        raise ConfigurationError(f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees: no single value")
+    return value
+
+
 def values_by_name(model: pin.Model, q: Array, quaternion_wxyz: bool = False) -> dict[str, float | list[float]]:
     """The joint values of q by joint name: a number per one-degree joint [m or rad], a list per other joint.
 
@@ -54,12 +82,11 @@ def values_by_name(model: pin.Model, q: Array, quaternion_wxyz: bool = False) ->
     out: dict[str, float | list[float]] = {}
     for j in range(1, model.njoints):
         joint = model.joints[j]
-        x = [float(v) for v in q[joint.idx_q : joint.idx_q + joint.nq]]
-        if joint.nq == 1:
-            out[model.names[j]] = x[0]
-        elif joint.nq == 2 and joint.nv == 1:
-            out[model.names[j]] = float(np.arctan2(x[1], x[0]))
+        value = one_value(joint, q)
+        if value is not None:
+            out[model.names[j]] = value
         else:
+            x = [float(v) for v in q[joint.idx_q : joint.idx_q + joint.nq]]
             short = joint.shortname()
             if quaternion_wxyz and short in ("JointModelSpherical", "JointModelFreeFlyer"):
                 x[-4:] = x[-1:] + x[-4:-1]

@@ -44,7 +44,7 @@ from pinmob.analysis.singularity import NEAR_FACTOR, distance_of, padded
 from pinmob.assembly.named import close_joint_values, closed_configuration, named_vector
 from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError, choices
 from pinmob.model.closure import CLOSURE_TOL
-from pinmob.model.joint_values import parse_joint_values
+from pinmob.model.joint_values import joint_value, parse_joint_values
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
@@ -62,18 +62,31 @@ def value_columns(joints: tuple[str, ...] | list[str]) -> list[str]:
 
 
 def value_joints(mech: Mechanism) -> tuple[str, ...]:
-    """The joints whose values a closed chain's rows give: the actuated ones, then every other one-coordinate joint."""
+    """The joints whose values a closed chain's rows give.
+
+    The actuated ones, then every other one-degree joint (prismatic, revolute, continuous).
+    """
     model = mech.model
-    single = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nq == 1]
+    single = [model.names[j] for j in range(1, model.njoints) if model.joints[j].nv == 1]
     return tuple(mech.actuated) + tuple(n for n in single if n not in mech.actuated)
 
 
 def joint_row(mech: Mechanism, joints: tuple[str, ...], q: Array | None) -> dict[str, float]:
-    """``{q_<name>: value}`` of one-coordinate joints at q (NaN when q is None: not assembled)."""
-    model = mech.model
+    """``{q_<name>: value}`` of one-degree joints at q [m or rad; a continuous joint's angle] (NaN: not assembled)."""
     if q is None:
         return dict.fromkeys(value_columns(joints), float("nan"))
-    return {f"q_{n}": float(q[model.joints[model.getJointId(n)].idx_q]) for n in joints}
+    return {f"q_{n}": joint_value(mech.model, q, n) for n in joints}
+
+
+def end_values(mech: Mechanism, joints: tuple[str, ...], text: str, q: Array) -> Array:
+    """The values of ``joints`` at a path end [m or rad], the ends of a joint path's interpolation.
+
+    Those the end gives (``name=value,...``), as given, else read from its closed configuration q
+    (:func:`~pinmob.model.joint_values.joint_value`: a continuous joint's angle, not its stored cosine); a
+    continuous joint given 4 rad is interpolated towards 4, not -2.28.
+    """
+    given = parse_joint_values(text, "path end") if "=" in text else {}
+    return np.array([given[n] if n in given else joint_value(mech.model, q, n) for n in joints], float)
 
 
 def check_actuated(mech: Mechanism) -> tuple[str, ...]:

@@ -37,7 +37,7 @@ from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain import joint_path_ends, value_joints
+from pinmob.scan.chain import end_values, joint_path_ends, value_joints
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -232,8 +232,8 @@ def path_spec(
     check_bound("samples", samples, "the path (--samples)")
     if joints or not mech.has_platform or "=" in start or "=" in end:
         acts, qa, qb, g = joint_path_ends(mech, start, end, rtol, closure_tol)
-        idx = [mech.model.joints[mech.model.getJointId(n)].idx_q for n in acts]
-        return ScanSpec("joints", qa, qa[idx], qb[idx], samples, acts, rtol=rtol, generic_rank=g,
+        va, vb = end_values(mech, acts, start, qa), end_values(mech, acts, end, qb)
+        return ScanSpec("joints", qa, va, vb, samples, acts, rtol=rtol, generic_rank=g,
                         platform=mech.has_platform, closure_tol=closure_tol,
                         values=() if mech.has_platform else value_joints(mech))  # fmt: skip
     pa, qa = resolve_pose(mech, start)

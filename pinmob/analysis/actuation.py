@@ -165,18 +165,29 @@ def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
     Ordered by magnitude to three digits (as printed), then as the joints are in the model: rates equal by
     symmetry (a five-bar's two elbows) keep one order rather than the one round-off picks.
     """
-    model = mech.model
     big = float(np.max(np.abs(dq))) if dq.size else 0.0
     out: dict[str, float] = {}
     if big == 0:
         return out
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        part = dq[joint.idx_v : joint.idx_v + joint.nv] / big
-        if part.size and np.max(np.abs(part)) > 1e-6:
-            k = int(np.argmax(np.abs(part)))
-            out[model.names[j]] = round(float(part[k]), 6)
+    rates = (dq / big).tolist()
+    for name, start, stop in velocity_segments(mech):
+        part = rates[start:stop]
+        size = [abs(x) for x in part]
+        top = max(size)
+        if top > 1e-6:
+            out[name] = round(part[size.index(top)], 6)  # the first largest component
     return dict(sorted(out.items(), key=lambda kv: -round(abs(kv[1]), 3)))
+
+
+def velocity_segments(mech: Mechanism) -> tuple[tuple[str, int, int], ...]:
+    """Each joint with a velocity, in model order: (name, first velocity index, one past its last); once per mechanism."""
+
+    def compute() -> tuple[tuple[str, int, int], ...]:
+        model = mech.model
+        joints = [(model.names[j], model.joints[j]) for j in range(1, model.njoints)]
+        return tuple((name, joint.idx_v, joint.idx_v + joint.nv) for name, joint in joints if joint.nv)
+
+    return mech.memo("velocity segments", compute)
 
 
 def actuation(

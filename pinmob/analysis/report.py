@@ -34,7 +34,7 @@ from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.joint_values import values_by_name
+from pinmob.model.joint_values import joint_layout, values_by_name
 
 if TYPE_CHECKING:
     from pinmob.analysis.finite import FiniteMobility
@@ -211,7 +211,8 @@ class Report:
             sing = self.singularity
             out["singularity"] = sing.to_dict() if sing is not None else None
         mech = self.state.mechanism
-        out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz)
+        layout = mech.memo("joint layout", lambda: joint_layout(mech.model))
+        out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz, layout)
         out["rank_tolerance_note"] = self._raised()
         out["ambiguous_ranks"] = [a.to_dict() for a in self.ambiguous_ranks]
         if sets is not None:

@@ -72,25 +72,50 @@ def joint_value(model: pin.Model, q: Array, name: str) -> float:
     return value
 
 
-def values_by_name(model: pin.Model, q: Array, quaternion_wxyz: bool = False) -> dict[str, float | list[float]]:
+#: Per joint: name, first coordinate, number of coordinates, and how its value is read: ``value`` (one
+#: coordinate), ``angle`` (a continuous joint's (cos, sin)), ``quaternion`` (spherical or free: a quaternion
+#: last) or ``coordinates``.
+JointLayout = tuple[tuple[str, int, int, str], ...]
+
+
+def joint_layout(model: pin.Model) -> JointLayout:
+    """How :func:`values_by_name` reads each joint's value from q (computed once, kept per mechanism)."""
+    out = []
+    for j in range(1, model.njoints):
+        joint = model.joints[j]
+        if joint.nq == 1:
+            kind = "value"
+        elif joint.nq == 2 and joint.nv == 1:
+            kind = "angle"
+        elif joint.shortname() in ("JointModelSpherical", "JointModelFreeFlyer"):
+            kind = "quaternion"
+        else:
+            kind = "coordinates"
+        out.append((str(model.names[j]), int(joint.idx_q), int(joint.nq), kind))
+    return tuple(out)
+
+
+def values_by_name(
+    model: pin.Model, q: Array, quaternion_wxyz: bool = False, layout: JointLayout | None = None
+) -> dict[str, float | list[float]]:
     """The joint values of q by joint name: a number per one-degree joint [m or rad], a list per other joint.
 
     A continuous joint gives its angle (from its ``(cos, sin)`` pair); a spherical or free joint its
     coordinates, quaternions ``(x, y, z, w)`` (Pinocchio) or ``(w, x, y, z)`` (``quaternion_wxyz``:
-    MuJoCo's ``qpos`` order).
+    MuJoCo's ``qpos`` order). ``layout``: the model's :func:`joint_layout`, when already at hand.
     """
+    x = np.asarray(q, float).tolist()
     out: dict[str, float | list[float]] = {}
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        value = one_value(joint, q)
-        if value is not None:
-            out[model.names[j]] = value
+    for name, i, n, kind in joint_layout(model) if layout is None else layout:
+        if kind == "value":
+            out[name] = x[i]
+        elif kind == "angle":
+            out[name] = float(np.arctan2(x[i + 1], x[i]))
         else:
-            x = [float(v) for v in q[joint.idx_q : joint.idx_q + joint.nq]]
-            short = joint.shortname()
-            if quaternion_wxyz and short in ("JointModelSpherical", "JointModelFreeFlyer"):
-                x[-4:] = x[-1:] + x[-4:-1]
-            out[model.names[j]] = x
+            coords = x[i : i + n]
+            if quaternion_wxyz and kind == "quaternion":
+                coords[-4:] = coords[-1:] + coords[-4:-1]
+            out[name] = coords
     return out
 
 

@@ -114,3 +114,28 @@ def test_a_regular_file_is_replaced_with_force_only(tmp_path):
     assert target.read_text() == "user data"
     viewer.export_html(mech, "flat", target, overwrite=True, animate=False)
     assert "MeshCat.Viewer" in target.read_text() and [p.name for p in tmp_path.iterdir()] == ["mine.html"]
+
+
+@pytest.mark.parametrize(
+    ("args", "name"),
+    [
+        (["show", "3-PUU", "--html", "out.html"], "out.html"),
+        (["scan", "3-PUU", "--from", "generic", "--to", "offset", "-n", "400", "--csv", "s.csv"], "s.csv"),
+        (["scan", "3-PUU", "--from", "generic", "--to", "offset", "-n", "400", "--json", "s.json"], "s.json"),
+    ],
+)
+def test_a_file_that_cannot_grow_is_one_line_naming_it_and_leaves_nothing(tmp_path, args, name):
+    """A full disk, as a file size limit (RLIMIT_FSIZE, 20 kB; Python ignores SIGXFSZ, so a write fails with
+    EFBIG as on a full disk): one line naming the file, exit 2, and no file nor temporary file left."""
+    import resource
+
+    def limit() -> None:
+        resource.setrlimit(resource.RLIMIT_FSIZE, (20_000, 20_000))
+
+    out = subprocess.run(
+        [sys.executable, "-m", "pinmob", *args], cwd=tmp_path, preexec_fn=limit, capture_output=True, text=True
+    )
+    assert out.returncode == 2, out.stderr
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr, out.stderr
+    assert out.stderr.startswith(f"pinmob: error: cannot write '{name}': File too large"), out.stderr
+    assert list(tmp_path.iterdir()) == []

@@ -11,7 +11,7 @@ import contextlib
 import csv
 import json
 from array import array
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -61,26 +61,53 @@ class RowWriter:
         return self
 
     def write(self, row: dict[str, Any]) -> None:
-        """Append one row to each output file."""
+        """Append one row to each output file.
+
+        Raises:
+            OSError: a file cannot be written (a full disk, a file size limit), naming the file.
+        """
         if self._csv:
-            self._csv.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
+            with _naming(self.csv_path):
+                self._csv.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
         if self._json:
             clean = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
-            self._json.write((",\n" if self.count else "\n") + json.dumps(clean, allow_nan=False))
+            with _naming(self.json_path):
+                self._json.write((",\n" if self.count else "\n") + json.dumps(clean, allow_nan=False))
         self.count += 1
 
     def __exit__(self, kind: type[BaseException] | None, *exc: object) -> None:
+        failed = kind is not None
         try:
-            if kind is None:
+            if not failed:
                 if self._json:
-                    self._json.write("\n]}\n")
-                for fh in (self._csv_fh, self._json):
+                    with _naming(self.json_path):
+                        self._json.write("\n]}\n")
+                for fh, path in ((self._csv_fh, self.csv_path), (self._json, self.json_path)):
                     if fh:
-                        fh.close()
+                        with _naming(path):
+                            fh.close()
                 for target in self._targets:
                     target.commit()
+        except BaseException:
+            failed = True
+            raise
         finally:
-            self._stack.close()  # removes what was not committed
+            if failed:  # the files are dropped: a failing flush of another one must not hide what stopped the writing
+                with contextlib.suppress(OSError):
+                    self._stack.close()
+            else:
+                self._stack.close()  # nothing left to remove
+
+
+@contextlib.contextmanager
+def _naming(path: str | None) -> Iterator[None]:
+    """An OSError inside the block names ``path`` (a write's error, e.g. a full disk, names no file)."""
+    try:
+        yield
+    except OSError as exc:
+        if exc.filename or path is None:
+            raise
+        raise OSError(exc.errno, f"cannot write {path!r}: {exc.strerror or exc}") from None
 
 
 #: Columns read as text; every other column is read as float (blank: NaN; True/False: 1/0).

@@ -257,6 +257,30 @@ def test_cli_usage_errors_are_one_line() -> None:
     assert proc.returncode == 0 and proc.stdout.startswith("usage: pinmob analyze") and "--paper-view" in proc.stdout
 
 
+def test_cli_runs_with_stderr_closed() -> None:
+    """`pinmob analyze ... 2>&-`: Python starts with sys.stderr None; the answer is printed all the same (it
+    exited 1 with nothing printed: an AttributeError on flushing None, turned into an UnboundLocalError), and an
+    error still exits 2 (its message has nowhere to go)."""
+
+    def close_stderr() -> None:
+        os.close(2)
+
+    ok = subprocess.run(
+        [sys.executable, "-m", "pinmob", "analyze", "3-PUU", "--brief"],
+        stdout=subprocess.PIPE,
+        text=True,
+        preexec_fn=close_stderr,
+    )
+    assert ok.returncode == 0 and ok.stdout.startswith("3-PUU at 'generic': 3 DoF, 3T"), ok
+    bad = subprocess.run(
+        [sys.executable, "-m", "pinmob", "analyze", "nothing-of-the-kind"],
+        stdout=subprocess.PIPE,
+        text=True,
+        preexec_fn=close_stderr,
+    )
+    assert bad.returncode == 2 and bad.stdout == "", bad
+
+
 def test_cli_closed_pipe_is_quiet() -> None:
     """`pinmob analyze ... | head -1`: the reader is gone before pinmob writes; no BrokenPipeError traceback.
 

@@ -11,10 +11,11 @@ filters and format as it found them.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import sys
 import warnings
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from typing import TextIO
 
 from pinmob.cli.parser import build_parser
@@ -76,12 +77,30 @@ def _show_warning(
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``pinmob`` console script; returns the exit status."""
-    args = build_parser().parse_args(argv)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
-        warnings.filterwarnings("ignore", category=ResourceWarning)  # Dask's sockets at exit: not the user's business
-        warnings.showwarning = _show_warning
-        return _run(args)
+    with _stderr_or_null():
+        args = build_parser().parse_args(argv)
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
+            warnings.filterwarnings("ignore", category=ResourceWarning)  # Dask's sockets: not the user's business
+            warnings.showwarning = _show_warning
+            return _run(args)
+
+
+@contextlib.contextmanager
+def _stderr_or_null() -> Iterator[None]:
+    """Within the block, ``sys.stderr`` is a stream, /dev/null when the process was started with it closed.
+
+    ``pinmob ... 2>&-``: Python then sets it to None, and the messages and bars meant for it are dropped.
+    """
+    if sys.stderr is not None:
+        yield
+        return
+    with open(os.devnull, "w") as null:
+        sys.stderr = null
+        try:
+            yield
+        finally:
+            sys.stderr = None  # as it was found
 
 
 def _run(args: argparse.Namespace) -> int:

@@ -174,8 +174,8 @@ class _Chunk:
             return []
         left, right = done.get(k - 1) if k > first else None, done.get(k + 1) if k < last else None
         out = []
-        for side, other in ((left, right), (right, left)):  # towards a neighbour that did not assemble
-            if side is not None and side.q is None and (other is None or other.distance > here.distance):
+        for side in (left, right):  # towards a neighbour that did not assemble: an edge of the reachable set
+            if side is not None and side.q is None:  # (the distance may rise before it falls to 0 at the edge)
                 out.append(self._search(k, done, "", towards=-1 if side is left else 1))
         if left is not None and right is not None and left.q is not None and right.q is not None:
             for key, d in here.distances.items():
@@ -193,14 +193,17 @@ class _Chunk:
         either (each edge of an isolated reachable stretch is searched on its own).
         """
         trials: dict[float, _Sample] = {float(j): s for j, s in done.items() if s.q is not None}
+        assembled: dict[float, Array] = {u: s.q for u, s in trials.items() if s.q is not None}
 
         def value(s: _Sample) -> float:
             return (s.distances.get(key, math.inf) if key else s.distance) if s.q is not None else math.inf
 
         def f(t: float) -> float:
-            near = min(trials, key=lambda u: abs(u - t))
-            trials[t] = self.sample(t, _seed(trials[near], self.spec.q_ref), REFINE_ITER)
-            return value(trials[t])
+            near = min(assembled, key=lambda u: abs(u - t))
+            trial = trials[t] = self.sample(t, assembled[near], REFINE_ITER)  # warm-started at the nearest assembled
+            if trial.q is not None:
+                assembled[t] = trial.q
+            return value(trial)
 
         if towards:  # the edge first, by bisection on whether the mechanism assembles: the distance need not
             # fall all the way from sample k to the edge (it may rise first), but it falls to 0 right at a fold

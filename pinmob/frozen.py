@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+from typing import Any
 
 import numpy as np
 
@@ -33,3 +34,15 @@ class ReadOnlyArrays:
             value = getattr(self, name)
             if isinstance(value, np.ndarray):
                 value.flags.writeable = False
+
+
+def read_only(value: Any) -> None:
+    """Every numpy array in ``value`` (nested in dicts, lists and tuples) made read-only (e.g. after unpickling)."""
+    if isinstance(value, np.ndarray):
+        value.flags.writeable = False
+    elif isinstance(value, dict):
+        for item in value.values():
+            read_only(item)
+    elif isinstance(value, (list, tuple)):
+        for item in value:
+            read_only(item)

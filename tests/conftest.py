@@ -66,8 +66,11 @@ def dask_cluster(_dask_session):
     try:
         client.wait_for_workers(2, timeout=60)
     except Exception:  # TimeoutError, or a scheduler that is gone: start again
-        client.close()
-        cluster.close()
+        for stop in (client.close, cluster.close):
+            try:
+                stop()
+            except Exception:  # a broken cluster may fail to close: a new one is started all the same
+                pass
         _dask_session[0] = start_cluster()
         cluster = _dask_session[0][0]
     return cluster

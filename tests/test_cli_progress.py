@@ -26,12 +26,12 @@ def test_bar_opens_after_its_delay_with_what_was_done() -> None:
     master, slave = pty.openpty()
     try:
         with os.fdopen(slave, "w") as stream:
-            bar = LateBar("testing", 4, delay=0.5, stream=stream)
+            bar = LateBar("testing", 4, delay=1.5, stream=stream)
             bar.update()
             bar.update()
             stream.flush()
             assert drained(master) == ""  # a short step draws nothing
-            time.sleep(0.55)
+            time.sleep(1.55)
             bar.set_postfix_str("third")  # opens the bar with the two units done and the note
             stream.flush()
             text = drained(master)

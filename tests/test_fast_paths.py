@@ -9,6 +9,7 @@ import pytest
 import scipy.linalg
 from numpy.testing import assert_allclose
 
+import pinmob
 from pinmob.screw.classify import _generalised_eigh
 from pinmob.screw.rank import singular_values, svd
 
@@ -433,3 +434,20 @@ def test_every_array_of_a_report_is_read_only():
         report = pinmob.analyze(mech, next(iter(mech.configurations)), paper=True)
         walk([report.mobility, report.mechanism_mobility, report.singularity, report.paper])
     assert seen > 50
+
+
+def test_joint_rates_are_ordered_by_their_printed_magnitude_then_model_order():
+    """Rates by name, largest first as printed (three significant digits), ties in the model's joint order:
+    0.0124 before 0.0121 (a sort to three decimals took them as equal), and the five-bar's two elbows, equal by
+    symmetry to round-off, always in model order."""
+    from pinmob.analysis.actuation import joint_rates
+
+    mech = pinmob.load("3-PUU")
+    names = [mech.model.names[j] for j in range(1, mech.model.njoints)]
+    dq = np.zeros(mech.model.nv)
+    index = {n: mech.model.joints[mech.model.getJointId(n)].idx_v for n in names}
+    dq[index[names[0]]], dq[index[names[1]]], dq[index[names[2]]] = 0.0121, 0.0124, -1.0
+    assert list(joint_rates(mech, dq).items()) == [(names[2], -1.0), (names[1], 0.0124), (names[0], 0.0121)]
+    dq[:] = 0.0
+    dq[index[names[0]]], dq[index[names[1]]] = 1.0 - 3e-7, -1.0  # equal to the printed digits: model order
+    assert list(joint_rates(mech, dq)) == [names[0], names[1]]

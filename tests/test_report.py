@@ -114,6 +114,19 @@ def test_results_are_frozen_for_real() -> None:
     assert all(isinstance(c.type, pinmob.ClosureType) for c in mech.all_closures)
 
 
+def test_a_mechanisms_cached_arrays_stay_read_only_when_pickled() -> None:
+    """A mechanism sent to a Dask worker is pickled with its per-mechanism cache (generic ranks, index arrays):
+    the copy's cached arrays are read-only as the original's (unpickled numpy arrays are writeable), and the
+    copy analyses alike (found by a review)."""
+    mech = pinmob.load("3-PUU")
+    expected = pinmob.analyze(mech, "generic").to_dict()
+    cached = [k for k, v in mech._memo.items() if isinstance(v, np.ndarray)]
+    assert cached and not any(mech._memo[k].flags.writeable for k in cached)
+    copy = pickle.loads(pickle.dumps(mech))
+    assert [k for k in cached if copy._memo[k].flags.writeable] == []
+    assert pinmob.analyze(copy, "generic").to_dict() == expected
+
+
 def test_a_named_configuration_is_closed_once(monkeypatch: pytest.MonkeyPatch) -> None:
     """The whole report (with the paper's view) assembles the named pose configuration once (it was 3 times)."""
     mech = pinmob.load("3-RPS")

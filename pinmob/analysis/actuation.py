@@ -162,7 +162,7 @@ def lock(rates: Array, outputs: Array, rtol: float, m: int) -> Locked:
 def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
     """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component.
 
-    Ordered by magnitude to three digits (as printed), then as the joints are in the model: rates equal by
+    Ordered by magnitude to three significant digits (as printed), then as the joints are in the model: rates equal by
     symmetry (a five-bar's two elbows) keep one order rather than the one round-off picks.
     """
     big = float(np.max(np.abs(dq))) if dq.size else 0.0
@@ -176,7 +176,7 @@ def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
         top = max(size)
         if top > 1e-6:
             out[name] = round(part[size.index(top)], 6)  # the first largest component
-    return dict(sorted(out.items(), key=lambda kv: -round(abs(kv[1]), 3)))
+    return dict(sorted(out.items(), key=lambda kv: -float(f"{abs(kv[1]):.3g}")))
 
 
 def velocity_segments(mech: Mechanism) -> tuple[tuple[str, int, int], ...]:

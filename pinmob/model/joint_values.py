@@ -56,8 +56,11 @@ def one_value(joint: pin.JointModel, q: Array) -> float | None:
     return None
 
 
-def joint_value(model: pin.Model, q: Array, name: str) -> float:
+def joint_value(model: pin.Model, q: Array, name: str, near: float | None = None) -> float:
     """The value at q [m or rad] of the one-degree joint ``name`` (:func:`one_value`).
+
+    A continuous joint's angle is in (-pi, pi], or, with ``near``, the one of its values ``angle + 2 pi k``
+    nearest ``near`` (a path interpolated towards 4 rad reads 4, not -2.28).
 
     Raises:
         FrameError: no such joint (the message lists them).
@@ -69,6 +72,8 @@ def joint_value(model: pin.Model, q: Array, name: str) -> float:
     value = one_value(joint, q)
     if value is None:
         raise ConfigurationError(f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees: no single value")
+    if near is not None and joint.nq == 2:  # continuous: the turn nearest the value asked for
+        value += 2.0 * np.pi * round((near - value) / (2.0 * np.pi))
     return value
 
 

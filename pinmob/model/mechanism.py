@@ -18,6 +18,7 @@ from typing import Any, TypeVar
 import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError, choices, match_name
+from pinmob.frozen import read_only
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.geometry import Geometry
 from pinmob.model.joint_values import q_from_values
@@ -217,6 +218,11 @@ class Mechanism:
     @cached_property
     def _memo(self) -> dict[Hashable, Any]:
         return {}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """An unpickled copy (a Dask worker's): its cached arrays made read-only again, as they were."""
+        self.__dict__.update(state)
+        read_only(state.get("_memo", {}))
 
     @cached_property
     def all_closures(self) -> tuple[Closure, ...]:

@@ -71,11 +71,18 @@ def value_joints(mech: Mechanism) -> tuple[str, ...]:
     return tuple(mech.actuated) + tuple(n for n in single if n not in mech.actuated)
 
 
-def joint_row(mech: Mechanism, joints: tuple[str, ...], q: Array | None) -> dict[str, float]:
-    """``{q_<name>: value}`` of one-degree joints at q [m or rad; a continuous joint's angle] (NaN: not assembled)."""
+def joint_row(
+    mech: Mechanism, joints: tuple[str, ...], q: Array | None, targets: dict[str, float] | None = None
+) -> dict[str, float]:
+    """``{q_<name>: value}`` of one-degree joints at q [m or rad] (NaN: not assembled).
+
+    A continuous joint's angle is in (-pi, pi], or the turn nearest its value in ``targets`` (the values a
+    joint path asked for: its rows then read them, not their angles).
+    """
     if q is None:
         return dict.fromkeys(value_columns(joints), float("nan"))
-    return {f"q_{n}": joint_value(mech.model, q, n) for n in joints}
+    near = targets or {}
+    return {f"q_{n}": joint_value(mech.model, q, n, near.get(n)) for n in joints}
 
 
 def end_values(mech: Mechanism, joints: tuple[str, ...], text: str, q: Array) -> Array:

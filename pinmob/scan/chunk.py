@@ -129,7 +129,7 @@ class _Chunk:
                 return _Sample(head | unreachable_chain(str(exc)), None, {})
             return _Sample(head | _unreachable(pose_vector(target[1]) if target[0] == "pose" else None), None, {})
         if not self.spec.platform:
-            head.update(joint_row(self.mech, self.spec.values, q))
+            head.update(joint_row(self.mech, self.spec.values, q, target[1]))
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
             row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)

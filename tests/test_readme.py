@@ -15,8 +15,8 @@ Exact, except for what legitimately differs between runs and machines (:func:`sa
 * numbers below 1e-6 in magnitude are round-off (1e-6 is the analysis' rank tolerance, below which pinmob
   counts a value as zero): any two of them match (e.g. ``8.9e-16 rad`` and ``0 rad``, a residual
   ``5.4e-16``);
-* in ``N samples in T s (R samples/s, W worker(s))`` the elapsed time T and the rate R are timings: any
-  numbers match there.
+* in ``N samples in T s (R samples/s, W worker(s))`` (a scan) and ``N designs computed in T s (R designs/s, W
+  worker(s), ...)`` (a sweep) the elapsed time T and the rate R are timings: any numbers match there.
 
 The exit status must be 2 when the output shows ``pinmob: error:``, else 0.
 """
@@ -37,7 +37,7 @@ ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 BLOCK = re.compile(r"^```(\w*)\n(.*?)^```$", re.MULTILINE | re.DOTALL)
 NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
-TIMING = re.compile(r"(\d+ samples in )[-+\d.eE]+( s \()[-+\d.eE]+( samples/s)")
+TIMING = re.compile(r"(\d+ (?:samples|designs computed) in )[-+\d.eE]+( s \()[-+\d.eE]+( (?:samples|designs)/s)")
 #: magnitude below which a printed number is round-off (the default rank tolerance rtol)
 ROUND_OFF = 1e-6
 
@@ -63,13 +63,7 @@ def examples(text: str) -> list[Example]:
     fenced = blocks(text)
     for i, (lang, body, _, end) in enumerate(fenced):
         if lang == "text" and body.startswith("$ "):
-            command: list[str] | None = None
-            for line in body.splitlines():
-                if line.startswith("$ "):
-                    command = shlex.split(line[2:])
-                    found.append(Example(f"$ {line[2:]}", command, None, []))
-                else:
-                    found[-1].expected.append(line)
+            found.extend(commands(body))
         elif lang == "bash" and "/pinmob analyze" in body:
             args = shlex.split(body[body.index("/pinmob analyze") + 1 :].splitlines()[0])
             after = next(b for b in fenced[i + 1 :] if b[0] == "text")
@@ -79,6 +73,17 @@ def examples(text: str) -> list[Example]:
             if between.strip() == "prints" and fenced[i + 1][0] == "text":
                 number = sum(e.code is not None for e in found) + 1
                 found.append(Example(f"python snippet {number}", None, body, fenced[i + 1][1].splitlines()))
+    return found
+
+
+def commands(body: str) -> list[Example]:
+    """The ``$ ...`` lines of a block's body, each with the lines after it up to the next (its output)."""
+    found: list[Example] = []
+    for line in body.splitlines():
+        if line.startswith("$ "):
+            found.append(Example(f"$ {line[2:]}", shlex.split(line[2:]), None, []))
+        else:
+            found[-1].expected.append(line)
     return found
 
 
@@ -108,8 +113,13 @@ def pinmob_command() -> list[str]:
     return [str(script)] if script.exists() else [sys.executable, "-m", "pinmob"]
 
 
+def environment() -> dict[str, str]:
+    """The examples' environment: this one, unbuffered (stdout and stderr in the order written), 200 columns."""
+    return os.environ | {"PYTHONUNBUFFERED": "1", "COLUMNS": "200"}
+
+
 def run(example: Example, cwd: Path) -> subprocess.CompletedProcess[str]:
-    env = os.environ | {"PYTHONUNBUFFERED": "1", "COLUMNS": "200"}
+    env = environment()
     if example.command is not None:
         assert example.command[0] == "pinmob", example.name
         argv = pinmob_command() + example.command[1:]
@@ -161,6 +171,16 @@ def test_readme_example_prints_what_the_readme_shows(example, tmp_path):
         (
             ["7 samples in 0.09 s (82.1 samples/s, 1 worker(s))"],
             ["7 samples in 0.09 s (82.1 samples/s, 2 worker(s))"],
+            False,
+        ),
+        (
+            ["49 designs computed in 33.3 s (1.47 designs/s, 2 worker(s), Dask LocalCluster)"],
+            ["49 designs computed in 4.4 s (11.09 designs/s, 2 worker(s), Dask LocalCluster)"],
+            True,
+        ),
+        (
+            ["49 designs computed in 33.3 s (1.47 designs/s, 2 worker(s), Dask LocalCluster)"],
+            ["48 designs computed in 33.3 s (1.47 designs/s, 2 worker(s), Dask LocalCluster)"],
             False,
         ),
         (["x", "...", "y"], ["x", "1", "2", "y"], True),

@@ -1,0 +1,127 @@
+"""The commands shown in ``docs/*.md`` print what the docs show, by the README's rule (``tests/test_readme.py``).
+
+A docs block whose first line starts with ``$ pinmob`` is a documented run. Its fence says whether it is run:
+
+* ```` ```console ```` or ```` ```text ````: run and compared. Its ``$ ...`` lines run in order in one fresh
+  folder (a later command may see what an earlier one wrote, e.g. ``--html flat.html`` twice), each compared
+  with the lines after it, exactly as the README's examples (:func:`test_readme.same_line`: a ``...``
+  line stands for any lines, numbers below 1e-6 match each other, timings match any timing; the exit status
+  is 2 when the output shows ``pinmob: error:``, else 0).
+* ```` ```shell ````: shown, not run. Only for a block that cannot run standalone: one that starts a server
+  that keeps running (``show --detach``), needs files no block or snippet of its page makes, writes into the
+  repository, or takes too long for the test suite (the prose beside such a block says why). Any other fence
+  on a ``$ pinmob`` block fails :func:`test_every_documented_run_says_whether_it_runs`.
+
+The fresh folder holds links to the checkout's ``tests/`` and ``examples/`` (so ``tests/data/...`` and
+``examples/3puu_sweep.toml`` work) and an empty ``docs/img/`` folder, so that ``--plot docs/img/x.png``
+writes there and nothing in the checkout changes. Before a block's commands, every ```` ```python ````
+snippet above it on its page that writes into ``my_models/`` (the builder's examples) is run there, in
+order, with this Python: the commands then analyse the files the snippets wrote, as a reader following the
+page would. A command line with a pipe (``| python3 -c ...``, ``| grep ...``) runs through ``bash -c`` with
+``set -o pipefail``, ``pinmob`` being the same entry point as for the other commands and this Python's
+folder first on ``PATH`` (so ``python3`` is this Python).
+"""
+
+from __future__ import annotations
+
+import shlex
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import pytest
+from test_readme import Example, blocks, commands, environment, matches, pinmob_command, run
+
+ROOT = Path(__file__).resolve().parent.parent
+DOCS = sorted((ROOT / "docs").glob("*.md"))
+#: fences of the documented runs that are run and compared; ``SHOWN`` is shown only
+RUN = ("console", "text")
+SHOWN = "shell"
+
+
+@dataclass(frozen=True)
+class DocBlock:
+    """One ``$ pinmob`` block of a docs page: where it is, its fence, the snippets it needs and its commands."""
+
+    page: str
+    line: int
+    language: str
+    setup: tuple[str, ...]
+    examples: tuple[Example, ...]
+
+    @property
+    def name(self) -> str:
+        return f"{self.page}:{self.line}"
+
+
+def documented_runs(page: Path) -> list[DocBlock]:
+    """Every block of ``page`` whose first line starts with ``$ pinmob``, with the snippets run before it."""
+    text = page.read_text()
+    found: list[DocBlock] = []
+    snippets: list[str] = []
+    for language, body, start, _ in blocks(text):
+        if language == "python" and "my_models" in body:
+            snippets.append(body)
+        if body.startswith("$ pinmob"):
+            line = text.count("\n", 0, start) + 1
+            found.append(DocBlock(page.name, line, language, tuple(snippets), tuple(commands(body))))
+    return found
+
+
+BLOCKS = [block for page in DOCS for block in documented_runs(page)]
+RUNS = [block for block in BLOCKS if block.language in RUN]
+
+
+def run_line(example: Example, cwd: Path) -> subprocess.CompletedProcess[str]:
+    """Run one ``$`` line: as :func:`test_readme.run`, or through ``bash -c`` when it has a pipe."""
+    line = example.name[2:]
+    if "|" not in (example.command or []):
+        return run(example, cwd)
+    bin_folder = str(Path(sys.executable).parent)
+    env = environment()
+    env["PATH"] = bin_folder + ":" + env.get("PATH", "")
+    script = f'set -o pipefail; pinmob() {{ {shlex.join(pinmob_command())} "$@"; }}; {line}'
+    return subprocess.run(
+        ["bash", "-c", script],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        cwd=cwd,
+        env=env,
+        timeout=300,
+    )
+
+
+def test_docs_examples_are_found():
+    """The parser finds the docs' runs on every page that shows one, and most of them are run."""
+    pages = {block.page for block in BLOCKS}
+    assert pages >= {"closed-chains.md", "finite-mobility.md", "models.md", "singularities.md", "viewer.md"}, pages
+    assert len(BLOCKS) >= 30 and len(RUNS) >= 25, [b.name for b in BLOCKS]
+    assert all(e.expected for block in RUNS for e in block.examples), [b.name for b in RUNS]
+    four_bar = next(b for b in RUNS if "four_bar" in b.examples[0].name)
+    assert len(four_bar.setup) == 2 and "four_bar" in four_bar.setup[-1], four_bar.setup
+
+
+def test_every_documented_run_says_whether_it_runs():
+    """A ``$ pinmob`` block is fenced ```` ```console ````/```` ```text ```` (run) or ```` ```shell ```` (shown)."""
+    unmarked = [f"{b.name} (```{b.language})" for b in BLOCKS if b.language not in (*RUN, SHOWN)]
+    assert not unmarked, f"fence these ```console/```text (run) or ```shell (not run, say why): {unmarked}"
+
+
+@pytest.mark.parametrize("block", RUNS, ids=[b.name for b in RUNS])
+def test_docs_example_prints_what_the_docs_show(block, tmp_path):
+    for folder in ("tests", "examples"):
+        (tmp_path / folder).symlink_to(ROOT / folder)
+    (tmp_path / "docs" / "img").mkdir(parents=True)
+    for number, code in enumerate(block.setup, 1):
+        done = run(Example(f"snippet {number}", None, code, []), tmp_path)
+        assert done.returncode == 0, f"{block.name}: the page's snippet {number} failed:\n{done.stdout}"
+    for example in block.examples:
+        out = run_line(example, tmp_path)
+        lines = out.stdout.splitlines()
+        shown = "\n".join(lines)
+        assert matches(example.expected, lines), f"{block.name}: {example.name} printed:\n{shown}"
+        error = any(line.startswith("pinmob: error:") for line in lines)
+        status = 2 if error else 0
+        assert out.returncode == status, f"{block.name}: {example.name}: exit status {out.returncode}\n{shown}"

@@ -44,23 +44,36 @@ def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, ow
     return q
 
 
-def one_value(joint: pin.JointModel, q: Array) -> float | None:
-    """A one-degree joint's value at q [m or rad], None for a joint of several degrees.
+def _kind(joint: pin.JointModel) -> str:
+    """How a joint's value is read from q, one rule for every reader.
 
-    Its coordinate, or a continuous joint's angle ``atan2(sin, cos)`` in (-pi, pi].
+    ``value`` (one coordinate), ``angle`` (a continuous joint's (cos, sin)), ``quaternion`` (spherical or
+    free: a quaternion last) or ``coordinates``.
     """
     if joint.nq == 1:
-        return float(q[joint.idx_q])
-    if joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
-        return float(np.arctan2(q[joint.idx_q + 1], q[joint.idx_q]))
-    return None
+        return "value"
+    if joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute)
+        return "angle"
+    return "quaternion" if joint.shortname() in ("JointModelSpherical", "JointModelFreeFlyer") else "coordinates"
+
+
+def _read(x: list[float], first: int, count: int, kind: str, quaternion_wxyz: bool = False) -> float | list[float]:
+    """A joint's value from the coordinates x of q (:func:`_kind`): a number [m or rad], or its coordinates."""
+    if kind == "value":
+        return x[first]
+    if kind == "angle":
+        return float(np.arctan2(x[first + 1], x[first]))
+    coords = x[first : first + count]
+    if quaternion_wxyz and kind == "quaternion":
+        coords[-4:] = coords[-1:] + coords[-4:-1]
+    return coords
 
 
 def joint_value(model: pin.Model, q: Array, name: str, near: float | None = None) -> float:
-    """The value at q [m or rad] of the one-degree joint ``name`` (:func:`one_value`).
+    """The value at q [m or rad] of the one-degree joint ``name``.
 
-    A continuous joint's angle is in (-pi, pi], or, with ``near``, the one of its values ``angle + 2 pi k``
-    nearest ``near`` (a path interpolated towards 4 rad reads 4, not -2.28).
+    Its coordinate, or a continuous joint's angle ``atan2(sin, cos)`` in (-pi, pi], or, with ``near``, the
+    one of its values ``angle + 2 pi k`` nearest ``near`` (a path interpolated towards 4 rad reads 4, not -2.28).
 
     Raises:
         FrameError: no such joint (the message lists them).
@@ -69,35 +82,26 @@ def joint_value(model: pin.Model, q: Array, name: str, near: float | None = None
     if not model.existJointName(name):
         raise FrameError(f"unknown joint {name!r}; valid: {choices(joint_names(model))}")
     joint = model.joints[model.getJointId(name)]
-    value = one_value(joint, q)
-    if value is None:
+    kind = _kind(joint)
+    if kind not in ("value", "angle"):
         raise ConfigurationError(f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees: no single value")
-    if near is not None and joint.nq == 2:  # continuous: the turn nearest the value asked for
+    value = _read(np.asarray(q, float)[joint.idx_q : joint.idx_q + joint.nq].tolist(), 0, joint.nq, kind)
+    assert isinstance(value, float)  # a one-degree joint reads as a number
+    if near is not None and kind == "angle":  # the turn nearest the value asked for
         value += 2.0 * np.pi * round((near - value) / (2.0 * np.pi))
     return value
 
 
-#: Per joint: name, first coordinate, number of coordinates, and how its value is read: ``value`` (one
-#: coordinate), ``angle`` (a continuous joint's (cos, sin)), ``quaternion`` (spherical or free: a quaternion
-#: last) or ``coordinates``.
+#: Per joint: name, first coordinate, number of coordinates, and how its value is read (:func:`_kind`).
 JointLayout = tuple[tuple[str, int, int, str], ...]
 
 
 def joint_layout(model: pin.Model) -> JointLayout:
     """How :func:`values_by_name` reads each joint's value from q (computed once, kept per mechanism)."""
-    out = []
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        if joint.nq == 1:
-            kind = "value"
-        elif joint.nq == 2 and joint.nv == 1:
-            kind = "angle"
-        elif joint.shortname() in ("JointModelSpherical", "JointModelFreeFlyer"):
-            kind = "quaternion"
-        else:
-            kind = "coordinates"
-        out.append((str(model.names[j]), int(joint.idx_q), int(joint.nq), kind))
-    return tuple(out)
+    return tuple(
+        (str(model.names[j]), int(model.joints[j].idx_q), int(model.joints[j].nq), _kind(model.joints[j]))
+        for j in range(1, model.njoints)
+    )
 
 
 def values_by_name(
@@ -110,18 +114,10 @@ def values_by_name(
     MuJoCo's ``qpos`` order). ``layout``: the model's :func:`joint_layout`, when already at hand.
     """
     x = np.asarray(q, float).tolist()
-    out: dict[str, float | list[float]] = {}
-    for name, i, n, kind in joint_layout(model) if layout is None else layout:
-        if kind == "value":
-            out[name] = x[i]
-        elif kind == "angle":
-            out[name] = float(np.arctan2(x[i + 1], x[i]))
-        else:
-            coords = x[i : i + n]
-            if quaternion_wxyz and kind == "quaternion":
-                coords[-4:] = coords[-1:] + coords[-4:-1]
-            out[name] = coords
-    return out
+    return {
+        name: _read(x, first, count, kind, quaternion_wxyz)
+        for name, first, count, kind in (joint_layout(model) if layout is None else layout)
+    }
 
 
 def parse_joint_values(text: str, option: str = "joint values") -> dict[str, float]:

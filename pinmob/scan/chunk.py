@@ -189,8 +189,9 @@ class _Chunk:
     def _search(self, k: int, done: dict[int, _Sample], key: str, towards: int = 0) -> _Sample:
         """Minimise the distance (of question ``key``; of all questions when empty) around sample k.
 
-        With ``towards`` (-1 or 1), between k and that neighbour only when the other one did not assemble
-        either (each edge of an isolated reachable stretch is searched on its own).
+        With ``towards`` (-1 or 1), towards that neighbour, which did not assemble: the edge of the reachable
+        set is first located by ``EDGE_STEPS`` bisections on whether the mechanism assembles, then the
+        distance is minimised between the last point that assembled and the first that did not.
         """
         trials: dict[float, _Sample] = {float(j): s for j, s in done.items() if s.q is not None}
         assembled: dict[float, Array] = {u: s.q for u, s in trials.items() if s.q is not None}

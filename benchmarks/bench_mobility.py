@@ -14,7 +14,8 @@ Per mechanism (3-PUU, 6-UPS), at N fixed closed configurations (microseconds per
 * ``single_us``: one :func:`pinmob.analyze` call plus ``to_dict()`` of its Report at a named configuration
   of a loaded mechanism: everything ``pinmob analyze`` prints, nothing left lazy (the per-mechanism
   generic ranks estimated by a first call; the named configuration is closed at every call: 6-UPS's
-  ``generic`` is a platform pose, assembled each time);
+  ``generic`` is a platform pose, assembled by the first call and kept by the mechanism, its closure
+  checked again at every call);
 * ``scan_us``: one sample of a path scan with re-assembly (:func:`pinmob.scan.run.scan`, one worker:
   3-PUU ``generic -> offset``, 6-UPS ``home -> type2``; wall time over the samples, refinements included).
 

@@ -451,3 +451,17 @@ def test_joint_rates_are_ordered_by_their_printed_magnitude_then_model_order():
     dq[:] = 0.0
     dq[index[names[0]]], dq[index[names[1]]] = 1.0 - 3e-7, -1.0  # equal to the printed digits: model order
     assert list(joint_rates(mech, dq)) == [names[0], names[1]]
+
+
+def test_named_pose_is_assembled_once_per_mechanism_and_given_as_a_copy():
+    """A named platform pose is kept per mechanism: the same vector as a fresh mechanism assembles, never shared."""
+    mech = pinmob.load("6-UPS")
+    first = pinmob.closed_configuration(mech, "generic")
+    first[:] = 0.0  # the caller's copy; the kept vector is untouched
+    again = pinmob.closed_configuration(mech, "generic")
+    fresh = pinmob.closed_configuration(pinmob.load("6-UPS"), "generic")
+    assert np.array_equal(again, fresh)
+    assert again is not pinmob.closed_configuration(mech, "generic")
+    assert np.array_equal(pinmob.analyze(mech, "generic").state.q, fresh)
+    with pytest.raises(pinmob.ClosureError):  # a tighter tolerance is its own entry, assembled and checked
+        pinmob.closed_configuration(mech, "generic", 1e-300)

@@ -34,8 +34,9 @@ def closed_configuration(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -
 def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[Array, bool]:
     """The named configuration's vector, and whether its closure was checked.
 
-    A pose is assembled (and so checked); joint values are returned as they
-    are, for a caller that checks the closure itself (a
+    A pose is assembled (and so checked) once per mechanism and tolerance (the
+    vector is kept in the mechanism's cache, a copy is returned); joint values
+    are returned as they are, for a caller that checks the closure itself (a
     :class:`~pinmob.analysis.configuration.Configuration` does, with the kinematics
     it computes anyway, and says the same as :func:`closed_configuration` when it
     does not close).
@@ -47,7 +48,14 @@ def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[
     name = mech.configuration_name(name)
     conf = mech.configurations[name]
     if conf.pose is not None:
-        return assemble_pose(mech, conf.pose, mech.q_from_joints(conf.seed), tol), True
+        pose, seed = conf.pose, conf.seed
+
+        def assembled() -> Array:
+            q = assemble_pose(mech, pose, mech.q_from_joints(seed), tol)
+            q.flags.writeable = False  # kept in the mechanism's cache, read-only as its other arrays
+            return q
+
+        return mech.memo(("named pose", name, tol), assembled).copy(), True
     base = None if conf.vector is None else np.array(conf.vector)
     return mech.q_from_joints(conf.joints, base), False
 

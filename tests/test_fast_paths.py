@@ -465,3 +465,31 @@ def test_named_pose_is_assembled_once_per_mechanism_and_given_as_a_copy():
     assert np.array_equal(pinmob.analyze(mech, "generic").state.q, fresh)
     with pytest.raises(pinmob.ClosureError):  # a tighter tolerance is its own entry, assembled and checked
         pinmob.closed_configuration(mech, "generic", 1e-300)
+
+
+def test_closure_ranks_of_a_full_row_rank_k_need_no_svd(configurations):
+    """K of full row rank (clear margin): each closure's rows have full rank and every closure is essential,
+    as the SVDs per closure find; each block's singular values are at least K's smallest."""
+    from pinmob.analysis.closure_jacobian import closed_chain
+    from pinmob.analysis.redundancy import CLEAR, closure_ranks, closure_ranks_by_removal
+    from pinmob.screw.rank import singular_values
+
+    shortcut = 0
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        for rtol in (1e-9, 1e-6, 1e-3):
+            chain = closed_chain(conf, rtol)  # type: ignore[arg-type]
+            dec = chain.decision
+            if chain.left_null.shape[1] or dec.margin < CLEAR or not chain.k_hat.size:
+                continue
+            shortcut += 1
+            ref = float(dec.singular_values[0])
+            assert closure_ranks(mech, chain.k_hat, rtol, ref, chain.left_null, dec.margin) == (
+                closure_ranks_by_removal(mech, chain.k_hat, rtol, ref)
+            ), label
+            start = 0
+            for c in mech.all_closures:
+                block = singular_values(chain.k_hat[start : start + c.rows])
+                assert block[-1] >= dec.singular_values[-1] * (1 - 1e-12), label
+                start += c.rows
+    assert shortcut > 20

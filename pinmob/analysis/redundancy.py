@@ -75,6 +75,11 @@ def closure_ranks(
 ) -> tuple[ClosureRank, ...]:
     """Per closure: own rank and ``essential_c = rank K - rank K_-c`` (see :func:`implied_rows`).
 
+    When K has full row rank (an empty left null space) with a clear margin, every closure is
+    essential (``essential_c = rows_c``) and has full rank without an SVD: the singular values of a
+    block of K's rows are at least K's smallest, ``sigma_min(K_c) >= sigma_min(K) >= CLEAR * tol``
+    (``sigma_min(K_c) = min |K_c^T y|`` over unit y, a minimum over fewer vectors than K's).
+
     Args:
         mech: the mechanism (its closures, in the order of K's rows).
         k_hat: (rows, nv) the dimensionless closure Jacobian.
@@ -88,6 +93,8 @@ def closure_ranks(
     implied = implied_rows(mech, left_null, rtol, margin)
     if implied is None:  # a rank too close to call: the straightforward computation decides it
         return closure_ranks_by_removal(mech, k_hat, rtol, reference)
+    if not left_null.shape[1]:  # full row rank, decided with a margin of CLEAR: every block has full rank
+        return tuple(ClosureRank(c.name, str(c.type), c.rows, c.rows, c.rows) for c in closures)
     sizes = [c.rows for c in closures]
     starts = [0]
     for rows in sizes:

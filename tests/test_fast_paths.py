@@ -493,3 +493,47 @@ def test_closure_ranks_of_a_full_row_rank_k_need_no_svd(configurations):
                 assert block[-1] >= dec.singular_values[-1] * (1 - 1e-12), label
                 start += c.rows
     assert shortcut > 20
+
+
+def test_output_motions_are_the_output_rows_times_the_motions(configurations):
+    """The output rows' product with the closed chain's motions, without the rows: the product, to round-off."""
+    from pinmob.analysis.closed_chain import default_end_frames
+    from pinmob.analysis.closure_jacobian import closed_chain, output_motions, output_rows
+    from pinmob.screw.rank import RTOL
+
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        null = closed_chain(conf, RTOL).null  # type: ignore[arg-type]
+        for frames in (default_end_frames(mech), ()):
+            product = output_rows(conf, frames) @ null  # type: ignore[arg-type]
+            mine = output_motions(conf, frames, null)  # type: ignore[arg-type]
+            assert mine.shape == product.shape, label
+            assert_allclose(mine, product, rtol=0, atol=1e-13 * max(1.0, float(np.abs(product).max(initial=0))))
+
+
+def test_lock_without_the_stacked_svd_is_the_stacked_svd(configurations):
+    """Where the locked rates have full rank and the bound holds, idle is empty as the stacked SVD finds; elsewhere
+    lock is that SVD. Every built-in model and Extended URDF robot, its actuators and each single joint, three rtol."""
+    from pinmob.analysis.actuation import held_indices, lock
+    from pinmob.analysis.closed_chain import default_end_frames
+    from pinmob.analysis.closure_jacobian import closed_chain, output_rows, rates_of
+    from pinmob.screw.rank import decide_rank
+
+    shortcut = 0
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        outs = output_rows(conf, default_end_frames(mech))  # type: ignore[arg-type]
+        for rtol in (1e-9, 1e-6, 1e-3):
+            null = closed_chain(conf, rtol).null  # type: ignore[arg-type]
+            out = outs @ null
+            m = null.shape[1]
+            sets = [held_indices(mech, mech.actuated)] + [np.array([i]) for i in range(min(m, mech.model.nv))]
+            for idx in sets:
+                rates = rates_of(null, idx)
+                split = lock(rates, lambda o=out: o, rtol, m, lambda o=out: float(np.linalg.norm(o)))
+                straight = decide_rank(np.vstack([rates, out]), rtol, m, at_least=1.0)
+                assert split.idle.shape == (m, m - straight.rank), label
+                locked = decide_rank(rates, rtol, m, at_least=1.0)
+                assert split.rank_a == locked.rank and np.array_equal(split.locked, locked.null_space.T), label
+                shortcut += split.rank_a == m and m > 0
+    assert shortcut > 50

@@ -15,14 +15,21 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, rates_of
+from pinmob.analysis.closure_jacobian import (
+    ClosedChain,
+    closed_chain,
+    frame_rows,
+    output_motions,
+    output_rows,
+    rates_of,
+)
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
@@ -147,16 +154,37 @@ class Locked:
         return self.rank_a == count and self.locked.shape[1] == self.idle.shape[1]
 
 
-def lock(rates: Array, outputs: Array, rtol: float, m: int) -> Locked:
-    """Split closed-chain motions by locked-joint rates ``rates`` (k, m) and output rows ``outputs`` (o, m).
+def lock(rates: Array, outputs: Callable[[], Array], rtol: float, m: int, norm: Callable[[], float]) -> Locked:
+    """Split closed-chain motions by locked-joint rates ``rates`` (k, m) and output rows ``outputs()`` (o, m).
 
-    ``locked = null(rates)``, ``idle = null([rates; outputs])``: the one
-    computation behind the actuation verdict, the idle joints and the
-    actuator search (ranks decided with :func:`rank_of`'s rule).
+    ``locked = null(rates)``, ``idle = null([rates; outputs])``: the one computation behind the actuation
+    verdict, the idle joints and the actuator search (ranks decided with :func:`rank_of`'s rule).
+    ``outputs()`` is called only for that stacked SVD, which is skipped (``idle`` empty) when the rates have
+    rank m and their smallest singular value exceeds ``2 rtol max(1, ||[rates; outputs]||_F)`` (``norm()``
+    bounds ``||outputs||_F``): adding rows lowers no singular value and the Frobenius norm bounds the
+    largest, so the SVD would find rank m (the factor 2 covers its round-off).
     """
     dec = decide_rank(rates, rtol, m, at_least=1.0)
-    idle = decide_rank(np.vstack([rates, outputs]), rtol, m, at_least=1.0).null_space.T
-    return Locked(dec.rank, dec.null_space.T, idle, dec.singular_values)
+    s = dec.singular_values
+    if dec.rank == m and (m == 0 or s[m - 1] > 2.0 * rtol * max(1.0, math.hypot(math.sqrt(s @ s), norm()))):
+        return Locked(dec.rank, dec.null_space.T, np.zeros((m, 0)), s)
+    idle = decide_rank(np.vstack([rates, outputs()]), rtol, m, at_least=1.0).null_space.T
+    return Locked(dec.rank, dec.null_space.T, idle, s)
+
+
+def lock_motions(
+    conf: Configuration, null: Array, held: NDArray[np.intp], frames: Sequence[str], rtol: float
+) -> Locked:
+    """:func:`lock` of the closed chain's motions ``null`` (nv, m) by the ``held`` rates, with ``frames`` as outputs.
+
+    The output rows times the motions for the stacked SVD (:func:`~pinmob.analysis.closure_jacobian.output_rows`);
+    for the norm, the cheaper :func:`~pinmob.analysis.closure_jacobian.output_motions` (the same to round-off).
+    """
+
+    def norm() -> float:
+        return float(np.linalg.norm(output_motions(conf, frames, null)))
+
+    return lock(rates_of(null, held), lambda: output_rows(conf, frames) @ null, rtol, null.shape[1], norm)
 
 
 def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
@@ -234,8 +262,9 @@ def actuator_sets(
     A set is valid when its joints are independent on the closed chain and
     locking them leaves only idle motions (those that move no ``outputs``
     frame; the same split as the actuation verdict). Exhaustive: C(n, size)
-    sets are tried, each with SVDs of (size, m) and (size + outputs, m)
-    matrices; more than ``limit`` sets is refused (name fewer candidates).
+    sets are tried, each with an SVD of (size, m) and, unless :func:`lock`
+    skips it, of (size + outputs, m); more than ``limit`` sets is refused
+    (name fewer candidates).
 
     Raises:
         ConfigurationError: size out of range or too many combinations.
@@ -258,10 +287,11 @@ def actuator_sets(
     n = chain.null
     rates = rates_of(n, joint_velocity_indices(mech, names))  # (len(names), m)
     out = output_rows(conf, outputs) @ n
+    norm = float(np.linalg.norm(out))
     valid = []
     with step(f"trying every set of {size} actuated joints of {mech.name}", total=count) as bar:
         for combo in itertools.combinations(range(len(names)), size):
-            split = lock(rates[list(combo)], out, rtol, n.shape[1])
+            split = lock(rates[list(combo)], lambda: out, rtol, n.shape[1], lambda: norm)
             if split.valid(size):
                 valid.append(tuple(names[i] for i in combo))
             bar.update()

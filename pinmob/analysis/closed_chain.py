@@ -35,8 +35,8 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.actuation import Actuation, actuation, held_indices, lock
-from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, output_rows, rates_of
+from pinmob.analysis.actuation import Actuation, actuation, held_indices, lock_motions
+from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
@@ -269,7 +269,7 @@ def mechanism_mobility(
     reported = outs + tuple(f for f in dict.fromkeys(named) if f not in outs)
     chain = closed_chain(conf, rtol)
     dec, null = chain.decision, chain.null
-    split = lock(rates_of(null, held_indices(mech, acts)), output_rows(conf, outs) @ null, rtol, null.shape[1])
+    split = lock_motions(conf, null, held_indices(mech, acts), outs, rtol)
     rows = int(chain.k_hat.shape[0])
     top = float(dec.singular_values[0]) if dec.singular_values.size else 0.0
     return MechanismMobility(

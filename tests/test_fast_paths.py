@@ -537,3 +537,23 @@ def test_lock_without_the_stacked_svd_is_the_stacked_svd(configurations):
                 assert split.rank_a == locked.rank and np.array_equal(split.locked, locked.null_space.T), label
                 shortcut += split.rank_a == m and m > 0
     assert shortcut > 50
+
+
+def test_stacked_error_is_each_closure_scaled_then_stacked(configurations):
+    """The rows scaled once after stacking: bit for bit each closure's residual and Jacobian scaled, then stacked."""
+    from pinmob.assembly.residual import closure_error, stacked_error
+
+    for label, conf in configurations:
+        mech = conf.mechanism  # type: ignore[attr-defined]
+        model, data = mech.model, conf.data  # type: ignore[attr-defined]
+        es, js = [], []
+        for c in mech.all_closures:
+            e, jac, lin = closure_error(model, data, c)
+            s = np.where(lin, 1.0 / mech.length_scale, 1.0)
+            es.append(s * e)
+            js.append(s[:, None] * jac)
+        e, jac = stacked_error(mech, model, data, mech.all_closures)
+        if es:
+            assert np.array_equal(e, np.concatenate(es)) and np.array_equal(jac, np.vstack(js)), label
+        else:
+            assert e.shape == (0,) and jac.shape == (0, model.nv), label

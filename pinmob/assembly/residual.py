@@ -48,7 +48,8 @@ def check_closure_tol(tol: object, name: str = "closure_tol") -> float:
 
 def frame_jacobian(model: pin.Model, data: pin.Data, frame: int, ref: pin.ReferenceFrame) -> Array:
     """``pin.getFrameJacobian`` as a (6, nv) array (Pinocchio returns a (6,) vector when nv = 1)."""
-    return np.reshape(pin.getFrameJacobian(model, data, frame, ref), (6, model.nv))
+    jac: Array = pin.getFrameJacobian(model, data, frame, ref)
+    return jac if jac.ndim == 2 else jac.reshape(6, model.nv)
 
 
 def relative_error(model: pin.Model, data: pin.Data, frame_a: int, frame_b: int) -> tuple[Array, Array]:
@@ -92,6 +93,11 @@ def _selection(c: Closure) -> tuple[Array, Mask]:
     return np.vstack([lin, ang]), np.array([True] * lin.shape[0] + [False] * 2)
 
 
+#: The rows of a ``6d`` closure's residual that are lengths (read-only, shared).
+_WELD_LENGTHS = np.array([True] * 3 + [False] * 3)
+_WELD_LENGTHS.flags.writeable = False
+
+
 def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
     """Residual of one closure, its Jacobian and which rows are lengths; kinematics must be computed.
 
@@ -117,7 +123,7 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
         return coupling_error(model, data, c)
     if c.type == "6d":
         e, jac = relative_error(model, data, a, b)
-        return e, jac, np.array([True] * 3 + [False] * 3)
+        return e, jac, _WELD_LENGTHS
     if c.type in ("revolute", "cylindrical", "planar"):
         e, jac = relative_error(model, data, a, b)
         sel, lin = _selection(c)
@@ -176,13 +182,16 @@ def stacked_error(
     """Dimensionless stacked residual (sum k_c,) and Jacobian (sum k_c, nv): length rows divided by L."""
     if not closures:
         return np.zeros(0), np.zeros((0, model.nv))
-    es, js = [], []
+    es, js, lins = [], [], []
     for c in closures:
         e, jac, lin = closure_error(model, data, c)
-        s = np.where(lin, 1.0 / mech.length_scale, 1.0)
-        es.append(s * e)
-        js.append(s[:, None] * jac)
-    return np.concatenate(es), np.vstack(js)
+        es.append(e)
+        js.append(jac)
+        lins.append(lin)
+    s = np.where(np.concatenate(lins), 1.0 / mech.length_scale, 1.0)  # one scaling of all rows
+    jac = np.vstack(js)
+    jac *= s[:, None]
+    return s * np.concatenate(es), jac
 
 
 def compute_kinematics(model: pin.Model, data: pin.Data, q: Array) -> None:

@@ -557,3 +557,44 @@ def test_stacked_error_is_each_closure_scaled_then_stacked(configurations):
             assert np.array_equal(e, np.concatenate(es)) and np.array_equal(jac, np.vstack(js)), label
         else:
             assert e.shape == (0,) and jac.shape == (0, model.nv), label
+
+
+def test_closure_value_and_residual_norms_are_the_straightforward_ones(configurations):
+    """closure_value is closure_error's residual and mask, bit for bit, for every closure type (a free body between
+    two frames at random poses); the residual norms are np.linalg.norm's, on every closure and limb tip."""
+    import pinocchio as pin
+
+    from pinmob.assembly.residual import (
+        closure_error,
+        closure_residuals,
+        closure_value,
+        compute_kinematics,
+        tip_residuals,
+    )
+    from pinmob.model.closure import CLOSURE_TYPES, make_closure
+
+    rng = np.random.default_rng(12)
+    model = pin.Model()
+    body = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "free")
+    model.addFrame(pin.Frame("a", 0, pin.exp6(rng.normal(size=6)), pin.FrameType.OP_FRAME))
+    model.addFrame(pin.Frame("b", body, pin.exp6(rng.normal(size=6)), pin.FrameType.OP_FRAME))
+    data = model.createData()
+    u, v = np.array([0.0, 0.6, 0.8]), np.array([1.0, 0.0, 0.0])
+    for kind in CLOSURE_TYPES:
+        axes = {"axis": u, "axis_b": v} if kind == "universal" else {"axis": u} if kind not in ("6d", "3d") else {}
+        closure = make_closure(model, kind, "a", "b", kind, **axes)
+        for _ in range(5):
+            compute_kinematics(model, data, pin.integrate(model, pin.neutral(model), rng.normal(size=6)))
+            e, _, lin = closure_error(model, data, closure)
+            value, mask = closure_value(model, data, closure)
+            assert np.array_equal(value, e) and np.array_equal(mask, lin), kind
+    for label, conf in configurations:
+        mech, data = conf.mechanism, conf.data  # type: ignore[attr-defined]
+        straight = {}
+        for c in mech.all_closures:
+            e, _, lin = closure_error(mech.model, data, c)
+            straight[c.name] = (float(np.linalg.norm(e[lin])), float(np.linalg.norm(e[~lin])))
+        assert closure_residuals(mech, data, mech.all_closures) == straight, label
+        for limb in mech.limbs if mech.has_platform else ():
+            e = pin.log6(data.oMf[mech.platform_id].actInv(data.oMf[limb.tip_id])).vector
+            assert tip_residuals(mech, data)[limb.name] == (np.linalg.norm(e[:3]), np.linalg.norm(e[3:])), label

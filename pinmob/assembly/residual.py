@@ -12,6 +12,8 @@ comparison.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pinocchio as pin
 
@@ -93,9 +95,9 @@ def _selection(c: Closure) -> tuple[Array, Mask]:
     return np.vstack([lin, ang]), np.array([True] * lin.shape[0] + [False] * 2)
 
 
-#: The rows of a ``6d`` closure's residual that are lengths (read-only, shared).
-_WELD_LENGTHS = np.array([True] * 3 + [False] * 3)
-_WELD_LENGTHS.flags.writeable = False
+#: The rows of a ``6d``, ``3d`` and ``universal`` closure's residual that are lengths (read-only, shared).
+_WELD_LENGTHS, _BALL_LENGTHS, _UNIVERSAL_LENGTHS = np.arange(6) < 3, np.ones(3, bool), np.arange(4) < 3
+_WELD_LENGTHS.flags.writeable = _BALL_LENGTHS.flags.writeable = _UNIVERSAL_LENGTHS.flags.writeable = False
 
 
 def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
@@ -136,13 +138,31 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     wa_local = ra.T @ ja_w[3:]
     jac = ra.T @ (jb_w[:3] - ja_w[:3]) + pin.skew(e) @ wa_local
     if c.type == "3d":
-        return e, jac, np.ones(3, bool)
+        return e, jac, _BALL_LENGTHS
     # universal
     u = np.asarray(c.axis, float)
     w = ra.T @ omb.rotation @ np.asarray(c.axis_b, float)
     w_rel = ra.T @ (jb_w[3:] - ja_w[3:])
     row = np.cross(w, u) @ w_rel
-    return np.append(e, u @ w), np.vstack([jac, row]), np.array([True] * 3 + [False])
+    return np.append(e, u @ w), np.vstack([jac, row]), _UNIVERSAL_LENGTHS
+
+
+def closure_value(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Mask]:
+    """:func:`closure_error`'s residual and length mask without the Jacobian (the same operations on e)."""
+    if c.type == "joint":
+        return coupling_error(model, data, c)[::2]
+    oma, omb = data.oMf[c.frame_a_id], data.oMf[c.frame_b_id]
+    if c.type in ("3d", "universal"):
+        e = oma.rotation.T @ (omb.translation - oma.translation)
+        if c.type == "3d":
+            return e, _BALL_LENGTHS
+        w = oma.rotation.T @ omb.rotation @ np.asarray(c.axis_b, float)
+        return np.append(e, np.asarray(c.axis, float) @ w), _UNIVERSAL_LENGTHS
+    e = pin.log6(oma.actInv(omb)).vector
+    if c.type == "6d":
+        return e, _WELD_LENGTHS
+    sel, lin = _selection(c)
+    return sel @ e, lin
 
 
 def coupling_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
@@ -171,9 +191,14 @@ def closure_residuals(mech: Mechanism, data: pin.Data, closures: tuple[Closure, 
     """Per closure (default: ``mech.closures``): (position [m], rotation [rad]) residual norms."""
     out = {}
     for c in mech.closures if closures is None else closures:
-        e, _, lin = closure_error(mech.model, data, c)
-        out[c.name] = (float(np.linalg.norm(e[lin])), float(np.linalg.norm(e[~lin])))
+        e, lin = closure_value(mech.model, data, c)
+        out[c.name] = (_norm(e[lin]), _norm(e[~lin]))
     return out
+
+
+def _norm(x: Array) -> float:
+    """``np.linalg.norm`` of a contiguous vector, ``sqrt(x . x)`` (its computation, without its call overhead)."""
+    return math.sqrt(x.dot(x))
 
 
 def stacked_error(
@@ -182,16 +207,9 @@ def stacked_error(
     """Dimensionless stacked residual (sum k_c,) and Jacobian (sum k_c, nv): length rows divided by L."""
     if not closures:
         return np.zeros(0), np.zeros((0, model.nv))
-    es, js, lins = [], [], []
-    for c in closures:
-        e, jac, lin = closure_error(model, data, c)
-        es.append(e)
-        js.append(jac)
-        lins.append(lin)
+    es, js, lins = zip(*(closure_error(model, data, c) for c in closures))
     s = np.where(np.concatenate(lins), 1.0 / mech.length_scale, 1.0)  # one scaling of all rows
-    jac = np.vstack(js)
-    jac *= s[:, None]
-    return s * np.concatenate(es), jac
+    return s * np.concatenate(es), s[:, None] * np.vstack(js)
 
 
 def compute_kinematics(model: pin.Model, data: pin.Data, q: Array) -> None:
@@ -204,11 +222,11 @@ def tip_residuals(mech: Mechanism, data: pin.Data) -> Residuals:
     """Per limb: (position [m], rotation [rad]) residual of its tip w.r.t. the platform frame."""
     if not mech.has_platform:
         return {}
-    pid = mech.platform_id
+    platform = data.oMf[mech.platform_id]
     out = {}
     for limb in mech.limbs:
-        e = pin.log6(data.oMf[pid].actInv(data.oMf[limb.tip_id])).vector
-        out[limb.name] = (float(np.linalg.norm(e[:3])), float(np.linalg.norm(e[3:])))
+        e = pin.log6(platform.actInv(data.oMf[limb.tip_id])).vector
+        out[limb.name] = (_norm(e[:3]), _norm(e[3:]))
     return out
 
 

@@ -227,7 +227,7 @@ def actuation(
     m = n.shape[1]
     locked, idle = split.locked, split.idle
     # non-idle remaining motions: an orthonormal basis of `locked` orthogonal to `idle`
-    rest = locked - idle @ (idle.T @ locked)
+    rest = locked - idle @ (idle.T @ locked) if locked.size else locked
     # its singular values are 1 or 0 (a difference of nested orthonormal bases): 0.5 separates them
     basis = decide_rank(rest.T, 0.5, m, at_least=1.0).row_space.T if rest.size else np.zeros((m, 0))
     remaining = [joint_rates(mech, chain.col * (n @ basis[:, i])) for i in range(basis.shape[1])]

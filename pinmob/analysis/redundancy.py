@@ -78,7 +78,8 @@ def closure_ranks(
     When K has full row rank (an empty left null space) with a clear margin, every closure is
     essential (``essential_c = rows_c``) and has full rank without an SVD: the singular values of a
     block of K's rows are at least K's smallest, ``sigma_min(K_c) >= sigma_min(K) >= CLEAR * tol``
-    (``sigma_min(K_c) = min |K_c^T y|`` over unit y, a minimum over fewer vectors than K's).
+    (``sigma_min(K_c) = min |K_c^T y|`` over unit y, a minimum over fewer vectors than K's). That
+    answer depends on the mechanism only: it is kept in its cache.
 
     Args:
         mech: the mechanism (its closures, in the order of K's rows).
@@ -90,11 +91,14 @@ def closure_ranks(
         margin: how clearly K's rank was decided (:attr:`~pinmob.screw.rank.RankDecision.margin`).
     """
     closures = mech.all_closures
+    if not left_null.shape[1] and margin >= CLEAR:  # full row rank, clearly: every block has full rank
+        return mech.memo(
+            "closure ranks, full row rank",
+            lambda: tuple(ClosureRank(c.name, str(c.type), c.rows, c.rows, c.rows) for c in closures),
+        )
     implied = implied_rows(mech, left_null, rtol, margin)
     if implied is None:  # a rank too close to call: the straightforward computation decides it
         return closure_ranks_by_removal(mech, k_hat, rtol, reference)
-    if not left_null.shape[1]:  # full row rank, decided with a margin of CLEAR: every block has full rank
-        return tuple(ClosureRank(c.name, str(c.type), c.rows, c.rows, c.rows) for c in closures)
     sizes = [c.rows for c in closures]
     starts = [0]
     for rows in sizes:

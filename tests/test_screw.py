@@ -233,3 +233,20 @@ def test_orthogonal_complement_of_one_vector(c: list[float]) -> None:
     assert n.shape == (len(c), len(c) - 1)
     assert_allclose(n.T @ n, np.eye(len(c) - 1), atol=1e-15)
     assert_allclose(np.array(c) @ n, 0.0, atol=1e-14)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_canonical_basis_depends_only_on_the_subspace(seed: int) -> None:
+    """In R^n: any two bases of one subspace give the same orthonormal basis, spanning it, positive on its axes."""
+    from pinmob.screw.bases import canonical_basis
+
+    rng = np.random.default_rng(seed)
+    n, k = int(rng.integers(4, 12)), int(rng.integers(1, 4))
+    span = rng.normal(size=(n, k))
+    a, b = canonical_basis(span), canonical_basis(span @ rng.normal(size=(k, k)))
+    assert a.shape == (n, k)
+    assert_allclose(a, b, atol=1e-9)
+    assert_allclose(a.T @ a, np.eye(k), atol=1e-12)
+    assert S.subspace_gap(a, span) < 1e-7  # the gap is computed to about sqrt(eps)
+    axes = np.argmax(np.abs(a), axis=0)
+    assert np.all(a[axes, range(k)] > 0)

@@ -165,6 +165,15 @@ def lock(rates: Array, outputs: Array, rtol: float, m: int) -> Locked:
     return Locked(dec.rank, dec.null_space.T, idle, dec.singular_values)
 
 
+def canonical_rates(rates: Array) -> Array:
+    """The canonical orthonormal basis of the span of dimensionless joint rates (nv, k) (see :data:`RATE_TIE`).
+
+    :func:`~pinmob.screw.bases.canonical_basis` with ties within :data:`RATE_TIE`: the motions printed for a
+    space of joint rates do not depend on the basis an SVD gave, so neither on the order of the limbs.
+    """
+    return canonical_basis(rates, RATE_TIE)
+
+
 def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
     """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component.
 
@@ -208,7 +217,7 @@ def actuation(
     rest = locked - idle @ (idle.T @ locked)
     # its singular values are 1 or 0 (a difference of nested orthonormal bases): 0.5 separates them
     basis = decide_rank(rest.T, 0.5, m, at_least=1.0).row_space.T if rest.size else np.zeros((m, 0))
-    rates = canonical_basis(n @ basis, RATE_TIE)  # dimensionless joint rates: one basis, whatever the limbs' order
+    rates = canonical_rates(n @ basis)
     remaining = [joint_rates(mech, chain.col * rates[:, i]) for i in range(rates.shape[1])]
     frame_dof = {name: rank_of(frame_rows(conf, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
     base = floating_bases(mech)

@@ -8,6 +8,7 @@ circle intersection), never copied from pinmob's output.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import sys
 import warnings
@@ -543,3 +544,46 @@ def test_negative_restarts_is_a_one_line_error(capsys):
     assert main(["analyze", str(DATA / "fivebar" / "robot.yaml"), "--restarts", "-3"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "--restarts" in err and "-3" in err
+
+
+def _remaining(mech: Mechanism, q: str | np.ndarray) -> list[dict[str, float]]:
+    return [dict(m) for m in analyze_mechanism(mech, q).actuation.remaining]
+
+
+def test_remaining_motions_do_not_depend_on_the_order_of_the_limbs_or_the_unit():
+    """The motions left with the actuators locked are printed on one canonical basis of their space.
+
+    Each is a closed-chain motion with the actuated joints still (checked on the closure residual's
+    Jacobian by Pinocchio: K dq = 0 to first order), and the same joint rates with the limbs declared in
+    the reverse order and in millimetres (revolute joints only here: a prismatic rate is printed in the
+    file's unit). They once came out on whatever basis the SVD gave: A_u2a -1 or +1 at 3-PUU-flat's flat,
+    a different mix at 3-PUU-vertical's vertical.
+    """
+    from pinmob.assembly.residual import stacked_error
+
+    checked = 0
+    for name, config in [("3-PUU-flat", "flat"), ("3-PUU-vertical", "vertical"), ("3-PUU-vertical", "generic"),
+                         ("3-UPU", "constraint-singular"), ("4-RUU", "parallel-axes"), ("Delta", "rods-horizontal"),
+                         ("Delta-3RUU", "constraint-singular")]:  # fmt: skip
+        mech = pinmob.load(name)
+        reference = _remaining(mech, config)
+        assert reference, (name, config)
+        reversed_limbs = dataclasses.replace(mech, limbs=tuple(reversed(mech.limbs)))
+        q = pinmob.closed_configuration(mech, config)
+        in_mm = _remaining(in_millimetres(mech), q_in_millimetres(mech, q))
+        for other in (_remaining(reversed_limbs, config), in_mm):
+            assert [sorted(m) for m in other] == [sorted(m) for m in reference], (name, config)
+            for a, b in zip(other, reference):
+                assert_allclose([a[k] for k in sorted(a)], [b[k] for k in sorted(a)], atol=2e-6)
+        data = mech.model.createData()
+        pin.computeJointJacobians(mech.model, data, q)
+        pin.updateFramePlacements(mech.model, data)
+        _, k = stacked_error(mech, mech.model, data, mech.all_closures)
+        for motion in reference:
+            dq = np.zeros(mech.model.nv)
+            for joint, rate in motion.items():
+                dq[mech.model.joints[mech.model.getJointId(joint)].idx_v] = rate
+            assert not any(motion.get(a) for a in mech.actuated)
+            assert np.abs(k @ dq).max() < 1e-4 * np.abs(k).max()  # rates printed to 6 decimals, small ones dropped
+            checked += 1
+    assert checked >= 7

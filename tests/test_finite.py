@@ -338,3 +338,39 @@ def test_scan_gives_each_samples_finite_dof(tmp_path, capsys) -> None:
         with_finite(pinmob.load("3-PUU"), path_spec(pinmob.load("3-PUU"), "generic", "offset", 2), 9)
     assert main(["scan", "3-PUU", "--finite-order", "1", "--csv", str(regular), "--force"]) == 2
     assert capsys.readouterr().err.startswith("pinmob: error: the order bound of the finite analysis")
+
+
+@pytest.mark.parametrize(
+    ("name", "config"), [("Sarrus", "stretched"), ("3-PUU-flat", "flat"), ("five-bar", "limb-B-stretched")]
+)
+def test_printed_internal_motions_and_branches_do_not_depend_on_the_limbs_order(name: str, config: str) -> None:
+    """Internal motions and branch tangents are printed on one canonical basis of their space.
+
+    The same joint rates per label with the limbs declared in the reverse order (they were the SVD's basis:
+    the Sarrus knees as A_r2 -1, A_r1 +0.5, A_r3 +0.5 or its negative), and each printed internal motion is
+    a closed-chain motion leaving the platform still to first order (Pinocchio's Jacobians: K dq = 0,
+    J_platform dq = 0).
+    """
+    import dataclasses
+
+    from pinmob.assembly.residual import stacked_error
+
+    mech = pinmob.load(name)
+    printed = []
+    for m in (mech, dataclasses.replace(mech, limbs=tuple(reversed(mech.limbs)))):
+        doc = pinmob.analyze(m, config, finite=True).to_dict()["finite"]
+        internal = {v["label"]: v["joints"] for v in doc["internal_motions"]}
+        branches = [b["joints"] for b in doc["branches"]]
+        printed.append((internal, branches))
+    assert printed[0] == printed[1] and (printed[0][0] or printed[0][1])
+    q = pinmob.closed_configuration(mech, config)
+    data = mech.model.createData()
+    pin.computeJointJacobians(mech.model, data, q)
+    pin.updateFramePlacements(mech.model, data)
+    _, k = stacked_error(mech, mech.model, data, mech.all_closures)
+    platform = pin.getFrameJacobian(mech.model, data, mech.platform_id, pin.LOCAL_WORLD_ALIGNED)
+    for joints in printed[0][0].values():
+        dq = np.zeros(mech.model.nv)
+        for joint, rate in joints.items():
+            dq[mech.model.joints[mech.model.getJointId(joint)].idx_v] = rate
+        assert np.abs(k @ dq).max() < 1e-5 and np.abs(platform @ dq).max() < 1e-5

@@ -206,6 +206,17 @@ def test_3prs_home():
     check("3-PRS", "home", dof=3, motion_type="1T2R", directions={"T": [Z], "R": [X, Y]}, through=[0.0, 0.0, 0.25])
 
 
+@pytest.mark.parametrize("name", ["3-RPS", "3-PRS"])
+def test_a_pencil_of_rotations_is_printed_on_the_world_axes(name):
+    """At home every horizontal line through the platform centre is a rotation axis (derivations above): the
+    report names the canonical pair, x and y, in the platform mobility and in the platform frame's motion on
+    the closed chain alike (they once printed two different noise-chosen pairs, e.g. R1 [1, -0.0145, 0])."""
+    report = pinmob.analyze(mech(name), "home")
+    assert [m.label for m in report.motions] == ["T1 z", "R1 x", "R2 y"]
+    frame = report.platform_frame
+    assert frame is not None and [m.label for m in frame.motions] == ["T1 z", "R1 x", "R2 y"]
+
+
 # --------------------------------------------------------------------------- Delta (parallelograms), Delta-3RUU
 
 #: hand derivation of the parallelogram Delta, shared by the tests below. Limb i (radial e_i, tangent t_i): the two

@@ -128,6 +128,27 @@ def test_hand_examples() -> None:
     assert S.motion_type(S.classify_twists(np.zeros((6, 0)), 1.0)) == "rigid"
 
 
+@pytest.mark.parametrize("seed", range(8))
+def test_a_pencil_of_rotations_beside_a_translation_is_canonical(seed: int) -> None:
+    """1T2R with T along z and the rotations about every horizontal axis through c: R1 x and R2 y, from any basis.
+
+    The rotations' directions have no component along T; round-off of 1e-17 there once decided (relative to
+    itself) that one of them did, and the printed axes were noise: [1, -0.0145, 0] and [0.0145, 1, 0] for the
+    3-RPS at home, and another pair for the same space in the frame view.
+    """
+    rng = np.random.default_rng(seed)
+    z, c = np.array([0.0, 0, 1]), np.array([0.0, 0, 0.3])
+    system = np.column_stack([np.r_[z, 0, 0, 0]] + [np.r_[np.cross(c, e), e] for e in np.eye(3)[:2]])
+    basis = system @ np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    basis[5] += rng.normal(scale=1e-17, size=3)  # round-off along z in the rotations' directions
+    sys = S.classify_twists(basis, 0.25)
+    assert S.motion_type(sys) == "1T2R"
+    assert_allclose(sys.free_vectors[0].direction, z, atol=1e-12)
+    for line, e in zip(sys.lines, np.eye(3)[:2]):
+        assert_allclose(line.direction, e, atol=1e-12)
+        assert_allclose(line.point, c, atol=1e-12)
+
+
 def test_wrench_classification_is_dual() -> None:
     # a force along x through (0, 0, 1) and a couple about z
     p = np.array([0.0, 0, 1])
@@ -212,3 +233,20 @@ def test_orthogonal_complement_of_one_vector(c: list[float]) -> None:
     assert n.shape == (len(c), len(c) - 1)
     assert_allclose(n.T @ n, np.eye(len(c) - 1), atol=1e-15)
     assert_allclose(np.array(c) @ n, 0.0, atol=1e-14)
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_canonical_basis_depends_only_on_the_subspace(seed: int) -> None:
+    """In R^n: any two bases of one subspace give the same orthonormal basis, spanning it, positive on its axes."""
+    from pinmob.screw.bases import canonical_basis
+
+    rng = np.random.default_rng(seed)
+    n, k = int(rng.integers(4, 12)), int(rng.integers(1, 4))
+    span = rng.normal(size=(n, k))
+    a, b = canonical_basis(span), canonical_basis(span @ rng.normal(size=(k, k)))
+    assert a.shape == (n, k)
+    assert_allclose(a, b, atol=1e-9)
+    assert_allclose(a.T @ a, np.eye(k), atol=1e-12)
+    assert S.subspace_gap(a, span) < 1e-7  # the gap is computed to about sqrt(eps)
+    axes = np.argmax(np.abs(a), axis=0)
+    assert np.all(a[axes, range(k)] > 0)

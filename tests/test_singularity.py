@@ -340,3 +340,51 @@ def test_mechanisms_without_platform_are_refused_clearly():
     mech = pinmob.load(Path(__file__).parent / "data" / "fivebar" / "robot.yaml")
     with pytest.raises(ConfigurationError, match="platform frame.*Extended URDF, MJCF"):
         analyze_singularity(mech, mech.neutral())
+
+
+def _rank(screws: np.ndarray, rtol: float) -> int:
+    """Rank by numpy's own SVD count, on unit columns (the joint rates' units removed)."""
+    if screws.size == 0:
+        return 0
+    unit = screws / np.maximum(np.linalg.norm(screws, axis=0), 1e-300)
+    s = np.linalg.svd(unit, compute_uv=False)
+    return int(np.sum(s > rtol * s[0])) if s[0] > 0 else 0
+
+
+def test_actuation_wrenches_count_what_locking_the_actuators_adds():
+    """Each actuated limb adds as many actuation wrenches as locking its actuators lowers its twist rank.
+
+    Reciprocity: the limb's wrench space has dimension 6 - r, with its actuators locked 6 - r_locked; the
+    actuation wrenches span what locking adds, r - r_locked of them (ranks counted here by numpy's SVD of
+    the unit-column screws), each reciprocal to the limb's locked screws. Where an actuator's screw depends
+    on the others (3-PUU-flat at flat, the Delta with stretched arms, a stretched five-bar limb...), locking
+    it adds nothing: the difference of the two bases is round-off (5e-16) and was once decided relative to
+    itself, giving up to two noise wrenches per limb.
+    """
+    checked = singular = 0
+    for name in builtin_models():
+        mech = pinmob.load(name)
+        if not mech.limbs or not mech.actuated or mech.coupling_closures or not mech.has_platform:
+            continue
+        if any(limb.closures for limb in mech.limbs):
+            continue  # screws per loop-closing rate combination, not per joint: no unit columns to count on
+        st = twist_scaling(mech.length_scale)[:, None]
+        sw = np.array([mech.length_scale] * 3 + [1.0] * 3)[:, None]
+        for config in mech.configurations:
+            conf = pinmob.Configuration(mech, config)
+            rtol = conf.rank_rtol(RTOL)
+            wrenches = sw * singularity(conf, rtol).actuation_wrenches  # dimensionless [f L; tau]
+            free, locked = limb_twists(conf, rtol), limb_twists(conf, rtol, lock_actuated=True)
+            start = 0
+            for limb, t, lt in zip(mech.limbs, free, locked):
+                if not limb.actuated:
+                    continue
+                count = _rank(st * t, rtol) - _rank(st * lt, rtol)
+                own = wrenches[:, start : start + count]
+                assert own.shape[1] == count, (name, config, limb.name)
+                assert_allclose(own.T @ (st * lt), 0.0, atol=1e-8)  # reciprocal to the limb's locked screws
+                singular += count == 0
+                start += count
+            assert wrenches.shape[1] == start, (name, config)
+            checked += 1
+    assert checked > 20 and singular > 5

@@ -37,10 +37,16 @@ from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.progress import step
 from pinmob.screw.algebra import Array
+from pinmob.screw.bases import canonical_basis
 from pinmob.screw.rank import decide_rank
 
 #: Largest number of actuator sets :func:`actuator_sets` tries (C(n, k) above it is refused).
 SEARCH_LIMIT = 50_000
+
+#: Dimensionless joint rates closer than this are ties in the canonical basis of the motions left with the actuators
+#: locked (model order decides, as for the printed rates, which have six decimals: round-off near a singularity
+#: must not pick the sign).
+RATE_TIE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -187,6 +193,15 @@ def lock_motions(
     return lock(rates_of(null, held), lambda: output_rows(conf, frames) @ null, rtol, null.shape[1], norm)
 
 
+def canonical_rates(rates: Array) -> Array:
+    """The canonical orthonormal basis of the span of dimensionless joint rates (nv, k) (see :data:`RATE_TIE`).
+
+    :func:`~pinmob.screw.bases.canonical_basis` with ties within :data:`RATE_TIE`: the motions printed for a
+    space of joint rates do not depend on the basis an SVD gave, so neither on the order of the limbs.
+    """
+    return canonical_basis(rates, RATE_TIE)
+
+
 def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
     """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component.
 
@@ -230,7 +245,8 @@ def actuation(
     rest = locked - idle @ (idle.T @ locked) if locked.size else locked
     # its singular values are 1 or 0 (a difference of nested orthonormal bases): 0.5 separates them
     basis = decide_rank(rest.T, 0.5, m, at_least=1.0).row_space.T if rest.size else np.zeros((m, 0))
-    remaining = [joint_rates(mech, chain.col * (n @ basis[:, i])) for i in range(basis.shape[1])]
+    rates = canonical_rates(n @ basis)
+    remaining = [joint_rates(mech, chain.col * rates[:, i]) for i in range(rates.shape[1])]
     frame_dof = {name: rank_of(frame_rows(conf, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
     base = floating_bases(mech)
     count = len(actuated) + 6 * len(base)

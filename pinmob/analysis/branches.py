@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.actuation import joint_rates
+from pinmob.analysis.actuation import canonical_rates, joint_rates
 from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.higher_order import HigherOrder, OrderTest
@@ -157,4 +157,5 @@ def branch_of(
 def branch_joints(conf: Configuration, branch: Branch) -> list[dict[str, float]]:
     """A branch's tangent rates by joint name (largest 1), one dictionary per basis vector."""
     col = closed_chain_columns(conf)
-    return [joint_rates(conf.mechanism, col * branch.rates[:, i]) for i in range(branch.dimension)]
+    rates = canonical_rates(branch.rates)  # one basis of the tangent space, whatever the SVD gave
+    return [joint_rates(conf.mechanism, col * rates[:, i]) for i in range(rates.shape[1])]

@@ -38,14 +38,14 @@ import pinocchio as pin
 from pinmob.analysis.actuation import Actuation, actuation, held_indices, lock_motions
 from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.motion import Motion, columns, motions_of
+from pinmob.analysis.motion import Motion, classified_motions, columns
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id, frame_name
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.classify import classify_twists, motion_type
+from pinmob.screw.algebra import Array
+from pinmob.screw.classify import motion_type
 from pinmob.screw.rank import decide_rank
 
 
@@ -228,8 +228,7 @@ def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobilit
         image = frame_rows(conf, frame) @ closed_chain(conf, rtol).null
         dec = decide_rank(image.T, rtol, 6, at_least=1.0)
         basis = dec.row_space.T  # (6, rank): the image's orthonormal column span
-        system = classify_twists(basis / twist_scaling(length)[:, None], length, rtol)
-        motions = motions_of(system)
+        system, motions = classified_motions(conf, basis, rtol)
         origin = np.array(conf.frame_placement(fid).translation)
         return FrameMobility(
             frame, basis.shape[1], motion_type(system), motions, columns([mo.twist for mo in motions]), origin, length

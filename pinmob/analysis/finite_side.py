@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.analysis.actuation import joint_rates
+from pinmob.analysis.actuation import canonical_rates, joint_rates
 from pinmob.analysis.branches import Branch, branch_of, platform_motions, tangent_rates
 from pinmob.analysis.closure_jacobian import closed_chain, closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
@@ -89,13 +89,15 @@ def internal_motions(conf: Configuration, rates: Array) -> list[tuple[str, Array
         outside = np.ones(mech.model.nv, bool)
         outside[limb.screw_v_indices] = False
         local = decide_rank(rates[outside], 1e-9, n=g, at_least=1.0).null_space.T
-        for i in range(local.shape[1]):
-            label = f"limb {limb.name}" + (f" {i + 1}" if local.shape[1] > 1 else "")
-            out.append((label, rates @ local[:, i]))
+        own = canonical_rates(rates @ local)  # one basis of the limb's own motions, whatever the SVD gave
+        for i in range(own.shape[1]):
+            label = f"limb {limb.name}" + (f" {i + 1}" if own.shape[1] > 1 else "")
+            out.append((label, own[:, i]))
         found.append(local)
     taken = orthonormal(found, g)
     rest = decide_rank(taken.T, 1e-9, n=g, at_least=1.0).null_space.T if taken.size else np.eye(g)
-    out += [(f"coupled {i + 1}", rates @ rest[:, i]) for i in range(rest.shape[1])]
+    coupled = canonical_rates(rates @ rest)
+    out += [(f"coupled {i + 1}", coupled[:, i]) for i in range(coupled.shape[1])]
     return out
 
 

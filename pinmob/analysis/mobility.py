@@ -32,9 +32,9 @@ from pinmob.analysis.motion import (
     Method,
     Motion,
     View,
+    classified_motions,
     columns,
     constraints_of,
-    motions_of,
     numbers,
     vector,
 )
@@ -43,7 +43,7 @@ from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array, wrench_scaling
 from pinmob.screw.bases import clean
-from pinmob.screw.classify import MotionKind, classify_twists, classify_wrenches, motion_type
+from pinmob.screw.classify import MotionKind, classify_wrenches, motion_type
 from pinmob.screw.rank import reciprocal_twists, reciprocal_wrenches
 
 
@@ -223,10 +223,10 @@ def mobility_from_wrenches(
         stacked = np.hstack(blocks) if blocks else np.zeros((6, 0))
     else:
         stacked = wrenches
-    free, dec = reciprocal_twists(stacked, length, rtol)
+    _, dec = reciprocal_twists(stacked, length, rtol)
     constraint_basis = dec.row_space.T / wrench_scaling(length)[:, None]
-    system = classify_twists(free, length, rtol)
-    motions = motions_of(system)
+    keep = view is View.CONFIGURATION  # the platform frame's motion on the closed chain is the same space
+    system, motions = classified_motions(conf, dec.null_space.T, rtol, keep=keep)  # the free twists' span
     cons = constraints_of(classify_wrenches(constraint_basis, length, rtol))
     sv = np.zeros(6)
     sv[: min(6, dec.singular_values.size)] = dec.singular_values[:6]

@@ -8,10 +8,14 @@ from typing import Any
 
 import numpy as np
 
+from pinmob.analysis.configuration import Configuration
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array
+from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.bases import axis_label, clean
-from pinmob.screw.classify import MotionKind, ScrewSystem, WrenchKind
+from pinmob.screw.classify import MotionKind, ScrewSystem, WrenchKind, classify_twists
+
+#: Two orthonormal bases span the same space when each column of one is the other's within this (dimensionless).
+SAME_SPAN = 1e-12
 
 #: Words for the motion kinds in text reports.
 KIND_WORDS = {MotionKind.TRANSLATION: "translation", MotionKind.ROTATION: "rotation", MotionKind.SCREW: "screw"}
@@ -169,6 +173,33 @@ def motions_of(system: ScrewSystem) -> tuple[Motion, ...]:
         label = f"{kind.value}{counters[kind]} {axis_label(s.direction)}"
         out.append(Motion(kind, s.direction, s.point, s.pitch, s.vector, label))
     return tuple(out)
+
+
+def classified_motions(
+    conf: Configuration, span: Array, rtol: float, *, keep: bool = False
+) -> tuple[ScrewSystem, tuple[Motion, ...]]:
+    """The classified twist system of ``span`` and its motions, shared by the analyses of one configuration.
+
+    ``span`` (6, k) is an orthonormal basis of dimensionless twists ``[v / L; w]``. The platform mobility
+    and the platform frame's motion on the closed chain classify the same space: a classification made with
+    ``keep`` (the platform mobility's, :func:`~pinmob.screw.classify.classify_twists` and
+    :func:`motions_of`) is kept on the configuration, per tolerance, and given to a later span whose columns
+    it spans to :data:`SAME_SPAN` (``|S - Q Q^T S| <= SAME_SPAN``, Q the kept basis): the classification
+    depends on the space only, not on its basis (up to round-off dust below 1e-10). Other spans are
+    classified and not kept, so a frame's answer does not depend on which other frames were asked for.
+    """
+    kept: list[tuple[Array, ScrewSystem, tuple[Motion, ...]]] = conf.memo(("classified twists", rtol), list)
+    for basis, system, motions in kept:
+        if basis.shape == span.shape and np.all(np.abs(span - basis @ (basis.T @ span)) <= SAME_SPAN):
+            return system, motions
+    length = conf.mechanism.length_scale
+    system = classify_twists(span / twist_scaling(length)[:, None], length, rtol)
+    motions = motions_of(system)
+    if keep:
+        frozen = np.array(span, dtype=np.float64)
+        frozen.flags.writeable = False
+        kept.append((frozen, system, motions))
+    return system, motions
 
 
 def constraints_of(system: ScrewSystem) -> tuple[Constraint, ...]:

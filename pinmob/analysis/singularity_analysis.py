@@ -91,10 +91,10 @@ def singularity_from_twists(
     extras = []
     for i, ldec in zip(acting, locked_decisions):
         locked = locked_blocks[i] = ldec.null_space.T
-        extras.append(locked - blocks[i] @ (blocks[i].T @ locked))  # actuation wrenches
+        extras.append(locked - blocks[i] @ (blocks[i].T @ locked))  # actuation wrenches: outside the limb's own
     act_wrenches = [
         dec.row_space.T / sw if extra.size else np.zeros((6, 0))
-        for extra, dec in zip(extras, decide_ranks([e.T for e in extras], rtol, n=6))
+        for extra, dec in zip(extras, decide_ranks([e.T for e in extras], rtol, n=6, at_least=1.0))
     ]
 
     cdec = decide_rank(np.concatenate(blocks, axis=1).T, rtol, n=6)

@@ -29,6 +29,7 @@ import numpy as np
 from pinmob.analysis.higher_order import MARGIN, ORDER, HigherOrder, OrderTest
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
+from pinmob.screw.rank import decide_rank
 
 #: Random starts per dimension of the reduced cone in each round of sampling.
 CONE_STARTS = 4
@@ -78,8 +79,7 @@ class Cone:
 
 def _span(points: Array) -> Array:
     """(m, d) orthonormal basis of the span of unit rows ``points`` (directions closer than 1e-3 merged)."""
-    _, s, vt = np.linalg.svd(points)
-    return vt[: int(np.sum(s > 1e-3 * s[0]))].T
+    return decide_rank(points, 1e-3).row_space.T  # the one rank rule: relative to the largest
 
 
 def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:

@@ -32,6 +32,7 @@ from pinmob.analysis.higher_order import MARGIN, OrderTest
 from pinmob.analysis.motion import Motion
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
+from pinmob.screw.rank import decide_rank
 
 #: A motion lies in a span when the sine of its angle to it is at most this.
 MEMBER_SIN = 1e-4
@@ -142,8 +143,7 @@ def orthonormal(columns: list[Array], rows: int) -> Array:
     stacked = np.hstack(columns) if columns else np.zeros((rows, 0))
     if stacked.size == 0:
         return np.zeros((rows, 0))
-    u, s, _ = np.linalg.svd(stacked, full_matrices=False)
-    return u[:, : int(np.sum(s > 1e-9 * max(1.0, s[0])))]
+    return decide_rank(stacked.T, 1e-9, at_least=1.0).row_space.T  # the one rank rule, natural scale 1
 
 
 def judge(

@@ -69,9 +69,25 @@ def _first_within(values: list[float], tol: float) -> int:
 
 def canonical_directions_greedy(basis: ArrayLike, tol: float = 1e-9) -> Array:
     """:func:`canonical_directions` by its greedy steps, one projection at a time (the reference for the tests)."""
-    d = np.asarray(basis, float).reshape(3, -1)
-    if d.shape[1] == 0:
-        return np.zeros((3, 0))
+    return canonical_basis(np.asarray(basis, float).reshape(3, -1), tol)
+
+
+def canonical_basis(basis: ArrayLike, tol: float = 1e-9) -> Array:
+    """Canonical orthonormal basis of the column span of ``basis`` (n, k): :func:`canonical_directions`'s greedy in R^n.
+
+    At each step the coordinate axis with the largest projection onto what is left of the subspace
+    (the first within ``tol`` of the largest) gives the next vector, that projection normalised, and
+    it is removed from the subspace. The vectors are sorted by their axes, each positive on its own
+    axis: the result depends only on the subspace (ties go to the earlier axis), not on the basis
+    given. Rank decided with ``tol`` at the natural scale 1 (``tol * max(1, sigma_max)``).
+
+    Returns:
+        (n, r) orthonormal canonical basis, r the rank of ``basis``.
+    """
+    d = np.asarray(basis, float)
+    rows = d.shape[0]
+    if d.size == 0:
+        return np.zeros((rows, 0))
     rest = decide_rank(d.T, tol, at_least=1.0).row_space.T  # the column span of d
     picked: list[tuple[int, Array]] = []
     proj = rest @ rest.T  # projector onto what is left of the subspace
@@ -82,7 +98,7 @@ def canonical_directions_greedy(basis: ArrayLike, tol: float = 1e-9) -> Array:
         picked.append((axis, vec))
         proj = proj - np.outer(vec, vec)  # vec lies in the subspace: P - vec vec^T projects onto the rest
     if not picked:
-        return np.zeros((3, 0))
+        return np.zeros((rows, 0))
     picked.sort(key=lambda p: p[0])
     return np.column_stack([clean(v) for _, v in picked])
 

@@ -136,7 +136,7 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
     pitch_tol = max(1e-9, 10 * rtol)
     # split span(gw) into W0 (perpendicular to T) and its orthogonal complement W1
     if trans.shape[1]:
-        dec = decide_rank(trans.T @ gw, rtol, n=wr)
+        dec = decide_rank(trans.T @ gw, rtol, n=wr, at_least=1.0)  # orthonormal span and directions: natural scale 1
         x0, x1 = dec.null_space.T, dec.row_space.T
     else:
         x0, x1 = np.eye(wr), np.zeros((wr, 0))

@@ -213,13 +213,17 @@ def decide_rank(
     return decision(s, vt, rtol, reference=reference, at_least=at_least)
 
 
-def decide_ranks(matrices: Sequence[ArrayLike], rtol: float = RTOL, n: int | None = None) -> list[RankDecision]:
+def decide_ranks(
+    matrices: Sequence[ArrayLike], rtol: float = RTOL, n: int | None = None, *, at_least: float = 0.0
+) -> list[RankDecision]:
     """:func:`decide_rank` of each matrix, with one batched SVD per shape (the same bits as one call each).
 
     Args:
         matrices: dimensionless (m_i, n) matrices, e.g. every limb's transposed joint screws.
         rtol: relative tolerance (each matrix's reference is its own largest singular value).
         n: number of columns of the empty ones.
+        at_least: a floor under each reference (1 for matrices built from orthonormal bases, see
+            :func:`decide_rank`).
     """
     arrays = [np.asarray(m, float) for m in matrices]
     out: list[RankDecision | None] = [None] * len(arrays)
@@ -234,7 +238,7 @@ def decide_ranks(matrices: Sequence[ArrayLike], rtol: float = RTOL, n: int | Non
     for (rows, cols), which in shapes.items():
         _, s, vt = svd(np.stack([arrays[i] for i in which]), full_matrices=rows < cols)
         for k, i in enumerate(which):
-            out[i] = decision(s[k], vt[k], rtol)
+            out[i] = decision(s[k], vt[k], rtol, at_least=at_least)
     return out  # type: ignore[return-value]
 
 

@@ -515,9 +515,10 @@ def test_output_motions_are_the_output_rows_times_the_motions(configurations):
 def test_lock_without_the_stacked_svd_is_the_stacked_svd(configurations):
     """Where the locked rates have full rank and the bound holds, idle is empty as the stacked SVD finds; elsewhere
     lock is that SVD. Every built-in model and Extended URDF robot, its actuators and each single joint, three rtol."""
-    from pinmob.analysis.actuation import held_indices, lock
+    from pinmob.analysis.actuation import held_indices
     from pinmob.analysis.closed_chain import default_end_frames
     from pinmob.analysis.closure_jacobian import closed_chain, output_rows, rates_of
+    from pinmob.analysis.locking import lock
     from pinmob.screw.rank import decide_rank
 
     shortcut = 0

@@ -15,22 +15,16 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.closure_jacobian import (
-    ClosedChain,
-    closed_chain,
-    frame_rows,
-    output_motions,
-    output_rows,
-    rates_of,
-)
+from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, rates_of
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.locking import Locked, lock
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
@@ -65,7 +59,7 @@ class Actuation:
         base: the floating bases held while judging (free-flyer joints at the root), by joint name.
         rate_singular_values: singular values of the held joints' rates on an orthonormal basis of the
             closed chain's dimensionless motions (``S N``, (held, m)): the matrix whose rank ``rank_a`` is decided
-            (:func:`lock`); its tolerance is ``rtol * max(1, sigma_1)``.
+            (:func:`~pinmob.analysis.locking.lock`); its tolerance is ``rtol * max(1, sigma_1)``.
     """
 
     actuated: tuple[str, ...]
@@ -144,53 +138,6 @@ def held_indices(mech: Mechanism, actuated: Sequence[str]) -> NDArray[np.intp]:
 def rank_of(matrix: Array, rtol: float) -> int:
     """Rank of a matrix built from orthonormal bases (tolerance ``rtol * max(1, sigma_max)``)."""
     return decide_rank(matrix, rtol, at_least=1.0).rank if matrix.size else 0
-
-
-@dataclass(frozen=True)
-class Locked:
-    """The closed-chain motions with some joints locked, and the idle ones among them (dimensionless bases)."""
-
-    rank_a: int  # rank of the locked joints' rates on the closed chain
-    locked: Array  # (m, l) motions that move no locked joint
-    idle: Array  # (m, i) motions that move no locked joint and no output (a subspace of `locked`)
-    singular_values: Array = field(default_factory=lambda: np.zeros(0))  # of the rates, the rank decided
-
-    def valid(self, count: int) -> bool:
-        """``count`` locked joints are independent and leave only idle motions (a valid actuation)."""
-        return self.rank_a == count and self.locked.shape[1] == self.idle.shape[1]
-
-
-def lock(rates: Array, outputs: Callable[[], Array], rtol: float, m: int, norm: Callable[[], float]) -> Locked:
-    """Split closed-chain motions by locked-joint rates ``rates`` (k, m) and output rows ``outputs()`` (o, m).
-
-    ``locked = null(rates)``, ``idle = null([rates; outputs])``: the one computation behind the actuation
-    verdict, the idle joints and the actuator search (ranks decided with :func:`rank_of`'s rule).
-    ``outputs()`` is called only for that stacked SVD, which is skipped (``idle`` empty) when the rates have
-    rank m and their smallest singular value exceeds ``2 rtol max(1, ||[rates; outputs]||_F)`` (``norm()``
-    bounds ``||outputs||_F``): adding rows lowers no singular value and the Frobenius norm bounds the
-    largest, so the SVD would find rank m (the factor 2 covers its round-off).
-    """
-    dec = decide_rank(rates, rtol, m, at_least=1.0)
-    s = dec.singular_values
-    if dec.rank == m and (m == 0 or s[m - 1] > 2.0 * rtol * max(1.0, math.hypot(math.sqrt(s @ s), norm()))):
-        return Locked(dec.rank, dec.null_space.T, np.zeros((m, 0)), s)
-    idle = decide_rank(np.vstack([rates, outputs()]), rtol, m, at_least=1.0).null_space.T
-    return Locked(dec.rank, dec.null_space.T, idle, s)
-
-
-def lock_motions(
-    conf: Configuration, null: Array, held: NDArray[np.intp], frames: Sequence[str], rtol: float
-) -> Locked:
-    """:func:`lock` of the closed chain's motions ``null`` (nv, m) by the ``held`` rates, with ``frames`` as outputs.
-
-    The output rows times the motions for the stacked SVD (:func:`~pinmob.analysis.closure_jacobian.output_rows`);
-    for the norm, the cheaper :func:`~pinmob.analysis.closure_jacobian.output_motions` (the same to round-off).
-    """
-
-    def norm() -> float:
-        return float(np.linalg.norm(output_motions(conf, frames, null)))
-
-    return lock(rates_of(null, held), lambda: output_rows(conf, frames) @ null, rtol, null.shape[1], norm)
 
 
 def canonical_rates(rates: Array) -> Array:
@@ -278,7 +225,7 @@ def actuator_sets(
     A set is valid when its joints are independent on the closed chain and
     locking them leaves only idle motions (those that move no ``outputs``
     frame; the same split as the actuation verdict). Exhaustive: C(n, size)
-    sets are tried, each with an SVD of (size, m) and, unless :func:`lock`
+    sets are tried, each with an SVD of (size, m) and, unless :func:`~pinmob.analysis.locking.lock`
     skips it, of (size + outputs, m); more than ``limit`` sets is refused
     (name fewer candidates).
 

@@ -35,9 +35,10 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.actuation import Actuation, actuation, held_indices, lock_motions
+from pinmob.analysis.actuation import Actuation, actuation, held_indices
 from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.locking import lock_motions
 from pinmob.analysis.motion import Motion, classified_motions, columns
 from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.blas import one_blas_thread

@@ -510,6 +510,7 @@ def test_output_motions_are_the_output_rows_times_the_motions(configurations):
             mine = output_motions(conf, frames, null)  # type: ignore[arg-type]
             assert mine.shape == product.shape, label
             assert_allclose(mine, product, rtol=0, atol=1e-13 * max(1.0, float(np.abs(product).max(initial=0))))
+            assert output_motions(conf, frames, null[:, :0]).shape == (product.shape[0], 0), label  # no motion
 
 
 def test_lock_without_the_stacked_svd_is_the_stacked_svd(configurations):

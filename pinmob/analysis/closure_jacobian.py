@@ -148,7 +148,8 @@ def output_motions(conf: Configuration, frames: Sequence[str], motions: Array) -
     support = supported_float(mech)  # (njoints - 1, nv)
     if support.shape[0]:
         screws = ((conf.world_jacobian * col).T[:, :, None] * motions[:, None, :]).reshape(nv, 6 * m)
-        parts.append((centre_shifts(conf) @ (support @ screws).reshape(-1, 6, m)).reshape(-1, m))
+        joints = support.shape[0]
+        parts.append((centre_shifts(conf) @ (support @ screws).reshape(joints, 6, m)).reshape(3 * joints, m))
     parts += [conf.frame_jacobian(fid)[:3] * col / mech.length_scale @ motions for fid in closure_points(mech)]
     return np.vstack(parts) if parts else np.zeros((0, m))
 

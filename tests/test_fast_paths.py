@@ -628,3 +628,28 @@ def test_a_kept_classification_is_the_classification_of_the_space(configurations
     assert checked > 1000
     flat = pinmob.analyze(pinmob.load("3-PUU-flat"), "flat-raised", paper=True)
     assert (flat.motion_type, flat.paper.motion_type) == ("1T1R", "3T1R")
+
+
+def test_joint_rates_of_one_component_joints_read_directly():
+    """A one-component joint's rate read directly: the same names, values and order as the largest-component rule
+    applied to every joint, on random rates (zeros and tiny ones among them) of every built-in model."""
+    from pinmob.analysis.actuation import joint_rates, velocity_segments
+
+    def straightforward(mech: pinmob.Mechanism, dq: np.ndarray) -> dict[str, float]:
+        big = float(np.max(np.abs(dq)))
+        rates, out = (dq / big).tolist(), {}
+        for name, start, stop in velocity_segments(mech):
+            part = rates[start:stop]
+            size = [abs(x) for x in part]
+            if max(size) > 1e-6:
+                out[name] = round(part[size.index(max(size))], 6)
+        return dict(sorted(out.items(), key=lambda kv: -float(f"{abs(kv[1]):.3g}")))
+
+    rng = np.random.default_rng(13)
+    for name in pinmob.builtin_models():
+        mech = pinmob.load(name)
+        for _ in range(20):
+            dq = rng.normal(size=mech.model.nv) * 10.0 ** rng.integers(-8, 1, size=mech.model.nv)
+            dq[rng.random(mech.model.nv) < 0.3] = 0.0
+            dq[0] = 1.0
+            assert list(joint_rates(mech, dq).items()) == list(straightforward(mech, dq).items()), name

@@ -161,6 +161,10 @@ def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
         return out
     rates = (dq / big).tolist()
     for name, start, stop in velocity_segments(mech):
+        if stop == start + 1:  # one component (most joints): itself
+            if abs(rates[start]) > 1e-6:
+                out[name] = round(rates[start], 6)
+            continue
         part = rates[start:stop]
         size = [abs(x) for x in part]
         top = max(size)

@@ -169,7 +169,7 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
             nw = np.linalg.norm(ww)
             u = positive(ww / nw)
             vv = vv / nw * (1.0 if u @ ww > 0 else -1.0)
-            vv = _closest_moment(u, vv, trans, h)
+            vv = _closest_moment(u, vv, trans, h, rtol)
             out.append((clean(u), clean(cross_columns(u, vv)), h))
     return trans, out
 
@@ -213,13 +213,19 @@ def _orthogonal_complement(c: Array) -> Array:
     return (np.eye(c.size) - 2.0 * np.outer(h, h) / (h @ h))[:, 1:]
 
 
-def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
-    """``v + T a`` minimising ``|P_u^perp (v + T a)|`` with ``u.(v + T a) = pitch`` where T allows it."""
+def _closest_moment(u: Array, v: Array, trans: Array, pitch: float, rtol: float = RTOL) -> Array:
+    """``v + T a`` minimising ``|P_u^perp (v + T a)|`` with ``u.(v + T a) = pitch`` where T allows it.
+
+    The pitch constrains ``a`` only when u has a component ``c = T^T u`` along the free translations:
+    above ``rtol`` (unit vectors, natural scale 1: the rank rule's threshold that put u among the
+    directions with or without such a component). Round-off below it (a pencil of rotations beside a
+    translation, closed to 1e-9) would divide by itself and throw the axis point far away.
+    """
     if not trans.shape[1]:
         return v
     perp = np.eye(3) - np.outer(u, u)
     c = trans.T @ u
-    if np.linalg.norm(c) > 1e-9:
+    if np.linalg.norm(c) > max(rtol, 1e-9):
         a0 = c * (pitch - u @ v) / (c @ c)
         null = _orthogonal_complement(c)
     else:

@@ -258,6 +258,8 @@ def test_classification_moves_with_round_off_below_the_tolerance_not_by_jumps(no
 
     A rotation direction perpendicular to the translations got, from round-off of 1e-9 along them, a
     pitch condition divided by that round-off: the axis point jumped by 0.74 (dimensionless) on the pencil.
+    Two rotations about skew lines span principal screws at 45 degrees to both lines, two equal components:
+    round-off above the fixed tie tolerance (1e-9) picked their signs (a jump of 1.4).
     """
     rng = np.random.default_rng(11)
     x, y, z = np.eye(3)
@@ -272,6 +274,7 @@ def test_classification_moves_with_round_off_below_the_tolerance_not_by_jumps(no
         [np.r_[z, 0, 0, 0], line(x, 0.05)],
         [np.r_[x, 0, 0, 0], np.r_[y, 0, 0, 0], line(z)],
         [np.r_[x, 0, 0, 0], line(tilted[0]), line(tilted[1])],
+        [line(x), np.r_[np.cross(np.array([-0.3, 0.1, 0.05]), y), y]],
     ]
     for cols in systems:
         t = np.column_stack(cols)

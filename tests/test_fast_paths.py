@@ -441,7 +441,7 @@ def test_joint_rates_are_ordered_by_their_printed_magnitude_then_model_order():
     """Rates by name, largest first as printed (three significant digits), ties in the model's joint order:
     0.0124 before 0.0121 (a sort to three decimals took them as equal), and the five-bar's two elbows, equal by
     symmetry to round-off, always in model order."""
-    from pinmob.analysis.actuation import joint_rates
+    from pinmob.analysis.joint_rates import joint_rates
 
     mech = pinmob.load("3-PUU")
     names = [mech.model.names[j] for j in range(1, mech.model.njoints)]

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -60,18 +61,23 @@ HAND: dict[str, tuple[int, int, int]] = {
 }
 
 
-def mujoco_counts(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[int, int, int, float]:
-    """(nv, equality rows, rank of efc_J, largest |efc_pos|) with MuJoCo at the given joint values.
-
-    Rows that MuJoCo multiplies by zero (a weld's rotation rows with torquescale 0) are not counted.
-    """
+def mujoco_at(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[Any, Any, np.ndarray]:
+    """MuJoCo's model and data at the given joint values (``mj_forward``), and the indices of its equality rows."""
     m = mujoco.MjModel.from_xml_path(str(path))
     d = mujoco.MjData(m)
     ids = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint{j}": j for j in range(m.njnt)}
     for name, value in joint_values.items():
         d.joint(ids[name]).qpos[:] = value
     mujoco.mj_forward(m, d)
-    eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+    return m, d, np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+
+
+def mujoco_counts(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[int, int, int, float]:
+    """(nv, equality rows, rank of efc_J, largest |efc_pos|) with MuJoCo at the given joint values.
+
+    Rows that MuJoCo multiplies by zero (a weld's rotation rows with torquescale 0) are not counted.
+    """
+    m, d, eq = mujoco_at(path, joint_values)
     ids = d.efc_id[eq]
     keep = np.ones(eq.size, bool)
     for e in range(m.neq):  # a weld with torquescale 0: its rotation rows (the 4th to 6th) are multiplied by 0
@@ -106,13 +112,7 @@ def mujoco_locked(path: Path, joint_values: dict[str, float | list[float]]) -> t
     The actuators' rows are MuJoCo's transmission moments (``actuator_moment``, a tendon's Jacobian for an
     actuator on a tendon), at the given joint values.
     """
-    m = mujoco.MjModel.from_xml_path(str(path))
-    d = mujoco.MjData(m)
-    ids = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint{j}": j for j in range(m.njnt)}
-    for name, value in joint_values.items():
-        d.joint(ids[name]).qpos[:] = value
-    mujoco.mj_forward(m, d)
-    eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+    m, d, eq = mujoco_at(path, joint_values)
     moments = np.zeros((m.nu, m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     rows = np.vstack([d.efc_J.reshape(d.nefc, m.nv)[eq], moments])

@@ -441,7 +441,7 @@ def test_joint_rates_are_ordered_by_their_printed_magnitude_then_model_order():
     """Rates by name, largest first as printed (three significant digits), ties in the model's joint order:
     0.0124 before 0.0121 (a sort to three decimals took them as equal), and the five-bar's two elbows, equal by
     symmetry to round-off, always in model order."""
-    from pinmob.analysis.actuation import joint_rates
+    from pinmob.analysis.joint_rates import joint_rates
 
     mech = pinmob.load("3-PUU")
     names = [mech.model.names[j] for j in range(1, mech.model.njoints)]
@@ -633,7 +633,7 @@ def test_a_kept_classification_is_the_classification_of_the_space(configurations
 def test_joint_rates_of_one_component_joints_read_directly():
     """A one-component joint's rate read directly: the same names, values and order as the largest-component rule
     applied to every joint, on random rates (zeros and tiny ones among them) of every built-in model."""
-    from pinmob.analysis.actuation import joint_rates, velocity_segments
+    from pinmob.analysis.joint_rates import joint_rates, velocity_segments
 
     def straightforward(mech: pinmob.Mechanism, dq: np.ndarray) -> dict[str, float]:
         big = float(np.max(np.abs(dq)))

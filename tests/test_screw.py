@@ -250,3 +250,37 @@ def test_canonical_basis_depends_only_on_the_subspace(seed: int) -> None:
     assert S.subspace_gap(a, span) < 1e-7  # the gap is computed to about sqrt(eps)
     axes = np.argmax(np.abs(a), axis=0)
     assert np.all(a[axes, range(k)] > 0)
+
+
+@pytest.mark.parametrize("noise", [1e-9, 1e-8])
+def test_classification_moves_with_round_off_below_the_tolerance_not_by_jumps(noise: float) -> None:
+    """Systems with free translations, perturbed by ``noise`` (far below rtol = 1e-6): canonical bases within 100 noise.
+
+    A rotation direction perpendicular to the translations got, from round-off of 1e-9 along them, a
+    pitch condition divided by that round-off: the axis point jumped by 0.74 (dimensionless) on the pencil.
+    Two rotations about skew lines span principal screws at 45 degrees to both lines, two equal components:
+    round-off above the fixed tie tolerance (1e-9) picked their signs (a jump of 1.4).
+    """
+    rng = np.random.default_rng(11)
+    x, y, z = np.eye(3)
+    c = np.array([0.1, -0.2, 0.3])
+
+    def line(u: np.ndarray, h: float = 0.0) -> np.ndarray:
+        return np.r_[h * u + np.cross(c, u), u]
+
+    tilted = (np.array([0, 1, 1]) / np.sqrt(2), np.array([0, 1, -1]) / np.sqrt(2))
+    systems = [
+        [np.r_[z, 0, 0, 0], line(x), line(y)],
+        [np.r_[z, 0, 0, 0], line(x, 0.05)],
+        [np.r_[x, 0, 0, 0], np.r_[y, 0, 0, 0], line(z)],
+        [np.r_[x, 0, 0, 0], line(tilted[0]), line(tilted[1])],
+        [line(x), np.r_[np.cross(np.array([-0.3, 0.1, 0.05]), y), y]],
+    ]
+    for cols in systems:
+        t = np.column_stack(cols)
+        k = t.shape[1]
+        for classify, screws in ((S.classify_twists, t), (S.classify_wrenches, np.r_[t[3:], t[:3]])):
+            reference = classify(screws, 0.25).basis()
+            for _ in range(10):
+                mixed = screws @ np.linalg.qr(rng.normal(size=(k, k)))[0] + rng.normal(scale=noise, size=screws.shape)
+                assert_allclose(classify(mixed, 0.25).basis(), reference, atol=100 * noise)

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import json
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -60,18 +61,23 @@ HAND: dict[str, tuple[int, int, int]] = {
 }
 
 
-def mujoco_counts(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[int, int, int, float]:
-    """(nv, equality rows, rank of efc_J, largest |efc_pos|) with MuJoCo at the given joint values.
-
-    Rows that MuJoCo multiplies by zero (a weld's rotation rows with torquescale 0) are not counted.
-    """
+def mujoco_at(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[Any, Any, np.ndarray]:
+    """MuJoCo's model and data at the given joint values (``mj_forward``), and the indices of its equality rows."""
     m = mujoco.MjModel.from_xml_path(str(path))
     d = mujoco.MjData(m)
     ids = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint{j}": j for j in range(m.njnt)}
     for name, value in joint_values.items():
         d.joint(ids[name]).qpos[:] = value
     mujoco.mj_forward(m, d)
-    eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+    return m, d, np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+
+
+def mujoco_counts(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[int, int, int, float]:
+    """(nv, equality rows, rank of efc_J, largest |efc_pos|) with MuJoCo at the given joint values.
+
+    Rows that MuJoCo multiplies by zero (a weld's rotation rows with torquescale 0) are not counted.
+    """
+    m, d, eq = mujoco_at(path, joint_values)
     ids = d.efc_id[eq]
     keep = np.ones(eq.size, bool)
     for e in range(m.neq):  # a weld with torquescale 0: its rotation rows (the 4th to 6th) are multiplied by 0
@@ -83,7 +89,6 @@ def mujoco_counts(path: Path, joint_values: dict[str, float | list[float]]) -> t
     return m.nv, jac.shape[0], rank, float(np.abs(d.efc_pos[eq]).max())
 
 
-@pytest.mark.filterwarnings("ignore:.*drive a tendon, site or body")
 @pytest.mark.parametrize("name", sorted(HAND))
 def test_counts_agree_with_mujoco_and_by_hand(name):
     """pinmob's DoF and redundant equations = MuJoCo's efc_J rank = the hand count, at a closed configuration
@@ -101,7 +106,59 @@ def test_counts_agree_with_mujoco_and_by_hand(name):
     assert doc["ambiguous_ranks"] == [] and doc["rank_tolerance_note"] is None
 
 
-@pytest.mark.filterwarnings("ignore:.*drive a tendon, site or body")
+def mujoco_locked(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[int, int]:
+    """(nu, motions left with every actuator held) by MuJoCo: ``nv - rank [efc_J's equality rows; moments]``.
+
+    The actuators' rows are MuJoCo's transmission moments (``actuator_moment``, a tendon's Jacobian for an
+    actuator on a tendon), at the given joint values.
+    """
+    m, d, eq = mujoco_at(path, joint_values)
+    moments = np.zeros((m.nu, m.nv))
+    mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
+    rows = np.vstack([d.efc_J.reshape(d.nefc, m.nv)[eq], moments])
+    s = np.linalg.svd(rows, compute_uv=False)
+    return m.nu, m.nv - int(np.count_nonzero(s > 1e-9 * s[0]))
+
+
+FIVEBAR = Path(__file__).parent / "data" / "formats" / "fivebar" / "fivebar.xml"
+
+
+@pytest.mark.parametrize(
+    ("name", "actuators", "left"),
+    [
+        # the xArm7 hand's one actuator on the tendon split = (right driver + left driver) / 2: the gripper's one DoF
+        ("menagerie_xarm7_hand/hand.xml", None, 0),
+        # a five-bar (2 DoF) driven through the tendon L_mot + R_mot alone: the motion L_mot = -R_mot is left
+        ("fivebar", '<general tendon="sum"/>', 1),
+        # ... and with a motor on L_mot too: both rates held, nothing left
+        ("fivebar", '<general tendon="sum"/><motor joint="L_mot"/>', 0),
+        # a tendon over a motor and an elbow (coefficients 0.3 m/rad and 2 m/rad), and the other motor
+        ("fivebar", '<general tendon="mix"/><motor joint="R_mot"/>', 0),
+    ],
+)
+def test_tendon_actuators_are_held_as_mujoco_holds_them(tmp_path, name, actuators, left):
+    """An actuator on a fixed tendon holds its combination of joint rates: pinmob counts MuJoCo's ``nu``
+    actuators and leaves the motions MuJoCo's constraint and moment rows leave (and the count by hand)."""
+    if name == "fivebar":
+        tendons = (
+            '<tendon><fixed name="sum"><joint joint="L_mot" coef="1"/><joint joint="R_mot" coef="1"/></fixed>'
+            '<fixed name="mix"><joint joint="L_mot" coef="0.3"/><joint joint="L_elbow" coef="2"/></fixed></tendon>'
+        )
+        text = FIVEBAR.read_text()
+        start, end = text.index("<actuator>"), text.index("</actuator>")
+        path = tmp_path / "fivebar.xml"
+        path.write_text(text[:start] + tendons + "<actuator>" + actuators + text[end:])
+    else:
+        path = DATA / name
+    mech = pinmob.load(path)
+    doc = pinmob.analyze(mech).to_dict()
+    act = doc["actuation"]
+    nu, mujoco_left = mujoco_locked(path, doc["joint_values"])
+    assert len(act["actuated"]) + len(act["actuated_tendons"]) == nu
+    assert act["actuated_tendons"] and act["locked_dof"] == mujoco_left == left
+    assert act["valid"] is (left == 0)
+
+
 @pytest.mark.parametrize("name", sorted(HAND))
 def test_closure_residuals_are_mujocos_at_random_configurations(name):
     """At MuJoCo's reference pose and random qpos, each closure's residual is MuJoCo's (efc_pos): the same

@@ -8,7 +8,8 @@ frame, no joint centre and no closure point
 
 A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
 pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
-(:func:`held_indices`), and the verdict says so.
+(:func:`held_indices`), and the verdict says so. An actuator on a fixed tendon (MJCF) holds its
+tendon's combination of joint rates (:func:`~pinmob.model.tendon.tendon_rows`), counted with the joints.
 """
 
 from __future__ import annotations
@@ -24,23 +25,19 @@ from numpy.typing import NDArray
 
 from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, rates_of
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.joint_rates import canonical_rates, joint_rates
 from pinmob.analysis.locking import Locked, lock
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
+from pinmob.model.tendon import TendonActuator
 from pinmob.progress import step
 from pinmob.screw.algebra import Array
-from pinmob.screw.bases import canonical_basis
 from pinmob.screw.rank import decide_rank
 
 #: Largest number of actuator sets :func:`actuator_sets` tries (C(n, k) above it is refused).
 SEARCH_LIMIT = 50_000
-
-#: Dimensionless joint rates closer than this are ties in the canonical basis of the motions left with the actuators
-#: locked (model order decides, as for the printed rates, which have six decimals: round-off near a singularity
-#: must not pick the sign).
-RATE_TIE = 1e-6
 
 
 @dataclass(frozen=True)
@@ -60,6 +57,8 @@ class Actuation:
         rate_singular_values: singular values of the held joints' rates on an orthonormal basis of the
             closed chain's dimensionless motions (``S N``, (held, m)): the matrix whose rank ``rank_a`` is decided
             (:func:`~pinmob.analysis.locking.lock`); its tolerance is ``rtol * max(1, sigma_1)``.
+        tendons: the actuators on fixed tendons, by name, held with the joints
+            (:func:`~pinmob.model.tendon.tendon_rows`).
     """
 
     actuated: tuple[str, ...]
@@ -71,6 +70,13 @@ class Actuation:
     remaining: tuple[dict[str, float], ...] = ()
     base: tuple[str, ...] = ()
     rate_singular_values: tuple[float, ...] = ()
+    tendons: tuple[str, ...] = ()
+
+    @property
+    def count(self) -> str:
+        """``3 actuated joint(s)``, with ``and 1 tendon actuator(s)`` when there are."""
+        tendons = f" and {len(self.tendons)} tendon actuator(s)" if self.tendons else ""
+        return f"{len(self.actuated)} actuated joint(s){tendons}"
 
     def to_dict(self) -> dict[str, Any]:
         """The ``actuation`` entry of ``pinmob analyze --json``."""
@@ -84,6 +90,7 @@ class Actuation:
             "overdetermined": self.redundant_actuators > 0,
             "frame_dof_locked": dict(self.frame_dof),
             "base_held": list(self.base),
+            "actuated_tendons": list(self.tendons),
         }
 
     @property
@@ -140,54 +147,16 @@ def rank_of(matrix: Array, rtol: float) -> int:
     return decide_rank(matrix, rtol, at_least=1.0).rank if matrix.size else 0
 
 
-def canonical_rates(rates: Array) -> Array:
-    """The canonical orthonormal basis of the span of dimensionless joint rates (nv, k) (see :data:`RATE_TIE`).
-
-    :func:`~pinmob.screw.bases.canonical_basis` with ties within :data:`RATE_TIE`: the motions printed for a
-    space of joint rates do not depend on the basis an SVD gave, so neither on the order of the limbs.
-    """
-    return canonical_basis(rates, RATE_TIE)
-
-
-def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
-    """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component.
-
-    Ordered by magnitude to three significant digits (as printed), then as the joints are in the model: rates equal by
-    symmetry (a five-bar's two elbows) keep one order rather than the one round-off picks.
-    """
-    big = float(np.max(np.abs(dq))) if dq.size else 0.0
-    out: dict[str, float] = {}
-    if big == 0:
-        return out
-    rates = (dq / big).tolist()
-    for name, start, stop in velocity_segments(mech):
-        if stop == start + 1:  # one component (most joints): itself
-            if abs(rates[start]) > 1e-6:
-                out[name] = round(rates[start], 6)
-            continue
-        part = rates[start:stop]
-        size = [abs(x) for x in part]
-        top = max(size)
-        if top > 1e-6:
-            out[name] = round(part[size.index(top)], 6)  # the first largest component
-    return dict(sorted(out.items(), key=lambda kv: -float(f"{abs(kv[1]):.3g}")))
-
-
-def velocity_segments(mech: Mechanism) -> tuple[tuple[str, int, int], ...]:
-    """Each joint with a velocity, in model order: (name, first velocity index, one past its last); once per mechanism."""
-
-    def compute() -> tuple[tuple[str, int, int], ...]:
-        model = mech.model
-        joints = [(model.names[j], model.joints[j]) for j in range(1, model.njoints)]
-        return tuple((name, joint.idx_v, joint.idx_v + joint.nv) for name, joint in joints if joint.nv)
-
-    return mech.memo("velocity segments", compute)
-
-
 def actuation(
-    conf: Configuration, chain: ClosedChain, actuated: Sequence[str], split: Locked, frames: Sequence[str], rtol: float
+    conf: Configuration,
+    chain: ClosedChain,
+    actuated: Sequence[str],
+    split: Locked,
+    frames: Sequence[str],
+    rtol: float,
+    tendons: Sequence[TendonActuator] = (),
 ) -> Actuation:
-    """The :class:`Actuation` verdict from the locked split of the closed chain's motions."""
+    """The :class:`Actuation` verdict from the locked split of the closed chain's motions (joints and tendons held)."""
     mech = conf.mechanism
     n = chain.null
     m = n.shape[1]
@@ -200,7 +169,7 @@ def actuation(
     remaining = [joint_rates(mech, chain.col * rates[:, i]) for i in range(rates.shape[1])]
     frame_dof = {name: rank_of(frame_rows(conf, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
     base = floating_bases(mech)
-    count = len(actuated) + 6 * len(base)
+    count = len(actuated) + len(tendons) + 6 * len(base)
     return Actuation(
         tuple(actuated),
         split.valid(count),
@@ -211,6 +180,7 @@ def actuation(
         tuple(remaining),
         base,
         tuple(split.singular_values.tolist()),
+        tuple(t.name for t in tendons),
     )
 
 

@@ -21,10 +21,10 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.actuation import canonical_rates, joint_rates
 from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.higher_order import HigherOrder, OrderTest
+from pinmob.analysis.joint_rates import canonical_rates, joint_rates
 from pinmob.analysis.loop_screws import mechanism_loops
 from pinmob.analysis.motion import Motion, motions_of
 from pinmob.analysis.motion_path import follow_rates

@@ -36,7 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.actuation import Actuation, actuation, held_indices
-from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints
+from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, rates_of
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.locking import lock_motions
 from pinmob.analysis.motion import Motion, classified_motions, columns
@@ -45,6 +45,7 @@ from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id, frame_name
 from pinmob.model.mechanism import Mechanism
+from pinmob.model.tendon import tendon_rows
 from pinmob.screw.algebra import Array
 from pinmob.screw.classify import motion_type
 from pinmob.screw.rank import decide_rank
@@ -171,7 +172,7 @@ class MechanismMobility(ReadOnlyArrays):
         )
         verdict = "valid" if act.valid else "NOT valid"
         lines.append(
-            f"actuation {verdict}{act.base_note}: {len(act.actuated)} actuated joint(s); locked, {act.locked_dof} motion(s) remain "
+            f"actuation {verdict}{act.base_note}: {act.count}; locked, {act.locked_dof} motion(s) remain "
             f"({act.idle_dof} idle)"
             + (f"; {act.redundant_actuators} actuator(s) over-determine the chain" if act.redundant_actuators else "")
         )
@@ -252,7 +253,8 @@ def mechanism_mobility(
     Args:
         conf: the closed configuration.
         rtol: relative tolerance of every rank decision.
-        actuated: actuated joints (default: the mechanism's declared ones).
+        actuated: actuated joints (default: the mechanism's declared ones, and its tendon actuators;
+            joints given: those alone).
         frames: frames whose motion is reported besides the outputs; naming
             them changes no count or verdict.
         outputs: frames that idle motions must leave at rest and that the
@@ -264,12 +266,16 @@ def mechanism_mobility(
     """
     mech = conf.mechanism
     acts = tuple(mech.actuated if actuated is None else actuated)
+    tendons = mech.actuated_tendons if actuated is None else ()  # joints named: those alone are actuated
     outs = tuple(default_end_frames(mech) if outputs is None else (frame_name(mech.model, f) for f in outputs))
     named = (frame_name(mech.model, f) for f in frames or ())
     reported = outs + tuple(f for f in dict.fromkeys(named) if f not in outs)
     chain = closed_chain(conf, rtol)
     dec, null = chain.decision, chain.null
-    split = lock_motions(conf, null, held_indices(mech, acts), outs, rtol)
+    held = rates_of(null, held_indices(mech, acts))
+    if tendons:
+        held = np.vstack([held, tendon_rows(mech.model, tendons, chain.col) @ null])
+    split = lock_motions(conf, null, held, outs, rtol)
     rows = int(chain.k_hat.shape[0])
     top = float(dec.singular_values[0]) if dec.singular_values.size else 0.0
     return MechanismMobility(
@@ -283,7 +289,7 @@ def mechanism_mobility(
         closures=closure_ranks(mech, chain.k_hat, rtol, top, chain.left_null, dec.margin),
         idle_dof=split.idle.shape[1],
         idle_joints=moving_joints(mech, null @ split.idle),
-        actuation=actuation(conf, chain, acts, split, reported, rtol),
+        actuation=actuation(conf, chain, acts, split, reported, rtol, tendons),
         frames=tuple(frame_mobility(conf, f, rtol) for f in reported),
         end_frames=outs,
         singular_values=dec.singular_values,

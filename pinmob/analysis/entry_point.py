@@ -81,7 +81,8 @@ def analyze(
         closure_tol: closure tolerance (position / L and rotation [rad]).
         frames: frames whose motion on the closed chain is also reported.
         outputs: frames that idle motions must leave at rest (default: the platform, else the free leaf bodies).
-        actuated: actuated joints for the actuation verdict (default: the declared ones).
+        actuated: actuated joints for the actuation verdict (default: the declared ones, tendon actuators too;
+            joints given: those alone).
         paper: also compute the seed paper's view (:func:`~pinmob.analysis.paper.paper_mobility`).
         approach: the paper's view's approach direction (default: declared, else from ``generic``).
         actuator_search: also list every valid set of this many actuated joints (exhaustive).

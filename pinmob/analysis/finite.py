@@ -45,6 +45,7 @@ class FiniteMobility:
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
+        unheld: actuators on tendons, not held by ``locked`` (it holds joints only).
     """
 
     mechanism: str
@@ -55,6 +56,7 @@ class FiniteMobility:
     locked: Side | None
     platform: str
     conf: Configuration
+    unheld: tuple[str, ...] = ()
 
     @property
     def finite_dof(self) -> int | None:
@@ -103,6 +105,7 @@ class FiniteMobility:
             "branches": [b.to_dict(branch_joints(self.conf, b)) for b in self.free.branches],
             "samples": self.free.samples.to_dict(),
             "notes": list(self.free.notes),
+            "tendons_not_held": list(self.unheld),
         }
         if self.locked is not None:
             lk = self.locked
@@ -157,6 +160,11 @@ class FiniteMobility:
             )
             lines += [m.line(len(lk.branches) > 1, origin, length) for m in lk.motions]
             lines += [f"  note: {n}" for n in lk.notes]
+        if self.unheld:
+            lines.append(
+                f"actuators held: tendon actuator(s) {', '.join(self.unheld)} not held (this analysis holds joints; "
+                "name them with --actuated)"
+            )
         return "\n".join(lines)
 
 
@@ -216,7 +224,8 @@ def finite_mobility(
         if mech.actuated:
             held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
             locked = analyse_side(conf, rtol, order, order_tol, held, seed, locked_motions)
-        return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf)
+        unheld = tuple(t.name for t in mech.actuated_tendons)
+        return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf, unheld)
 
     key = tuple(
         None if ms is None else tuple((m.label, m.twist.tobytes()) for m in ms) for ms in (motions, locked_motions)

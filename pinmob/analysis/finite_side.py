@@ -15,12 +15,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.analysis.actuation import canonical_rates, joint_rates
 from pinmob.analysis.branches import Branch, branch_of, platform_motions, tangent_rates
 from pinmob.analysis.closure_jacobian import closed_chain, closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import displacement
 from pinmob.analysis.higher_order import HigherOrder
+from pinmob.analysis.joint_rates import canonical_rates, joint_rates
 from pinmob.analysis.local_dimension import LocalDimension, local_dimension
 from pinmob.analysis.loop_screws import mechanism_loops
 from pinmob.analysis.motion import Motion

@@ -14,9 +14,8 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
-from numpy.typing import NDArray
 
-from pinmob.analysis.closure_jacobian import output_motions, output_rows, rates_of
+from pinmob.analysis.closure_jacobian import output_motions, output_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank
@@ -54,10 +53,8 @@ def lock(rates: Array, outputs: Callable[[], Array], rtol: float, m: int, norm: 
     return Locked(dec.rank, dec.null_space.T, idle, s)
 
 
-def lock_motions(
-    conf: Configuration, null: Array, held: NDArray[np.intp], frames: Sequence[str], rtol: float
-) -> Locked:
-    """:func:`lock` of the closed chain's motions ``null`` (nv, m) by the ``held`` rates, with ``frames`` as outputs.
+def lock_motions(conf: Configuration, null: Array, held: Array, frames: Sequence[str], rtol: float) -> Locked:
+    """:func:`lock` of the closed chain's motions ``null`` (nv, m) by the ``held`` rates (k, m), ``frames`` the outputs.
 
     The stacked SVD gets the output rows times the motions (:func:`~pinmob.analysis.closure_jacobian.output_rows`),
     the same bits as ever (at a tie, round-off can pick a printed motion's sign); the bound's norm comes from the
@@ -67,4 +64,4 @@ def lock_motions(
     def norm() -> float:
         return float(np.linalg.norm(output_motions(conf, frames, null)))
 
-    return lock(rates_of(null, held), lambda: output_rows(conf, frames) @ null, rtol, null.shape[1], norm)
+    return lock(held, lambda: output_rows(conf, frames) @ null, rtol, null.shape[1], norm)

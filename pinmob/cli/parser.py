@@ -50,7 +50,9 @@ def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
             help="analyse at these joint values [rad or m] (the others from the first named configuration, else "
             "neutral); analyze --json prints a configuration's values as joint_values",
         )
-    p.add_argument("--actuated", metavar="A,B,...", help="the actuated joints (replacing the file's, if any)")
+    p.add_argument(
+        "--actuated", metavar="A,B,...", help="the actuated joints (replacing the file's actuators, tendon ones too)"
+    )
     p.add_argument(
         "--closure-tol",
         type=float,

@@ -19,8 +19,9 @@ Closures, from the compiled ``eq_data`` (MuJoCo's ``mj_instantiateEquality``):
 - ``tendon``, ``flex`` and any other kind are refused (one line naming them); an equality that is
   inactive at the start (``active="false"``) is left out, with a warning.
 
-Actuated joints are those of actuators with a joint transmission (an actuator on a tendon, a site
-or a body is named in a warning). Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
+Actuated joints are those of actuators with a joint transmission; an actuator on a fixed tendon (a
+linear combination of joint values) is a :class:`~pinmob.model.tendon.TendonActuator`; one on a
+spatial tendon, a site or a body is named in a warning. Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
 default) when the equalities hold there (MuJoCo's test models close only once simulated: without
 it, the analysis finds a closed configuration) and one per ``<keyframe><key>`` (its ``qpos``). The
 visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf_geometry`), built when first drawn.
@@ -45,6 +46,7 @@ from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupli
 from pinmob.model.geometry import Geometry
 from pinmob.model.mechanism import Mechanism
 from pinmob.model.named import NamedConfiguration
+from pinmob.model.tendon import TendonActuator
 
 #: The equality kinds pinmob reads as closures.
 SUPPORTED = ("connect", "weld", "joint")
@@ -108,24 +110,42 @@ def equality_closure(m: Any, tree: Tree, e: int, name: str) -> Closure:
     return make_closure(model, name, model.frames[fa].name, model.frames[fb].name, closure_kind)
 
 
-def _actuated(path: Path, m: Any, tree: Tree) -> list[str]:
+def _actuated(path: Path, m: Any, tree: Tree) -> tuple[list[str], list[TendonActuator]]:
+    """The joints of the actuators with a joint transmission, and the actuators on fixed tendons.
+
+    A fixed tendon's length is ``sum_j coef_j qpos_j`` over its joint wraps (``tendon_adr``,
+    ``tendon_num``, ``wrap_objid``, ``wrap_prm``); an actuator on a spatial tendon, a site or a body
+    is named in a warning and not counted.
+    """
     import mujoco
 
-    out, others = [], []
+    out: list[str] = []
+    tendons: list[TendonActuator] = []
+    others = []
     for a in range(m.nu):
-        if int(m.actuator_trntype[a]) == mujoco.mjtTrn.mjTRN_JOINT:
-            joint = tree.joint_names[int(m.actuator_trnid[a, 0])]
+        kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
+        name = name_of(m, "actuator", a) or f"actuator{a}"
+        if kind == mujoco.mjtTrn.mjTRN_JOINT:
+            joint = tree.joint_names[target]
             if joint not in out:
                 out.append(joint)
+            continue
+        wraps = range(0)
+        if kind == mujoco.mjtTrn.mjTRN_TENDON:
+            wraps = range(int(m.tendon_adr[target]), int(m.tendon_adr[target] + m.tendon_num[target]))
+        if wraps and all(m.wrap_type[w] == mujoco.mjtWrap.mjWRAP_JOINT for w in wraps):
+            joints = tuple(tree.joint_names[int(m.wrap_objid[w])] for w in wraps)
+            label = name_of(m, "tendon", target) or f"tendon{target}"
+            tendons.append(TendonActuator(name, label, joints, tuple(float(m.wrap_prm[w]) for w in wraps)))
         else:
-            others.append(name_of(m, "actuator", a) or f"actuator{a}")
+            others.append(name)
     if others:
         warnings.warn(
-            f"{path.name}: actuator(s) {', '.join(others)} drive a tendon, site or body, not a joint: not counted "
+            f"{path.name}: actuator(s) {', '.join(others)} drive a spatial tendon, a site or a body: not counted "
             "(name the actuated joints with --actuated)",
             stacklevel=3,
         )
-    return out
+    return out, tendons
 
 
 def reference_closes(m: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
@@ -212,14 +232,16 @@ def load_mjcf(path: str | Path) -> Mechanism:
                 closures.append(equality_closure(m, tree, e, label))
         if not closures:
             raise file_error(path, "no active <connect>, <weld> or <joint> equality: no loop to analyse")
+        joints, tendons = _actuated(path, m, tree)
         mech = Mechanism.from_model(
             tree.model,
             [],
             name=name,
-            actuated={"": _actuated(path, m, tree)},
+            actuated={"": joints},
             description=f"MJCF {path.name} (compiled by MuJoCo)",
             source=path,
             closures=closures,
             geometry=Geometry(partial(load_visuals, path)),
         )
-    return replace(mech, configurations=named_configurations(m, tree, mech.length_scale), quaternion_wxyz=True)
+    named = named_configurations(m, tree, mech.length_scale)
+    return replace(mech, configurations=named, quaternion_wxyz=True, actuated_tendons=tuple(tendons))

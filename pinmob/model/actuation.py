@@ -11,7 +11,9 @@ from pinmob.model.mechanism import Mechanism
 
 
 def with_actuated(mech: Mechanism, names: Sequence[str]) -> Mechanism:
-    """A copy of ``mech`` whose actuated joints are ``names`` (each limb gets those of its chain).
+    """A copy of ``mech`` whose actuated joints are ``names`` (each limb gets those of its chain), and no other actuator.
+
+    The actuators of the file are replaced, those on tendons too (:attr:`Mechanism.actuated_tendons`).
 
     Raises:
         FrameError: a name is not a joint of the model (the message lists them).
@@ -25,4 +27,5 @@ def with_actuated(mech: Mechanism, names: Sequence[str]) -> Mechanism:
         raise ConfigurationError(f"actuated joints must be named once each, got {list(names)}")
     limbs = tuple(replace(b, actuated=tuple(a for a in names if a in b.joints)) for b in mech.limbs)
     in_limbs = {a for b in limbs for a in b.actuated}
-    return replace(mech, limbs=limbs, extra_actuated=tuple(a for a in names if a not in in_limbs))
+    extra = tuple(a for a in names if a not in in_limbs)
+    return replace(mech, limbs=limbs, extra_actuated=extra, actuated_tendons=())

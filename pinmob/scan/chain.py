@@ -103,8 +103,10 @@ def check_actuated(mech: Mechanism) -> tuple[str, ...]:
         ConfigurationError: none is declared (one line saying how to give them).
     """
     if not mech.actuated:
+        tendons = [t.name for t in mech.actuated_tendons]
+        why = f" (its actuator(s) {', '.join(tendons)} drive tendons, not joints)" if tendons else ""
         raise ConfigurationError(
-            f"{mech.name!r} declares no actuated joint, and a joint path interpolates the actuated joints: "
+            f"{mech.name!r} declares no actuated joint{why}, and a joint path interpolates the actuated joints: "
             "name them with --actuated a,b,... (pinmob.model.actuation.with_actuated in Python)"
         )
     return mech.actuated
@@ -184,7 +186,8 @@ def evaluate_chain(
     act = mm.actuation
     free = mm.mechanism_dof - act.idle_dof
     distances = {"closure": distance_of(mm.singular_values, generic_rank)}
-    if act.actuated:
+    actuated = bool(act.actuated or act.tendons)
+    if actuated:
         distances["actuation"] = _actuation_distance(np.asarray(act.rate_singular_values, float), free)
     labels = [k for k, bad in (("closure", mm.rank < generic_rank), ("actuation", act.locked_dof > act.idle_dof))
               if bad and k in distances]  # fmt: skip
@@ -197,9 +200,9 @@ def evaluate_chain(
         "closure_rows": mm.rows,
         "redundant_constraints": mm.redundant_constraints,
         "idle_dof": mm.idle_dof,
-        "locked_dof": act.locked_dof if act.actuated else -1,
+        "locked_dof": act.locked_dof if actuated else -1,
         "redundant_actuators": act.redundant_actuators,
-        "actuation_valid": act.valid if act.actuated else "",
+        "actuation_valid": act.valid if actuated else "",
         "singularity": ", ".join(labels) or "none",
         "near_singular": not labels and distance < NEAR_FACTOR * rtol,
         "closest": min(distances, key=lambda k: distances[k]),

@@ -125,11 +125,12 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
     :func:`principal_screws` answers the whole space (r = 6) in closed form; the tests compare it with these steps.
     """
     v, w = span[:3], span[3:]
+    tie = max(1e-9, rtol)  # components of unit directions closer than this are ties (round-off must not pick)
     if float(np.sqrt((w * w).sum())) <= rtol:  # every singular value of w is below rtol: no direction, all free
-        return canonical_directions(v), []
+        return canonical_directions(v, tie), []
     split = decide_rank(w, rtol, at_least=1.0)  # directions of the orthonormal span: natural scale 1
     wr = split.rank
-    trans = canonical_directions(v @ split.null_space.T) if wr < w.shape[1] else np.zeros((3, 0))
+    trans = canonical_directions(v @ split.null_space.T, tie) if wr < w.shape[1] else np.zeros((3, 0))
     if wr == 0:
         return trans, []
     gv, gw = v @ split.row_space.T, w @ split.row_space.T  # complement: span(gw) has dimension wr
@@ -144,7 +145,7 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
     if x1.shape[1]:
         # W1 directions, orthogonal to W0 in direction space, all with pitch 0
         w0 = gw @ x0
-        u1 = canonical_directions(gw @ x1 - (w0 @ np.linalg.pinv(w0) @ (gw @ x1) if w0.size else 0))
+        u1 = canonical_directions(gw @ x1 - (w0 @ np.linalg.pinv(w0) @ (gw @ x1) if w0.size else 0), tie)
         groups.append((np.asarray(np.linalg.lstsq(gw, u1, rcond=None)[0], dtype=np.float64), 0.0))
     if x0.shape[1]:
         a = x0.T @ (0.5 * (gw.T @ gv + gv.T @ gw)) @ x0
@@ -156,7 +157,7 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
             while j + 1 < len(pitches) and abs(pitches[j + 1] - pitches[i]) <= pitch_tol:
                 j += 1
             group = x0 @ y[:, i : j + 1]
-            dirs = canonical_directions(gw @ group)
+            dirs = canonical_directions(gw @ group, tie)
             groups.append(
                 (group @ np.linalg.lstsq(gw @ group, dirs, rcond=None)[0], float(np.mean(pitches[i : j + 1])))
             )
@@ -167,9 +168,9 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
         for xc in coeffs.T:
             ww, vv = gw @ xc, gv @ xc
             nw = np.linalg.norm(ww)
-            u = positive(ww / nw)
+            u = positive(ww / nw, tie)
             vv = vv / nw * (1.0 if u @ ww > 0 else -1.0)
-            vv = _closest_moment(u, vv, trans, h)
+            vv = _closest_moment(u, vv, trans, h, rtol)
             out.append((clean(u), clean(cross_columns(u, vv)), h))
     return trans, out
 
@@ -213,13 +214,19 @@ def _orthogonal_complement(c: Array) -> Array:
     return (np.eye(c.size) - 2.0 * np.outer(h, h) / (h @ h))[:, 1:]
 
 
-def _closest_moment(u: Array, v: Array, trans: Array, pitch: float) -> Array:
-    """``v + T a`` minimising ``|P_u^perp (v + T a)|`` with ``u.(v + T a) = pitch`` where T allows it."""
+def _closest_moment(u: Array, v: Array, trans: Array, pitch: float, rtol: float = RTOL) -> Array:
+    """``v + T a`` minimising ``|P_u^perp (v + T a)|`` with ``u.(v + T a) = pitch`` where T allows it.
+
+    The pitch constrains ``a`` only when u has a component ``c = T^T u`` along the free translations:
+    above ``rtol`` (unit vectors, natural scale 1: the rank rule's threshold that put u among the
+    directions with or without such a component). Round-off below it (a pencil of rotations beside a
+    translation, closed to 1e-9) would divide by itself and throw the axis point far away.
+    """
     if not trans.shape[1]:
         return v
     perp = np.eye(3) - np.outer(u, u)
     c = trans.T @ u
-    if np.linalg.norm(c) > 1e-9:
+    if np.linalg.norm(c) > max(rtol, 1e-9):
         a0 = c * (pitch - u @ v) / (c @ c)
         null = _orthogonal_complement(c)
     else:

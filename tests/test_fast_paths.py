@@ -454,6 +454,20 @@ def test_joint_rates_are_ordered_by_their_printed_magnitude_then_model_order():
     assert list(joint_rates(mech, dq)) == [names[0], names[1]]
 
 
+def test_a_multi_degree_joint_prints_the_first_of_its_equal_largest_components():
+    """A free joint (MuJoCo's connect.xml) whose two largest components are equal but for round-off prints the
+    first, whichever is larger by 1e-12 (it printed joint1 +1 or -1 as round-off had it)."""
+    from pinmob.analysis.joint_rates import joint_rates
+
+    mech = pinmob.load(Path(__file__).parent / "data" / "third_party" / "mujoco_testdata" / "connect.xml")
+    joint = mech.model.joints[1]
+    assert joint.nv == 6
+    for eps in (1e-12, -1e-12):
+        dq = np.zeros(mech.model.nv)
+        dq[joint.idx_v + 3], dq[joint.idx_v + 4] = -0.6094494, 0.6094494 + eps
+        assert joint_rates(mech, dq) == {mech.model.names[1]: -1.0}
+
+
 def test_named_pose_is_assembled_once_per_mechanism_and_given_as_a_copy():
     """A named platform pose is kept per mechanism: the same vector as a fresh mechanism assembles, never shared."""
     mech = pinmob.load("6-UPS")

@@ -29,7 +29,10 @@ def canonical_rates(rates: Array) -> Array:
 
 
 def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
-    """Joint rates by name (largest magnitude 1, below 1e-6 dropped); multi-degree joints by their largest component.
+    """Joint rates by name (largest magnitude 1, below 1e-6 dropped); a multi-degree joint by its largest component.
+
+    That component is the first within :data:`RATE_TIE` of the largest (a free joint whose two largest
+    components are equal in size printed one or the other, as round-off had it).
 
     Ordered by magnitude to three significant digits (as printed), then as the joints are in the model: rates equal by
     symmetry (a five-bar's two elbows) keep one order rather than the one round-off picks.
@@ -47,8 +50,8 @@ def joint_rates(mech: Mechanism, dq: Array) -> dict[str, float]:
         part = rates[start:stop]
         size = [abs(x) for x in part]
         top = max(size)
-        if top > 1e-6:
-            out[name] = round(part[size.index(top)], 6)  # the first largest component
+        if top > 1e-6:  # the first largest component, within RATE_TIE (round-off must not pick between equal ones)
+            out[name] = round(part[next(k for k, x in enumerate(size) if x >= top - RATE_TIE)], 6)
     return dict(sorted(out.items(), key=lambda kv: -float(f"{abs(kv[1]):.3g}")))
 
 

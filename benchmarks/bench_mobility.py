@@ -16,6 +16,8 @@ Per mechanism (3-PUU, 6-UPS), at N fixed closed configurations (microseconds per
   generic ranks estimated by a first call; the named configuration is closed at every call: 6-UPS's
   ``generic`` is a platform pose, assembled by the first call and kept by the mechanism, its closure
   checked again at every call);
+* ``document_us``: building the Python objects of that report's JSON document alone, from its text
+  (``json.loads``, in C): a floor under ``single_us`` that no analysis in Python goes below;
 * ``scan_us``: one sample of a path scan with re-assembly (:func:`pinmob.scan.run.scan`, one worker:
   3-PUU ``generic -> offset``, 6-UPS ``home -> type2``; wall time over the samples, refinements included).
 
@@ -136,11 +138,13 @@ def bench_analyses(name: str, n: int, repeats: int) -> tuple[dict[str, float], s
     assert list(batch.constraint_rank) == baseline(mech, qs), "batch and baseline disagree"
     single(mech, CONFIG[name], 1)  # per-mechanism caches (the generic ranks) filled once
     single_n = max(20, n // 10)
+    text = json.dumps(pinmob.analyze(mech, CONFIG[name]).to_dict())
     out = {
         "baseline_us": best_us(lambda: baseline(mech, qs), n, repeats),
         "floor_us": best_us(lambda: floor(mech, qs), n, repeats),
         "batch_us": best_us(lambda: analyze_batch(mech, qs), n, repeats),
         "single_us": best_us(lambda: single(mech, CONFIG[name], single_n), single_n, repeats),
+        "document_us": best_us(lambda: [json.loads(text) for _ in range(single_n)], single_n, repeats),
         "batch_numpy_us": best_us(lambda: analyze_batch(mech, qs, engine="numpy"), n, repeats),
     }
     return {k: round(v, 1) for k, v in out.items()}, batch.engine
@@ -222,7 +226,8 @@ def main() -> None:
         print(
             f"{name}: {n} closed configurations, us per configuration: single analyze + to_dict {r['single_us']} vs "
             f"baseline {r['baseline_us']} (target single <= baseline: {verdict(r['single_us'] <= r['baseline_us'])}, "
-            f"{r['single_us'] / r['baseline_us']:.2f}x); batch ({engine}) {r['batch_us']} vs floor {r['floor_us']} "
+            f"{r['single_us'] / r['baseline_us']:.2f}x; its document alone, json.loads of its text: {r['document_us']}, "
+            f"{r['document_us'] / r['baseline_us']:.2f}x the baseline); batch ({engine}) {r['batch_us']} vs floor {r['floor_us']} "
             f"({r['batch_us'] / r['floor_us']:.1f}x the floor, {r['baseline_us'] / r['batch_us']:.1f}x faster than "
             f"the baseline; numpy engine {batch_numpy})"
         )

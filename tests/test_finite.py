@@ -374,3 +374,24 @@ def test_printed_internal_motions_and_branches_do_not_depend_on_the_limbs_order(
         for joint, rate in joints.items():
             dq[mech.model.joints[mech.model.getJointId(joint)].idx_v] = rate
         assert np.abs(k @ dq).max() < 1e-5 and np.abs(platform @ dq).max() < 1e-5
+
+
+def test_internal_motions_of_a_mechanism_without_limbs_do_not_depend_on_the_basis() -> None:
+    """An MJCF five-bar (no limbs): its closed chain's motions, given on any orthonormal basis, are printed as the
+    same canonical motions (they were the basis given: another SVD, another 'motion 1')."""
+    from pathlib import Path
+
+    from pinmob.analysis.closure_jacobian import closed_chain
+    from pinmob.analysis.finite_side import internal_motions
+
+    mech = pinmob.load(Path(__file__).parent / "data" / "formats" / "fivebar" / "fivebar.xml")
+    conf = pinmob.analyze(mech).state
+    null = closed_chain(conf, 1e-6).null
+    assert null.shape[1] == 2 and not mech.limbs
+    rng = np.random.default_rng(5)
+    reference = internal_motions(conf, null)
+    for _ in range(4):
+        turned = internal_motions(conf, null @ np.linalg.qr(rng.normal(size=(2, 2)))[0])
+        assert [label for label, _ in turned] == [label for label, _ in reference] == ["motion 1", "motion 2"]
+        for (_, a), (_, b) in zip(turned, reference):
+            assert_allclose(a, b, atol=1e-9)

@@ -139,17 +139,7 @@ FIVEBAR = Path(__file__).parent / "data" / "formats" / "fivebar" / "fivebar.xml"
 def test_tendon_actuators_are_held_as_mujoco_holds_them(tmp_path, name, actuators, left):
     """An actuator on a fixed tendon holds its combination of joint rates: pinmob counts MuJoCo's ``nu``
     actuators and leaves the motions MuJoCo's constraint and moment rows leave (and the count by hand)."""
-    if name == "fivebar":
-        tendons = (
-            '<tendon><fixed name="sum"><joint joint="L_mot" coef="1"/><joint joint="R_mot" coef="1"/></fixed>'
-            '<fixed name="mix"><joint joint="L_mot" coef="0.3"/><joint joint="L_elbow" coef="2"/></fixed></tendon>'
-        )
-        text = FIVEBAR.read_text()
-        start, end = text.index("<actuator>"), text.index("</actuator>")
-        path = tmp_path / "fivebar.xml"
-        path.write_text(text[:start] + tendons + "<actuator>" + actuators + text[end:])
-    else:
-        path = DATA / name
+    path = _fivebar_with(tmp_path, actuators) if name == "fivebar" else DATA / name
     mech = pinmob.load(path)
     doc = pinmob.analyze(mech).to_dict()
     act = doc["actuation"]
@@ -157,6 +147,36 @@ def test_tendon_actuators_are_held_as_mujoco_holds_them(tmp_path, name, actuator
     assert len(act["actuated"]) + len(act["actuated_tendons"]) == nu
     assert act["actuated_tendons"] and act["locked_dof"] == mujoco_left == left
     assert act["valid"] is (left == 0)
+
+
+def _fivebar_with(tmp_path: Path, actuators: str) -> Path:
+    """The MJCF five-bar with the tendons 'sum' (L_mot + R_mot) and 'mix' (0.3 L_mot + 2 L_elbow) and these actuators."""
+    tendons = (
+        '<tendon><fixed name="sum"><joint joint="L_mot" coef="1"/><joint joint="R_mot" coef="1"/></fixed>'
+        '<fixed name="mix"><joint joint="L_mot" coef="0.3"/><joint joint="L_elbow" coef="2"/></fixed></tendon>'
+    )
+    text = FIVEBAR.read_text()
+    start, end = text.index("<actuator>"), text.index("</actuator>")
+    path = tmp_path / "fivebar.xml"
+    path.write_text(text[:start] + tendons + "<actuator>" + actuators + text[end:])
+    return path
+
+
+def test_a_scan_says_the_tendon_actuators_are_not_held_along_its_path(tmp_path, capsys):
+    """The path moves the actuated joints only: one warning line names the tendon actuators it does not hold."""
+    path = _fivebar_with(tmp_path, '<general name="pull" tendon="sum"/><motor joint="L_mot"/>')
+    assert main(["scan", str(path), "--from", "reference", "--to", "L_mot=0.2", "-n", "3"]) == 0
+    warned = [line for line in capsys.readouterr().err.splitlines() if "not held along it" in line]
+    assert len(warned) == 1 and "tendon actuator(s) pull" in warned[0]
+
+
+def test_a_joint_in_parent_transmission_actuates_its_joint(tmp_path):
+    """<general jointinparent=...> on a hinge is the joint's own coordinate: counted as MuJoCo counts it (nu)."""
+    path = _fivebar_with(tmp_path, '<general jointinparent="L_mot"/><motor joint="R_mot"/>')
+    mech = pinmob.load(path)
+    doc = pinmob.analyze(mech).to_dict()
+    assert mech.actuated == ("L_mot", "R_mot") and not mech.actuated_tendons
+    assert mujoco_locked(path, doc["joint_values"]) == (2, 0) and doc["actuation"]["locked_dof"] == 0
 
 
 @pytest.mark.parametrize("name", sorted(HAND))

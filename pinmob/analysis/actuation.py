@@ -4,7 +4,7 @@ With the actuated joints locked, the motions left (``locked_dof``, idle ones
 included) are all idle when the actuation is valid; actuated rates that are not
 independent on the closed chain over-determine it. Idle motions move no output
 frame, no joint centre and no closure point
-(:func:`pinmob.analysis.closure_jacobian.output_rows`).
+(:func:`pinmob.analysis.closure_jacobian.output_motions`).
 
 A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
 pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_rows, rates_of
+from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_motions, rates_of
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.joint_rates import canonical_rates, joint_rates
 from pinmob.analysis.locking import Locked, lock
@@ -73,7 +73,7 @@ class Actuation:
     tendons: tuple[str, ...] = ()
 
     @property
-    def count(self) -> str:
+    def count_text(self) -> str:
         """``3 actuated joint(s)``, with ``and 1 tendon actuator(s)`` when there are."""
         tendons = f" and {len(self.tendons)} tendon actuator(s)" if self.tendons else ""
         return f"{len(self.actuated)} actuated joint(s){tendons}"
@@ -223,7 +223,7 @@ def actuator_sets(
     chain = closed_chain(conf, rtol)
     n = chain.null
     rates = rates_of(n, joint_velocity_indices(mech, names))  # (len(names), m)
-    out = output_rows(conf, outputs) @ n
+    out = output_motions(conf, outputs, n)
     norm = float(np.linalg.norm(out))
     valid = []
     with step(f"trying every set of {size} actuated joints of {mech.name}", total=count) as bar:

@@ -172,7 +172,7 @@ class MechanismMobility(ReadOnlyArrays):
         )
         verdict = "valid" if act.valid else "NOT valid"
         lines.append(
-            f"actuation {verdict}{act.base_note}: {act.count}; locked, {act.locked_dof} motion(s) remain "
+            f"actuation {verdict}{act.base_note}: {act.count_text}; locked, {act.locked_dof} motion(s) remain "
             f"({act.idle_dof} idle)"
             + (f"; {act.redundant_actuators} actuator(s) over-determine the chain" if act.redundant_actuators else "")
         )

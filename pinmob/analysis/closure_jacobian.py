@@ -98,7 +98,8 @@ def output_rows(conf: Configuration, frames: Sequence[str]) -> Array:
     centre's rows are ``(v_i - p_j x w_i) col_i / L`` for the joints i that
     support joint j (the linear rows of Pinocchio's ``LOCAL_WORLD_ALIGNED``
     joint Jacobian, computed here from the world Jacobian for every joint at
-    once), 0 for the others.
+    once), 0 for the others. The analyses take these rows times the motions
+    from :func:`output_motions` (the tests compare the two).
     """
     mech = conf.mechanism
     model, length = mech.model, mech.length_scale

@@ -163,7 +163,7 @@ class FiniteMobility:
         if self.unheld:
             lines.append(
                 f"actuators held: tendon actuator(s) {', '.join(self.unheld)} not held (this analysis holds joints; "
-                "name them with --actuated)"
+                "name the joints to hold with --actuated)"
             )
         return "\n".join(lines)
 

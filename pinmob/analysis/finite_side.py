@@ -82,7 +82,8 @@ def internal_motions(conf: Configuration, rates: Array) -> list[tuple[str, Array
     if g == 0:
         return []
     if not mech.limbs:
-        return [(f"motion {i + 1}", rates[:, i]) for i in range(g)]
+        every = canonical_rates(rates)  # one basis, whatever the SVD gave
+        return [(f"motion {i + 1}", every[:, i]) for i in range(every.shape[1])]
     out: list[tuple[str, Array]] = []
     found: list[Array] = []
     for limb in mech.limbs:

@@ -1,7 +1,7 @@
 """The closed chain's motions with some joints locked: the motions left, and the idle ones among them.
 
 With the closed chain's dimensionless motions N (nv, m), the locked joints' rates ``S N`` (k, m) and
-the output rows times the motions ``O N`` (o, m) (:func:`pinmob.analysis.closure_jacobian.output_rows`:
+the output rows times the motions ``O N`` (o, m) (:func:`pinmob.analysis.closure_jacobian.output_motions`:
 output frames, joint centres, closure points): ``locked = null(S N)``, ``idle = null([S N; O N])``. The
 one computation behind the actuation verdict, the idle joints and the actuator search
 (:mod:`pinmob.analysis.actuation`).
@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinmob.analysis.closure_jacobian import output_motions, output_rows
+from pinmob.analysis.closure_jacobian import output_motions
 from pinmob.analysis.configuration import Configuration
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank
@@ -56,12 +56,15 @@ def lock(rates: Array, outputs: Callable[[], Array], rtol: float, m: int, norm: 
 def lock_motions(conf: Configuration, null: Array, held: Array, frames: Sequence[str], rtol: float) -> Locked:
     """:func:`lock` of the closed chain's motions ``null`` (nv, m) by the ``held`` rates (k, m), ``frames`` the outputs.
 
-    The stacked SVD gets the output rows times the motions (:func:`~pinmob.analysis.closure_jacobian.output_rows`),
-    the same bits as ever (at a tie, round-off can pick a printed motion's sign); the bound's norm comes from the
-    cheaper :func:`~pinmob.analysis.closure_jacobian.output_motions` (the same to round-off).
+    The output rows times the motions come from :func:`~pinmob.analysis.closure_jacobian.output_motions`,
+    computed only when the shortcut's bound or the stacked SVD needs them (what is printed depends on the
+    spans found, not on their bases: :mod:`pinmob.analysis.joint_rates`).
     """
+    outputs: list[Array] = []
 
-    def norm() -> float:
-        return float(np.linalg.norm(output_motions(conf, frames, null)))
+    def rows() -> Array:
+        if not outputs:
+            outputs.append(output_motions(conf, frames, null))
+        return outputs[0]
 
-    return lock(held, lambda: output_rows(conf, frames) @ null, rtol, null.shape[1], norm)
+    return lock(held, rows, rtol, null.shape[1], lambda: float(np.linalg.norm(rows())))

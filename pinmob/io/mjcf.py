@@ -113,9 +113,10 @@ def equality_closure(m: Any, tree: Tree, e: int, name: str) -> Closure:
 def _actuated(path: Path, m: Any, tree: Tree) -> tuple[list[str], list[TendonActuator]]:
     """The joints of the actuators with a joint transmission, and the actuators on fixed tendons.
 
-    A fixed tendon's length is ``sum_j coef_j qpos_j`` over its joint wraps (``tendon_adr``,
-    ``tendon_num``, ``wrap_objid``, ``wrap_prm``); an actuator on a spatial tendon, a site or a body
-    is named in a warning and not counted.
+    A joint transmission (``joint`` or ``jointinparent``) actuates its joint; a fixed tendon's length is
+    ``sum_j coef_j qpos_j`` over its joint wraps (``tendon_adr``, ``tendon_num``, ``wrap_objid``,
+    ``wrap_prm``); an actuator on a spatial tendon, a site, a body or a slider-crank is named in a
+    warning and not counted.
     """
     import mujoco
 
@@ -125,7 +126,7 @@ def _actuated(path: Path, m: Any, tree: Tree) -> tuple[list[str], list[TendonAct
     for a in range(m.nu):
         kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
         name = name_of(m, "actuator", a) or f"actuator{a}"
-        if kind == mujoco.mjtTrn.mjTRN_JOINT:
+        if kind in (mujoco.mjtTrn.mjTRN_JOINT, mujoco.mjtTrn.mjTRN_JOINTINPARENT):  # the joint's own coordinate
             joint = tree.joint_names[target]
             if joint not in out:
                 out.append(joint)
@@ -141,8 +142,8 @@ def _actuated(path: Path, m: Any, tree: Tree) -> tuple[list[str], list[TendonAct
             others.append(name)
     if others:
         warnings.warn(
-            f"{path.name}: actuator(s) {', '.join(others)} drive a spatial tendon, a site or a body: not counted "
-            "(name the actuated joints with --actuated)",
+            f"{path.name}: actuator(s) {', '.join(others)} drive no joint and no fixed tendon (a spatial tendon, a "
+            "site, a body or a slider-crank): not counted (name the actuated joints with --actuated)",
             stacklevel=3,
         )
     return out, tendons

@@ -31,6 +31,7 @@ The CSV's ``sv1..sv6`` are the six largest singular values of ``K_hat``,
 
 from __future__ import annotations
 
+import warnings
 from collections import Counter
 from typing import Any
 
@@ -148,6 +149,8 @@ def joint_path_ends(
 ) -> tuple[tuple[str, ...], Array, Array, int]:
     """A joint path's actuated joints, closed ends (:func:`path_end`; the end seeded at the start) and generic rank.
 
+    A warning names the tendon actuators: the path moves the actuated joints, not the tendons' lengths.
+
     The generic rank is the platform's generic constraint rank, or for a mechanism without a platform the
     generic closure rank (:func:`generic_closure_rank`).
 
@@ -155,6 +158,12 @@ def joint_path_ends(
         PinmobError: no actuated joint, an end that is neither a configuration nor joint values, or that does not close.
     """
     acts = check_actuated(mech)
+    if mech.actuated_tendons:
+        warnings.warn(
+            f"{mech.name!r}: a joint path interpolates the actuated joints only; tendon actuator(s) "
+            f"{', '.join(t.name for t in mech.actuated_tendons)} are not held along it (each sample's verdict holds them)",
+            stacklevel=2,
+        )
     qa = path_end(mech, start, None, closure_tol)
     qb = path_end(mech, end, qa, closure_tol)
     if mech.has_platform:

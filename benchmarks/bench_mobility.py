@@ -17,7 +17,8 @@ Per mechanism (3-PUU, 6-UPS), at N fixed closed configurations (microseconds per
   ``generic`` is a platform pose, assembled by the first call and kept by the mechanism, its closure
   checked again at every call);
 * ``document_us``: building the Python objects of that report's JSON document alone, from its text
-  (``json.loads``, in C): a floor under ``single_us`` that no analysis in Python goes below;
+  (``json.loads``, in C): a reference for what the answer's objects cost without any analysis
+  (``pickle.loads`` of the same objects takes about half);
 * ``scan_us``: one sample of a path scan with re-assembly (:func:`pinmob.scan.run.scan`, one worker:
   3-PUU ``generic -> offset``, 6-UPS ``home -> type2``; wall time over the samples, refinements included).
 

@@ -18,6 +18,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.scan.files import Replacing
+from pinmob.signals import deferred_interrupts
 
 
 class RowWriter:
@@ -48,13 +49,15 @@ class RowWriter:
 
     def __enter__(self) -> RowWriter:
         try:
-            self._csv_fh = self._open(self.csv_path) if self.csv_path else None
-            self._csv = csv.DictWriter(self._csv_fh, self.cols) if self._csv_fh else None
-            if self._csv:
-                self._csv.writeheader()
-            self._json = self._open(self.json_path) if self.json_path else None
-            if self._json:
-                self._json.write('{"scan": ' + json.dumps(self.meta) + ', "samples": [')
+            # a signal while a temporary file is created and registered for removal is raised once both are done
+            with deferred_interrupts():
+                self._csv_fh = self._open(self.csv_path) if self.csv_path else None
+                self._csv = csv.DictWriter(self._csv_fh, self.cols) if self._csv_fh else None
+                if self._csv:
+                    self._csv.writeheader()
+                self._json = self._open(self.json_path) if self.json_path else None
+                if self._json:
+                    self._json.write('{"scan": ' + json.dumps(self.meta) + ', "samples": [')
         except BaseException:
             self._stack.close()
             raise

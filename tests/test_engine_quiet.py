@@ -9,7 +9,6 @@ from __future__ import annotations
 import logging
 import signal
 import threading
-import time
 
 import pytest
 from distributed.utils import LoopRunner, sync
@@ -29,23 +28,34 @@ class Records(logging.Handler):
 
 
 def interrupted_call() -> list[logging.LogRecord]:
-    """Run the race once; the records the event loop logged (after the filters of its loggers)."""
+    """Run the race once; the records the event loop logged (after the filters of its loggers).
+
+    Ordered by events, not sleeps (under load, 0.5 s sleeps let the race not happen): the function waits until
+    the main thread has caught the interruption (so ``cancel()`` is queued), and the main thread waits until the
+    loop has run a callback queued after ``cancel()``.
+    """
     handler = Records()
     for name in LOGGERS:
         logging.getLogger(name).addHandler(handler)
     runner = LoopRunner(asynchronous=False)
     runner.start()
     main = threading.get_ident()
+    caught = threading.Event()
 
     def failing() -> None:  # runs on the loop thread, inside sync's f(), before its future exists
         signal.pthread_kill(main, signal.SIGINT)
-        time.sleep(0.5)  # the main thread's wait raises KeyboardInterrupt and queues cancel()
+        caught.wait(60)  # the main thread's wait raised KeyboardInterrupt and queued cancel()
         raise ConnectionError("the scheduler is gone")
 
     try:
-        with pytest.raises((KeyboardInterrupt, ConnectionError)):
-            sync(runner.loop, failing)
-        time.sleep(0.5)  # cancel() runs on the loop
+        with pytest.raises(KeyboardInterrupt):
+            try:
+                sync(runner.loop, failing)
+            finally:
+                caught.set()
+        ran = threading.Event()
+        runner.loop.add_callback(ran.set)  # runs after cancel()
+        assert ran.wait(60)
     finally:
         runner.stop()
         for name in LOGGERS:

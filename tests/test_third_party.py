@@ -404,6 +404,17 @@ def test_one_joint_welded_to_the_world(tmp_path):
     assert gap < 1e-12 and (doc["mechanism_dof"], doc["redundant_constraints"]) == (nv - rank, rows - rank) == (0, 5)
 
 
+def test_one_joint_pinned_on_its_own_axis(tmp_path):
+    """nv = 1 with a motion left: a hinge (axis z) pinned to the world at a point of its axis. By hand the pin's 3
+    rows are zero on the one column: DoF 1, 3 redundant, and the turn moves no joint centre and no closure point
+    (idle 1). (Pinocchio's (6,) Jacobian for nv = 1 once broke the idle split.)"""
+    path = tmp_path / "pinned.xml"
+    path.write_text('<mujoco><worldbody><body name="a"><joint name="j"/><geom size=".1"/></body></worldbody>'
+                    '<equality><connect body1="a" anchor="0 0 0.1"/></equality></mujoco>')  # fmt: skip
+    doc = pinmob.analyze(pinmob.load(path)).to_dict()
+    assert (doc["mechanism_dof"], doc["redundant_constraints"], doc["idle_dof"]) == (1, 3, 1)
+
+
 def test_cassie_limits_and_reference_are_mujocos():
     """Cassie's knee (ref -45 deg, range -164..-37 deg) and tarsus (ref 58, range 50..170): q is MuJoCo's qpos,
     so the limits are the file's range (not shifted by -ref) and the joints outside their limits at the

@@ -161,8 +161,8 @@ class Configuration:
 
     @property
     def world_jacobian(self) -> Array:
-        """(6, nv) every joint screw ``[v; w]`` at the world origin, world axes (``data.J``)."""
-        return self.memo("world_jacobian", lambda: np.array(self._data.J))
+        """(6, nv) every joint screw ``[v; w]`` at the world origin, world axes (``data.J``; (6, 1) when nv = 1)."""
+        return self.memo("world_jacobian", lambda: np.array(self._data.J).reshape(6, self._mechanism.model.nv))
 
     def frame_placement(self, frame: int) -> pin.SE3:
         """World placement of frame index ``frame``."""

@@ -224,11 +224,10 @@ def actuator_sets(
     n = chain.null
     rates = rates_of(n, joint_velocity_indices(mech, names))  # (len(names), m)
     out = output_motions(conf, outputs, n)
-    norm = float(np.linalg.norm(out))
     valid = []
     with step(f"trying every set of {size} actuated joints of {mech.name}", total=count) as bar:
         for combo in itertools.combinations(range(len(names)), size):
-            split = lock(rates[list(combo)], lambda: out, rtol, n.shape[1], lambda: norm)
+            split = lock(rates[list(combo)], lambda: out, rtol, n.shape[1])
             if split.valid(size):
                 valid.append(tuple(names[i] for i in combo))
             bar.update()

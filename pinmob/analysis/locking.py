@@ -9,6 +9,7 @@ one computation behind the actuation verdict, the idle joints and the actuator s
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -35,20 +36,22 @@ class Locked:
         return self.rank_a == count and self.locked.shape[1] == self.idle.shape[1]
 
 
-def lock(rates: Array, outputs: Callable[[], Array], rtol: float, m: int, norm: Callable[[], float]) -> Locked:
+def lock(rates: Array, outputs: Callable[[], Array], rtol: float, m: int) -> Locked:
     """Split closed-chain motions by locked-joint rates ``rates`` (k, m) and output rows ``outputs()`` (o, m).
 
     ``locked = null(rates)``, ``idle = null([rates; outputs])``: the one computation behind the actuation
     verdict, the idle joints and the actuator search (tolerances ``rtol * max(1, sigma_1)``, as ``rank_of``).
-    ``outputs()`` is called only for that stacked SVD, which is skipped (``idle`` empty) when the rates have
-    rank m and their smallest singular value exceeds ``2 rtol max(1, ||[rates; outputs]||_F)`` (``norm()``
-    bounds ``||outputs||_F``): adding rows lowers no singular value and the Frobenius norm bounds the
-    largest, so the SVD would find rank m (the factor 2 covers its round-off).
+    ``outputs()`` is called only when the rates have rank m (for the bound) or not (for the stacked SVD);
+    the SVD is skipped (``idle`` empty) when the rates' smallest singular value exceeds
+    ``2 rtol max(1, ||[rates; outputs]||_F)``: adding rows lowers no singular value and the Frobenius norm
+    bounds the largest, so the SVD would find rank m (the factor 2 covers its round-off).
     """
     dec = decide_rank(rates, rtol, m, at_least=1.0)
     s = dec.singular_values
-    if dec.rank == m and (m == 0 or s[m - 1] > 2.0 * rtol * max(1.0, math.hypot(math.sqrt(s @ s), norm()))):
-        return Locked(dec.rank, dec.null_space.T, np.zeros((m, 0)), s)
+    if dec.rank == m:
+        bound = 2.0 * rtol * max(1.0, math.hypot(math.sqrt(s @ s), float(np.linalg.norm(outputs()))))
+        if m == 0 or s[m - 1] > bound:
+            return Locked(dec.rank, dec.null_space.T, np.zeros((m, 0)), s)
     idle = decide_rank(np.vstack([rates, outputs()]), rtol, m, at_least=1.0).null_space.T
     return Locked(dec.rank, dec.null_space.T, idle, s)
 
@@ -57,14 +60,7 @@ def lock_motions(conf: Configuration, null: Array, held: Array, frames: Sequence
     """:func:`lock` of the closed chain's motions ``null`` (nv, m) by the ``held`` rates (k, m), ``frames`` the outputs.
 
     The output rows times the motions come from :func:`~pinmob.analysis.closure_jacobian.output_motions`,
-    computed only when the shortcut's bound or the stacked SVD needs them (what is printed depends on the
-    spans found, not on their bases: :mod:`pinmob.analysis.joint_rates`).
+    computed once, when :func:`lock` first needs them (what is printed depends on the spans found, not on
+    their bases: :mod:`pinmob.analysis.joint_rates`).
     """
-    outputs: list[Array] = []
-
-    def rows() -> Array:
-        if not outputs:
-            outputs.append(output_motions(conf, frames, null))
-        return outputs[0]
-
-    return lock(held, rows, rtol, null.shape[1], lambda: float(np.linalg.norm(rows())))
+    return lock(held, functools.cache(lambda: output_motions(conf, frames, null)), rtol, null.shape[1])

@@ -31,7 +31,7 @@ from scipy.linalg import subspace_angles
 import pinmob
 
 sys.path.insert(0, str(Path(__file__).parent))
-from millimetres import placed  # noqa: E402
+from millimetres import in_units, placed  # noqa: E402
 from model_cases import model_configurations  # noqa: E402
 from one_point import axes_meet, slid, tips_at  # noqa: E402
 
@@ -249,3 +249,19 @@ def test_a_spherical_mechanism_at_the_origin_prints_no_sub_round_off_coordinate(
                 if item.get(key) is not None:
                     assert item[key] == [0.0, 0.0, 0.0], item
 
+
+def test_a_micrometre_mechanism_10_m_away_prints_no_round_off_of_its_position() -> None:
+    """The 3-RRR-spherical in micrometres (L = 1.6e-6 m) 10 m along x, turned about x: its centre is (10, 0, 0).
+
+    A coordinate that is round-off of the 10 m (5e-16 m, far below L too) prints as 0; the true
+    micrometre offsets of the axis points from the centre (1.5e-6 m) still print.
+    """
+    mech = in_units(builtin("3-RRR-spherical"), 1e-5, configurations=True)
+    placement = pin.SE3(pin.rpy.rpyToMatrix(0.7, 0.0, 0.0), np.array([10.0, 0.0, 0.0]))
+    report = pinmob.analyze(placed(mech, placement), "generic")
+    coordinates = [abs(float(x)) for p in POINT_TEXT.findall(str(report)) for x in p.split(",")]
+    assert coordinates and all(x == 0.0 or x > 1e-9 for x in coordinates), str(report)
+    assert any(1e-7 < x < 1e-5 for x in coordinates)
+    d = report.to_dict()
+    points = [m["world_point"] for m in d["motions"] + d["constraints"] if m.get("world_point") is not None]
+    assert all(x == 0.0 or abs(x) > 1e-9 for p in points for x in p), points

@@ -36,6 +36,7 @@ from pinmob.analysis.motion import (
     columns,
     constraints_of,
     numbers,
+    point_scale,
     vector,
 )
 from pinmob.blas import one_blas_thread
@@ -118,7 +119,8 @@ class Mobility(ReadOnlyArrays):
         """(3,) the world point [m] where every rotation axis meets, when there are two or more and they do.
 
         The least-squares point of the axes (lines ``p_i + t d_i``); None when it lies farther than
-        ``1e-9 L`` from any of them, or there are fewer than two rotations.
+        ``1e-9 L`` from any of them, or there are fewer than two rotations. Coordinates that are round-off
+        print as 0 (:func:`~pinmob.analysis.motion.point_scale`).
         """
         rotations = [m for m in self.motions if m.kind is MotionKind.ROTATION and m.point is not None]
         if len(rotations) < 2:
@@ -128,7 +130,11 @@ class Mobility(ReadOnlyArrays):
         rhs = np.concatenate([p @ a for p, a in zip(projectors, points)])
         point = np.linalg.lstsq(np.vstack(projectors), rhs)[0]
         off = max(float(np.linalg.norm(p @ (point - a))) for p, a in zip(projectors, points))
-        return clean(point, self.length_scale) if off <= 1e-9 * self.length_scale else None
+        return (
+            clean(point, point_scale(self.length_scale, self.platform_origin))
+            if off <= 1e-9 * self.length_scale
+            else None
+        )
 
     @property
     def frame(self) -> str:

@@ -48,9 +48,21 @@ def numbers(a: Array, digits: int = 4) -> str:
 def world_point(point: Array | None, origin: Array, length: float = 1.0) -> Array | None:
     """``origin + point`` [m]: a point given relative to an origin, in world coordinates (None stays None).
 
-    Entries below ``1e-10 length`` [m] are zeroed (round-off of the sum).
+    Entries below ``1e-10`` times ``length`` or the origin's largest coordinate [m] are zeroed: round-off
+    of the sum (a spherical mechanism's centre 10 m away comes out 1e-15 m off its true coordinates).
     """
-    return None if point is None else clean(np.asarray(origin, float) + point, length)
+    if point is None:
+        return None
+    origin = np.asarray(origin, float)
+    return clean(origin + point, point_scale(length, origin))
+
+
+def point_scale(length: float, origin: Array) -> float:
+    """The length [m] a world point's round-off is relative to: L, or the origin's largest coordinate if larger.
+
+    A coordinate below ``1e-10`` times it is round-off (:func:`pinmob.screw.bases.clean`).
+    """
+    return max(length, float(np.abs(np.asarray(origin, float)).max(initial=0.0)))
 
 
 def with_world_point(out: dict[str, Any], point: Array | None, origin: Array | None, length: float) -> dict[str, Any]:
@@ -100,7 +112,8 @@ class Motion(ReadOnlyArrays):
 
         Args:
             origin: (3,) world position [m] of the origin the axis point is relative to.
-            length: the mechanism's length scale L [m] (entries below 1e-10 L print as 0).
+            length: the mechanism's length scale L [m] (entries below 1e-10 L, or 1e-10 times the origin's
+                largest coordinate, print as 0: :func:`world_point`).
         """
         text = f"  {self.label:<8} {KIND_WORDS[self.kind]:<11} direction {numbers(self.direction)}"
         point = self.world_point(origin, length)
@@ -149,7 +162,8 @@ class Constraint(ReadOnlyArrays):
 
         Args:
             origin: (3,) world position [m] of the origin the point is relative to.
-            length: the mechanism's length scale L [m] (entries below 1e-10 L print as 0).
+            length: the mechanism's length scale L [m] (entries below 1e-10 L, or 1e-10 times the origin's
+                largest coordinate, print as 0: :func:`world_point`).
         """
         text = f"  {self.kind.value:<7} direction {numbers(self.direction)}"
         point = self.world_point(origin, length)

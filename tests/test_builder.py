@@ -158,6 +158,24 @@ def test_tips_must_coincide_at_the_reference():
         b.urdf()
 
 
+def test_tips_of_a_mechanism_drawn_at_its_centre_coincide_up_to_round_off():
+    """Every joint and tip at the origin (a spherical 3-RRR drawn at its centre): a tip 1e-17 m off, the round-off
+    of a computed position, coincides (the old rule, relative to the joints' 0 m, asked for 1e-21 m); 1e-3 m does not.
+    """
+    for gap, ok in ((1e-17, True), (1e-3, False)):
+        b = MechanismBuilder("centred")
+        for name, theta in (("A", 0.0), ("B", 2.1), ("C", 4.2)):
+            limb = b.limb(name)
+            for label, axis in (("r1", polar(1.0, theta, -0.6)), ("r2", polar(1.0, theta + 0.6)), ("r3", Z)):
+                limb.revolute(label, at=[0, 0, 0], axis=axis)
+            limb.tip(at=[gap if name == "C" else 0.0, 0, 0])
+        if ok:
+            assert pin.buildModelFromXML(b.urdf()).njoints == 10
+        else:
+            with pytest.raises(ConfigurationError, match="limb 'C' tip is 0.001 m"):
+                b.urdf()
+
+
 def test_robot_name_is_escaped():
     b = one_limb('R&D "arm" <2>')
     b.limbs[0].tip(at=[0, 0, 0])

@@ -10,6 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.exceptions import ConfigurationError, choices
+from pinmob.model.length_scale import NO_LENGTH, SHORTEST
 
 from .chain import ChainBuilder, ClosureSpec, LimbBuilder
 from .configuration import canonical_joints, closed_joints, write_files
@@ -182,7 +183,10 @@ class MechanismBuilder:
         placed = [b for b in self.limbs if isinstance(b, LimbBuilder)]
         if len(placed) < 2:
             return
-        size = max([1e-12] + [float(np.linalg.norm(j.position)) for c in chains for j in c.joints])
+        tips = [b.tip_position for b in placed if b.tip_position is not None]
+        coordinates = [float(np.linalg.norm(p)) for p in [j.position for c in chains for j in c.joints] + tips]
+        size = max(coordinates)  # the tips' gap is round-off of these; none above round-off at the origin: 1 m
+        size = size if size > SHORTEST else NO_LENGTH
         first = placed[0]
         for limb in placed[1:]:
             if limb.tip_position is None or limb.tip_rotation is None or first.tip_position is None:

@@ -66,7 +66,7 @@ def mujoco_model(path: Path) -> Any:
     (they move no joint, site or body frame; the copies in ``tests/data`` may lack them, see the README), and a
     moving body left without mass is given a tiny one (the compiler's ``boundmass`` and ``boundinertia``)."""
     spec = mujoco.MjSpec.from_file(str(path))
-    for geom in [g for g in spec.geoms if g.type == mujoco.mjtGeom.mjGEOM_MESH]:
+    for geom in [g for g in spec.geoms if g.type == mujoco.mjtGeom.mjGEOM_MESH or g.meshname]:
         spec.delete(geom)
     for mesh in list(spec.meshes):
         spec.delete(mesh)

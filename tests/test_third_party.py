@@ -61,13 +61,34 @@ HAND: dict[str, tuple[int, int, int]] = {
 }
 
 
+def mujoco_model(path: Path) -> Any:
+    """MuJoCo's compiled model of the file's kinematics: its meshes are left out with the geoms that show them
+    (they move no joint, site or body frame; the copies in ``tests/data`` may lack them, see the README), and a
+    moving body left without mass is given a tiny one (the compiler's ``boundmass`` and ``boundinertia``)."""
+    spec = mujoco.MjSpec.from_file(str(path))
+    for geom in [g for g in spec.geoms if g.type == mujoco.mjtGeom.mjGEOM_MESH or g.meshname]:
+        spec.delete(geom)
+    for mesh in list(spec.meshes):
+        spec.delete(mesh)
+    spec.compiler.boundmass = spec.compiler.boundmass or 1e-9
+    spec.compiler.boundinertia = spec.compiler.boundinertia or 1e-12
+    return spec.compile()
+
+
+def mujoco_joint(m: Any, name: str) -> int:
+    """MuJoCo's id of the joint pinmob names ``name``: its name, ``#<id>`` or ``joint<id>`` for an unnamed one."""
+    if name.startswith("#"):
+        return int(name[1:])
+    j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
+    return j if j >= 0 else int(name.removeprefix("joint"))
+
+
 def mujoco_at(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[Any, Any, np.ndarray]:
     """MuJoCo's model and data at the given joint values (``mj_forward``), and the indices of its equality rows."""
-    m = mujoco.MjModel.from_xml_path(str(path))
+    m = mujoco_model(path)
     d = mujoco.MjData(m)
-    ids = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint{j}": j for j in range(m.njnt)}
     for name, value in joint_values.items():
-        d.joint(ids[name]).qpos[:] = value
+        d.joint(mujoco_joint(m, name)).qpos[:] = value
     mujoco.mj_forward(m, d)
     return m, d, np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
 

@@ -65,7 +65,7 @@ def mujoco_at(path: Path, joint_values: dict[str, float | list[float]]) -> tuple
     """MuJoCo's model and data at the given joint values (``mj_forward``), and the indices of its equality rows."""
     m = mujoco.MjModel.from_xml_path(str(path))
     d = mujoco.MjData(m)
-    ids = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or f"joint{j}": j for j in range(m.njnt)}
+    ids = {mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, j) or f"#{j}": j for j in range(m.njnt)}
     for name, value in joint_values.items():
         d.joint(ids[name]).qpos[:] = value
     mujoco.mj_forward(m, d)
@@ -372,9 +372,9 @@ def test_floating_base_is_held_when_judging_the_actuation(capsys):
     joints = [n for n in list(mech.model.names)[1:] if mech.model.joints[mech.model.getJointId(n)].nv == 1]
     assert main(["analyze", str(path), "--actuated", ",".join(joints), "--json"]) == 0
     act = json.loads(capsys.readouterr().out)["actuation"]
-    assert act["base_held"] == ["joint0"] and act["locked_dof"] == 2 and act["idle_dof"] == 2  # the rods' spins
+    assert act["base_held"] == ["#0"] and act["locked_dof"] == 2 and act["idle_dof"] == 2  # the rods' spins
     assert main(["analyze", str(path), "--actuated", ",".join(joints)]) == 0
-    assert "(floating base 'joint0' held: 6 DoF of the base's own)" in capsys.readouterr().out
+    assert "(floating base '#0' held: 6 DoF of the base's own)" in capsys.readouterr().out
 
 
 def test_show_html_for_mjcf_extended_urdf_and_bare_urdf(tmp_path, capsys):

@@ -42,6 +42,7 @@ import pinocchio as pin
 
 from pinmob.bounds import check_bound
 from pinmob.io.mesh_files import confine, mesh_roots
+from pinmob.io.mjcf_assets import drop_unread_files
 from pinmob.io.mjcf_names import add_frame, check_labels, closure_frames, label, labels
 from pinmob.io.mjcf_tree import Tree, build_tree, qpos_to_q, se3
 from pinmob.io.schema import errors_at, file_error
@@ -57,11 +58,13 @@ SUPPORTED = ("connect", "weld", "joint")
 OBJ_SITE = 6
 
 
-def compile_mjcf(path: Path) -> Any:
+def compile_mjcf(path: Path, warn: bool = True) -> Any:
     """The compiled ``mujoco.MjModel`` of the file, or a one-line error with MuJoCo's message.
 
     Kinematics needs no mass: a moving body without mass or inertia (which MuJoCo refuses to simulate) is
-    given a tiny one (the compiler's ``boundmass`` and ``boundinertia``, when the file sets none).
+    given a tiny one (the compiler's ``boundmass`` and ``boundinertia``, when the file sets none). Mesh and
+    texture files that are missing or outside the model's folders are left out, with a warning (``warn``)
+    (:func:`pinmob.io.mjcf_assets.drop_unread_files`).
     """
     import mujoco
 
@@ -69,9 +72,13 @@ def compile_mjcf(path: Path) -> Any:
         spec = mujoco.MjSpec.from_file(str(path))
         spec.compiler.boundmass = spec.compiler.boundmass or 1e-9
         spec.compiler.boundinertia = spec.compiler.boundinertia or 1e-12
-        return spec.compile()
+        unread = drop_unread_files(spec, path)
+        m = spec.compile()
     except Exception as exc:  # MuJoCo raises ValueError with the compiler's message
         raise file_error(path, f"MuJoCo cannot compile it: {' '.join(str(exc).split())[:300]}") from None
+    if unread and warn:
+        warnings.warn(f"{path.name}: {unread}", stacklevel=3)
+    return m
 
 
 def _kind(m: Any, e: int) -> str:
@@ -199,7 +206,7 @@ def load_visuals(path: Path, model: pin.Model) -> tuple[pin.GeometryModel | None
     """The visual geometry of the MJCF file (:func:`pinmob.io.mjcf_geometry.visual_geometry`), built when first drawn."""
     from pinmob.io.mjcf_geometry import visual_geometry
 
-    m = compile_mjcf(path)
+    m = compile_mjcf(path, warn=False)  # load_mjcf warned
     geometry = confine(visual_geometry(m, build_tree(m, model.name), path), mesh_roots(path), path.name)
     return (geometry if geometry.ngeoms else None), None
 

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import json
 import re
+import shutil
+import warnings
 from pathlib import Path
 
 import mujoco
@@ -228,3 +230,12 @@ def test_urdf_mechanism_is_named_as_the_robot(where, tmp_path, monkeypatch, caps
     assert doc["mechanism"] == "robot" and doc["mechanism_dof"] == 1  # a four-bar
     assert main(["analyze", path]) == 0
     assert capsys.readouterr().out.splitlines()[1].startswith("robot: mechanism DoF 1 ")
+
+
+def test_extended_urdf_is_named_after_its_folder_from_inside_it(tmp_path, monkeypatch, capsys):
+    """``robot.yaml`` given from its own folder is named after that folder, as from outside (it was ``""``)."""
+    shutil.copytree(Path(__file__).parent / "data" / "example-parallel-robots" / "5bar_linkage", tmp_path / "5bar")
+    monkeypatch.chdir(tmp_path / "5bar")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # no meshes
+        assert analyze_json(capsys, "robot.yaml")["mechanism"] == "5bar"

@@ -128,8 +128,9 @@ def _warning(found: dict[str, list[str]], align: bool) -> str | None:
     for key, files in found.items():
         kind, reason = key.split()
         parts.append(f"{len(files)} {kind} file(s) {said[reason]}, first {files[0]!r}")
-    return (
-        "; ".join(parts)
-        + ": compiled without them, kinematics unaffected (their geoms are not drawn)"
-        + ("; alignfree: the free joints' frames follow the inertia, which the meshes gave" if align else "")
-    )
+    if align:
+        return "; ".join(parts) + (
+            ": compiled without them (not drawn); with alignfree the free bodies' frames follow their inertia, "
+            "which the meshes gave: free joint values may differ from the complete model's"
+        )
+    return "; ".join(parts) + ": compiled without them, kinematics unaffected (their geoms are not drawn)"

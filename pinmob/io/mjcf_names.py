@@ -83,6 +83,15 @@ def check_labels(m: Any) -> None:
         labels(m, kind, int(getattr(m, count)), RESERVED.get(kind, ()))
 
 
+#: What holds a frame of each type, for messages.
+HOLDERS = {
+    pin.FrameType.BODY: "a body",
+    pin.FrameType.JOINT: "a joint",
+    pin.FrameType.OP_FRAME: "a site or a closure",
+    pin.FrameType.FIXED_JOINT: "the world (Pinocchio's 'universe')",
+}
+
+
 def add_frame(model: pin.Model, frame: pin.Frame, what: str) -> int:
     """Add ``frame`` to ``model`` (its index), its name checked against the frames already there.
 
@@ -101,10 +110,8 @@ def add_frame(model: pin.Model, frame: pin.Frame, what: str) -> int:
     kinds = {f.type for f in model.frames if f.name == frame.name}
     shared = {pin.FrameType.BODY, pin.FrameType.JOINT}
     if kinds and (frame.type in kinds or not kinds | {frame.type} <= shared):
-        raise ValueError(
-            f"{what}: its frame name {frame.name!r} is already the name of another frame of the model "
-            "(a body, a joint, a site, or a closure's frame: a name pinmob gives an unnamed one); rename it"
-        )
+        holders = " or ".join(sorted({HOLDERS.get(k, str(k)) for k in kinds}))
+        raise ValueError(f"{what}: its frame name {frame.name!r} is already the frame of {holders}; rename it")
     return int(model.addFrame(frame, False))
 
 

@@ -76,11 +76,12 @@ def mujoco_model(path: Path) -> Any:
 
 
 def mujoco_joint(m: Any, name: str) -> int:
-    """MuJoCo's id of the joint pinmob names ``name``: its name, ``#<id>`` or ``joint<id>`` for an unnamed one."""
-    if name.startswith("#"):
+    """MuJoCo's id of the joint pinmob names ``name``: its name, or ``#<id>`` for an unnamed one (nothing else)."""
+    if name.startswith("#") and name[1:].isdigit():
         return int(name[1:])
     j = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, name)
-    return j if j >= 0 else int(name.removeprefix("joint"))
+    assert j >= 0, f"pinmob's joint name {name!r} is not MuJoCo's"
+    return j
 
 
 def mujoco_at(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[Any, Any, np.ndarray]:
@@ -393,9 +394,9 @@ def test_floating_base_is_held_when_judging_the_actuation(capsys):
     joints = [n for n in list(mech.model.names)[1:] if mech.model.joints[mech.model.getJointId(n)].nv == 1]
     assert main(["analyze", str(path), "--actuated", ",".join(joints), "--json"]) == 0
     act = json.loads(capsys.readouterr().out)["actuation"]
-    assert act["base_held"] == ["joint0"] and act["locked_dof"] == 2 and act["idle_dof"] == 2  # the rods' spins
+    assert act["base_held"] == ["#0"] and act["locked_dof"] == 2 and act["idle_dof"] == 2  # the rods' spins
     assert main(["analyze", str(path), "--actuated", ",".join(joints)]) == 0
-    assert "(floating base 'joint0' held: 6 DoF of the base's own)" in capsys.readouterr().out
+    assert "(floating base '#0' held: 6 DoF of the base's own)" in capsys.readouterr().out
 
 
 def test_show_html_for_mjcf_extended_urdf_and_bare_urdf(tmp_path, capsys):

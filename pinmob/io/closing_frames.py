@@ -5,7 +5,8 @@ named ``closing_<name>_1`` and ``closing_<name>_2`` fixed on the two bodies the 
 closed when their origins meet (a point closure: what the exporter writes for MuJoCo, ``<connect
 site1 site2>``, and what placo solves). Each pair is a ``3d`` :class:`~pinmob.model.closure.Closure`
 named ``<name>``. A URDF says nothing of actuation: the actuated joints are given on the command line
-(``--actuated a,b``) or with :meth:`pinmob.model.mechanism.Mechanism.with_actuated`.
+(``--actuated a,b``) or with :meth:`pinmob.model.mechanism.Mechanism.with_actuated`. The mechanism's
+name is the file's ``<robot name>`` (the file's stem when it gives none).
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ def load_closing_urdf(path: str | Path) -> Mechanism:
         return Mechanism.from_model(
             model,
             [],
-            name=path.parent.name if path.stem == "robot" else path.stem,
+            name=model.name or path.stem,
             description=f"URDF {path.name} with onshape-to-robot closing frames",
             source=path,
             geometry=load_geometry(model, path),

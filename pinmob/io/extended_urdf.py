@@ -13,8 +13,10 @@ The convention of example-parallel-robots / toolbox-parallel-robots: beside
   ``CARDAN`` (= ``UJOINT_XY``), ``FIXED`` (locked at 0).
 
 The files are read as they are; missing meshes only cost the visuals (a
-warning). There is no platform: the whole mechanism is analysed, and any
-frame can be named as end frame.
+warning). The mechanism is named after the YAML file, or its folder for
+``robot.yaml`` (the repository's layout, ``<robot>/robot.yaml``, whose URDFs
+say ``<robot name="onshape">``). There is no platform: the whole mechanism is
+analysed, and any frame can be named as end frame.
 """
 
 from __future__ import annotations
@@ -158,7 +160,7 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
         return Mechanism.from_model(
             model,
             [],
-            name=path.parent.name if path.stem == "robot" else path.stem,
+            name=path.absolute().parent.name if path.stem == "robot" else path.stem,  # robot.yaml: its folder's
             actuated={"": _names(path, doc, "name_mot")},
             description=f"Extended URDF {urdf.name} + {path.name}",
             source=path,

@@ -24,7 +24,9 @@ linear combination of joint values) is a :class:`~pinmob.model.tendon.TendonActu
 spatial tendon, a site or a body is named in a warning. Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
 default) when the equalities hold there (MuJoCo's test models close only once simulated: without
 it, the analysis finds a closed configuration) and one per ``<keyframe><key>`` (its ``qpos``). The
-visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf_geometry`), built when first drawn.
+visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf_geometry`), built when first drawn. Objects
+are shown by their names in the file, unnamed ones by labels with their MuJoCo id (``#k`` for joint
+k, ``equality#k`` for the closure of equality k: :mod:`pinmob.io.mjcf_names`).
 """
 
 from __future__ import annotations
@@ -40,7 +42,9 @@ import pinocchio as pin
 
 from pinmob.bounds import check_bound
 from pinmob.io.mesh_files import confine, mesh_roots
-from pinmob.io.mjcf_tree import Tree, build_tree, name_of, qpos_to_q, se3, unique
+from pinmob.io.mjcf_assets import drop_unread_files
+from pinmob.io.mjcf_names import add_frame, check_labels, closure_frames, label, labels
+from pinmob.io.mjcf_tree import Tree, build_tree, qpos_to_q, se3
 from pinmob.io.schema import errors_at, file_error
 from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupling
 from pinmob.model.geometry import Geometry
@@ -54,11 +58,13 @@ SUPPORTED = ("connect", "weld", "joint")
 OBJ_SITE = 6
 
 
-def compile_mjcf(path: Path) -> Any:
+def compile_mjcf(path: Path, warn: bool = True) -> Any:
     """The compiled ``mujoco.MjModel`` of the file, or a one-line error with MuJoCo's message.
 
     Kinematics needs no mass: a moving body without mass or inertia (which MuJoCo refuses to simulate) is
-    given a tiny one (the compiler's ``boundmass`` and ``boundinertia``, when the file sets none).
+    given a tiny one (the compiler's ``boundmass`` and ``boundinertia``, when the file sets none). Mesh and
+    texture files that are missing or outside the model's folders are left out, with a warning (``warn``)
+    (:func:`pinmob.io.mjcf_assets.drop_unread_files`).
     """
     import mujoco
 
@@ -66,9 +72,13 @@ def compile_mjcf(path: Path) -> Any:
         spec = mujoco.MjSpec.from_file(str(path))
         spec.compiler.boundmass = spec.compiler.boundmass or 1e-9
         spec.compiler.boundinertia = spec.compiler.boundinertia or 1e-12
-        return spec.compile()
+        unread = drop_unread_files(spec, path)
+        m = spec.compile()
     except Exception as exc:  # MuJoCo raises ValueError with the compiler's message
         raise file_error(path, f"MuJoCo cannot compile it: {' '.join(str(exc).split())[:300]}") from None
+    if unread and warn:
+        warnings.warn(f"{path.name}: {unread}", stacklevel=3)
+    return m
 
 
 def _kind(m: Any, e: int) -> str:
@@ -104,9 +114,9 @@ def equality_closure(m: Any, tree: Tree, e: int, name: str) -> Closure:
     elif kind == "weld" and not on_site:
         m1, m2 = m1 * se3(data[3:6], data[6:10]), m2 * pin.SE3(np.eye(3), data[0:3])
     closure_kind = "3d" if kind == "connect" or data[10] == 0 else "6d"
-    taken = {f.name for f in model.frames}
-    fa = model.addFrame(pin.Frame(unique(f"{name}_a", taken), j1, m1, pin.FrameType.OP_FRAME), False)
-    fb = model.addFrame(pin.Frame(unique(f"{name}_b", taken), j2, m2, pin.FrameType.OP_FRAME), False)
+    (na, nb), what = closure_frames(name), f"equality {name!r}"
+    fa = add_frame(model, pin.Frame(na, j1, m1, pin.FrameType.OP_FRAME), what)
+    fb = add_frame(model, pin.Frame(nb, j2, m2, pin.FrameType.OP_FRAME), what)
     return make_closure(model, name, model.frames[fa].name, model.frames[fb].name, closure_kind)
 
 
@@ -125,7 +135,7 @@ def _actuated(path: Path, m: Any, tree: Tree) -> tuple[list[str], list[TendonAct
     others = []
     for a in range(m.nu):
         kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
-        name = name_of(m, "actuator", a) or f"actuator{a}"
+        name = label(m, "actuator", a)
         if kind in (mujoco.mjtTrn.mjTRN_JOINT, mujoco.mjtTrn.mjTRN_JOINTINPARENT):  # the joint's own coordinate
             joint = tree.joint_names[target]
             if joint not in out:
@@ -136,8 +146,8 @@ def _actuated(path: Path, m: Any, tree: Tree) -> tuple[list[str], list[TendonAct
             wraps = range(int(m.tendon_adr[target]), int(m.tendon_adr[target] + m.tendon_num[target]))
         if wraps and all(m.wrap_type[w] == mujoco.mjtWrap.mjWRAP_JOINT for w in wraps):
             joints = tuple(tree.joint_names[int(m.wrap_objid[w])] for w in wraps)
-            label = name_of(m, "tendon", target) or f"tendon{target}"
-            tendons.append(TendonActuator(name, label, joints, tuple(float(m.wrap_prm[w]) for w in wraps)))
+            tendon = label(m, "tendon", target)
+            tendons.append(TendonActuator(name, tendon, joints, tuple(float(m.wrap_prm[w]) for w in wraps)))
         else:
             others.append(name)
     if others:
@@ -176,14 +186,18 @@ def reference_closes(m: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
 
 
 def named_configurations(m: Any, tree: Tree, length: float) -> dict[str, NamedConfiguration]:
-    """``reference`` (MuJoCo's ``qpos0``, when it closes) and each keyframe (its ``qpos``), as whole vectors."""
+    """``reference`` (MuJoCo's ``qpos0``, when it closes) and each keyframe (its ``qpos``), as whole vectors.
+
+    A keyframe keeps its name (``key#k`` when unnamed); ``reference`` is ``#reference`` when a keyframe has
+    that name.
+    """
     model = tree.model
+    keys = labels(m, "key", m.nkey)
     out = {}
     if reference_closes(m, length):
-        out["reference"] = NamedConfiguration("reference", vector=tuple(qpos_to_q(model, m.qpos0)))
-    taken = set(out) | {"reference"}
-    for k in range(m.nkey):
-        name = unique(name_of(m, "key", k) or f"key{k}", taken)
+        name = "#reference" if "reference" in keys else "reference"
+        out[name] = NamedConfiguration(name, vector=tuple(qpos_to_q(model, m.qpos0)))
+    for k, name in enumerate(keys):
         out[name] = NamedConfiguration(name, vector=tuple(qpos_to_q(model, m.key_qpos[k])))
     return out
 
@@ -192,7 +206,7 @@ def load_visuals(path: Path, model: pin.Model) -> tuple[pin.GeometryModel | None
     """The visual geometry of the MJCF file (:func:`pinmob.io.mjcf_geometry.visual_geometry`), built when first drawn."""
     from pinmob.io.mjcf_geometry import visual_geometry
 
-    m = compile_mjcf(path)
+    m = compile_mjcf(path, warn=False)  # load_mjcf warned
     geometry = confine(visual_geometry(m, build_tree(m, model.name), path), mesh_roots(path), path.name)
     return (geometry if geometry.ngeoms else None), None
 
@@ -217,20 +231,21 @@ def load_mjcf(path: str | Path) -> Mechanism:
         )
     name = bytes(m.names).split(b"\0", 1)[0].decode() or path.stem  # the model's name comes first
     try:
+        check_labels(m)
         tree = build_tree(m, name)
     except ValueError as exc:
         raise file_error(path, str(exc)) from None
     inactive = [e for e in range(m.neq) if not m.eq_active0[e]]
     if inactive:
-        names = ", ".join(name_of(m, "equality", e) or f"{kinds[e]}{e}" for e in inactive)
+        names = ", ".join(label(m, "equality", e) for e in inactive)
         warnings.warn(f"{path.name}: equalities {names} are inactive (active=false): left out", stacklevel=2)
     closures = []
-    taken: set[str] = set()
     with errors_at(path):
-        for e in range(m.neq):
-            if m.eq_active0[e]:
-                label = unique(name_of(m, "equality", e) or f"{kinds[e]}{e}", taken)
-                closures.append(equality_closure(m, tree, e, label))
+        equalities = labels(m, "equality", m.neq)
+        try:
+            closures += [equality_closure(m, tree, e, equalities[e]) for e in range(m.neq) if m.eq_active0[e]]
+        except ValueError as exc:  # a closure's frame name taken (pinmob.io.mjcf_names.add_frame)
+            raise file_error(path, str(exc)) from None
         if not closures:
             raise file_error(path, "no active <connect>, <weld> or <joint> equality: no loop to analyse")
         joints, tendons = _actuated(path, m, tree)

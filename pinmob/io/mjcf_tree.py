@@ -13,10 +13,10 @@ and the joint's limits are MuJoCo's ``range`` (radians and metres, as compiled).
 ``JointModelSpherical`` and a free joint a ``JointModelFreeFlyer`` (world placement identity):
 their quaternions are stored ``(x, y, z, w)`` by Pinocchio and ``(w, x, y, z)`` by MuJoCo
 (:func:`qpos_to_q`, :func:`q_to_qpos`). A body without joints is welded to its parent. Bodies are
-``BODY`` frames named as in the file, sites ``OP_FRAME`` frames (``site:<name>`` when a body has
-the name already; MuJoCo keeps bodies and sites apart), each joint has a ``JOINT`` frame of its name;
-unnamed elements get ``body<i>``,
-``joint<i>``, ``site<i>`` (MuJoCo's index).
+``BODY`` frames named as in the file, sites ``OP_FRAME`` frames (``site:<name>`` when a body or a
+joint has the name already; MuJoCo keeps their names apart), each joint has a ``JOINT`` frame of its
+name; unnamed elements are labelled by their MuJoCo id, ``#k`` for joint k, ``body#k``, ``site#k``
+(:mod:`pinmob.io.mjcf_names`).
 """
 
 from __future__ import annotations
@@ -27,6 +27,8 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from pinmob.io.mjcf_names import RESERVED, add_frame, labels, site_frame
+from pinmob.io.mjcf_names import name_of as name_of  # where the MJCF modules import it from
 from pinmob.screw.algebra import Array
 
 #: MuJoCo's joint types (``mjtJoint``): free, ball, slide, hinge.
@@ -52,13 +54,6 @@ class Tree:
     body_frame: tuple[str, ...]
     site_frame: tuple[str, ...]
     joint_names: tuple[str, ...]
-
-
-def name_of(m: Any, kind: str, i: int) -> str:
-    """The name of MuJoCo object ``i`` of ``kind`` (``body``, ``joint``, ``site``, ``equality``, ...), or ``""``."""
-    import mujoco
-
-    return mujoco.mj_id2name(m, getattr(mujoco.mjtObj, f"mjOBJ_{kind.upper()}"), i) or ""
 
 
 def unique(name: str, taken: set[str]) -> str:
@@ -89,15 +84,15 @@ def build_tree(m: Any, name: str) -> Tree:
 
     Raises:
         ValueError: a free joint below another body (MuJoCo allows it only at the top of the tree
-            and the message says so) or a free joint sharing its body.
+            and the message says so), a free joint sharing its body, or a name of the file that is
+            pinmob's label of another object (:mod:`pinmob.io.mjcf_names`).
     """
     model = pin.Model()
     model.name = name
     joint_of = [0] * m.nbody
     placement = [pin.SE3.Identity()] * m.nbody
-    taken: set[str] = set()
-    joint_names: list[str] = [""] * m.njnt
-    body_frame = ["universe"] * m.nbody
+    joint_names = labels(m, "joint", m.njnt, RESERVED["joint"])
+    body_frame = ("universe",) + labels(m, "body", m.nbody)[1:]  # MuJoCo's world body is Pinocchio's universe
     for b in range(1, m.nbody):
         parent = int(m.body_parentid[b])
         current = placement[parent] * se3(m.body_pos[b], m.body_quat[b])  # the body frame in joint_of[parent]
@@ -109,9 +104,7 @@ def build_tree(m: Any, name: str) -> Tree:
             ref = float(m.qpos0[m.jnt_qposadr[j]]) if kind in (HINGE, SLIDE) else 0.0
             if kind == FREE:
                 if count != 1 or parent != 0:
-                    raise ValueError(
-                        f"body {name_of(m, 'body', b) or b!r}: a free joint must be the only joint of a top-level body"
-                    )
+                    raise ValueError(f"body {body_frame[b]!r}: a free joint must be the only joint of a top-level body")
                 at, after = pin.SE3.Identity(), pin.SE3.Identity()
             elif kind == HINGE:
                 at = current * pin.SE3(pin.exp3(-ref * axis), anchor)
@@ -120,32 +113,26 @@ def build_tree(m: Any, name: str) -> Tree:
                 at, after = current * pin.SE3(np.eye(3), anchor - ref * axis), pin.SE3(np.eye(3), -anchor)
             else:
                 at, after = current * pin.SE3(np.eye(3), anchor), pin.SE3(np.eye(3), -anchor)
-            jname = unique(name_of(m, "joint", j) or f"joint{j}", taken)
-            carrier = model.addJoint(carrier, _joint_model(kind, axis), at, jname)
-            joint_names[j] = jname
+            carrier = model.addJoint(carrier, _joint_model(kind, axis), at, joint_names[j])
             if kind in (HINGE, SLIDE) and m.jnt_limited[j]:
                 lo, hi = m.jnt_range[j]
                 model.lowerPositionLimit[model.joints[carrier].idx_q] = lo
                 model.upperPositionLimit[model.joints[carrier].idx_q] = hi
             current = after
         joint_of[b], placement[b] = carrier, current
-    frames: set[str] = {"universe"}
     for jname in joint_names:  # a JOINT frame per joint (joint couplings name them)
         jid = model.getJointId(jname)
-        model.addFrame(pin.Frame(unique(jname, frames), jid, pin.SE3.Identity(), pin.FrameType.JOINT), False)
+        add_frame(model, pin.Frame(jname, jid, pin.SE3.Identity(), pin.FrameType.JOINT), f"joint {jname!r}")
     for b in range(1, m.nbody):
-        fname = unique(name_of(m, "body", b) or f"body{b}", frames)
-        model.addFrame(pin.Frame(fname, joint_of[b], placement[b], pin.FrameType.BODY), False)
-        body_frame[b] = fname
-    site_frame = []
-    for s in range(m.nsite):
+        frame = pin.Frame(body_frame[b], joint_of[b], placement[b], pin.FrameType.BODY)
+        add_frame(model, frame, f"body {body_frame[b]!r}")
+    site_frames = []
+    for s, site in enumerate(labels(m, "site", m.nsite)):
         b = int(m.site_bodyid[s])
-        wanted = name_of(m, "site", s) or f"site{s}"
-        fname = unique(wanted if wanted not in frames else f"site:{wanted}", frames)
         at = placement[b] * se3(m.site_pos[s], m.site_quat[s])
-        model.addFrame(pin.Frame(fname, joint_of[b], at, pin.FrameType.OP_FRAME), False)
-        site_frame.append(fname)
-    return Tree(model, tuple(joint_of), tuple(placement), tuple(body_frame), tuple(site_frame), tuple(joint_names))
+        site_frames.append(site_frame(site, model))
+        add_frame(model, pin.Frame(site_frames[-1], joint_of[b], at, pin.FrameType.OP_FRAME), f"site {site!r}")
+    return Tree(model, tuple(joint_of), tuple(placement), body_frame, tuple(site_frames), joint_names)
 
 
 def quaternion_slices(model: pin.Model) -> list[slice]:

@@ -4,8 +4,8 @@ MuJoCo is the truth: at pinmob's closed configuration (its ``joint_values`` set 
 MuJoCo's own equalities), the mechanism DoF is ``nv - rank(efc_J's equality rows)`` and the motions left with the
 actuators held are ``nv - rank([equality rows; actuator_moment rows])``, with the floating bases pinmob holds
 (``base_held``) held in MuJoCo too (their 6 velocity columns as rows). :data:`MUJOCO` lists MuJoCo's figures per
-file (computed with MuJoCo, checked here again); every MJCF file under ``tests/data`` must be in it (or in
-:data:`PENDING`, files pinmob cannot read yet), so a copied model cannot go untested. The third-party files and their sources are listed in ``tests/data/third_party/README.md``.
+file (computed with MuJoCo, checked here again); every MJCF file under ``tests/data`` must be in it, so a copied
+model cannot go untested. The third-party files and their sources are listed in ``tests/data/third_party/README.md``.
 The files of ``../shared/external`` with a licence that allows it are copied there (the others are not read by
 the tests: they are not part of the repository).
 """
@@ -32,6 +32,17 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "formats/fourbar/fourbar.xml": (3, 1, 1, 0),
     "fourbar_connect.xml": (3, 1, 1, 0),
     "fourbar_weld.xml": (4, 1, 1, 0),
+    # Cassie (menagerie, with its 10 motors; meshes not copied): 22 DoF as Pinocchio's copy; with the pelvis and
+    # the motors held, MuJoCo leaves 8 motions (of the shin and heel springs, tarsi, foot cranks and rods)
+    "third_party/menagerie_agility_cassie/cassie.xml": (32, 10, 22, 8),
+    "third_party/menagerie_agility_cassie/scene.xml": (32, 10, 22, 8),
+    # Franka hand (meshes not copied): two slides coupled by a joint equality, an actuator on the tendon 'split'
+    "third_party/menagerie_franka_hand/hand.xml": (2, 1, 1, 0),
+    # the xArm7 arm with its hand (the arm's meshes not copied): 7 motors and the hand's actuator
+    "third_party/menagerie_xarm7_hand/scene.xml": (13, 8, 8, 0),
+    "third_party/menagerie_xarm7_hand/xarm7.xml": (13, 8, 8, 0),
+    # two of its actuators are on spatial tendons; its head (a free joint carrying legs) is held
+    "third_party/mujoco_testdata/solver/model.xml": (43, 10, 37, 21),
     # Robotiq 2F-85: two four-bars (a connect each: 1 redundant row each) and the drivers coupled; the fingers are
     # adaptive: 3 DoF, the actuator on the tendon 'split' holds one, 2 left. scene.xml adds a free box (6)
     "third_party/menagerie_robotiq_2f85/2f85.xml": (8, 1, 3, 2),
@@ -71,22 +82,6 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "third_party/mujoco_testdata/weld.xml": (30, 0, 3, 3),
     # Cassie's pelvis (a free joint carrying the legs) is held: 22 - 6
     "third_party/pinocchio_closed_chain/closed_chain.xml": (32, 0, 22, 16),
-}
-
-#: files copied but not yet counted here, because pinmob cannot read them yet (the branches adding their features
-#: are merged separately): MuJoCo's figures at its reference pose (qpos0, which closes their equalities), the
-#: floating bases held, and what pinmob does now.
-PENDING: dict[str, tuple[int, int, int, int]] = {
-    # meshes not copied (5 MB): "MuJoCo cannot compile it: ... Error opening file 'assets/pelvis.obj'"
-    "third_party/menagerie_agility_cassie/cassie.xml": (32, 10, 22, 8),
-    "third_party/menagerie_agility_cassie/scene.xml": (32, 10, 22, 8),
-    # meshes not copied: "... Error opening file 'assets/hand.stl'"
-    "third_party/menagerie_franka_hand/hand.xml": (2, 1, 1, 0),
-    # the arm's meshes not copied: "... Error opening file 'assets/link_base.stl'"
-    "third_party/menagerie_xarm7_hand/scene.xml": (13, 8, 8, 0),
-    "third_party/menagerie_xarm7_hand/xarm7.xml": (13, 8, 8, 0),
-    # two actuators on spatial tendons are left out (a warning): pinmob leaves 23 motions, MuJoCo 21
-    "third_party/mujoco_testdata/solver/model.xml": (43, 10, 37, 21),
 }
 
 #: a relative gap in MuJoCo's singular values that its rank must clear (no rank decided by round-off)
@@ -136,7 +131,7 @@ def mujoco_truth(path: Path, joint_values: dict[str, Any], held_bases: list[str]
 
 def test_every_mjcf_file_is_counted():
     """No MJCF file under tests/data is left out of the comparison."""
-    assert mjcf_files() == sorted(MUJOCO | PENDING)
+    assert mjcf_files() == sorted(MUJOCO)
 
 
 @pytest.mark.parametrize("name", sorted(MUJOCO))

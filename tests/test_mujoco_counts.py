@@ -32,6 +32,8 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "formats/fourbar/fourbar.xml": (3, 1, 1, 0),
     "fourbar_connect.xml": (3, 1, 1, 0),
     "fourbar_weld.xml": (4, 1, 1, 0),
+    # pinmob's own names fixture: a pinned free base (held), a parallelogram, a coupled follower, a free hinge
+    "unnamed_parts.xml": (11, 0, 5, 2),
     # Cassie (menagerie, with its 10 motors; meshes not copied): 22 DoF as Pinocchio's copy; with the pelvis and
     # the motors held, MuJoCo leaves 8 motions (of the shin and heel springs, tarsi, foot cranks and rods)
     "third_party/menagerie_agility_cassie/cassie.xml": (32, 10, 22, 8),

@@ -8,7 +8,7 @@ with status 2.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping, Set
 
 
 class PinmobError(Exception):
@@ -74,6 +74,8 @@ def match_name(
         PinmobError: no valid name matches (none, or several differing only in case); the message
             suggests the closest ones ("did you mean") and lists every valid name.
     """
+    if isinstance(valid, (Mapping, Set)) and name in valid:
+        return name  # looked up, not searched: a file with 20,000 configurations names each in constant time
     items = list(dict.fromkeys(valid))
     if name in items:
         return name

@@ -27,13 +27,14 @@ SHOWN = 3
 MARGIN = 1.05
 
 
-def _measure(p: float, r: float, length: float) -> float:
-    return max(p / length, r)
+def _measure(residual: tuple[float, float], length: float) -> float:
+    """``max(|p| / L, |r|)`` of one (position, rotation) residual."""
+    return max(residual[0] / length, residual[1])
 
 
 def worst_first(residuals: Residuals, length: float) -> list[tuple[str, tuple[float, float]]]:
     """The residuals ordered from the worst (largest ``max(|p| / L, |r|)``), ties in their order."""
-    return sorted(residuals.items(), key=lambda item: -_measure(*item[1], length))
+    return sorted(residuals.items(), key=lambda item: -_measure(item[1], length))
 
 
 def format_worst(residuals: Residuals, length: float, tol: float, shown: int = SHOWN) -> str:
@@ -43,7 +44,7 @@ def format_worst(residuals: Residuals, length: float, tol: float, shown: int = S
     the ``shown`` worst above ``tol`` (the ``shown`` largest when none is), the count only when some are left out.
     """
     ordered = worst_first(residuals, length)
-    above = [item for item in ordered if _measure(*item[1], length) > tol]
+    above = [item for item in ordered if _measure(item[1], length) > tol]
     listed = (above or ordered)[:shown]
     text = "; ".join(f"{k}: {p:.2e} m, {r:.2e} rad" for k, (p, r) in listed)
     count = f"{len(above)} of {len(ordered)} above the tolerance" if len(listed) < len(ordered) else "tolerance"
@@ -76,7 +77,7 @@ def tolerance_hint(residuals: Residuals, length: float) -> str:
 
     The empty string when the miss exceeds :data:`CAD_GAP_MAX` (no tolerance should accept it).
     """
-    miss = max((_measure(p, r, length) for p, r in residuals.values()), default=0.0)
+    miss = max((_measure(res, length) for res in residuals.values()), default=0.0)
     tol = accepting_tol(miss)
     if tol is None:
         return ""

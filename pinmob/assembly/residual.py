@@ -259,10 +259,7 @@ def format_residuals(residuals: Residuals) -> str:
 def check_closed(
     mech: Mechanism, q: Array, tol: float = CLOSURE_TOL, what: str = "configuration", data: pin.Data | None = None
 ) -> Residuals:
-    """Raise :class:`ClosureError` unless all limb tips have the platform's pose and every closure holds at q.
-
-    The message lists the worst residuals and, for a miss CAD geometry explains, the ``--closure-tol``
-    that would accept it (:mod:`pinmob.assembly.closure_miss`).
+    """Raise :class:`ClosureError` unless every limb tip and closure holds at q (message: :mod:`~.closure_miss`).
 
     Args:
         mech: the mechanism.

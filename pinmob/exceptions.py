@@ -8,7 +8,7 @@ with status 2.
 from __future__ import annotations
 
 import difflib
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable, Mapping, Set
 
 
 class PinmobError(Exception):
@@ -33,11 +33,29 @@ class ClosureError(PinmobError):
     Attributes:
         residuals: per limb (or closure) name, the residual norm (position [m],
             rotation [rad]) at the returned or rejected configuration.
+
+    ``note``: a sentence computed when the message is first read (not where nothing reads it: a scan's
+    unreachable samples), e.g. which pose coordinates are out of reach.
     """
 
-    def __init__(self, message: str, residuals: dict[str, tuple[float, float]] | None = None):
+    def __init__(
+        self,
+        message: str,
+        residuals: dict[str, tuple[float, float]] | None = None,
+        note: Callable[[], str] | None = None,
+    ):
         super().__init__(message)
         self.residuals = dict(residuals or {})
+        self._note = note  # a diagnosis that costs solves, appended when the message is first read
+
+    def __str__(self) -> str:
+        if self._note is not None:
+            note, self._note = self._note, None
+            self.args = (f"{self.args[0]} {note()}",)
+        return super().__str__()
+
+    def __reduce__(self) -> tuple[type[ClosureError], tuple[str, dict[str, tuple[float, float]]]]:
+        return type(self), (str(self), self.residuals)  # the note resolved: pickled as plain text
 
 
 def choices(names: Iterable[str], limit: int = 40) -> str:
@@ -74,6 +92,8 @@ def match_name(
         PinmobError: no valid name matches (none, or several differing only in case); the message
             suggests the closest ones ("did you mean") and lists every valid name.
     """
+    if isinstance(valid, (Mapping, Set)) and name in valid:
+        return name  # looked up, not searched: a file with 20,000 configurations names each in constant time
     items = list(dict.fromkeys(valid))
     if name in items:
         return name

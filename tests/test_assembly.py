@@ -7,6 +7,7 @@ or from a second computation (joint values instead of a pose), never from the so
 
 from __future__ import annotations
 
+import re
 import warnings
 from pathlib import Path
 
@@ -378,3 +379,55 @@ def test_fourbar_modes_and_continuum():
     assert_allclose(found, sorted(rocker_angles(0.4)), atol=1e-9)
     with pytest.raises(ConfigurationError, match="continuum"):
         assembly_modes(mech, None, seeds=8)
+
+
+def _out_of_reach(message: str) -> dict[str, tuple[float, float]]:
+    """``{coordinate: (residual, nearest value reached)}`` of the sentence "out of reach along ..." of an error."""
+    match = re.search(r"out of reach along (.*): the nearest closed configuration found has (.*)\.$", message)
+    assert match, message
+    residuals = dict(re.findall(r"(\w+) \(residual (\S+) (?:m|rad)\)", match.group(1)))
+    reached = dict(re.findall(r"(\w+) = (\S+) (?:m|rad)", match.group(2)))
+    assert residuals.keys() == reached.keys()
+    return {k: (float(residuals[k]), float(reached[k])) for k in residuals}
+
+
+@pytest.mark.parametrize(
+    ("xyz", "rpy", "coordinate"),
+    [([0.0, 0.0, -3.0], [0.0, 0.0, 0.0], "z"), ([0.04, -0.03, -0.47], [0.3, 0.0, 0.0], "roll")],
+)
+def test_an_unreachable_pose_names_the_coordinates_out_of_reach(xyz, rpy, coordinate):
+    """The Delta (motors on R = 0.2 m, arms 0.3 m, rods 0.4 m, platform r = 0.05 m; by hand): its platform
+    hangs at most arm + rod = 0.7 m below the motors, so z = -3 m is out of reach along z alone, by more than
+    2.3 m; it only translates (3T), so a roll of 0.3 rad at a reachable position is out of reach along roll
+    alone, by 0.3 rad. The error used to say "try another seed", which cannot help."""
+    mech = pinmob.load("Delta")
+    with pytest.raises(ClosureError) as err:
+        pinmob.assemble_pose(mech, pin.SE3(pin.rpy.rpyToMatrix(*rpy), np.array(xyz)))
+    (named,) = _out_of_reach(str(err.value)).items()
+    residual, reached = named[1]
+    assert named[0] == coordinate and "another seed" not in str(err.value)
+    if coordinate == "z":
+        assert residual > 2.3 and -0.7 < reached < 0
+    else:
+        assert residual == pytest.approx(0.3, abs=1e-3) and abs(reached) < 1e-6
+
+
+def test_an_unreachable_named_pose_says_so_on_the_command_line(tmp_path, capsys):
+    """A 3-PUU file (guides on R = 0.3 m, links 0.25 m, platform r = 0.15 m) whose configuration asks the
+    platform at x = 0.9 m: a platform joint is at most 0.25 m from its guide, so the centre reaches at most
+    x = 0.3 + 0.25 - 0.15 = 0.4 m (by hand): out of reach along x by at least 0.5 m, one error line."""
+    from pinmob.cli import main
+    from pinmob.io.builtin import builtin_models
+
+    source = builtin_models()["3-PUU"]
+    text = source.read_text()
+    (tmp_path / "3puu.urdf").write_text(source.with_suffix(".urdf").read_text())
+    path = tmp_path / "far.toml"
+    path.write_text(
+        text[: text.index("[configurations.")] + "[configurations.far]\npose = { xyz = [0.9, 0.0, -0.17] }\n"
+    )
+    assert main(["analyze", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1
+    ((coordinate, (residual, reached)),) = _out_of_reach(err.strip()).items()
+    assert coordinate == "x" and residual >= 0.5 and reached <= 0.4

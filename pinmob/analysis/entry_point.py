@@ -10,8 +10,9 @@ from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Options, Report
+from pinmob.assembly.closure_miss import format_worst, tolerance_hint
 from pinmob.assembly.relaxation import find_closed_relaxed, unclosable
-from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol, worst_residual
+from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual
 from pinmob.assembly.seeds import find_closed
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ClosureError, ConfigurationError
@@ -22,29 +23,47 @@ from pinmob.screw.rank import RTOL, check_rtol
 def found_configuration(
     mech: Mechanism, restarts: int, relax: bool, closure_tol: float
 ) -> tuple[Configuration, tuple[str, ...]]:
-    """A closed configuration of a mechanism that names none: projection from neutral, then random restarts."""
+    """A closed configuration of a mechanism that names none: projection from neutral, then random restarts.
+
+    Every attempt is accepted within ``closure_tol``. When none is, and the best misses by what CAD geometry
+    explains, the error says which ``--closure-tol`` would accept it (:mod:`pinmob.assembly.closure_miss`).
+    """
     if relax:
-        mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts)
+        mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts, tol=closure_tol)
     else:
         try:
-            found, relaxed = find_closed(mech, restarts=restarts), ()
+            found, relaxed = find_closed(mech, restarts=restarts, tol=closure_tol), ()
         except ClosureError as exc:
-            bad = unclosable(mech)
-            hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
-            relaxable = [c.name for c in mech.closures if c.type not in ("3d", "joint")]
-            advice = (
-                "Rerun with --relax (Python: relax=True) to turn the over-constraining closures into 3d (ball) "
-                "closures. "
-                if relaxable
-                else "Relaxing cannot help (every closure is a point or joint coupling already). "
-            )
-            raise ClosureError(
-                f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random "
-                f"restarts. {hint}{advice}Largest residual of the best attempt: "
-                f"{worst_residual(exc.residuals, mech.length_scale):.2e} (m / L or rad)",
-                exc.residuals,
-            ) from None
+            raise not_closed(mech, restarts, closure_tol, exc.residuals) from None
     return Configuration(mech, found.q, closure_tol=closure_tol, source=found.method), relaxed
+
+
+def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Residuals) -> ClosureError:
+    """The error of :func:`found_configuration` when nothing closed; ``residuals``: those of the best attempt."""
+    length = mech.length_scale
+    start = (
+        f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random restarts"
+    )
+    hint = tolerance_hint(residuals, length)
+    if hint:  # a CAD gap: a looser tolerance, not relaxing, is the answer
+        return ClosureError(
+            f"{start} within the closure tolerance {closure_tol:g}: best attempt's residuals "
+            f"{format_worst(residuals, length, closure_tol)}{hint}",
+            residuals,
+        )
+    bad = unclosable(mech, tol=closure_tol)
+    found = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
+    relaxable = [c.name for c in mech.closures if c.type not in ("3d", "joint")]
+    advice = (
+        "Rerun with --relax (Python: relax=True) to turn the over-constraining closures into 3d (ball) closures. "
+        if relaxable
+        else "Relaxing cannot help (every closure is a point or joint coupling already). "
+    )
+    return ClosureError(
+        f"{start}. {found}{advice}Largest residual of the best attempt: "
+        f"{worst_residual(residuals, length):.2e} (m / L or rad)",
+        residuals,
+    )
 
 
 def analyze(

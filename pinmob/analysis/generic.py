@@ -38,6 +38,9 @@ from pinmob.screw.rank import RTOL, decide_rank
 
 #: Largest limb set whose generic rank is estimated (a minimal deficient set has at most 6 limbs).
 MAX_SET = 6
+#: Named configurations (the file's first that close) near which generic configurations are sampled: a file
+#: may name thousands (a recorded trajectory), and the generic ranks need a few samples, not one per name.
+MAX_NAMED = 8
 
 
 def generic_twist_ranks(mech: Mechanism, samples: int = 3) -> tuple[int, ...]:
@@ -79,7 +82,7 @@ def stacked_rank(blocks: list[Array], rtol: float) -> int:
 
 
 def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Array]:
-    """Random closed configurations near each named configuration (cached per mechanism).
+    """Random closed configurations near the first ``MAX_NAMED`` named configurations that close (cached per mechanism).
 
     Joints perturbed by ``N(0, 0.05)`` [rad, or L x 0.05 m for prismatic
     joints] and closed again by :func:`pinmob.assembly.assemble.assemble_joints`.
@@ -92,14 +95,18 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
         rng = np.random.default_rng(seed)
         model = mech.model
         unit = rate_scale(mech)  # steps of 0.05 L on prismatic joints, 0.05 rad on the others
-        closed = []
-        with step(f"closing random configurations of {mech.name} (generic ranks)", len(mech.configurations)) as bar:
+        closed, used = [], 0
+        total = min(MAX_NAMED, len(mech.configurations))
+        with step(f"closing random configurations of {mech.name} (generic ranks)", total) as bar:
             for name in mech.configurations:
-                bar.update()
+                if used == MAX_NAMED:
+                    break
                 try:
                     q0 = closed_configuration(mech, name)
                 except PinmobError:
                     continue
+                used += 1
+                bar.update()
                 for _ in range(samples):
                     q = pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit)
                     try:

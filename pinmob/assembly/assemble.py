@@ -26,6 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.assembly.continuation import continuation, held_coordinates
+from pinmob.assembly.reach import reach_note
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
     Residuals,
@@ -198,7 +199,8 @@ def assemble_pose(
     Raises:
         ConfigurationError: ``mech`` has no platform, or ``pose`` is not finite.
         ClosureError: the solver did not reach ``tol``; the message and the
-            residuals give every limb, closure and the platform pose (``pose``).
+            residuals give every limb, closure and the platform pose (``pose``), and the message
+            the pose coordinates the mechanism does not reach (:func:`~pinmob.assembly.reach.reach_note`).
     """
     if not mech.has_platform:
         raise ConfigurationError(f"{mech.name!r} has no platform frame: a platform pose cannot be assembled")
@@ -233,8 +235,9 @@ def assemble_pose(
         raise ClosureError(
             f"could not assemble {mech.name!r} at platform pose xyz={np.round(pose.translation, 6).tolist()}: "
             f"after {result.iterations} iterations, platform pose residual {res_pose[0]:.2e} m, {res_pose[1]:.2e} rad; "
-            f"closures {format_residuals(closures)}. The pose may be out of reach; try another seed.",
+            f"closures {format_residuals(closures)}.",
             res,
+            note=lambda: reach_note(mech, pose, result.q, tol),
         )
     warn_outside_limits(mech, result.q, "assembly at a platform pose")
     return result.q

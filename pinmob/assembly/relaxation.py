@@ -12,7 +12,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from pinmob.assembly.assemble import Assembly
-from pinmob.assembly.residual import worst_residual
+from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
 from pinmob.assembly.seeds import find_closed
 from pinmob.exceptions import ClosureError, ConfigurationError, choices
 from pinmob.model.closure import ClosureType
@@ -20,8 +20,8 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.progress import step
 
 
-def unclosable(mech: Mechanism, restarts: int = 4, seed: int = 0) -> tuple[str, ...]:
-    """Names of the closures of ``mech.closures`` that cannot be closed even on their own.
+def unclosable(mech: Mechanism, restarts: int = 4, seed: int = 0, tol: float = CLOSURE_TOL) -> tuple[str, ...]:
+    """Names of the closures of ``mech.closures`` that cannot be closed (within ``tol``) even on their own.
 
     Each closure alone (no limb, no other closure) is projected from the
     neutral configuration and ``restarts`` random seeds. A closure that never
@@ -34,7 +34,7 @@ def unclosable(mech: Mechanism, restarts: int = 4, seed: int = 0) -> tuple[str, 
             bar.set_postfix_str(c.name)
             alone = replace(mech, limbs=(), platform="", closures=(c,))
             try:
-                find_closed(alone, restarts=restarts, seed=seed)
+                find_closed(alone, restarts=restarts, seed=seed, tol=tol)
             except ClosureError:
                 out.append(c.name)
             bar.update()
@@ -59,7 +59,7 @@ def relax(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Mechanism:
 
 
 def find_closed_relaxed(
-    mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 0
+    mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 0, tol: float = CLOSURE_TOL
 ) -> tuple[Mechanism, Assembly, tuple[str, ...]]:
     """Close ``mech``, relaxing over-constraining closures to ``3d`` only where it cannot be closed as declared.
 
@@ -67,19 +67,19 @@ def find_closed_relaxed(
     that cannot close on their own (:func:`unclosable`), then, while it still
     fails, the non-3d closure with the largest residual at the best attempt.
     Returns the (possibly relaxed) mechanism, the assembly and the relaxed
-    closure names, so that a report can say exactly what was changed.
+    closure names, so that a report can say exactly what was changed. ``tol``: the closure tolerance.
     """
     try:
-        return mech, find_closed(mech, restarts=restarts, seed=seed), ()
+        return mech, find_closed(mech, restarts=restarts, seed=seed, tol=tol), ()
     except ClosureError:
         pass
-    names = list(unclosable(mech, seed=seed))
+    names = list(unclosable(mech, seed=seed, tol=tol))
     with step(f"relaxing closures of {mech.name} to 3d") as bar:
         while True:
             bar.set_postfix_str(f"relaxed: {', '.join(names) or 'none'}")
             current = relax(mech, names)
             try:
-                return current, find_closed(current, restarts=relax_restarts, seed=seed), tuple(names)
+                return current, find_closed(current, restarts=relax_restarts, seed=seed, tol=tol), tuple(names)
             except ClosureError as exc:
                 left = {c.name for c in current.closures if c.type not in ("3d", "joint")}
                 worst = [(worst_residual({n: r}, mech.length_scale), n) for n, r in exc.residuals.items() if n in left]

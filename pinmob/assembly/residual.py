@@ -17,6 +17,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from pinmob.assembly.closure_miss import format_worst, tolerance_hint
 from pinmob.assembly.solver import ResidualFn
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL, Closure
@@ -258,7 +259,7 @@ def format_residuals(residuals: Residuals) -> str:
 def check_closed(
     mech: Mechanism, q: Array, tol: float = CLOSURE_TOL, what: str = "configuration", data: pin.Data | None = None
 ) -> Residuals:
-    """Raise :class:`ClosureError` unless all limb tips have the platform's pose at q.
+    """Raise :class:`ClosureError` unless every limb tip and closure holds at q (message: :mod:`~.closure_miss`).
 
     Args:
         mech: the mechanism.
@@ -276,10 +277,11 @@ def check_closed(
             res = mechanism_residuals(mech, data)
     else:
         res = mechanism_residuals(mech, data)
-    if not is_within(res, mech.length_scale, tol):
+    length = mech.length_scale
+    if not is_within(res, length, tol):
         raise ClosureError(
-            f"{what} of {mech.name!r} does not close: residuals {format_residuals(res)} "
-            f"(tolerance {tol:g} x L = {tol * mech.length_scale:.2e} m, {tol:g} rad)",
+            f"{what} of {mech.name!r} does not close: residuals {format_worst(res, length, tol)}"
+            f"{tolerance_hint(res, length)}",
             res,
         )
     return res

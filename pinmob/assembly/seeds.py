@@ -33,9 +33,12 @@ def find_closed(
 ) -> Assembly:
     """A closed configuration: projection from q0 (default neutral), then from seeded random restarts.
 
-    Returns the first that closes; its ``method`` says which: ``neutral`` or
-    ``given`` (closed as it is), ``projection from neutral`` (or ``given``), or
-    ``projection from random restart k (seed s)``.
+    Returns the first that closes to the default tolerance (``min(tol, CLOSURE_TOL)``); when none does, the
+    first that closes within ``tol`` (a looser tolerance accepts loops that close only to CAD accuracy; the
+    first, not the smallest residual, so that round-off does not choose among equal misses). Its
+    ``method`` says which: ``neutral`` or
+    ``given`` (closed as it is), ``projection from neutral`` (or ``given``), or ``projection from random
+    restart k (seed s)``.
 
     Raises:
         ClosureError: nothing closed; carries the residuals of the best attempt
@@ -46,7 +49,8 @@ def find_closed(
         raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts}")
     rng = np.random.default_rng(seed)
     best: ClosureError | None = None
-    length = mech.length_scale
+    loose: Assembly | None = None  # the first attempt within tol, not within the default tolerance
+    length, strict = mech.length_scale, min(tol, CLOSURE_TOL)
     with step(f"closing the loops of {mech.name} (restarts)", total=restarts + 1) as bar:
         for k in range(restarts + 1):
             if k == 0:
@@ -55,11 +59,16 @@ def find_closed(
                 q_start, label = random_configuration(mech, rng), f"random restart {k} (seed {seed})"
             try:
                 found = project(mech, q_start, tol=tol, method=f"projection from {label}")
-                return found if found.iterations else replace(found, method=label)
+                found = found if found.iterations else replace(found, method=label)
+                if found.residual <= strict:
+                    return found
+                loose = found if loose is None else loose
             except ClosureError as exc:
                 if best is None or worst_residual(exc.residuals, length) < worst_residual(best.residuals, length):
                     best = exc
             bar.update()
+    if loose is not None:
+        return loose
     assert best is not None  # restarts >= 0: at least one attempt
     raise ClosureError(
         f"no closed configuration of {mech.name!r} found from the neutral configuration and {restarts} random restarts; best: {best}",

@@ -94,7 +94,7 @@ def test_mjcf_keyframe_with_a_cad_gap_analyses_with_the_flag_its_error_names():
         refused = pinmob_cli("analyze", str(path), "--config", "stand", "--json", *extra)
         assert refused.returncode == 2
         flags.append(suggested(refused.stderr))
-        assert "connect0: 1.04e-06 m" in refused.stderr and "connect3" not in refused.stderr
+        assert "equality#0: 1.04e-06 m" in refused.stderr and "equality#3" not in refused.stderr
     assert "4 of 4 above the tolerance 1e-06" in pinmob_cli("analyze", str(path), "--config", "stand").stderr
     assert flags[0] == flags[1]
     done = pinmob_cli("analyze", str(path), "--config", "stand", "--json", *flags[0])

@@ -27,6 +27,9 @@ DATA = Path(__file__).parent / "data"
 #: file (under tests/data) -> MuJoCo's (nv, nu, mechanism DoF, motions left with the actuators and the floating
 #: bases pinmob holds held), at pinmob's analysed configuration (``mujoco_truth`` below).
 MUJOCO: dict[str, tuple[int, int, int, int]] = {
+    # a quadruped of four planar five-bar legs (test_cad_gaps' fixture), at MuJoCo's qpos0, which closes: 4 foot
+    # connects of 3 rows, 1 redundant each (planar legs); 8 hip motors and the held torso lock every motion
+    "cad_gaps/legged/robot.xml": (22, 8, 14, 0),
     "formats/delta/delta.xml": (24, 3, 9, 6),
     "formats/fivebar/fivebar.xml": (4, 2, 2, 0),
     "formats/fourbar/fourbar.xml": (3, 1, 1, 0),

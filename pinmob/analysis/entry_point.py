@@ -31,12 +31,12 @@ def found_configuration(
         except ClosureError as exc:
             bad = unclosable(mech)
             hint = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
-            relaxable = [c.name for c in mech.closures if c.type not in ("3d", "joint")]
+            relaxable = [c.name for c in mech.closures if c.type != "3d" and not c.is_coupling]
             advice = (
                 "Rerun with --relax (Python: relax=True) to turn the over-constraining closures into 3d (ball) "
                 "closures. "
                 if relaxable
-                else "Relaxing cannot help (every closure is a point or joint coupling already). "
+                else "Relaxing cannot help (every closure is a point or a coupling already). "
             )
             raise ClosureError(
                 f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random "

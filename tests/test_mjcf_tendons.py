@@ -163,3 +163,23 @@ def test_finite_analysis_refuses_a_tendon_coupling_in_one_line(capsys):
     assert main(["analyze", str(DATA / "gripper.xml"), "--finite"]) == 2
     errors = [line for line in capsys.readouterr().err.splitlines() if line.startswith("pinmob: error:")]
     assert len(errors) == 1 and "tendon coupling 'r_tip_follows'" in errors[0]
+
+
+def test_a_narrow_tendon_limit_is_no_coupling(tmp_path):
+    """A fixed tendon with a narrow ``limited`` range (how some hands couple a finger's last two joints) is a
+    one-sided constraint in MuJoCo, absent from its equality rows: no closure, and the warning says so before
+    the file is refused for having no loop."""
+    path = tmp_path / "finger.xml"
+    path.write_text(
+        '<mujoco><worldbody><body name="a"><joint name="j1" axis="0 1 0"/><geom size="0.01"/>'
+        '<body name="b" pos="0.05 0 0"><joint name="j0" axis="0 1 0"/><geom size="0.01"/></body></body></worldbody>'
+        '<tendon><fixed name="c" limited="true" range="-0.001 0.001"><joint joint="j1" coef="1"/>'
+        '<joint joint="j0" coef="-1"/></fixed></tendon></mujoco>'
+    )
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    assert d.nefc == 0  # MuJoCo: no constraint row at qpos0 (the length is inside the range)
+    with pytest.warns(UserWarning, match=r"left out: tendon limits \(c \[-0.001, 0.001\]"):
+        with pytest.raises(pinmob.MechanismFileError, match="no loop to analyse"):
+            pinmob.load(path)

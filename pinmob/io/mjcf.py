@@ -200,11 +200,11 @@ def load_mjcf(path: str | Path) -> Mechanism:
             if m.eq_active0[e]:
                 label = unique(name_of(m, "equality", e) or f"{kinds[e]}{e}", taken)
                 closures.append(equality_closure(m, tree, e, label, kinematics))
-        if not closures:
-            raise file_error(path, "no active <connect>, <weld>, <joint> or <tendon> equality: no loop to analyse")
         joints, tendons, adhesion = read_actuators(m, tree, kinematics)
         if note := left_out(m, adhesion):
             warnings.warn(f"{path.name}: {note}", stacklevel=2)
+        if not closures:
+            raise file_error(path, "no active <connect>, <weld>, <joint> or <tendon> equality: no loop to analyse")
         mech = Mechanism.from_model(
             tree.model,
             [],

@@ -257,8 +257,8 @@ def left_out(m: Any, adhesion: list[str]) -> str:
             f"{tendon_name(m, t)} [{m.tendon_range[t, 0]:.4g}, {m.tendon_range[t, 1]:.4g}]" for t in limited
         )
         parts.append(
-            f"tendon limits ({ranges}: MuJoCo's one-sided constraints at the range's ends, not couplings, even "
-            "narrow; an <equality tendon> is one)"
+            f"tendon limits ({ranges}: one-sided constraints in MuJoCo, active only at an end of the range, so not "
+            "couplings however narrow; an <equality tendon> is one)"
         )
     if adhesion:
         parts.append(f"actuator(s) {', '.join(adhesion)} on bodies (adhesion, through contacts)")

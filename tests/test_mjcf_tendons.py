@@ -10,6 +10,7 @@ written for these tests; the counts by hand are in :data:`HAND`.
 from __future__ import annotations
 
 import pickle
+import re
 import warnings
 from pathlib import Path
 from typing import Any
@@ -183,3 +184,42 @@ def test_a_narrow_tendon_limit_is_no_coupling(tmp_path):
     with pytest.warns(UserWarning, match=r"left out: tendon limits \(c \[-0.001, 0.001\]"):
         with pytest.raises(pinmob.MechanismFileError, match="no loop to analyse"):
             pinmob.load(path)
+
+
+def _scaled(text: str, k: float) -> str:
+    """The MJCF text with every length (``pos``, ``fromto``, ``size``, ``anchor``, ``cranklength``) times k."""
+
+    def lengths(match: re.Match[str]) -> str:
+        return f'{match.group(1)}="{" ".join(repr(float(v) * k) for v in match.group(2).split())}"'
+
+    return re.sub(r'\b(pos|fromto|size|anchor|cranklength)="([^"]*)"', lengths, text)
+
+
+@pytest.mark.parametrize("name", sorted(HAND))
+def test_answers_do_not_depend_on_the_unit_of_length(tmp_path, name):
+    """The same fixtures in millimetres and in kilometres give the same counts (a spatial tendon's row is a
+    length per rate, divided by L like every length; a fixed tendon over hinges couples angles)."""
+    counts = set()
+    for k in (1.0, 1e3, 1e-3):
+        path = tmp_path / f"{k}_{name}"
+        path.write_text(_scaled((DATA / name).read_text(), k))
+        doc = pinmob.analyze(_load(path), "reference").to_dict()
+        counts.add((doc["mechanism_dof"], doc["redundant_constraints"], doc["actuation"]["locked_dof"]))
+    dof, redundant, _, locked = HAND[name]
+    assert counts == {(dof, redundant, locked)}
+
+
+@pytest.mark.parametrize("name", ["cable_hand.xml", "gripper.xml"])
+def test_answers_do_not_depend_on_where_the_mechanism_stands(tmp_path, name):
+    """The fixture moved 10 m away and turned (its bodies inside one moved body) gives the same counts."""
+    text = (DATA / name).read_text()
+    moved = text.replace("<worldbody>", '<worldbody><body name="stand" pos="10 -3 2" euler="0.3 -0.2 0.5">', 1)
+    path = tmp_path / name
+    path.write_text(moved.replace("</worldbody>", "</body></worldbody>", 1))
+    doc = pinmob.analyze(_load(path), "reference").to_dict()
+    dof, redundant, _, locked = HAND[name]
+    assert (doc["mechanism_dof"], doc["redundant_constraints"], doc["actuation"]["locked_dof"]) == (
+        dof,
+        redundant,
+        locked,
+    )

@@ -173,10 +173,13 @@ ERRORS = {
     "xml syntax": ("model.xml", "<mujoco><worldbody>\n", "MuJoCo cannot compile it: XML parse error"),
     "equality kind": (
         "model.xml",
-        MJCF.replace("</equality>", '  <tendon tendon1="t"/>\n  </equality>').replace(
-            "<equality>", '<tendon><fixed name="t"><joint joint="L_crank" coef="1"/></fixed></tendon>\n  <equality>'
+        MJCF.replace("</equality>", '  <flex flex="f"/>\n  </equality>').replace(
+            "</worldbody>",
+            '<body name="fa"><freejoint/><geom size="0.01"/></body><body name="fb" pos="1 0 0"><freejoint/>'
+            '<geom size="0.01"/></body></worldbody><deformable><flex name="f" dim="1" body="fa fb" '
+            'vertex="0 0 0 0 0 0" element="0 1"/></deformable>',
         ),
-        "<equality> kind(s) <tendon> are not loop closures pinmob reads; valid: <connect>, <weld>, <joint>",
+        "<equality> kind(s) <flex> are not loop closures pinmob reads; valid: <connect>, <weld>, <joint>, <tendon>",
     ),
     "missing include": (
         "model.xml",

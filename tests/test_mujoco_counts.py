@@ -35,6 +35,12 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "formats/fourbar/fourbar.xml": (3, 1, 1, 0),
     "fourbar_connect.xml": (3, 1, 1, 0),
     "fourbar_weld.xml": (4, 1, 1, 0),
+    # test_mjcf_tendons' fixtures: a cable hand (spatial tendons over sites and pulleys, a site actuator, a spatial
+    # tendon equality), a gripper whose four-bar fingers are coupled by tendon equalities, and a slider-crank, a
+    # ball-joint motor, a free puck pushed at its edge and an adhesion actuator (on a body: not held by either)
+    "tendons/cable_hand.xml": (9, 4, 5, 1),
+    "tendons/gripper.xml": (8, 1, 1, 0),
+    "tendons/transmissions.xml": (12, 4, 7, 4),
     # pinmob's own names fixture: a pinned free base (held), a parallelogram, a coupled follower, a free hinge
     "unnamed_parts.xml": (11, 0, 5, 2),
     # Cassie (menagerie, with its 10 motors; meshes not copied): 22 DoF as Pinocchio's copy; with the pelvis and
@@ -149,5 +155,7 @@ def test_counts_agree_with_mujoco(name):
     nv, nu, dof, left, gap = mujoco_truth(path, doc["joint_values"], act["base_held"])
     assert gap < 1e-9  # pinmob's configuration closes MuJoCo's own constraints
     assert (nv, nu, dof, left) == MUJOCO[name]
-    assert len(act["actuated"]) + len(act["actuated_tendons"]) == nu
+    m = mujoco_at(path, doc["joint_values"])[0]
+    on_bodies = int(np.count_nonzero(m.actuator_trntype[: m.nu] == mujoco.mjtTrn.mjTRN_BODY))  # adhesion: contacts
+    assert len(act["actuated"]) + len(act["actuated_tendons"]) == nu - on_bodies
     assert (doc["mechanism_dof"], act["locked_dof"]) == (dof, left)

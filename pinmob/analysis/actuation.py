@@ -8,8 +8,9 @@ frame, no joint centre and no closure point
 
 A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
 pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
-(:func:`held_indices`), and the verdict says so. An actuator on a fixed tendon (MJCF) holds its
-tendon's combination of joint rates (:func:`~pinmob.model.tendon.tendon_rows`), counted with the joints.
+(:func:`held_indices`), and the verdict says so. An actuator on a tendon, a site or a slider-crank (MJCF)
+holds its moment arms at the configuration (:func:`~pinmob.model.tendon.tendon_rows`; a fixed tendon's
+combination of joint rates), counted with the joints.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
-from pinmob.model.tendon import TendonActuator
+from pinmob.model.tendon import Transmission
 from pinmob.progress import step
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank
@@ -57,8 +58,9 @@ class Actuation:
         rate_singular_values: singular values of the held joints' rates on an orthonormal basis of the
             closed chain's dimensionless motions (``S N``, (held, m)): the matrix whose rank ``rank_a`` is decided
             (:func:`~pinmob.analysis.locking.lock`); its tolerance is ``rtol * max(1, sigma_1)``.
-        tendons: the actuators on fixed tendons, by name, held with the joints
-            (:func:`~pinmob.model.tendon.tendon_rows`).
+        tendons: the actuators on tendons, sites, slider-cranks and ball joints, by name, held with the
+            joints (:func:`~pinmob.model.tendon.tendon_rows`).
+        tendon_kinds: what each of them drives (:attr:`~pinmob.model.tendon.Transmission.kind`).
     """
 
     actuated: tuple[str, ...]
@@ -71,11 +73,13 @@ class Actuation:
     base: tuple[str, ...] = ()
     rate_singular_values: tuple[float, ...] = ()
     tendons: tuple[str, ...] = ()
+    tendon_kinds: tuple[str, ...] = ()
 
     @property
     def count_text(self) -> str:
-        """``3 actuated joint(s)``, with ``and 1 tendon actuator(s)`` when there are."""
-        tendons = f" and {len(self.tendons)} tendon actuator(s)" if self.tendons else ""
+        """``3 actuated joint(s)``, with ``and 1 tendon actuator(s)`` (``site/tendon``...) when there are."""
+        kinds = "/".join(sorted(set(self.tendon_kinds))) or "tendon"
+        tendons = f" and {len(self.tendons)} {kinds} actuator(s)" if self.tendons else ""
         return f"{len(self.actuated)} actuated joint(s){tendons}"
 
     def to_dict(self) -> dict[str, Any]:
@@ -154,7 +158,7 @@ def actuation(
     split: Locked,
     frames: Sequence[str],
     rtol: float,
-    tendons: Sequence[TendonActuator] = (),
+    tendons: Sequence[Transmission] = (),
 ) -> Actuation:
     """The :class:`Actuation` verdict from the locked split of the closed chain's motions (joints and tendons held)."""
     mech = conf.mechanism
@@ -181,6 +185,7 @@ def actuation(
         base,
         tuple(split.singular_values.tolist()),
         tuple(t.name for t in tendons),
+        tuple(t.kind for t in tendons),
     )
 
 

@@ -195,12 +195,13 @@ class MechanismMobility(ReadOnlyArrays):
 
 
 def default_end_frames(mech: Mechanism) -> tuple[str, ...]:
-    """The platform if any; else the bodies at the leaves of the tree that carry no closure frame."""
+    """The platform if any; else the leaf bodies of the tree that carry no closure frame (a coupling's do not count)."""
     if mech.has_platform:
         return (mech.platform,)
     model = mech.model
     has_child = {int(model.parents[j]) for j in range(1, model.njoints)}
-    closing = {model.frames[i].parentJoint for c in mech.all_closures for i in (c.frame_a_id, c.frame_b_id)}
+    loops = (c for c in mech.all_closures if not c.is_coupling)  # a coupled fingertip is still a free end
+    closing = {model.frames[i].parentJoint for c in loops for i in (c.frame_a_id, c.frame_b_id)}
     leaves = [j for j in range(1, model.njoints) if j not in has_child and j not in closing]
     out = []
     for j in leaves:
@@ -274,7 +275,7 @@ def mechanism_mobility(
     dec, null = chain.decision, chain.null
     held = rates_of(null, held_indices(mech, acts))
     if tendons:
-        held = np.vstack([held, tendon_rows(mech.model, tendons, chain.col) @ null])
+        held = np.vstack([held, tendon_rows(mech.model, tendons, conf.q, chain.col) @ null])
     split = lock_motions(conf, null, held, outs, rtol)
     rows = int(chain.k_hat.shape[0])
     top = float(dec.singular_values[0]) if dec.singular_values.size else 0.0

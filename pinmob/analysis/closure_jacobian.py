@@ -191,9 +191,9 @@ def joint_centres(conf: Configuration) -> Array:
 
 
 def closure_points(mech: Mechanism) -> tuple[int, ...]:
-    """The frames (indices) whose origin is a cut joint's centre: frame a of each closure but ``6d`` and ``joint``."""
+    """The frames (indices) whose origin is a cut joint's centre: frame a of each closure but ``6d`` and couplings."""
     return mech.memo(
-        "closure points", lambda: tuple(c.frame_a_id for c in mech.all_closures if c.type not in ("6d", "joint"))
+        "closure points", lambda: tuple(c.frame_a_id for c in mech.all_closures if c.type != "6d" and not c.is_coupling)
     )
 
 

@@ -53,7 +53,7 @@ def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Re
         )
     bad = unclosable(mech, tol=closure_tol)
     found = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
-    relaxable = [c.name for c in mech.closures if c.type not in ("3d", "joint")]
+    relaxable = [c.name for c in mech.closures if c.type != "3d" and not c.is_coupling]
     advice = (
         "Rerun with --relax (Python: relax=True) to turn the over-constraining closures into 3d (ball) closures. "
         if relaxable

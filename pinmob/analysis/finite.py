@@ -45,7 +45,7 @@ class FiniteMobility:
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
-        unheld: actuators on tendons, not held by ``locked`` (it holds joints only).
+        unheld: actuators on tendons, sites and the like, not held by ``locked`` (it holds joints only).
     """
 
     mechanism: str
@@ -162,8 +162,8 @@ class FiniteMobility:
             lines += [f"  note: {n}" for n in lk.notes]
         if self.unheld:
             lines.append(
-                f"actuators held: tendon actuator(s) {', '.join(self.unheld)} not held (this analysis holds joints; "
-                "name the joints to hold with --actuated)"
+                f"actuators held: actuator(s) {', '.join(self.unheld)} (not on a hinge or slide) not held (this "
+                "analysis holds joints; name the joints to hold with --actuated)"
             )
         return "\n".join(lines)
 

@@ -91,10 +91,11 @@ def _cut_screws(conf: Configuration, c: Closure) -> list[Array]:
 
     if c.type is ClosureType.WELD:
         return []
-    if c.type is ClosureType.JOINT:
+    if c.is_coupling:
         raise ConfigurationError(
-            f"the higher-order (finite mobility) analysis cannot treat joint coupling {c.name!r} (a polynomial "
-            "between joint values, not a cut joint); analyse without --finite"
+            f"the higher-order (finite mobility) analysis cannot treat {c.type} coupling {c.name!r} (a polynomial "
+            f"between {'joint values' if c.type is ClosureType.JOINT else 'tendon lengths'}, not a cut joint); "
+            "analyse without --finite"
         )
     if c.type is ClosureType.BALL:
         return [turn(e) for e in np.eye(3)]

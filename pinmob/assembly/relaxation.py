@@ -48,7 +48,7 @@ def relax(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Mechanism:
         if n not in known:
             raise ConfigurationError(f"no closure {n!r} in {mech.name!r}; valid: {choices(known)}")
     closures = tuple(
-        replace(c, type=ClosureType.BALL, axis=None, axis_b=None) if c.name in names and c.type != "joint" else c
+        replace(c, type=ClosureType.BALL, axis=None, axis_b=None) if c.name in names and not c.is_coupling else c
         for c in mech.closures
     )
     return replace(
@@ -81,7 +81,7 @@ def find_closed_relaxed(
             try:
                 return current, find_closed(current, restarts=relax_restarts, seed=seed, tol=tol), tuple(names)
             except ClosureError as exc:
-                left = {c.name for c in current.closures if c.type not in ("3d", "joint")}
+                left = {c.name for c in current.closures if c.type != "3d" and not c.is_coupling}
                 worst = [(worst_residual({n: r}, mech.length_scale), n) for n, r in exc.residuals.items() if n in left]
                 if not worst:
                     raise

@@ -18,6 +18,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint
+from pinmob.assembly.coupling import coupling_error, tendon_error
 from pinmob.assembly.solver import ResidualFn
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL, Closure
@@ -113,6 +114,7 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
       of the relative motion the closure forbids (zero exactly on the allowed
       subgroup, for relative rotations below pi);
     - ``joint``: ``e = (q1 - r1) - sum_k c_k (q2 - r2)^k`` (:func:`coupling_error`);
+    - ``tendon``: ``e = (l1 - r1) - sum_k c_k (l2 - r2)^k`` on tendon lengths (:func:`tendon_error`);
     - ``universal``: the 3d residual and ``u . (R_ab u_b)`` (hinge axes
       perpendicular), whose rate is ``(R_ab u_b x u) . w_rel`` (w_rel the
       relative angular velocity in frame a).
@@ -124,6 +126,8 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     a, b = c.frame_a_id, c.frame_b_id
     if c.type == "joint":
         return coupling_error(model, data, c)
+    if c.type == "tendon":
+        return tendon_error(model, data, c)
     if c.type == "6d":
         e, jac = relative_error(model, data, a, b)
         return e, jac, _WELD_LENGTHS
@@ -150,8 +154,8 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
 
 def closure_value(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Mask]:
     """:func:`closure_error`'s residual and length mask without the Jacobian (the same operations on e)."""
-    if c.type == "joint":
-        return coupling_error(model, data, c)[::2]
+    if c.is_coupling:
+        return (coupling_error if c.type == "joint" else tendon_error)(model, data, c)[::2]
     oma, omb = data.oMf[c.frame_a_id], data.oMf[c.frame_b_id]
     if c.type in ("3d", "universal"):
         e = oma.rotation.T @ (omb.translation - oma.translation)
@@ -164,28 +168,6 @@ def closure_value(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
         return e, _WELD_LENGTHS
     sel, lin = _selection(c)
     return sel @ e, lin
-
-
-def coupling_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
-    """Residual ``(q1 - r1) - P(q2 - r2)`` of a ``joint`` closure (``P(x) = sum_k c_k x^k``), its row and mask.
-
-    The joint values are those of the last kinematics (``data.joints[j].joint_q``); the row has 1 at joint
-    1's velocity and ``-P'(q2 - r2)`` at joint 2's. It is a length when joint 1 slides.
-    """
-    j1 = model.getJointId(c.joints[0])
-    row = np.zeros((1, model.nv))
-    row[0, model.joints[j1].idx_v] = 1.0
-    e = float(data.joints[j1].joint_q[0]) - c.reference[0]
-    poly = np.polynomial.Polynomial(c.polycoef)
-    if len(c.joints) > 1:
-        j2 = model.getJointId(c.joints[1])
-        x = float(data.joints[j2].joint_q[0]) - c.reference[1]
-        e -= float(poly(x))
-        row[0, model.joints[j2].idx_v] -= float(poly.deriv()(x))
-    else:
-        e -= c.polycoef[0]
-    linear = "Prismatic" in model.joints[j1].shortname()
-    return np.array([e]), row, np.array([linear])
 
 
 def closure_residuals(mech: Mechanism, data: pin.Data, closures: tuple[Closure, ...] | None = None) -> Residuals:

@@ -16,12 +16,16 @@ Closures, from the compiled ``eq_data`` (MuJoCo's ``mj_instantiateEquality``):
   ``torquescale="0"`` transmits no couple: a ``3d`` closure at its anchor.
 - ``joint``: a ``joint`` coupling, ``qpos1 - qpos0_1 = sum_k c_k (qpos2 - qpos0_2)^k``
   (``polycoef``; ``qpos1 - qpos0_1 = c_0`` without joint2).
-- ``tendon``, ``flex`` and any other kind are refused (one line naming them); an equality that is
+- ``tendon``: a ``tendon`` coupling, ``l1 - l1_0 = sum_k c_k (l2 - l2_0)^k`` between tendon lengths,
+  fixed or spatial (:mod:`pinmob.io.mjcf_tendons`).
+- ``flex`` and any other kind are refused (one line naming them); an equality that is
   inactive at the start (``active="false"``) is left out, with a warning.
 
-Actuated joints are those of actuators with a joint transmission; an actuator on a fixed tendon (a
-linear combination of joint values) is a :class:`~pinmob.model.tendon.TendonActuator`; one on a
-spatial tendon, a site or a body is named in a warning. Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
+Actuated joints are those of actuators on a hinge or slide (``joint``, ``jointinparent``); every other
+actuator MuJoCo moves is held as its moment arms at the configuration (:mod:`pinmob.io.mjcf_tendons`: a
+fixed tendon's coefficients, MuJoCo's ``actuator_moment`` row for a spatial tendon, a site, a slider-crank
+or a ball joint). One warning names what is left out: actuators on bodies (adhesion) and tendon limits
+(one-sided). Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
 default) when the equalities hold there (MuJoCo's test models close only once simulated: without
 it, the analysis finds a closed configuration) and one per ``<keyframe><key>`` (its ``qpos``). The
 visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf_geometry`), built when first drawn. Objects
@@ -44,16 +48,16 @@ from pinmob.bounds import check_bound
 from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.mjcf_assets import drop_unread_files
 from pinmob.io.mjcf_names import add_frame, check_labels, closure_frames, label, labels
+from pinmob.io.mjcf_tendons import MujocoKinematics, is_length, left_out, read_actuators, tendon_closure
 from pinmob.io.mjcf_tree import Tree, build_tree, qpos_to_q, se3
 from pinmob.io.schema import errors_at, file_error
 from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupling
 from pinmob.model.geometry import Geometry
 from pinmob.model.mechanism import Mechanism
 from pinmob.model.named import NamedConfiguration
-from pinmob.model.tendon import TendonActuator
 
 #: The equality kinds pinmob reads as closures.
-SUPPORTED = ("connect", "weld", "joint")
+SUPPORTED = ("connect", "weld", "joint", "tendon")
 #: MuJoCo's object type of a site (``mjtObj.mjOBJ_SITE``).
 OBJ_SITE = 6
 
@@ -100,9 +104,11 @@ def _frames(m: Any, tree: Tree, e: int, on_site: bool) -> tuple[tuple[int, pin.S
     return out[0], out[1]
 
 
-def equality_closure(m: Any, tree: Tree, e: int, name: str) -> Closure:
+def equality_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKinematics) -> Closure:
     """The :class:`Closure` of equality ``e`` of the compiled model (see the module docstring)."""
     model, kind, data = tree.model, _kind(m, e), np.array(m.eq_data[e], float)
+    if kind == "tendon":
+        return tendon_closure(m, tree, e, name, kinematics)
     if kind == "joint":
         joints = [tree.joint_names[int(j)] for j in (m.eq_obj1id[e], m.eq_obj2id[e]) if j >= 0]
         refs = [float(m.qpos0[m.jnt_qposadr[int(j)]]) for j in (m.eq_obj1id[e], m.eq_obj2id[e]) if j >= 0]
@@ -120,50 +126,11 @@ def equality_closure(m: Any, tree: Tree, e: int, name: str) -> Closure:
     return make_closure(model, name, model.frames[fa].name, model.frames[fb].name, closure_kind)
 
 
-def _actuated(path: Path, m: Any, tree: Tree) -> tuple[list[str], list[TendonActuator]]:
-    """The joints of the actuators with a joint transmission, and the actuators on fixed tendons.
-
-    A joint transmission (``joint`` or ``jointinparent``) actuates its joint; a fixed tendon's length is
-    ``sum_j coef_j qpos_j`` over its joint wraps (``tendon_adr``, ``tendon_num``, ``wrap_objid``,
-    ``wrap_prm``); an actuator on a spatial tendon, a site, a body or a slider-crank is named in a
-    warning and not counted.
-    """
-    import mujoco
-
-    out: list[str] = []
-    tendons: list[TendonActuator] = []
-    others = []
-    for a in range(m.nu):
-        kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
-        name = label(m, "actuator", a)
-        if kind in (mujoco.mjtTrn.mjTRN_JOINT, mujoco.mjtTrn.mjTRN_JOINTINPARENT):  # the joint's own coordinate
-            joint = tree.joint_names[target]
-            if joint not in out:
-                out.append(joint)
-            continue
-        wraps = range(0)
-        if kind == mujoco.mjtTrn.mjTRN_TENDON:
-            wraps = range(int(m.tendon_adr[target]), int(m.tendon_adr[target] + m.tendon_num[target]))
-        if wraps and all(m.wrap_type[w] == mujoco.mjtWrap.mjWRAP_JOINT for w in wraps):
-            joints = tuple(tree.joint_names[int(m.wrap_objid[w])] for w in wraps)
-            tendon = label(m, "tendon", target)
-            tendons.append(TendonActuator(name, tendon, joints, tuple(float(m.wrap_prm[w]) for w in wraps)))
-        else:
-            others.append(name)
-    if others:
-        warnings.warn(
-            f"{path.name}: actuator(s) {', '.join(others)} drive no joint and no fixed tendon (a spatial tendon, a "
-            "site, a body or a slider-crank): not counted (name the actuated joints with --actuated)",
-            stacklevel=3,
-        )
-    return out, tendons
-
-
 def reference_closes(m: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
     """True when MuJoCo's equality residuals (``efc_pos``) at ``qpos0`` are within ``tol`` (lengths / L).
 
     A weld's rotation rows are ``torquescale * sin(angle / 2) * axis``; a joint row is a length when
-    joint1 slides.
+    joint1 slides, a tendon row when tendon1's length is one.
     """
     import mujoco
 
@@ -173,8 +140,9 @@ def reference_closes(m: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
     for e in range(m.neq):
         pos = np.array(d.efc_pos[rows[d.efc_id[rows] == e]])
         kind = _kind(m, e)
-        if kind == "joint":
-            slide = int(m.jnt_type[int(m.eq_obj1id[e])]) == mujoco.mjtJoint.mjJNT_SLIDE
+        if kind in ("joint", "tendon"):
+            obj = int(m.eq_obj1id[e])
+            slide = int(m.jnt_type[obj]) == mujoco.mjtJoint.mjJNT_SLIDE if kind == "joint" else is_length(m, obj)
             worst = np.abs(pos).max(initial=0.0) / (length if slide else 1.0)
         else:
             worst = np.abs(pos[:3]).max(initial=0.0) / length
@@ -240,15 +208,20 @@ def load_mjcf(path: str | Path) -> Mechanism:
         names = ", ".join(label(m, "equality", e) for e in inactive)
         warnings.warn(f"{path.name}: equalities {names} are inactive (active=false): left out", stacklevel=2)
     closures = []
+    kinematics = MujocoKinematics(m, tree.model)
     with errors_at(path):
         equalities = labels(m, "equality", m.neq)
         try:
-            closures += [equality_closure(m, tree, e, equalities[e]) for e in range(m.neq) if m.eq_active0[e]]
+            closures += [
+                equality_closure(m, tree, e, equalities[e], kinematics) for e in range(m.neq) if m.eq_active0[e]
+            ]
         except ValueError as exc:  # a closure's frame name taken (pinmob.io.mjcf_names.add_frame)
             raise file_error(path, str(exc)) from None
+        joints, tendons, adhesion = read_actuators(m, tree, kinematics)
+        if note := left_out(m, adhesion):
+            warnings.warn(f"{path.name}: {note}", stacklevel=2)
         if not closures:
-            raise file_error(path, "no active <connect>, <weld> or <joint> equality: no loop to analyse")
-        joints, tendons = _actuated(path, m, tree)
+            raise file_error(path, "no active <connect>, <weld>, <joint> or <tendon> equality: no loop to analyse")
         mech = Mechanism.from_model(
             tree.model,
             [],

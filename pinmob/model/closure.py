@@ -11,6 +11,7 @@ import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError, choices
 from pinmob.model.joints import frame_id
+from pinmob.model.tendon import Tendon
 from pinmob.screw.algebra import Array
 
 if TYPE_CHECKING:
@@ -27,13 +28,17 @@ class ClosureType(StrEnum):
     CYLINDRICAL = "cylindrical"
     PLANAR = "planar"
     JOINT = "joint"
+    TENDON = "tendon"
 
 
 #: Default closure tolerance: position residual / L and rotation residual [rad].
 CLOSURE_TOL = 1e-6
 
-#: Closure types a mechanism file may declare between two frames (a ``joint`` coupling comes from MJCF).
-CLOSURE_TYPES = tuple(t.value for t in ClosureType if t is not ClosureType.JOINT)
+#: Couplings: closures between coordinates (joint values, tendon lengths), not two frames meeting (from MJCF).
+COUPLINGS = (ClosureType.JOINT, ClosureType.TENDON)
+
+#: Closure types a mechanism file may declare between two frames.
+CLOSURE_TYPES = tuple(t.value for t in ClosureType if t not in COUPLINGS)
 
 
 @dataclass(frozen=True)
@@ -57,6 +62,9 @@ class Closure:
     - ``joint`` (1 row): MuJoCo's ``<equality joint>``, a coupling of two one-degree joints,
       ``q1 - r1 = sum_k c_k (q2 - r2)^k`` (``q1 - r1 = c_0`` without a second joint); its frames
       are the two joints' frames (the world for a missing second joint).
+    - ``tendon`` (1 row): MuJoCo's ``<equality tendon>``, ``l1 - r1 = sum_k c_k (l2 - r2)^k`` between
+      tendon lengths (:class:`~pinmob.model.tendon.Tendon`; ``r`` the lengths at MuJoCo's ``qpos0``); its
+      frames are two of the tendons' own (a joint's or a site's), so that it sits on the mechanism.
 
     Attributes:
         name: closure name.
@@ -67,7 +75,9 @@ class Closure:
         axis_b: (3,) second hinge axis of a universal closure, in frame b.
         joints: the coupled joints (``joint`` closures): ``(joint1,)`` or ``(joint1, joint2)``.
         polycoef: the coupling's polynomial coefficients ``c_0, c_1, ...`` (``joint`` closures).
-        reference: the joints' reference values ``r1, r2`` [rad or m] (``joint`` closures).
+        reference: the joints' reference values ``r1, r2`` [rad or m] (``joint`` closures), the tendons'
+            reference lengths (``tendon`` closures).
+        tendons: the coupled tendons (``tendon`` closures): ``(tendon1,)`` or ``(tendon1, tendon2)``.
     """
 
     name: str
@@ -81,11 +91,17 @@ class Closure:
     joints: tuple[str, ...] = ()
     polycoef: tuple[float, ...] = ()
     reference: tuple[float, ...] = ()
+    tendons: tuple[Tendon, ...] = field(default=(), repr=False)
 
     @property
     def rows(self) -> int:
         """Number of scalar constraints (relative-motion components forbidden)."""
         return CLOSURE_ROWS[self.type]
+
+    @property
+    def is_coupling(self) -> bool:
+        """A ``joint`` or ``tendon`` coupling: a relation between coordinates, no cut joint between its frames."""
+        return self.type in COUPLINGS
 
 
 #: scalar equations of each closure type
@@ -97,12 +113,13 @@ CLOSURE_ROWS = {
     ClosureType.CYLINDRICAL: 4,
     ClosureType.PLANAR: 3,
     ClosureType.JOINT: 1,
+    ClosureType.TENDON: 1,
 }
 
 
 def closure_joints(model: pin.Model, closure: Closure) -> set[int]:
-    """Indices of the joints a closure involves: those supporting either of its frames."""
-    return {
+    """Indices of the joints a closure involves: those supporting either of its frames (and its tendons' joints)."""
+    return {int(j) for t in closure.tendons for j in t.joint_ids(model)} | {
         int(j)
         for f in (closure.frame_a_id, closure.frame_b_id)
         for j in model.supports[model.frames[f].parentJoint]
@@ -245,4 +262,35 @@ def make_coupling(
         joints=tuple(joints),
         polycoef=tuple(float(c) for c in polycoef),
         reference=tuple(float(r) for r in reference),
+    )
+
+
+def make_tendon_coupling(
+    model: pin.Model,
+    name: str,
+    tendons: tuple[Tendon, ...],
+    polycoef: tuple[float, ...],
+    reference: tuple[float, ...],
+    frames: tuple[int, int],
+) -> Closure:
+    """A ``tendon`` closure: ``l1 - r1 = sum_k c_k (l2 - r2)^k`` (``l1 - r1 = c_0`` with one tendon).
+
+    ``frames`` are two frame indices on the tendons (they place the closure on the mechanism).
+
+    Raises:
+        ConfigurationError: no tendon or no finite coefficient.
+    """
+    if not tendons or not polycoef or not np.isfinite(polycoef).all():
+        raise ConfigurationError(f"closure {name!r}: a tendon coupling needs a tendon and finite coefficients")
+    ida, idb = frames
+    return Closure(
+        name,
+        model.frames[ida].name,
+        model.frames[idb].name,
+        ClosureType.TENDON,
+        frame_a_id=ida,
+        frame_b_id=idb,
+        polycoef=tuple(float(c) for c in polycoef),
+        reference=tuple(float(r) for r in reference),
+        tendons=tuple(tendons),
     )

@@ -27,7 +27,7 @@ from pinmob.model.length_scale import characteristic_length, check_length_scale
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.model.names import check_names
-from pinmob.model.tendon import TendonActuator
+from pinmob.model.tendon import Transmission
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
@@ -60,7 +60,7 @@ class Mechanism:
             (see :attr:`all_closures`).
         extra_actuated: actuated joints not attached to a limb (mechanisms
             described by closures only).
-        actuated_tendons: actuators on fixed tendons (MJCF; :class:`~pinmob.model.tendon.TendonActuator`).
+        actuated_tendons: actuators held as their moment arms (MJCF; :class:`~pinmob.model.tendon.Transmission`).
         quaternion_wxyz: joint values give quaternions ``(w, x, y, z)``, MuJoCo's ``qpos`` order (MJCF
             files), instead of Pinocchio's ``(x, y, z, w)``.
     """
@@ -78,7 +78,7 @@ class Mechanism:
     generic_rank: int | None = None
     closures: tuple[Closure, ...] = ()
     extra_actuated: tuple[str, ...] = ()
-    actuated_tendons: tuple[TendonActuator, ...] = ()
+    actuated_tendons: tuple[Transmission, ...] = ()
     quaternion_wxyz: bool = False
 
     # ------------------------------------------------------------------ build

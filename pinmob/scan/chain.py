@@ -105,7 +105,7 @@ def check_actuated(mech: Mechanism) -> tuple[str, ...]:
     """
     if not mech.actuated:
         tendons = [t.name for t in mech.actuated_tendons]
-        why = f" (its actuator(s) {', '.join(tendons)} drive tendons, not joints)" if tendons else ""
+        why = f" (its actuator(s) {', '.join(tendons)} drive tendons or sites, not joints)" if tendons else ""
         raise ConfigurationError(
             f"{mech.name!r} declares no actuated joint{why}, and a joint path interpolates the actuated joints: "
             "name them with --actuated a,b,... (pinmob.model.actuation.with_actuated in Python)"
@@ -149,7 +149,7 @@ def joint_path_ends(
 ) -> tuple[tuple[str, ...], Array, Array, int]:
     """A joint path's actuated joints, closed ends (:func:`path_end`; the end seeded at the start) and generic rank.
 
-    A warning names the tendon actuators: the path moves the actuated joints, not the tendons' lengths.
+    A warning names the actuators on tendons and sites: the path moves the actuated joints, not what they drive.
 
     The generic rank is the platform's generic constraint rank, or for a mechanism without a platform the
     generic closure rank (:func:`generic_closure_rank`).
@@ -159,8 +159,9 @@ def joint_path_ends(
     """
     acts = check_actuated(mech)
     if mech.actuated_tendons:
+        kinds = "/".join(sorted({t.kind for t in mech.actuated_tendons}))
         warnings.warn(
-            f"{mech.name!r}: a joint path interpolates the actuated joints only; tendon actuator(s) "
+            f"{mech.name!r}: a joint path interpolates the actuated joints only; {kinds} actuator(s) "
             f"{', '.join(t.name for t in mech.actuated_tendons)} are not held along it (each sample's verdict holds them)",
             stacklevel=2,
         )

@@ -63,7 +63,7 @@ def prepare(
 ) -> Prepared:
     """Closed q, its analysis and the followed motions (everything that can fail before meshcat).
 
-    With ``finite`` (and a platform, and no joint coupling), each path carries its motion's verdict from
+    With ``finite`` (and a platform, and no joint or tendon coupling), each path carries its motion's verdict from
     :func:`pinmob.analysis.finite.finite_mobility`: a motion that exists only to first order is then
     drawn as such by :func:`pinmob.viewer.scene.build` and the panel's verdict column says so.
 
@@ -91,7 +91,7 @@ def prepare(
                 bar.update()
             else:
                 paths[m.label] = MotionPath(m.label, (conf.q,), (conf.q,), (0.0, 0.0), 0.0)
-    coupled = any(c.type == "joint" for c in mech.closures)  # beyond the finite analysis: no verdicts
+    coupled = any(c.is_coupling for c in mech.closures)  # beyond the finite analysis: no verdicts
     if finite and mech.has_platform and mob.motions and not coupled:
         verdicts = {v.label: v for v in finite_mobility(conf, RTOL, motions=mob.motions).motions}
         for label, path in paths.items():

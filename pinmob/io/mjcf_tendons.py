@@ -1,0 +1,266 @@
+"""MJCF tendons and actuators as MuJoCo moves them: tendon equalities as closures, actuators as held rows.
+
+Tendon equality (``<equality tendon>``, MuJoCo's ``mjEQ_TENDON`` in ``mj_instantiateEquality``), on any
+tendon, fixed or spatial: ``l1 - l1_0 = sum_k polycoef_k (l2 - l2_0)^k`` with ``l`` the tendon's length
+(``ten_length``) and ``l_0`` its length at ``qpos0`` (``tendon_length0``); with one tendon,
+``l1 - l1_0 = polycoef_0``. A fixed tendon's length ``sum_j coef_j qpos_j`` is a
+:class:`~pinmob.model.tendon.FixedTendon`; a spatial one (sites, wrapping geoms, pulleys) a
+:class:`SpatialTendon` whose length and row are MuJoCo's ``ten_length`` and ``ten_J`` at the configuration.
+
+Actuators (MuJoCo's transmissions): one on a hinge or slide (``joint``, ``jointinparent``) actuates its
+joint; one on a fixed tendon is a :class:`~pinmob.model.tendon.TendonActuator`; one on a spatial tendon, a
+site, a slider-crank or a ball or free joint is a :class:`MomentActuator`, held as MuJoCo's moment arms
+at the configuration (its row of ``actuator_moment``). One on a body (adhesion) acts through contacts and
+is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
+only at the range's ends, not equalities: left out. :func:`left_out` says both in one line.
+
+MuJoCo's rows are on its ``qvel``; Pinocchio's on ``v``. They are the same for hinges, slides and ball
+joints (a ball's rate is the angular velocity in the body frame in both); a free joint's linear rate is in
+the world frame in MuJoCo and in the body frame in Pinocchio (``qvel_lin = R v_lin``), so its row is
+turned by ``R^T`` (:meth:`MujocoKinematics.to_v`).
+"""
+
+from __future__ import annotations
+
+import threading
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.io.mjcf_names import label
+from pinmob.io.mjcf_tree import BALL, FREE, SLIDE, Tree, q_to_qpos
+from pinmob.model.closure import Closure, make_tendon_coupling
+from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration
+from pinmob.screw.algebra import Array
+
+
+class MujocoKinematics:
+    """The compiled MuJoCo model asked for tendon lengths, tendon Jacobians and actuator moments at a q.
+
+    Each thread has its own ``MjData`` (made once), recomputed when q changes: ``mj_kinematics``,
+    ``mj_comPos``, ``mj_tendon`` and ``mj_transmission``. Pickles (a Dask worker's copy) with the model.
+    """
+
+    def __init__(self, m: Any, model: pin.Model) -> None:
+        self.m = m
+        self.model = model
+        self._init()
+
+    def _init(self) -> None:
+        m, model = self.m, self.model
+        self._local = threading.local()
+        self._perm = np.zeros(m.nv, int)  # MuJoCo dof -> Pinocchio velocity index
+        self._free: list[tuple[int, int]] = []  # (velocity index, q index of the quaternion) per free joint
+        for j in range(m.njnt):
+            joint = model.joints[j + 1]  # one Pinocchio joint per MuJoCo joint, in MuJoCo's order
+            adr = int(m.jnt_dofadr[j])
+            self._perm[adr : adr + joint.nv] = np.arange(joint.idx_v, joint.idx_v + joint.nv)
+            if int(m.jnt_type[j]) == FREE:
+                self._free.append((joint.idx_v, joint.idx_q + 3))
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"m": self.m, "model": self.model}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.m, self.model = state["m"], state["model"]
+        self._init()
+
+    def at(self, q: Array) -> Any:
+        """This thread's ``MjData`` with the positions, tendons and transmissions of q (Pinocchio's)."""
+        import mujoco
+
+        local = self._local
+        if getattr(local, "data", None) is None:
+            local.data, local.q = mujoco.MjData(self.m), None
+        d = local.data
+        if local.q is None or not np.array_equal(local.q, q):
+            d.qpos[:] = q_to_qpos(self.model, q)
+            for step in (mujoco.mj_kinematics, mujoco.mj_comPos, mujoco.mj_tendon, mujoco.mj_transmission):
+                step(self.m, d)
+            local.q = np.array(q, float)
+        return d
+
+    def to_v(self, row_qvel: Array, q: Array) -> Array:
+        """(nv,) a row on MuJoCo's ``qvel`` as a row on Pinocchio's ``v`` at q (see the module docstring)."""
+        row = np.zeros(self.model.nv)
+        row[self._perm] = row_qvel
+        for v, iq in self._free:
+            rot = pin.Quaternion(np.array(q[iq : iq + 4], float)).normalized().toRotationMatrix()  # (x, y, z, w)
+            row[v : v + 3] = rot.T @ row[v : v + 3]
+        return row
+
+    def sparse_row(self, values: Array, nnz: int, adr: int, colind: Array) -> Array:
+        """(nv,) a dense row on ``qvel`` from MuJoCo's compressed storage."""
+        out = np.zeros(self.m.nv)
+        out[np.asarray(colind[adr : adr + nnz], int)] = values[adr : adr + nnz]
+        return out
+
+
+@dataclass(frozen=True, eq=False)
+class SpatialTendon(Tendon):
+    """A tendon whose length MuJoCo computes (``ten_length``, ``ten_J`` at the configuration).
+
+    Attributes:
+        name: the tendon's name.
+        index: its MuJoCo index.
+        kinematics: the compiled model.
+        joints: indices of the Pinocchio joints that move it (those carrying its sites and geoms).
+    """
+
+    name: str
+    index: int
+    kinematics: MujocoKinematics = field(repr=False)
+    joints: frozenset[int] = frozenset()
+    linear: bool = True
+
+    def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:
+        """MuJoCo's ``ten_length`` and ``ten_J`` row (on Pinocchio's ``v``) at the last kinematics' q."""
+        q = joint_configuration(model, data)
+        kin, t = self.kinematics, self.index
+        d, m = kin.at(q), kin.m
+        row = kin.sparse_row(d.ten_J, int(m.ten_J_rownnz[t]), int(m.ten_J_rowadr[t]), m.ten_J_colind)
+        return float(d.ten_length[t]), kin.to_v(row, q)
+
+    def joint_ids(self, model: pin.Model) -> frozenset[int]:
+        """The joints carrying its sites and geoms, and the joints that support them."""
+        return self.joints
+
+
+@dataclass(frozen=True, eq=False)
+class MomentActuator(Transmission):
+    """An actuator held as MuJoCo's moment arms at the configuration (its ``actuator_moment`` row).
+
+    Attributes:
+        name: the actuator's name.
+        kind: what it drives: ``tendon``, ``site``, ``slider-crank`` or ``ball joint`` (a free joint too).
+        index: its MuJoCo index.
+        kinematics: the compiled model.
+    """
+
+    name: str
+    kind: str
+    index: int
+    kinematics: MujocoKinematics = field(repr=False)
+
+    def rate_row(self, model: pin.Model, q: Array) -> Array:
+        """(nv,) MuJoCo's ``actuator_moment`` row at q, on Pinocchio's ``v``."""
+        kin, a = self.kinematics, self.index
+        d = kin.at(np.asarray(q, float))
+        row = kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind)
+        return kin.to_v(row, q)
+
+
+def _wraps(m: Any, t: int) -> range:
+    return range(int(m.tendon_adr[t]), int(m.tendon_adr[t] + m.tendon_num[t]))
+
+
+def is_fixed(m: Any, t: int) -> bool:
+    """True for a fixed tendon (every wrap a joint)."""
+    import mujoco
+
+    return all(int(m.wrap_type[w]) == mujoco.mjtWrap.mjWRAP_JOINT for w in _wraps(m, t))
+
+
+def is_length(m: Any, t: int) -> bool:
+    """True when tendon ``t``'s length is in metres: a spatial tendon, or a fixed one over a slide."""
+    return not is_fixed(m, t) or any(int(m.jnt_type[int(m.wrap_objid[w])]) == SLIDE for w in _wraps(m, t))
+
+
+def tendon_name(m: Any, t: int) -> str:
+    """The tendon's name, or ``tendon#<t>`` (:func:`pinmob.io.mjcf_names.label`)."""
+    return label(m, "tendon", t)
+
+
+def tendon_of(m: Any, tree: Tree, t: int, kinematics: MujocoKinematics) -> Tendon:
+    """Tendon ``t`` of the compiled model: a :class:`FixedTendon` or a :class:`SpatialTendon`."""
+    import mujoco
+
+    model, wraps = tree.model, _wraps(m, t)
+    if is_fixed(m, t):
+        names = tuple(tree.joint_names[int(m.wrap_objid[w])] for w in wraps)
+        return FixedTendon(tendon_name(m, t), names, tuple(float(m.wrap_prm[w]) for w in wraps), is_length(m, t))
+    bodies = {
+        int(
+            m.site_bodyid[int(m.wrap_objid[w])]
+            if m.wrap_type[w] == mujoco.mjtWrap.mjWRAP_SITE
+            else m.geom_bodyid[int(m.wrap_objid[w])]
+        )
+        for w in wraps
+        if m.wrap_type[w] in (mujoco.mjtWrap.mjWRAP_SITE, mujoco.mjtWrap.mjWRAP_SPHERE, mujoco.mjtWrap.mjWRAP_CYLINDER)
+    }
+    joints = frozenset(int(j) for b in bodies for j in model.supports[tree.body_joint[b]] if j > 0)
+    return SpatialTendon(tendon_name(m, t), t, kinematics, joints)
+
+
+def tendon_frames(m: Any, tree: Tree, t: int) -> list[int]:
+    """Frame indices on tendon ``t``: its joints' ``JOINT`` frames (fixed) or its sites' frames (spatial)."""
+    import mujoco
+
+    model, out = tree.model, []
+    for w in _wraps(m, t):
+        kind, obj = int(m.wrap_type[w]), int(m.wrap_objid[w])
+        if kind == mujoco.mjtWrap.mjWRAP_JOINT:
+            jid = model.getJointId(tree.joint_names[obj])
+            out += [i for i, f in enumerate(model.frames) if f.parentJoint == jid and f.type == pin.FrameType.JOINT][:1]
+        elif kind == mujoco.mjtWrap.mjWRAP_SITE:
+            out.append(model.getFrameId(tree.site_frame[obj]))
+    return out
+
+
+def tendon_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKinematics) -> Closure:
+    """The ``tendon`` closure of equality ``e`` (``eq_obj1id``, ``eq_obj2id``: tendons; ``eq_data[:5]``: polycoef)."""
+    ids = [int(t) for t in (m.eq_obj1id[e], m.eq_obj2id[e]) if t >= 0]
+    tendons = tuple(tendon_of(m, tree, t, kinematics) for t in ids)
+    frames = tendon_frames(m, tree, ids[0]) + [f for t in ids[1:] for f in tendon_frames(m, tree, t)]
+    frames = frames or [0]
+    reference = tuple(float(m.tendon_length0[t]) for t in ids)
+    return make_tendon_coupling(tree.model, name, tendons, tuple(m.eq_data[e, :5]), reference, (frames[0], frames[-1]))
+
+
+def read_actuators(m: Any, tree: Tree, kinematics: MujocoKinematics) -> tuple[list[str], list[Transmission], list[str]]:
+    """The actuated joints, the other held actuators and the names of the ones left out (see the module docstring)."""
+    import mujoco
+
+    trn = mujoco.mjtTrn
+    joints: list[str] = []
+    held: list[Transmission] = []
+    adhesion: list[str] = []
+    for a in range(m.nu):
+        kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
+        name = label(m, "actuator", a)
+        if kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[target]) not in (FREE, BALL):
+            if tree.joint_names[target] not in joints:  # a hinge's or slide's own coordinate
+                joints.append(tree.joint_names[target])
+        elif kind == trn.mjTRN_TENDON and is_fixed(m, target):
+            wraps = _wraps(m, target)
+            coef = tuple(float(m.wrap_prm[w]) for w in wraps)
+            names = tuple(tree.joint_names[int(m.wrap_objid[w])] for w in wraps)
+            held.append(TendonActuator(name, tendon_name(m, target), names, coef))
+        elif kind == trn.mjTRN_BODY:
+            adhesion.append(name)
+        else:
+            what = {trn.mjTRN_TENDON: "tendon", trn.mjTRN_SITE: "site", trn.mjTRN_SLIDERCRANK: "slider-crank"}
+            held.append(MomentActuator(name, what.get(kind, "ball joint"), a, kinematics))
+    return joints, held, adhesion
+
+
+def left_out(m: Any, adhesion: list[str]) -> str:
+    """What MuJoCo constrains or drives that pinmob leaves out, in one sentence (``""`` when nothing).
+
+    Tendon limits (each with its range; MuJoCo refuses an empty one) and actuators on bodies (adhesion).
+    """
+    parts = []
+    limited = [t for t in range(m.ntendon) if m.tendon_limited[t]]
+    if limited:
+        ranges = ", ".join(
+            f"{tendon_name(m, t)} [{m.tendon_range[t, 0]:.4g}, {m.tendon_range[t, 1]:.4g}]" for t in limited
+        )
+        parts.append(
+            f"tendon limits ({ranges}: one-sided constraints in MuJoCo, active only at an end of the range, so not "
+            "couplings however narrow; an <equality tendon> is one)"
+        )
+    if adhesion:
+        parts.append(f"actuator(s) {', '.join(adhesion)} on bodies (adhesion, through contacts)")
+    return f"left out: {'; '.join(parts)}" if parts else ""

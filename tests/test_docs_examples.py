@@ -4,9 +4,10 @@ A docs block whose first line starts with ``$ pinmob`` is a documented run. Its 
 
 * ```` ```console ```` or ```` ```text ````: run and compared. Its ``$ ...`` lines run in order in one fresh
   folder (a later command may see what an earlier one wrote, e.g. ``--html flat.html`` twice), each compared
-  with the lines after it, exactly as the README's examples (:func:`test_readme.same_line`: a ``...``
-  line stands for any lines, numbers below 1e-6 match each other, timings match any timing; the exit status
-  is 2 when the output shows ``pinmob: error:``, else 0).
+  with the lines after it, exactly as the README's examples (:func:`test_readme.matches`: a ``...`` line
+  stands for any lines, numbers below 1e-6 match each other, timings match any timing, the notes of a
+  verdict that cannot decide match by their words; the exit status is 2 when the output shows ``pinmob:
+  error:``, else 0).
 * ```` ```shell ````: shown, not run. Only for a block that cannot run standalone: one that starts a server
   that keeps running (``show --detach``), needs files no block or snippet of its page makes, writes into the
   repository, or takes too long for the test suite (the prose beside such a block says why). They are listed

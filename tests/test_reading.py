@@ -115,6 +115,27 @@ def test_brief_with_finite_ends_with_the_finite_verdict(capsys):
     assert "finite" not in run(capsys, "analyze", "3-PUU-flat", "--config", "flat", "--brief")
 
 
+def test_brief_says_near_singular_where_the_full_text_does():
+    """The Gough-Stewart turned 89.99 degrees about the vertical, next to Fichter's actuation singularity at 90:
+    no class present, distance ~6e-5 (it falls linearly with the angle to 90 degrees: 6.3e-3 at 89, 6.3e-4 at
+    89.9), inside the near-singular band 1e-3. The full text says so; ``--brief`` said ``singularity: none``."""
+    from pinmob.assembly.assemble import assemble_pose
+
+    mech = pinmob.load("6-UPS")
+    home = pinmob.closed_configuration(mech, "home")
+    near = pin.SE3(pin.rpy.rpyToMatrix(0, 0, np.radians(89.99)), np.array([0, 0, 0.4]))
+    report = pinmob.analyze(mech, assemble_pose(mech, near, home))
+    sing = report.singularity
+    assert sing is not None and sing.classes == () and 1e-5 < sing.distance < 1e-4
+    assert "; near-singular (below 1e-03))" in str(report)
+    assert report.brief().endswith(
+        f"; singularity: none, near-singular (below 1e-03; distance {sing.distance:.3g}, closest: actuation)"
+    )
+    far = pin.SE3(pin.rpy.rpyToMatrix(0, 0, np.radians(60.0)), np.array([0, 0, 0.4]))
+    regular = pinmob.analyze(mech, assemble_pose(mech, far, home))
+    assert "near-singular" not in str(regular) and regular.brief().endswith("; singularity: none")
+
+
 def test_brief_and_json_exclude_each_other(capsys):
     with pytest.raises(SystemExit) as exc:
         main(["analyze", "3-PUU", "--brief", "--json"])

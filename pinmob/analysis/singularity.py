@@ -117,12 +117,22 @@ class Singularity(ReadOnlyArrays):
     @property
     def near_singular(self) -> bool:
         """No class present, but ``distance < NEAR_FACTOR * rtol``."""
-        return not self.classes and self.distance < NEAR_FACTOR * self.rtol
+        return not self.classes and self.distance < self.near_band
 
     @property
     def closest(self) -> str:
         """The question with the smallest distance (``constraint``, ``actuation`` or ``limb <name>``)."""
         return min(self.distances, key=self.distances.__getitem__) if self.distances else ""
+
+    @property
+    def closest_all(self) -> tuple[str, ...]:
+        """Every question whose distance ties the smallest (within round-off): the text's ``closest:``."""
+        return tuple(k for k, v in self.distances.items() if v <= self.distance * (1 + 1e-6) + 1e-15)
+
+    @property
+    def near_band(self) -> float:
+        """``NEAR_FACTOR * rtol``: below this distance, a configuration with no class present is near-singular."""
+        return NEAR_FACTOR * self.rtol
 
     @property
     def rank_gap(self) -> dict[str, int]:
@@ -155,8 +165,8 @@ class Singularity(ReadOnlyArrays):
 
     def __str__(self) -> str:
         """The singularity section of the text report."""
-        near = f"; near-singular (below {NEAR_FACTOR * self.rtol:.0e})" if self.near_singular else ""
-        ties = [k for k, v in self.distances.items() if v <= self.distance * (1 + 1e-6) + 1e-15]
+        near = f"; near-singular (below {self.near_band:.0e})" if self.near_singular else ""
+        ties = self.closest_all
         closest = f", closest: {', '.join(ties)}" if ties else ""
         lines = [
             f"singularity: {self.label} (distance {self.distance:.3g}{closest}; 0 = singular, 1 = best conditioned{near})"

@@ -42,6 +42,9 @@ def summary_line(
 ) -> str:
     """One line: the platform's DoF, motion type and motions (world axis points) and the singularity class.
 
+    A configuration with no class present but within the near-singular band says so as the full text does:
+    ``singularity: none, near-singular (below 1e-03; distance 6.32e-05, closest: actuation)``.
+
     Without a platform frame (``mobility`` None): the mechanism DoF and each output frame's DoF and
     motion type, from ``chain``.
     """
@@ -58,4 +61,7 @@ def summary_line(
     text = f"{where}: {mobility.dof} DoF, {mobility.motion_type}" + (f" ({motions})" if motions else "")
     if singularity is not None:
         text += f"; singularity: {singularity.label}"
+        if singularity.near_singular:  # as the full text: none present, but within the band
+            closest = ", ".join(singularity.closest_all)
+            text += f", near-singular (below {singularity.near_band:.0e}; distance {singularity.distance:.3g}, closest: {closest})"
     return text

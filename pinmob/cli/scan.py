@@ -107,7 +107,7 @@ def _run(args: argparse.Namespace) -> int:
         if why:
             print(f"first sample not assembled: {why}")
         for row in listed:
-            print("  " + (_format_row(row) if spec.platform else _format_chain_row(row)))
+            print("  " + (_format_row(row, rtol) if spec.platform else _format_chain_row(row, rtol)))
         if total > len(listed):
             print(f"  ... ({total - len(listed)} more in the output files)")
         for label, path in (("csv", args.csv), ("json", args.json_out)):
@@ -153,7 +153,12 @@ def _count_key(row: dict[str, Any]) -> str:
     return f"mechanism DoF {row['dof']}, closure rank {row['closure_rank']}, {row['idle_dof']} idle, {verdict}"
 
 
-def _format_chain_row(row: dict[str, Any]) -> str:
+def _distance(distance: float, rtol: float) -> str:
+    """``distance 3.52e-04``, or ``distance <= 1e-06`` at a singularity (at most ``rtol``: the figure is round-off)."""
+    return f"distance <= {rtol:g}" if distance <= rtol else f"distance {distance:.2e}"
+
+
+def _format_chain_row(row: dict[str, Any], rtol: float) -> str:
     """One listed row of a closed chain's joint path: where, class, DoF, motions left with the actuators locked."""
     where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
     names = [k for k in row if k.startswith("q_")]
@@ -164,10 +169,10 @@ def _format_chain_row(row: dict[str, Any]) -> str:
         dof = row["finite_mechanism_dof"]
         left += f", finite mechanism DoF {'cannot decide' if dof is None else dof}"
     return (f"{where} (s = {round(row['s'], 12):.6g}; {values}): {label}; mechanism DoF {row['dof']}, "
-            f"closure rank {row['closure_rank']}{left}, distance {row['distance']:.2e}")  # fmt: skip
+            f"closure rank {row['closure_rank']}{left}, {_distance(row['distance'], rtol)}")  # fmt: skip
 
 
-def _format_row(row: dict[str, Any]) -> str:
+def _format_row(row: dict[str, Any], rtol: float) -> str:
     """One listed row of ``pinmob scan``: where, class, limbs, uncontrolled motions, DoF, distance."""
     params = ", ".join(f"{k} = {round(row[k], 12):.6g}" for k in row if k == "s" or k.startswith("grid_"))
     where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
@@ -179,4 +184,4 @@ def _format_row(row: dict[str, Any]) -> str:
     if "finite_dof" in row:  # --finite
         fin = f" (finite {'cannot decide' if row['finite_dof'] is None else row['finite_dof']})"
     return (f"{where} ({params}): {label}{limbs}{dep}{unc}; {row['dof']} DoF {row['motion_type']}{fin}, "
-            f"distance {row['distance']:.2e}")  # fmt: skip
+            f"{_distance(row['distance'], rtol)}")  # fmt: skip

@@ -42,7 +42,7 @@ def closing_pairs(path: Path, model: pin.Model) -> dict[str, tuple[str, str]]:
             path,
             "a plain URDF has no loop closure: add onshape-to-robot's closing frames (links closing_<name>_1 and "
             "closing_<name>_2 on the two bodies each loop joins), or describe the loops in a pinmob TOML file or an "
-            "Extended URDF YAML sidecar beside it (see docs/formats.md)",
+            "Extended URDF YAML sidecar beside it (see docs/closed-chains.md#formats)",
         )
     lonely = sorted(f"closing_{n}_{'2' if '1' in s else '1'}" for n, s in sides.items() if len(s) < 2)
     if lonely:

@@ -17,8 +17,23 @@ import pytest
 from test_docs_examples import RUNS, run_line
 from test_readme import EXAMPLES, ROOT, TIMING, environment, matches
 
-#: kernels an x86-64 OpenBLAS can be forced to (OpenBLAS reports ``Prescott`` as ``Katmai``)
-KERNELS = ("Haswell", "Sandybridge", "Prescott")
+
+def cpu_flags() -> set[str]:
+    """The CPU's feature flags (``/proc/cpuinfo``; empty where there is none)."""
+    try:
+        text = open("/proc/cpuinfo").read()
+    except OSError:
+        return set()
+    return {f for line in text.splitlines() if line.startswith("flags") for f in line.split(":", 1)[1].split()}
+
+
+#: kernels an x86-64 OpenBLAS can be forced to, those this CPU runs (a kernel whose instructions the CPU lacks
+#: would stop the process: Haswell needs AVX2 and FMA, Sandybridge AVX); OpenBLAS reports ``Prescott`` as ``Katmai``
+KERNELS = tuple(
+    kernel
+    for kernel, needs in (("Haswell", {"avx2", "fma"}), ("Sandybridge", {"avx"}), ("Prescott", {"pni"}))
+    if needs <= cpu_flags()  # pni: SSE3
+)
 #: runs the CLI, then prints the OpenBLAS kernels that process used
 CLI_REPORTING_KERNELS = """
 import sys, threadpoolctl

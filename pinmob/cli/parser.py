@@ -167,13 +167,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--samples", "-n", type=int, default=None, help="samples along a path (default 21)")
     p.add_argument(
         "--grid",
-        nargs=2,
+        nargs="+",
         metavar="COORD:LO:HI:N",
-        help="scan a workspace slice: two pose coordinates (x, y, z [m], roll, pitch, yaw [rad]) instead of a path",
+        help="scan a grid instead of a path: one to three coordinates, each a platform pose coordinate (x, y, z [m], "
+        "roll, pitch, yaw [rad]) or a joint (actuated or not) [rad or m]. The others: of the pose coordinates "
+        "(a joint grid: of the actuated joints) those the mechanism can still move at --at with the gridded ones "
+        "held are held at their --at values; the rest follow the mechanism (a lower-mobility platform's "
+        "parasitic coordinates, every passive joint): see docs/singularities.md",
     )
     p.add_argument(
         "--at",
-        help="grid: configuration whose platform pose fixes the other coordinates (default: first configuration)",
+        help="grid: configuration (or pose x,y,z,roll,pitch,yaw) whose coordinates the held ones keep, and where "
+        "the grid's walk starts (default: first configuration)",
     )
     p.add_argument("--csv", help="write the samples to this CSV file")
     p.add_argument("--json", dest="json_out", help="write the samples to this JSON file")

@@ -48,7 +48,16 @@ def _run(args: argparse.Namespace) -> int:
         if not names and not args.at:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
         spec = grid_spec(mech, args.at or names[0], axes, rtol)
-        what = f"grid {args.grid[0]} x {args.grid[1]} at {args.at or names[0]!r}"
+        if args.plot and len(spec.axes) != 2:
+            raise ConfigurationError(
+                f"--plot maps a grid over two coordinates; this grid has {len(spec.axes)}: drop --plot or grid two"
+            )
+        what = f"grid {' x '.join(args.grid)} at {args.at or names[0]!r}"
+        if spec.following:
+            held = ", ".join(c for c, _ in spec.held) or "none"
+            what += f"; held: {held}; following the mechanism: {', '.join(spec.following)}"
+        elif spec.held and not spec.pose_grid:
+            what += f"; held: {', '.join(c for c, _ in spec.held)}"
     else:
         if args.joints or not mech.has_platform:
             check_actuated(mech)
@@ -90,7 +99,7 @@ def _run(args: argparse.Namespace) -> int:
                 if kind != "regular" and len(listed) < 20:
                     listed.append(row)
                 if not row["reachable"] and row.get("reason") and not why:
-                    why = f"#{row['index']} (s = {round(row['s'], 12):.6g}): {row['reason']}"
+                    why = f"#{row['index']} ({_params(row)}): {row['reason']}"
         elapsed = time.perf_counter() - t0
         n = spec.size
         print(f"{mech.name}: {what}")
@@ -107,7 +116,7 @@ def _run(args: argparse.Namespace) -> int:
         if why:
             print(f"first sample not assembled: {why}")
         for row in listed:
-            print("  " + (_format_row(row) if spec.platform else _format_chain_row(row)))
+            print("  " + (_format_row(row, mech.actuated) if spec.platform else _format_chain_row(row)))
         if total > len(listed):
             print(f"  ... ({total - len(listed)} more in the output files)")
         for label, path in (("csv", args.csv), ("json", args.json_out)):
@@ -167,10 +176,21 @@ def _format_chain_row(row: dict[str, Any]) -> str:
             f"closure rank {row['closure_rank']}{left}, distance {row['distance']:.2e}")  # fmt: skip
 
 
-def _format_row(row: dict[str, Any]) -> str:
-    """One listed row of ``pinmob scan``: where, class, limbs, uncontrolled motions, DoF, distance."""
-    params = ", ".join(f"{k} = {round(row[k], 12):.6g}" for k in row if k == "s" or k.startswith("grid_"))
+def _params(row: dict[str, Any]) -> str:
+    """Where a row is: ``s = 0.5``, or ``x = 0.01, y = -0.02`` (the grid's coordinates)."""
+    return ", ".join(f"{k} = {round(row[k], 12):.6g}" for k in row if k == "s" or k.startswith("grid_"))
+
+
+def _format_row(row: dict[str, Any], actuated: tuple[str, ...] = ()) -> str:
+    """One listed row of ``pinmob scan``: where, class, limbs, uncontrolled motions, DoF, distance.
+
+    A refined point also gives its actuated joints' values (those not on the grid).
+    """
+    params = _params(row)
     where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
+    joints = [n for n in actuated if f"q_{n}" in row and n not in {k[5:] for k in row if k.startswith("grid_")}]
+    if row["refined"] and joints:
+        params += "; " + ", ".join(f"{n} = {row['q_' + n]:.6g}" for n in joints)
     label = row["singularity"] if row["singularity"] != "none" else f"near-singular ({row['closest']})"
     limbs = f", limbs {row['singular_limbs']}" if row["singular_limbs"] else ""
     dep = f", dependent limbs {row['dependent_limbs']}" if row["dependent_limbs"] else ""

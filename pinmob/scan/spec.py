@@ -6,9 +6,12 @@
   ends are configuration names or joint values ``name=value,...``. A mechanism
   without a platform is scanned this way only, each row the whole closed
   chain's answer (:mod:`pinmob.scan.chain`);
-* ``grid``: two platform pose coordinates (x, y, z [m], roll, pitch, yaw [rad])
-  on a grid, the other four fixed at a reference pose. Its *scan lines* are
-  the rows (the first coordinate fixed, the second varying).
+* ``grid``: one to three coordinates on a grid, each a platform pose coordinate
+  (x, y, z [m], roll, pitch, yaw [rad]) or a one-degree joint [rad or m]; of the
+  other coordinates, those that can still move at the reference configuration
+  (``--at``) are held there and the rest follow the mechanism
+  (:mod:`pinmob.scan.coordinates`). Its *scan lines* vary the last coordinate,
+  the others fixed (the first varying slowest).
 
 Samples are numbered ``k = 0 .. size - 1`` along the scan lines; a fractional
 ``t`` lies between samples of a line (:meth:`ScanSpec.target`). A line is cut
@@ -33,15 +36,16 @@ from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.partial_pose import POSE_COORDS, pose_from_vector, pose_vector
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import end_values, joint_path_ends, value_joints
+from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_coordinates
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
-POSE_COORDS = ("x", "y", "z", "roll", "pitch", "yaw")
 KINDS = ("pose", "joints", "grid")
 
 #: Samples per chunk of a line, and coarse step (in samples) of the walk that seeds the chunks.
@@ -55,17 +59,6 @@ def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pi
     return pin.SE3(data.oMf[mech.platform_id])
 
 
-def pose_vector(pose: pin.SE3) -> Array:
-    """(6,) ``[x, y, z, roll, pitch, yaw]`` [m, rad] of a pose."""
-    return np.concatenate([pose.translation, pin.rpy.matrixToRpy(pose.rotation)])
-
-
-def pose_from_vector(v: Array) -> pin.SE3:
-    """Pose from ``[x, y, z, roll, pitch, yaw]`` [m, rad]."""
-    v = np.asarray(v, float)
-    return pin.SE3(pin.rpy.rpyToMatrix(v[3:]), v[:3])
-
-
 @dataclass(frozen=True)
 class ScanSpec:
     """What to scan (picklable; see the module docstring).
@@ -77,8 +70,10 @@ class ScanSpec:
             values for ``joints``; unused for ``grid``.
         samples: samples along a path.
         joints: actuated joint names (``joints`` kind).
-        base: (6,) reference pose vector of a grid.
-        axes: two grid coordinates: (index in POSE_COORDS, low, high, count) each.
+        base: (6,) reference pose vector of a grid (the platform's pose at ``--at``).
+        axes: one to three grid coordinates: (name, low, high, count) each (a pose coordinate or a joint).
+        held: a grid's held coordinates and their values at ``--at``: (name, value) each (:mod:`pinmob.scan.coordinates`).
+        start: a grid's gridded coordinates and their values at ``--at`` (where its seeding walk starts).
         rtol: relative tolerance of rank decisions.
         generic_rank: the mechanism's generic constraint rank.
         finite_order: with a value, each row adds the finite DoF at its configuration (the finite-mobility
@@ -86,7 +81,7 @@ class ScanSpec:
         platform: rows about the platform (else about the whole closed chain, :mod:`pinmob.scan.chain`; then
             ``generic_rank`` is the generic closure rank).
         closure_tol: largest closure residual of an assembled sample (position / L, rotation [rad]).
-        values: the joints whose values the rows give (a closed chain's, :func:`pinmob.scan.chain.value_joints`).
+        values: the joints whose values the rows give (:func:`pinmob.scan.chain.value_joints`).
     """
 
     kind: str
@@ -96,7 +91,9 @@ class ScanSpec:
     samples: int = 0
     joints: tuple[str, ...] = ()
     base: Array | None = field(default=None, repr=False)
-    axes: tuple[tuple[int, float, float, int], ...] = ()
+    axes: tuple[tuple[str, float, float, int], ...] = ()
+    held: tuple[tuple[str, float], ...] = ()
+    start: tuple[tuple[str, float], ...] = ()
     rtol: float = RTOL
     generic_rank: int = 0
     finite_order: int | None = None
@@ -106,15 +103,28 @@ class ScanSpec:
 
     @property
     def size(self) -> int:
-        """Number of samples (path samples, or grid rows times columns)."""
+        """Number of samples (path samples, or the product of the grid's counts)."""
         if self.kind == "grid":
-            return self.axes[0][3] * self.axes[1][3]
+            return int(np.prod([a[3] for a in self.axes]))
         return self.samples
 
     @property
     def line_size(self) -> int:
-        """Samples per scan line: the whole path, or one grid row."""
-        return self.axes[1][3] if self.kind == "grid" else self.samples
+        """Samples per scan line: the whole path, or one grid line (the last coordinate varying)."""
+        return self.axes[-1][3] if self.kind == "grid" else self.samples
+
+    @property
+    def pose_grid(self) -> bool:
+        """A grid with a pose coordinate among its coordinates."""
+        return any(a[0] in POSE_COORDS for a in self.axes)
+
+    @property
+    def following(self) -> tuple[str, ...]:
+        """A pose grid's pose coordinates that follow the mechanism (neither gridded nor held; :mod:`pinmob.scan.coordinates`)."""
+        if not self.pose_grid:
+            return ()
+        given = {a[0] for a in self.axes} | {c for c, _ in self.held}
+        return tuple(c for c in POSE_COORDS if c not in given)
 
     def line(self, k: int) -> tuple[int, int]:
         """First and last sample of the scan line holding sample k."""
@@ -122,31 +132,40 @@ class ScanSpec:
         return first, first + self.line_size - 1
 
     def params(self, t: float) -> dict[str, float]:
-        """Scan parameters at sample t (fractional between samples of a line): ``s``, or ``grid_<coordinate>`` (two)."""
+        """Scan parameters at sample t (fractional between samples of a line): ``s``, or ``grid_<coordinate>`` each."""
         if self.kind == "grid":
-            (i, lo_i, hi_i, n_i), (j, lo_j, hi_j, n_j) = self.axes
-            r = int(t // n_j)
-            c = t - r * n_j
-            return {
-                "grid_" + POSE_COORDS[i]: lo_i + (hi_i - lo_i) * r / (n_i - 1) if n_i > 1 else lo_i,
-                "grid_" + POSE_COORDS[j]: lo_j + (hi_j - lo_j) * c / (n_j - 1) if n_j > 1 else lo_j,
-            }
+            n_last = self.axes[-1][3]
+            r = int(t // n_last)
+            lines = np.unravel_index(r, [a[3] for a in self.axes[:-1]]) if len(self.axes) > 1 else ()
+            steps = [*(float(i) for i in lines), t - r * n_last]  # each coordinate's step, the last fractional
+            return {"grid_" + name: lo + (hi - lo) * i / (n - 1) if n > 1 else lo
+                    for (name, lo, hi, n), i in zip(self.axes, steps)}  # fmt: skip
         return {"s": t / (self.samples - 1) if self.samples > 1 else 0.0}
 
     def target(self, t: float) -> tuple[str, Any]:
-        """``("pose", SE3)`` or ``("joints", {name: value})`` at sample t (fractional between samples of a line)."""
+        """``("pose", SE3)``, ``("joints", {name: value})`` or ``("coords", (pose, joints))`` at sample t.
+
+        A grid's target: the gridded and held coordinates (pose coordinates, joint values); a plain pose when
+        all six pose coordinates are given and no joint (the others follow, :mod:`pinmob.scan.coordinates`).
+        """
         p = self.params(t)
         if self.kind == "grid":
-            v = np.array(self.base, float)
-            for name, value in p.items():
-                v[POSE_COORDS.index(name[5:])] = value
-            return "pose", pose_from_vector(v)
+            return self.coordinates_target({name[5:]: value for name, value in p.items()})
         s = p["s"]
         if self.kind == "joints":
             vals = (1 - s) * np.asarray(self.a) + s * np.asarray(self.b)
             return "joints", dict(zip(self.joints, vals.tolist()))
         ma, mb = pin.SE3(np.asarray(self.a)), pin.SE3(np.asarray(self.b))
         return "pose", ma * pin.exp6(s * pin.log6(ma.actInv(mb)))
+
+    def coordinates_target(self, gridded: dict[str, float]) -> tuple[str, Any]:
+        """A grid's target with the gridded coordinates at ``gridded`` and the held ones at their values."""
+        values = dict(self.held) | gridded
+        pose = {c: values[c] for c in POSE_COORDS if c in values}
+        joints = {c: v for c, v in values.items() if c not in POSE_COORDS}
+        if len(pose) == 6 and not joints:
+            return "pose", pose_from_vector(np.array([pose[c] for c in POSE_COORDS]))
+        return "coords", (pose, joints)
 
     def chunks(self) -> list[tuple[int, int]]:
         """(start, stop) sample ranges: runs of at most CHUNK samples of a line."""
@@ -168,20 +187,28 @@ class ScanSpec:
         yield from ((target, None) for target in self.approach())
         n = self.line_size
         cols = sorted({*range(0, n, STRIDE), n - 1})
-        for r in range(self.axes[0][3]):
-            for c in cols if r % 2 == 0 else cols[::-1]:
+        for turn, r in enumerate(self.line_order()):
+            for c in cols if turn % 2 == 0 else cols[::-1]:
                 yield self.target(r * n + c), r * n + c
 
+    def line_order(self) -> list[int]:
+        """A grid's lines in the order the seeding walk visits them: a serpentine over the other coordinates."""
+        counts = [a[3] for a in self.axes[:-1]]
+        if len(counts) < 2:
+            return list(range(counts[0] if counts else 1))
+        return [
+            i * counts[1] + (j if i % 2 == 0 else counts[1] - 1 - j) for i in range(counts[0]) for j in range(counts[1])
+        ]
+
     def approach(self) -> list[tuple[str, Any]]:
-        """Grid: the targets from the reference pose to the first sample, at most two spacings apart."""
-        (i, lo_i, hi_i, n_i), (j, lo_j, hi_j, n_j) = self.axes
-        base = np.array(self.base, float)
-        first = base.copy()
-        first[[i, j]] = lo_i, lo_j
-        spacing = np.array([(hi_i - lo_i) / max(1, n_i - 1), (hi_j - lo_j) / max(1, n_j - 1)])
-        delta = np.abs(np.array([first[i] - base[i], first[j] - base[j]]))
+        """Grid: the targets from the reference to the first sample, at most two spacings apart."""
+        start = {name: value for name, value in self.start}
+        first = {name: lo for name, lo, _, _ in self.axes}
+        spacing = np.array([(hi - lo) / max(1, n - 1) for _, lo, hi, n in self.axes])
+        delta = np.abs(np.array([first[name] - start[name] for name in first]))
         steps = int(np.ceil(np.max(delta / np.where(spacing > 0, 2 * spacing, np.inf), initial=0.0)))
-        return [("pose", pose_from_vector(base + t * (first - base))) for t in np.arange(1, steps) / steps]
+        return [self.coordinates_target({c: start[c] + t * (first[c] - start[c]) for c in first})
+                for t in np.arange(1, steps) / steps]  # fmt: skip
 
 
 def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, float, int]:
@@ -235,33 +262,43 @@ def path_spec(
         va, vb = end_values(mech, acts, start, qa), end_values(mech, acts, end, qb)
         return ScanSpec("joints", qa, va, vb, samples, acts, rtol=rtol, generic_rank=g,
                         platform=mech.has_platform, closure_tol=closure_tol,
-                        values=() if mech.has_platform else value_joints(mech))  # fmt: skip
+                        values=value_joints(mech))  # fmt: skip
     pa, qa = resolve_pose(mech, start)
     pb, qb = resolve_pose(mech, end)
     if qa.size == 0:
         qa = assemble_pose(mech, pa, _nearest_seed(mech, pa))
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g)
+    return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g,
+                    values=value_joints(mech))  # fmt: skip
 
 
 def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]], rtol: float = RTOL) -> ScanSpec:
-    """A grid over two pose coordinates around the pose of ``at`` (a configuration name or a pose)."""
+    """A grid over one to three coordinates (pose coordinates or joints) around ``at`` (a configuration or a pose).
+
+    The coordinates not on the grid are held at their values at ``at`` or follow the mechanism
+    (:func:`pinmob.scan.coordinates.held_coordinates`).
+
+    Raises:
+        ConfigurationError: no platform, an unknown or repeated coordinate (the message lists the valid ones), an
+            empty range, too many samples, or gridded coordinates that cannot vary independently at ``at``.
+    """
     require_platform(mech, "pinmob scan")
-    if len(axes) != 2 or axes[0][0] == axes[1][0]:
-        raise ConfigurationError(f"a grid needs two different coordinates, got {[a[0] for a in axes]}")
+    names = check_coordinates(mech, [a[0] for a in axes])
     out = []
     for name, lo, hi, n in axes:
-        if name not in POSE_COORDS:
-            raise ConfigurationError(f"unknown grid coordinate {name!r}; valid: {choices(POSE_COORDS)}")
         if n < 1 or not (np.isfinite(lo) and np.isfinite(hi)):
             raise ConfigurationError(f"grid axis {name}: need finite bounds and at least 1 sample, got {lo}, {hi}, {n}")
-        out.append((POSE_COORDS.index(name), float(lo), float(hi), int(n)))
-    check_bound("samples", out[0][3] * out[1][3], f"the grid ({out[0][3]} x {out[1][3]})")
+        out.append((name, float(lo), float(hi), int(n)))
+    check_bound("samples", int(np.prod([a[3] for a in out])), f"the grid ({' x '.join(str(a[3]) for a in out)})")
     pose, q = resolve_pose(mech, at)
     if q.size == 0:
         q = assemble_pose(mech, pose, _nearest_seed(mech, pose))
+    held = held_coordinates(mech, q, names, at, rtol)
+    values = coordinate_values(mech, q, names + held)
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g)
+    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g,
+                    held=tuple((c, values[c]) for c in held), start=tuple((c, values[c]) for c in names),
+                    values=value_joints(mech))  # fmt: skip
 
 
 def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> ScanSpec:

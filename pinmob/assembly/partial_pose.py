@@ -19,11 +19,13 @@ angles, angle differences wrapped into (-pi, pi]) whose Jacobian rows are
 in the world frame, ``w = E rpy_dot``); the given joints are held exactly
 (the solver does not move them). With joint values only, it is forward
 kinematics (:func:`~pinmob.assembly.assemble.solve_actuated`, with its
-continuation).
+continuation) from a warm start predicted along the closed set
+(:func:`predicted_seed`).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 
 import numpy as np
@@ -33,6 +35,7 @@ from pinmob.assembly.assemble import _solver_tol, joint_velocity_indices, solve_
 from pinmob.assembly.continuation import held_coordinates
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
+    closure_residual,
     compute_kinematics,
     format_residuals,
     mechanism_residuals,
@@ -42,9 +45,12 @@ from pinmob.assembly.residual import (
 from pinmob.assembly.solver import solve
 from pinmob.exceptions import ClosureError, ConfigurationError, choices
 from pinmob.model.data_pool import borrowed
+from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 
+#: Largest step of the given joints [rad, or L for a prismatic joint] per predicted forward-kinematics step.
+JOINT_STEP = 0.2
 #: The platform pose coordinates, in order: position [m], then Pinocchio's roll, pitch, yaw [rad].
 POSE_COORDS = ("x", "y", "z", "roll", "pitch", "yaw")
 
@@ -67,6 +73,44 @@ def pose_coordinate_jacobian(pose: pin.SE3, jacobian: Array) -> Array:
     """
     e = pin.rpy.computeRpyJacobian(pin.rpy.matrixToRpy(pose.rotation), pin.WORLD)
     return np.vstack([jacobian[:3], np.linalg.solve(e, jacobian[3:])])
+
+
+def predicted_seed(mech: Mechanism, joints: Mapping[str, float], seed: Array, tol: float = CLOSURE_TOL) -> Array:
+    """A warm start for forward kinematics to ``joints`` from the closed ``seed``, predicted along the closed set.
+
+    The given joints move to their values in ``ceil(max |step| / JOINT_STEP)`` equal steps (revolutes the short
+    way round; prismatic steps in units of L); at each, the other joints are predicted along the tangent
+    ``dv_free = -K_free^+ K_held dv_held`` (K the closure Jacobian) and, before the last step, corrected with
+    the given joints held. The last prediction is returned (:func:`solve_actuated` corrects it): a big step
+    does not leave the seed's assembly branch as a jump from the seed with only the given joints changed can.
+    ``seed`` itself when a correction fails.
+    """
+    model = mech.model
+    idx = joint_velocity_indices(mech, list(joints))
+    if not idx.size:
+        return seed
+    target = mech.q_from_joints(joints, base=seed)
+    linear = linear_velocity_mask(model)[idx]
+    way = pin.difference(model, seed, target)[idx]
+    way = np.where(linear, way, np.angle(np.exp(1j * way)))
+    size = float(np.max(np.abs(np.where(linear, way / mech.length_scale, way))))
+    steps = max(1, math.ceil(size / JOINT_STEP - 1e-9))  # a step of exactly JOINT_STEP is one step
+    free = np.ones(model.nv, bool)
+    free[idx] = False
+    residual = closure_residual(mech)
+    q = seed
+    for k in range(steps):
+        jac = residual(q)[1]
+        dv = np.zeros(model.nv)
+        dv[idx] = way / steps
+        dv[free] = -np.linalg.lstsq(jac[:, free], jac[:, idx] @ dv[idx], rcond=None)[0]
+        q = pin.integrate(model, q, dv)
+        if k < steps - 1:
+            result = solve(model, residual, q, tol=_solver_tol(tol), length=mech.length_scale, free=free, polish=False)
+            if not result.converged:
+                return seed
+            q = result.q
+    return q
 
 
 def assemble_coordinates(
@@ -95,7 +139,8 @@ def assemble_coordinates(
     """
     joints = dict(joints or {})
     if not pose:
-        return solve_actuated(mech, joints, seed, tol, max_iter).q
+        start = mech.neutral() if seed is None else mech.check_q(seed)
+        return solve_actuated(mech, joints, predicted_seed(mech, joints, start, tol), tol, max_iter).q
     if not mech.has_platform:
         raise ConfigurationError(f"{mech.name!r} has no platform frame: pose coordinates cannot be assembled")
     unknown = [c for c in pose if c not in POSE_COORDS]

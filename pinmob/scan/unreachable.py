@@ -21,7 +21,7 @@ def unreachable_reason(exc: PinmobError, mech: Mechanism, tol: float = CLOSURE_T
     """
     res = exc.residuals if isinstance(exc, ClosureError) else {}
     if not res:
-        return f"not assembled: {exc}"
+        return str(exc)
     length = mech.length_scale
     size = {k: max(p / length, r) for k, (p, r) in res.items()}
     worst = [k for k in sorted(size, key=lambda k: -size[k]) if size[k] > tol][:3]
@@ -33,9 +33,11 @@ def unreachable_reason(exc: PinmobError, mech: Mechanism, tol: float = CLOSURE_T
         if k.startswith("coordinate "):
             parts.append(f"{k[11:]} off by {off}")
         else:
-            what = "the platform pose" if k == "pose" else f"limb {k}" if k in limbs else f"closure {k}"
-            parts.append(f"{what} open by {off}")
-    return "not assembled: no convergence from the warm start (out of reach?); closest found: " + ", ".join(parts)
+            if k == "pose":
+                parts.append(f"platform pose off by {off}")
+            else:
+                parts.append(f"{'limb' if k in limbs else 'closure'} {k} open by {off}")
+    return "no convergence from the warm start (out of reach?); closest found: " + ", ".join(parts)
 
 
 def unreachable_row(target: tuple[str, Any], reason: str) -> dict[str, Any]:

@@ -312,3 +312,27 @@ def test_a_three_coordinate_pose_grid_and_an_unreachable_sample_says_why():
     far = grid_spec(mech, "generic", [("x", 0.5, 0.5, 1)])  # half a metre off: out of reach
     (row,) = list(scan(mech, far))
     assert not row["reachable"] and row["reason"].startswith("no convergence") and "x off by" in row["reason"]
+
+
+def test_a_joint_grid_map_labels_its_axes_with_the_joints_and_their_units(tmp_path, capsys):
+    from pinmob.scan.coordinates import coordinate_unit
+    from pinmob.scan.output import header, read_columns
+    from pinmob.scan.plot_map import MAP_COLUMNS, map_figure
+
+    out = tmp_path / "g.csv"
+    args = ["scan", "3-RPS", "--grid", "A_leg:-0.02:0.02:3", "B_leg:-0.02:0.02:3", "--no-progress"]
+    assert main([*args, "--csv", str(out), "--plot", str(tmp_path / "g.png")]) == 0
+    capsys.readouterr()
+    keys = [k for k in header(out) if k.startswith("grid_")]
+    mech = pinmob.load("3-RPS")
+    units = {k[5:]: coordinate_unit(mech, k[5:]) for k in keys}  # what the CLI passes to the map
+    assert (units, coordinate_unit(mech, "A_r"), coordinate_unit(mech, "yaw")) == (
+        {"A_leg": "m", "B_leg": "m"},
+        "rad",
+        "rad",
+    )
+    fig = map_figure(read_columns(out, keys + MAP_COLUMNS), keys, units=units)
+    assert (fig.axes[0].get_xlabel(), fig.axes[0].get_ylabel()) == ("joint A_leg [m]", "joint B_leg [m]")
+    three = ["scan", "3-RPS", "--grid", "A_leg:-0.02:0.02:3", "B_leg:-0.02:0.02:3", "C_leg:0:0:1"]
+    assert main([*three, "--plot", str(tmp_path / "h.png")]) == 2
+    assert "--plot maps a grid over two coordinates" in capsys.readouterr().err

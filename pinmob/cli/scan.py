@@ -16,6 +16,7 @@ from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
 from pinmob.scan.chain import check_actuated
+from pinmob.scan.coordinates import coordinate_unit
 from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_path, varied_joint
 from pinmob.scan.plot_map import plot_map
@@ -125,7 +126,9 @@ def _run(args: argparse.Namespace) -> int:
         if args.plot and csv_path:
             title = f"{mech.name}: {what}"
             if args.grid:
-                plot_map(csv_path, args.plot, title, rtol=rtol)
+                plot_map(
+                    csv_path, args.plot, title, rtol=rtol, units={a[0]: coordinate_unit(mech, a[0]) for a in spec.axes}
+                )
             else:
                 plot_path(csv_path, args.plot, title, rtol, mech.length_scale, varied_joint(mech, spec), spec.platform)
             print(f"plot: {args.plot}")

@@ -40,6 +40,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.partial_pose import POSE_COORDS, pose_coordinate_jacobian, pose_vector
 from pinmob.exceptions import ConfigurationError, choices
 from pinmob.model.joint_values import joint_value
+from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import value_joints
 from pinmob.screw.algebra import Array
@@ -71,6 +72,14 @@ def check_coordinates(mech: Mechanism, names: list[str], option: str = "--grid")
     if not 1 <= len(names) <= 3 or len(set(names)) != len(names):
         raise ConfigurationError(f"{option} needs one to three different coordinates, got {list(names)}")
     return tuple(names)
+
+
+def coordinate_unit(mech: Mechanism, name: str) -> str:
+    """The unit of a coordinate: ``m`` for x, y, z and a prismatic joint, ``rad`` for the angles and other joints."""
+    if name in POSE_COORDS:
+        return "m" if name in POSE_COORDS[:3] else "rad"
+    joint = mech.model.joints[mech.model.getJointId(name)]
+    return "m" if linear_velocity_mask(mech.model)[joint.idx_v] else "rad"
 
 
 def coordinate_values(mech: Mechanism, q: Array, names: tuple[str, ...] | list[str]) -> dict[str, float]:

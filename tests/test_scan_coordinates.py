@@ -46,6 +46,20 @@ def _tip_pose_errors(mech: pinmob.Mechanism, data: pin.Data, target: pin.SE3) ->
     return np.concatenate([np.concatenate([e[:3] / mech.length_scale, e[3:]]) for e in errs])
 
 
+def _rps_solve(mech: pinmob.Mechanism, z0: float, roll: float, pitch: float, u: np.ndarray) -> np.ndarray:
+    """(q, x, y, yaw) with every limb tip at ``SE3(rpy(roll, pitch, yaw), (x, y, z0))``: scipy's LM from ``u``."""
+    data = mech.model.createData()
+
+    def residual(u: np.ndarray) -> np.ndarray:
+        q, (x, y, yaw) = u[:-3], u[-3:]
+        pin.framesForwardKinematics(mech.model, data, q)
+        return _tip_pose_errors(mech, data, pin.SE3(pin.rpy.rpyToMatrix(roll, pitch, yaw), np.array([x, y, z0])))
+
+    sol = least_squares(residual, u, method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    assert np.max(np.abs(sol.fun)) < 1e-10
+    return sol.x
+
+
 def test_3rps_roll_pitch_grid_assembles_every_sample_with_its_parasitic_motion(tmp_path, capsys):
     """The 3-RPS over roll x pitch at home: z held, x, y and yaw follow (before: 80 of 81 samples unreachable).
 
@@ -65,19 +79,11 @@ def test_3rps_roll_pitch_grid_assembles_every_sample_with_its_parasitic_motion(t
     home = closed_configuration(mech, "home")
     pin.framesForwardKinematics(model, data, home)
     z0 = data.oMf[mech.platform_id].translation[2]
-
-    def residual(u: np.ndarray, roll: float, pitch: float) -> np.ndarray:
-        q, (x, y, yaw) = u[:-3], u[-3:]
-        pin.framesForwardKinematics(model, data, q)
-        return _tip_pose_errors(mech, data, pin.SE3(pin.rpy.rpyToMatrix(roll, pitch, yaw), np.array([x, y, z0])))
-
     u_row = np.concatenate([home, np.zeros(3)])
     for i, roll in enumerate(np.linspace(-0.2, 0.2, 9)):
         u = u_row
         for j, pitch in enumerate(np.linspace(-0.2, 0.2, 9)):
-            sol = least_squares(residual, u, args=(roll, pitch), method="lm", xtol=1e-15, ftol=1e-15, gtol=1e-15)
-            assert np.max(np.abs(sol.fun)) < 1e-10
-            u = sol.x
+            u = _rps_solve(mech, z0, roll, pitch, u)
             u_row = u if j == 0 else u_row
             row = rows[9 * i + j]
             assert float(row["grid_roll"]) == pytest.approx(roll, abs=1e-15)
@@ -336,3 +342,36 @@ def test_a_joint_grid_map_labels_its_axes_with_the_joints_and_their_units(tmp_pa
     three = ["scan", "3-RPS", "--grid", "A_leg:-0.02:0.02:3", "B_leg:-0.02:0.02:3", "C_leg:0:0:1"]
     assert main([*three, "--plot", str(tmp_path / "h.png")]) == 2
     assert "--plot maps a grid over two coordinates" in capsys.readouterr().err
+
+
+def test_a_coordinate_path_lets_the_parasitic_coordinates_follow(tmp_path, capsys):
+    """``--from home --to roll=0.2,pitch=0.2``: a path in roll and pitch, z held, x, y, yaw as scipy finds them."""
+    out = tmp_path / "p.csv"
+    assert main(["scan", "3-RPS", "--from", "home", "--to", "roll=0.2,pitch=0.2", "-n", "5", "--csv", str(out)]) == 0
+    assert "coordinate (roll, pitch) path" in capsys.readouterr().out
+    mech = pinmob.load("3-RPS")
+    data = mech.model.createData()
+    home = closed_configuration(mech, "home")
+    pin.framesForwardKinematics(mech.model, data, home)
+    z0 = data.oMf[mech.platform_id].translation[2]
+    u = np.concatenate([home, np.zeros(3)])
+    rows = [r for r in _rows(out) if r["refined"] == "False"]
+    assert len(rows) == 5
+    for row, s in zip(rows, np.linspace(0, 1, 5)):
+        u = _rps_solve(mech, z0, 0.2 * s, 0.2 * s, u)
+        got = [float(row[c]) for c in POSE]
+        np.testing.assert_allclose(got, [u[-3], u[-2], z0, 0.2 * s, 0.2 * s, u[-1]], atol=1e-9)
+
+
+def test_a_sweep_spec_takes_a_coordinate_path(tmp_path):
+    shutil.copy(ROOT / "models" / "3rps.urdf", tmp_path / "3rps.urdf")
+    text = (ROOT / "models" / "3rps.toml").read_text().replace("name = ", "length_scale = {L}\nname = ", 1)
+    (tmp_path / "robot.toml").write_text(text)
+    (tmp_path / "s.toml").write_text(
+        'template = "robot.toml"\n[design]\nmethod = "table"\nrows = [{L = 0.3}]\n'
+        '[scan]\nfrom = "home"\nto = "roll=0.2,pitch=0.2"\nsamples = 5\n'
+    )
+    (record,) = list(pinmob.sweep(tmp_path / "s.toml"))
+    assert (
+        record["status"] == "ok" and record["samples"] == 5 and record["assembled"] == 1.0
+    )  # before: unknown joint .roll.

@@ -153,7 +153,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--from",
         dest="start",
         help="path start: configuration name, pose x,y,z,roll,pitch,yaw [m, rad], or joint values "
-        "NAME=VALUE,... [rad or m] (a joint path; default: first configuration)",
+        "NAME=VALUE,... [rad or m] (a joint path; naming a pose coordinate, e.g. roll=0.2,pitch=0.1, a path in "
+        "those coordinates, the others held or following as for --grid; default: first configuration)",
     )
     p.add_argument(
         "--to", dest="end", help="path end: configuration name, pose or joint values (default: second configuration)"

@@ -69,7 +69,11 @@ def _run(args: argparse.Namespace) -> int:
         samples = 21 if args.samples is None else args.samples
         spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol, closure_tol=closure_tol)
         joints = "" if spec.platform else f" ({', '.join(spec.joints)})"  # a closed chain's actuated joints
-        what = f"{'actuated-joint' if spec.kind == 'joints' else 'pose'} path{joints} {start!r} -> {end!r}, {samples} samples"
+        kind = {"joints": "actuated-joint", "coords": f"coordinate ({', '.join(spec.coords)})"}.get(spec.kind, "pose")
+        what = f"{kind} path{joints} {start!r} -> {end!r}, {samples} samples"
+        if spec.following:
+            held = ", ".join(c for c, _ in spec.held) or "none"
+            what += f"; held: {held}; following the mechanism: {', '.join(spec.following)}"
     if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
         spec = with_finite(mech, spec, args.finite_order)
         what += f", finite DoF per sample (order bound {spec.finite_order})"

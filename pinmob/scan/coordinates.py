@@ -157,7 +157,7 @@ def _not_free(mech: Mechanism, conf: Configuration, gridded: tuple[str, ...], at
     dof = int(np.sum(s > rtol * max(1.0, float(s[0]) if s.size else 0.0)))
     what = "pose coordinates" if pose_grid else "joints"
     return (
-        f"grid coordinates {', '.join(gridded)} cannot vary independently at {at!r} of {mech.name!r}: "
+        f"coordinates {', '.join(gridded)} cannot vary independently at {at!r} of {mech.name!r}: "
         f"its {what} vary there with {dof} DoF; the free {what} (moved by some motion): "
         f"{', '.join(free) or 'none'}"
     )

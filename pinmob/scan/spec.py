@@ -1,6 +1,9 @@
 """What a scan covers: a path or a grid of targets, their order, chunks and seeding walk.
 
 * ``pose path``: platform poses ``M(s) = M_A exp(s log(M_A^-1 M_B))``, s in [0, 1];
+* ``coordinate path`` (kind ``coords``): one to three coordinates (some of them pose
+  coordinates, :mod:`pinmob.scan.coordinates`) interpolated linearly, ``c(s) = (1 - s) c_A + s c_B``,
+  the others held or following (:func:`coordinate_path_spec`);
 * ``joint path``: actuated joint values ``a(s) = (1 - s) a_A + s a_B``, assembled
   by forward kinematics (:func:`pinmob.assembly.assemble.assemble_joints`); its
   ends are configuration names or joint values ``name=value,...``. A mechanism
@@ -35,28 +38,23 @@ from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose
-from pinmob.assembly.named import closed_configuration
-from pinmob.assembly.partial_pose import POSE_COORDS, pose_from_vector, pose_vector
+from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector, pose_vector
 from pinmob.bounds import check_bound
-from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL
+from pinmob.model.joint_values import parse_joint_values
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import end_values, joint_path_ends, value_joints
 from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_coordinates
+from pinmob.scan.references import nearest_seed, resolve_pose
+from pinmob.scan.references import platform_pose as platform_pose  # re-exported: its home before references.py
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
-KINDS = ("pose", "joints", "grid")
+KINDS = ("pose", "joints", "coords", "grid")
 
 #: Samples per chunk of a line, and coarse step (in samples) of the walk that seeds the chunks.
 CHUNK, STRIDE = 32, 8
-
-
-def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pin.SE3:
-    """World pose of the platform frame at q."""
-    data = mech.model.createData() if data is None else data
-    pin.framesForwardKinematics(mech.model, data, q)
-    return pin.SE3(data.oMf[mech.platform_id])
 
 
 @dataclass(frozen=True)
@@ -64,16 +62,17 @@ class ScanSpec:
     """What to scan (picklable; see the module docstring).
 
     Attributes:
-        kind: ``pose``, ``joints`` or ``grid``.
+        kind: ``pose``, ``joints``, ``coords`` or ``grid``.
         q_ref: (nq,) closed configuration the walk starts from.
         a, b: path ends: (4, 4) homogeneous poses for ``pose``, (m,) actuated
-            values for ``joints``; unused for ``grid``.
+            values for ``joints``, (k,) values of ``coords`` for ``coords``; unused for ``grid``.
         samples: samples along a path.
         joints: actuated joint names (``joints`` kind).
         base: (6,) reference pose vector of a grid (the platform's pose at ``--at``).
         axes: one to three grid coordinates: (name, low, high, count) each (a pose coordinate or a joint).
         held: a grid's held coordinates and their values at ``--at``: (name, value) each (:mod:`pinmob.scan.coordinates`).
         start: a grid's gridded coordinates and their values at ``--at`` (where its seeding walk starts).
+        coords: a coordinate path's coordinates (``a`` and ``b`` hold their values at its ends).
         rtol: relative tolerance of rank decisions.
         generic_rank: the mechanism's generic constraint rank.
         finite_order: with a value, each row adds the finite DoF at its configuration (the finite-mobility
@@ -94,6 +93,7 @@ class ScanSpec:
     axes: tuple[tuple[str, float, float, int], ...] = ()
     held: tuple[tuple[str, float], ...] = ()
     start: tuple[tuple[str, float], ...] = ()
+    coords: tuple[str, ...] = ()
     rtol: float = RTOL
     generic_rank: int = 0
     finite_order: int | None = None
@@ -114,16 +114,21 @@ class ScanSpec:
         return self.axes[-1][3] if self.kind == "grid" else self.samples
 
     @property
+    def varied(self) -> tuple[str, ...]:
+        """The coordinates a grid or a coordinate path varies."""
+        return tuple(a[0] for a in self.axes) or self.coords
+
+    @property
     def pose_grid(self) -> bool:
-        """A grid with a pose coordinate among its coordinates."""
-        return any(a[0] in POSE_COORDS for a in self.axes)
+        """A grid or a coordinate path with a pose coordinate among its coordinates."""
+        return any(c in POSE_COORDS for c in self.varied)
 
     @property
     def following(self) -> tuple[str, ...]:
-        """A pose grid's pose coordinates that follow the mechanism (neither gridded nor held; :mod:`pinmob.scan.coordinates`)."""
+        """The pose coordinates that follow the mechanism (neither varied nor held; :mod:`pinmob.scan.coordinates`)."""
         if not self.pose_grid:
             return ()
-        given = {a[0] for a in self.axes} | {c for c, _ in self.held}
+        given = set(self.varied) | {c for c, _ in self.held}
         return tuple(c for c in POSE_COORDS if c not in given)
 
     def line(self, k: int) -> tuple[int, int]:
@@ -152,6 +157,9 @@ class ScanSpec:
         if self.kind == "grid":
             return self.coordinates_target({name[5:]: value for name, value in p.items()})
         s = p["s"]
+        if self.kind == "coords":
+            vals = (1 - s) * np.asarray(self.a) + s * np.asarray(self.b)
+            return self.coordinates_target(dict(zip(self.coords, vals.tolist())))
         if self.kind == "joints":
             vals = (1 - s) * np.asarray(self.a) + s * np.asarray(self.b)
             return "joints", dict(zip(self.joints, vals.tolist()))
@@ -224,32 +232,16 @@ def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, floa
         ) from None
 
 
-def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
-    """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, closed q)."""
-    if any(text.casefold() == name.casefold() for name in mech.configurations):
-        q = closed_configuration(mech, text)
-        return platform_pose(mech, q), q
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) != 6 or not np.all(np.isfinite(values)):
-        raise ConfigurationError(
-            f"{text!r} is neither a configuration of {mech.name!r} ({choices(mech.configurations)}) "
-            "nor a pose 'x,y,z,roll,pitch,yaw' [m, rad]"
-        )
-    return pose_from_vector(np.array(values)), np.array([])
-
-
 def path_spec(
     mech: Mechanism, start: str, end: str, samples: int, *, joints: bool = False, rtol: float = RTOL,
     closure_tol: float = CLOSURE_TOL
 ) -> ScanSpec:  # fmt: skip
     """A path from ``start`` to ``end``: configuration names, poses, or joint values ``name=value,...``.
 
-    A joint path (the actuated joints interpolated) when ``joints`` is set, when an end is joint values, or when
-    the mechanism has no platform (then each row is the whole closed chain's answer, :mod:`pinmob.scan.chain`);
-    else a path in platform poses.
+    A coordinate path (:func:`coordinate_path_spec`) when an end's values name a pose coordinate; a joint path
+    (the actuated joints interpolated) when ``joints`` is set, when an end is joint values, or when the mechanism
+    has no platform (then each row is the whole closed chain's answer, :mod:`pinmob.scan.chain`); else a path in
+    platform poses.
 
     Raises:
         PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end.
@@ -257,6 +249,9 @@ def path_spec(
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
     check_bound("samples", samples, "the path (--samples)")
+    given = [parse_joint_values(t, "path end") if "=" in t else {} for t in (start, end)]
+    if mech.has_platform and not joints and any(c in POSE_COORDS for g in given for c in g):
+        return coordinate_path_spec(mech, start, end, samples, given, rtol, closure_tol)
     if joints or not mech.has_platform or "=" in start or "=" in end:
         acts, qa, qb, g = joint_path_ends(mech, start, end, rtol, closure_tol)
         va, vb = end_values(mech, acts, start, qa), end_values(mech, acts, end, qb)
@@ -266,10 +261,57 @@ def path_spec(
     pa, qa = resolve_pose(mech, start)
     pb, qb = resolve_pose(mech, end)
     if qa.size == 0:
-        qa = assemble_pose(mech, pa, _nearest_seed(mech, pa))
+        qa = assemble_pose(mech, pa, nearest_seed(mech, pa))
     g = generic_constraint_rank(mech, rtol=rtol)
     return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g,
                     values=value_joints(mech))  # fmt: skip
+
+
+def coordinate_path_spec(
+    mech: Mechanism, start: str, end: str, samples: int, given: list[dict[str, float]], rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL
+) -> ScanSpec:  # fmt: skip
+    """A path in one to three coordinates (some of them pose coordinates), the others held or following.
+
+    Its ends give the values of the coordinates (``roll=0.2,pitch=0.1``; a configuration end gives all of
+    them); they are interpolated linearly. The *reference* is the end that is a configuration (or a pose),
+    else the first named configuration: the rule of :mod:`pinmob.scan.coordinates` is taken there, the held
+    coordinates keep their values there, and an end's coordinates it does not name too.
+
+    Raises:
+        PinmobError: an unknown or too many coordinates, no reference, coordinates that cannot vary
+            independently at the reference, a start that does not assemble.
+    """
+    names = check_coordinates(mech, list(dict.fromkeys([*given[0], *given[1]])), "a coordinate path")
+    refs = [t for t in (start, end) if "=" not in t] or list(mech.configurations)[:1]
+    if not refs:
+        raise ConfigurationError(f"{mech.name!r} declares no configuration: give one end of the path as a pose")
+    pose, q_ref = resolve_pose(mech, refs[0])
+    if q_ref.size == 0:
+        q_ref = assemble_pose(mech, pose, nearest_seed(mech, pose))
+    held = held_coordinates(mech, q_ref, names, refs[0], rtol)
+    at_ref = coordinate_values(mech, q_ref, names + held)
+    ends = []
+    for text, values in zip((start, end), given):
+        if "=" in text:
+            ends.append([values.get(n, at_ref[n]) for n in names])
+        else:
+            end_pose, q_end = resolve_pose(mech, text)
+            if q_end.size == 0:
+                q_end = assemble_pose(mech, end_pose, q_ref)
+            ends.append(list(coordinate_values(mech, q_end, names).values()))
+    spec = ScanSpec("coords", q_ref, np.array(ends[0]), np.array(ends[1]), samples, rtol=rtol, closure_tol=closure_tol,
+                    generic_rank=generic_constraint_rank(mech, rtol=rtol), held=tuple((c, at_ref[c]) for c in held),
+                    coords=names, values=value_joints(mech))  # fmt: skip
+    kind, target = spec.target(0)
+    try:
+        if kind == "pose":
+            q0 = assemble_pose(mech, target, q_ref, closure_tol)
+        else:
+            q0 = assemble_coordinates(mech, target[0], target[1], q_ref, closure_tol)
+    except ClosureError as exc:
+        raise ClosureError(f"path start {start!r} does not assemble from {refs[0]!r}: {exc}", exc.residuals) from None
+    return replace(spec, q_ref=q0)
 
 
 def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]], rtol: float = RTOL) -> ScanSpec:
@@ -292,7 +334,7 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
     check_bound("samples", int(np.prod([a[3] for a in out])), f"the grid ({' x '.join(str(a[3]) for a in out)})")
     pose, q = resolve_pose(mech, at)
     if q.size == 0:
-        q = assemble_pose(mech, pose, _nearest_seed(mech, pose))
+        q = assemble_pose(mech, pose, nearest_seed(mech, pose))
     held = held_coordinates(mech, q, names, at, rtol)
     values = coordinate_values(mech, q, names + held)
     g = generic_constraint_rank(mech, rtol=rtol)
@@ -315,17 +357,3 @@ def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> Sc
     order = check_order(ORDER if order is None else order)
     check_joints(Configuration(mech, spec.q_ref))
     return replace(spec, finite_order=order)
-
-
-def _nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:
-    """The named configuration whose platform pose is nearest to ``pose`` (else neutral)."""
-    best, seed = np.inf, mech.neutral()
-    for name in mech.configurations:
-        try:
-            q = closed_configuration(mech, name)
-        except PinmobError:
-            continue
-        d = float(np.linalg.norm(pin.log6(platform_pose(mech, q).actInv(pose)).vector))
-        if d < best:
-            best, seed = d, q
-    return seed

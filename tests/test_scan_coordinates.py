@@ -297,11 +297,11 @@ def test_a_delta_motor_grid_across_its_workspace_edge_keeps_its_parallelograms(t
 
 
 def test_a_three_coordinate_pose_grid_and_an_unreachable_sample_says_why():
-    """The 3-PUU (3T) over x, y and z: nothing held, its rotations follow (and stay still); a far sample says
+    """The 3-PUU (3T) over x, y and z: its rotations, which no motion changes, are held; a far sample says
     which coordinates it missed."""
     mech = pinmob.load("3-PUU")
     spec = grid_spec(mech, "generic", [("x", -0.02, 0.02, 3), ("y", -0.02, 0.02, 3), ("z", -0.02, 0.0, 2)])
-    assert spec.held == () and spec.following == ("roll", "pitch", "yaw") and spec.size == 18
+    assert [c for c, _ in spec.held] == ["roll", "pitch", "yaw"] and spec.following == () and spec.size == 18
     data = mech.model.createData()
     pin.framesForwardKinematics(mech.model, data, spec.q_ref)
     ref = data.oMf[mech.platform_id]
@@ -317,7 +317,25 @@ def test_a_three_coordinate_pose_grid_and_an_unreachable_sample_says_why():
         )
     far = grid_spec(mech, "generic", [("x", 0.5, 0.5, 1)])  # half a metre off: out of reach
     (row,) = list(scan(mech, far))
-    assert not row["reachable"] and row["reason"].startswith("no convergence") and "x off by" in row["reason"]
+    assert not row["reachable"] and row["reason"].startswith("no convergence")
+    assert "platform pose off by" in row["reason"] and "limb " in row["reason"]
+
+
+def test_an_unreachable_coordinate_target_names_the_coordinates_it_missed():
+    """One solver iteration from home cannot reach roll = pitch = 0.2: the reason names roll and pitch, by how much."""
+    from pinmob.assembly.partial_pose import assemble_coordinates
+    from pinmob.exceptions import ClosureError
+    from pinmob.scan.unreachable import unreachable_reason
+
+    mech = pinmob.load("3-RPS")
+    with pytest.raises(ClosureError) as err:
+        assemble_coordinates(
+            mech, {"z": 0.3, "roll": 0.2, "pitch": 0.2}, {}, closed_configuration(mech, "home"), max_iter=1
+        )
+    misses = err.value.residuals
+    assert misses["coordinate roll"][1] > 1e-3 and misses["coordinate pitch"][1] > 1e-3
+    reason = unreachable_reason(err.value, mech)
+    assert "roll off by" in reason or "pitch off by" in reason
 
 
 def test_a_joint_grid_map_labels_its_axes_with_the_joints_and_their_units(tmp_path, capsys):

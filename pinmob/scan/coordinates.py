@@ -25,9 +25,12 @@ coordinates must vary independently there (``C_G N`` of full row rank, else a
 ``N'`` has the largest component ``|c_i N'|`` (ties: the first in the order
 ``x y z roll pitch yaw``, or the declared order of the actuated joints) is held
 and ``N'`` is reduced to the motions that keep it still, until no candidate has a
-component above ``rtol``. A full-mobility platform (6 DoF) gridded over two pose
-coordinates thus holds the four others, as a plain pose grid; the 3-RPS gridded
-over roll and pitch holds z, and x, y and yaw follow.
+component above ``rtol``. A pose coordinate that no motion changes, at ``--at``
+nor at the generic configurations, is held too (:func:`constant_coordinates`: it
+could not follow anyway). A full-mobility platform (6 DoF) gridded over two pose
+coordinates thus holds the four others, as a plain pose grid, and so does a
+translational one over two positions (its rotations are constant); the 3-RPS
+gridded over roll and pitch holds z, and x, y and yaw follow.
 """
 
 from __future__ import annotations
@@ -37,8 +40,9 @@ import pinocchio as pin
 
 from pinmob.analysis.closure_jacobian import closed_chain, frame_rows
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.generic import generic_configurations
 from pinmob.assembly.partial_pose import POSE_COORDS, pose_coordinate_jacobian, pose_vector
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError, PinmobError, choices
 from pinmob.model.joint_values import joint_value
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
@@ -143,8 +147,30 @@ def held_coordinates(
         left = left @ vt[1:].T
         cand = np.delete(cand, i, axis=0)
         candidates.pop(i)
+    if pose_grid:  # coordinates no motion changes, here nor at generic configurations, are held: they cannot follow
+        rest = [n for n in POSE_COORDS if n not in gridded and n not in held]
+        held += constant_coordinates(mech, conf, rest, rtol)
     order = POSE_COORDS if pose_grid else mech.actuated
     return tuple(n for n in order if n in held)
+
+
+def constant_coordinates(mech: Mechanism, conf: Configuration, names: list[str], rtol: float = RTOL) -> list[str]:
+    """The coordinates among ``names`` that no motion of the closed chain changes, here and at generic configurations.
+
+    Their rate rows (:func:`coordinate_rates`) have norm at most ``rtol`` at ``conf`` and at every configuration of
+    :func:`pinmob.analysis.generic.generic_configurations`. E.g. the rotations of a translational platform (3-PUU, Delta): held at their values, a grid over its
+    position is a plain pose grid. None when no generic configuration can be built.
+    """
+    if not names:
+        return []
+    try:
+        confs = [conf] + [Configuration(mech, q) for q in generic_configurations(mech)]
+    except PinmobError:
+        return []
+    still = np.ones(len(names), bool)
+    for c in confs:
+        still &= np.linalg.norm(coordinate_rates(c, names, rtol), axis=1) <= rtol
+    return [n for n, s in zip(names, still) if s]
 
 
 def _not_free(mech: Mechanism, conf: Configuration, gridded: tuple[str, ...], at: str, rtol: float) -> str:

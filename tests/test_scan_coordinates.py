@@ -406,3 +406,20 @@ def test_a_sample_whose_legs_leave_their_stroke_says_so():
     assert row["reason"].startswith("joints outside their limits: ") and all(f"{n}_leg" in row["reason"] for n in "ABC")
     (inside,) = list(scan(mech, grid_spec(mech, "home", [("z", 1.0, 1.0, 1)])))
     assert inside["reachable"] and inside["reason"] == ""
+
+
+def test_the_rule_and_the_rows_do_not_depend_on_the_unit_of_length():
+    """The 3-RPS in millimetres over roll x pitch: z held, the same rows with x, y, z and the legs times 1000."""
+    from millimetres import in_units
+
+    mech = pinmob.load("3-RPS")
+    mm = in_units(mech, 1000.0, configurations=True)
+    axes = [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)]
+    a, b = grid_spec(mech, "home", axes), grid_spec(mm, "home", axes)
+    assert [c for c, _ in a.held] == [c for c, _ in b.held] == ["z"] and a.following == b.following == ("x", "y", "yaw")
+    for ra, rb in zip(scan(mech, a), scan(mm, b)):
+        for c in ("x", "y", "z", "q_A_leg", "q_B_leg"):
+            assert rb[c] == pytest.approx(1000 * ra[c], abs=1e-9)
+        for c in ("roll", "pitch", "yaw", "q_A_r"):
+            assert rb[c] == pytest.approx(ra[c], abs=1e-12)
+        assert (ra["dof"], ra["motion_type"]) == (rb["dof"], rb["motion_type"])

@@ -183,10 +183,11 @@ class ScanSpec:
     def waypoints(self) -> Iterator[tuple[tuple[str, Any], int | None]]:
         """The coarse walk seeding the chunks: ``(target, sample index or None)``.
 
-        A path: every STRIDE-th sample. A grid: straight from the reference pose
-        to the first sample (steps of at most two spacings), then every
-        STRIDE-th sample and the last of each row, rows alternately forwards
-        and backwards (each move is at most STRIDE spacings).
+        A path: every STRIDE-th sample. A grid: straight from the reference
+        (``--at``) to the first sample (steps of at most two spacings), then
+        every STRIDE-th sample and the last of each line, lines alternately
+        forwards and backwards (each move is at most STRIDE spacings), a
+        three-coordinate grid's lines in a serpentine (:meth:`line_order`).
         """
         if self.kind != "grid":
             for k in range(0, self.samples, STRIDE):

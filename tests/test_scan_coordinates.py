@@ -108,6 +108,11 @@ def test_full_mobility_grid_holds_the_four_other_pose_coordinates():
     data = mech.model.createData()
     pin.framesForwardKinematics(mech.model, data, spec.q_ref)
     ref = data.oMf[mech.platform_id]
+    for k in range(spec.size):  # each target is the full pose a grid always asked for: the same assembly as before
+        kind, target = spec.target(k)
+        x, y = -0.03 + 0.03 * (k // 3), -0.03 + 0.03 * (k % 3)
+        want = pin.SE3(ref.rotation, np.array([x, y, ref.translation[2]]))
+        assert kind == "pose" and np.allclose(target.homogeneous, want.homogeneous, atol=1e-12)
     for row in scan(mech, spec):
         assert row["reachable"]
         np.testing.assert_allclose([row["z"], row["roll"], row["pitch"], row["yaw"]],

@@ -79,14 +79,16 @@ def test_unreachable_samples_have_a_legend_entry_on_paths_and_maps(tmp_path):
     assert "not assembled" in legend_labels(distance)
     assert next(ax.get_xlabel() for ax in fig.axes if ax.get_xlabel()) == "platform x [m]"
 
-    grid = grid_spec(mech, "generic", [("x", -0.1, 0.3, 5), ("yaw", -0.2, 0.2, 3)])
-    cols = read_columns(scanned(mech, grid, tmp_path / "g.csv"), ["grid_x", "grid_yaw", *plot_map.MAP_COLUMNS])
+    # a grid over x and yaw would be refused: the 3-PUU (3T) cannot turn (pinmob.scan.coordinates); the 3-RPS can
+    rps = pinmob.load("3-RPS")
+    grid = grid_spec(rps, "home", [("roll", -3.0, 3.0, 5), ("z", 0.0, 0.4, 3)])  # a half turn is out of reach
+    cols = read_columns(scanned(rps, grid, tmp_path / "g.csv"), ["grid_roll", "grid_z", *plot_map.MAP_COLUMNS])
     assert (cols["reachable"] == 0).any()
-    fig = plot_map.map_figure(cols, ["grid_x", "grid_yaw"])
+    fig = plot_map.map_figure(cols, ["grid_roll", "grid_z"])
     maps = [ax for ax in fig.axes if ax.get_title()]
     assert len(maps) == 2
     for ax in maps:
-        assert (ax.get_xlabel(), ax.get_ylabel()) == ("platform x [m]", "platform yaw [rad]")
+        assert (ax.get_xlabel(), ax.get_ylabel()) == ("platform roll [rad]", "platform z [m]")
         assert "not assembled (blank)" in legend_labels(ax)
     colorbars = [ax for ax in fig.axes if not ax.get_title()]
     assert any(UNIT.search(ax.get_ylabel()) is None and "distance" in ax.get_ylabel() for ax in colorbars)

@@ -357,7 +357,9 @@ def test_cli_lists_refined_and_near_singular_points(capsys):
     assert main(["scan", "6-UPS", "--from", "home", "--to", "0,0,0.4,0,0,2.0944", "-n", "13", "--no-progress"]) == 0
     out = capsys.readouterr().out
     assert "singular samples: 0; near-singular samples (distance < 1e-03): 1; refined singular points: 1" in out
-    assert "#8+ refined (s = 0.749998): actuation, uncontrolled H1 z" in out
+    refined = next(line for line in out.splitlines() if "#8+ refined" in line)
+    assert refined.startswith("  #8+ refined (s = 0.749998; A_leg = ")  # a refined point prints its actuated joints
+    assert all(f"{n}_leg = " in refined for n in "ABCDEF") and "): actuation, uncontrolled H1 z" in refined
     assert "#9 (s = 0.75): near-singular (actuation)" in out
 
 

@@ -153,7 +153,8 @@ def build_parser() -> argparse.ArgumentParser:
         "--from",
         dest="start",
         help="path start: configuration name, pose x,y,z,roll,pitch,yaw [m, rad], or joint values "
-        "NAME=VALUE,... [rad or m] (a joint path; default: first configuration)",
+        "NAME=VALUE,... [rad or m] (a joint path; naming a pose coordinate, e.g. roll=0.2,pitch=0.1, a path in "
+        "those coordinates, the others held or following as for --grid; default: first configuration)",
     )
     p.add_argument(
         "--to", dest="end", help="path end: configuration name, pose or joint values (default: second configuration)"
@@ -167,13 +168,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--samples", "-n", type=int, default=None, help="samples along a path (default 21)")
     p.add_argument(
         "--grid",
-        nargs=2,
+        nargs="+",
         metavar="COORD:LO:HI:N",
-        help="scan a workspace slice: two pose coordinates (x, y, z [m], roll, pitch, yaw [rad]) instead of a path",
+        help="scan a grid instead of a path: one to three coordinates, each a platform pose coordinate (x, y, z [m], "
+        "roll, pitch, yaw [rad]) or a joint (actuated or not) [rad or m]. The others: of the pose coordinates "
+        "(a joint grid: of the actuated joints) those the mechanism can still move at --at with the gridded ones "
+        "held are held at their --at values; the rest follow the mechanism (a lower-mobility platform's "
+        "parasitic coordinates, every passive joint): see docs/singularities.md",
     )
     p.add_argument(
         "--at",
-        help="grid: configuration whose platform pose fixes the other coordinates (default: first configuration)",
+        help="grid: configuration (or pose x,y,z,roll,pitch,yaw) whose coordinates the held ones keep, and where "
+        "the grid's walk starts (default: first configuration)",
     )
     p.add_argument("--csv", help="write the samples to this CSV file")
     p.add_argument("--json", dest="json_out", help="write the samples to this JSON file")

@@ -16,6 +16,7 @@ from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
 from pinmob.scan.chain import check_actuated
+from pinmob.scan.coordinates import coordinate_unit
 from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_path, varied_joint
 from pinmob.scan.plot_map import plot_map
@@ -48,7 +49,16 @@ def _run(args: argparse.Namespace) -> int:
         if not names and not args.at:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
         spec = grid_spec(mech, args.at or names[0], axes, rtol)
-        what = f"grid {args.grid[0]} x {args.grid[1]} at {args.at or names[0]!r}"
+        if args.plot and len(spec.axes) != 2:
+            raise ConfigurationError(
+                f"--plot maps a grid over two coordinates; this grid has {len(spec.axes)}: drop --plot or grid two"
+            )
+        what = f"grid {' x '.join(args.grid)} at {args.at or names[0]!r}"
+        if spec.following:
+            held = ", ".join(c for c, _ in spec.held) or "none"
+            what += f"; held: {held}; following the mechanism: {', '.join(spec.following)}"
+        elif spec.held and not spec.pose_grid:
+            what += f"; held: {', '.join(c for c, _ in spec.held)}"
     else:
         if args.joints or not mech.has_platform:
             check_actuated(mech)
@@ -59,7 +69,11 @@ def _run(args: argparse.Namespace) -> int:
         samples = 21 if args.samples is None else args.samples
         spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol, closure_tol=closure_tol)
         joints = "" if spec.platform else f" ({', '.join(spec.joints)})"  # a closed chain's actuated joints
-        what = f"{'actuated-joint' if spec.kind == 'joints' else 'pose'} path{joints} {start!r} -> {end!r}, {samples} samples"
+        kind = {"joints": "actuated-joint", "coords": f"coordinate ({', '.join(spec.coords)})"}.get(spec.kind, "pose")
+        what = f"{kind} path{joints} {start!r} -> {end!r}, {samples} samples"
+        if spec.following:
+            held = ", ".join(c for c, _ in spec.held) or "none"
+            what += f"; held: {held}; following the mechanism: {', '.join(spec.following)}"
     if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
         spec = with_finite(mech, spec, args.finite_order)
         what += f", finite DoF per sample (order bound {spec.finite_order})"
@@ -90,7 +104,7 @@ def _run(args: argparse.Namespace) -> int:
                 if kind != "regular" and len(listed) < 20:
                     listed.append(row)
                 if not row["reachable"] and row.get("reason") and not why:
-                    why = f"#{row['index']} (s = {round(row['s'], 12):.6g}): {row['reason']}"
+                    why = f"#{row['index']} ({_params(row)}): {row['reason']}"
         elapsed = time.perf_counter() - t0
         n = spec.size
         print(f"{mech.name}: {what}")
@@ -107,7 +121,7 @@ def _run(args: argparse.Namespace) -> int:
         if why:
             print(f"first sample not assembled: {why}")
         for row in listed:
-            print("  " + (_format_row(row, rtol) if spec.platform else _format_chain_row(row, rtol)))
+            print("  " + (_format_row(row, rtol, mech.actuated) if spec.platform else _format_chain_row(row, rtol)))
         if total > len(listed):
             print(f"  ... ({total - len(listed)} more in the output files)")
         for label, path in (("csv", args.csv), ("json", args.json_out)):
@@ -116,7 +130,9 @@ def _run(args: argparse.Namespace) -> int:
         if args.plot and csv_path:
             title = f"{mech.name}: {what}"
             if args.grid:
-                plot_map(csv_path, args.plot, title, rtol=rtol)
+                plot_map(
+                    csv_path, args.plot, title, rtol=rtol, units={a[0]: coordinate_unit(mech, a[0]) for a in spec.axes}
+                )
             else:
                 plot_path(csv_path, args.plot, title, rtol, mech.length_scale, varied_joint(mech, spec), spec.platform)
             print(f"plot: {args.plot}")
@@ -172,10 +188,21 @@ def _format_chain_row(row: dict[str, Any], rtol: float) -> str:
             f"closure rank {row['closure_rank']}{left}, {_distance(row['distance'], rtol)}")  # fmt: skip
 
 
-def _format_row(row: dict[str, Any], rtol: float) -> str:
-    """One listed row of ``pinmob scan``: where, class, limbs, uncontrolled motions, DoF, distance."""
-    params = ", ".join(f"{k} = {round(row[k], 12):.6g}" for k in row if k == "s" or k.startswith("grid_"))
+def _params(row: dict[str, Any]) -> str:
+    """Where a row is: ``s = 0.5``, or ``x = 0.01, y = -0.02`` (the grid's coordinates)."""
+    return ", ".join(f"{k} = {round(row[k], 12):.6g}" for k in row if k == "s" or k.startswith("grid_"))
+
+
+def _format_row(row: dict[str, Any], rtol: float, actuated: tuple[str, ...] = ()) -> str:
+    """One listed row of ``pinmob scan``: where, class, limbs, uncontrolled motions, DoF, distance.
+
+    A refined point also gives its actuated joints' values (those not on the grid).
+    """
+    params = _params(row)
     where = f"#{row['index']}+ refined" if row["refined"] else f"#{row['index']}"
+    joints = [n for n in actuated if f"q_{n}" in row and n not in {k[5:] for k in row if k.startswith("grid_")}]
+    if row["refined"] and joints:
+        params += "; " + ", ".join(f"{n} = {row['q_' + n]:.6g}" for n in joints)
     label = row["singularity"] if row["singularity"] != "none" else f"near-singular ({row['closest']})"
     limbs = f", limbs {row['singular_limbs']}" if row["singular_limbs"] else ""
     dep = f", dependent limbs {row['dependent_limbs']}" if row["dependent_limbs"] else ""

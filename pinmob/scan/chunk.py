@@ -18,12 +18,15 @@ from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.assembly.assemble import assemble_joints, assemble_pose
+from pinmob.assembly.partial_pose import assemble_coordinates
 from pinmob.exceptions import PinmobError
 from pinmob.model.closure import CLOSURE_TOL
+from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, v_vertex
 from pinmob.scan.spec import POSE_COORDS, ScanSpec, pose_vector
+from pinmob.scan.unreachable import SV_COLUMNS, unreachable_reason, unreachable_row
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -33,7 +36,6 @@ REFINE_EVALS, REFINE_XTOL = 60, 1e-12
 #: before the distance is minimised there.
 EDGE_STEPS = 6
 
-SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
 #: The columns a scan with ``finite_order`` adds: the platform's and the closed chain's finite DoF.
 FINITE_COLUMNS = ("finite_dof", "finite_mechanism_dof")
 
@@ -49,10 +51,16 @@ REFINE_ITER = 100
 def assemble_target(
     mech: Mechanism, target: tuple[str, Any], seed: Array, max_iter: int = MAX_ITER, tol: float = CLOSURE_TOL
 ) -> Array:
-    """A closed configuration at a scan target (a platform pose, or actuated joint values), warm-started from ``seed``."""
+    """A closed configuration at a scan target, warm-started from ``seed``.
+
+    The target is a platform pose, actuated joint values, or (a grid's) some pose coordinates and joint values,
+    the rest following (:func:`pinmob.assembly.partial_pose.assemble_coordinates`).
+    """
     kind, value = target
     if kind == "pose":
         return assemble_pose(mech, value, seed, tol, max_iter=max_iter)
+    if kind == "coords":
+        return assemble_coordinates(mech, value[0], value[1], seed, tol, max_iter=max_iter)
     return assemble_joints(mech, value, seed, tol, max_iter=max_iter)
 
 
@@ -87,15 +95,6 @@ def _evaluate(
     return row, sing.distances
 
 
-def _unreachable(pose: Array | None) -> dict[str, Any]:
-    row: dict[str, Any] = dict(zip(POSE_COORDS, [float("nan")] * 6 if pose is None else pose.tolist()))
-    row.update(reachable=False, dof=-1, motion_type="unreachable", constraint_rank=-1, locked_dof=-1, singularity="",
-               near_singular=False, closest="", singular_limbs="", dependent_limbs="", uncontrolled="",
-               distance=float("nan"))  # fmt: skip
-    row.update(dict.fromkeys(SV_COLUMNS, float("nan")))
-    return row
-
-
 @dataclass
 class _Sample:
     """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances."""
@@ -119,20 +118,26 @@ class _Chunk:
     def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER) -> _Sample:
         target = self.spec.target(t)
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
-        if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain): joint values, the actuated ones known
-            head.update(joint_row(self.mech, self.spec.values, None))
-            head.update(zip(value_columns(self.spec.joints), target[1].values()))
+        known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
+        values = joint_row(self.mech, self.spec.values, None)  # joint values, the given ones known
+        values.update({k: v for k, v in zip(value_columns(list(known)), known.values()) if k in values})
+        if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain)
+            head.update(values)
         try:
             q = assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol)
         except PinmobError as exc:
             if not self.spec.platform:
                 return _Sample(head | unreachable_chain(str(exc)), None, {})
-            return _Sample(head | _unreachable(pose_vector(target[1]) if target[0] == "pose" else None), None, {})
+            reason = unreachable_reason(exc, self.mech, self.spec.closure_tol)
+            return _Sample(head | unreachable_row(target, reason) | values, None, {})
+        values = joint_row(self.mech, self.spec.values, q, known)
         if not self.spec.platform:
-            head.update(joint_row(self.mech, self.spec.values, q, target[1]))
+            head.update(values)
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
             row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
+            limits = outside_limits(self.mech.model, q)
+            row.update(reason=f"joints outside their limits: {', '.join(limits)}" if limits else "", **values)
         return _Sample(head | row, q, distances)
 
     def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:

@@ -31,15 +31,30 @@ def _edges(centres: np.ndarray, fallback: float) -> np.ndarray:
 MAP_COLUMNS = ["refined", "reachable", "singularity", "near_singular", "distance", "motion_type"]
 
 
-def plot_map(csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL) -> Path:
-    """A grid scan as two maps: motion type, and distance to singularity; returns the PNG path."""
+def plot_map(
+    csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL, units: dict[str, str] | None = None
+) -> Path:
+    """A grid scan as two maps: motion type, and distance to singularity; returns the PNG path.
+
+    ``units``: a gridded joint's unit (``rad`` or ``m``) by name (pose coordinates know theirs).
+    """
     plt = pyplot()
     keys = [k for k in header(csv_path) if k.startswith("grid_")]
-    fig = map_figure(read_columns(csv_path, keys + MAP_COLUMNS), keys, rtol)
+    fig = map_figure(read_columns(csv_path, keys + MAP_COLUMNS), keys, rtol, units)
     return save_figure(plt, fig, title or "scan over a workspace slice", png_path)
 
 
-def map_figure(c: dict[str, np.ndarray], keys: list[str], rtol: float = RTOL) -> Any:
+def axis_label(name: str, units: dict[str, str] | None = None) -> str:
+    """A map axis: ``platform x [m]``, or a joint's ``joint A_motor [rad]`` (its unit from ``units``)."""
+    if name in POSE_UNITS:
+        return f"platform {name} [{POSE_UNITS[name]}]"
+    unit = (units or {}).get(name)
+    return f"joint {name} [{unit}]" if unit else f"joint {name} [rad or m]"
+
+
+def map_figure(
+    c: dict[str, np.ndarray], keys: list[str], rtol: float = RTOL, units: dict[str, str] | None = None
+) -> Any:
     """The figure of :func:`plot_map` from the columns ``keys`` (the two ``grid_`` ones) and ``MAP_COLUMNS``."""
     plt = pyplot()
     from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
@@ -80,8 +95,8 @@ def map_figure(c: dict[str, np.ndarray], keys: list[str], rtol: float = RTOL) ->
         ax.set_xlim(eu[0], eu[-1])
         ax.set_ylim(ev[0], ev[-1])
         ax.set_title(name, fontsize=10)
-        ax.set_xlabel(f"platform {keys[0][5:]} [{POSE_UNITS[keys[0][5:]]}]")
-        ax.set_ylabel(f"platform {keys[1][5:]} [{POSE_UNITS[keys[1][5:]]}]")
+        ax.set_xlabel(axis_label(keys[0][5:], units))
+        ax.set_ylabel(axis_label(keys[1][5:], units))
         if not types:
             ax.text(0.5, 0.5, "no sample could be assembled", ha="center", va="center", transform=ax.transAxes)
         for key, label in (("singular", "singular"), ("near", "near-singular"), ("refined", "refined singular point")):

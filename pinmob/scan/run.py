@@ -175,4 +175,4 @@ def columns(spec: ScanSpec) -> list[str]:
         return ["index", *params, "refined", *value_columns(spec.values), *CHAIN_COLUMNS, *finite]
     return ["index", *params, "refined", *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank",
             "locked_dof", "singularity", "near_singular", "closest", "singular_limbs", "dependent_limbs",
-            "uncontrolled", "distance", *SV_COLUMNS, *finite]  # fmt: skip
+            "uncontrolled", "distance", *SV_COLUMNS, *finite, "reason", *value_columns(spec.values)]  # fmt: skip

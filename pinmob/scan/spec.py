@@ -1,14 +1,20 @@
 """What a scan covers: a path or a grid of targets, their order, chunks and seeding walk.
 
 * ``pose path``: platform poses ``M(s) = M_A exp(s log(M_A^-1 M_B))``, s in [0, 1];
+* ``coordinate path`` (kind ``coords``): one to three coordinates (some of them pose
+  coordinates, :mod:`pinmob.scan.coordinates`) interpolated linearly, ``c(s) = (1 - s) c_A + s c_B``,
+  the others held or following (:func:`coordinate_path_spec`);
 * ``joint path``: actuated joint values ``a(s) = (1 - s) a_A + s a_B``, assembled
   by forward kinematics (:func:`pinmob.assembly.assemble.assemble_joints`); its
   ends are configuration names or joint values ``name=value,...``. A mechanism
   without a platform is scanned this way only, each row the whole closed
   chain's answer (:mod:`pinmob.scan.chain`);
-* ``grid``: two platform pose coordinates (x, y, z [m], roll, pitch, yaw [rad])
-  on a grid, the other four fixed at a reference pose. Its *scan lines* are
-  the rows (the first coordinate fixed, the second varying).
+* ``grid``: one to three coordinates on a grid, each a platform pose coordinate
+  (x, y, z [m], roll, pitch, yaw [rad]) or a one-degree joint [rad or m]; of the
+  other coordinates, those that can still move at the reference configuration
+  (``--at``) are held there and the rest follow the mechanism
+  (:mod:`pinmob.scan.coordinates`). Its *scan lines* vary the last coordinate,
+  the others fixed (the first varying slowest).
 
 Samples are numbered ``k = 0 .. size - 1`` along the scan lines; a fractional
 ``t`` lies between samples of a line (:meth:`ScanSpec.target`). A line is cut
@@ -32,38 +38,23 @@ from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector, pose_vector
 from pinmob.bounds import check_bound
-from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL
+from pinmob.model.joint_values import parse_joint_values
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import end_values, joint_path_ends, value_joints
+from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_coordinates
+from pinmob.scan.references import nearest_seed, resolve_pose
+from pinmob.scan.references import platform_pose as platform_pose  # re-exported: its home before references.py
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
-POSE_COORDS = ("x", "y", "z", "roll", "pitch", "yaw")
-KINDS = ("pose", "joints", "grid")
+KINDS = ("pose", "joints", "coords", "grid")
 
 #: Samples per chunk of a line, and coarse step (in samples) of the walk that seeds the chunks.
 CHUNK, STRIDE = 32, 8
-
-
-def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pin.SE3:
-    """World pose of the platform frame at q."""
-    data = mech.model.createData() if data is None else data
-    pin.framesForwardKinematics(mech.model, data, q)
-    return pin.SE3(data.oMf[mech.platform_id])
-
-
-def pose_vector(pose: pin.SE3) -> Array:
-    """(6,) ``[x, y, z, roll, pitch, yaw]`` [m, rad] of a pose."""
-    return np.concatenate([pose.translation, pin.rpy.matrixToRpy(pose.rotation)])
-
-
-def pose_from_vector(v: Array) -> pin.SE3:
-    """Pose from ``[x, y, z, roll, pitch, yaw]`` [m, rad]."""
-    v = np.asarray(v, float)
-    return pin.SE3(pin.rpy.rpyToMatrix(v[3:]), v[:3])
 
 
 @dataclass(frozen=True)
@@ -71,14 +62,17 @@ class ScanSpec:
     """What to scan (picklable; see the module docstring).
 
     Attributes:
-        kind: ``pose``, ``joints`` or ``grid``.
+        kind: ``pose``, ``joints``, ``coords`` or ``grid``.
         q_ref: (nq,) closed configuration the walk starts from.
         a, b: path ends: (4, 4) homogeneous poses for ``pose``, (m,) actuated
-            values for ``joints``; unused for ``grid``.
+            values for ``joints``, (k,) values of ``coords`` for ``coords``; unused for ``grid``.
         samples: samples along a path.
         joints: actuated joint names (``joints`` kind).
-        base: (6,) reference pose vector of a grid.
-        axes: two grid coordinates: (index in POSE_COORDS, low, high, count) each.
+        base: (6,) reference pose vector of a grid (the platform's pose at ``--at``).
+        axes: one to three grid coordinates: (name, low, high, count) each (a pose coordinate or a joint).
+        held: a grid's held coordinates and their values at ``--at``: (name, value) each (:mod:`pinmob.scan.coordinates`).
+        start: a grid's gridded coordinates and their values at ``--at`` (where its seeding walk starts).
+        coords: a coordinate path's coordinates (``a`` and ``b`` hold their values at its ends).
         rtol: relative tolerance of rank decisions.
         generic_rank: the mechanism's generic constraint rank.
         finite_order: with a value, each row adds the finite DoF at its configuration (the finite-mobility
@@ -86,7 +80,7 @@ class ScanSpec:
         platform: rows about the platform (else about the whole closed chain, :mod:`pinmob.scan.chain`; then
             ``generic_rank`` is the generic closure rank).
         closure_tol: largest closure residual of an assembled sample (position / L, rotation [rad]).
-        values: the joints whose values the rows give (a closed chain's, :func:`pinmob.scan.chain.value_joints`).
+        values: the joints whose values the rows give (:func:`pinmob.scan.chain.value_joints`).
     """
 
     kind: str
@@ -96,7 +90,10 @@ class ScanSpec:
     samples: int = 0
     joints: tuple[str, ...] = ()
     base: Array | None = field(default=None, repr=False)
-    axes: tuple[tuple[int, float, float, int], ...] = ()
+    axes: tuple[tuple[str, float, float, int], ...] = ()
+    held: tuple[tuple[str, float], ...] = ()
+    start: tuple[tuple[str, float], ...] = ()
+    coords: tuple[str, ...] = ()
     rtol: float = RTOL
     generic_rank: int = 0
     finite_order: int | None = None
@@ -106,15 +103,33 @@ class ScanSpec:
 
     @property
     def size(self) -> int:
-        """Number of samples (path samples, or grid rows times columns)."""
+        """Number of samples (path samples, or the product of the grid's counts)."""
         if self.kind == "grid":
-            return self.axes[0][3] * self.axes[1][3]
+            return int(np.prod([a[3] for a in self.axes]))
         return self.samples
 
     @property
     def line_size(self) -> int:
-        """Samples per scan line: the whole path, or one grid row."""
-        return self.axes[1][3] if self.kind == "grid" else self.samples
+        """Samples per scan line: the whole path, or one grid line (the last coordinate varying)."""
+        return self.axes[-1][3] if self.kind == "grid" else self.samples
+
+    @property
+    def varied(self) -> tuple[str, ...]:
+        """The coordinates a grid or a coordinate path varies."""
+        return tuple(a[0] for a in self.axes) or self.coords
+
+    @property
+    def pose_grid(self) -> bool:
+        """A grid or a coordinate path with a pose coordinate among its coordinates."""
+        return any(c in POSE_COORDS for c in self.varied)
+
+    @property
+    def following(self) -> tuple[str, ...]:
+        """The pose coordinates that follow the mechanism (neither varied nor held; :mod:`pinmob.scan.coordinates`)."""
+        if not self.pose_grid:
+            return ()
+        given = set(self.varied) | {c for c, _ in self.held}
+        return tuple(c for c in POSE_COORDS if c not in given)
 
     def line(self, k: int) -> tuple[int, int]:
         """First and last sample of the scan line holding sample k."""
@@ -122,31 +137,43 @@ class ScanSpec:
         return first, first + self.line_size - 1
 
     def params(self, t: float) -> dict[str, float]:
-        """Scan parameters at sample t (fractional between samples of a line): ``s``, or ``grid_<coordinate>`` (two)."""
+        """Scan parameters at sample t (fractional between samples of a line): ``s``, or ``grid_<coordinate>`` each."""
         if self.kind == "grid":
-            (i, lo_i, hi_i, n_i), (j, lo_j, hi_j, n_j) = self.axes
-            r = int(t // n_j)
-            c = t - r * n_j
-            return {
-                "grid_" + POSE_COORDS[i]: lo_i + (hi_i - lo_i) * r / (n_i - 1) if n_i > 1 else lo_i,
-                "grid_" + POSE_COORDS[j]: lo_j + (hi_j - lo_j) * c / (n_j - 1) if n_j > 1 else lo_j,
-            }
+            n_last = self.axes[-1][3]
+            r = int(t // n_last)
+            lines = np.unravel_index(r, [a[3] for a in self.axes[:-1]]) if len(self.axes) > 1 else ()
+            steps = [*(float(i) for i in lines), t - r * n_last]  # each coordinate's step, the last fractional
+            return {"grid_" + name: lo + (hi - lo) * i / (n - 1) if n > 1 else lo
+                    for (name, lo, hi, n), i in zip(self.axes, steps)}  # fmt: skip
         return {"s": t / (self.samples - 1) if self.samples > 1 else 0.0}
 
     def target(self, t: float) -> tuple[str, Any]:
-        """``("pose", SE3)`` or ``("joints", {name: value})`` at sample t (fractional between samples of a line)."""
+        """``("pose", SE3)``, ``("joints", {name: value})`` or ``("coords", (pose, joints))`` at sample t.
+
+        A grid's target: the gridded and held coordinates (pose coordinates, joint values); a plain pose when
+        all six pose coordinates are given and no joint (the others follow, :mod:`pinmob.scan.coordinates`).
+        """
         p = self.params(t)
         if self.kind == "grid":
-            v = np.array(self.base, float)
-            for name, value in p.items():
-                v[POSE_COORDS.index(name[5:])] = value
-            return "pose", pose_from_vector(v)
+            return self.coordinates_target({name[5:]: value for name, value in p.items()})
         s = p["s"]
+        if self.kind == "coords":
+            vals = (1 - s) * np.asarray(self.a) + s * np.asarray(self.b)
+            return self.coordinates_target(dict(zip(self.coords, vals.tolist())))
         if self.kind == "joints":
             vals = (1 - s) * np.asarray(self.a) + s * np.asarray(self.b)
             return "joints", dict(zip(self.joints, vals.tolist()))
         ma, mb = pin.SE3(np.asarray(self.a)), pin.SE3(np.asarray(self.b))
         return "pose", ma * pin.exp6(s * pin.log6(ma.actInv(mb)))
+
+    def coordinates_target(self, gridded: dict[str, float]) -> tuple[str, Any]:
+        """A grid's target with the gridded coordinates at ``gridded`` and the held ones at their values."""
+        values = dict(self.held) | gridded
+        pose = {c: values[c] for c in POSE_COORDS if c in values}
+        joints = {c: v for c, v in values.items() if c not in POSE_COORDS}
+        if len(pose) == 6 and not joints:
+            return "pose", pose_from_vector(np.array([pose[c] for c in POSE_COORDS]))
+        return "coords", (pose, joints)
 
     def chunks(self) -> list[tuple[int, int]]:
         """(start, stop) sample ranges: runs of at most CHUNK samples of a line."""
@@ -156,10 +183,11 @@ class ScanSpec:
     def waypoints(self) -> Iterator[tuple[tuple[str, Any], int | None]]:
         """The coarse walk seeding the chunks: ``(target, sample index or None)``.
 
-        A path: every STRIDE-th sample. A grid: straight from the reference pose
-        to the first sample (steps of at most two spacings), then every
-        STRIDE-th sample and the last of each row, rows alternately forwards
-        and backwards (each move is at most STRIDE spacings).
+        A path: every STRIDE-th sample. A grid: straight from the reference
+        (``--at``) to the first sample (steps of at most two spacings), then
+        every STRIDE-th sample and the last of each line, lines alternately
+        forwards and backwards (each move is at most STRIDE spacings), a
+        three-coordinate grid's lines in a serpentine (:meth:`line_order`).
         """
         if self.kind != "grid":
             for k in range(0, self.samples, STRIDE):
@@ -168,20 +196,28 @@ class ScanSpec:
         yield from ((target, None) for target in self.approach())
         n = self.line_size
         cols = sorted({*range(0, n, STRIDE), n - 1})
-        for r in range(self.axes[0][3]):
-            for c in cols if r % 2 == 0 else cols[::-1]:
+        for turn, r in enumerate(self.line_order()):
+            for c in cols if turn % 2 == 0 else cols[::-1]:
                 yield self.target(r * n + c), r * n + c
 
+    def line_order(self) -> list[int]:
+        """A grid's lines in the order the seeding walk visits them: a serpentine over the other coordinates."""
+        counts = [a[3] for a in self.axes[:-1]]
+        if len(counts) < 2:
+            return list(range(counts[0] if counts else 1))
+        return [
+            i * counts[1] + (j if i % 2 == 0 else counts[1] - 1 - j) for i in range(counts[0]) for j in range(counts[1])
+        ]
+
     def approach(self) -> list[tuple[str, Any]]:
-        """Grid: the targets from the reference pose to the first sample, at most two spacings apart."""
-        (i, lo_i, hi_i, n_i), (j, lo_j, hi_j, n_j) = self.axes
-        base = np.array(self.base, float)
-        first = base.copy()
-        first[[i, j]] = lo_i, lo_j
-        spacing = np.array([(hi_i - lo_i) / max(1, n_i - 1), (hi_j - lo_j) / max(1, n_j - 1)])
-        delta = np.abs(np.array([first[i] - base[i], first[j] - base[j]]))
+        """Grid: the targets from the reference to the first sample, at most two spacings apart."""
+        start = {name: value for name, value in self.start}
+        first = {name: lo for name, lo, _, _ in self.axes}
+        spacing = np.array([(hi - lo) / max(1, n - 1) for _, lo, hi, n in self.axes])
+        delta = np.abs(np.array([first[name] - start[name] for name in first]))
         steps = int(np.ceil(np.max(delta / np.where(spacing > 0, 2 * spacing, np.inf), initial=0.0)))
-        return [("pose", pose_from_vector(base + t * (first - base))) for t in np.arange(1, steps) / steps]
+        return [self.coordinates_target({c: start[c] + t * (first[c] - start[c]) for c in first})
+                for t in np.arange(1, steps) / steps]  # fmt: skip
 
 
 def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, float, int]:
@@ -197,32 +233,16 @@ def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, floa
         ) from None
 
 
-def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
-    """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, closed q)."""
-    if any(text.casefold() == name.casefold() for name in mech.configurations):
-        q = closed_configuration(mech, text)
-        return platform_pose(mech, q), q
-    try:
-        values = [float(v) for v in text.split(",")]
-    except ValueError:
-        values = []
-    if len(values) != 6 or not np.all(np.isfinite(values)):
-        raise ConfigurationError(
-            f"{text!r} is neither a configuration of {mech.name!r} ({choices(mech.configurations)}) "
-            "nor a pose 'x,y,z,roll,pitch,yaw' [m, rad]"
-        )
-    return pose_from_vector(np.array(values)), np.array([])
-
-
 def path_spec(
     mech: Mechanism, start: str, end: str, samples: int, *, joints: bool = False, rtol: float = RTOL,
     closure_tol: float = CLOSURE_TOL
 ) -> ScanSpec:  # fmt: skip
     """A path from ``start`` to ``end``: configuration names, poses, or joint values ``name=value,...``.
 
-    A joint path (the actuated joints interpolated) when ``joints`` is set, when an end is joint values, or when
-    the mechanism has no platform (then each row is the whole closed chain's answer, :mod:`pinmob.scan.chain`);
-    else a path in platform poses.
+    A coordinate path (:func:`coordinate_path_spec`) when an end's values name a pose coordinate; a joint path
+    (the actuated joints interpolated) when ``joints`` is set, when an end is joint values, or when the mechanism
+    has no platform (then each row is the whole closed chain's answer, :mod:`pinmob.scan.chain`); else a path in
+    platform poses.
 
     Raises:
         PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end.
@@ -230,38 +250,98 @@ def path_spec(
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
     check_bound("samples", samples, "the path (--samples)")
+    given = [parse_joint_values(t, "path end") if "=" in t else {} for t in (start, end)]
+    if mech.has_platform and not joints and any(c in POSE_COORDS for g in given for c in g):
+        return coordinate_path_spec(mech, start, end, samples, given, rtol, closure_tol)
     if joints or not mech.has_platform or "=" in start or "=" in end:
         acts, qa, qb, g = joint_path_ends(mech, start, end, rtol, closure_tol)
         va, vb = end_values(mech, acts, start, qa), end_values(mech, acts, end, qb)
         return ScanSpec("joints", qa, va, vb, samples, acts, rtol=rtol, generic_rank=g,
                         platform=mech.has_platform, closure_tol=closure_tol,
-                        values=() if mech.has_platform else value_joints(mech))  # fmt: skip
+                        values=value_joints(mech))  # fmt: skip
     pa, qa = resolve_pose(mech, start)
     pb, qb = resolve_pose(mech, end)
     if qa.size == 0:
-        qa = assemble_pose(mech, pa, _nearest_seed(mech, pa))
+        qa = assemble_pose(mech, pa, nearest_seed(mech, pa))
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g)
+    return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g,
+                    values=value_joints(mech))  # fmt: skip
+
+
+def coordinate_path_spec(
+    mech: Mechanism, start: str, end: str, samples: int, given: list[dict[str, float]], rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL
+) -> ScanSpec:  # fmt: skip
+    """A path in one to three coordinates (some of them pose coordinates), the others held or following.
+
+    Its ends give the values of the coordinates (``roll=0.2,pitch=0.1``; a configuration end gives all of
+    them); they are interpolated linearly. The *reference* is the end that is a configuration (or a pose),
+    else the first named configuration: the rule of :mod:`pinmob.scan.coordinates` is taken there, the held
+    coordinates keep their values there, and an end's coordinates it does not name too.
+
+    Raises:
+        PinmobError: an unknown or too many coordinates, no reference, coordinates that cannot vary
+            independently at the reference, a start that does not assemble.
+    """
+    names = check_coordinates(mech, list(dict.fromkeys([*given[0], *given[1]])), "a coordinate path")
+    refs = [t for t in (start, end) if "=" not in t] or list(mech.configurations)[:1]
+    if not refs:
+        raise ConfigurationError(f"{mech.name!r} declares no configuration: give one end of the path as a pose")
+    pose, q_ref = resolve_pose(mech, refs[0])
+    if q_ref.size == 0:
+        q_ref = assemble_pose(mech, pose, nearest_seed(mech, pose))
+    held = held_coordinates(mech, q_ref, names, refs[0], rtol)
+    at_ref = coordinate_values(mech, q_ref, names + held)
+    ends = []
+    for text, values in zip((start, end), given):
+        if "=" in text:
+            ends.append([values.get(n, at_ref[n]) for n in names])
+        else:
+            end_pose, q_end = resolve_pose(mech, text)
+            if q_end.size == 0:
+                q_end = assemble_pose(mech, end_pose, q_ref)
+            ends.append(list(coordinate_values(mech, q_end, names).values()))
+    spec = ScanSpec("coords", q_ref, np.array(ends[0]), np.array(ends[1]), samples, rtol=rtol, closure_tol=closure_tol,
+                    generic_rank=generic_constraint_rank(mech, rtol=rtol), held=tuple((c, at_ref[c]) for c in held),
+                    coords=names, values=value_joints(mech))  # fmt: skip
+    kind, target = spec.target(0)
+    try:
+        if kind == "pose":
+            q0 = assemble_pose(mech, target, q_ref, closure_tol)
+        else:
+            q0 = assemble_coordinates(mech, target[0], target[1], q_ref, closure_tol)
+    except ClosureError as exc:
+        raise ClosureError(f"path start {start!r} does not assemble from {refs[0]!r}: {exc}", exc.residuals) from None
+    return replace(spec, q_ref=q0)
 
 
 def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]], rtol: float = RTOL) -> ScanSpec:
-    """A grid over two pose coordinates around the pose of ``at`` (a configuration name or a pose)."""
+    """A grid over one to three coordinates (pose coordinates or joints) around ``at`` (a configuration or a pose).
+
+    The coordinates not on the grid are held at their values at ``at`` or follow the mechanism
+    (:func:`pinmob.scan.coordinates.held_coordinates`).
+
+    Raises:
+        ConfigurationError: no platform, an unknown or repeated coordinate (the message lists the valid ones), an
+            empty range, too many samples, or gridded coordinates that cannot vary independently at ``at``.
+    """
     require_platform(mech, "pinmob scan")
-    if len(axes) != 2 or axes[0][0] == axes[1][0]:
-        raise ConfigurationError(f"a grid needs two different coordinates, got {[a[0] for a in axes]}")
+    names = check_coordinates(mech, [a[0] for a in axes])
     out = []
     for name, lo, hi, n in axes:
-        if name not in POSE_COORDS:
-            raise ConfigurationError(f"unknown grid coordinate {name!r}; valid: {choices(POSE_COORDS)}")
         if n < 1 or not (np.isfinite(lo) and np.isfinite(hi)):
             raise ConfigurationError(f"grid axis {name}: need finite bounds and at least 1 sample, got {lo}, {hi}, {n}")
-        out.append((POSE_COORDS.index(name), float(lo), float(hi), int(n)))
-    check_bound("samples", out[0][3] * out[1][3], f"the grid ({out[0][3]} x {out[1][3]})")
+        out.append((name, float(lo), float(hi), int(n)))
+    check_bound("samples", int(np.prod([a[3] for a in out])), f"the grid ({' x '.join(str(a[3]) for a in out)})")
     pose, q = resolve_pose(mech, at)
     if q.size == 0:
-        q = assemble_pose(mech, pose, _nearest_seed(mech, pose))
+        q = assemble_pose(mech, pose, nearest_seed(mech, pose))
+    held = held_coordinates(mech, q, names, at, rtol)
+    values = coordinate_values(mech, q, names + held)
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g)
+    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g,
+                    held=tuple((c, values[c]) for c in held), start=tuple((c, values[c]) for c in names),
+                    values=value_joints(mech))  # fmt: skip
 
 
 def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> ScanSpec:
@@ -278,17 +358,3 @@ def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> Sc
     order = check_order(ORDER if order is None else order)
     check_joints(Configuration(mech, spec.q_ref))
     return replace(spec, finite_order=order)
-
-
-def _nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:
-    """The named configuration whose platform pose is nearest to ``pose`` (else neutral)."""
-    best, seed = np.inf, mech.neutral()
-    for name in mech.configurations:
-        try:
-            q = closed_configuration(mech, name)
-        except PinmobError:
-            continue
-        d = float(np.linalg.norm(pin.log6(platform_pose(mech, q).actInv(pose)).vector))
-        if d < best:
-            best, seed = d, q
-    return seed

@@ -63,9 +63,10 @@ class ScanSettings:
     """The workspace scan of each design, as ``pinmob scan`` takes it: a grid, or a path.
 
     Attributes:
-        axes: a grid's two axes ``(coordinate, low, high, count)``; empty for a path.
+        axes: a grid's one to three axes ``(coordinate, low, high, count)`` (a pose coordinate or a joint,
+            :func:`pinmob.scan.spec.grid_spec`); empty for a path.
         at: the grid's reference (a configuration name or a pose ``x,y,z,roll,pitch,yaw``); None: the first one.
-        start: a path's start (name or pose); None: the first configuration.
+        start: a path's start (name, pose, or joint values ``name=value,...``); None: the first configuration.
         end: a path's end; None: the second configuration.
         samples: samples along a path.
         joints: a path in actuated joint values.
@@ -82,11 +83,11 @@ class ScanSettings:
 
     @property
     def is_grid(self) -> bool:
-        """A grid over two pose coordinates (else a path)."""
+        """A grid over one to three coordinates (else a path)."""
         return bool(self.axes)
 
     def parameters(self) -> list[str]:
-        """The scan parameters of its rows: ``grid_<coordinate>`` twice, or ``s``."""
+        """The scan parameters of its rows: ``grid_<coordinate>`` per axis, or ``s``."""
         return [f"grid_{a[0]}" for a in self.axes] if self.is_grid else ["s"]
 
     def spec(self, mech: Mechanism) -> ScanSpec:
@@ -180,7 +181,8 @@ class SweepSpec:
         if name in self.parameters:
             return self.source.units.get(name, "")
         if name.startswith("min_distance_grid_"):
-            return "rad" if name[18:] in ("roll", "pitch", "yaw") else "m"
+            coordinate = name[18:]  # a joint's unit (rad or m) is its mechanism's business: none given
+            return "rad" if coordinate in ("roll", "pitch", "yaw") else "m" if coordinate in ("x", "y", "z") else ""
         return UNITS.get(name, "")
 
     def spec_digest(self) -> str:

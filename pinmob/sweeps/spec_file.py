@@ -21,10 +21,11 @@
     link = [0.2, 0.35, 7]             # grid: [low, high, count]; random and latin-hypercube: [low, high]
     big_r = [0.25, 0.4, 7]
 
-    [scan]                            # per design, as pinmob scan: a grid ...
+    [scan]                            # per design, as pinmob scan: a grid (1 to 3 pose coordinates or joints) ...
     grid = ["x:-0.06:0.06:9", "y:-0.06:0.06:9"]
     at = "generic"                    # default: the design's first configuration
-    # from = "generic", to = "offset", samples = 21, joints = false   # ... or a path
+    # from = "generic", to = "offset", samples = 21, joints = false   # ... or a path (ends: names, poses,
+    #                                                                 # or joint values "A=0.1,B=0.2")
     # rtol = 1e-6
 
     [plots]                           # optional
@@ -46,6 +47,7 @@ from typing import Any
 from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.catalog.families import family
 from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.scan.coordinates import check_coordinates
 from pinmob.scan.spec import POSE_COORDS, parse_grid_axis
 from pinmob.screw.rank import check_rtol
 from pinmob.sweeps.fields import TYPES
@@ -171,18 +173,23 @@ def _scan(where: str, table: dict[str, Any]) -> ScanSettings:
                 f"{where}: scan.grid scans a workspace slice; {', '.join(path_keys)} belong to a path"
             )
         grid = table["grid"]
-        if not isinstance(grid, list) or len(grid) != 2:
-            raise ConfigurationError(f'{where}: scan.grid must be two axes ["x:LO:HI:N", "y:LO:HI:N"], got {grid!r}')
+        if not isinstance(grid, list) or not 1 <= len(grid) <= 3:
+            raise ConfigurationError(
+                f'{where}: scan.grid must be one to three axes ["x:LO:HI:N", "y:LO:HI:N"] (pose coordinates or '
+                f"joints), got {grid!r}"
+            )
         axes = tuple(parse_grid_axis(text, "scan.grid") for text in grid)
         for name, lo, hi, n in axes:
-            if name not in POSE_COORDS:
+            if not name:
                 raise ConfigurationError(
-                    f"{where}: unknown scan.grid coordinate {name!r}; valid: {choices(POSE_COORDS)}"
+                    f"{where}: scan.grid axis without a coordinate; give a pose coordinate ({choices(POSE_COORDS)}) "
+                    "or a joint name"
                 )
             if n < 1 or lo > hi:
                 raise ConfigurationError(f"{where}: scan.grid axis {name} is an empty range ({lo}, {hi}, {n})")
-        if axes[0][0] == axes[1][0]:
-            raise ConfigurationError(f"{where}: scan.grid needs two different coordinates, got {axes[0][0]!r} twice")
+        names = [a[0] for a in axes]
+        if len(set(names)) != len(names):
+            raise ConfigurationError(f"{where}: scan.grid needs different coordinates, got {names}")
         return ScanSettings(axes=axes, at=_text(where, table, "at"), rtol=rtol)
     if "at" in table:
         raise ConfigurationError(
@@ -221,14 +228,32 @@ def _with_references(where: str, spec: SweepSpec) -> SweepSpec:
                     f"{where}: the mechanism has {len(names)} named configuration(s); give scan.{key}"
                 )
             wanted[key] = names[i]
-        elif value not in names and len(value.split(",")) != 6:
+        elif value not in names and len(value.split(",")) != 6 and (scan.is_grid or "=" not in value):
+            joints = "" if scan.is_grid else ", nor joint values NAME=VALUE,... [rad or m]"
             raise ConfigurationError(
                 f"{where}: scan.{key} {value!r} is neither a configuration of {spec.source.name!r} "
-                f"({choices(names)}) nor a pose 'x,y,z,roll,pitch,yaw' [m, rad]"
+                f"({choices(names)}) nor a pose 'x,y,z,roll,pitch,yaw' [m, rad]{joints}"
             )
+    if scan.is_grid and any(a[0] not in POSE_COORDS for a in scan.axes):
+        _check_grid_joints(where, spec)
     if scan.is_grid:
         return replace(spec, scan=replace(scan, at=wanted["at"]))
     return replace(spec, scan=replace(scan, start=wanted["from"], end=wanted["to"]))
+
+
+def _check_grid_joints(where: str, spec: SweepSpec) -> None:
+    """A grid's coordinates checked against the first design's mechanism (its joints are known once it is loaded)."""
+    import tempfile
+
+    with tempfile.TemporaryDirectory() as folder:
+        try:
+            mech = spec.source.mechanism(spec.values(0), Path(folder))
+        except PinmobError as exc:
+            raise ConfigurationError(f"{where}: the first design's mechanism cannot be loaded: {exc}") from None
+        try:
+            check_coordinates(mech, [a[0] for a in spec.scan.axes], "scan.grid")
+        except ConfigurationError as exc:
+            raise ConfigurationError(f"{where}: scan.grid: {exc}") from None
 
 
 def _with_plots(where: str, spec: SweepSpec, table: dict[str, Any]) -> SweepSpec:

@@ -1,0 +1,54 @@
+"""Where a scan starts: named configurations and platform poses, closed.
+
+:func:`resolve_pose` reads a ``--at``, ``--from`` or ``--to`` that is a configuration name or a pose
+``x,y,z,roll,pitch,yaw``; :func:`nearest_seed` picks the named configuration nearest a pose to assemble it from.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.partial_pose import pose_from_vector
+from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array
+
+
+def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pin.SE3:
+    """World pose of the platform frame at q."""
+    data = mech.model.createData() if data is None else data
+    pin.framesForwardKinematics(mech.model, data, q)
+    return pin.SE3(data.oMf[mech.platform_id])
+
+
+def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
+    """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, closed q)."""
+    if any(text.casefold() == name.casefold() for name in mech.configurations):
+        q = closed_configuration(mech, text)
+        return platform_pose(mech, q), q
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        values = []
+    if len(values) != 6 or not np.all(np.isfinite(values)):
+        raise ConfigurationError(
+            f"{text!r} is neither a configuration of {mech.name!r} ({choices(mech.configurations)}) "
+            "nor a pose 'x,y,z,roll,pitch,yaw' [m, rad]"
+        )
+    return pose_from_vector(np.array(values)), np.array([])
+
+
+def nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:
+    """The named configuration whose platform pose is nearest to ``pose`` (else neutral)."""
+    best, seed = np.inf, mech.neutral()
+    for name in mech.configurations:
+        try:
+            q = closed_configuration(mech, name)
+        except PinmobError:
+            continue
+        d = float(np.linalg.norm(pin.log6(platform_pose(mech, q).actInv(pose)).vector))
+        if d < best:
+            best, seed = d, q
+    return seed

@@ -1,0 +1,55 @@
+"""Rows of scan samples that did not assemble, and why (one line naming the largest misses)."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from pinmob.assembly.partial_pose import POSE_COORDS, pose_vector
+from pinmob.exceptions import ClosureError, PinmobError
+from pinmob.model.closure import CLOSURE_TOL
+from pinmob.model.mechanism import Mechanism
+
+#: The singular-value columns of a platform scan's rows: the constraint's, then the actuation's.
+SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
+
+
+def unreachable_reason(exc: PinmobError, mech: Mechanism, tol: float = CLOSURE_TOL) -> str:
+    """Why a sample did not assemble, on one line: the largest misses of the closest configuration found.
+
+    A pose coordinate missed (``x off by ...``) is out of the mechanism's reach from the warm start; a
+    limb or closure left open (``limb A open by ...``) cannot reach (its stroke, or its geometry).
+    """
+    res = exc.residuals if isinstance(exc, ClosureError) else {}
+    if not res:
+        return str(exc)
+    length = mech.length_scale
+    size = {k: max(p / length, r) for k, (p, r) in res.items()}
+    worst = [k for k in sorted(size, key=lambda k: -size[k]) if size[k] > tol][:3]
+    limbs = {b.name for b in mech.limbs}
+    parts = []
+    for k in worst:
+        p, r = res[k]
+        off = " and ".join([f"{p:.2e} m"] * (p / length > tol) + [f"{r:.2e} rad"] * (r > tol))
+        if k.startswith("coordinate "):
+            parts.append(f"{k[11:]} off by {off}")
+        else:
+            if k == "pose":
+                parts.append(f"platform pose off by {off}")
+            else:
+                parts.append(f"{'limb' if k in limbs else 'closure'} {k} open by {off}")
+    return "no convergence from the warm start (out of reach?); closest found: " + ", ".join(parts)
+
+
+def unreachable_row(target: tuple[str, Any], reason: str) -> dict[str, Any]:
+    """The row of a sample that did not assemble: the pose coordinates it asked for (NaN: followed), the reason."""
+    kind, value = target
+    row: dict[str, Any] = dict.fromkeys(POSE_COORDS, float("nan"))
+    if kind == "pose":
+        row.update(zip(POSE_COORDS, pose_vector(value).tolist()))
+    elif kind == "coords":
+        row.update(value[0])
+    row.update(reachable=False, reason=reason, dof=-1, motion_type="unreachable", constraint_rank=-1, locked_dof=-1, singularity="",
+               near_singular=False, closest="", singular_limbs="", dependent_limbs="", uncontrolled="",
+               distance=float("nan"))  # fmt: skip
+    row.update(dict.fromkeys(SV_COLUMNS, float("nan")))
+    return row

@@ -159,3 +159,24 @@ def test_counts_agree_with_mujoco(name):
     on_bodies = int(np.count_nonzero(m.actuator_trntype[: m.nu] == mujoco.mjtTrn.mjTRN_BODY))  # adhesion: contacts
     assert len(act["actuated"]) + len(act["actuated_tendons"]) == nu - on_bodies
     assert (doc["mechanism_dof"], act["locked_dof"]) == (dof, left)
+
+
+@pytest.mark.parametrize("name", sorted(MUJOCO))
+def test_redundant_actuators_agree_with_mujoco(name):
+    """The actuators pinmob calls redundant are MuJoCo's: ``rank([eq; held bases]) + (held actuators) -
+    rank([eq; moments; held bases])`` at pinmob's configuration. A floating base that the closures already
+    hold in part (pinned to the world) makes no actuator redundant (tests/data/unnamed_parts.xml said 3)."""
+    path = DATA / name
+    doc = pinmob.analyze(pinmob.load(path)).to_dict()
+    act = doc["actuation"]
+    m, d, eq = mujoco_at(path, doc["joint_values"])
+    jac = d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq]
+    moments = np.zeros((m.nu, m.nv))
+    mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
+    moments = moments[m.actuator_trntype[: m.nu] != mujoco.mjtTrn.mjTRN_BODY]  # adhesion: held by neither
+    held = np.zeros((6 * len(act["base_held"]), m.nv))
+    for k, base in enumerate(act["base_held"]):
+        j = mujoco_joint(m, base)
+        held[6 * k : 6 * k + 6, m.jnt_dofadr[j] : m.jnt_dofadr[j] + 6] = np.eye(6)
+    redundant = clear_rank(np.vstack([jac, held])) + len(moments) - clear_rank(np.vstack([jac, moments, held]))
+    assert (act["redundant_actuators"], act["overdetermined"]) == (redundant, redundant > 0)

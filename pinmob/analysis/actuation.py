@@ -50,7 +50,9 @@ class Actuation:
         valid: every motion left with them locked is idle, and they are independent.
         locked_dof: motions left with the actuated joints locked (idle ones included).
         idle_dof: idle motions among them.
-        redundant_actuators: actuated rates implied by the others (> 0: over-determined).
+        redundant_actuators: actuated rates implied by the others and the held floating bases (> 0:
+            over-determined); a base's own rates that the closures already fix (a base pinned to the world)
+            are not counted.
         frame_dof: DoF of each end frame with the actuators locked (0 = rigid).
         remaining: the non-idle motions left, each as joint rates by name
             (largest 1, rates below 1e-6 dropped).
@@ -174,6 +176,8 @@ def actuation(
     frame_dof = {name: rank_of(frame_rows(conf, name) @ n @ locked, rtol) if locked.size else 0 for name in frames}
     base = floating_bases(mech)
     count = len(actuated) + len(tendons) + 6 * len(base)
+    if base:  # a base the closures already hold in part (pinned to the world): those rates are no actuator's
+        count -= 6 * len(base) - rank_of(rates_of(n, held_indices(mech, ())), rtol)
     return Actuation(
         tuple(actuated),
         split.valid(count),

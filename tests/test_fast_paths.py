@@ -156,12 +156,14 @@ def test_output_rows_are_pinocchios_joint_jacobians(configurations):
     """The joint centres' rows, all at once from the world Jacobian, are Pinocchio's joint Jacobians.
 
     Against the computation they replace: ``pin.getJointJacobian(..., LOCAL_WORLD_ALIGNED)[:3] * col / L``
-    per joint, with the same exact zeros (the columns of the joints that do not support it); the other
-    entries to round-off (the same operations: bit for bit where Pinocchio is built without fused multiply-adds).
+    per joint, referred to the joint's centre (:mod:`pinmob.analysis.joint_centres`: its frame origin but for
+    the revolutes of a ball or universal joint drawn elsewhere on their axes), with the same exact zeros (the
+    columns of the joints that do not support it); the other entries to round-off.
     """
     import pinocchio as pin
 
-    from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows, output_rows
+    from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows, output_rows, supported_columns
+    from pinmob.analysis.joint_centres import joint_centres
 
     for label, conf in configurations:
         mech = conf.mechanism  # type: ignore[attr-defined]
@@ -169,10 +171,11 @@ def test_output_rows_are_pinocchios_joint_jacobians(configurations):
         col = closed_chain_columns(conf)  # type: ignore[arg-type]
         frames = [mech.platform] if mech.has_platform else []
         rows = [frame_rows(conf, f) for f in frames]  # type: ignore[arg-type]
-        rows += [
-            np.reshape(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))[:3] * col / length
-            for j in range(1, model.njoints)
-        ]
+        centres = joint_centres(conf)  # type: ignore[arg-type]
+        for j in range(1, model.njoints):
+            jac = np.reshape(pin.getJointJacobian(model, data, j, pin.LOCAL_WORLD_ALIGNED), (6, model.nv))
+            r = centres[j - 1] - data.oMi[j].translation  # the centre on joint j's axis, from its frame origin
+            rows.append((jac[:3] - pin.skew(r) @ jac[3:]) * col / length)  # v + w x r
         rows += [
             conf.frame_jacobian(c.frame_a_id)[:3] * col / length  # type: ignore[attr-defined]
             for c in mech.all_closures
@@ -181,7 +184,12 @@ def test_output_rows_are_pinocchios_joint_jacobians(configurations):
         ref = np.vstack(rows)
         mine = output_rows(conf, frames)  # type: ignore[arg-type]
         assert mine.shape == ref.shape, label
-        assert np.array_equal(mine == 0, ref == 0), label
+        block = slice(6 * len(frames), 6 * len(frames) + 3 * (model.njoints - 1))  # the joint centres' rows
+        absent = ~np.repeat(supported_columns(mech), 3, axis=0)  # type: ignore[arg-type]
+        assert np.all(mine[block][absent] == 0) and np.all(ref[block][absent] == 0), label
+        others = np.ones(len(ref), dtype=bool)
+        others[block] = False
+        assert np.array_equal(mine[others] == 0, ref[others] == 0), label  # frames and closure points
         assert_allclose(mine, ref, rtol=1e-14, atol=1e-14, err_msg=label)
 
 

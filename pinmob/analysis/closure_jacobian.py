@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.joint_centres import joint_centres
 from pinmob.analysis.limbs import rate_scale
 from pinmob.assembly.residual import stacked_error
 from pinmob.blas import one_blas_thread
@@ -177,17 +178,6 @@ _IDENTITY = np.zeros(18)
 _IDENTITY[[0, 7, 14]] = 1.0
 _SKEW = np.zeros((3, 18))
 _SKEW[[2, 1, 2, 0, 1, 0], [4, 5, 9, 11, 15, 16]] = [1.0, -1.0, -1.0, 1.0, 1.0, -1.0]
-
-
-def joint_centres(conf: Configuration) -> Array:
-    """(njoints - 1, 3) every joint's centre, the origin of its placement ``data.oMi`` [m] (read-only, cached)."""
-
-    def compute() -> Array:
-        out = np.array([x.translation for x in conf.data.oMi.tolist()[1:]]).reshape(-1, 3)
-        out.flags.writeable = False
-        return out
-
-    return conf.memo("joint centres", compute)
 
 
 def closure_points(mech: Mechanism) -> tuple[int, ...]:

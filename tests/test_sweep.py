@@ -96,7 +96,8 @@ def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):
                                  timeout=240)  # fmt: skip
         finally:
             client.unregister_worker_plugin(KillOnFirstChunk.name)
-        client.wait_for_workers(2, timeout=60)
+    # the killed worker's nanny starts another; the dask_cluster fixture waits for it (or replaces the cluster)
+    # before the next test: waiting here for a fixed minute failed under load (1 of 2 workers after 60 s)
     assert flag.exists(), "no design ever ran on the cluster"
     assert run.returncode == 0, run.stderr
     assert "lost and replaced" in run.stdout

@@ -15,9 +15,9 @@ import subprocess
 import sys
 from pathlib import Path
 
-import mujoco
 import numpy as np
 import pytest
+from test_third_party import mujoco_at
 
 from pinmob.assembly.closure_miss import accepting_tol
 
@@ -69,13 +69,8 @@ def test_spherical_urdf_with_a_cad_gap_analyses_with_the_flag_its_error_names():
 
 def mujoco_rank(path: Path, joint_values: dict[str, float | list[float]], rtol: float) -> tuple[int, int, np.ndarray]:
     """(nv, rank, singular values) of MuJoCo's equality rows (efc_J) at the given joint values."""
-    m = mujoco.MjModel.from_xml_path(str(path))
-    d = mujoco.MjData(m)
-    for name, value in joint_values.items():
-        d.joint(name).qpos[:] = value
-    mujoco.mj_forward(m, d)
-    eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
-    s = np.linalg.svd(d.efc_J.reshape(d.nefc, m.nv)[eq], compute_uv=False)
+    m, d, eq = mujoco_at(path, joint_values)
+    s = np.linalg.svd(d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq], compute_uv=False)
     return m.nv, int(np.count_nonzero(s > rtol * s[0])), s
 
 

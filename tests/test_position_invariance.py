@@ -17,7 +17,6 @@ from __future__ import annotations
 import functools
 import re
 import sys
-import warnings
 import zlib
 from pathlib import Path
 from typing import Any
@@ -34,17 +33,11 @@ sys.path.insert(0, str(Path(__file__).parent))
 from millimetres import in_units, placed  # noqa: E402
 from model_cases import model_configurations  # noqa: E402
 from one_point import axes_meet, slid, tips_at  # noqa: E402
+from test_invariance import model as builtin  # noqa: E402
 
 DATA = Path(__file__).parent / "data"
 NO_LENGTH = 1.0  # [m] L of a mechanism without any length (pinmob.model.length_scale.NO_LENGTH, documented)
 FIVE_BAR = DATA / "spherical_fivebar.toml"
-
-
-@functools.cache
-def builtin(name: str) -> pinmob.Mechanism:
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")  # a model without meshes
-        return pinmob.load(name)
 
 
 @functools.cache

@@ -45,7 +45,8 @@ def _axes(mech: Mechanism) -> tuple[list[int], dict[int, Array], dict[int, Array
         if model.joints[j].nv == 1 and model.joints[j].shortname().startswith("JointModelR")
     ]
     origin = {j: np.array(data.oMi[j].translation) for j in revolute}
-    axis = {j: np.array(data.J[3:, model.joints[j].idx_v]).reshape(3) for j in revolute}
+    jac = np.reshape(data.J, (6, model.nv))  # Pinocchio gives a (6,) vector when nv = 1
+    axis = {j: np.array(jac[3:, model.joints[j].idx_v]) for j in revolute}
     return revolute, origin, axis
 
 

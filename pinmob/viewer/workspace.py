@@ -4,9 +4,10 @@
 three coordinates, or a path) into a :class:`Workspace`: each assembled sample is a point at the platform
 origin's world position (the rows' ``x``, ``y``, ``z`` [m]), coloured by its ``distance`` to singularity
 (``sigma_r / sigma_1``, the smallest relative singular value of the rank tests, dimensionless: 0 singular,
-1 best conditioned; docs/singularities.md) on a log scale from the smallest to the largest distance of the
-samples (:func:`distance_colors`). Singular samples (distance at most ``rtol``) and refined singular points
-are marked by larger points of their own colour. Samples not assembled are not drawn.
+1 best conditioned; docs/singularities.md) on a log scale from the smallest distance above ``rtol`` to the
+largest of the samples (:func:`distance_colors`). Singular samples (distance at most ``rtol``: they take the
+scale's first colour) and refined singular points are marked by larger points of their own colour, drawn
+last; the clouds are drawn over the mechanism. Samples not assembled are not drawn.
 
 :func:`send_workspace` puts it in a meshcat scene (``/pinmob/workspace/samples``, ``singular``,
 ``refined``, ``chosen``: meshcat point clouds with per-point colours), and :meth:`Workspace.legend` is the
@@ -40,8 +41,10 @@ SINGULAR_COLOR = 0xD62728
 REFINED_COLOR = 0xE040FB
 CHOSEN_COLOR = 0x111111
 #: the points' size as a fraction of the samples' spacing; the marks' size as a multiple of the points'
-POINT_SIZE = 0.35
-MARK_SIZE = 1.4
+POINT_SIZE = 0.5
+MARK_SIZE = 1.5
+#: the clouds are drawn after the mechanism, over it (three.js renderOrder; the glyphs' is 10)
+RENDER_ORDER = 6
 #: what the colour says (the legend's words)
 DISTANCE_WORDS = (
     "distance to singularity sigma_r / sigma_1: the smallest relative singular value of the rank tests "
@@ -76,7 +79,7 @@ class Workspace:
         indices: (k,) their row indices.
         singular, refined: (m, 3) positions of the singular samples and of the refined singular points [m].
         chosen: (3,) position of the sample the mechanism is drawn at, or None.
-        lo, hi: the colour scale's ends (the samples' smallest and largest distance, at least ``rtol``).
+        lo, hi: the colour scale's ends: the smallest distance above ``rtol`` of the samples, and the largest.
         spacing: the samples' spacing [m] (the points' size follows it).
         total: the rows that are samples (assembled or not, refined points left out).
         title: what was scanned; ``axes``: each gridded coordinate with its unit and range, in words.
@@ -145,7 +148,8 @@ def workspace_cloud(
     reach = [r for r in samples if r["reachable"]]
     position = np.array([[float(r[c]) for c in POSE_COORDS[:3]] for r in reach], float).reshape(-1, 3)
     distances = np.array([float(r["distance"]) for r in reach], float)
-    lo = max(float(distances.min()), rtol) if distances.size else rtol
+    regular = distances[distances > rtol]  # the singular samples are marked, and take the scale's first colour
+    lo = float(regular.min()) if regular.size else rtol
     hi = max(float(distances.max()), lo) if distances.size else 1.0
     marks = [r for r in reach if r["singularity"] != "none"]
     refined = [r for r in rows if r["refined"] and r["reachable"]]
@@ -199,9 +203,20 @@ def send_workspace(vis: Any, ws: Workspace, root: str) -> list[Array]:
     node = vis[f"{root}/workspace"]
     node.delete()
 
+    class OverPoints(mg.Points):  # drawn over the mechanism (whose platform would hide the cloud), marks last
+        def __init__(self, points: Array, colors: Array, scale: float, order: int):
+            super().__init__(mg.PointsGeometry(points.T, colors.T), mg.PointsMaterial(size=scale))
+            self.order = order
+
+        def lower(self) -> dict[str, Any]:
+            data: dict[str, Any] = super().lower()
+            data["object"]["renderOrder"] = self.order
+            data["materials"][0].update(depthTest=False, transparent=True)  # after the (transparent) platform
+            return data
+
     def cloud(name: str, points: Array, colors: Array, scale: float) -> None:
         if len(points):
-            node[name].set_object(mg.PointCloud(points.T, colors.T, size=scale))
+            node[name].set_object(OverPoints(points, colors, scale, RENDER_ORDER + (name != "samples")))
 
     def plain(color: int, k: int) -> Array:
         return np.tile(np.array([(color >> 16) & 255, (color >> 8) & 255, color & 255], float) / 255.0, (k, 1))

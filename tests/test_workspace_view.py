@@ -101,7 +101,11 @@ def cli(*args: str) -> subprocess.CompletedProcess[str]:
 def test_cli_view_options_refused_in_one_line(tmp_path):
     grid = ["--grid", "x:-0.1:0.1:3", "y:-0.1:0.1:3"]
     for extra, message in (
-        (["--sample", "3"], "--sample K chooses the sample the 3D view draws the mechanism at: add --show or --html"),
+        (
+            ["--sample", "3"],
+            "--sample K chooses the sample the 3D view draws the mechanism at: add --show or --html "
+            "(a path's number of samples is --samples N, or -n N)",
+        ),  # before, --sample abbreviated --samples
         (["--show", "--html", str(tmp_path / "w.html")], "--show uses a meshcat server, --html writes a file"),
     ):
         proc = cli("scan", "3-PUU", *grid, *extra)

@@ -20,7 +20,8 @@ def check_view_options(args: argparse.Namespace, mech: Mechanism) -> None:
         raise ConfigurationError("--show uses a meshcat server, --html writes a file: give one of them")
     if args.sample is not None and not (args.show or args.html):
         raise ConfigurationError(
-            "--sample K chooses the sample the 3D view draws the mechanism at: add --show or --html"
+            "--sample K chooses the sample the 3D view draws the mechanism at: add --show or --html "
+            "(a path's number of samples is --samples N, or -n N)"
         )
     if (args.show or args.html) and not mech.has_platform:
         raise ConfigurationError(

@@ -186,7 +186,11 @@ def sample_configuration(mech: Mechanism, rows: Iterable[Mapping[str, Any]], ind
     if row is None or not row["reachable"]:
         what = "is not an index of the scan" if row is None else "was not assembled"
         good = sorted(k for k, r in samples.items() if r["reachable"])
-        valid = f"{good[0]} to {good[-1]} (assembled ones)" if good else "none (no sample was assembled)"
+        valid = (
+            f"the index of an assembled sample ({len(good)} of them, from {good[0]} to {good[-1]})"
+            if good
+            else "none (no sample was assembled)"
+        )
         raise ConfigurationError(f"--sample {index}: that sample {what}; valid: {valid}")
     joints = value_joints(mech)
     q = q_from_values(mech.model, {n: float(row[f"q_{n}"]) for n in joints}, seed, mech.name)

@@ -105,3 +105,29 @@ def test_the_cli_writes_plots_with_units(tmp_path, grid, capsys):
     )
     assert main(args) == 0
     assert png.read_bytes()[:4] == b"\x89PNG" and f"plot: {png}" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("name", "start", "end", "n"),
+    [("6-UPS", "home", "0,0,0.4,0,0,2.0944", 7), ("3-PUU", "generic", "-0.12,0,-0.2,0,0,0", 12)],
+)
+def test_the_top_s_axis_stands_over_the_samples(tmp_path, name, start, end, n):
+    """The path plot's top axis (path parameter s) puts every row's s over that row's abscissa below, refined
+    rows too, read through matplotlib's transforms (display x of s on the top axis, of the abscissa on the
+    bottom one); the 3-PUU's x decreases along its path, so its axis runs right to left. Before, the top axis
+    clamped s at the plot's margins (np.interp), so s = 0 and 1 sat at the edges, 13 px off the end samples."""
+    mech = pinmob.load(name)
+    spec = path_spec(mech, start, end, n)
+    c = read_columns(scanned(mech, spec, tmp_path / "p.csv"), plot.PATH_COLUMNS)
+    assert (c["refined"] == 1).any()
+    axis = plot.path_abscissa(c, mech.length_scale)
+    fig = plot.path_figure(c, abscissa=axis)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    (top,) = ax.child_axes
+    assert top.get_xlabel() == "path parameter s"
+    assert ax.xaxis_inverted() == (name == "3-PUU")
+    zero = np.zeros_like(c["s"])
+    below = ax.transData.transform(np.column_stack([axis.values, zero]))[:, 0]
+    above = top.transData.transform(np.column_stack([c["s"], zero]))[:, 0]
+    assert_allclose(above, below, atol=0.5)  # pixels

@@ -544,3 +544,25 @@ def test_3puu_workspace_in_chromium(browser, tmp_path):
         seek(page, 0.0)
         page.screenshot(path=str(DOCS / "img" / "3puu_workspace.png"))
         page.close()
+
+
+def test_workspace_on_the_live_page(browser):
+    """``viewer.show(..., workspace=...)`` (what ``pinmob scan --show`` sends): the live page draws the cloud.
+
+    A 3 x 3 x 2 grid of the 3-PUU well inside its reach (|(x, y) - 0.15 e_i| <= 0.25 for every sample): all 18
+    samples are points of the page's scene, and the panel's workspace section says so.
+    """
+    from pinmob.scan import grid_spec, scan
+
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", [("x", -0.05, 0.05, 3), ("y", -0.05, 0.05, 3), ("z", 0.26, 0.3, 2)])
+    ws = viewer.workspace_cloud(list(scan(mech, spec, progress=False)), spec.rtol)
+    scene = viewer.show(mech, "generic", workspace=ws)
+    try:
+        page = open_page(browser, scene.url)
+        samples = "viewer.scene_tree.find(['meshcat', 'pinmob', 'workspace', 'samples', '<object>'])"
+        assert page.evaluate(samples + ".object.geometry.attributes.position.count") == 18
+        assert "Workspace: 18 of 18 samples assembled" in page.inner_text(".pinmob-workspace")
+        page.close()
+    finally:
+        scene.server.stop()

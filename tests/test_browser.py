@@ -465,3 +465,104 @@ def test_mjcf_gripper_html_in_chromium(browser, tmp_path):
     seek(page, (len(scene.paths[scene.visible].forward) - 1) / viewer.FPS)
     assert (np.abs(image(page) - drawn).max(axis=2) > 40).mean() > 0.001  # the fingers moved
     page.close()
+
+
+def test_3puu_workspace_in_chromium(browser, tmp_path):
+    """``pinmob scan 3-PUU --grid`` over x, y, z with ``--html``: the point cloud, colours, marks, legend, mechanism.
+
+    Against the scan's own JSON rows: one point per assembled sample at its platform origin, coloured as
+    matplotlib's viridis colours its distance on the log scale between the samples' extremes above rtol (the scale's
+    nine stops, linear between: within 0.07), the three singular samples (limb A stretched at x = -0.1,
+    y = 0) and the refined points marked; the legend gives units; the mechanism is drawn at ``--sample``.
+    Set ``PINMOB_DOCS_SCREENSHOTS=1`` to write docs/img/3puu_workspace.png (the denser grid of docs/viewer.md).
+    """
+    import json
+    import subprocess
+    import sys
+
+    from matplotlib import colormaps
+
+    html, out = tmp_path / "workspace.html", tmp_path / "workspace.json"
+    grid = ["z:0.22:0.34:3", "x:-0.1:0.1:5", "y:-0.1:0.1:5"]
+    proc = subprocess.run(
+        [sys.executable, "-m", "pinmob", "scan", "3-PUU", "--grid", *grid, "--sample", "37", "--json", str(out),
+         "--html", str(html), "--no-progress"], capture_output=True, text=True, timeout=300,
+    )  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    rows = json.loads(out.read_text())["samples"]
+    reach = [r for r in rows if r["reachable"] and not r["refined"]]
+    refined = [r for r in rows if r["reachable"] and r["refined"]]
+    chosen = next(r for r in reach if r["index"] == 37)
+    assert (chosen["grid_x"], chosen["grid_y"], chosen["grid_z"]) == (0.0, 0.0, 0.28)
+    assert f"3D view: {len(reach)} assembled samples beside the mechanism at sample #37" in proc.stdout
+
+    page = open_page(browser, html.as_uri())
+    cloud = "(n) => { const g = viewer.scene_tree.find(['meshcat', 'pinmob', 'workspace', n, '<object>']).object" \
+        ".geometry.attributes; return [Array.from(g.position.array), Array.from(g.color.array)]; }"  # fmt: skip
+    position, color = (np.reshape(a, (-1, 3)) for a in page.evaluate(cloud, "samples"))
+    # the points in the page's scene: the assembled samples, as many as the hand rule reaches (3-PUU: R = 0.3 m,
+    # r = 0.15 m, links 0.25 m: a translation (x, y) assembles iff |(x, y) - 0.15 e_i| <= 0.25 for each limb i)
+    guides = 0.15 * np.array([[np.cos(a), np.sin(a)] for a in (0.0, 2 * np.pi / 3, 4 * np.pi / 3)])
+    xy = np.stack(np.meshgrid(np.linspace(-0.1, 0.1, 5), np.linspace(-0.1, 0.1, 5)), -1).reshape(-1, 1, 2)
+    hand = 3 * int(np.all(np.linalg.norm(xy - guides, axis=2) <= 0.25 + 1e-9, axis=1).sum())
+    assert len(position) == len(reach) == hand
+    assert_allclose(position, [[r["x"], r["y"], r["z"]] for r in reach], atol=1e-6)
+    d = np.array([r["distance"] for r in reach])
+    lo, hi = d[d > 1e-6].min(), d.max()
+    t = (np.log10(np.clip(d, lo, hi)) - np.log10(lo)) / (np.log10(hi) - np.log10(lo))
+    assert_allclose(color, colormaps["viridis"](t)[:, :3], atol=0.07)
+    singular = np.reshape(page.evaluate(cloud, "singular")[0], (-1, 3))
+    assert_allclose(singular, [[r["x"], r["y"], r["z"]] for r in reach if r["distance"] <= 1e-6], atol=1e-6)
+    assert len(singular) == 3 and np.allclose(singular[:, :2], [-0.1, 0.0], atol=1e-6)
+    assert len(page.evaluate(cloud, "refined")[0]) == 3 * len(refined) > 0
+    assert_allclose(page.evaluate(cloud, "chosen")[0], [chosen["x"], chosen["y"], chosen["z"]], atol=1e-6)
+
+    legend = page.inner_text(".pinmob-workspace")
+    for words in (f"{len(reach)} of 75 samples assembled", "grid x [m]: -0.1 to 0.1, 5 values",
+                  "platform origin x, y, z [m]", "dimensionless", f"refined singular point: {len(refined)}",
+                  "singular sample (distance <= rtol = 1e-06): 3", f"{lo:.3g}", f"{hi:.3g}"):  # fmt: skip
+        assert words in legend, (words, legend)
+
+    # the mechanism is drawn at the chosen sample: its platform's region changes when the mechanism is hidden
+    seek(page, 0.0)
+    box = platform_box(page, np.array([chosen["x"], chosen["y"], chosen["z"]]))
+    workspace = ["meshcat", "pinmob", "workspace"]
+    set_visible(page, workspace, False)
+    drawn = image(page)
+    set_visible(page, ["meshcat", "pinmob", "mechanism"], False)
+    bare = image(page)
+    assert (np.abs(drawn - bare).max(axis=2) > 40)[box].mean() > 0.08
+    set_visible(page, workspace, True)  # and the cloud is drawn: with the mechanism hidden, it shows
+    cloud_only = image(page)
+    assert (np.abs(cloud_only - bare).max(axis=2) > 40).mean() > 0.002
+    page.close()
+    if os.environ.get("PINMOB_DOCS_SCREENSHOTS"):  # the denser grid of docs/viewer.md
+        grid = ["z:0.2:0.36:5", "x:-0.12:0.14:14", "y:-0.14:0.14:15"]
+        command = ["scan", "3-PUU", "--grid", *grid, "--sample", "517", "--html", str(tmp_path / "docs.html")]
+        subprocess.run([sys.executable, "-m", "pinmob", *command], check=True, capture_output=True, timeout=300)
+        page = open_page(browser, (tmp_path / "docs.html").as_uri())
+        seek(page, 0.0)
+        page.screenshot(path=str(DOCS / "img" / "3puu_workspace.png"))
+        page.close()
+
+
+def test_workspace_on_the_live_page(browser):
+    """``viewer.show(..., workspace=...)`` (what ``pinmob scan --show`` sends): the live page draws the cloud.
+
+    A 3 x 3 x 2 grid of the 3-PUU well inside its reach (|(x, y) - 0.15 e_i| <= 0.25 for every sample): all 18
+    samples are points of the page's scene, and the panel's workspace section says so.
+    """
+    from pinmob.scan import grid_spec, scan
+
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", [("x", -0.05, 0.05, 3), ("y", -0.05, 0.05, 3), ("z", 0.26, 0.3, 2)])
+    ws = viewer.workspace_cloud(list(scan(mech, spec, progress=False)), spec.rtol)
+    scene = viewer.show(mech, "generic", workspace=ws)
+    try:
+        page = open_page(browser, scene.url)
+        samples = "viewer.scene_tree.find(['meshcat', 'pinmob', 'workspace', 'samples', '<object>'])"
+        assert page.evaluate(samples + ".object.geometry.attributes.position.count") == 18
+        assert "Workspace: 18 of 18 samples assembled" in page.inner_text(".pinmob-workspace")
+        page.close()
+    finally:
+        scene.server.stop()

@@ -105,3 +105,50 @@ def test_the_cli_writes_plots_with_units(tmp_path, grid, capsys):
     )
     assert main(args) == 0
     assert png.read_bytes()[:4] == b"\x89PNG" and f"plot: {png}" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    ("name", "start", "end", "n"),
+    [("6-UPS", "home", "0,0,0.4,0,0,2.0944", 7), ("3-PUU", "generic", "-0.12,0,-0.2,0,0,0", 12)],
+)
+def test_the_top_s_axis_stands_over_the_samples(tmp_path, name, start, end, n):
+    """The path plot's top axis (path parameter s) puts every row's s over that row's abscissa below, refined
+    rows too, read through matplotlib's transforms (display x of s on the top axis, of the abscissa on the
+    bottom one); the 3-PUU's x decreases along its path, so its axis runs right to left. Before, the top axis
+    clamped s at the plot's margins (np.interp), so s = 0 and 1 sat at the edges, 13 px off the end samples."""
+    mech = pinmob.load(name)
+    spec = path_spec(mech, start, end, n)
+    c = read_columns(scanned(mech, spec, tmp_path / "p.csv"), plot.PATH_COLUMNS)
+    assert (c["refined"] == 1).any()
+    axis = plot.path_abscissa(c, mech.length_scale)
+    fig = plot.path_figure(c, abscissa=axis)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    (top,) = ax.child_axes
+    assert top.get_xlabel() == "path parameter s"
+    assert ax.xaxis_inverted() == (name == "3-PUU")
+    zero = np.zeros_like(c["s"])
+    below = ax.transData.transform(np.column_stack([axis.values, zero]))[:, 0]
+    above = top.transData.transform(np.column_stack([c["s"], zero]))[:, 0]
+    assert_allclose(above, below, atol=0.5)  # pixels
+
+
+def test_a_map_over_revolute_joints_has_units_and_colour_bars(tmp_path):
+    """A 3-RPS grid over its passive revolute joints A_r and B_r: both maps label their axes ``joint A_r [rad]``
+    and ``joint B_r [rad]`` (the units as the CLI gives them) and carry a colour bar: the motion types by name,
+    and the distance to singularity (dimensionless: no unit) with the rtol and near-singular lines."""
+    from pinmob.scan.coordinates import coordinate_unit
+
+    rps = pinmob.load("3-RPS")
+    grid = grid_spec(rps, "home", [("A_r", -0.1, 0.1, 3), ("B_r", -0.1, 0.1, 3)])
+    keys = ["grid_A_r", "grid_B_r"]
+    cols = read_columns(scanned(rps, grid, tmp_path / "r.csv"), [*keys, *plot_map.MAP_COLUMNS])
+    types = sorted(set(cols["motion_type"][cols["reachable"] == 1]))
+    assert types
+    fig = plot_map.map_figure(cols, keys, units={k[5:]: coordinate_unit(rps, k[5:]) for k in keys})
+    maps = [ax for ax in fig.axes if ax.get_title()]
+    assert [(ax.get_xlabel(), ax.get_ylabel()) for ax in maps] == [("joint A_r [rad]", "joint B_r [rad]")] * 2
+    bars = [ax for ax in fig.axes if not ax.get_title()]
+    assert len(bars) == 2
+    assert [t.get_text() for t in bars[0].get_yticklabels()] == types
+    assert bars[1].get_ylabel() == "distance to singularity ($\\sigma_r / \\sigma_1$)" and len(bars[1].lines) == 2

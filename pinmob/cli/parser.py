@@ -186,7 +186,23 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
-    p.add_argument("--force", action="store_true", help="overwrite the --csv, --json and --plot files if they exist")
+    p.add_argument(
+        "--show",
+        action="store_true",
+        help="show the reachable set in 3D in meshcat (a point per assembled sample at the platform origin [m], "
+        "coloured by distance to singularity, singular and refined points marked) beside the mechanism",
+    )
+    p.add_argument("--html", metavar="FILE", help="write that 3D view to a self-contained HTML file instead")
+    p.add_argument(
+        "--sample",
+        type=int,
+        metavar="K",
+        help="with --show or --html: draw the mechanism at the assembled sample of index K (default: at --at, or "
+        "at --from for a path)",
+    )
+    p.add_argument(
+        "--force", action="store_true", help="overwrite the --csv, --json, --plot and --html files if they exist"
+    )
     p.add_argument(
         "--workers",
         type=int,

@@ -12,6 +12,7 @@ from typing import Any
 from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.cli.common import check_outputs, closure_tol_of, load_for, signals_interrupt
+from pinmob.cli.scan_view import check_view_options, view
 from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
@@ -37,10 +38,11 @@ def _run(args: argparse.Namespace) -> int:
     rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
     _check_scan_options(args)
     check_workers(args.workers)
-    check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot}, args.force)
+    check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot, "--html": args.html}, args.force)
     if args.plot and Path(args.plot).suffix.lower() != ".png":
         raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     mech = load_for(args)
+    check_view_options(args, mech)
     closure_tol = closure_tol_of(args)
     names = list(mech.configurations)
     if args.grid:
@@ -86,6 +88,7 @@ def _run(args: argparse.Namespace) -> int:
     tally: Counter[str] = Counter()
     finite: Counter[str] = Counter()
     listed: list[dict[str, Any]] = []
+    kept: list[dict[str, Any]] = []  # every row, for --show or --html
     why = ""
     with tempfile.TemporaryDirectory() as tmp:
         csv_path = args.csv or (str(Path(tmp) / "scan.csv") if args.plot else None)
@@ -94,6 +97,8 @@ def _run(args: argparse.Namespace) -> int:
         with RowWriter(columns(spec), meta, csv_path, args.json_out) as writer:
             for row in rows:
                 writer.write(row)
+                if args.show or args.html:
+                    kept.append(row)
                 kind = _row_kind(row)
                 tally[kind] += 1
                 if not row["refined"]:
@@ -136,6 +141,8 @@ def _run(args: argparse.Namespace) -> int:
             else:
                 plot_path(csv_path, args.plot, title, rtol, mech.length_scale, varied_joint(mech, spec), spec.platform)
             print(f"plot: {args.plot}")
+    if args.show or args.html:
+        view(args, mech, spec, kept, what, str(args.at or names[0] if args.grid else start))
     return 0
 
 

@@ -159,6 +159,18 @@ def path_abscissa(
     return Abscissa(f"platform {name} [{POSE_UNITS[name]}]", spans[name][1])
 
 
+def _continued(x: Any, xp: np.ndarray, fp: np.ndarray) -> np.ndarray:
+    """``np.interp(x, xp, fp)`` continued past both ends along the line through the end points.
+
+    The top s axis maps the whole bottom axis, margins included: clamped there (``np.interp``), s = 0 and 1
+    sat at the plot's edges instead of over the first and last samples.
+    """
+    x = np.asarray(x, float)
+    slope = (fp[-1] - fp[0]) / (xp[-1] - xp[0]) if xp[-1] != xp[0] else 0.0
+    inside = np.interp(x, xp, fp)
+    return np.where(x < xp[0], fp[0] + slope * (x - xp[0]), np.where(x > xp[-1], fp[-1] + slope * (x - xp[-1]), inside))
+
+
 def varied_joint(mech: Mechanism, spec: ScanSpec) -> tuple[str, str, float, float] | None:
     """For a path in actuated joints, the one varying most (prismatic joints as ``value / L``).
 
@@ -274,9 +286,9 @@ def path_figure(
     if np.sum(np.diff(u[sample][order])) < 0:  # read from the start of the path to its end, left to right
         axes[-1].invert_xaxis()
     if u is not s and np.ptp(u) > 0:
-        order = np.argsort(u)
+        by_u, by_s = np.argsort(u, kind="stable"), np.argsort(s, kind="stable")
         top = axes[0].secondary_xaxis(
-            "top", functions=(lambda x: np.interp(x, u[order], s[order]), lambda t: np.interp(t, s, u))
+            "top", functions=(lambda x: _continued(x, u[by_u], s[by_u]), lambda t: _continued(t, s[by_s], u[by_s]))
         )
         top.set_xlabel("path parameter s", fontsize=8)
         axes[0].set_title(axes[0].get_title(), fontsize=9, pad=28)

@@ -20,6 +20,9 @@ What the scene holds (meshcat paths):
 - ``/pinmob/glyphs/<label>``: the free motions at the platform
   (:mod:`pinmob.viewer.glyphs`): arrows, axis + ring, axis + helix.
 - ``/pinmob/wrenches/<kind i>``: the constraint wrenches, hidden unless asked for.
+- ``/pinmob/workspace/samples``, ``singular``, ``refined``, ``chosen``: with a scan's ``workspace``
+  (``pinmob scan --show`` or ``--html``), its reachable set as point clouds coloured by distance to
+  singularity, beside the mechanism (:mod:`pinmob.viewer.workspace`).
 - ``/pinmob/world``: the world axes at the world origin and a grid in z = 0
   (:mod:`pinmob.viewer.world`).
 
@@ -53,8 +56,9 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.html import export_html, scene_html
 from pinmob.viewer.prepared import prepare
 from pinmob.viewer.scene import FPS, ROOT, Array, Scene, build, require_meshcat
+from pinmob.viewer.workspace import Workspace, workspace_cloud
 
-__all__ = ["FPS", "ROOT", "Scene", "export_html", "scene_html", "show"]
+__all__ = ["FPS", "ROOT", "Scene", "Workspace", "export_html", "scene_html", "show", "workspace_cloud"]
 
 
 def show(
@@ -72,6 +76,7 @@ def show(
     timeout: float = 20.0,
     finite: bool = True,
     tied: bool = False,
+    workspace: Workspace | None = None,
 ) -> Scene:
     """Show the mechanism and its animated free motions in a meshcat server.
 
@@ -97,6 +102,8 @@ def show(
             as such (grey glyph pulsing in its clip, its row in the panel says so).
         tied: the server pinmob starts stops when this process ends, however it ends (even by SIGKILL);
             ``pinmob show`` ties it unless ``--detach``.
+        workspace: a scan's reachable set drawn beside the mechanism, with its legend in the panel
+            (:func:`pinmob.viewer.workspace.workspace_cloud`; ``pinmob scan --show``).
 
     Raises:
         ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
@@ -124,7 +131,7 @@ def show(
             vis = Visualizer(zmq_url=zmq_url)
         vis.window.zmq_socket.setsockopt(zmq.RCVTIMEO, int(timeout * 1000))
         vis.window.zmq_socket.setsockopt(zmq.LINGER, 0)
-        scene = build(vis, mech, prep, wrenches=wrenches)
+        scene = build(vis, mech, prep, wrenches=wrenches, workspace=workspace)
     except zmq.ZMQError as exc:
         if server is not None:
             server.stop()

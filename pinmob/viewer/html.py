@@ -21,6 +21,7 @@ from pinmob.scan.files import Replacing, check_target
 from pinmob.viewer.page import static_page
 from pinmob.viewer.prepared import prepare
 from pinmob.viewer.scene import Array, Scene, build, require_meshcat
+from pinmob.viewer.workspace import Workspace
 
 
 class _Recorder:
@@ -48,6 +49,7 @@ def scene_html(
     steps: int = 12,
     animate: bool = True,
     finite: bool = True,
+    workspace: Workspace | None = None,
 ) -> tuple[str, Scene]:
     """The scene as a self-contained HTML page (no server, no file); see :func:`export_html`."""
     prep = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
@@ -55,9 +57,11 @@ def scene_html(
     from meshcat.visualizer import Visualizer
 
     recorder = _Recorder()
-    scene = build(Visualizer(window=recorder), mech, prep, wrenches=wrenches)
+    scene = build(Visualizer(window=recorder), mech, prep, wrenches=wrenches, workspace=workspace)
     mob = prep.mobility
     title = f"pinmob: {mech.name}" + (f" at {mob.configuration}" if mob.configuration else "") + f" ({mob.motion_type})"
+    if workspace is not None:
+        title += f", workspace of {len(workspace.positions)} samples"
     return static_page(recorder.commands, title), scene
 
 
@@ -74,6 +78,7 @@ def export_html(
     steps: int = 12,
     animate: bool = True,
     finite: bool = True,
+    workspace: Workspace | None = None,
 ) -> Scene:
     """Write the scene and its animations to a self-contained HTML file that opens without a server.
 
@@ -94,6 +99,8 @@ def export_html(
         animate: follow the motions; False shows them as static glyphs only.
         finite: tell each motion's finite verdict (:mod:`pinmob.analysis.finite`); a motion that exists
             only to first order is drawn as such (grey glyph pulsing in its clip, the panel says so).
+        workspace: a scan's reachable set drawn beside the mechanism, with its legend in the panel
+            (:func:`pinmob.viewer.workspace.workspace_cloud`).
 
     Raises:
         ViewerError: the file exists and ``overwrite`` is False, or cannot be written.
@@ -113,6 +120,7 @@ def export_html(
         steps=steps,
         animate=animate,
         finite=finite,
+        workspace=workspace,
     )
     try:
         with (replacing := Replacing(target)) as tmp:  # the old file stays until the page is complete

@@ -38,6 +38,7 @@ from pinmob.viewer.glyphs import (
 from pinmob.viewer.panel import PanelCommand, panel_document
 from pinmob.viewer.prepared import Prepared
 from pinmob.viewer.skeleton import visual_geometry
+from pinmob.viewer.workspace import Workspace, send_workspace
 from pinmob.viewer.world import AXIS_COLORS, GRID_COLOR, world_frame
 
 Array = np.ndarray
@@ -174,8 +175,11 @@ def _place_lights(vis: Any, distance: float) -> None:
         light.set_property("distance", LIGHT_REACH * scale)
 
 
-def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene:
-    """Send the whole scene to ``vis`` (a live or recording meshcat Visualizer); the panel last."""
+def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool, workspace: Workspace | None = None) -> Scene:
+    """Send the whole scene to ``vis`` (a live or recording meshcat Visualizer); the panel last.
+
+    ``workspace``: a scan's reachable set, drawn beside the mechanism (:mod:`pinmob.viewer.workspace`).
+    """
     from meshcat.animation import Animation, AnimationClip, js_position, js_quaternion
     from pinocchio.visualize import MeshcatVisualizer
 
@@ -246,6 +250,8 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene
         if wrenches:
             points.extend(glyph.vertices)
     vis[f"{ROOT}/wrenches"].set_property("visible", bool(wrenches))
+    if workspace is not None:
+        points.extend(p for cloud in send_workspace(vis, workspace, ROOT) for p in cloud)
     world = world_frame(np.array(points), length)
     for name, axis, color in zip("xyz", world.axes, AXIS_COLORS):
         shaft = arrow(axis[0], axis[1], 0.008 * length)
@@ -263,6 +269,8 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool) -> Scene
         clips=clips, visible=visible, wrenches=wrenches, generated=generated,
         verdicts={label: path.verdict for label, path in paths.items() if path.verdict},
     )  # fmt: skip
+    if workspace is not None:
+        document["workspace"] = workspace.legend()
     panel_shown = send_panel(vis, PanelCommand(document))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(

@@ -4,7 +4,8 @@
  * "document" (built by pinmob/viewer/panel.py) says what the page shows in words: the mechanism and
  * configuration, the platform's DoF and motion type, one row per free motion (kind, direction, axis point
  * in world coordinates, pitch, how far its clip went and why it stopped), the singularity class, the whole
- * mechanism's DoF, the constraint wrenches, a legend and toggles. Clicking a row (or a label) plays that
+ * mechanism's DoF, the constraint wrenches, a legend and toggles; with a scan's workspace drawn, its counts and
+ * colour scale (distance to singularity) with the marks. Clicking a row (or a label) plays that
  * motion's clip and highlights its glyph. Labels are HTML boxes placed every frame at the screen projection
  * of each glyph's anchor (a world point), pushed apart where they would overlap.
  */
@@ -148,6 +149,27 @@
     return table;
   }
 
+  // a scan's reachable set (pinmob/viewer/workspace.py): counts, the colour scale with its ends, the marks
+  function workspaceBlock(ws) {
+    const scale = ws.scale;
+    const bar = el("div", { class: "pinmob-scale-bar", style: "background:linear-gradient(to right," + scale.colors.join(",") + ")" });
+    const ends = el("div", { class: "pinmob-scale-ends" }, [
+      el("span", { text: fmt(scale.lo, 3) }),
+      el("span", { text: fmt(Math.sqrt(scale.lo * scale.hi), 3) }),
+      el("span", { text: fmt(scale.hi, 3) }),
+    ]);
+    return el("div", { class: "pinmob-workspace" }, [
+      el("h2", { text: "Workspace: " + ws.count + " of " + ws.total + " samples assembled" }),
+      ws.title ? el("div", { class: "pinmob-note", text: ws.title }) : "",
+      ...ws.axes.map((a) => el("div", { class: "pinmob-note", text: a })),
+      el("div", { class: "pinmob-note", text: ws.points }),
+      bar,
+      ends,
+      el("div", { class: "pinmob-scale-words", text: "colour: " + scale.words }),
+      ...ws.marks.map((m) => el("div", { class: "pinmob-mark" }, [el("span", { class: "pinmob-swatch round", style: "background:" + m.color }), m.text])),
+    ]);
+  }
+
   function toggle(id, text, checked, onChange) {
     const box = el("input", { type: "checkbox", id: id });
     box.checked = checked;
@@ -181,6 +203,7 @@
       el("div", { class: "pinmob-head" }, [el("h1", { text: doc.title }), collapse]),
       answer,
       ...doc.summary.map((line) => el("div", { class: "pinmob-note", text: line })),
+      doc.workspace ? workspaceBlock(doc.workspace) : "",
       el("h2", { text: "Free motions: click one to play it" }),
       motionTable(doc),
       el("div", { class: "pinmob-playing", text: doc.motions.length ? "" : "Nothing to play: no free motion." }),
@@ -201,6 +224,9 @@
           wrenchBlock.style.display = on ? "" : "none";
           pinmob.state.showWrenches = on;
         }),
+        doc.workspace
+          ? toggle("pinmob-workspace-toggle", "workspace points", true, (on) => setVisible(viewer, doc.workspace.path, on))
+          : "",
         toggle("pinmob-label-toggle", "labels", true, (on) => {
           pinmob.state.showLabels = on;
         }),

@@ -14,6 +14,12 @@ Per robot and grid (microseconds per sample, single process):
 * ``floor_us``: the Pinocchio calls the job cannot avoid: ``computeJointJacobians`` and
   ``updateFramePlacements`` once per solver step of the naive loop at each sample and once more (the closure
   checked, the kinematics the analysis needs), at the naive loop's configurations and iteration counts;
+* ``batched_us``: a batched prototype of the engine issue 23 asks for (:func:`batched_scan`, in this file):
+  the first sample of each line one after the other, then all lines' samples in lockstep, each warm-started
+  from its line's previous sample (the continuation of pinmob's lines), Newton steps batched over the lines
+  (Pinocchio's kinematics per sample in a Python loop, the errors, Jacobians and damped least-squares solves
+  as numpy stacks, a sample stopping at 1e-12 or when a step no longer halves its residual), then
+  :func:`pinmob.analysis.batch.analyze_batch` for the DoF; its verdicts are counted against pinmob's too;
 * the ``computeJointJacobians`` calls per sample of each (counted by a wrapper in a separate, untimed run);
 * the split of pinmob's time: the assemblies alone (the samples' targets, each warm-started from the previous
   sample's configuration), the per-sample analysis alone (:func:`pinmob.scan.chunk.evaluate`) and pinmob's
@@ -195,6 +201,160 @@ def floor_loop(mech: pinmob.Mechanism, qs: list[np.ndarray], calls: list[int]) -
             pin.updateFramePlacements(model, data)
 
 
+# --- a batched prototype: the engine issue 23 asks for, as a reference figure -----------------------------------
+
+
+def _rpy_matrices(rpy: np.ndarray) -> np.ndarray:
+    """(B, 3, 3) ``Rz(yaw) Ry(pitch) Rx(roll)`` (Pinocchio's rpy) of (B, 3) angles."""
+    (cr, cp, cy), (sr, sp, sy) = np.cos(rpy).T, np.sin(rpy).T
+    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
+                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
+                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)  # fmt: skip
+
+
+def _rpy_rates(rpy: np.ndarray) -> np.ndarray:
+    """(B, 3, 3) world angular velocity per rpy rate (Pinocchio's ``computeRpyJacobian(rpy, WORLD)``)."""
+    _, cp, cy = np.cos(rpy).T
+    _, sp, sy = np.sin(rpy).T
+    z, o = np.zeros_like(cp), np.ones_like(cp)
+    return np.stack([np.stack([cy * cp, -sy, z], -1), np.stack([sy * cp, cy, z], -1), np.stack([-sp, z, o], -1)], -2)
+
+
+def _log3(r: np.ndarray) -> np.ndarray:
+    """(B, 3) rotation vectors of (B, 3, 3) rotations (angles below pi)."""
+    theta = np.arccos(np.clip((np.trace(r, axis1=1, axis2=2) - 1) / 2, -1.0, 1.0))
+    vee = 0.5 * np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]], -1)
+    small = theta < 1e-6
+    factor = np.where(small, 1 + theta**2 / 6, theta / np.where(small, 1.0, np.sin(theta)))
+    return vee * factor[:, None]
+
+
+def _skew(v: np.ndarray) -> np.ndarray:
+    z = np.zeros(len(v))
+    x, y, w = v.T
+    return np.stack([np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], -2)
+
+
+class BatchedNewton:
+    """Every limb tip at a target pose, for B samples at once; the pose coordinates ``free`` unknowns too.
+
+    Pinocchio's kinematics per sample (a Python loop), the rest batched: position errors and rotation vectors
+    in world axes, their Jacobians from the world joint Jacobian (no ``Jlog``: quasi-Newton, quadratic near the
+    solution anyway), damped least squares on dimensionless rates, solved with ``np.linalg.solve`` over the stack.
+    A sample stops when its residual is below 1e-12 or stalls (less than halved by a step).
+    """
+
+    def __init__(self, mech: pinmob.Mechanism, free: list[int]) -> None:
+        model = self.model = mech.model
+        assert model.nq == model.nv, "one-degree joints only (q moves by addition)"
+        self.data, self.length, self.free = model.createData(), mech.length_scale, free
+        self.tips = [limb.tip_id for limb in mech.limbs]
+        self.masks = []
+        for tip in self.tips:
+            mask = np.zeros(model.nv)
+            for j in model.supports[model.frames[tip].parentJoint].tolist()[1:]:
+                mask[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
+            self.masks.append(mask)
+        linear = np.array([model.joints[j].shortname().startswith("JointModelP") for j in range(1, model.njoints)])
+        self.col = np.concatenate([np.where(linear, self.length, 1.0), [self.length if f < 3 else 1.0 for f in free]])
+
+    def residual(self, q: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """(B, 6k) dimensionless residuals and (B, 6k, nv + len(free)) Jacobians per dimensionless rate."""
+        model, data, n = self.model, self.data, len(q)
+        jw, tips = np.empty((n, 6, model.nv)), np.empty((n, len(self.tips), 4, 4))
+        for b in range(n):
+            jw[b] = pin.computeJointJacobians(model, data, q[b])
+            pin.updateFramePlacements(model, data)
+            for i, tip in enumerate(self.tips):
+                tips[b, i] = data.oMf[tip].homogeneous
+        rt = _rpy_matrices(p[:, 3:])
+        rates = _rpy_rates(p[:, 3:])
+        errors, rows = [], []
+        for i, mask in enumerate(self.masks):
+            pos, rot = tips[:, i, :3, 3], tips[:, i, :3, :3]
+            jac = jw * mask
+            lin = jac[:, :3] - _skew(pos) @ jac[:, 3:]
+            extra = np.zeros((n, 6, len(self.free)))
+            for c, f in enumerate(self.free):
+                if f < 3:
+                    extra[:, f, c] = -1.0
+                else:
+                    extra[:, 3:, c] = -rates[:, :, f - 3]
+            errors.append(np.concatenate([(pos - p[:, :3]) / self.length, _log3(rot @ rt.transpose(0, 2, 1))], 1))
+            rows.append(np.concatenate([np.concatenate([lin / self.length, jac[:, 3:]], 1), extra], 2))
+        scale = np.array([1 / self.length] * 3 + [1.0] * 3)
+        for r in rows:
+            r[:, :3, self.model.nv :] *= scale[:3, None]
+        return np.concatenate(errors, 1), np.concatenate(rows, 1) * self.col
+
+    def solve(self, q: np.ndarray, p: np.ndarray, max_iter: int = 20) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Closed configurations, poses and whether each sample closed to 1e-6 (B rows each)."""
+        q, p = q.copy(), p.copy()
+        nv, k = self.model.nv, len(self.tips)
+        worst = np.full(len(q), np.inf)
+        active = np.arange(len(q))
+        for _ in range(max_iter + 1):
+            e, jac = self.residual(q[active], p[active])
+            parts = e.reshape(len(active), k, 2, 3)
+            now = np.max(np.linalg.norm(parts, axis=3), axis=(1, 2))
+            stalled = now > 0.5 * worst[active]
+            worst[active] = np.minimum(now, worst[active])
+            keep = (now > 1e-12) & ~stalled
+            active, e, jac = active[keep], e[keep], jac[keep]
+            if not active.size:
+                break
+            jjt = jac @ jac.transpose(0, 2, 1)
+            lam = 1e-12 * np.trace(jjt, axis1=1, axis2=2)[:, None, None] * np.eye(jjt.shape[1])
+            dz = -(jac.transpose(0, 2, 1) @ np.linalg.solve(jjt + lam, e[..., None]))[..., 0]
+            dz *= np.minimum(1.0, 1.0 / np.max(np.abs(dz), axis=1))[:, None]
+            step = dz * self.col
+            q[active] += step[:, :nv]
+            p[np.ix_(active, self.free)] += step[:, nv:]
+        return q, p, worst <= TOL
+
+
+def batched_scan(mech: pinmob.Mechanism, spec: ScanSpec) -> list[tuple[bool, int]]:
+    """(reachable, DoF) per sample: the first sample of each line one after the other (each from the previous
+    line's first), then every line's samples in lockstep (each from its line's previous sample), then
+    :func:`pinmob.analysis.batch.analyze_batch` on all closed samples."""
+    names = [a[0] for a in spec.axes]
+    grids = [np.linspace(lo, hi, n) for _, lo, hi, n in spec.axes]
+    free = [POSE_COORDS.index(c) for c in spec.following]
+    newton = BatchedNewton(mech, free)
+    n_line = spec.axes[-1][3]
+    lines = spec.size // n_line
+    base = pose_vector(pinmob.scan.platform_pose(mech, spec.q_ref))
+    for c, v in dict(spec.held).items():
+        base[POSE_COORDS.index(c)] = v
+    targets = np.tile(base, (spec.size, 1))
+    for k, idx in enumerate(np.ndindex(*[a[3] for a in spec.axes])):
+        for c, g, i in zip(names, grids, idx):
+            targets[k, POSE_COORDS.index(c)] = g[i]
+    targets = targets.reshape(lines, n_line, 6)
+    qs = np.empty((lines, n_line, mech.model.nq))
+    ok = np.zeros((lines, n_line), bool)
+    q, p = spec.q_ref[None], base[None]
+    for r in range(lines):
+        target = targets[r, :1].copy()
+        target[:, free] = p[:, free]
+        sol, p_sol, closed = newton.solve(q, target)
+        qs[r, 0], ok[r, 0] = sol[0], closed[0]
+        if closed[0]:
+            q, p = sol, p_sol
+    q, p = qs[:, 0], targets[:, 0].copy()
+    for j in range(1, n_line):
+        target = targets[:, j].copy()
+        target[:, free] = p[:, free]
+        sol, p_sol, closed = newton.solve(q, target)
+        qs[:, j], ok[:, j] = sol, closed
+        q = np.where(closed[:, None], sol, q)
+        p = np.where(closed[:, None], p_sol, p)
+    ok, qs = ok.reshape(-1), qs.reshape(-1, mech.model.nq)
+    dof = np.full(spec.size, -1)
+    dof[ok] = analyze_batch(mech, qs[ok], rtol=spec.rtol).dof
+    return [(bool(a), int(d)) for a, d in zip(ok, dof)]
+
+
 # --- pinmob -----------------------------------------------------------------------------------------------------
 
 
@@ -232,6 +392,8 @@ def bench_grid(name: str, count: int) -> dict[str, Any]:
     reach = [v[0] for v in verdicts]
     calls = [it + 1 for it in iters]  # the last one (the closure checked) serves the analysis too
     t_floor, _ = timed(lambda: floor_loop(mech, closed, calls))
+    t_batched, batched = timed(lambda: batched_scan(mech, spec))
+    agree_batched = sum(a == b for a, b in zip(ours, batched))
     t_assembly, qs = timed(lambda: assemblies(mech, spec))
     good = np.array([q for q in qs if q is not None])
     t_analysis, _ = timed(lambda: [evaluate(mech, q, spec.rtol, spec.generic_rank) for q in good])
@@ -251,6 +413,8 @@ def bench_grid(name: str, count: int) -> dict[str, Any]:
         "pinmob_us": t_pinmob * us,
         "naive_us": t_naive * us,
         "floor_us": t_floor * us,
+        "batched_us": t_batched * us,
+        "batched_agree": agree_batched,
         "naive_iterations": float(np.mean(iters)),
         "kinematics_per_sample": {
             "pinmob": calls_pinmob / n,
@@ -304,6 +468,8 @@ def main() -> None:
               f"(target 0.2x: {'met' if ratio <= 0.2 else 'not met'})   pinmob/floor {r['pinmob_us'] / r['floor_us']:.0f}x")  # fmt: skip
         rest = r["pinmob_us"] - r["assembly_us"] - r["analysis_us"]
         kin = r["kinematics_per_sample"]
+        print(f"  batched prototype (in this file) {r['batched_us']:.0f}, {r['batched_us'] / r['naive_us']:.2f}x the naive "
+              f"loop; its verdicts agree with pinmob's on {r['batched_agree']}/{r['samples']}")  # fmt: skip
         print(f"  computeJointJacobians calls per sample: pinmob {kin['pinmob']:.1f} (its assemblies alone "
               f"{kin['pinmob_assembly']:.1f}), naive loop {kin['naive']:.1f}, floor {kin['floor']:.1f}")  # fmt: skip
         print(f"  between pinmob and the floor: assemblies {r['assembly_us']:.0f}, analysis {r['analysis_us']:.0f} "

@@ -18,7 +18,8 @@ Per robot and grid (microseconds per sample, single process):
   the first sample of each line one after the other, then all lines' samples in lockstep, each warm-started
   from its line's previous sample (the continuation of pinmob's lines), Newton steps batched over the lines
   (Pinocchio's kinematics per sample in a Python loop, the errors, Jacobians and damped least-squares solves
-  as numpy stacks, a sample stopping at 1e-12 or when a step no longer halves its residual), then
+  as numpy stacks, a sample stopping at 1e-12, when a step no longer halves a residual below 1e-6, or when it
+  gained less than 0.1% over 5 iterations), then
   :func:`pinmob.analysis.batch.analyze_batch` for the DoF; its verdicts are counted against pinmob's too;
 * the ``computeJointJacobians`` calls per sample of each (counted by a wrapper in a separate, untimed run);
 * the split of pinmob's time: the assemblies alone (the samples' targets, each warm-started from the previous
@@ -27,7 +28,8 @@ Per robot and grid (microseconds per sample, single process):
   chunks' seeding walk, the refinements and the rows.
 
 Robots: the 3-PUU over x x y (a full-pose grid: its rotations cannot change), the 6-UPS over x x y, the
-3-RPS over roll x pitch (z held, x, y and yaw following).
+3-RPS over roll x pitch (z held, x, y and yaw following), and the 3-PUU over x x y five times wider (most
+samples out of reach: what an unreachable sample costs, and the refinements at the edges).
 
 Then the per-design cost of the example sweep (``examples/3puu_sweep.toml``, a 9 x 9 scan per design) in this
 process and on a Dask ``LocalCluster`` of 2 workers (cluster start-up not timed).
@@ -62,14 +64,17 @@ from pinmob.screw.rank import RTOL
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "3puu_sweep.toml"
 
-#: robot: (reference configuration, grid axes at full size (name, low, high)).
+#: label: (robot, reference configuration, grid axes (name, low, high)).
 GRIDS = {
-    "3-PUU": ("generic", [("x", -0.06, 0.06), ("y", -0.06, 0.06)]),
-    "6-UPS": ("home", [("x", -0.05, 0.05), ("y", -0.05, 0.05)]),
-    "3-RPS": ("home", [("roll", -0.2, 0.2), ("pitch", -0.2, 0.2)]),
+    "3-PUU": ("3-PUU", "generic", [("x", -0.06, 0.06), ("y", -0.06, 0.06)]),
+    "6-UPS": ("6-UPS", "home", [("x", -0.05, 0.05), ("y", -0.05, 0.05)]),
+    "3-RPS": ("3-RPS", "home", [("roll", -0.2, 0.2), ("pitch", -0.2, 0.2)]),
+    "3-PUU wide": ("3-PUU", "generic", [("x", -0.3, 0.3), ("y", -0.3, 0.3)]),
 }
 #: Solver iterations per sample of the naive loop, and its damping (of J J^T, dimensionless).
 MAX_ITER, DAMPING, TOL = 40, 1e-10, 1e-6
+#: The batched prototype stops a sample whose residual gained less than 0.1% over this many iterations.
+STALL = 5
 
 
 def timed(fn: Callable[[], Any]) -> tuple[float, Any]:
@@ -241,7 +246,8 @@ class BatchedNewton:
     Pinocchio's kinematics per sample (a Python loop), the rest batched: position errors and rotation vectors
     in world axes, their Jacobians from the world joint Jacobian (no ``Jlog``: quasi-Newton, quadratic near the
     solution anyway), damped least squares on dimensionless rates, solved with ``np.linalg.solve`` over the stack.
-    A sample stops when its residual is below 1e-12 or stalls (less than halved by a step).
+    A sample stops at a residual below 1e-12, when a step no longer halves a residual below 1e-6, or when it
+    gained less than 0.1% over ``STALL`` iterations (then it is not closed unless below 1e-6).
     """
 
     def __init__(self, mech: pinmob.Mechanism, free: list[int]) -> None:
@@ -287,19 +293,24 @@ class BatchedNewton:
             r[:, :3, self.model.nv :] *= scale[:3, None]
         return np.concatenate(errors, 1), np.concatenate(rows, 1) * self.col
 
-    def solve(self, q: np.ndarray, p: np.ndarray, max_iter: int = 20) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def solve(
+        self, q: np.ndarray, p: np.ndarray, max_iter: int = MAX_ITER
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Closed configurations, poses and whether each sample closed to 1e-6 (B rows each)."""
         q, p = q.copy(), p.copy()
         nv, k = self.model.nv, len(self.tips)
-        worst = np.full(len(q), np.inf)
+        history = np.full((len(q), max_iter + 1), np.inf)
+        last = np.full(len(q), np.inf)  # the residual at the configuration returned
         active = np.arange(len(q))
-        for _ in range(max_iter + 1):
+        for it in range(max_iter + 1):
             e, jac = self.residual(q[active], p[active])
             parts = e.reshape(len(active), k, 2, 3)
-            now = np.max(np.linalg.norm(parts, axis=3), axis=(1, 2))
-            stalled = now > 0.5 * worst[active]
-            worst[active] = np.minimum(now, worst[active])
-            keep = (now > 1e-12) & ~stalled
+            now = history[active, it] = last[active] = np.max(np.linalg.norm(parts, axis=3), axis=(1, 2))
+            before = np.min(history[active, : max(it - STALL + 1, 0)], axis=1, initial=np.inf)
+            best = np.min(history[active, max(it - STALL + 1, 0) : it + 1], axis=1)
+            stalled = best > (1 - 1e-3) * before  # less than 0.1% gained over the last STALL iterations
+            polished = (now <= TOL) & (now > 0.5 * np.min(history[active, :it], axis=1, initial=np.inf))
+            keep = (now > 1e-12) & ~stalled & ~polished
             active, e, jac = active[keep], e[keep], jac[keep]
             if not active.size:
                 break
@@ -310,7 +321,7 @@ class BatchedNewton:
             step = dz * self.col
             q[active] += step[:, :nv]
             p[np.ix_(active, self.free)] += step[:, nv:]
-        return q, p, worst <= TOL
+        return q, p, last <= TOL
 
 
 def batched_scan(mech: pinmob.Mechanism, spec: ScanSpec) -> list[tuple[bool, int]]:
@@ -376,9 +387,9 @@ def assemblies(mech: pinmob.Mechanism, spec: ScanSpec) -> list[np.ndarray | None
     return out
 
 
-def bench_grid(name: str, count: int) -> dict[str, Any]:
-    mech = pinmob.load(name)
-    at, axes = GRIDS[name]
+def bench_grid(label: str, count: int) -> dict[str, Any]:
+    robot, at, axes = GRIDS[label]
+    mech = pinmob.load(robot)
     spec = grid_spec(mech, at, [(c, lo, hi, count) for c, lo, hi in axes])
     n = spec.size
     small = replace(spec, axes=tuple((c, lo, hi, 3) for c, lo, hi, _ in spec.axes))
@@ -459,8 +470,9 @@ def main() -> None:
     print("per sample [us], one process (a shared machine: compare the ratios of one run)")
     for name in GRIDS:
         r = out[name] = bench_grid(name, count)
+        robot = GRIDS[name][0]
         follow = f", {' '.join(r['following'])} following" if r["following"] else ""
-        print(f"{name} --grid {r['grid']} --at {r['at']}{follow}: {r['reachable']}/{r['samples']} reachable, "
+        print(f"{robot} --grid {r['grid']} --at {r['at']}{follow}: {r['reachable']}/{r['samples']} reachable, "
               f"{r['refined']} refined points; verdicts (reachable, DoF) agree on {r['agree']}/{r['samples']}")  # fmt: skip
         ratio = r["pinmob_us"] / r["naive_us"]
         print(f"  pinmob {r['pinmob_us']:8.0f}   naive loop {r['naive_us']:6.0f} ({r['naive_iterations']:.1f} "

@@ -38,7 +38,7 @@ from pinmob.assembly.residual import (
     stacked_error,
     worst_residual,
 )
-from pinmob.assembly.solver import SolverResult, solve
+from pinmob.assembly.solver import STALL_WINDOW, SolverResult, solve
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.data_pool import borrowed
@@ -191,14 +191,20 @@ def solve_actuated(
 
 
 def assemble_pose(
-    mech: Mechanism, pose: pin.SE3, seed: Array | None = None, tol: float = CLOSURE_TOL, max_iter: int = 200
+    mech: Mechanism,
+    pose: pin.SE3,
+    seed: Array | None = None,
+    tol: float = CLOSURE_TOL,
+    max_iter: int = 200,
+    stall_window: int = STALL_WINDOW,
 ) -> Array:
     """Closed configuration whose platform frame has ``pose`` (inverse kinematics of every limb).
 
     Residuals (position parts divided by L): the platform frame and every limb
     tip against ``pose`` (``log6(pose^-1 oM_f)``: each limb is solved for the
     target on its own, so a symmetric seed of a symmetric mechanism gives a
-    symmetric solution), then the closures that are not limb tips.
+    symmetric solution), then the closures that are not limb tips. ``stall_window``: the solver's
+    (:func:`~pinmob.assembly.solver.solve`).
 
     Raises:
         ConfigurationError: ``mech`` has no platform, or ``pose`` is not finite.
@@ -229,7 +235,8 @@ def assemble_pose(
                 jacobians.append(j1)
             return np.concatenate(errors), np.vstack(jacobians)
 
-        result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale)
+        result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale,
+                       stall_window=stall_window)  # fmt: skip
         compute_kinematics(model, data, result.q)
         e_pose = pin.log6(pose.actInv(data.oMf[pid])).vector
         res_pose = (float(np.linalg.norm(e_pose[:3])), float(np.linalg.norm(e_pose[3:])))

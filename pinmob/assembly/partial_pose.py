@@ -42,7 +42,7 @@ from pinmob.assembly.residual import (
     stacked_error,
     worst_residual,
 )
-from pinmob.assembly.solver import solve
+from pinmob.assembly.solver import STALL_WINDOW, solve
 from pinmob.exceptions import ClosureError, ConfigurationError, choices
 from pinmob.model.data_pool import borrowed
 from pinmob.model.joints import linear_velocity_mask
@@ -120,6 +120,7 @@ def assemble_coordinates(
     seed: Array | None = None,
     tol: float = CLOSURE_TOL,
     max_iter: int = 200,
+    stall_window: int = STALL_WINDOW,
 ) -> Array:
     """A closed configuration with the given pose coordinates and joint values, the rest following (module docstring).
 
@@ -130,6 +131,7 @@ def assemble_coordinates(
         seed: (nq,) warm start (selects the assembly branch); None: neutral.
         tol: largest closure residual and pose-coordinate miss (position / L, rotation [rad]).
         max_iter: solver iterations.
+        stall_window: the solver's (:func:`~pinmob.assembly.solver.solve`), with pose coordinates given.
 
     Raises:
         ConfigurationError: an unknown pose coordinate, a non-finite value, or no platform frame.
@@ -172,7 +174,8 @@ def assemble_coordinates(
             j_p = pose_coordinate_jacobian(data.oMf[pid], jac)[rows]
             return np.concatenate([e_c, scale * misses(data)]), np.vstack([j_c, scale[:, None] * j_p])
 
-        result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=length, free=free)
+        result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=length, free=free,
+                       stall_window=stall_window)  # fmt: skip
         q = result.q.copy()
         held = held_coordinates(mech, idx)
         q[held] = q0[held]

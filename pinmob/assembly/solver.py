@@ -133,11 +133,13 @@ class _Problem:
         return self.at(pin.integrate(self.model, x.q, dq))
 
 
-def _damped(p: _Problem, x: _State, tol: float, max_iter: int, damping: float) -> tuple[_State, int]:
-    """Levenberg-Marquardt iterations until ``max |e| <= tol``, a stall, or ``max_iter``."""
+def _damped(
+    p: _Problem, x: _State, tol: float, max_iter: int, damping: float, window: int = STALL_WINDOW
+) -> tuple[_State, int]:
+    """Levenberg-Marquardt iterations until ``max |e| <= tol``, a stall (over ``window`` iterations), or ``max_iter``."""
     history, lam, it = [x.cost], -1.0, 0
     while _max(x.e) > tol and it < max_iter:
-        if len(history) > STALL_WINDOW and x.cost > (1 - STALL_GAIN) * history[-STALL_WINDOW - 1]:
+        if len(history) > window and x.cost > (1 - STALL_GAIN) * history[-window - 1]:
             break
         it += 1
         js, g, s, vt = p.svd(x)
@@ -199,6 +201,7 @@ def solve(
     free: Mask | None = None,
     max_step: float = MAX_STEP,
     polish: bool = True,
+    stall_window: int = STALL_WINDOW,
 ) -> SolverResult:
     """Levenberg-Marquardt on ``residual(q) -> (e (m,), J (m, nv))`` from q0 (see the module docstring).
 
@@ -214,6 +217,8 @@ def solve(
             others keep their values exactly.
         max_step: trust region, largest step per joint [rad, or L].
         polish: continue with Gauss-Newton steps after ``tol`` down to ``POLISH_FLOOR``.
+        stall_window: damped iterations over which a cost gain below ``STALL_GAIN`` stops the solve unconverged
+            (the iterates do not depend on it: only where an unconverged solve stops).
     """
     col = np.ones(model.nv) if length is None else np.where(linear_velocity_mask(model), length, 1.0)
     cols: IndexArray = np.arange(model.nv) if free is None else np.flatnonzero(free)
@@ -222,11 +227,11 @@ def solve(
     floor = POLISH_FLOOR if polish else tol
     it = newton = 0
     if cols.size and x.e.size:
-        x, it = _damped(p, x, max(tol, NEWTON_SWITCH), max_iter, damping)
+        x, it = _damped(p, x, max(tol, NEWTON_SWITCH), max_iter, damping, stall_window)
         if _max(x.e) <= NEWTON_SWITCH:
             x, newton = _gauss_newton(p, x, floor)
         if tol < _max(x.e) <= NEWTON_SWITCH:  # Gauss-Newton stalled above tol: damped steps finish
-            x, k = _damped(p, x, tol, max_iter, damping)
+            x, k = _damped(p, x, tol, max_iter, damping, stall_window)
             it += k
             if _max(x.e) <= tol:
                 x, k = _gauss_newton(p, x, floor)

@@ -19,6 +19,7 @@ from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.assembly.assemble import assemble_joints, assemble_pose
 from pinmob.assembly.partial_pose import assemble_coordinates
+from pinmob.assembly.solver import STALL_WINDOW as SOLVER_STALL
 from pinmob.exceptions import PinmobError
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joints import outside_limits
@@ -43,24 +44,37 @@ FINITE_COLUMNS = ("finite_dof", "finite_mechanism_dof")
 #: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
 MAX_ITER = 40
 
+#: A sample's platform-pose assembly gives up when its cost gained less than 0.1% over this many damped
+#: iterations (:func:`pinmob.assembly.solver.solve`'s ``stall_window``; 20 elsewhere, and in the refinements,
+#: whose trials next to an edge of the reachable set converge slowly): a sample out of reach costs about 6
+#: iterations instead of 20 to 40. The iterates do not depend on it, only where an unconverged solve stops.
+STALL_WINDOW = 5
+
 
 #: Iterations per assembly while refining (the solver converges slowly next to a singularity).
 REFINE_ITER = 100
 
 
 def assemble_target(
-    mech: Mechanism, target: tuple[str, Any], seed: Array, max_iter: int = MAX_ITER, tol: float = CLOSURE_TOL
+    mech: Mechanism,
+    target: tuple[str, Any],
+    seed: Array,
+    max_iter: int = MAX_ITER,
+    tol: float = CLOSURE_TOL,
+    stall_window: int | None = None,
 ) -> Array:
     """A closed configuration at a scan target, warm-started from ``seed``.
 
     The target is a platform pose, actuated joint values, or (a grid's) some pose coordinates and joint values,
-    the rest following (:func:`pinmob.assembly.partial_pose.assemble_coordinates`).
+    the rest following (:func:`pinmob.assembly.partial_pose.assemble_coordinates`). ``stall_window`` of a pose
+    target's solver: None for a sample's (``STALL_WINDOW``).
     """
     kind, value = target
+    window = STALL_WINDOW if stall_window is None else stall_window
     if kind == "pose":
-        return assemble_pose(mech, value, seed, tol, max_iter=max_iter)
+        return assemble_pose(mech, value, seed, tol, max_iter=max_iter, stall_window=window)
     if kind == "coords":
-        return assemble_coordinates(mech, value[0], value[1], seed, tol, max_iter=max_iter)
+        return assemble_coordinates(mech, value[0], value[1], seed, tol, max_iter=max_iter, stall_window=window)
     return assemble_joints(mech, value, seed, tol, max_iter=max_iter)
 
 
@@ -115,7 +129,7 @@ class _Chunk:
         self.mech, self.spec = mech, spec
         self.band = NEAR_FACTOR * spec.rtol
 
-    def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER) -> _Sample:
+    def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None) -> _Sample:
         target = self.spec.target(t)
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
@@ -124,7 +138,7 @@ class _Chunk:
         if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain)
             head.update(values)
         try:
-            q = assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol)
+            q = assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol, stall_window)
         except PinmobError as exc:
             if not self.spec.platform:
                 return _Sample(head | unreachable_chain(str(exc)), None, {})
@@ -206,7 +220,9 @@ class _Chunk:
 
         def f(t: float) -> float:
             near = min(assembled, key=lambda u: abs(u - t))
-            trial = trials[t] = self.sample(t, assembled[near], REFINE_ITER)  # warm-started at the nearest assembled
+            trial = trials[t] = self.sample(
+                t, assembled[near], REFINE_ITER, SOLVER_STALL
+            )  # warm-started at the nearest
             if trial.q is not None:
                 assembled[t] = trial.q
             return value(trial)

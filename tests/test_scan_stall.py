@@ -114,3 +114,24 @@ def test_an_out_of_reach_sample_costs_a_few_iterations():
 
     calls = kinematics_calls(attempt)
     assert calls <= 25, calls
+
+
+def test_misses_equal_as_printed_keep_the_residuals_order():
+    """An unreachable sample's reason lists its largest misses as printed: round-off (1e-15 here) between equal
+    misses does not reorder them (docs/singularities.md's 3-PUU path printed three 9.09e-03 misses in another
+    order once the solver stopped elsewhere)."""
+    import pinmob
+    from pinmob.exceptions import ClosureError
+    from pinmob.scan.unreachable import unreachable_reason
+
+    mech = pinmob.load("3-PUU")
+    texts = set()
+    for eps in (-1e-15, 0.0, 1e-15):
+        res = {"B": (9.09e-3, 0.0), "C": (9.09e-3 + eps, 0.0), "pose": (9.09e-3 - eps, 0.0), "A": (1e-3, 0.0)}
+        texts.add(unreachable_reason(ClosureError("not closed", res), mech))
+    (text,) = texts
+    assert text.endswith("limb B open by 9.09e-03 m, limb C open by 9.09e-03 m, platform pose off by 9.09e-03 m"), text
+    big = {"B": (1e-3, 0.0), "pose": (2e-3, 0.0), "C": (3e-3, 0.0)}
+    assert unreachable_reason(ClosureError("not closed", big), mech).endswith(
+        "limb C open by 3.00e-03 m, platform pose off by 2.00e-03 m, limb B open by 1.00e-03 m"
+    )

@@ -24,7 +24,8 @@ def unreachable_reason(exc: PinmobError, mech: Mechanism, tol: float = CLOSURE_T
         return str(exc)
     length = mech.length_scale
     size = {k: max(p / length, r) for k, (p, r) in res.items()}
-    worst = [k for k in sorted(size, key=lambda k: -size[k]) if size[k] > tol][:3]
+    # largest first as printed (3 figures): misses equal there keep the residuals' order, not round-off's
+    worst = [k for k in sorted(size, key=lambda k: -float(f"{size[k]:.2e}")) if size[k] > tol][:3]
     limbs = {b.name for b in mech.limbs}
     parts = []
     for k in worst:

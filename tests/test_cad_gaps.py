@@ -19,6 +19,7 @@ import numpy as np
 import pytest
 from test_third_party import mujoco_at
 
+import pinmob
 from pinmob.assembly.closure_miss import accepting_tol
 
 DATA = Path(__file__).parent / "data" / "cad_gaps"
@@ -113,3 +114,14 @@ def test_the_suggested_tolerance_is_the_miss_rounded_up(miss, tol):
 def test_no_tolerance_is_suggested_for_loops_that_do_not_close():
     """A miss beyond CAD accuracy (1e-3 L) is not a gap to accept: no tolerance is suggested."""
     assert accepting_tol(2e-3) is None and accepting_tol(float("nan")) is None
+
+
+def test_a_closure_tolerance_beyond_a_cad_gap_is_refused():
+    """--closure-tol stops where a miss stops being a CAD gap (1e-3): at 0.1 a four-bar open by 0.09 L was analysed
+    as closed and came out with 3 DoF (the loop open, its rank 1 of 3)."""
+    four_bar = str(Path(__file__).parent / "data" / "fourbar.toml")
+    refused = pinmob_cli("analyze", four_bar, "--closure-tol", "0.1", "--joints", "crank=0.05")
+    assert refused.returncode == 2 and refused.stderr.count("\n") == 1 and "Traceback" not in refused.stderr
+    assert "--closure-tol must be a finite number in [1e-14, 0.001]" in refused.stderr
+    with pytest.raises(pinmob.ConfigurationError, match=r"in \[1e-14, 0\.001\]"):
+        pinmob.analyze(pinmob.load(four_bar), "home", closure_tol=0.01)

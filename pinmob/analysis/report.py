@@ -257,10 +257,13 @@ class Report:
     def brief(self) -> str:
         """The one-line answer ``pinmob analyze --brief`` prints (:func:`~pinmob.analysis.summary.summary_line`).
 
-        With the finite analysis (``finite=True``), its verdict ends the line (:meth:`FiniteMobility.brief`).
+        An ambiguous rank decision (:attr:`ambiguous_ranks`) is named on it; with the finite analysis
+        (``finite=True``), its verdict ends the line (:meth:`FiniteMobility.brief`).
         """
         chain = self.mechanism_mobility if self.mobility is None else None
         line = summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
+        for a in self.ambiguous_ranks:  # never a confident count where the gap is not clear (the full text's note)
+            line += f"; ambiguous {a.decision}: {a.rank} as counted, {' or '.join(map(str, a.alternatives))} possible"
         return line if self.finite is None else f"{line}; finite: {self.finite.brief()}"
 
     @cached_property

@@ -17,7 +17,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.closure_miss import format_worst, tolerance_hint
+from pinmob.assembly.closure_miss import CAD_GAP_MAX, format_worst, tolerance_hint
 from pinmob.assembly.coupling import coupling_error, tendon_error
 from pinmob.assembly.solver import ResidualFn
 from pinmob.exceptions import ClosureError, ConfigurationError
@@ -27,7 +27,9 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
 
 #: Valid range of a closure tolerance (dimensionless): below, round-off decides; above, nothing is closed.
-CLOSURE_TOL_MIN, CLOSURE_TOL_MAX = 1e-14, 0.1
+#: The closure tolerance's range: round-off of one link at the bottom, a CAD gap at the top (beyond, loops that
+#: do not close would be analysed as if they did: a four-bar open by 0.09 L came out with 3 DoF at 0.1)
+CLOSURE_TOL_MIN, CLOSURE_TOL_MAX = 1e-14, CAD_GAP_MAX
 
 #: Residual norms by limb or closure name: (position [m], rotation [rad]).
 Residuals = dict[str, tuple[float, float]]

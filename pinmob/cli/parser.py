@@ -57,8 +57,8 @@ def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
         "--closure-tol",
         type=float,
         default=None,
-        help="largest closure residual accepted, position / L and rotation [rad] (default 1e-6; a refusal of "
-        "loops that close to CAD accuracy names the value that accepts them)",
+        help="largest closure residual accepted, position / L and rotation [rad] (default 1e-6, at most 1e-3; a "
+        "refusal of loops that close to CAD accuracy names the value that accepts them)",
     )
 
 

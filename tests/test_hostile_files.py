@@ -253,3 +253,20 @@ def test_an_amplitude_too_large_for_its_steps_is_refused(amplitude: str, tmp_pat
     out, _ = run("show", "3-PUU", "--amplitude", amplitude, "--steps", "2", "--html", str(tmp_path / "a.html"))
     one_line_error(out, "in 2 steps makes steps of", "0.5 L for translations", "use at least")
     assert "Warning" not in out.stderr and "overflow" not in out.stderr and not (tmp_path / "a.html").exists()
+
+
+def test_a_keyframe_that_is_not_finite_names_itself_and_its_joint(tmp_path: Path) -> None:
+    """An MJCF keyframe with ``nan`` or ``inf`` in its qpos (MuJoCo compiles it as given): asked for, one line naming
+    the configuration and the joint (it said ``does not close: residuals B: nan m``); the file's other
+    configurations still analyse."""
+    text = (Path(__file__).parent / "data" / "fourbar_connect.xml").read_text()
+    keys = '<keyframe><key name="bad" qpos="nan 0 0"/><key name="far" qpos="0 inf 0"/></keyframe></mujoco>'
+    path = tmp_path / "fourbar.xml"
+    path.write_text(text.replace("</mujoco>", keys))
+    for key, joint in (("bad", "crank"), ("far", "coupler")):
+        out = run("analyze", str(path), "-c", key)[0]
+        *warned, error = out.stderr.splitlines()  # MuJoCo's own word on the NaN, as one warning, then the error
+        assert all(w.startswith("pinmob: warning: fourbar.xml: MuJoCo says:") for w in warned) and len(warned) <= 1
+        out.stderr = error + "\n"
+        one_line_error(out, f"configuration {key!r}", f"joint(s) {joint!r}", "not a finite number")
+    assert pinmob.analyze(pinmob.load(path), "reference").mechanism_mobility.mechanism_dof == 1

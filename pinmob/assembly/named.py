@@ -8,7 +8,7 @@ import numpy as np
 
 from pinmob.assembly.assemble import assemble_pose, solve_actuated
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
-from pinmob.exceptions import ClosureError
+from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 
@@ -42,7 +42,8 @@ def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[
     does not close).
 
     Raises:
-        ConfigurationError: no configuration ``name`` (the message lists them).
+        ConfigurationError: no configuration ``name`` (the message lists them), or one whose joint values are
+            not finite.
         ClosureError: its pose cannot be assembled.
     """
     name = mech.configuration_name(name)
@@ -57,7 +58,19 @@ def named_vector(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> tuple[
 
         return mech.memo(("named pose", name, tol), assembled).copy(), True
     base = None if conf.vector is None else np.array(conf.vector)
-    return mech.q_from_joints(conf.joints, base), False
+    q = mech.q_from_joints(conf.joints, base)
+    if not np.isfinite(q).all():  # a keyframe's qpos of nan or inf (MuJoCo compiles it as given)
+        model = mech.model
+        bad = [
+            model.names[j]
+            for j in range(1, model.njoints)
+            if not np.isfinite(q[model.joints[j].idx_q : model.joints[j].idx_q + model.joints[j].nq]).all()
+        ]
+        raise ConfigurationError(
+            f"configuration {name!r} of {mech.name!r} gives joint(s) {', '.join(map(repr, bad))} a value that is not "
+            "a finite number; give finite values (or another configuration)"
+        )
+    return q, False
 
 
 def close_joint_values(

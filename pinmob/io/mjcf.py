@@ -72,6 +72,9 @@ def compile_mjcf(path: Path, warn: bool = True) -> Any:
     """
     import mujoco
 
+    said: list[str] = []  # MuJoCo's own warnings (e.g. a NaN in the XML), printed by default: kept as one warning
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(said.append)
     try:
         spec = mujoco.MjSpec.from_file(str(path))
         spec.compiler.boundmass = spec.compiler.boundmass or 1e-9
@@ -80,8 +83,12 @@ def compile_mjcf(path: Path, warn: bool = True) -> Any:
         m = spec.compile()
     except Exception as exc:  # MuJoCo raises ValueError with the compiler's message
         raise file_error(path, f"MuJoCo cannot compile it: {' '.join(str(exc).split())[:300]}") from None
+    finally:
+        mujoco.set_mju_user_warning(previous)
     if unread and warn:
         warnings.warn(f"{path.name}: {unread}", stacklevel=3)
+    if said and warn:
+        warnings.warn(f"{path.name}: MuJoCo says: {' '.join(dict.fromkeys(said))[:300]}", stacklevel=3)
     return m
 
 

@@ -330,7 +330,9 @@ def test_ambiguous_rank_gives_both_values(tmp_path, capsys):
     assert main(["analyze", str(path), "--joints", "j1=0"]) == 0
     assert f"ambiguous closure rank: singular values {amb['kept']:.2e} (counted)" in capsys.readouterr().out
     assert main(["analyze", str(path), "--joints", "j1=0", "--brief"]) == 0  # the one line says it too
-    assert capsys.readouterr().out.rstrip().endswith("mechanism DoF 0; ambiguous closure rank: 3 as counted, 2 possible")
+    assert (
+        capsys.readouterr().out.rstrip().endswith("mechanism DoF 0; ambiguous closure rank: 3 as counted, 2 possible")
+    )
 
 
 # --------------------------------------------------------------------------- MJCF details

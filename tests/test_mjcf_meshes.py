@@ -175,3 +175,43 @@ def test_a_broken_mesh_file_is_still_an_error(tmp_path):
     path.write_text(pendulum("m.stl"))
     with pytest.raises(MechanismFileError, match="MuJoCo cannot compile it"):
         pinmob.load(path)
+
+
+TERRAIN = """<mujoco model="terrain">
+  <asset>{field}</asset>
+  <worldbody>{floor}
+    <body name="a"><joint name="j1" axis="0 0 1"/><geom type="sphere" size="0.01"/>
+      <body name="b" pos="1 0 0"><joint name="j2" axis="0 0 1"/><geom type="sphere" size="0.01"/>
+        <site name="tip" pos="1 0 0"/></body></body>
+    <body name="c" pos="1.5 0.5 0"><joint name="j3" axis="0 0 1"/><geom type="sphere" size="0.01"/>
+      <site name="end" pos="0.5 0 0"/>{skin}</body>
+  </worldbody>
+  <equality><connect site1="tip" site2="end"/></equality>
+</mujoco>"""
+
+
+def test_a_missing_height_field_and_a_skin_outside_cost_only_the_drawing(tmp_path):
+    """A height field whose image is missing (MuJoCo: 'Error opening file') and a skin file outside the model's
+    folder: compiled without them, one warning naming both, the same analysis as the file without them."""
+    field = '<hfield name="ground" file="terrain.png" size="1 1 0.1 0.01"/>'
+    (tmp_path / "m").mkdir()
+    path = tmp_path / "m" / "terrain.xml"
+    path.write_text(
+        TERRAIN.format(field=field, floor='<geom type="hfield" hfield="ground"/>', skin="").replace(
+            "</asset>", '</asset><deformable><skin name="s" file="../outside.skn"/></deformable>'
+        )
+    )
+    (tmp_path / "outside.skn").write_bytes(b"not read")
+    plain = tmp_path / "m" / "plain.xml"
+    plain.write_text(TERRAIN.format(field="", floor="", skin=""))
+    with pytest.raises(ValueError, match=r"outside\.skn|terrain\.png"):
+        mujoco.MjModel.from_xml_path(str(path))  # what MuJoCo says of the file as it is
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        mech = pinmob.load(path)
+    said = [str(w.message) for w in caught]
+    assert len(said) == 1 and "1 height-field file(s) missing, first 'terrain.png'" in said[0], said
+    assert "1 skin file(s) outside the model's folders (not read)" in said[0], said
+    got, ref = pinmob.analyze(mech).to_dict(), pinmob.analyze(pinmob.load(plain)).to_dict()
+    for key in ("mechanism_dof", "redundant_constraints", "joint_values"):
+        assert got[key] == ref[key], key

@@ -1,13 +1,14 @@
-"""Mesh and texture files of an MJCF that MuJoCo's compiler must not or cannot read, taken out before it compiles.
+"""Mesh, texture, height-field and skin files of an MJCF that MuJoCo's compiler must not or cannot read, taken out.
 
-MuJoCo opens every ``<mesh file>`` and ``<texture file>`` when it compiles, and refuses the model when one
+MuJoCo opens every ``<mesh file>``, ``<texture file>``, ``<hfield file>`` and ``<skin file>`` when it compiles, and refuses the model when one
 is missing (``Error opening file ...stl``): meshes kept elsewhere, or Git LFS files not pulled (a small
 text pointer where the mesh should be). Kinematics needs none of them: a geom only draws, collides and
 weighs (the body frames, joints, sites and equalities do not depend on it; pinmob gives massless bodies
 a tiny mass). So, as for a URDF whose meshes are missing, the model is compiled without them
 (:func:`drop_unread_files`), with one warning: a geom of a missing mesh becomes a tiny transparent sphere
 in a hidden group (anything naming the geom still finds it; it is not drawn), the mesh asset is deleted,
-and a missing texture is deleted with the materials' references to it.
+a missing texture is deleted with the materials' references to it, a height field like a mesh (its geoms
+become stand-ins), a skin (drawn only) deleted.
 
 A file resolving (symbolic links followed) outside the model's folders (:func:`pinmob.io.mesh_files.mesh_roots`)
 is taken out the same way, so that it is never read (``file="/etc/shadow"``, ``../../key.stl``): its
@@ -93,8 +94,26 @@ def drop_unread_files(spec: Any, model_file: Path) -> str | None:
             found.setdefault(f"mesh {reason}", []).append(_shown(path, model_file))
             dropped_meshes.add(mesh.name)
             spec.delete(mesh)
+    dropped_fields = set()
+    for field in list(spec.hfields):  # a height field's image (meshdir, as meshes); its geoms draw and collide only
+        if not field.file or field.file in assets:
+            continue
+        path = asset_path(spec, field.file, spec.compiler.meshdir)
+        reason = unread_reason(path, roots)
+        if reason:
+            found.setdefault(f"height-field {reason}", []).append(_shown(path, model_file))
+            dropped_fields.add(field.name)
+            spec.delete(field)
+    for skin in list(spec.skins):  # a skin's file: drawn only
+        if skin.file and skin.file not in assets:
+            path = asset_path(spec, skin.file, spec.compiler.meshdir)
+            reason = unread_reason(path, roots)
+            if reason:
+                found.setdefault(f"skin {reason}", []).append(_shown(path, model_file))
+                spec.delete(skin)
     for geom in spec.geoms:
-        if geom.meshname in dropped_meshes:
+        if geom.meshname in dropped_meshes or geom.hfieldname in dropped_fields:
+            geom.hfieldname = ""
             _stand_in(geom)
     dropped_textures = set()
     for texture in list(spec.textures):
@@ -126,7 +145,7 @@ def _warning(found: dict[str, list[str]], align: bool) -> str | None:
     }
     parts = []
     for key, files in found.items():
-        kind, reason = key.split()
+        kind, reason = key.rsplit(" ", 1)
         parts.append(f"{len(files)} {kind} file(s) {said[reason]}, first {files[0]!r}")
     if align:
         return "; ".join(parts) + (

@@ -250,3 +250,28 @@ def test_a_micrometre_mechanism_10_m_away_prints_no_round_off_of_its_position() 
     d = report.to_dict()
     points = [m["world_point"] for m in d["motions"] + d["constraints"] if m.get("world_point") is not None]
     assert all(x == 0.0 or abs(x) > 1e-9 for p in points for x in p), points
+
+
+SHAFT = """<mujoco model="shaft">
+  <worldbody>
+    <body name="shaft" pos="{x} {y} {z}">
+      <joint name="j1" type="hinge" axis="0.3 0.5 0.8"/><geom type="sphere" size="0.01"/>
+      <site name="on_axis" pos="0.06 0.1 0.16"/>
+    </body>
+    <site name="bearing" pos="{bx} {by} {bz}"/>
+  </worldbody>
+  <equality><connect site1="on_axis" site2="bearing"/></equality>
+  <keyframe><key name="at" qpos="0.7"/></keyframe>
+</mujoco>"""
+
+
+@pytest.mark.parametrize("where", [(0.0, 0.0, 0.0), (6.0, -8.0, 0.5)])
+def test_a_closure_of_round_off_only_adds_no_constraint_wherever_it_stands(where, tmp_path):
+    """A shaft held by a ball on its own axis (a second bearing, as CAD draws it): the closure's rows are 0 up to
+    round-off, the shaft keeps its 1 DoF (by hand; MuJoCo's equality rows are 0 too). At the origin the round-off
+    (1e-17) was counted against a tolerance relative to itself: 'mechanism DoF 0', and DoF 1 when moved."""
+    x, y, z = where
+    path = tmp_path / "shaft.xml"
+    path.write_text(SHAFT.format(x=x, y=y, z=z, bx=x + 0.06, by=y + 0.1, bz=z + 0.16))
+    doc = pinmob.analyze(pinmob.load(path), "at").to_dict()
+    assert (doc["mechanism_dof"], doc["closure_rank"], doc["redundant_constraints"]) == (1, 0, 3)

@@ -278,7 +278,7 @@ def mechanism_mobility(
         held = np.vstack([held, tendon_rows(mech.model, tendons, conf.q, chain.col) @ null])
     split = lock_motions(conf, null, held, outs, rtol)
     rows = int(chain.k_hat.shape[0])
-    top = float(dec.singular_values[0]) if dec.singular_values.size else 0.0
+    top = max(1.0, float(dec.singular_values[0]) if dec.singular_values.size else 0.0)  # the rank rule's reference
     return MechanismMobility(
         mechanism=mech.name,
         configuration=conf.name,

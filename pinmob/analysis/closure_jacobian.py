@@ -56,7 +56,13 @@ class ClosedChain:
 
 
 def closed_chain(conf: Configuration, rtol: float) -> ClosedChain:
-    """The :class:`ClosedChain` at ``conf`` (cached per tolerance)."""
+    """The :class:`ClosedChain` at ``conf`` (cached per tolerance).
+
+    K_hat is dimensionless (unit axes, lever arms per L), so its natural scale is 1: the rank tolerance is
+    ``rtol * max(1, sigma_1)``. A closure whose rows are all round-off (a hinge closed about its own axis, a
+    ball at a point its joints cannot move) adds no constraint, wherever the mechanism stands; relative to
+    sigma_1 alone, its 1e-16 rows were counted at the origin and not 10 m away.
+    """
 
     def compute() -> ClosedChain:
         mech = conf.mechanism
@@ -65,9 +71,11 @@ def closed_chain(conf: Configuration, rtol: float) -> ClosedChain:
         _, jac = stacked_error(mech, model, conf.data, mech.all_closures)
         k_hat = jac * col
         if not k_hat.size:
-            return ClosedChain(col, k_hat, decide_rank(k_hat, rtol, n=model.nv), np.zeros((k_hat.shape[0], 0)))
+            return ClosedChain(
+                col, k_hat, decide_rank(k_hat, rtol, n=model.nv, at_least=1.0), np.zeros((k_hat.shape[0], 0))
+            )
         u, s, vt = svd(k_hat)  # full U and V: the null space and the left null space
-        dec = decision(s, vt, rtol)
+        dec = decision(s, vt, rtol, at_least=1.0)  # natural scale 1: a K of round-off only has rank 0
         return ClosedChain(col, k_hat, dec, u[:, dec.rank :])
 
     return conf.memo(("closed_chain", rtol), compute)

@@ -125,3 +125,23 @@ def test_a_closure_tolerance_beyond_a_cad_gap_is_refused():
     assert "--closure-tol must be a finite number in [1e-14, 0.001]" in refused.stderr
     with pytest.raises(pinmob.ConfigurationError, match=r"in \[1e-14, 0\.001\]"):
         pinmob.analyze(pinmob.load(four_bar), "home", closure_tol=0.01)
+
+
+#: the built-in spherical 3-RRR's joint values rounded to 5 digits: the loops miss by 2.3e-6 m and 1e-5 rad
+ROUNDED = (
+    "A_r1=0.1,A_r2=-0.14742,A_r3=0.016424,B_r1=-0.1,B_r2=0.20041,B_r3=-0.15103,C_r1=0.1,C_r2=-0.032098,C_r3=-0.016722"
+)
+
+
+def test_joint_values_that_miss_by_a_cad_gap_name_the_flag_and_keep_the_generic_ranks():
+    """Every joint value given, rounded (as a user copies them): the error names the --closure-tol that accepts the
+    miss (it listed 12 residuals and no flag); with it, 3 DoF 3R (by hand: the agile-eye type), and the constraint
+    is not singular: the generic rank is estimated on exactly closed samples at the asked tolerance (at the raised
+    one, sqrt(2.5e-4) = 0.016 called limbs singular in random samples: 'generic 4', a constraint singularity)."""
+    refused = pinmob_cli("analyze", "3-RRR-spherical", "--joints", ROUNDED)
+    flag = suggested(refused.stderr)
+    assert refused.returncode == 2 and "forward kinematics" in refused.stderr
+    doc = json.loads(pinmob_cli("analyze", "3-RRR-spherical", "--joints", ROUNDED, *flag, "--json").stdout)
+    assert (doc["dof"], doc["motion_type"]) == (3, "3R")
+    sing = doc["singularity"]
+    assert sing["classes"] == [] and sing["generic_rank"] == 3

@@ -28,6 +28,7 @@ from pinmob.analysis.ambiguity import AmbiguousRank, ambiguous_ranks, raised_not
 from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
+from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.singularity import Singularity
@@ -105,7 +106,10 @@ class Report:
         """Singularity classes and distances; None where the limb-wise classes do not apply (computed when first used)."""
         if self.mobility is None or self.mobility.method_note or not self.has_limbs:
             return None
-        return singularity(self.state, self.rtol, self.options.generic_rank)
+        g, asked = self.options.generic_rank, self.options.rtol_asked
+        if g is None and asked is not None and asked < self.rtol:  # raised for this configuration's CAD gap only:
+            g = generic_constraint_rank(self.state.mechanism, rtol=asked)  # the generic samples close exactly
+        return singularity(self.state, self.rtol, g)
 
     @cached_property
     def paper(self) -> Mobility | None:
@@ -255,11 +259,7 @@ class Report:
         return "\n".join(lines)
 
     def brief(self) -> str:
-        """The one-line answer ``pinmob analyze --brief`` prints (:func:`~pinmob.analysis.summary.summary_line`).
-
-        An ambiguous rank decision (:attr:`ambiguous_ranks`) is named on it; with the finite analysis
-        (``finite=True``), its verdict ends the line (:meth:`FiniteMobility.brief`).
-        """
+        """``pinmob analyze --brief``'s line (:func:`~pinmob.analysis.summary.summary_line`), ambiguous ranks, finite verdict."""
         chain = self.mechanism_mobility if self.mobility is None else None
         line = summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
         for a in self.ambiguous_ranks:  # never a confident count where the gap is not clear (the full text's note)

@@ -25,6 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from pinmob.assembly.closure_miss import format_worst, tolerance_hint
 from pinmob.assembly.continuation import continuation, held_coordinates
 from pinmob.assembly.reach import reach_note
 from pinmob.assembly.residual import (
@@ -106,17 +107,19 @@ def _finish(
 ) -> Assembly:
     """The :class:`Assembly` at ``result.q``, or a :class:`ClosureError` when a residual exceeds ``tol``.
 
-    The error gives the residuals, not the solver's iteration count: where a solve stalls is decided by
-    round-off (the five-bar's failed solve took 26 to 28 iterations under different BLAS kernels).
+    The error gives the worst residuals, not the solver's iteration count: where a solve stalls is decided
+    by round-off (the five-bar's failed solve took 26 to 28 iterations under different BLAS kernels); a
+    miss of CAD size names the ``--closure-tol`` that accepts it (:mod:`pinmob.assembly.closure_miss`).
     """
     with borrowed(mech.model) as data:
         compute_kinematics(mech.model, data, result.q)
         res = mechanism_residuals(mech, data) | (extra or {})
     worst = worst_residual(res, mech.length_scale)
     if worst > tol:
+        length = mech.length_scale  # the worst residuals, and the --closure-tol that accepts a CAD-sized miss
         raise ClosureError(
-            f"{what} of {mech.name!r} did not converge: residuals "
-            f"{format_residuals(res)} (tolerance {tol:g} x L = {tol * mech.length_scale:.2e} m, {tol:g} rad)",
+            f"{what} of {mech.name!r} did not converge: residuals {format_worst(res, length, tol)}"
+            f"{tolerance_hint(res, length)}",
             res,
         )
     limits = warn_outside_limits(mech, result.q, what)

@@ -388,3 +388,14 @@ def test_actuation_wrenches_count_what_locking_the_actuators_adds():
             assert wrenches.shape[1] == start, (name, config)
             checked += 1
     assert checked > 20 and singular > 5
+
+
+def test_a_distance_at_a_singularity_prints_as_at_most_the_tolerance():
+    """At a singularity the distance is round-off (1.34e-15 or 1.06e-15 for the 6-UPS turned 90 degrees, by the BLAS
+    kernel): the text prints ``<= 1e-06`` (the tolerance), as the scan's rows do, and the JSON keeps the figure."""
+    report = pinmob.analyze(pinmob.load("6-UPS"), "type2")
+    sing = report.to_dict()["singularity"]
+    assert sing["distance"] <= 1e-6 and sing["distances"]["actuation"] <= 1e-6
+    text = str(report)
+    assert "singularity: actuation (distance <= 1e-06, closest: actuation;" in text
+    assert ", actuation <= 1e-06" in text and "e-15" not in text and "e-16" not in text

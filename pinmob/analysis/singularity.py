@@ -169,7 +169,8 @@ class Singularity(ReadOnlyArrays):
         ties = self.closest_all
         closest = f", closest: {', '.join(ties)}" if ties else ""
         lines = [
-            f"singularity: {self.label} (distance {self.distance:.3g}{closest}; 0 = singular, 1 = best conditioned{near})"
+            f"singularity: {self.label} (distance {self._shown(self.distance)}{closest}; 0 = singular, 1 = best "
+            f"conditioned{near})"
         ]
         gap = self.rank_gap
         lines.append(
@@ -197,8 +198,12 @@ class Singularity(ReadOnlyArrays):
                 )
         else:
             lines.append("  limb (Type I): no")
-        lines.append("  distances: " + ", ".join(f"{k} {v:.3g}" for k, v in self.distances.items()))
+        lines.append("  distances: " + ", ".join(f"{k} {self._shown(v)}" for k, v in self.distances.items()))
         return "\n".join(lines)
+
+    def _shown(self, distance: float) -> str:
+        """A distance as printed: ``<= rtol`` at a singularity, where the figure is round-off (the JSON keeps it)."""
+        return f"<= {self.rtol:g}" if distance <= self.rtol else f"{distance:.3g}"
 
 
 # --------------------------------------------------------------------------- helpers

@@ -84,33 +84,12 @@ def drop_unread_files(spec: Any, model_file: Path) -> str | None:
     roots = mesh_roots(model_file)
     assets = set(spec.assets)
     found: dict[str, list[str]] = {}
-    dropped_meshes = set()
-    for mesh in list(spec.meshes):
-        if not mesh.file or mesh.file in assets:
-            continue
-        path = asset_path(spec, mesh.file, spec.compiler.meshdir)
-        reason = unread_reason(path, roots)
-        if reason:
-            found.setdefault(f"mesh {reason}", []).append(_shown(path, model_file))
-            dropped_meshes.add(mesh.name)
-            spec.delete(mesh)
-    dropped_fields = set()
-    for field in list(spec.hfields):  # a height field's image (meshdir, as meshes); its geoms draw and collide only
-        if not field.file or field.file in assets:
-            continue
-        path = asset_path(spec, field.file, spec.compiler.meshdir)
-        reason = unread_reason(path, roots)
-        if reason:
-            found.setdefault(f"height-field {reason}", []).append(_shown(path, model_file))
-            dropped_fields.add(field.name)
-            spec.delete(field)
-    for skin in list(spec.skins):  # a skin's file: drawn only
-        if skin.file and skin.file not in assets:
-            path = asset_path(spec, skin.file, spec.compiler.meshdir)
-            reason = unread_reason(path, roots)
-            if reason:
-                found.setdefault(f"skin {reason}", []).append(_shown(path, model_file))
-                spec.delete(skin)
+    # meshes, height fields (their images) and skins, all looked for in meshdir; a skin only draws
+    dropped = {
+        kind: _drop_files(spec, items, kind, roots, model_file, found)
+        for kind, items in (("mesh", spec.meshes), ("height-field", spec.hfields), ("skin", spec.skins))
+    }
+    dropped_meshes, dropped_fields = dropped["mesh"], dropped["height-field"]
     for geom in spec.geoms:
         if geom.meshname in dropped_meshes or geom.hfieldname in dropped_fields:
             geom.hfieldname = ""
@@ -127,6 +106,26 @@ def drop_unread_files(spec: Any, model_file: Path) -> str | None:
     for material in spec.materials:
         material.textures = ["" if t in dropped_textures else t for t in material.textures]
     return _warning(found, spec.compiler.alignfree and bool(dropped_meshes))
+
+
+def _drop_files(
+    spec: Any, items: Any, kind: str, roots: tuple[Path, ...], model_file: Path, found: dict[str, list[str]]
+) -> set[str]:
+    """The names of the ``items`` (meshes, height fields, skins: files in meshdir) deleted from ``spec``.
+
+    Those whose file MuJoCo must not or cannot read, each noted in ``found`` under ``"<kind> <reason>"``.
+    """
+    assets, out = set(spec.assets), set()
+    for item in list(items):
+        if not item.file or item.file in assets:
+            continue
+        path = asset_path(spec, item.file, spec.compiler.meshdir)
+        reason = unread_reason(path, roots)
+        if reason:
+            found.setdefault(f"{kind} {reason}", []).append(_shown(path, model_file))
+            out.add(item.name)
+            spec.delete(item)
+    return out
 
 
 def _shown(path: Path, model_file: Path) -> str:

@@ -248,7 +248,7 @@ def assemble_pose(
     if worst_residual(res, mech.length_scale) > tol:
         raise ClosureError(
             f"could not assemble {mech.name!r} at platform pose xyz={np.round(pose.translation, 6).tolist()}: "
-            f"after {result.iterations} iterations, platform pose residual {res_pose[0]:.2e} m, {res_pose[1]:.2e} rad; "
+            f"platform pose residual {res_pose[0]:.2e} m, {res_pose[1]:.2e} rad; "
             f"closures {format_residuals(closures)}.",
             res,
             note=lambda: reach_note(mech, pose, result.q, tol),

@@ -32,12 +32,13 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.assembly.assemble import _solver_tol, joint_velocity_indices, solve_actuated, warn_outside_limits
+from pinmob.assembly.closure_miss import format_worst, tolerance_hint
 from pinmob.assembly.continuation import held_coordinates
+from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
     closure_residual,
     compute_kinematics,
-    format_residuals,
     mechanism_residuals,
     stacked_error,
     worst_residual,
@@ -51,13 +52,6 @@ from pinmob.screw.algebra import Array
 
 #: Largest step of the given joints [rad, or L for a prismatic joint] per predicted forward-kinematics step.
 JOINT_STEP = 0.2
-#: The platform pose coordinates, in order: position [m], then Pinocchio's roll, pitch, yaw [rad].
-POSE_COORDS = ("x", "y", "z", "roll", "pitch", "yaw")
-
-
-def pose_vector(pose: pin.SE3) -> Array:
-    """(6,) ``[x, y, z, roll, pitch, yaw]`` [m, rad] of a pose."""
-    return np.concatenate([pose.translation, pin.rpy.matrixToRpy(pose.rotation)])
 
 
 def pose_from_vector(v: Array) -> pin.SE3:
@@ -188,9 +182,8 @@ def assemble_coordinates(
     if worst_residual(res, length) > tol:
         given = ", ".join(f"{c} = {v:.6g}" for c, v in pose.items())
         raise ClosureError(
-            f"could not assemble {mech.name!r} at {given}{' with ' + str(joints) if joints else ''}: after "
-            f"{result.iterations} iterations, residuals {format_residuals(res)} "
-            f"(tolerance {tol:g} x L = {tol * length:.2e} m, {tol:g} rad)",
+            f"could not assemble {mech.name!r} at {given}{' with ' + str(joints) if joints else ''}: residuals "
+            f"{format_worst(res, length, tol)}{tolerance_hint(res, length)}",
             res,
         )
     warn_outside_limits(mech, q, "assembly at platform pose coordinates")

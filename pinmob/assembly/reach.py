@@ -31,8 +31,9 @@ from pinmob.screw.algebra import Array, twist_scaling
 WEIGHT = 1e3
 #: A coordinate is named when its difference is at least this share of the largest (position / L, rad).
 SHARE = 0.1
-#: The platform pose's coordinates, as the messages name them.
-COORDINATES = ("x", "y", "z", "roll", "pitch", "yaw")
+#: The platform pose coordinates, in order: position [m], then Pinocchio's roll, pitch, yaw [rad]
+#: (``R = Rz(yaw) Ry(pitch) Rx(roll)``).
+POSE_COORDS = ("x", "y", "z", "roll", "pitch", "yaw")
 
 
 def nearest_closed(mech: Mechanism, pose: pin.SE3, q0: Array, tol: float) -> Array | None:
@@ -60,8 +61,8 @@ def nearest_closed(mech: Mechanism, pose: pin.SE3, q0: Array, tol: float) -> Arr
     return closed.q if within else None
 
 
-def pose_coordinates(placement: pin.SE3) -> Array:
-    """(6,) ``x y z`` [m] and ``roll pitch yaw`` [rad] of a placement."""
+def pose_vector(placement: pin.SE3) -> Array:
+    """(6,) ``[x, y, z, roll, pitch, yaw]`` [m, rad] of a placement (:data:`POSE_COORDS`)."""
     return np.concatenate([placement.translation, pin.rpy.matrixToRpy(placement.rotation)])
 
 
@@ -77,8 +78,8 @@ def reach_note(mech: Mechanism, pose: pin.SE3, q0: Array, tol: float) -> str:
         return "No closed configuration near the attempt was found; try another seed."
     with borrowed(mech.model) as data:
         compute_kinematics(mech.model, data, q)
-        reached = pose_coordinates(data.oMf[mech.platform_id])
-    asked = pose_coordinates(pose)
+        reached = pose_vector(data.oMf[mech.platform_id])
+    asked = pose_vector(pose)
     diff = reached - asked
     diff[3:] = np.angle(np.exp(1j * diff[3:]))  # angles modulo 2 pi
     size = np.abs(diff) / np.where(np.arange(6) < 3, mech.length_scale, 1.0)
@@ -86,8 +87,8 @@ def reach_note(mech: Mechanism, pose: pin.SE3, q0: Array, tol: float) -> str:
         return "A closed configuration reaches it: the solver did not converge from this seed; try another seed."
     out = [k for k in range(6) if size[k] > tol and size[k] >= SHARE * size.max()]
     unit = ["m"] * 3 + ["rad"] * 3
-    along = ", ".join(f"{COORDINATES[k]} (residual {abs(diff[k]):.3g} {unit[k]})" for k in out)
+    along = ", ".join(f"{POSE_COORDS[k]} (residual {abs(diff[k]):.3g} {unit[k]})" for k in out)
     has = ", ".join(
-        f"{COORDINATES[k]} = {np.round(reached[k], 6) + 0.0:.4g} {unit[k]}" for k in out
+        f"{POSE_COORDS[k]} = {np.round(reached[k], 6) + 0.0:.4g} {unit[k]}" for k in out
     )  # no round-off figures
     return f"The platform pose is out of reach along {along}: the nearest closed configuration found has {has}."

@@ -61,9 +61,10 @@ import pinocchio as pin
 
 import pinmob
 from pinmob.analysis.batch import analyze_batch
+from pinmob.scan import pose_vector
 from pinmob.scan.output import RowWriter
 from pinmob.scan.run import columns, scan
-from pinmob.scan.spec import path_spec, platform_pose, pose_vector
+from pinmob.scan.spec import path_spec, platform_pose
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL
 

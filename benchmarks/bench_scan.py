@@ -56,9 +56,10 @@ import pinocchio as pin
 
 import pinmob
 from pinmob.analysis.batch import analyze_batch
+from pinmob.scan import pose_vector
 from pinmob.scan.chunk import assemble_target, evaluate
 from pinmob.scan.run import scan_in_process
-from pinmob.scan.spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector, pose_vector
+from pinmob.scan.spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL
 

@@ -36,17 +36,14 @@ MEET = 1e-6
 def _axes(mech: Mechanism) -> tuple[list[int], dict[int, Array], dict[int, Array]]:
     """The one-velocity revolute joints, and their frame origins and unit axes [m] at the neutral configuration."""
     model = mech.model
-    data = model.createData()
-    q = pin.neutral(model)
-    pin.computeJointJacobians(model, data, q)
+    neutral = Configuration.unchecked(mech, pin.neutral(model))  # its kinematics and (6, nv) world Jacobian
     revolute = [
         j
         for j in range(1, model.njoints)
         if model.joints[j].nv == 1 and model.joints[j].shortname().startswith("JointModelR")
     ]
-    origin = {j: np.array(data.oMi[j].translation) for j in revolute}
-    jac = np.reshape(data.J, (6, model.nv))  # Pinocchio gives a (6,) vector when nv = 1
-    axis = {j: np.array(jac[3:, model.joints[j].idx_v]) for j in revolute}
+    origin = {j: np.array(neutral.data.oMi[j].translation) for j in revolute}
+    axis = {j: np.array(neutral.world_jacobian[3:, model.joints[j].idx_v]) for j in revolute}
     return revolute, origin, axis
 
 

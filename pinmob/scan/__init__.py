@@ -8,6 +8,7 @@
 :mod:`~pinmob.scan.plot_map` (PNG plots).
 """
 
+from pinmob.assembly.reach import pose_vector
 from pinmob.scan.chunk import evaluate, run_chunk
 from pinmob.scan.run import chunk_seeds, columns, scan
 from pinmob.scan.spec import (
@@ -20,7 +21,6 @@ from pinmob.scan.spec import (
     path_spec,
     platform_pose,
     pose_from_vector,
-    pose_vector,
     resolve_pose,
     with_finite,
 )

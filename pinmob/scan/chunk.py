@@ -19,6 +19,7 @@ from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.assembly.assemble import assemble_joints, assemble_pose
 from pinmob.assembly.partial_pose import assemble_coordinates
+from pinmob.assembly.reach import pose_vector
 from pinmob.assembly.solver import STALL_WINDOW as SOLVER_STALL
 from pinmob.exceptions import PinmobError
 from pinmob.model.closure import CLOSURE_TOL
@@ -26,7 +27,7 @@ from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, v_vertex
-from pinmob.scan.spec import POSE_COORDS, ScanSpec, pose_vector
+from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS, unreachable_reason, unreachable_row
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL

@@ -36,7 +36,6 @@ gridded over roll and pitch holds z, and x, y and yaw follow.
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 
 from pinmob.analysis.closure_jacobian import closed_chain, frame_rows
 from pinmob.analysis.configuration import Configuration
@@ -47,6 +46,7 @@ from pinmob.model.joint_values import joint_value
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import value_joints
+from pinmob.scan.references import platform_pose
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -91,9 +91,7 @@ def coordinate_values(mech: Mechanism, q: Array, names: tuple[str, ...] | list[s
     out: dict[str, float] = {}
     pose = np.zeros(6)
     if any(n in POSE_COORDS for n in names):
-        data = mech.model.createData()
-        pin.framesForwardKinematics(mech.model, data, q)
-        pose = pose_vector(data.oMf[mech.platform_id])
+        pose = pose_vector(platform_pose(mech, q))
     for n in names:
         out[n] = float(pose[POSE_COORDS.index(n)]) if n in POSE_COORDS else joint_value(mech.model, q, n)
     return out

@@ -38,7 +38,7 @@ from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.analysis.loop_screws import check_joints
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.assembly.assemble import assemble_pose
-from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector, pose_vector
+from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL
@@ -68,7 +68,6 @@ class ScanSpec:
             values for ``joints``, (k,) values of ``coords`` for ``coords``; unused for ``grid``.
         samples: samples along a path.
         joints: actuated joint names (``joints`` kind).
-        base: (6,) reference pose vector of a grid (the platform's pose at ``--at``).
         axes: one to three grid coordinates: (name, low, high, count) each (a pose coordinate or a joint).
         held: a grid's held coordinates and their values at ``--at``: (name, value) each (:mod:`pinmob.scan.coordinates`).
         start: a grid's gridded coordinates and their values at ``--at`` (where its seeding walk starts).
@@ -89,7 +88,6 @@ class ScanSpec:
     b: Array | None = field(default=None, repr=False)
     samples: int = 0
     joints: tuple[str, ...] = ()
-    base: Array | None = field(default=None, repr=False)
     axes: tuple[tuple[str, float, float, int], ...] = ()
     held: tuple[tuple[str, float], ...] = ()
     start: tuple[tuple[str, float], ...] = ()
@@ -339,7 +337,7 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
     held = held_coordinates(mech, q, names, at, rtol)
     values = coordinate_values(mech, q, names + held)
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("grid", q, base=pose_vector(pose), axes=tuple(out), rtol=rtol, generic_rank=g,
+    return ScanSpec("grid", q, axes=tuple(out), rtol=rtol, generic_rank=g,
                     held=tuple((c, values[c]) for c in held), start=tuple((c, values[c]) for c in names),
                     values=value_joints(mech))  # fmt: skip
 

@@ -132,8 +132,7 @@ def singularity_text(sing: Singularity | None) -> str:
     """The singularity class in words."""
     if sing is None:
         return "not analysed (the limb-wise singularity classes do not apply to this mechanism)."
-    near = min(sing.distances.values(), default=1.0)
-    closest = [k for k, v in sing.distances.items() if v <= near * (1 + 1e-6) + 1e-15]
+    closest = sing.closest_all
     if not sing.classes:
         state = "near a singularity" if sing.near_singular else "none here"
         return (

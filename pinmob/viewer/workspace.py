@@ -33,6 +33,7 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import value_joints
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
+from pinmob.viewer.panel import hex_color
 
 #: the colour scale of the distance, from small (singular side) to large: viridis (as the 2D maps) at nine stops
 SCALE = (0x440154, 0x472D7B, 0x3B528B, 0x2C728E, 0x21918C, 0x28AE80, 0x5EC962, 0xADDC30, 0xFDE725)
@@ -63,10 +64,6 @@ def distance_colors(distance: Array, lo: float, hi: float) -> Array:
     stops = np.array([[(c >> 16) & 255, (c >> 8) & 255, c & 255] for c in SCALE], float) / 255.0
     where = np.linspace(0.0, 1.0, len(SCALE))
     return np.column_stack([np.interp(t, where, stops[:, k]) for k in range(3)])
-
-
-def _rgb(color: int) -> str:
-    return f"#{color:06x}"
 
 
 @dataclass
@@ -103,19 +100,19 @@ class Workspace:
     def legend(self) -> dict[str, Any]:
         """The panel's workspace section (plain JSON): counts, the colour scale and its ends, the marks."""
         marks = [
-            {"color": _rgb(SINGULAR_COLOR), "text": f"singular sample (distance <= rtol = {self.rtol:g}): "
+            {"color": hex_color(SINGULAR_COLOR), "text": f"singular sample (distance <= rtol = {self.rtol:g}): "
              f"{len(self.singular)}"},
-            {"color": _rgb(REFINED_COLOR), "text": f"refined singular point: {len(self.refined)}"},
+            {"color": hex_color(REFINED_COLOR), "text": f"refined singular point: {len(self.refined)}"},
         ]  # fmt: skip
         if self.chosen is not None:
-            marks.append({"color": _rgb(CHOSEN_COLOR), "text": "the sample the mechanism is drawn at"})
+            marks.append({"color": hex_color(CHOSEN_COLOR), "text": "the sample the mechanism is drawn at"})
         return {
             "title": self.title,
             "count": len(self.positions),
             "total": self.total,
             "points": "each point: the platform origin x, y, z [m] (world) of an assembled sample",
             "axes": list(self.axes),
-            "scale": {"colors": [_rgb(c) for c in SCALE], "lo": self.lo, "hi": self.hi, "words": DISTANCE_WORDS},
+            "scale": {"colors": [hex_color(c) for c in SCALE], "lo": self.lo, "hi": self.hi, "words": DISTANCE_WORDS},
             "marks": marks,
             "path": ["meshcat", "pinmob", "workspace"],
         }

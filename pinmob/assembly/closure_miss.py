@@ -33,8 +33,11 @@ def _measure(residual: tuple[float, float], length: float) -> float:
 
 
 def worst_first(residuals: Residuals, length: float) -> list[tuple[str, tuple[float, float]]]:
-    """The residuals ordered from the worst (largest ``max(|p| / L, |r|)``), ties in their order."""
-    return sorted(residuals.items(), key=lambda item: -_measure(item[1], length))
+    """The residuals ordered from the worst (largest ``max(|p| / L, |r|)``), ties in their order.
+
+    Compared as printed (3 figures): misses equal there keep the residuals' order, not round-off's.
+    """
+    return sorted(residuals.items(), key=lambda item: -float(f"{_measure(item[1], length):.2e}"))
 
 
 def format_worst(residuals: Residuals, length: float, tol: float, shown: int = SHOWN) -> str:

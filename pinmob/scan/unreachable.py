@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from pinmob.assembly.closure_miss import SHOWN, worst_first
 from pinmob.assembly.partial_pose import POSE_COORDS, pose_vector
 from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model.closure import CLOSURE_TOL
@@ -23,21 +24,17 @@ def unreachable_reason(exc: PinmobError, mech: Mechanism, tol: float = CLOSURE_T
     if not res:
         return str(exc)
     length = mech.length_scale
-    size = {k: max(p / length, r) for k, (p, r) in res.items()}
-    # largest first as printed (3 figures): misses equal there keep the residuals' order, not round-off's
-    worst = [k for k in sorted(size, key=lambda k: -float(f"{size[k]:.2e}")) if size[k] > tol][:3]
+    worst = [(k, (p, r)) for k, (p, r) in worst_first(res, length) if max(p / length, r) > tol][:SHOWN]
     limbs = {b.name for b in mech.limbs}
     parts = []
-    for k in worst:
-        p, r = res[k]
+    for k, (p, r) in worst:
         off = " and ".join([f"{p:.2e} m"] * (p / length > tol) + [f"{r:.2e} rad"] * (r > tol))
         if k.startswith("coordinate "):
             parts.append(f"{k[11:]} off by {off}")
+        elif k == "pose":
+            parts.append(f"platform pose off by {off}")
         else:
-            if k == "pose":
-                parts.append(f"platform pose off by {off}")
-            else:
-                parts.append(f"{'limb' if k in limbs else 'closure'} {k} open by {off}")
+            parts.append(f"{'limb' if k in limbs else 'closure'} {k} open by {off}")
     return "no convergence from the warm start (out of reach?); closest found: " + ", ".join(parts)
 
 

@@ -270,3 +270,60 @@ def test_a_keyframe_that_is_not_finite_names_itself_and_its_joint(tmp_path: Path
         out.stderr = error + "\n"
         one_line_error(out, f"configuration {key!r}", f"joint(s) {joint!r}", "not a finite number")
     assert pinmob.analyze(pinmob.load(path), "reference").mechanism_mobility.mechanism_dof == 1
+
+
+FOUR_BAR_BODY = (
+    '<worldbody><body name="a"><joint name="ja"/><geom size="0.01"/>'
+    '<body name="b" pos="0 1 0"><joint name="jb"/><geom size="0.01"/>'
+    '<body name="c" pos="1 0 0"><joint name="jc"/><geom size="0.01"/></body></body></body></worldbody>'
+)
+FOUR_BAR_LOOP = '<equality><connect body1="c" body2="world" anchor="0 -1 0"/></equality>'
+
+
+def mjcf_with_include(tmp_path: Path, include: str) -> Path:
+    (tmp_path / "model").mkdir()
+    path = tmp_path / "model" / "robot.xml"
+    path.write_text(f'<mujoco><include file="{include}"/>{FOUR_BAR_BODY}</mujoco>')
+    return path
+
+
+def test_an_mjcf_including_a_named_pipe_is_refused_not_hung(tmp_path: Path) -> None:
+    """MuJoCo's parser opened the pipe and waited for a writer: the CLI hung (killed by the test's time bound)."""
+    path = mjcf_with_include(tmp_path, "loop.xml")
+    os.mkfifo(tmp_path / "model" / "loop.xml")
+    out, _ = run("analyze", str(path))
+    one_line_error(out, "robot.xml", "<include file='loop.xml'> is not a regular file")
+    os.mkfifo(tmp_path / "pipe.xml")
+    out, _ = run("analyze", str(tmp_path / "pipe.xml"))
+    one_line_error(out, "pipe.xml", "the model file is not a regular file")
+
+
+@pytest.mark.parametrize("include", ["../outside.xml", "OUTSIDE"])
+def test_an_mjcf_include_outside_the_models_folder_is_refused(include: str, tmp_path: Path) -> None:
+    """What an include holds becomes the model, drawn and exported: a file outside the folder was read as part of it."""
+    outside = tmp_path / "outside.xml"
+    outside.write_text(f"<mujoco>{FOUR_BAR_LOOP}</mujoco>")
+    path = mjcf_with_include(tmp_path, str(outside) if include == "OUTSIDE" else include)
+    out, _ = run("analyze", str(path))
+    one_line_error(out, "robot.xml", f"<include file={str(outside)!r}> lies outside the model's folder")
+
+
+def test_nested_mjcf_includes_inside_the_folder_are_read_as_mujoco_reads_them(tmp_path: Path) -> None:
+    """A four-bar whose loop comes from a nested include: 1 DoF, as MuJoCo's own constraint rows say (3 hinges, 2 rows)."""
+    path = mjcf_with_include(tmp_path, "parts/mid.xml")
+    (tmp_path / "model" / "parts").mkdir()
+    (tmp_path / "model" / "parts" / "mid.xml").write_text('<mujoco><include file="loop.xml"/></mujoco>')
+    comment = "<!-- " + "the loop closure of the four-bar " * 30 + "-->"  # the largest file of the three
+    (tmp_path / "model" / "parts" / "loop.xml").write_text(f"<mujoco>{comment}{FOUR_BAR_LOOP}</mujoco>")
+    import mujoco
+
+    m = mujoco.MjModel.from_xml_path(str(path))
+    m.opt.jacobian = mujoco.mjtJacobian.mjJAC_DENSE
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    mujoco_dof = m.nv - np.linalg.matrix_rank(d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[: d.ne], tol=1e-9)
+    report = pinmob.analyze(pinmob.load(path))
+    assert report.mechanism_mobility.mechanism_dof == mujoco_dof == 1
+    size = (tmp_path / "model" / "parts" / "loop.xml").stat().st_size
+    out, _ = run("analyze", str(path), env={**os.environ, "PINMOB_MAX_FILE_BYTES": str(size - 1)})
+    one_line_error(out, "<include file='parts/loop.xml'>", f"{size} bytes, over the {size - 1}-byte bound")

@@ -47,6 +47,7 @@ import pinocchio as pin
 from pinmob.bounds import check_bound
 from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.mjcf_assets import drop_unread_files
+from pinmob.io.mjcf_includes import check_xml_files
 from pinmob.io.mjcf_names import add_frame, check_labels, closure_frames, label, labels
 from pinmob.io.mjcf_tendons import MujocoKinematics, is_length, left_out, read_actuators, tendon_closure
 from pinmob.io.mjcf_tree import Tree, build_tree, qpos_to_q, se3
@@ -68,10 +69,12 @@ def compile_mjcf(path: Path, warn: bool = True) -> Any:
     Kinematics needs no mass: a moving body without mass or inertia (which MuJoCo refuses to simulate) is
     given a tiny one (the compiler's ``boundmass`` and ``boundinertia``, when the file sets none). Mesh and
     texture files that are missing or outside the model's folders are left out, with a warning (``warn``)
-    (:func:`pinmob.io.mjcf_assets.drop_unread_files`).
+    (:func:`pinmob.io.mjcf_assets.drop_unread_files`); a model or include file that is not a regular file, is
+    too large or (an include) lies outside those folders is refused (:mod:`pinmob.io.mjcf_includes`).
     """
     import mujoco
 
+    check_xml_files(path)
     said: list[str] = []  # MuJoCo's own warnings (e.g. a NaN in the XML), printed by default: kept as one warning
     previous = mujoco.get_mju_user_warning()
     mujoco.set_mju_user_warning(said.append)

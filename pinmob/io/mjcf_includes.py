@@ -14,13 +14,12 @@ to MuJoCo, whose message names the error.
 from __future__ import annotations
 
 import os
-import stat
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
-from pinmob.bounds import BOUNDS, bound
 from pinmob.io.mesh_files import inside, mesh_roots
 from pinmob.io.schema import file_error
+from pinmob.io.text_file import check_regular
 
 
 def check_xml_files(model_file: Path) -> None:
@@ -51,20 +50,11 @@ def check_xml_files(model_file: Path) -> None:
 
 def _check_regular(model_file: Path, path: Path, main_folder: Path) -> None:
     """Refuse ``path`` if it is not a regular file within the size bound (a missing one is left to MuJoCo)."""
+    what = "the model file" if path == model_file else f"<include file={_shown(path, main_folder)!r}>"
     try:
-        info = path.stat()
+        check_regular(path, f"{model_file}: {what}")
     except OSError:
         return
-    what = "the model file" if path == model_file else f"<include file={_shown(path, main_folder)!r}>"
-    if not stat.S_ISREG(info.st_mode):
-        raise file_error(model_file, f"{what} is not a regular file (a folder, device, pipe or socket)")
-    limit = bound("bytes")
-    if info.st_size > limit:
-        raise file_error(
-            model_file,
-            f"{what} has {info.st_size} bytes, over the {limit}-byte bound on a mechanism file; "
-            f"set {BOUNDS['bytes'][1]} to raise it",
-        )
 
 
 def _includes(path: Path) -> list[str]:

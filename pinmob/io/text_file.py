@@ -1,8 +1,8 @@
 """Reading a small text file of a mechanism (TOML, YAML) so that no file can cost a traceback, a hang or the memory.
 
-A mechanism file is a few kilobytes. :func:`read_text` refuses what is not a
-regular file, a file over 4 MB (``PINMOB_MAX_FILE_BYTES`` raises the bound:
-:mod:`pinmob.bounds`) and text that is not UTF-8; :func:`parsing` turns what a parser
+A mechanism file is a few kilobytes. :func:`check_regular` refuses what is not a
+regular file (every file a model is read from: TOML, YAML, URDF, MJCF and its includes) and a file over 4 MB (``PINMOB_MAX_FILE_BYTES`` raises the bound:
+:mod:`pinmob.bounds`); :func:`read_text` also text that is not UTF-8; :func:`parsing` turns what a parser
 raises on hostile input (nesting thousands of levels deep: ``RecursionError``;
 an integer of thousands of digits: ``ValueError``) into one
 :class:`~pinmob.exceptions.MechanismFileError` naming the file; :func:`shown`
@@ -26,6 +26,31 @@ _SHORT.maxlevel, _SHORT.maxlist, _SHORT.maxdict, _SHORT.maxstring, _SHORT.maxoth
 _SHORT.maxlong = 40
 
 
+def check_regular(path: Path, label: str) -> int:
+    """Refuse ``path`` (named ``label`` in the message) unless it is a regular file within the file bound.
+
+    Opening a named pipe blocks until a writer comes, and a device or a huge file exhausts the memory: every
+    file a model is read from goes through this first.
+
+    Returns:
+        The bound, in bytes (read no more than one byte over it).
+
+    Raises:
+        OSError: ``path`` cannot be looked at (missing, no permission): the caller words it.
+        MechanismFileError: a folder, device, pipe or socket, or larger than the bound (``PINMOB_MAX_FILE_BYTES``).
+    """
+    info = path.stat()
+    if not stat.S_ISREG(info.st_mode):
+        raise MechanismFileError(f"{label} is not a regular file (a folder, device, pipe or socket)")
+    limit = bound("bytes")
+    if info.st_size > limit:
+        raise MechanismFileError(
+            f"{label} has {info.st_size} bytes, over the {limit}-byte bound on a mechanism file; "
+            f"set {BOUNDS['bytes'][1]} to raise it"
+        )
+    return limit
+
+
 def read_text(path: Path, kind: str) -> str:
     """The UTF-8 text of the mechanism file ``path`` (a ``kind`` file: ``TOML``, ``YAML``).
 
@@ -33,20 +58,13 @@ def read_text(path: Path, kind: str) -> str:
         MechanismFileError: missing, a folder or not a regular file, larger than its bound,
             unreadable, or not UTF-8.
     """
+    label = f"mechanism file {str(path)!r}"
     try:
-        info = path.stat()
+        if path.is_dir():
+            raise MechanismFileError(f"{label} is a folder, not a {kind} file")
+        limit = check_regular(path, label)
     except OSError as exc:
-        raise MechanismFileError(f"mechanism file {str(path)!r} cannot be read: {exc.strerror or exc}") from None
-    if stat.S_ISDIR(info.st_mode):
-        raise MechanismFileError(f"mechanism file {str(path)!r} is a folder, not a {kind} file")
-    if not stat.S_ISREG(info.st_mode):
-        raise MechanismFileError(f"mechanism file {str(path)!r} is not a regular file (a device, pipe or socket)")
-    limit = bound("bytes")
-    if info.st_size > limit:
-        raise MechanismFileError(
-            f"{path}: {info.st_size} bytes, over the {limit}-byte bound on a mechanism file; "
-            f"set {BOUNDS['bytes'][1]} to raise it"
-        )
+        raise MechanismFileError(f"{label} cannot be read: {exc.strerror or exc}") from None
     try:
         data = path.read_bytes()[: limit + 1]
     except OSError as exc:

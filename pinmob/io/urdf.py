@@ -22,6 +22,7 @@ import pinocchio as pin
 from pinmob.bounds import check_bound
 from pinmob.exceptions import MechanismFileError
 from pinmob.io.mesh_files import confine, mesh_roots
+from pinmob.io.text_file import check_regular
 from pinmob.model.geometry import Geometry
 
 
@@ -86,10 +87,16 @@ def read_urdf(urdf: Path) -> pin.Model:
     warning when the file parses, never straight to the terminal.
 
     Raises:
-        MechanismFileError: the file is missing, a folder, or does not parse (with the parser's messages).
+        MechanismFileError: the file is missing, a folder, not a regular file, over the file bound, or does not
+            parse (with the parser's messages).
     """
-    if not urdf.is_file():
-        raise MechanismFileError(f"urdf file {str(urdf)!r} " + ("is a folder" if urdf.is_dir() else "does not exist"))
+    label = f"urdf file {str(urdf)!r}"
+    if urdf.is_dir() or not urdf.exists():
+        raise MechanismFileError(f"{label} " + ("is a folder" if urdf.is_dir() else "does not exist"))
+    try:
+        check_regular(urdf, label)  # a pipe would block Pinocchio's reader, a huge file exhaust the memory
+    except OSError as exc:
+        raise MechanismFileError(f"{label} cannot be read: {exc.strerror or exc}") from None
     try:
         with native_stderr() as printed:
             model = pin.buildModelFromUrdf(str(urdf))

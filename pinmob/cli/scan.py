@@ -21,7 +21,7 @@ from pinmob.scan.coordinates import coordinate_unit
 from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_path, varied_joint
 from pinmob.scan.plot_map import plot_map
-from pinmob.scan.spec import parse_grid_axis
+from pinmob.scan.spec import ScanSpec, parse_grid_axis
 from pinmob.screw.rank import RTOL, check_rtol
 
 
@@ -55,12 +55,7 @@ def _run(args: argparse.Namespace) -> int:
             raise ConfigurationError(
                 f"--plot maps a grid over two coordinates; this grid has {len(spec.axes)}: drop --plot or grid two"
             )
-        what = f"grid {' x '.join(args.grid)} at {args.at or names[0]!r}"
-        if spec.following:
-            held = ", ".join(c for c, _ in spec.held) or "none"
-            what += f"; held: {held}; following the mechanism: {', '.join(spec.following)}"
-        elif spec.held and not spec.pose_grid:
-            what += f"; held: {', '.join(c for c, _ in spec.held)}"
+        what = f"grid {' x '.join(args.grid)} at {args.at or names[0]!r}" + _held_text(spec)
     else:
         if args.joints or not mech.has_platform:
             check_actuated(mech)
@@ -72,10 +67,7 @@ def _run(args: argparse.Namespace) -> int:
         spec = path_spec(mech, start, end, samples, joints=args.joints, rtol=rtol, closure_tol=closure_tol)
         joints = "" if spec.platform else f" ({', '.join(spec.joints)})"  # a closed chain's actuated joints
         kind = {"joints": "actuated-joint", "coords": f"coordinate ({', '.join(spec.coords)})"}.get(spec.kind, "pose")
-        what = f"{kind} path{joints} {start!r} -> {end!r}, {samples} samples"
-        if spec.following:
-            held = ", ".join(c for c, _ in spec.held) or "none"
-            what += f"; held: {held}; following the mechanism: {', '.join(spec.following)}"
+        what = f"{kind} path{joints} {start!r} -> {end!r}, {samples} samples" + _held_text(spec)
     if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
         spec = with_finite(mech, spec, args.finite_order)
         what += f", finite DoF per sample (order bound {spec.finite_order})"
@@ -219,3 +211,13 @@ def _format_row(row: dict[str, Any], rtol: float, actuated: tuple[str, ...] = ()
         fin = f" (finite {'cannot decide' if row['finite_dof'] is None else row['finite_dof']})"
     return (f"{where} ({params}): {label}{limbs}{dep}{unc}; {row['dof']} DoF {row['motion_type']}{fin}, "
             f"{_distance(row['distance'], rtol)}")  # fmt: skip
+
+
+def _held_text(spec: ScanSpec) -> str:
+    """What a scan holds and what follows the mechanism, for its header line ('' when nothing is held)."""
+    if spec.following:
+        held = ", ".join(c for c, _ in spec.held) or "none"
+        return f"; held: {held}; following the mechanism: {', '.join(spec.following)}"
+    if spec.held and not spec.pose_grid:
+        return f"; held: {', '.join(c for c, _ in spec.held)}"
+    return ""

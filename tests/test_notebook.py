@@ -1,8 +1,8 @@
-"""Notebooks: a Report's HTML and text displays.
+"""Notebooks: a Report's HTML and text displays, and the viewer in a cell.
 
 The HTML is read back with the standard library's parser: its tables and sections must say what
 ``str(report)`` says (the same texts and numbers), and a mechanism whose names are markup (from its
-files) must come out as text, never as tags.
+files) must come out as text, never as tags. The viewer's cell in a browser: tests/test_browser.py.
 """
 
 from __future__ import annotations
@@ -15,6 +15,7 @@ from pathlib import Path
 import pytest
 
 import pinmob
+from pinmob import viewer
 from pinmob.analysis.report_html import joined
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -165,3 +166,36 @@ def test_report_html_escapes_names_from_files(tmp_path):
     assert dict(page.tables[0])["mechanism"] == HOSTILE and dict(page.tables[0])["configuration"] == "<u>flat</u>"
     assert page.pres == [s.text for s in report.sections()]  # the texts, names included, read back unchanged
     assert "limb (Type I): <i>A</i> SINGULAR" in page.pres[1] and "A<b>slider</b>&amp;" in page.pres[1]
+
+
+def test_viewer_in_a_cell_is_the_exported_page(flat_report):
+    """notebook(report): the self-contained page of export_html in a sandboxed iframe, ASCII, no server."""
+    cell = viewer.notebook(flat_report, height=300)
+    assert cell.scene.clips == ("T1 z", "R1 z") and cell.scene.url is None and cell.scene.server is None
+    out = cell._repr_html_()
+    assert out.isascii()
+    page = parsed(out)
+    assert [tag for tag, _ in page.tags] == ["iframe"]
+    attrs = page.tags[0][1]
+    assert attrs["sandbox"] == "allow-scripts" and "height: 300px" in (attrs["style"] or "")
+    assert attrs["srcdoc"] == cell.page  # the whole page, unescaped by the parser as a browser does
+    assert cell.page.startswith("<!DOCTYPE html>") and "MeshCat.Viewer" in cell.page and "pinmob.install" in cell.page
+    same = viewer.notebook(flat_report.state.mechanism, "flat", height=300)
+    assert same.scene.clips == cell.scene.clips
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda m, r: viewer.notebook(m), "give the configuration to show '3-PUU-flat' at: joint values or a "),
+        (lambda m, r: viewer.notebook(r, "flat"), "a Report carries its configuration"),
+        (lambda m, r: viewer.notebook(r, height=0), "height must be a positive whole number of pixels, not 0"),
+        (lambda m, r: viewer.notebook("3-PUU-flat", "flat"), "notebook shows a Report or a Mechanism, not a str"),
+    ],
+)
+def test_viewer_in_a_cell_refuses_bad_input(flat_report, call, message):
+    with pytest.raises(pinmob.ConfigurationError) as err:
+        call(flat_report.state.mechanism, flat_report)
+    assert str(err.value).startswith(message) and "\n" not in str(err.value)
+    if "configuration to show" in message:
+        assert "'flat', 'flat-raised'" in str(err.value)

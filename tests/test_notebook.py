@@ -1,13 +1,17 @@
-"""Notebooks: a Report's HTML and text displays, and the viewer in a cell.
+"""Notebooks: a Report's HTML and text displays, the viewer in a cell, and the example notebook executed.
 
 The HTML is read back with the standard library's parser: its tables and sections must say what
 ``str(report)`` says (the same texts and numbers), and a mechanism whose names are markup (from its
 files) must come out as text, never as tags. The viewer's cell in a browser: tests/test_browser.py.
+The example notebook runs in a fresh kernel of this interpreter (a kernel spec written for
+``sys.executable``, found first: a new ``.venv`` runs it, whatever other kernels the machine has).
 """
 
 from __future__ import annotations
 
 import html
+import json
+import sys
 import warnings
 from html.parser import HTMLParser
 from pathlib import Path
@@ -19,6 +23,7 @@ from pinmob import viewer
 from pinmob.analysis.report_html import joined
 
 ROOT = Path(__file__).resolve().parent.parent
+NOTEBOOK = ROOT / "examples" / "notebook.ipynb"
 MODELS = Path(pinmob.io.builtin_dir())
 FIVE_BAR = ROOT / "tests" / "data" / "example-parallel-robots" / "5bar_linkage_iso3d" / "robot.yaml"
 HOSTILE = "<script>alert('x')</script>"
@@ -199,3 +204,35 @@ def test_viewer_in_a_cell_refuses_bad_input(flat_report, call, message):
     assert str(err.value).startswith(message) and "\n" not in str(err.value)
     if "configuration to show" in message:
         assert "'flat', 'flat-raised'" in str(err.value)
+
+
+def test_example_notebook_runs(tmp_path, monkeypatch):
+    """examples/notebook.ipynb, stored without outputs, runs in a kernel of this interpreter; its Report shows as HTML."""
+    import nbformat
+    from ipykernel.kernelspec import write_kernel_spec
+    from nbclient import NotebookClient
+
+    nb = nbformat.read(NOTEBOOK, as_version=4)
+    nbformat.validate(nb)
+    code = [c for c in nb.cells if c.cell_type == "code"]
+    assert all(c.outputs == [] and c.execution_count is None for c in code), "store the notebook without outputs"
+    # a kernel spec of this interpreter, found first (JUPYTER_PATH): not whatever 'python3' the machine has
+    kernels = tmp_path / "jupyter" / "kernels"
+    spec = Path(write_kernel_spec(str(kernels / "pinmob-test")))
+    assert json.loads((spec / "kernel.json").read_text())["argv"][0] == sys.executable
+    monkeypatch.setenv("JUPYTER_PATH", str(tmp_path / "jupyter"))
+    work = tmp_path / "work"
+    work.mkdir()
+    client = NotebookClient(
+        nb, kernel_name="pinmob-test", timeout=600, resources={"metadata": {"path": str(work)}}, allow_errors=False
+    )
+    client.execute()  # raises CellExecutionError on any error
+    outputs = {c.source.splitlines()[-1]: c.outputs for c in code}
+    shown = outputs["report"][0]
+    assert shown["output_type"] == "execute_result"
+    report_html = parsed(shown["data"]["text/html"])
+    assert dict(report_html.tables[0])["platform"] == "2 DoF, 1T1R"
+    assert shown["data"]["text/plain"].startswith("3-PUU-flat at 'flat': 2 DoF, 1T1R\n  T1 z     translation")
+    cell = outputs["pinmob.viewer.notebook(report, height=520)"][0]["data"]["text/html"]
+    assert cell.startswith("<iframe ") and 'sandbox="allow-scripts"' in cell and len(cell) > 500_000
+    assert list(work.iterdir()) == []  # nothing written beside the notebook

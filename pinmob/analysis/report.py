@@ -69,9 +69,9 @@ class Report(NotebookDisplay):
         mobility: the platform's mobility (None when the mechanism has no platform frame).
         options: what was asked for (:class:`Options`).
 
-    The platform mobility's fields (``dof``, ``motion_type``, ``motions``,
-    ``free_twists``, ``constraints``, ``constraint_rank``, ``limbs``, ...) are
-    also readable on the report itself.
+    The platform mobility's fields (``dof``, ``motion_type``, ``motions``, ``free_twists``, ``constraints``,
+    ``constraint_rank``, ``limbs``, ...) are also readable on the report itself. Jupyter shows it as HTML
+    (:mod:`pinmob.analysis.report_html`), IPython's text display as ``str(report)``.
     """
 
     state: Configuration = field(repr=False)

@@ -10,7 +10,7 @@ without pinmob's panel. The price is size: the cell's output holds the page (mes
 0.9 MB, and the meshes), so save notebooks without outputs or clear this cell before committing one.
 
 The iframe is sandboxed (``allow-scripts`` only): the page runs its own scripts and cannot reach the
-notebook's page.
+notebook's page. How to use it, with the Report's own display: docs/notebooks.md.
 """
 
 from __future__ import annotations

@@ -65,22 +65,17 @@ def _e(text: object) -> str:
     return html.escape(str(text), quote=True)
 
 
+_LEFT = ' style="text-align: left"'
+
+
 def _table(rows: Sequence[Sequence[str]], header: Sequence[str] | None = None) -> str:
-    """Column headers from ``header``; without one, each row's first cell is its header."""
-    if header is None:
-        cells = ((f'<th scope="row" style="text-align: left">{_e(r[0])}</th>', r[1:]) for r in rows)
-    else:
-        cells = (("", r) for r in rows)
-    head = (
-        ""
-        if header is None
-        else "<tr>" + "".join(f'<th style="text-align: left">{_e(h)}</th>' for h in header) + "</tr>"
-    )
-    body = "".join(
-        f"<tr>{th}" + "".join(f'<td style="text-align: left">{_e(c)}</td>' for c in rest) + "</tr>"
-        for th, rest in cells
-    )
-    return f'<table class="pinmob-table">{head}{body}</table>'
+    """A table: ``header`` as its column headers; without one, each row's first cell is that row's header."""
+    lines = [] if header is None else ["<tr>" + "".join(f"<th{_LEFT}>{_e(h)}</th>" for h in header) + "</tr>"]
+    for row in rows:
+        plain = header is not None
+        first = f"<td{_LEFT}>{_e(row[0])}</td>" if plain else f'<th scope="row"{_LEFT}>{_e(row[0])}</th>'
+        lines.append(f"<tr>{first}" + "".join(f"<td{_LEFT}>{_e(c)}</td>" for c in row[1:]) + "</tr>")
+    return '<table class="pinmob-table">' + "".join(lines) + "</table>"
 
 
 def motion_cells(motion: Motion, origin: Array, length: float) -> tuple[str, str, str, str, str]:

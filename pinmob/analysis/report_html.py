@@ -65,7 +65,7 @@ def _e(text: object) -> str:
     return html.escape(str(text), quote=True)
 
 
-_LEFT = ' style="text-align: left"'
+_LEFT = ' style="text-align: left; padding: 1px 12px 1px 0"'
 
 
 def _table(rows: Sequence[Sequence[str]], header: Sequence[str] | None = None) -> str:

@@ -1,6 +1,6 @@
 """The viewer in a real browser: headless Chromium (Debian's package) driven by Playwright.
 
-Against pinmob's live server page and the exported HTML file: the mechanism
+Against pinmob's live server page, the exported HTML file and a notebook cell's iframe: the mechanism
 is drawn (enough pixels differ from the empty scene around the platform), two
 animation times differ there (the motion is visible), every clip is in the
 scene, and the panel's rows switch clips. The panel's text, read from the DOM,
@@ -566,3 +566,38 @@ def test_workspace_on_the_live_page(browser):
         page.close()
     finally:
         scene.server.stop()
+
+
+def test_viewer_in_a_notebook_cell_plays(browser, flat, tmp_path):
+    """pinmob.viewer.notebook's iframe in a page with no charset (a cell's output): the scene loads and plays, the
+    panel's text is read right (ASCII character references) and the mechanism is drawn; nothing is fetched."""
+    from PIL import Image
+
+    cell = viewer.notebook(pinmob.analyze(flat, "flat"), height=600)
+    (tmp_path / "cell.html").write_bytes(
+        b"<html><body><p>cell</p>" + cell._repr_html_().encode("ascii") + b"</body></html>"
+    )
+    page = browser.new_page(viewport={"width": WIDTH, "height": HEIGHT})
+    errors: list[str] = []
+    requests: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.on("request", lambda r: requests.append(r.url))
+    page.goto((tmp_path / "cell.html").as_uri())
+    frame = page.frames[1]
+    frame.wait_for_function("window.pinmob && pinmob.state && viewer.animator.actions.length > 0", timeout=20000)
+    frame.wait_for_timeout(500)
+    assert errors == [] and requests == [(tmp_path / "cell.html").as_uri()], (errors, requests)
+    assert loaded_clips(frame) == {"T1 z"} and frame.evaluate("viewer.animator.playing")
+    rows = frame.eval_on_selector_all("tr.pinmob-motion", "(rows) => rows.map((r) => r.dataset.label)")
+    assert rows == ["T1 z", "R1 z"]
+    text = frame.inner_text("body")
+    assert "±0.0424 m" in text and "â€" not in text, text  # UTF-8 read as such in a page of another encoding
+    # the mechanism is drawn: hiding it changes the iframe's pixels
+    shot = page.query_selector("iframe")
+    assert shot is not None
+    drawn = np.asarray(Image.open(io.BytesIO(shot.screenshot())).convert("RGB")).astype(int)
+    frame.evaluate("viewer.scene_tree.find(['meshcat', 'pinmob']).set_property('visible', false); viewer.set_dirty();")
+    frame.wait_for_timeout(300)
+    empty = np.asarray(Image.open(io.BytesIO(shot.screenshot())).convert("RGB")).astype(int)
+    assert (np.abs(drawn - empty).max(axis=2) > 40).mean() > 0.02
+    page.close()

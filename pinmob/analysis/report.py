@@ -31,6 +31,7 @@ from pinmob.analysis.expectation import ExpectationCheck, expectation_check
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
+from pinmob.analysis.report_html import NotebookDisplay, Section, joined
 from pinmob.analysis.singularity import Singularity
 from pinmob.analysis.singularity_analysis import singularity
 from pinmob.analysis.summary import summary_line
@@ -59,7 +60,7 @@ class Options:
 
 
 @dataclass(frozen=True, eq=False)
-class Report:
+class Report(NotebookDisplay):
     """Everything pinmob answers at one closed configuration (what ``pinmob analyze`` prints).
 
     Attributes:
@@ -68,9 +69,9 @@ class Report:
         mobility: the platform's mobility (None when the mechanism has no platform frame).
         options: what was asked for (:class:`Options`).
 
-    The platform mobility's fields (``dof``, ``motion_type``, ``motions``,
-    ``free_twists``, ``constraints``, ``constraint_rank``, ``limbs``, ...) are
-    also readable on the report itself.
+    The platform mobility's fields (``dof``, ``motion_type``, ``motions``, ``free_twists``, ``constraints``,
+    ``constraint_rank``, ``limbs``, ...) are also readable on the report itself. Jupyter shows it as HTML
+    (:mod:`pinmob.analysis.report_html`), IPython's text display as ``str(report)``.
     """
 
     state: Configuration = field(repr=False)
@@ -227,36 +228,37 @@ class Report:
 
     def __str__(self) -> str:
         """The text ``pinmob analyze`` prints."""
-        lines: list[str] = []
+        return joined(self.sections())
+
+    def sections(self) -> list[Section]:
+        """``str(report)`` in its parts, each with a title (the notebook's HTML shows them under their titles)."""
         if not self.has_limbs:
-            lines.append(f"closed configuration: {self.state.source} (largest residual {self.state.residual:.1e})")
+            closed = f"closed configuration: {self.state.source} (largest residual {self.state.residual:.1e})"
             if self.options.relaxed:
-                lines.append(
-                    f"relaxed to 3d (the file's closures cannot all close as declared): {', '.join(self.options.relaxed)}"
-                )
-            lines.append(str(self.mechanism_mobility))
-            lines.extend(self._rank_lines() + self._actuator_lines() + (["", str(self.finite)] if self.finite else []))
-            return "\n".join(lines)
-        mob = self._platform()
-        sing = self.singularity
-        lines.append(str(mob))
-        lines.append(str(sing) if sing is not None else "singularity: not analysed (limb-wise classes)")
-        if self.expectation is not None:
-            lines.append(str(self.expectation))
-        lines.append("")
-        lines.append(str(self.mechanism_mobility))
-        lines.extend(self._rank_lines() + self._actuator_lines())
-        paper = self.paper
+                closed += f"\nrelaxed to 3d (the file's closures cannot all close as declared): {', '.join(self.options.relaxed)}"
+            out = [Section("closed configuration", closed), Section("mechanism", str(self.mechanism_mobility))]
+        else:
+            mob, sing, expected = self._platform(), self.singularity, self.expectation
+            unseen = "singularity: not analysed (limb-wise classes)"
+            out = [Section("platform", str(mob)), Section("singularity", unseen if sing is None else str(sing))]
+            out += [Section("expected", str(expected))] if expected is not None else []
+            out.append(Section("mechanism", str(self.mechanism_mobility), gap=True))
+        notes = (("rank notes", self._rank_lines()), ("actuator sets", self._actuator_lines()))
+        out += [Section(title, "\n".join(lines)) for title, lines in notes if lines]
+        paper = self.paper if self.has_limbs else None
         if paper is not None:
-            lines += ["", str(paper)]
+            mob, text = self._platform(), str(paper)
             if (paper.dof, paper.motion_type) != (mob.dof, mob.motion_type):
-                lines.append(
-                    f"difference: the paper's view gives {paper.motion_type} ({paper.dof} DoF), the wrenches at the "
+                text += (
+                    f"\ndifference: the paper's view gives {paper.motion_type} ({paper.dof} DoF), the wrenches at the "
                     f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
                     f"{', '.join(mob.serially_singular_limbs) or 'none'}"
                 )
-        lines.extend(["", str(self.finite)] if self.finite else [])
-        return "\n".join(lines)
+            out.append(Section("the seed paper's view", text, gap=True))
+        return out + ([Section("finite mobility", str(self.finite), gap=True)] if self.finite else [])
+
+    def _repr_pretty_(self, p: Any, cycle: bool) -> None:  # IPython's text display: str(report), not the dataclass repr
+        p.text(str(self))
 
     def brief(self) -> str:
         """``pinmob analyze --brief``'s line (:func:`~pinmob.analysis.summary.summary_line`), ambiguous ranks, finite verdict."""

@@ -5,6 +5,10 @@
 >>> scene = pinmob.viewer.export_html(mech, "flat", "flat.html")   # doctest: +SKIP
 >>> live = pinmob.viewer.show(mech, "flat")                          # doctest: +SKIP
 >>> print(live.url)                                                   # doctest: +SKIP
+>>> pinmob.viewer.notebook(pinmob.analyze(mech, "flat"))              # doctest: +SKIP
+
+The last line, the last expression of a Jupyter cell, shows the animated scene in the cell
+(:mod:`pinmob.viewer.notebook`: the exported page in an iframe, no server).
 
 What the scene holds (meshcat paths):
 
@@ -54,11 +58,23 @@ from pinmob.analysis.report import Report
 from pinmob.exceptions import ConfigurationError, ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.html import export_html, scene_html
+from pinmob.viewer.notebook import NotebookScene, notebook
 from pinmob.viewer.prepared import prepare
 from pinmob.viewer.scene import FPS, ROOT, Array, Scene, build, require_meshcat
 from pinmob.viewer.workspace import Workspace, workspace_cloud
 
-__all__ = ["FPS", "ROOT", "Scene", "Workspace", "export_html", "scene_html", "show", "workspace_cloud"]
+__all__ = [
+    "FPS",
+    "ROOT",
+    "NotebookScene",
+    "Scene",
+    "Workspace",
+    "export_html",
+    "notebook",
+    "scene_html",
+    "show",
+    "workspace_cloud",
+]
 
 
 def show(

@@ -105,6 +105,10 @@ def match_name(
     )
 
 
+class GlossaryError(PinmobError):
+    """A term the glossary does not explain (``pinmob glossary TERM``)."""
+
+
 class ViewerError(PinmobError):
     """The viewer cannot run: meshcat missing, a port in use, no server answering, a file in the way."""
 

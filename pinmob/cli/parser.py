@@ -175,7 +175,7 @@ def build_parser() -> argparse.ArgumentParser:
         "roll, pitch, yaw [rad]) or a joint (actuated or not) [rad or m]. The others: of the pose coordinates "
         "(a joint grid: of the actuated joints) those the mechanism can still move at --at with the gridded ones "
         "held are held at their --at values; the rest follow the mechanism (a lower-mobility platform's "
-        "parasitic coordinates, every passive joint): see docs/singularities.md",
+        "parasitic coordinates, every passive joint): see 'pinmob glossary held'",
     )
     p.add_argument(
         "--at",
@@ -217,7 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
     _finite_options(
         p,
         "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample, "
-        "tens to hundreds of ms each: see docs/finite-mobility.md)",
+        "tens to hundreds of ms each: see 'pinmob glossary finite')",
     )
     add_model_options(p, joints=False)
     p = sub.add_parser(

@@ -20,7 +20,6 @@ exclude_patterns = ["_build"]
 
 # links between pages keep GitHub's form, page.md#heading-anchor: MyST makes the same anchors
 myst_heading_anchors = 4
-myst_enable_extensions = ["colon_fence"]
 
 autodoc_member_order = "bysource"
 autodoc_default_options = {"members": True, "show-inheritance": True}

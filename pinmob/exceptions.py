@@ -77,7 +77,7 @@ def did_you_mean(name: str, valid: Iterable[str]) -> str:
 
 
 def match_name(
-    name: str, valid: Iterable[str], what: str, where: str = "", error: type[PinmobError] | None = None
+    name: str, valid: Iterable[str], what: str, where: str = "", error: Callable[[str], PinmobError] | None = None
 ) -> str:
     """The valid name that ``name`` stands for: itself, else the only one equal to it ignoring case.
 
@@ -85,8 +85,8 @@ def match_name(
         name: the name given.
         valid: the valid names.
         what: what they name, for the message (``configuration``, ``frame``...).
-        where: where they were looked for, for the message (`` in '3-PUU'``).
-        error: the exception class raised (default :class:`ConfigurationError`).
+        where: where they were looked for, for the message (e.g. ``" in '3-PUU'"``).
+        error: the exception class raised, called with the message (default :class:`ConfigurationError`).
 
     Raises:
         PinmobError: no valid name matches (none, or several differing only in case); the message
@@ -103,6 +103,10 @@ def match_name(
     raise (error or ConfigurationError)(
         f"no {what} {name!r}{where}{did_you_mean(name, items)}; valid: {choices(items)}"
     )
+
+
+class GlossaryError(PinmobError):
+    """A term the glossary does not explain (``pinmob glossary TERM``)."""
 
 
 class ViewerError(PinmobError):

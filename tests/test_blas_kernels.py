@@ -63,7 +63,7 @@ def run_with_kernel(kernel: str, args: list[str]) -> tuple[list[str], str]:
 
 
 def test_the_five_bar_joint_path_prints_the_same_under_each_kernel():
-    """The README's five-bar scan: a failed solve (its residuals, not its iteration count) and two refined
+    """The five-bar scan of docs/usage.md: a failed solve (its residuals, not its iteration count) and two refined
     singular points (``distance <= 1e-06``, not the round-off figure) print the same, timings aside."""
     example = next(e for e in EXAMPLES if e.name.startswith("$ pinmob scan tests/data/fivebar/robot.yaml"))
     assert example.command is not None

@@ -14,6 +14,9 @@ A docs block whose first line starts with ``$ pinmob`` is a documented run. Its 
   in ``SHOWN_ONLY``: :func:`test_every_documented_run_says_whether_it_runs` fails on a ``$ pinmob`` block with
   any other fence, and on a ```` ```shell ```` block not listed, so that not running one is a decision.
 
+A ```` ```python ```` snippet followed by the word "prints" and a ```` ```text ```` block runs with this Python in a
+fresh folder (the same links) and must print that block, by the same rule.
+
 The fresh folder holds links to the checkout's ``tests/`` and ``examples/`` (so ``tests/data/...`` and
 ``examples/3puu_sweep.toml`` work) and an empty ``docs/img/`` folder, so that ``--plot docs/img/x.png``
 writes there and nothing in the checkout changes. Before a block's commands, every ```` ```python ````
@@ -33,7 +36,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import pytest
-from test_readme import Example, blocks, commands, environment, matches, pinmob_command, run
+from test_readme import Example, blocks, commands, environment, examples, matches, pinmob_command, run
 
 ROOT = Path(__file__).resolve().parent.parent
 DOCS = sorted((ROOT / "docs").glob("*.md"))
@@ -78,6 +81,13 @@ def documented_runs(page: Path) -> list[DocBlock]:
 
 BLOCKS = [block for page in DOCS for block in documented_runs(page)]
 RUNS = [block for block in BLOCKS if block.language in RUN]
+#: every ```` ```python ```` snippet followed by "prints" and the ```` ```text ```` block of its output, by page
+SNIPPETS = [
+    (f"{page.name}:{example.name}", example)
+    for page in DOCS
+    for example in examples(page.read_text())
+    if example.code is not None
+]
 
 
 def run_line(example: Example, cwd: Path) -> subprocess.CompletedProcess[str]:
@@ -108,6 +118,16 @@ def test_docs_examples_are_found():
     assert all(e.expected for block in RUNS for e in block.examples), [b.name for b in RUNS]
     four_bar = next(b for b in RUNS if "four_bar" in b.examples[0].name)
     assert len(four_bar.setup) == 2 and "four_bar" in four_bar.setup[-1], four_bar.setup
+    assert {"usage.md", "seed-paper.md"} <= pages, pages  # the pages that took the README's examples
+
+
+def test_docs_snippets_are_found():
+    """The Python snippets shown with what they print: the Report's tour and the finite analysis' at least."""
+    names = [name for name, _ in SNIPPETS]
+    assert any(n.startswith("python-api.md:") for n in names) and any(
+        n.startswith("finite-mobility.md:") for n in names
+    )
+    assert all(example.expected for _, example in SNIPPETS), names
 
 
 def test_every_documented_run_says_whether_it_runs():
@@ -135,3 +155,13 @@ def test_docs_example_prints_what_the_docs_show(block, tmp_path):
         error = any(line.startswith("pinmob: error:") for line in lines)
         status = 2 if error else 0
         assert out.returncode == status, f"{block.name}: {example.name}: exit status {out.returncode}\n{shown}"
+
+
+@pytest.mark.parametrize(("name", "example"), SNIPPETS, ids=[name for name, _ in SNIPPETS])
+def test_docs_snippet_prints_what_the_docs_show(name, example, tmp_path):
+    for folder in ("tests", "examples"):
+        (tmp_path / folder).symlink_to(ROOT / folder)
+    out = run(example, tmp_path)
+    lines = out.stdout.splitlines()
+    shown = "\n".join(lines)
+    assert out.returncode == 0 and matches(example.expected, lines), f"{name} printed:\n{shown}"

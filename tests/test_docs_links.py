@@ -56,7 +56,7 @@ def source_refs() -> list[tuple[str, str]]:
 
 def test_the_source_points_only_to_docs_that_exist():
     refs = source_refs()
-    assert len(refs) >= 3, refs  # the CLI's help names the glossary and the finite-mobility page
+    assert len(refs) >= 3, refs  # the CLI's help names the scans' and the finite-mobility pages
     bad = [f"{where}: {why}" for where, ref in refs if (why := missing(ref, ROOT))]
     assert not bad, bad
 

@@ -60,7 +60,7 @@ def test_four_bar_branches_cross_at_the_change_point() -> None:
 
 
 def test_flat_3puu_rotation_and_internal_motions_are_shaky() -> None:
-    """The seed paper's beta = 0 (README): with links exactly R - r, every vertex must stay within R - r of its
+    """The seed paper's beta = 0 (docs/seed-paper.md): with links exactly R - r, every vertex must stay within R - r of its
     guide horizontally; a rotation about z or a tilt of any link needs more, at second order. The
     platform only translates along z (with the sliders): 1T finite, 1T1R instantaneous; each limb's
     internal motion (its U joints turning against each other, the slider following) is blocked at order 2.
@@ -316,7 +316,7 @@ def test_order_bound_is_checked(capsys) -> None:
 
 def test_scan_gives_each_samples_finite_dof(tmp_path, capsys) -> None:
     """``pinmob scan --finite``: the flat 3-PUU's path from 'flat' to 'flat-raised' stays in the flat family, where
-    every configuration is shaky like 'flat' (the README's derivation: links exactly R - r): 2 DoF 1T1R to first
+    every configuration is shaky like 'flat' (docs/seed-paper.md's derivation: links exactly R - r): 2 DoF 1T1R to first
     order, finite 1 (and 1 for the whole mechanism) at every sample. The 3-PUU's generic-to-offset path is regular:
     finite = instantaneous = 3. ``--finite-order`` alone implies ``--finite``."""
     import csv

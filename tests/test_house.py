@@ -17,6 +17,7 @@ LAYERS = [
         "pinmob.signals",
         "pinmob.progress",
         "pinmob.bounds",
+        "pinmob.glossary",
     },
     {"pinmob.screw"},
     {"pinmob.model"},

@@ -205,10 +205,10 @@ def test_every_default_is_in_help():
 
 
 def test_every_help_points_to_the_glossary():
-    assert GLOSSARY.is_file()
+    """To the command that prints it, which a pip user has (a docs/ path is only in pinmob's sources)."""
     parser = build_parser()
     for sub in [parser, *subparsers(parser).values()]:
-        assert "docs/glossary.md" in " ".join(sub.format_help().split())
+        assert "'pinmob glossary'" in " ".join(sub.format_help().split())
 
 
 @pytest.mark.parametrize(

@@ -168,11 +168,11 @@ EXAMPLES = examples(README.read_text())
 
 
 def test_readme_examples_are_found():
-    """The parser finds what the README shows: the first command, the Python snippet, each ``$`` block."""
+    """The parser finds what the README shows: its one example, the first command with its output (the other
+    examples are on the docs pages, run by ``tests/test_docs_examples.py``)."""
     names = [e.name for e in EXAMPLES]
-    assert names[0] == "first command: $ pinmob analyze 3-PUU --config generic", names
-    assert sum(e.code is not None for e in EXAMPLES) == 1 and len(names) >= 7, names
-    assert all(e.expected for e in EXAMPLES), names
+    assert names == ["first command: $ pinmob analyze 3-PUU --config generic"], names
+    assert all(len(e.expected) >= 20 for e in EXAMPLES), names
 
 
 @pytest.mark.parametrize("example", EXAMPLES, ids=[e.name for e in EXAMPLES])

@@ -13,5 +13,6 @@ motion), :mod:`~pinmob.analysis.motion_limits` (what stops it), finite versus in
 :mod:`~pinmob.analysis.tangent_cone`, :mod:`~pinmob.analysis.branches`,
 :mod:`~pinmob.analysis.verdicts`, :mod:`~pinmob.analysis.local_dimension` and
 :mod:`~pinmob.analysis.finite_side`), :mod:`~pinmob.analysis.batch` (many configurations), and
-:mod:`~pinmob.analysis.report` (:class:`Report` and :func:`analyze`, the one entry point).
+:mod:`~pinmob.analysis.report` (:class:`~pinmob.analysis.report.Report`) and
+:mod:`~pinmob.analysis.entry_point` (:func:`~pinmob.analysis.entry_point.analyze`, the one entry point).
 """

@@ -146,7 +146,7 @@ class Mobility(ReadOnlyArrays):
         )
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain-JSON dictionary (no NaN), keys as documented in the README."""
+        """Plain-JSON dictionary (no NaN), keys as documented in docs/usage.md#json-pinmob-analyze---json-mobilityto_dict."""
         return {
             "mechanism": self.mechanism,
             "configuration": self.configuration,

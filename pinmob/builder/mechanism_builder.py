@@ -324,7 +324,7 @@ class MechanismBuilder:
     ) -> Path:
         """Write ``{stem}.urdf`` and ``{stem}.toml`` into ``directory``; returns the TOML path.
 
-        With ``check`` every named configuration must close first (:func:`pinmob.builder.files.write_files`);
+        With ``check`` every named configuration must close first (:func:`pinmob.builder.configuration.write_files`);
         files of that name are replaced only if the builder wrote them.
 
         Raises:

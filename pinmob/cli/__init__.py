@@ -1,4 +1,4 @@
-"""Command line: ``pinmob models``, ``pinmob analyze``, ``pinmob show``, ``pinmob scan``, ``pinmob sweep``.
+"""Command line: ``pinmob models``, ``analyze``, ``show``, ``scan``, ``sweep`` and ``glossary``.
 
 The commands only parse, call the library and format. Errors are printed as
 one line on stderr (``pinmob: error: ...``) with exit status 2, never with a
@@ -54,6 +54,12 @@ def _sweep(args: argparse.Namespace) -> int:
     return sweep.run(args)
 
 
+def _glossary(args: argparse.Namespace) -> int:
+    from pinmob.cli import glossary
+
+    return glossary.run(args)
+
+
 #: The commands; each imports its module when it runs (``pinmob analyze`` loads neither the viewer nor the scans nor Dask).
 COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "models": _models,
@@ -61,6 +67,7 @@ COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "show": _show,
     "scan": _scan,
     "sweep": _sweep,
+    "glossary": _glossary,
 }
 
 

@@ -1,4 +1,4 @@
-"""The command line's arguments: ``pinmob models|analyze|show|scan|sweep`` and their options."""
+"""The command line's arguments: ``pinmob models|analyze|show|scan|sweep|glossary`` and their options."""
 
 from __future__ import annotations
 
@@ -12,7 +12,8 @@ from pinmob import __version__
 GLOSSARY = (
     "Terms used in the reports (DoF, T/R/H, pitch, axis point, constraint wrench and rank, generic, twist rank, "
     "Type I/II, distance to singularity, L, rtol, pin.LOCAL_WORLD_ALIGNED, closure rank, Grubler-Kutzbach, "
-    "internal and idle motions, ...) are explained in docs/glossary.md of pinmob's sources."
+    "internal and idle motions, ...) are explained by 'pinmob glossary' (all of them) and 'pinmob glossary TERM' "
+    "(the entries of one, e.g. 'pinmob glossary \"twist rank\"')."
 )
 
 
@@ -63,7 +64,7 @@ def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``pinmob`` argument parser with its five commands."""
+    """The ``pinmob`` argument parser with its six commands."""
     parser = Parser(
         prog="pinmob", description="Platform mobility of parallel and closed-chain robots.", epilog=GLOSSARY
     )
@@ -174,7 +175,7 @@ def build_parser() -> argparse.ArgumentParser:
         "roll, pitch, yaw [rad]) or a joint (actuated or not) [rad or m]. The others: of the pose coordinates "
         "(a joint grid: of the actuated joints) those the mechanism can still move at --at with the gridded ones "
         "held are held at their --at values; the rest follow the mechanism (a lower-mobility platform's "
-        "parasitic coordinates, every passive joint): see docs/singularities.md",
+        "parasitic coordinates, every passive joint): see 'pinmob glossary held'",
     )
     p.add_argument(
         "--at",
@@ -216,7 +217,7 @@ def build_parser() -> argparse.ArgumentParser:
     _finite_options(
         p,
         "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample, "
-        "tens to hundreds of ms each: see docs/finite-mobility.md)",
+        "tens to hundreds of ms each: see 'pinmob glossary finite')",
     )
     add_model_options(p, joints=False)
     p = sub.add_parser(
@@ -232,6 +233,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--scheduler", metavar="ADDRESS", help="compute the designs on the Dask cluster at this address")
     p.add_argument("--force", action="store_true", help="overwrite --csv and plot files, or an --out of another sweep")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+    p = sub.add_parser("glossary", help="the terms the reports use, explained", epilog=GLOSSARY)
+    p.add_argument(
+        "term", nargs="?", help="print only the entries of the terms containing this (any case); default: all"
+    )
     return parser
 
 

@@ -1,6 +1,6 @@
 """Reading pinmob's mechanism files: TOML with a URDF beside it.
 
-See the README for the format. Every error names the file and the key.
+See docs/mechanism-file.md for the format. Every error names the file and the key.
 """
 
 from __future__ import annotations

@@ -275,5 +275,5 @@ def panel_document(
         "visible": visible,
         "length_scale": float(mob.length_scale),
         "platform_origin": vector(np.asarray(mob.platform_origin)),
-        "footer": "pinmob: terms explained in docs/glossary.md. Play, pause and time: Open Controls > Animations.",
+        "footer": "pinmob: terms explained by the command pinmob glossary [TERM]. Play, pause and time: Open Controls > Animations.",
     }

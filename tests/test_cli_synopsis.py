@@ -1,0 +1,73 @@
+"""The synopsis of ``docs/usage.md`` lists every option of every command, and nothing the parser lacks.
+
+It had drifted: ``--amplitude``, ``--steps``, ``--port`` and ``--no-plots`` were missing. An option counts as
+listed when one of its spellings is (``-n`` for ``--samples``); every ``-x``/``--xyz`` of the synopsis must be
+one of the command's options.
+"""
+
+from __future__ import annotations
+
+import argparse
+import re
+from pathlib import Path
+
+import pytest
+
+from pinmob.cli.parser import build_parser
+
+USAGE = Path(__file__).resolve().parent.parent / "docs" / "usage.md"
+#: an option in the synopsis: ``-n``, ``--closure-tol`` (not the ``-`` of a number or of ``a=-1``)
+OPTION = re.compile(r"(?<![\w=.-])(--?[a-z][a-z-]*)")
+
+
+def synopsis() -> dict[str, str]:
+    """Per command (``""`` for ``pinmob`` itself), the text of its lines in the synopsis block of usage.md."""
+    text = USAGE.read_text(encoding="utf-8")
+    block = re.search(r"^## Synopsis\n.*?^```text\n(.*?)^```$", text, re.MULTILINE | re.DOTALL)
+    assert block, "docs/usage.md has no ## Synopsis with a ```text block"
+    found: dict[str, str] = {}
+    command = None
+    for line in block.group(1).splitlines():
+        if line.startswith("pinmob "):
+            word = line.split()[1]
+            command = "" if word.startswith("-") else word
+            found[command] = found.get(command, "") + " " + line.removeprefix(f"pinmob {command}")
+        elif line.startswith(" ") and command is not None:
+            found[command] += " " + line
+        else:
+            command = None  # ``python -m pinmob ...``: the same
+    return found
+
+
+def parsers() -> dict[str, argparse.ArgumentParser]:
+    parser = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return {"": parser, **sub.choices}
+
+
+def options(parser: argparse.ArgumentParser) -> list[tuple[str, ...]]:
+    """The spellings of each option of ``parser``, ``--help`` left out."""
+    return [tuple(a.option_strings) for a in parser._actions if a.option_strings and a.dest != "help"]
+
+
+def test_every_command_is_in_the_synopsis():
+    assert sorted(synopsis()) == sorted(parsers())
+
+
+@pytest.mark.parametrize("command", sorted(parsers()), ids=lambda c: c or "pinmob")
+def test_the_synopsis_lists_the_options_of(command):
+    text = synopsis()[command]
+    listed = set(OPTION.findall(text))
+    spellings = options(parsers()[command])
+    missing = [s for s in spellings if not listed & set(s)]
+    unknown = sorted(listed - {o for s in spellings for o in s})
+    assert not missing and not unknown, f"pinmob {command}: missing {missing}, not options {unknown}"
+
+
+def test_the_rule_reads_options_not_numbers():
+    assert OPTION.findall(" [--rtol 1e-6] [-n N] [--joints a=-0.1,b=0.2] [--steps 12] x-y") == [
+        "--rtol",
+        "-n",
+        "--joints",
+        "--steps",
+    ]

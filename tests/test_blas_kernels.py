@@ -15,7 +15,7 @@ import sys
 
 import pytest
 from test_docs_examples import RUNS, run_line
-from test_readme import EXAMPLES, ROOT, TIMING, environment, matches
+from test_readme import ROOT, TIMING, environment, matches
 
 
 def cpu_flags() -> set[str]:
@@ -65,7 +65,14 @@ def run_with_kernel(kernel: str, args: list[str]) -> tuple[list[str], str]:
 def test_the_five_bar_joint_path_prints_the_same_under_each_kernel():
     """The five-bar scan of docs/usage.md: a failed solve (its residuals, not its iteration count) and two refined
     singular points (``distance <= 1e-06``, not the round-off figure) print the same, timings aside."""
-    example = next(e for e in EXAMPLES if e.name.startswith("$ pinmob scan tests/data/fivebar/robot.yaml"))
+    example = next(
+        e
+        for b in RUNS
+        for e in b.examples
+        if e.name.startswith(
+            "$ pinmob scan tests/data/fivebar/robot.yaml --from mot1=0,mot2=0 --to mot1=3,mot2=-3 -n 5"
+        )
+    )
     assert example.command is not None
     outputs, used = {}, {}
     for kernel in KERNELS:

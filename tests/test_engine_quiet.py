@@ -71,28 +71,36 @@ def name_errors(records: list[logging.LogRecord]) -> list[logging.LogRecord]:
     return [r for r in records if r.exc_info and isinstance(r.exc_info[1], NameError)]
 
 
-RACE = """
+#: Tries of the race per process: under load (a load average of 6 on 2 cores) one try in six found no record, the
+#: interruption coming too late for the failing call; the filter's side runs as many tries.
+TRIES = 10
+
+RACE = f"""
 import json, sys
 sys.path.insert(0, sys.argv[1])
 from test_engine_quiet import interrupted_call, name_errors
 from pinmob.engine.quiet import install
-without = [str(r.exc_info[1]) for r in name_errors(interrupted_call())]
+without, tries = [], 0
+while not without and tries < {TRIES}:
+    without = [str(r.exc_info[1]) for r in name_errors(interrupted_call())]
+    tries += 1
 install()
 install()
-with_filter = [str(r.exc_info[1]) for r in name_errors(interrupted_call())]
-print(json.dumps({"without": without, "with": with_filter}))
+with_filter = [str(r.exc_info[1]) for _ in range({TRIES}) for r in name_errors(interrupted_call())]
+print(json.dumps({{"without": without, "tries": tries, "with": with_filter}}))
 """
 
 
 def test_the_race_is_real_and_its_name_error_is_dropped():
     """In a fresh process: the loggers and the SIGINT handler as Dask and Python leave them, not as earlier tests in
-    this one did (a cluster sets the loggers' levels; in the whole suite the reproduction once found no record)."""
+    this one did (a cluster sets the loggers' levels; in the whole suite the reproduction once found no record).
+    The race is tried until it logs (at most ``TRIES`` times), then ``TRIES`` times with the filter installed."""
     done = subprocess.run(
-        [sys.executable, "-c", RACE, str(Path(__file__).parent)], capture_output=True, text=True, timeout=120
+        [sys.executable, "-c", RACE, str(Path(__file__).parent)], capture_output=True, text=True, timeout=300
     )
     assert done.returncode == 0, done.stderr[-2000:]
     found = json.loads(done.stdout.strip().splitlines()[-1])
-    assert found["without"] and "future" in found["without"][0]  # Dask logs its NameError (the reproduction holds)
+    assert found["without"] and "future" in found["without"][0], found  # Dask logs its NameError (the race holds)
     assert found["with"] == []
     install()
     install()  # once per logger, however often

@@ -11,6 +11,7 @@ PACKAGE = Path(__file__).resolve().parent.parent / "pinmob"
 LAYERS = [
     {
         "pinmob.exceptions",
+        "pinmob.output_files",
         "pinmob.frozen",
         "pinmob.jit_cache",
         "pinmob.blas",

@@ -123,9 +123,9 @@ def check_distinct(paths: dict[str, str | Path | None]) -> None:
 def check_outputs(paths: dict[str, str | None], force: bool) -> None:
     """Refuse, before any work, outputs naming one file, or files that exist (unless ``force``) or cannot be outputs.
 
-    An output cannot be a link, a folder or a device, nor lie in no folder (:func:`pinmob.scan.files.check_target`).
+    An output cannot be a link, a folder or a device, nor lie in no folder (:func:`pinmob.output_files.check_target`).
     """
-    from pinmob.scan.files import check_target
+    from pinmob.output_files import check_target
 
     check_distinct(dict(paths))
     for option, path in paths.items():

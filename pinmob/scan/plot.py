@@ -29,7 +29,7 @@ import numpy as np
 from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.files import Replacing
+from pinmob.output_files import Replacing
 from pinmob.scan.output import read_columns
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.screw.rank import RTOL

@@ -16,7 +16,7 @@ The package is layered; imports only go down:
   :func:`analyze` (the one entry point);
 - :mod:`pinmob.scan`, :mod:`pinmob.viewer`, :mod:`pinmob.cli`: scans, the meshcat viewer, the command line;
 - :mod:`pinmob.builder`, :mod:`pinmob.catalog`: authoring the built-in models; :mod:`pinmob.testing`: assertions;
-- :mod:`pinmob.engine`, :mod:`pinmob.sweeps`: parallel work on Dask, and design-space sweeps (:func:`sweep`).
+- :mod:`pinmob.parallel`, :mod:`pinmob.sweeps`: parallel work on Dask, and design-space sweeps (:func:`sweep`).
 - :mod:`pinmob.progress`: progress of long steps, shown by whoever listens (the command line).
 """
 

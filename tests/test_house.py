@@ -12,6 +12,7 @@ LAYERS = [
     {
         "pinmob.exceptions",
         "pinmob.output_files",
+        "pinmob.name_matching",
         "pinmob.frozen",
         "pinmob.jit_cache",
         "pinmob.blas",

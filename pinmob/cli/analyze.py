@@ -10,7 +10,8 @@ from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.report import Report
 from pinmob.cli.common import chosen_state, closure_tol_of, load_for
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
+from pinmob.name_matching import choices
 from pinmob.screw.rank import RTOL, check_rtol
 
 

@@ -12,11 +12,12 @@ from pathlib import Path
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.named import close_joint_values, named_vector
 from pinmob.assembly.residual import check_closure_tol
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
 from pinmob.io.builtin import builtin_models
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joint_values import parse_joint_values
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 
 
 def pick_configuration(mech: Mechanism, config: str | None) -> str:

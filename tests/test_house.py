@@ -25,7 +25,7 @@ LAYERS = [
     {"pinmob.model"},
     {"pinmob.assembly", "pinmob.io"},
     {"pinmob.analysis"},
-    {"pinmob.scan", "pinmob.parallel", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
+    {"pinmob.scan", "pinmob.parallel", "pinmob.figures", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
     {"pinmob.catalog"},
     {"pinmob.sweeps"},
     {"pinmob.cli", "pinmob", "pinmob.__main__"},

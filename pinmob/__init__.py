@@ -49,7 +49,15 @@ from pinmob.assembly import (
     project,
     solve_actuated,
 )
-from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, MechanismFileError, PinmobError
+from pinmob.exceptions import (
+    ArgumentError,
+    ClosureError,
+    ConfigurationError,
+    FrameError,
+    MechanismFileError,
+    PinmobError,
+    UnknownConfigurationError,
+)
 from pinmob.io import builtin_models, load
 from pinmob.model import Closure, ClosureType, Expectation, Limb, Mechanism, NamedConfiguration
 from pinmob.screw import RTOL, MotionKind, WrenchKind
@@ -79,6 +87,8 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
+    "ArgumentError",
+    "UnknownConfigurationError",
     "CLOSURE_TOL",
     "RTOL",
     "SweepSpec",

@@ -8,10 +8,23 @@ with status 2.
 from __future__ import annotations
 
 from collections.abc import Callable
+from typing import Self
 
 
 class PinmobError(Exception):
-    """Base class of every error pinmob raises on purpose."""
+    """Base class of every error pinmob raises on purpose.
+
+    Attributes:
+        parameters: the Python parameters (e.g. ``closure_tol``) the message names, as ``closure_tol`` or
+            ``closure_tol=2e-05``; the command line words them as its options (``--closure-tol 2e-05``).
+    """
+
+    parameters: tuple[str, ...] = ()
+
+    def naming(self, *parameters: str) -> Self:
+        """This error, saying that its message names these Python parameters (see ``parameters``)."""
+        self.parameters = self.parameters + parameters
+        return self
 
 
 class MechanismFileError(PinmobError):
@@ -23,7 +36,40 @@ class FrameError(PinmobError):
 
 
 class ConfigurationError(PinmobError):
-    """A configuration vector or a named configuration is invalid."""
+    """A configuration vector or a named configuration is invalid, or an argument is (the subclasses tell which)."""
+
+
+class ArgumentError(ConfigurationError):
+    """An argument out of its domain: a tolerance, a count or an order out of range, a value of the wrong type.
+
+    Attributes:
+        parameter: the Python parameter given the bad value (e.g. ``"rtol"``), also in ``parameters``.
+        value: the value given.
+    """
+
+    def __init__(self, message: str, parameter: str, value: object = None) -> None:
+        super().__init__(message)
+        self.parameter, self.value = parameter, value
+        self.parameters = (parameter,)
+
+    def __reduce__(self) -> tuple[type[ArgumentError], tuple[str, str, object]]:
+        return type(self), (str(self), self.parameter, self.value)
+
+
+class UnknownConfigurationError(ConfigurationError):
+    """A configuration name that the mechanism does not declare (``name``: the name given)."""
+
+    def __init__(self, message: str, name: str) -> None:
+        super().__init__(message)
+        self.name = name
+
+    def __reduce__(self) -> tuple[type[UnknownConfigurationError], tuple[str, str]]:
+        return type(self), (str(self), self.name)
+
+
+def unknown(name: str) -> Callable[[str], UnknownConfigurationError]:
+    """The error of a message about the unknown configuration ``name`` (as ``match_name``'s ``error``)."""
+    return lambda message: UnknownConfigurationError(message, name)
 
 
 class ClosureError(PinmobError):
@@ -53,8 +99,9 @@ class ClosureError(PinmobError):
             self.args = (f"{self.args[0]} {note()}",)
         return super().__str__()
 
-    def __reduce__(self) -> tuple[type[ClosureError], tuple[str, dict[str, tuple[float, float]]]]:
-        return type(self), (str(self), self.residuals)  # the note resolved: pickled as plain text
+    def __reduce__(self) -> tuple[type[ClosureError], tuple[str, dict[str, tuple[float, float]]], dict[str, object]]:
+        # the note resolved: pickled as plain text, with the parameters it names
+        return type(self), (str(self), self.residuals), {"parameters": self.parameters}
 
 
 class GlossaryError(PinmobError):

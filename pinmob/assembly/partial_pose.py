@@ -186,6 +186,6 @@ def assemble_coordinates(
             f"could not assemble {mech.name!r} at {given}{' with ' + str(joints) if joints else ''}: residuals "
             f"{format_worst(res, length, tol)}{tolerance_hint(res, length)}",
             res,
-        )
+        ).naming("closure_tol")
     warn_outside_limits(mech, q, "assembly at platform pose coordinates")
     return q

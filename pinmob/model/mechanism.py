@@ -17,7 +17,7 @@ from typing import Any, TypeVar
 
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, FrameError
+from pinmob.exceptions import ConfigurationError, FrameError, unknown
 from pinmob.frozen import read_only
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.geometry import Geometry
@@ -274,9 +274,9 @@ class Mechanism:
         """The named configuration ``name`` stands for, matched ignoring case where that is unambiguous.
 
         Raises:
-            ConfigurationError: no such configuration (the message suggests close names and lists them).
+            UnknownConfigurationError: no such configuration (the message suggests close names and lists them).
         """
-        return match_name(name, self.configurations, "configuration", f" in {self.name!r}")
+        return match_name(name, self.configurations, "configuration", f" in {self.name!r}", error=unknown(name))
 
     def limb(self, name: str) -> Limb:
         """The limb called ``name``."""

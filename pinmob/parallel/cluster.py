@@ -7,7 +7,7 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, TypeVar
 
-from pinmob.exceptions import ConfigurationError, EngineError
+from pinmob.exceptions import ArgumentError, ConfigurationError, EngineError
 from pinmob.parallel.quiet import install as quiet_logs
 from pinmob.parallel.tasks import Lost, Watch, ordered_results
 from pinmob.signals import deferred_interrupts
@@ -100,7 +100,9 @@ class Engine:
     def __init__(self, workers: int = 1, scheduler: str | None = None) -> None:
         self.workers = check_workers(workers)
         if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
-            raise ConfigurationError(f"--scheduler must be the address of a Dask scheduler, got {scheduler!r}")
+            raise ArgumentError(
+                f"scheduler must be the address of a Dask scheduler, got {scheduler!r}", "scheduler", scheduler
+            )
         self.scheduler = scheduler
         self._client: Any = None
         self._cluster: Any = None

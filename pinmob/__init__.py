@@ -87,12 +87,11 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
-    "ArgumentError",
-    "UnknownConfigurationError",
     "CLOSURE_TOL",
     "RTOL",
     "SweepSpec",
     "Actuation",
+    "ArgumentError",
     "Assembly",
     "Closure",
     "ClosureError",
@@ -117,6 +116,7 @@ __all__ = [
     "PinmobError",
     "Report",
     "Singularity",
+    "UnknownConfigurationError",
     "View",
     "WrenchKind",
     "actuator_sets",

@@ -25,6 +25,7 @@ FLAGS = {
     "actuator_search": "--search-actuators",
     "joints": "--joints",
     "scheduler": "--scheduler",
+    "samples": "--samples",
 }
 
 

@@ -444,7 +444,7 @@ def bench_sweep(designs: int) -> dict[str, float]:
     """Per-design seconds of the example sweep (its 9 x 9 scan) in this process and on 2 local Dask workers."""
     from dask.distributed import Client, LocalCluster
 
-    from pinmob.engine.cluster import WORKER_SETUP
+    from pinmob.parallel.cluster import WORKER_SETUP
     from pinmob.sweeps.designs import DesignSet
 
     spec = pinmob.load_spec(EXAMPLE)

@@ -45,7 +45,7 @@ def main() -> None:
 
     import pinmob
     from pinmob.analysis.entry_point import analyze
-    from pinmob.engine.cluster import WORKER_SETUP
+    from pinmob.parallel.cluster import WORKER_SETUP
     from pinmob.scan.run import scan_in_process
     from pinmob.sweeps.designs import DesignSet
 

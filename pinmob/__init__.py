@@ -16,7 +16,7 @@ The package is layered; imports only go down:
   :func:`analyze` (the one entry point);
 - :mod:`pinmob.scan`, :mod:`pinmob.viewer`, :mod:`pinmob.cli`: scans, the meshcat viewer, the command line;
 - :mod:`pinmob.builder`, :mod:`pinmob.catalog`: authoring the built-in models; :mod:`pinmob.testing`: assertions;
-- :mod:`pinmob.engine`, :mod:`pinmob.sweeps`: parallel work on Dask, and design-space sweeps (:func:`sweep`).
+- :mod:`pinmob.parallel`, :mod:`pinmob.sweeps`: parallel work on Dask, and design-space sweeps (:func:`sweep`).
 - :mod:`pinmob.progress`: progress of long steps, shown by whoever listens (the command line).
 """
 
@@ -49,7 +49,15 @@ from pinmob.assembly import (
     project,
     solve_actuated,
 )
-from pinmob.exceptions import ClosureError, ConfigurationError, FrameError, MechanismFileError, PinmobError
+from pinmob.exceptions import (
+    ArgumentError,
+    ClosureError,
+    ConfigurationError,
+    FrameError,
+    MechanismFileError,
+    PinmobError,
+    UnknownConfigurationError,
+)
 from pinmob.io import builtin_models, load
 from pinmob.model import Closure, ClosureType, Expectation, Limb, Mechanism, NamedConfiguration
 from pinmob.screw import RTOL, MotionKind, WrenchKind
@@ -83,6 +91,7 @@ __all__ = [
     "RTOL",
     "SweepSpec",
     "Actuation",
+    "ArgumentError",
     "Assembly",
     "Closure",
     "ClosureError",
@@ -107,6 +116,7 @@ __all__ = [
     "PinmobError",
     "Report",
     "Singularity",
+    "UnknownConfigurationError",
     "View",
     "WrenchKind",
     "actuator_sets",

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import os
 
-from pinmob.exceptions import ConfigurationError
+from pinmob.exceptions import ArgumentError, ConfigurationError
 
 #: what -> (default bound, the environment variable that raises it)
 BOUNDS: dict[str, tuple[int, str]] = {
@@ -40,16 +40,20 @@ def bound(what: str) -> int:
     return value
 
 
-def check_bound(what: str, value: int, option: str) -> int:
+def check_bound(what: str, value: int, option: str, parameter: str | None = None) -> int:
     """``value`` if it is within the bound on ``what``; else a :class:`ConfigurationError` naming ``option``.
+
+    ``parameter``: the Python parameter that was given ``value``, written in ``option`` as ``(name)``; the error
+    is then an :class:`ArgumentError` naming it (the command line words it as its option).
 
     Raises:
         ConfigurationError: ``value`` over the bound (the message says how to raise it).
     """
     limit = bound(what)
     if value > limit:
-        raise ConfigurationError(
+        message = (
             f"{option}: {value:,} {what}, over the bound of {limit:,}; ask for fewer, or set {BOUNDS[what][1]} "
             "to raise the bound"
         )
+        raise ConfigurationError(message) if parameter is None else ArgumentError(message, parameter, value)
     return value

@@ -7,12 +7,24 @@ with status 2.
 
 from __future__ import annotations
 
-import difflib
-from collections.abc import Callable, Iterable, Mapping, Set
+from collections.abc import Callable
+from typing import Self
 
 
 class PinmobError(Exception):
-    """Base class of every error pinmob raises on purpose."""
+    """Base class of every error pinmob raises on purpose.
+
+    Attributes:
+        parameters: the Python parameters (e.g. ``closure_tol``) the message names, as ``closure_tol`` or
+            ``closure_tol=2e-05``; the command line words them as its options (``--closure-tol 2e-05``).
+    """
+
+    parameters: tuple[str, ...] = ()
+
+    def naming(self, *parameters: str) -> Self:
+        """This error, saying that its message names these Python parameters (see ``parameters``)."""
+        self.parameters = self.parameters + parameters
+        return self
 
 
 class MechanismFileError(PinmobError):
@@ -24,7 +36,40 @@ class FrameError(PinmobError):
 
 
 class ConfigurationError(PinmobError):
-    """A configuration vector or a named configuration is invalid."""
+    """A configuration vector or a named configuration is invalid, or an argument is (the subclasses tell which)."""
+
+
+class ArgumentError(ConfigurationError):
+    """An argument out of its domain: a tolerance, a count or an order out of range, a value of the wrong type.
+
+    Attributes:
+        parameter: the Python parameter given the bad value (e.g. ``"rtol"``), also in ``parameters``.
+        value: the value given.
+    """
+
+    def __init__(self, message: str, parameter: str, value: object = None) -> None:
+        super().__init__(message)
+        self.parameter, self.value = parameter, value
+        self.parameters = (parameter,)
+
+    def __reduce__(self) -> tuple[type[ArgumentError], tuple[str, str, object]]:
+        return type(self), (str(self), self.parameter, self.value)
+
+
+class UnknownConfigurationError(ConfigurationError):
+    """A configuration name that the mechanism does not declare (``name``: the name given)."""
+
+    def __init__(self, message: str, name: str) -> None:
+        super().__init__(message)
+        self.name = name
+
+    def __reduce__(self) -> tuple[type[UnknownConfigurationError], tuple[str, str]]:
+        return type(self), (str(self), self.name)
+
+
+def unknown(name: str) -> Callable[[str], UnknownConfigurationError]:
+    """The error of a message about the unknown configuration ``name`` (as ``match_name``'s ``error``)."""
+    return lambda message: UnknownConfigurationError(message, name)
 
 
 class ClosureError(PinmobError):
@@ -54,55 +99,9 @@ class ClosureError(PinmobError):
             self.args = (f"{self.args[0]} {note()}",)
         return super().__str__()
 
-    def __reduce__(self) -> tuple[type[ClosureError], tuple[str, dict[str, tuple[float, float]]]]:
-        return type(self), (str(self), self.residuals)  # the note resolved: pickled as plain text
-
-
-def choices(names: Iterable[str], limit: int = 40) -> str:
-    """Format valid choices for an error message: ``'a', 'b', 'c'``."""
-    items = sorted(set(names))
-    shown = ", ".join(repr(n) for n in items[:limit])
-    if len(items) > limit:
-        shown += f", ... ({len(items) - limit} more)"
-    return shown or "(none)"
-
-
-def did_you_mean(name: str, valid: Iterable[str]) -> str:
-    """`` (did you mean 'Delta'?)`` naming the valid names closest to ``name`` (ignoring case); "" when none is close."""
-    items = list(dict.fromkeys(valid))
-    same = [v for v in items if v.casefold() == name.casefold()]
-    by_case = {v.casefold(): v for v in items}
-    close = same or [by_case[c] for c in difflib.get_close_matches(name.casefold(), list(by_case), n=3, cutoff=0.6)]
-    return f" (did you mean {' or '.join(repr(v) for v in close)}?)" if close else ""
-
-
-def match_name(
-    name: str, valid: Iterable[str], what: str, where: str = "", error: Callable[[str], PinmobError] | None = None
-) -> str:
-    """The valid name that ``name`` stands for: itself, else the only one equal to it ignoring case.
-
-    Args:
-        name: the name given.
-        valid: the valid names.
-        what: what they name, for the message (``configuration``, ``frame``...).
-        where: where they were looked for, for the message (e.g. ``" in '3-PUU'"``).
-        error: the exception class raised, called with the message (default :class:`ConfigurationError`).
-
-    Raises:
-        PinmobError: no valid name matches (none, or several differing only in case); the message
-            suggests the closest ones ("did you mean") and lists every valid name.
-    """
-    if isinstance(valid, (Mapping, Set)) and name in valid:
-        return name  # looked up, not searched: a file with 20,000 configurations names each in constant time
-    items = list(dict.fromkeys(valid))
-    if name in items:
-        return name
-    same = [v for v in items if v.casefold() == name.casefold()]
-    if len(same) == 1:
-        return same[0]
-    raise (error or ConfigurationError)(
-        f"no {what} {name!r}{where}{did_you_mean(name, items)}; valid: {choices(items)}"
-    )
+    def __reduce__(self) -> tuple[type[ClosureError], tuple[str, dict[str, tuple[float, float]]], dict[str, object]]:
+        # the note resolved: pickled as plain text, with the parameters it names
+        return type(self), (str(self), self.residuals), {"parameters": self.parameters}
 
 
 class GlossaryError(PinmobError):

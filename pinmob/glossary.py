@@ -11,7 +11,8 @@ import re
 from dataclasses import dataclass
 from importlib import resources
 
-from pinmob.exceptions import GlossaryError, choices, did_you_mean
+from pinmob.exceptions import GlossaryError
+from pinmob.name_matching import choices, did_you_mean
 
 #: a term an entry explains: the page's bold text (``**constraint rank**``)
 _BOLD = re.compile(r"\*\*(.+?)\*\*")

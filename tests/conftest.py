@@ -42,7 +42,7 @@ def start_cluster():
         dashboard_address="127.0.0.1:0",
         worker_dashboard_address="127.0.0.1:0",
         silence_logs=logging.CRITICAL,
-        preload=["pinmob.engine.worker"],
+        preload=["pinmob.parallel.worker"],
     )
     return cluster, Client(cluster)
 

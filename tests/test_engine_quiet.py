@@ -1,4 +1,4 @@
-"""Dask's ``sync`` interrupted while its call fails: the event loop's NameError is not printed (pinmob.engine.quiet).
+"""Dask's ``sync`` interrupted while its call fails: the event loop's NameError is not printed (pinmob.parallel.quiet).
 
 The race is made to happen, on Dask's real ``distributed.utils.sync`` and a real event loop: the called function
 itself interrupts the waiting main thread, waits until ``cancel()`` is queued, then fails before any future exists.
@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from distributed.utils import LoopRunner, sync
 
-from pinmob.engine.quiet import LOGGERS, CancelBeforeStart, install
+from pinmob.parallel.quiet import LOGGERS, CancelBeforeStart, install
 
 
 class Records(logging.Handler):
@@ -79,7 +79,7 @@ RACE = f"""
 import json, sys
 sys.path.insert(0, sys.argv[1])
 from test_engine_quiet import interrupted_call, name_errors
-from pinmob.engine.quiet import install
+from pinmob.parallel.quiet import install
 without, tries = [], 0
 while not without and tries < {TRIES}:
     without = [str(r.exc_info[1]) for r in name_errors(interrupted_call())]

@@ -11,6 +11,8 @@ PACKAGE = Path(__file__).resolve().parent.parent / "pinmob"
 LAYERS = [
     {
         "pinmob.exceptions",
+        "pinmob.output_files",
+        "pinmob.name_matching",
         "pinmob.frozen",
         "pinmob.jit_cache",
         "pinmob.blas",
@@ -23,7 +25,7 @@ LAYERS = [
     {"pinmob.model"},
     {"pinmob.assembly", "pinmob.io"},
     {"pinmob.analysis"},
-    {"pinmob.scan", "pinmob.engine", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
+    {"pinmob.scan", "pinmob.parallel", "pinmob.figures", "pinmob.viewer", "pinmob.testing", "pinmob.builder"},
     {"pinmob.catalog"},
     {"pinmob.sweeps"},
     {"pinmob.cli", "pinmob", "pinmob.__main__"},

@@ -194,7 +194,7 @@ def test_a_signal_while_the_scan_files_are_created_leaves_no_temporary(tmp_path,
             signal.raise_signal(signal.SIGTERM)
         return made
 
-    monkeypatch.setattr("pinmob.scan.files.tempfile.mkstemp", mkstemp_then_signal)
+    monkeypatch.setattr("pinmob.output_files.tempfile.mkstemp", mkstemp_then_signal)
     with pytest.raises(KeyboardInterrupt), signals_interrupt():
         with RowWriter(["index"], {}, str(tmp_path / "s.csv"), str(tmp_path / "s.json")) as writer:
             writer.write({"index": 0})

@@ -16,7 +16,8 @@ import pinmob
 from pinmob.assembly.residual import compute_kinematics, stacked_error
 from pinmob.cli import main
 from pinmob.cli.parser import build_parser
-from pinmob.exceptions import ConfigurationError, match_name
+from pinmob.exceptions import ConfigurationError
+from pinmob.name_matching import match_name
 
 GLOSSARY = Path(__file__).resolve().parent.parent / "docs" / "glossary.md"
 FIVEBAR = Path(__file__).resolve().parent / "data" / "fivebar" / "robot.yaml"

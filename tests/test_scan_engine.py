@@ -22,8 +22,8 @@ from worker_plugins import KillOnFirstChunk
 
 import pinmob
 from pinmob.cli import main
-from pinmob.engine import Engine
 from pinmob.exceptions import ConfigurationError, EngineError
+from pinmob.parallel import Engine
 from pinmob.scan import grid_spec, path_spec, scan
 
 PINMOB = [sys.executable, "-m", "pinmob"]
@@ -81,7 +81,7 @@ def test_a_killed_worker_costs_no_result_and_no_hang(sig, tmp_path):
         import signal
         import cloudpickle
         import worker_plugins
-        from pinmob.engine import Engine
+        from pinmob.parallel import Engine
         from engine_tasks import slow_square
         from worker_plugins import KillOnFirstChunk
         cloudpickle.register_pickle_by_value(worker_plugins)
@@ -103,7 +103,7 @@ def test_what_every_task_shares_goes_to_the_cluster_once():
     """``Engine.map(fn, shared, items)`` sends ``shared`` once (a task every task depends on), not with each task: it
     is unpickled at most once per worker for 40 tasks (it was 40 times, once per task)."""
     out = _script("""
-        from pinmob.engine import Engine
+        from pinmob.parallel import Engine
         from engine_tasks import Counted, size_plus, unpickled
         if __name__ == "__main__":
             with Engine(workers=2) as engine:
@@ -126,7 +126,7 @@ def test_a_task_that_kills_every_worker_is_lost_not_hung(tmp_path):
     tries = dask.config.get("distributed.scheduler.allowed-failures") + 1
     runs = tmp_path / "runs.txt"
     out = _script(f"""
-        from pinmob.engine import Engine, Lost
+        from pinmob.parallel import Engine, Lost
         from engine_tasks import exit_on_counting
         if __name__ == "__main__":
             with Engine(workers=2) as engine:

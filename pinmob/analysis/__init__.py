@@ -1,6 +1,7 @@
 """Analyses at a closed configuration, from the one state object to the one report.
 
 :mod:`~pinmob.analysis.configuration` (:class:`Configuration`, the state object),
+:mod:`~pinmob.analysis.configuration_choice` (the configuration asked for, by name or joint values),
 :mod:`~pinmob.analysis.limbs` (limb twists), :mod:`~pinmob.analysis.mobility`
 (platform mobility), :mod:`~pinmob.analysis.closure_jacobian` and
 :mod:`~pinmob.analysis.closed_chain` (whole mechanism), :mod:`~pinmob.analysis.actuation`,

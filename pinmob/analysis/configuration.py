@@ -69,7 +69,30 @@ class Configuration:
         name: str | None = None,
         source: str | None = None,
     ) -> None:
-        tol = check_closure_tol(closure_tol)
+        self._close(mechanism, q, check_closure_tol(closure_tol), name, source)
+
+    @classmethod
+    def from_checked(
+        cls,
+        mechanism: Mechanism,
+        q: ArrayLike | str,
+        closure_tol: float,
+        *,
+        name: str | None = None,
+        source: str | None = None,
+    ) -> Configuration:
+        """As the constructor, for a ``closure_tol`` its caller has checked already (:func:`check_closure_tol`).
+
+        A door of the library (:func:`pinmob.analyze`) checks each argument once; what it builds trusts the value.
+        """
+        self = object.__new__(cls)
+        self._close(mechanism, q, closure_tol, name, source)
+        return self
+
+    def _close(
+        self, mechanism: Mechanism, q: ArrayLike | str, tol: float, name: str | None, source: str | None
+    ) -> None:
+        """The constructor's work once ``tol`` is checked: resolve a name, close, compute the kinematics."""
         if isinstance(q, str):
             q = mechanism.configuration_name(q)
             vec, _ = named_vector(mechanism, q, tol)  # its closure is checked below, with the kinematics
@@ -234,7 +257,7 @@ def as_configuration(
         mech: the mechanism, or a :class:`Configuration` (then ``q`` must be None).
         q: a configuration vector, a configuration name, or a :class:`Configuration`.
         configuration: name reported with the results (overrides the configuration's own).
-        closure_tol: closure tolerance, for a vector or a name.
+        closure_tol: closure tolerance, for a vector or a name (checked there; a Configuration has its own).
 
     Raises:
         ConfigurationError: no configuration given, or a Configuration of another mechanism.

@@ -7,6 +7,7 @@ from collections.abc import Mapping, Sequence
 from numpy.typing import ArrayLike
 
 from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.configuration_choice import chosen_configuration
 from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Options, Report
@@ -15,7 +16,7 @@ from pinmob.assembly.relaxation import find_closed_relaxed, unclosable
 from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual
 from pinmob.assembly.seeds import find_closed
 from pinmob.bounds import check_bound
-from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.exceptions import ArgumentError, ClosureError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.rank import RTOL, check_rtol
 
@@ -25,8 +26,9 @@ def found_configuration(
 ) -> tuple[Configuration, tuple[str, ...]]:
     """A closed configuration of a mechanism that names none: projection from neutral, then random restarts.
 
-    Every attempt is accepted within ``closure_tol``. When none is, and the best misses by what CAD geometry
-    explains, the error says which ``--closure-tol`` would accept it (:mod:`pinmob.assembly.closure_miss`).
+    Every attempt is accepted within ``closure_tol`` (checked by the caller). When none is, and the best misses
+    by what CAD geometry explains, the error says which ``closure_tol`` would accept it
+    (:mod:`pinmob.assembly.closure_miss`).
     """
     if relax:
         mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts, tol=closure_tol)
@@ -35,7 +37,7 @@ def found_configuration(
             found, relaxed = find_closed(mech, restarts=restarts, tol=closure_tol), ()
         except ClosureError as exc:
             raise not_closed(mech, restarts, closure_tol, exc.residuals) from None
-    return Configuration(mech, found.q, closure_tol=closure_tol, source=found.method), relaxed
+    return Configuration.from_checked(mech, found.q, closure_tol, source=found.method), relaxed
 
 
 def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Residuals) -> ClosureError:
@@ -50,12 +52,12 @@ def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Re
             f"{start} within the closure tolerance {closure_tol:g}: best attempt's residuals "
             f"{format_worst(residuals, length, closure_tol)}{hint}",
             residuals,
-        )
+        ).naming("closure_tol")
     bad = unclosable(mech, tol=closure_tol)
     found = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
     relaxable = [c.name for c in mech.closures if c.type != "3d" and not c.is_coupling]
     advice = (
-        "Rerun with --relax (Python: relax=True) to turn the over-constraining closures into 3d (ball) closures. "
+        "Rerun with relax=True to turn the over-constraining closures into 3d (ball) closures. "
         if relaxable
         else "Relaxing cannot help (every closure is a point or joint coupling already). "
     )
@@ -63,7 +65,7 @@ def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Re
         f"{start}. {found}{advice}Largest residual of the best attempt: "
         f"{worst_residual(residuals, length):.2e} (m / L or rad)",
         residuals,
-    )
+    ).naming("relax")
 
 
 def analyze(
@@ -71,6 +73,7 @@ def analyze(
     q: ArrayLike | str | Configuration | None = None,
     *,
     configuration: str | None = None,
+    joints: Mapping[str, float] | None = None,
     rtol: float = RTOL,
     closure_tol: float = CLOSURE_TOL,
     frames: Sequence[str] | None = None,
@@ -95,6 +98,9 @@ def analyze(
             ``restarts`` random restarts (``relax=True`` relaxes closures that
             cannot close as declared to ``3d``, and the report says which).
         configuration: name reported with the results (set automatically when q is a name).
+        joints: joint values by name [m or rad]: the configuration analysed has them, its other joints start
+            from the configuration named by q (default: the first named, else neutral) and are solved when the
+            values do not close the loops as they are (:func:`~pinmob.analysis.configuration.joint_configuration`).
         rtol: relative tolerance of every rank decision (singular values below
             ``rtol * sigma_max`` count as zero); see :func:`~pinmob.screw.rank.check_rtol`.
         closure_tol: closure tolerance (position / L and rotation [rad]).
@@ -112,25 +118,36 @@ def analyze(
             ``report.finite``.
         finite_order: the highest order of the conditions the finite analysis checks (2..8).
 
+    Each argument is checked once, here or where it is first used (``closure_tol`` by the Configuration built).
+
     Raises:
-        ConfigurationError: a bad argument (shape, NaN, unknown name, rtol, closure_tol or finite_order out
-            of range).
+        ArgumentError: rtol, closure_tol, finite_order or restarts out of range, or joints without a mechanism.
+        UnknownConfigurationError: q (or the base of ``joints``) names no configuration of the mechanism.
+        ConfigurationError: another bad argument (shape, NaN, a Configuration of another mechanism).
         ClosureError: q does not close, or no closed configuration could be found.
     """
     rtol = check_rtol(rtol)
-    closure_tol = check_closure_tol(closure_tol)
     finite_order = check_order(finite_order)
     if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
-        raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts!r}")
-    check_bound("restarts", restarts, "the closure search (--restarts)")
+        raise ArgumentError(
+            f"the number of random restarts (restarts) must be at least 0, got {restarts!r}", "restarts", restarts
+        )
+    check_bound("restarts", restarts, "the closure search (restarts)", "restarts")
     relaxed: tuple[str, ...] = ()
-    if q is None and isinstance(mech, Mechanism):
-        if mech.configurations:
-            q = next(iter(mech.configurations))
-        else:
-            conf, relaxed = found_configuration(mech, restarts, relax, closure_tol)
-            q, mech = conf, conf.mechanism
-    conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
+    if joints is not None and not (isinstance(mech, Mechanism) and (q is None or isinstance(q, str))):
+        raise ArgumentError(
+            "joints is given with a Mechanism, and q the name of the configuration the other joints start from "
+            "(or None)",
+            "joints",
+            joints,
+        )
+    if isinstance(mech, Mechanism) and (q is None or isinstance(q, str)):
+        chosen = chosen_configuration(mech, q, joints, closure_tol=closure_tol, name=configuration)
+        if chosen is None:  # the mechanism names no configuration: find a closed one
+            chosen, relaxed = found_configuration(mech, restarts, relax, check_closure_tol(closure_tol))
+        conf = as_configuration(chosen, configuration=configuration)
+    else:
+        conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
     asked, rtol = rtol, conf.rank_rtol(rtol)  # loops closed only to CAD accuracy: a coarser rank tolerance
     options = Options(
         frames=tuple(frames or ()),

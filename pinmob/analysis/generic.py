@@ -29,6 +29,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, rate_scale, wrench_blocks
 from pinmob.assembly.assemble import assemble_joints, project
 from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.assembly.seeds import random_configuration
 from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model.mechanism import Mechanism
@@ -145,7 +146,7 @@ def generic_set_ranks(
         loose = float(np.sqrt(rtol))
         counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
         for q in generic_configurations(mech, samples, seed):
-            conf = Configuration(mech, q)
+            conf = Configuration.from_checked(mech, q, CLOSURE_TOL)
             blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
             for s in counts:
                 counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1

@@ -31,8 +31,9 @@ import numpy as np
 
 from pinmob.analysis.closure_jacobian import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
 from pinmob.model.closure import Closure, ClosureType
+from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.lie import LoopSystem
 

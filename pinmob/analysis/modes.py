@@ -22,9 +22,10 @@ from pinmob.assembly.assemble import Assembly, joint_velocity_indices, project, 
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.assembly.seeds import random_configuration
 from pinmob.blas import one_blas_thread
-from pinmob.exceptions import ClosureError, ConfigurationError, choices
+from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.joints import frame_id, linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 from pinmob.progress import step
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL

@@ -23,9 +23,10 @@ from pinmob.analysis.mobility import Mobility, mobility_from_wrenches
 from pinmob.analysis.motion import View
 from pinmob.assembly.named import closed_configuration
 from pinmob.blas import one_blas_thread
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
 from pinmob.model.joints import joint_names
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array, wrench_scaling
 from pinmob.screw.rank import reciprocal_wrenches
 

@@ -116,12 +116,12 @@ def _finish(
         res = mechanism_residuals(mech, data) | (extra or {})
     worst = worst_residual(res, mech.length_scale)
     if worst > tol:
-        length = mech.length_scale  # the worst residuals, and the --closure-tol that accepts a CAD-sized miss
+        length = mech.length_scale  # the worst residuals, and the closure_tol that accepts a CAD-sized miss
         raise ClosureError(
             f"{what} of {mech.name!r} did not converge: residuals {format_worst(res, length, tol)}"
             f"{tolerance_hint(res, length)}",
             res,
-        )
+        ).naming("closure_tol")
     limits = warn_outside_limits(mech, result.q, what)
     return Assembly(result.q, res, worst, result.iterations, method, limits)
 

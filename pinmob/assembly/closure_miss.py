@@ -1,7 +1,7 @@
 """How far a configuration misses closing: its worst residuals in a few words, and the tolerance that would accept it.
 
 CAD geometry closes to about a micron, not to round-off: a file whose loops miss by that much is analysed
-with a looser closure tolerance (``--closure-tol``, Python ``closure_tol``). A refusal says which value
+with a looser closure tolerance (Python ``closure_tol``, the command line's ``--closure-tol``). A refusal says which value
 would accept the miss, computed from the actual residual relative to what the tolerance is relative to
 (position / L, rotation [rad]: :func:`~pinmob.assembly.residual.worst_residual`), and lists only the
 worst residuals. A miss larger than :data:`CAD_GAP_MAX` is not a modelling round-off: no tolerance is
@@ -76,15 +76,14 @@ def closes_to(residuals: Residuals, length: float) -> str:
 
 
 def tolerance_hint(residuals: Residuals, length: float) -> str:
-    """``; it closes to 1.04e-06 m (2.1e-05 x L): --closure-tol 3e-05 (Python: closure_tol=3e-05) would accept it``.
+    """``; it closes to 1.04e-06 m (2.1e-05 x L): closure_tol=3e-05 would accept it``.
 
-    The empty string when the miss exceeds :data:`CAD_GAP_MAX` (no tolerance should accept it).
+    The empty string when the miss exceeds :data:`CAD_GAP_MAX` (no tolerance should accept it). An error whose
+    message holds it names ``closure_tol`` (:meth:`~pinmob.exceptions.PinmobError.naming`): the command line
+    words it ``--closure-tol 3e-05 (Python: closure_tol=3e-05)``.
     """
     miss = max((_measure(res, length) for res in residuals.values()), default=0.0)
     tol = accepting_tol(miss)
     if tol is None:
         return ""
-    return (
-        f"; it closes to {closes_to(residuals, length)}: --closure-tol {tol:g} "
-        f"(Python: closure_tol={tol:g}) would accept it"
-    )
+    return f"; it closes to {closes_to(residuals, length)}: closure_tol={tol:g} would accept it"

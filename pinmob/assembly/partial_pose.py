@@ -44,10 +44,11 @@ from pinmob.assembly.residual import (
     worst_residual,
 )
 from pinmob.assembly.solver import STALL_WINDOW, solve
-from pinmob.exceptions import ClosureError, ConfigurationError, choices
+from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.data_pool import borrowed
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array
 
 #: Largest step of the given joints [rad, or L for a prismatic joint] per predicted forward-kinematics step.
@@ -185,6 +186,6 @@ def assemble_coordinates(
             f"could not assemble {mech.name!r} at {given}{' with ' + str(joints) if joints else ''}: residuals "
             f"{format_worst(res, length, tol)}{tolerance_hint(res, length)}",
             res,
-        )
+        ).naming("closure_tol")
     warn_outside_limits(mech, q, "assembly at platform pose coordinates")
     return q

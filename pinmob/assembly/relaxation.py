@@ -14,9 +14,10 @@ from dataclasses import replace
 from pinmob.assembly.assemble import Assembly
 from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
 from pinmob.assembly.seeds import find_closed
-from pinmob.exceptions import ClosureError, ConfigurationError, choices
+from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import ClosureType
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 from pinmob.progress import step
 
 

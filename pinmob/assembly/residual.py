@@ -20,7 +20,7 @@ import pinocchio as pin
 from pinmob.assembly.closure_miss import CAD_GAP_MAX, format_worst, tolerance_hint
 from pinmob.assembly.coupling import coupling_error, tendon_error
 from pinmob.assembly.solver import ResidualFn
-from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.exceptions import ArgumentError, ClosureError
 from pinmob.model.closure import CLOSURE_TOL, Closure
 from pinmob.model.data_pool import acquire, borrowed, release_with
 from pinmob.model.mechanism import Mechanism
@@ -39,15 +39,17 @@ def check_closure_tol(tol: object, name: str = "closure_tol") -> float:
     """A validated closure tolerance: a real number in [CLOSURE_TOL_MIN, CLOSURE_TOL_MAX] (position / L, rad).
 
     Raises:
-        ConfigurationError: not a real number, not finite, or out of range.
+        ArgumentError: not a real number, not finite, or out of range (``name``: the parameter named).
     """
     if isinstance(tol, bool) or not isinstance(tol, (int, float, np.integer, np.floating)):
-        raise ConfigurationError(f"{name} must be a number, got {tol!r} ({type(tol).__name__})")
+        raise ArgumentError(f"{name} must be a number, got {tol!r} ({type(tol).__name__})", name, tol)
     value = float(tol)
     if not (np.isfinite(value) and CLOSURE_TOL_MIN <= value <= CLOSURE_TOL_MAX):
-        raise ConfigurationError(
+        raise ArgumentError(
             f"{name} must be a finite number in [{CLOSURE_TOL_MIN:g}, {CLOSURE_TOL_MAX:g}] (largest residual "
-            f"allowed: position / L and rotation [rad]), e.g. {CLOSURE_TOL:g}; got {tol!r}"
+            f"allowed: position / L and rotation [rad]), e.g. {CLOSURE_TOL:g}; got {tol!r}",
+            name,
+            tol,
         )
     return value
 
@@ -267,7 +269,7 @@ def check_closed(
             f"{what} of {mech.name!r} does not close: residuals {format_worst(res, length, tol)}"
             f"{tolerance_hint(res, length)}",
             res,
-        )
+        ).naming("closure_tol")
     return res
 
 

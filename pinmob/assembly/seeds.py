@@ -14,7 +14,7 @@ import pinocchio as pin
 
 from pinmob.assembly.assemble import Assembly, project
 from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
-from pinmob.exceptions import ClosureError, ConfigurationError
+from pinmob.exceptions import ArgumentError, ClosureError
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
 from pinmob.progress import step
@@ -43,10 +43,12 @@ def find_closed(
     Raises:
         ClosureError: nothing closed; carries the residuals of the best attempt
             (smallest :func:`worst_residual`).
-        ConfigurationError: restarts is negative.
+        ArgumentError: restarts is negative.
     """
     if restarts < 0:
-        raise ConfigurationError(f"the number of random restarts (--restarts) must be at least 0, got {restarts}")
+        raise ArgumentError(
+            f"the number of random restarts (restarts) must be at least 0, got {restarts}", "restarts", restarts
+        )
     rng = np.random.default_rng(seed)
     best: ClosureError | None = None
     loose: Assembly | None = None  # the first attempt within tol, not within the default tolerance

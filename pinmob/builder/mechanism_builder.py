@@ -9,8 +9,9 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
 from pinmob.model.length_scale import NO_LENGTH, SHORTEST
+from pinmob.name_matching import choices
 
 from .chain import ChainBuilder, ClosureSpec, LimbBuilder
 from .configuration import canonical_joints, closed_joints, write_files

@@ -14,7 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
+from pinmob.name_matching import choices
 
 from .delta import delta_3ruu_design
 from .puu import three_puu_design

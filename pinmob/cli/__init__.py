@@ -18,6 +18,7 @@ import warnings
 from collections.abc import Callable, Iterator, Sequence
 from typing import TextIO
 
+from pinmob.cli.flags import worded_for_cli
 from pinmob.cli.parser import build_parser
 from pinmob.cli.progress_bar import terminal_bars
 from pinmob.exceptions import PinmobError
@@ -117,7 +118,7 @@ def _run(args: argparse.Namespace) -> int:
         sys.stdout.flush()  # a closed pipe shows here, not at interpreter exit
         return status
     except PinmobError as exc:
-        print(f"pinmob: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        print(f"pinmob: error: {' '.join(worded_for_cli(exc).split())}", file=sys.stderr)
         return 2
     except BrokenPipeError:
         # the reader went away (``pinmob ... | head -1``): stop quietly, as Unix tools do on SIGPIPE

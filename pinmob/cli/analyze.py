@@ -9,41 +9,46 @@ import sys
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.report import Report
-from pinmob.cli.common import chosen_state, closure_tol_of, load_for
-from pinmob.exceptions import ConfigurationError, choices
-from pinmob.screw.rank import RTOL, check_rtol
+from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.cli.common import joint_values_of, load_for, with_elsewhere
+from pinmob.exceptions import ConfigurationError
+from pinmob.name_matching import choices
+from pinmob.screw.rank import RTOL
 
 
 def run(args: argparse.Namespace) -> int:
     """``pinmob analyze``: print the :class:`~pinmob.analysis.report.Report` (``--json``: its document).
 
+    The command parses, calls :func:`pinmob.analyze` (which checks each argument and resolves the configuration
+    by name or joint values) and formats.
+
     Returns:
         the exit status: 1 with ``--check`` when the analysis differs from the file's expectation, else 0.
     """
     mech = load_for(args)
-    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
-    closure_tol = closure_tol_of(args)
     if args.check and not mech.expected:
         raise ConfigurationError(f"--check: {mech.name!r} has no expected table in any configuration")
-    config = chosen_state(mech, args, closure_tol)
-    if args.check and (not isinstance(config, str) or config not in mech.expected):
-        raise ConfigurationError(
-            f"--check: configuration {getattr(config, 'name', config)!r} of {mech.name!r} has no expected table; configurations with one: "
-            f"{choices(mech.expected)}"
+    with with_elsewhere(mech):
+        report = analyze(
+            mech,
+            args.config,
+            configuration=None if args.joints is None else f"--joints {args.joints}",
+            joints=joint_values_of(args),
+            rtol=RTOL if args.rtol is None else args.rtol,
+            closure_tol=CLOSURE_TOL if args.closure_tol is None else args.closure_tol,
+            frames=args.frame,
+            paper=args.paper_view,
+            actuator_search=args.search_actuators,
+            restarts=args.restarts,
+            relax=args.relax,
+            finite=args.finite or args.finite_order is not None,  # --finite-order K implies --finite
+            finite_order=ORDER if args.finite_order is None else args.finite_order,
         )
-    report = analyze(
-        mech,
-        config,
-        rtol=rtol,
-        closure_tol=closure_tol,
-        frames=args.frame,
-        paper=args.paper_view,
-        actuator_search=args.search_actuators,
-        restarts=args.restarts,
-        relax=args.relax,
-        finite=args.finite or args.finite_order is not None,  # --finite-order K implies --finite
-        finite_order=ORDER if args.finite_order is None else args.finite_order,
-    )
+    if args.check and report.expectation is None:
+        raise ConfigurationError(
+            f"--check: configuration {report.configuration!r} of {mech.name!r} has no expected table; "
+            f"configurations with one: {choices(mech.expected)}"
+        )
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:

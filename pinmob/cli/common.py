@@ -1,4 +1,4 @@
-"""What the commands share: picking a named configuration, checking output files, signals, errors."""
+"""What the commands share: loading with ``--actuated``, joint values, hints for unknown names, output files, signals."""
 
 from __future__ import annotations
 
@@ -9,26 +9,26 @@ import tomllib
 from collections.abc import Iterator
 from pathlib import Path
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.named import close_joint_values, named_vector
-from pinmob.assembly.residual import check_closure_tol
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol
+from pinmob.exceptions import ConfigurationError, UnknownConfigurationError
 from pinmob.io.builtin import builtin_models
-from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joint_values import parse_joint_values
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 
 
-def pick_configuration(mech: Mechanism, config: str | None) -> str:
-    """The named configuration to use: the one asked for (any case), else the file's first."""
-    if config is None:
-        if not mech.configurations:
-            raise ConfigurationError(f"{mech.name!r} declares no configuration; name one in the mechanism file")
-        return next(iter(mech.configurations))
+@contextlib.contextmanager
+def with_elsewhere(mech: Mechanism) -> Iterator[None]:
+    """Within the block, an unknown configuration's error also names the built-in models that have it (:func:`elsewhere`)."""
     try:
-        return mech.configuration_name(config)
-    except ConfigurationError as exc:
-        raise ConfigurationError(f"{exc}{elsewhere(config, mech)}") from None
+        yield
+    except UnknownConfigurationError as exc:
+        raise UnknownConfigurationError(f"{exc}{elsewhere(exc.name, mech)}", exc.name) from None
+
+
+def joint_values_of(args: argparse.Namespace) -> dict[str, float] | None:
+    """``--joints a=0.1,b=0.2`` as joint values by name (None without ``--joints``)."""
+    return None if args.joints is None else parse_joint_values(args.joints, "--joints")
 
 
 def load_for(args: argparse.Namespace) -> Mechanism:
@@ -45,25 +45,8 @@ def load_for(args: argparse.Namespace) -> Mechanism:
     return mech
 
 
-def chosen_state(mech: Mechanism, args: argparse.Namespace, closure_tol: float) -> Configuration | str | None:
-    """What the command analyses: the ``--joints`` values, the ``--config`` name, the file's first, or None (find one).
-
-    With ``--joints``, the other joints start from the named configuration (``--config`` or the file's
-    first), else Pinocchio's neutral; when the values given do not close the loops as they are, the other
-    joints are solved with the given ones held (:func:`~pinmob.assembly.assemble.solve_actuated`).
-    """
-    config = None if args.config is None and not mech.configurations else pick_configuration(mech, args.config)
-    if args.joints is None:
-        return config
-    values = parse_joint_values(args.joints, "--joints")
-    base = None if config is None else named_vector(mech, config, closure_tol)[0]
-    q, solved = close_joint_values(mech, values, base, closure_tol)
-    source = "joint values given" + (", the other joints solved to close the loops" if solved else "")
-    return Configuration(mech, q, closure_tol=closure_tol, name=f"--joints {args.joints}", source=source)
-
-
 def closure_tol_of(args: argparse.Namespace) -> float:
-    """``--closure-tol``, checked (default :data:`~pinmob.model.closure.CLOSURE_TOL`)."""
+    """``--closure-tol``, checked (default :data:`~pinmob.model.closure.CLOSURE_TOL`), for ``show`` and ``scan``."""
     return CLOSURE_TOL if args.closure_tol is None else check_closure_tol(args.closure_tol, "--closure-tol")
 
 
@@ -123,9 +106,9 @@ def check_distinct(paths: dict[str, str | Path | None]) -> None:
 def check_outputs(paths: dict[str, str | None], force: bool) -> None:
     """Refuse, before any work, outputs naming one file, or files that exist (unless ``force``) or cannot be outputs.
 
-    An output cannot be a link, a folder or a device, nor lie in no folder (:func:`pinmob.scan.files.check_target`).
+    An output cannot be a link, a folder or a device, nor lie in no folder (:func:`pinmob.output_files.check_target`).
     """
-    from pinmob.scan.files import check_target
+    from pinmob.output_files import check_target
 
     check_distinct(dict(paths))
     for option, path in paths.items():

@@ -13,8 +13,8 @@ from pinmob.analysis.singularity import NEAR_FACTOR
 from pinmob.analysis.singularity_analysis import require_platform
 from pinmob.cli.common import check_outputs, closure_tol_of, load_for, signals_interrupt
 from pinmob.cli.scan_view import check_view_options, view
-from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
+from pinmob.parallel.cluster import check_workers
 from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
 from pinmob.scan.chain import check_actuated
 from pinmob.scan.coordinates import coordinate_unit

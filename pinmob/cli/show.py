@@ -11,8 +11,9 @@ import pinocchio as pin
 
 from pinmob import viewer
 from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.configuration_choice import chosen_configuration
 from pinmob.analysis.entry_point import analyze, found_configuration
-from pinmob.cli.common import chosen_state, closure_tol_of, load_for, signals_interrupt
+from pinmob.cli.common import closure_tol_of, joint_values_of, load_for, signals_interrupt, with_elsewhere
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Mechanism
@@ -23,13 +24,15 @@ def run(args: argparse.Namespace) -> int:
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
     mech = load_for(args)
     closure_tol = closure_tol_of(args)
-    state = chosen_state(mech, args, closure_tol)
+    with with_elsewhere(mech):
+        named = None if args.joints is None else f"--joints {args.joints}"
+        state = chosen_configuration(mech, args.config, joint_values_of(args), closure_tol=closure_tol, name=named)
     if state is None:  # a file without a configuration: a closed one found from neutral
         state, _ = found_configuration(mech, restarts=20, relax=False, closure_tol=closure_tol)
-    if not isinstance(state, str) and state.name is None:
+    if state.name is None:
         state = state.with_name("found closed configuration")
-    mech, state, note = with_viewed_frame(mech, state, closure_tol)
-    config = state if isinstance(state, str) else str(state.name)
+    mech, shown, note = with_viewed_frame(mech, state, closure_tol)
+    config = shown if isinstance(shown, str) else str(shown.name)
     if note:
         print(f"note: {note}")
     if args.html is None and args.force:
@@ -39,7 +42,7 @@ def run(args: argparse.Namespace) -> int:
     options = {"motion": args.motion, "wrenches": args.wrenches, "amplitude": args.amplitude, "steps": args.steps}
     if args.html is not None:
         with signals_interrupt():  # SIGTERM/SIGHUP as Ctrl-C: the temporary file is removed, the old file kept
-            scene = viewer.export_html(mech, state, args.html, overwrite=args.force, **options)
+            scene = viewer.export_html(mech, shown, args.html, overwrite=args.force, **options)
         print_scene(mech.name, config, scene)
         return 0
     # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:
@@ -50,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
         server, serving = None, False
         try:
             scene = viewer.show(  # stops it if interrupted; tied: a SIGKILL of pinmob stops it too
-                mech, state, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
+                mech, shown, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
             )
             server = scene.server
             print_scene(mech.name, config, scene)
@@ -93,7 +96,7 @@ def with_viewed_frame(
     model = mech.model
     best = max(frames, key=lambda f: (f.dof, model.frames[frame_id(model, f.frame)].parentJoint))
     viewed = replace(mech, platform=best.frame)
-    conf = Configuration(viewed, conf.q, closure_tol=closure_tol, name=conf.name or "found", source=conf.source)
+    conf = Configuration.from_checked(viewed, conf.q, closure_tol, name=conf.name or "found", source=conf.source)
     note = (
         f"{mech.name!r} names no platform: showing the motions of its output frame {best.frame!r} "
         f"({best.dof} DoF of the mechanism's outputs)"

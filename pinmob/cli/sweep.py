@@ -11,9 +11,9 @@ from pathlib import Path
 from typing import Any
 
 from pinmob.cli.common import check_distinct, signals_interrupt
-from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
-from pinmob.scan.files import Replacing, check_target
+from pinmob.output_files import Replacing, check_target
+from pinmob.parallel.cluster import check_workers
 from pinmob.sweeps.plot import plot_atlas, plot_pareto, written_by
 from pinmob.sweeps.run import sweep
 from pinmob.sweeps.spec import SweepSpec

@@ -27,12 +27,13 @@ from typing import Any
 
 import pinocchio as pin
 
-from pinmob.exceptions import MechanismFileError, choices
+from pinmob.exceptions import MechanismFileError
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.model.closure import make_closure
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 
 JOINT_TYPES = ("SPHERICAL", "CARDAN", "FIXED") + tuple(f"UJOINT_{a}{b}" for a in "XYZ" for b in "XYZ" if a != b)
 YAML_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")

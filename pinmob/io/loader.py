@@ -5,10 +5,11 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from pinmob.exceptions import MechanismFileError, choices, did_you_mean
+from pinmob.exceptions import MechanismFileError
 from pinmob.io.builtin import builtin_models
 from pinmob.io.toml_file import load_toml
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices, did_you_mean
 
 
 def load_extended_urdf(path: Path) -> Mechanism:

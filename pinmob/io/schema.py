@@ -17,7 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.exceptions import MechanismFileError, PinmobError, choices
+from pinmob.exceptions import MechanismFileError, PinmobError
+from pinmob.name_matching import choices
 
 
 def file_error(path: Path, msg: str) -> MechanismFileError:

@@ -11,7 +11,7 @@ from typing import Any
 
 import pinocchio as pin
 
-from pinmob.exceptions import FrameError, MechanismFileError, PinmobError, choices
+from pinmob.exceptions import FrameError, MechanismFileError, PinmobError
 from pinmob.io.schema import (
     CLOSURE_KEYS,
     CONFIG_KEYS,
@@ -34,6 +34,7 @@ from pinmob.model.closure import Closure, make_closure
 from pinmob.model.geometry import Geometry
 from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
+from pinmob.name_matching import choices
 
 
 def _frame(path: Path, where: str, model: pin.Model, name: str) -> None:

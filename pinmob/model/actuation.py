@@ -5,9 +5,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import replace
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.model.joints import joint_names
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 
 
 def with_actuated(mech: Mechanism, names: Sequence[str]) -> Mechanism:

@@ -9,9 +9,10 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.model.joints import frame_id
 from pinmob.model.tendon import Tendon
+from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array
 
 if TYPE_CHECKING:

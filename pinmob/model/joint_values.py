@@ -7,8 +7,9 @@ from collections.abc import Mapping
 import numpy as np
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices
+from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.model.joints import joint_names
+from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array
 
 

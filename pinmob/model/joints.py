@@ -14,7 +14,8 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices, did_you_mean
+from pinmob.exceptions import ConfigurationError, FrameError
+from pinmob.name_matching import choices, did_you_mean
 from pinmob.screw.algebra import Array, Mask
 
 #: Integer index array.

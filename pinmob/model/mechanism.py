@@ -17,7 +17,7 @@ from typing import Any, TypeVar
 
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, FrameError, choices, match_name
+from pinmob.exceptions import ConfigurationError, FrameError, unknown
 from pinmob.frozen import read_only
 from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.geometry import Geometry
@@ -28,6 +28,7 @@ from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.model.names import check_names
 from pinmob.model.tendon import Transmission
+from pinmob.name_matching import choices, match_name
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
@@ -273,16 +274,15 @@ class Mechanism:
         """The named configuration ``name`` stands for, matched ignoring case where that is unambiguous.
 
         Raises:
-            ConfigurationError: no such configuration (the message suggests close names and lists them).
+            UnknownConfigurationError: no such configuration (the message suggests close names and lists them).
         """
-        return match_name(name, self.configurations, "configuration", f" in {self.name!r}")
+        return match_name(name, self.configurations, "configuration", f" in {self.name!r}", error=unknown(name))
 
     def limb(self, name: str) -> Limb:
         """The limb called ``name``."""
-        for limb in self.limbs:
-            if limb.name == name:
-                return limb
-        raise ConfigurationError(f"no limb {name!r} in {self.name!r}; valid: {choices(b.name for b in self.limbs)}")
+        if name not in (found := {limb.name: limb for limb in self.limbs}):
+            raise ConfigurationError(f"no limb {name!r} in {self.name!r}; valid: {choices(found)}")
+        return found[name]
 
     def neutral(self) -> Array:
         """Pinocchio's neutral configuration, shape (nq,)."""

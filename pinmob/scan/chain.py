@@ -43,10 +43,11 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_configurations, generic_constraint_rank
 from pinmob.analysis.singularity import NEAR_FACTOR, distance_of, padded
 from pinmob.assembly.named import close_joint_values, closed_configuration, named_vector
-from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError, choices
+from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joint_values import joint_value, parse_joint_values
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 

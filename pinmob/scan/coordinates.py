@@ -41,10 +41,11 @@ from pinmob.analysis.closure_jacobian import closed_chain, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_configurations
 from pinmob.assembly.partial_pose import POSE_COORDS, pose_coordinate_jacobian, pose_vector
-from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.model.joint_values import joint_value
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 from pinmob.scan.chain import value_joints
 from pinmob.scan.references import platform_pose
 from pinmob.screw.algebra import Array

@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.scan.files import Replacing
+from pinmob.output_files import Replacing
 from pinmob.signals import deferred_interrupts
 
 
@@ -25,7 +25,7 @@ class RowWriter:
     """Stream rows to a CSV file and/or a JSON file (``{"scan": {...}, "samples": [...]}``) as they come.
 
     Use as a context manager; nothing is kept in memory but the current row. The
-    rows go to temporary files in the targets' folders (:class:`~pinmob.scan.files.Replacing`),
+    rows go to temporary files in the targets' folders (:class:`~pinmob.output_files.Replacing`),
     renamed over the targets when the block ends normally: an error, Ctrl-C or a
     handled signal leaves the targets as they were (an old file is not truncated
     at the start) and removes the temporary files.

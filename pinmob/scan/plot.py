@@ -27,9 +27,9 @@ from typing import Any
 import numpy as np
 
 from pinmob.analysis.singularity import NEAR_FACTOR
+from pinmob.figures import pyplot, save_figure
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.files import Replacing
 from pinmob.scan.output import read_columns
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.screw.rank import RTOL
@@ -46,36 +46,6 @@ MARKS = {
     "near": {"marker": "o", "mfc": "none", "color": "darkorange", "ms": 8, "ls": "none", "mew": 1.2},
     "refined": {"marker": "*", "color": "magenta", "ms": 12, "ls": "none", "mec": "black", "mew": 0.5},
 }
-
-
-def pyplot() -> Any:
-    """The pyplot module of matplotlib, on the Agg backend (files only, no display)."""
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
-def save_figure(
-    plt: Any, fig: Any, title: str | None, png_path: str | Path, metadata: dict[str, str] | None = None
-) -> Path:
-    """Title (if any), lay out, write the PNG and close the figure (the scans' and the sweeps' plots alike).
-
-    110 dpi, ``metadata`` in the PNG's text chunks, written through a temporary file renamed at the end.
-    """
-    if title is not None:
-        fig.suptitle(title, fontsize=11)
-    fig.tight_layout()
-    replacing = Replacing(png_path)
-    try:
-        with replacing as tmp:
-            fig.savefig(tmp, dpi=110, format="png", metadata=metadata)
-            replacing.commit()
-    finally:
-        plt.close(fig)
-    return Path(png_path)
 
 
 def sample_classes(c: dict[str, np.ndarray]) -> dict[str, np.ndarray]:

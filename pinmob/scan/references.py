@@ -11,8 +11,9 @@ import pinocchio as pin
 
 from pinmob.assembly.named import closed_configuration
 from pinmob.assembly.partial_pose import pose_from_vector
-from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array
 
 

@@ -37,10 +37,10 @@ from typing import Any
 import numpy as np
 
 import pinmob.scan.chunk as chunk
-from pinmob.engine import Engine, Lost
-from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
+from pinmob.parallel import Engine, Lost
+from pinmob.parallel.cluster import check_workers
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS, SV_COLUMNS, run_chunk
 from pinmob.scan.spec import POSE_COORDS, ScanSpec

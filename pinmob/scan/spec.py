@@ -247,7 +247,7 @@ def path_spec(
     """
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
-    check_bound("samples", samples, "the path (--samples)")
+    check_bound("samples", samples, "the path (samples)", "samples")
     given = [parse_joint_values(t, "path end") if "=" in t else {} for t in (start, end)]
     if mech.has_platform and not joints and any(c in POSE_COORDS for g in given for c in g):
         return coordinate_path_spec(mech, start, end, samples, given, rtol, closure_tol)

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from pinmob.exceptions import ConfigurationError
+from pinmob.exceptions import ArgumentError
 from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
 
 #: Default relative tolerance on singular values for rank decisions.
@@ -51,18 +51,22 @@ def check_rtol(rtol: object, name: str = "rtol") -> float:
 
     Args:
         rtol: the tolerance to check (dimensionless).
-        name: how the caller calls it in the message (``--rtol`` for the CLI).
+        name: the parameter's name in the message and the error's ``parameter`` (the CLI words it ``--rtol``).
 
     Raises:
-        ConfigurationError: not a real number, not finite, or outside [1e-10, 1).
+        ArgumentError: not a real number, not finite, or outside [1e-10, 1).
     """
     if isinstance(rtol, bool) or not isinstance(rtol, (int, float, np.integer, np.floating)):
-        raise ConfigurationError(f"{name} must be a number in [{RTOL_MIN:g}, 1), got {rtol!r} ({type(rtol).__name__})")
+        raise ArgumentError(
+            f"{name} must be a number in [{RTOL_MIN:g}, 1), got {rtol!r} ({type(rtol).__name__})", name, rtol
+        )
     value = float(rtol)
     if not (np.isfinite(value) and RTOL_MIN <= value < 1.0):
-        raise ConfigurationError(
+        raise ArgumentError(
             f"{name} must be a finite number in [{RTOL_MIN:g}, 1), e.g. {RTOL:g} (below {RTOL_MIN:g} round-off "
-            f"decides the ranks); got {rtol!r}"
+            f"decides the ranks); got {rtol!r}",
+            name,
+            rtol,
         )
     return value
 

@@ -7,7 +7,7 @@ each design as ``pinmob scan`` takes it) into a :class:`~pinmob.sweeps.spec.Swee
 :mod:`~pinmob.sweeps.designs` gives each design's values,
 :mod:`~pinmob.sweeps.source` its mechanism, :mod:`~pinmob.sweeps.record` its
 record (:mod:`~pinmob.sweeps.fields`); :func:`~pinmob.sweeps.run.sweep` runs them
-in process or on Dask (:mod:`pinmob.engine`); :mod:`~pinmob.sweeps.store` streams
+in process or on Dask (:mod:`pinmob.parallel`); :mod:`~pinmob.sweeps.store` streams
 the records to a resumable Parquet file; :mod:`~pinmob.sweeps.plot` draws the
 atlas and the Pareto front. Dask and pyarrow are imported only when used.
 """

@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.scan.plot import pyplot, save_figure
+from pinmob.figures import pyplot, save_figure
 from pinmob.sweeps.fields import TYPES
 from pinmob.sweeps.spec import SweepSpec
 

@@ -1,4 +1,4 @@
-"""Running a sweep: every design's record, in design order, in this process or on Dask (:mod:`pinmob.engine`)."""
+"""Running a sweep: every design's record, in design order, in this process or on Dask (:mod:`pinmob.parallel`)."""
 
 from __future__ import annotations
 
@@ -9,9 +9,9 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.engine import Engine, Lost
-from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import ConfigurationError
+from pinmob.parallel import Engine, Lost
+from pinmob.parallel.cluster import check_workers
 from pinmob.sweeps.record import empty_record, evaluate_design, failed
 from pinmob.sweeps.spec import SweepSpec
 from pinmob.sweeps.spec_file import load_spec

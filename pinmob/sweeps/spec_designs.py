@@ -9,7 +9,8 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
+from pinmob.name_matching import choices
 from pinmob.sweeps.designs import MAX_DESIGNS, METHODS, DesignSet, check_count, latin_hypercube
 
 DESIGN = ("method", "parameters", "samples", "seed", "table", "rows", "max_designs")

@@ -46,7 +46,8 @@ from typing import Any
 
 from pinmob.analysis.higher_order import ORDER, check_order
 from pinmob.catalog.families import family
-from pinmob.exceptions import ConfigurationError, PinmobError, choices
+from pinmob.exceptions import ConfigurationError, PinmobError
+from pinmob.name_matching import choices
 from pinmob.scan.coordinates import check_coordinates
 from pinmob.scan.spec import POSE_COORDS, parse_grid_axis
 from pinmob.screw.rank import check_rtol

@@ -43,7 +43,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.exceptions import ConfigurationError
-from pinmob.scan.files import TEMP_SUFFIX, Replacing, check_target
+from pinmob.output_files import TEMP_SUFFIX, Replacing, check_target
 from pinmob.signals import deferred_interrupts
 from pinmob.sweeps.lock import TargetLock
 from pinmob.sweeps.reading import (

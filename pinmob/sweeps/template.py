@@ -16,7 +16,8 @@ import operator
 import re
 from collections.abc import Callable, Mapping
 
-from pinmob.exceptions import ConfigurationError, choices
+from pinmob.exceptions import ConfigurationError
+from pinmob.name_matching import choices
 
 #: ``{...}``: letters, digits, spaces and arithmetic, at least one letter, no '=' nor quotes.
 PLACEHOLDER = re.compile(r"\{([0-9A-Za-z_ .+\-*/(),]*[A-Za-z_][0-9A-Za-z_ .+\-*/(),]*)\}")

@@ -17,7 +17,7 @@ from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report import Report
 from pinmob.exceptions import ConfigurationError, ViewerError
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.files import Replacing, check_target
+from pinmob.output_files import Replacing, check_target
 from pinmob.viewer.page import static_page
 from pinmob.viewer.prepared import prepare
 from pinmob.viewer.scene import Array, Scene, build, require_meshcat

@@ -22,8 +22,9 @@ from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion_path import MotionPath, follow_motion
 from pinmob.analysis.report import Report
 from pinmob.analysis.singularity import Singularity
-from pinmob.exceptions import PinmobError, ViewerError, match_name
+from pinmob.exceptions import PinmobError, ViewerError
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import match_name
 from pinmob.progress import step
 from pinmob.screw.rank import RTOL
 

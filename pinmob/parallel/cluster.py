@@ -7,9 +7,9 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, TypeVar
 
-from pinmob.engine.quiet import install as quiet_logs
-from pinmob.engine.tasks import Lost, Watch, ordered_results
-from pinmob.exceptions import ConfigurationError, EngineError
+from pinmob.exceptions import ArgumentError, ConfigurationError, EngineError
+from pinmob.parallel.quiet import install as quiet_logs
+from pinmob.parallel.tasks import Lost, Watch, ordered_results
 from pinmob.signals import deferred_interrupts
 
 T = TypeVar("T")
@@ -21,8 +21,8 @@ CONNECT_TIMEOUT = 20.0
 #: The only interface a LocalCluster pinmob starts listens on (scheduler, workers, their HTTP servers).
 LOOPBACK = "127.0.0.1"
 
-#: The preload module of the workers pinmob starts (:mod:`pinmob.engine.worker`).
-WORKER_SETUP = "pinmob.engine.worker"
+#: The preload module of the workers pinmob starts (:mod:`pinmob.parallel.worker`).
+WORKER_SETUP = "pinmob.parallel.worker"
 
 
 def check_workers(workers: object, option: str = "--workers") -> int:
@@ -100,7 +100,9 @@ class Engine:
     def __init__(self, workers: int = 1, scheduler: str | None = None) -> None:
         self.workers = check_workers(workers)
         if scheduler is not None and (not isinstance(scheduler, str) or not scheduler.strip()):
-            raise ConfigurationError(f"--scheduler must be the address of a Dask scheduler, got {scheduler!r}")
+            raise ArgumentError(
+                f"scheduler must be the address of a Dask scheduler, got {scheduler!r}", "scheduler", scheduler
+            )
         self.scheduler = scheduler
         self._client: Any = None
         self._cluster: Any = None
@@ -162,7 +164,7 @@ class Engine:
         # A Ctrl-C or a hang-up reaches the whole process group. Here it is held back while the cluster starts
         # (not lost in a library's callback; raised once started, the cluster then closed). The worker processes
         # inherit a standard error on /dev/null: one that receives it while it still starts, before it ignores
-        # it (pinmob.engine.worker), would print a KeyboardInterrupt traceback. This process keeps its own.
+        # it (pinmob.parallel.worker), would print a KeyboardInterrupt traceback. This process keeps its own.
         try:
             with deferred_interrupts() as received, _stderr_of_children_to_devnull():
                 try:

@@ -6,7 +6,7 @@ process group, Dask's worker processes included, which would each print a
 ignore SIGINT and SIGHUP: pinmob, which does handle them, closes the cluster.
 A worker that receives one while it still starts (before this hook) prints its
 traceback to the standard error it was given: /dev/null
-(:meth:`pinmob.engine.Engine.start`).
+(:meth:`pinmob.parallel.Engine.start`).
 SIGTERM and SIGKILL still end a worker (as the out-of-memory killer would); its
 nanny starts a new one and Dask computes its tasks again.
 """

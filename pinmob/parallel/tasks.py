@@ -57,7 +57,7 @@ def ordered_results(
     window: int,
     watch: Watch,
 ) -> Iterator[Any]:
-    """``fn(shared, item)`` on the cluster for each item, yielded in item order (:meth:`pinmob.engine.Engine.map`).
+    """``fn(shared, item)`` on the cluster for each item, yielded in item order (:meth:`pinmob.parallel.Engine.map`).
 
     ``shared`` goes to the cluster once: it is published on the scheduler as a
     dataset, which each worker fetches once (and keeps); each task carries only

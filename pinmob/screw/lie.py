@@ -38,9 +38,22 @@ from pinmob.screw.algebra import Array
 
 
 def bracket(a: Array, b: Array) -> Array:
-    """Lie bracket ``[a, b]`` of twists ``[v; w]`` in rows: (6,) or (k, 6) each (broadcast), same shape out."""
-    va, wa, vb, wb = a[..., :3], a[..., 3:], b[..., :3], b[..., 3:]
-    return np.concatenate([np.cross(wa, vb) + np.cross(va, wb), np.cross(wa, wb)], axis=-1)
+    """Lie bracket ``[a, b]`` of twists ``[v; w]`` in rows: (6,) or (k, 6) each (broadcast), same shape out.
+
+    The cross products are written out by component (``np.cross`` costs more than the products on the
+    small arrays of a loop system: the finite analysis's conditions spend most of their time here).
+    """
+    a, b = np.broadcast_arrays(a, b)
+    out = np.empty(a.shape)
+    ax, ay, az, bx, by, bz = a[..., 3], a[..., 4], a[..., 5], b[..., 3], b[..., 4], b[..., 5]  # w_a, w_b
+    out[..., 3] = ay * bz - az * by
+    out[..., 4] = az * bx - ax * bz
+    out[..., 5] = ax * by - ay * bx
+    vx, vy, vz, ux, uy, uz = b[..., 0], b[..., 1], b[..., 2], a[..., 0], a[..., 1], a[..., 2]  # v_b, v_a
+    out[..., 0] = ay * vz - az * vy + uy * bz - uz * by
+    out[..., 1] = az * vx - ax * vz + uz * bx - ux * bz
+    out[..., 2] = ax * vy - ay * vx + ux * by - uy * bx
+    return out
 
 
 @dataclass(frozen=True)

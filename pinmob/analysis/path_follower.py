@@ -18,6 +18,7 @@ metres / L for prismatic ones).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -25,7 +26,6 @@ import pinocchio as pin
 from pinmob.analysis.closure_jacobian import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import angle_between, displacement
-from pinmob.analysis.limbs import limb_wrenches, limbwise_obstacle
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.motion_limits import describe, limiting_limbs
@@ -33,13 +33,12 @@ from pinmob.assembly.assemble import assemble_pose as _assemble_pose
 from pinmob.assembly.assemble import project
 from pinmob.assembly.residual import closure_residual, compute_kinematics, frame_jacobian, stacked_error
 from pinmob.assembly.solver import solve
-from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ClosureError
 from pinmob.model.joints import short_difference
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.classify import MotionKind
-from pinmob.screw.rank import decide_rank, reciprocal_twists
+from pinmob.screw.rank import decide_rank
 
 #: a step is halved at most this many times before the motion is declared stopped
 MAX_HALVINGS = 4
@@ -62,23 +61,6 @@ def closed_rates(conf: Configuration, held: Sequence[int], rtol: float) -> Array
     return decide_rank(rows, rtol, n=nv).null_space.T
 
 
-@one_blas_thread
-def free_span(conf: Configuration, rtol: float) -> Array:
-    """(6, dof) an orthonormal basis of the platform's free twists ``[v / L; w]`` at ``conf``.
-
-    The space of :func:`~pinmob.analysis.mobility.platform_mobility`'s free twists, without classifying it
-    (the step only projects on it): the twists reciprocal to the stacked limb wrenches, the same rank
-    decision; where the limb-wise method does not apply, the platform mobility's own free twists.
-    """
-    mech = conf.mechanism
-    if limbwise_obstacle(mech):
-        w = twist_scaling(mech.length_scale)[:, None] * platform_mobility(conf, rtol).free_twists
-        return np.linalg.qr(w)[0] if w.shape[1] else w
-    blocks = [wrenches for wrenches, _ in limb_wrenches(conf, rtol)]
-    _, dec = reciprocal_twists(np.hstack(blocks) if blocks else np.zeros((6, 0)), mech.length_scale, rtol)
-    return dec.null_space.T
-
-
 class Follower:
     """One platform motion's continuation: the mechanism's data, reused at every step."""
 
@@ -96,7 +78,7 @@ class Follower:
         self.model, self.data = mech.model, mech.model.createData()
         self.w = twist_scaling(mech.length_scale)
         self.pid = mech.platform_id if mech.has_platform else 0
-        self._spans: dict[bytes, Array] = {}
+        self._spans: dict[bytes, Any] = {}  # per q: what project_free needs there
 
     def pose(self, q: Array) -> pin.SE3:
         """The platform's pose at q."""
@@ -107,24 +89,28 @@ class Follower:
         """The intended direction at q: the motion's screw, fixed in the world, at the current platform origin."""
         return shift_twists(unit, self.pose(q).translation - start.translation)
 
-    def free_at(self, q: Array) -> Array:
-        """:func:`free_span` at q, computed once per q (both directions of a motion start at the same q)."""
+    def free_at(self, q: Array) -> tuple[int, Array]:
+        """The platform's DoF and (6, dof) free twists ``[v / L; w]`` at q, computed once per q.
+
+        Both directions of a motion start at the same q.
+        """
         key = q.tobytes()
         if key not in self._spans:
-            self._spans[key] = free_span(Configuration(self.mech, q, closure_tol=self.tol), self.rtol)
+            mob = platform_mobility(Configuration(self.mech, q, closure_tol=self.tol), self.rtol)
+            self._spans[key] = (mob.dof, self.w[:, None] * mob.free_twists)
         return self._spans[key]
 
     def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
         """``t_F``, the intended twist projected on the free space at q, or (None, reason)."""
-        free = self.free_at(q)
-        if free.shape[1] == 0:
+        dof, free = self.free_at(q)
+        if dof == 0:
             return None, "the platform is rigid there (no free motion left)"
         target = self.w * direction
-        projected = free @ (free.T @ target)
-        share = float(np.linalg.norm(projected) / np.linalg.norm(target))
+        coef, *_ = np.linalg.lstsq(free, target, rcond=None)
+        share = float(np.linalg.norm(free @ coef) / np.linalg.norm(target))
         if share < MIN_SHARE:
             return None, f"the motion leaves the free space there (only {share:.0%} of it is still free)"
-        return projected / self.w, ""
+        return (free @ coef) / self.w, ""
 
     def _predict(self, q: Array, projected: Array, ds: float) -> Array:
         """Joint step keeping every closure to first order while the platform moves by ``projected ds``."""

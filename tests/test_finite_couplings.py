@@ -49,6 +49,9 @@ CASES: dict[str, tuple[int, int]] = {
     # see the file: per leg 19 joint rates - 3 connects x 3 - 1 coupling = 9 (hip 3, knee, ankle 2, the 3 rods'
     # spins); held (hips and cranks), the spins remain
     "couplings/humanoid_legs.xml": (18, 6),
+    # see the file: tendons straight between sites; 4 DoF to first order, c blocked at second order (its cable
+    # held at its shortest): 3; the flexor's motor held: 2
+    "couplings/site_tendons.xml": (3, 2),
 }
 
 #: Perturbation radius [rad or m] and directions the displacements must reach to count (over the radius).
@@ -78,7 +81,11 @@ class MujocoClosure:
         eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
         moments = np.zeros((m.nu, m.nv))
         mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
-        return d.efc_pos[eq].copy(), d.efc_J.reshape(d.nefc, m.nv)[eq].copy(), (d.actuator_length.copy(), moments)
+        return (
+            d.efc_pos[eq].copy(),
+            d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq].copy(),
+            (d.actuator_length.copy(), moments),
+        )
 
     def residual(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """(residual, Jacobian on MuJoCo's qvel) at qpos."""
@@ -183,11 +190,12 @@ def test_shaky_couplings_are_blocked_at_order_two():
 
 
 def test_finite_analysis_refuses_a_spatial_tendon_coupling_in_one_line(capsys):
-    """A tendon routed over sites and pulleys has a length that is no polynomial in joint values: one line naming
-    the coupling and the tendon, exit 2."""
+    """A tendon wrapping a pulley geom: its length's higher derivatives are not written: one line naming the
+    coupling and the tendon, exit 2 (the cable hand's f3_distal, on a tendon straight between two sites, is not
+    the one refused)."""
     assert main(["analyze", str(DATA / "tendons" / "cable_hand.xml"), "--finite"]) == 2
     errors = [line for line in capsys.readouterr().err.splitlines() if line.startswith("pinmob: error:")]
-    assert len(errors) == 1 and "tendon coupling 'f3_distal' on spatial tendon 'f3_link'" in errors[0]
+    assert len(errors) == 1 and "tendon coupling 'f3_follows_f2' on spatial tendon 'flex3'" in errors[0]
 
 
 def test_coupling_rows_derivatives_are_the_exact_polynomial_ones():
@@ -226,3 +234,36 @@ def test_coupling_rows_derivatives_are_the_exact_polynomial_ones():
         f = f - (poly(length(t2) - m.tendon_length0[t2]) if t2 >= 0 else poly.coef[0])
         exact = [f.deriv(n + 1)(0.0) for n in range(k)]
         np.testing.assert_allclose(jets[:, c], exact, rtol=1e-12, atol=1e-12, err_msg=row.name)
+
+
+def test_site_tendon_rows_derivatives_are_mujocos():
+    """Each tendon equality's row along ``q(t) = q + sum_i x^(i) t^i / i!`` (hinges): its derivatives of orders
+    1..4 at t = 0 (times L: the rows of a length are divided by it) = those of MuJoCo's own residual ``efc_pos``
+    along the same curve (``ten_length`` of tendons straight between sites, MuJoCo's polynomial), from a
+    Chebyshev fit of degree 12 on t in [-0.05, 0.05]."""
+    path = DATA / "couplings" / "site_tendons.xml"
+    mech = _load(path)
+    conf = pinmob.Configuration(mech, np.array(mech.configurations["reference"].vector))
+    loops = mechanism_loops(conf)
+    rng = np.random.default_rng(1)
+    k = 4
+    x = rng.normal(size=(k, loops.system.size))
+    jets = loops.equations.jets(x)[:, -len(loops.couplings) :]
+    closure = MujocoClosure(path, _qpos(path, mech, conf.q), held=False)
+    m, d = closure.m, closure.d
+    rate = np.zeros((k, m.nv))  # the curve on MuJoCo's qvel (hinges: qpos moves by qvel)
+    for j in range(m.njnt):
+        rate[:, int(m.jnt_dofadr[j])] = x[:, mech.model.joints[mech.model.getJointId(m.joint(j).name)].idx_v]
+    qpos0 = _qpos(path, mech, conf.q)
+    ts = 0.05 * np.cos(np.pi * (np.arange(40) + 0.5) / 40)
+    values = []
+    for t in ts:
+        d.qpos[:] = qpos0 + sum(rate[i] * t ** (i + 1) / np.prod(range(1, i + 2)) for i in range(k))
+        mujoco.mj_forward(m, d)
+        values.append([d.efc_pos[np.flatnonzero(d.efc_id[: d.nefc] == e)[0]] for e in range(m.neq)])
+    values = np.array(values)
+    for c, row in enumerate(loops.couplings):
+        e = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_EQUALITY, row.name)
+        fit = np.polynomial.Chebyshev.fit(ts, values[:, e], 12)
+        exact = [fit.deriv(n + 1)(0.0) for n in range(k)]
+        np.testing.assert_allclose(jets[:, c] * mech.length_scale, exact, rtol=1e-5, atol=1e-9, err_msg=row.name)

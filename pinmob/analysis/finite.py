@@ -46,8 +46,8 @@ class FiniteMobility:
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
-        unheld: actuators on spatial tendons, sites and the like, not held by ``locked`` (it holds joints, and
-            fixed tendons as tendon equalities: :func:`pinmob.analysis.coupling_rows.hold_tendons`).
+        unheld: actuators on wrapping tendons, sites and the like, not held by ``locked`` (it holds joints, and
+            tendons as tendon equalities: :func:`pinmob.analysis.coupling_rows.hold_tendons`).
     """
 
     mechanism: str
@@ -164,9 +164,9 @@ class FiniteMobility:
             lines += [f"  note: {n}" for n in lk.notes]
         if self.unheld:
             lines.append(
-                f"actuators held: actuator(s) {', '.join(self.unheld)} (on a spatial tendon, a site, a slider-crank "
-                "or a ball joint) not held (this analysis holds joints and fixed tendons; name the joints to hold "
-                "with --actuated)"
+                f"actuators held: actuator(s) {', '.join(self.unheld)} (on a tendon wrapping geoms or over a pulley, "
+                "a site, a slider-crank or a ball joint) not held (this analysis holds joints and tendons; name the "
+                "joints to hold with --actuated)"
             )
         return "\n".join(lines)
 

@@ -173,6 +173,6 @@ def mechanism_loops(conf: Configuration) -> MechanismLoops:
             support[b, body_all == b] = 1.0
         loops = np.array([support[b] - support[e] for b, e in ends]).reshape(len(ends), n)
         system = LoopSystem(s_all.T.copy(), body_all, support, loops)
-        return MechanismLoops(system, model.nv, col, reference, coupling_rows(conf, closures, col, n))
+        return MechanismLoops(system, model.nv, col, reference, coupling_rows(conf, closures, col, n, reference))
 
     return conf.memo("mechanism_loops", compute)

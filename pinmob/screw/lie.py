@@ -92,6 +92,11 @@ class LoopSystem:
         Returns:
             (k, 6 c), or (b, k, 6 c): row n is ``Phi^(n)`` (6 per loop, loop after loop).
         """
+        out, _ = self.jets_and_twists(x)
+        return out
+
+    def jets_and_twists(self, x: Array) -> tuple[Array, Array]:
+        """:meth:`jets`, and the bodies' twists' derivatives ``V^(0..k-1)``: (k, B, 6), or (b, k, B, 6)."""
         xb = x[None] if x.ndim == 2 else x
         batch, k, _ = xb.shape
         s = [np.broadcast_to(self.screws, (batch, *self.screws.shape))]
@@ -103,4 +108,5 @@ class LoopSystem:
             u = np.sum([comb(n, b) * s[b] * xb[:, n - b, :, None] for b in range(n + 1)], axis=0)
             v.append(self.support @ u)
             out[:, n] = (self.loops @ u).reshape(batch, -1)
-        return out[0] if x.ndim == 2 else out
+        twists = np.stack(v, axis=1)
+        return (out[0], twists[0]) if x.ndim == 2 else (out, twists)

@@ -19,6 +19,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from numpy.polynomial import Polynomial
+from test_mjcf_tendons import _scaled
 from test_third_party import mujoco_joint, mujoco_model
 
 import pinmob
@@ -267,3 +268,29 @@ def test_site_tendon_rows_derivatives_are_mujocos():
         fit = np.polynomial.Chebyshev.fit(ts, values[:, e], 12)
         exact = [fit.deriv(n + 1)(0.0) for n in range(k)]
         np.testing.assert_allclose(jets[:, c] * mech.length_scale, exact, rtol=1e-5, atol=1e-9, err_msg=row.name)
+
+
+def _verdicts(path: Path) -> tuple[int | None, int | None, tuple[tuple[str, int], ...]]:
+    """(finite DoF, with the actuators held, the sorted (verdict, blocking order or 0) of every internal motion)."""
+    fin = pinmob.analyze(_load(path), "reference", finite=True).finite
+    verdicts = sorted((m.verdict.value, m.order or 0) for m in fin.free.internal)
+    return fin.finite_mechanism_dof, fin.finite_dof_locked, tuple(verdicts)
+
+
+@pytest.mark.parametrize("name", ["couplings/site_tendons.xml", "tendons/gripper.xml"])
+def test_finite_answers_do_not_depend_on_the_unit_of_length_or_placement(tmp_path, name):
+    """The fixture in millimetres, in kilometres (its polynomial between lengths rescaled with them: the same
+    mechanism), and moved 10 m away and turned: the same finite DoF and per-motion verdicts (a site path's rows
+    are lengths, divided by L like every length)."""
+    text = (DATA / name).read_text()
+    answers = set()
+    for k in (1.0, 1e3, 1e-3):
+        path = tmp_path / f"{k}.xml"
+        path.write_text(_scaled(text, k).replace('polycoef="0 1 3 0 0"', f'polycoef="0 1 {3 / k!r} 0 0"'))
+        answers.add(_verdicts(path))
+    moved = text.replace("<worldbody>", '<worldbody><body name="stand" pos="10 -3 2" euler="0.3 -0.2 0.5">', 1)
+    path = tmp_path / "moved.xml"
+    path.write_text(moved.replace("</worldbody>", "</body></worldbody>", 1))
+    answers.add(_verdicts(path))
+    assert len(answers) == 1, answers
+    assert answers.pop()[:2] == CASES[name]

@@ -148,7 +148,7 @@ def local_dimension(
         u = kernel @ rng.normal(size=m)
         u /= np.linalg.norm(u)
         q0 = pin.integrate(model, conf.q, col * radius * u)
-        res = solve(model, residual, q0, tol=1e-12, max_iter=MAX_ITER, length=length, free=free)
+        res = solve(model, residual, q0, tol=1e-12, max_iter=MAX_ITER, length=length, free=free, polish=False)
         if res.residual > conf.closure_tol:
             continue
         closed += 1

@@ -23,7 +23,6 @@ from numpy.testing import assert_allclose
 from test_third_party import mujoco_counts, mujoco_locked
 
 import pinmob
-from pinmob.cli import main
 from pinmob.io.mjcf_tendons import MomentActuator, SpatialTendon
 from pinmob.io.mjcf_tree import q_to_qpos
 
@@ -157,13 +156,6 @@ def test_a_mechanism_with_spatial_tendons_pickles():
     copy = pickle.loads(pickle.dumps(mech))
     a, b = (pinmob.analyze(x, "reference").to_dict()["actuation"] for x in (mech, copy))
     assert a == b and a["locked_dof"] == HAND["cable_hand.xml"][3]
-
-
-def test_finite_analysis_refuses_a_tendon_coupling_in_one_line(capsys):
-    """The higher-order analysis has no cut joint for a tendon coupling: one line naming it, exit 2."""
-    assert main(["analyze", str(DATA / "gripper.xml"), "--finite"]) == 2
-    errors = [line for line in capsys.readouterr().err.splitlines() if line.startswith("pinmob: error:")]
-    assert len(errors) == 1 and "tendon coupling 'r_tip_follows'" in errors[0]
 
 
 def test_a_narrow_tendon_limit_is_no_coupling(tmp_path):

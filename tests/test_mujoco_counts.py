@@ -38,6 +38,14 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     # test_mjcf_tendons' fixtures: a cable hand (spatial tendons over sites and pulleys, a site actuator, a spatial
     # tendon equality), a gripper whose four-bar fingers are coupled by tendon equalities, and a slider-crank, a
     # ball-joint motor, a free puck pushed at its edge and an adhesion actuator (on a body: not held by either)
+    # humanoid legs (test_finite_couplings): per leg 19 rates - 3 connects x 3 - 1 toe coupling = 9; the hips and
+    # cranks held leave the 6 rods' spins
+    "couplings/humanoid_legs.xml": (38, 12, 18, 6),
+    # a = +-b^2 and t1 = +-t2^2 give each row twice at zero (rank 2 of 4); the actuator on f + g holds one more
+    "couplings/shaky_couplings.xml": (6, 1, 4, 3),
+    # tendons straight between sites: a_distal and b_follows_a (2 rows); c_held's row is zero at qpos0 (the cable at
+    # its shortest: MuJoCo adds no row there); the flexor's motor holds one more
+    "couplings/site_tendons.xml": (6, 1, 4, 3),
     "tendons/cable_hand.xml": (9, 4, 5, 1),
     "tendons/gripper.xml": (8, 1, 1, 0),
     "tendons/transmissions.xml": (12, 4, 7, 4),

@@ -22,11 +22,12 @@ linkages) need nothing special: the conditions are written on every loop.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 from pinmob.analysis.branches import branch_joints
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.coupling_rows import hold_tendons
 from pinmob.analysis.finite_side import Side, analyse_side
 from pinmob.analysis.higher_order import ORDER, ORDER_TOL, check_order
 from pinmob.analysis.motion import Motion
@@ -45,7 +46,8 @@ class FiniteMobility:
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
-        unheld: actuators on tendons, sites and the like, not held by ``locked`` (it holds joints only).
+        unheld: actuators on wrapping tendons, sites and the like, not held by ``locked`` (it holds joints, and
+            tendons as tendon equalities: :func:`pinmob.analysis.coupling_rows.hold_tendons`).
     """
 
     mechanism: str
@@ -162,8 +164,9 @@ class FiniteMobility:
             lines += [f"  note: {n}" for n in lk.notes]
         if self.unheld:
             lines.append(
-                f"actuators held: actuator(s) {', '.join(self.unheld)} (not on a hinge or slide) not held (this "
-                "analysis holds joints; name the joints to hold with --actuated)"
+                f"actuators held: actuator(s) {', '.join(self.unheld)} (on a tendon wrapping geoms or over a pulley, "
+                "a site, a slider-crank or a ball joint) not held (this analysis holds joints and tendons; name the "
+                "joints to hold with --actuated)"
             )
         return "\n".join(lines)
 
@@ -221,10 +224,12 @@ def finite_mobility(
         mech = conf.mechanism
         free = analyse_side(conf, rtol, order, order_tol, (), seed, motions)
         locked = None
-        if mech.actuated:
+        tendons, held_tendons, others = hold_tendons(conf)  # fixed-tendon actuators held as tendon equalities
+        if mech.actuated or held_tendons:
             held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
-            locked = analyse_side(conf, rtol, order, order_tol, held, seed, locked_motions)
-        unheld = tuple(t.name for t in mech.actuated_tendons)
+            locked = analyse_side(tendons, rtol, order, order_tol, held, seed, locked_motions)
+            locked = replace(locked, held=locked.held + held_tendons)
+        unheld = tuple(t.name for t in others)
         return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf, unheld)
 
     key = tuple(

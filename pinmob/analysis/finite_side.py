@@ -106,7 +106,15 @@ def _trace_motion(conf: Configuration, motion: Motion, rtol: float) -> float:
     mech = conf.mechanism
     amp = TRACE * mech.length_scale if motion.kind is MotionKind.TRANSLATION else TRACE
     path = follow_motion(
-        mech, conf.q, motion, amplitude=amp, steps=2, rtol=rtol, closure_tol=conf.closure_tol, halvings=HALVINGS
+        mech,
+        conf.q,
+        motion,
+        amplitude=amp,
+        steps=2,
+        rtol=rtol,
+        closure_tol=conf.closure_tol,
+        halvings=HALVINGS,
+        either=True,  # the farthest reach is all that is used
     )
     return max(path.reached)
 
@@ -130,6 +138,7 @@ def _trace_rates(
         rtol=rtol,
         closure_tol=conf.closure_tol,
         halvings=HALVINGS,
+        either=True,  # the farthest reach and its end are all that is used
     )
     reached = max(path.reached)
     if twist is None or reached == 0.0:

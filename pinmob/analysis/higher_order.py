@@ -1,11 +1,11 @@
 """Higher-order conditions on the closure equations: which first-order motions extend, and to which order.
 
-With the loops of :mod:`pinmob.analysis.loop_screws` (``n`` joint and cut coordinates, first-order
-matrix ``A``), a closed curve through q has derivatives ``x^(1), x^(2), ...`` with
-``Phi^(n) = A x^(n+1) + R_n(x^(1..n)) = 0`` for every n (:mod:`pinmob.screw.lie`). With ``N`` an
-orthonormal basis of ``null A`` (the instantaneous motions, ``x^(1) = N y``) and ``C`` one of
-``null A^T`` (the combinations of loop equations no joint rate changes), the condition of order
-``k >= 2`` is
+With the loops of :mod:`pinmob.analysis.loop_screws` and the couplings' rows of
+:mod:`pinmob.analysis.coupling_rows` (``n`` joint and cut coordinates, first-order matrix ``A``), a closed
+curve through q has derivatives ``x^(1), x^(2), ...`` with ``Phi^(n) = A x^(n+1) + R_n(x^(1..n)) = 0``
+for every n (:mod:`pinmob.screw.lie`). With ``N`` an orthonormal basis of ``null A`` (the instantaneous
+motions, ``x^(1) = N y``) and ``C`` one of ``null A^T`` (the combinations of loop equations no joint rate
+changes), the condition of order ``k >= 2`` is
 
     g_k = C^T R_(k-1)(x^(1), ..., x^(k-1)) = 0,   x^(i) = -A^+ R_(i-1) + N z_i  (z_i free),
 
@@ -114,7 +114,7 @@ class HigherOrder:
 
     def __init__(self, loops: MechanismLoops, rtol: float, held: Sequence[int] = (), order_tol: float = ORDER_TOL):
         self.loops = loops
-        system = loops.system
+        self.system = system = loops.equations
         a = system.first_order()
         n = system.size
         free = np.ones(n, bool)
@@ -150,7 +150,7 @@ class HigherOrder:
 
     def chain(self, y: Array, zs: Sequence[Array], order: int) -> Array:
         """(b, order - 1, r) the conditions ``g_2 .. g_order`` for a batch of y (b, m) and ``z_2..`` (each (b, m))."""
-        system = self.loops.system
+        system = self.system
         x = np.zeros((y.shape[0], order, system.size))
         x[:, 0] = y @ self.kernel.T
         out = np.zeros((y.shape[0], order - 1, self.r))

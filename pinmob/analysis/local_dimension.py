@@ -148,7 +148,7 @@ def local_dimension(
         u = kernel @ rng.normal(size=m)
         u /= np.linalg.norm(u)
         q0 = pin.integrate(model, conf.q, col * radius * u)
-        res = solve(model, residual, q0, tol=1e-12, max_iter=MAX_ITER, length=length, free=free)
+        res = solve(model, residual, q0, tol=1e-12, max_iter=MAX_ITER, length=length, free=free, polish=False)
         if res.residual > conf.closure_tol:
             continue
         closed += 1
@@ -166,9 +166,11 @@ def local_dimension(
         if start is not None:
             compute_kinematics(model, data, res.q)
             poses[best].append(w * displacement(start, data.oMf[mech.platform_id]))
-            rank = _platform_rank(conf, res.q, held, branches[best].shape[1], rtol)
-            if rank is not None:
-                ranks[best].append(rank)
+            bound = min(6, branches[best].shape[1])  # no sample's rank exceeds it: once found, the largest is known
+            if bound not in ranks[best]:
+                rank = _platform_rank(conf, res.q, held, branches[best].shape[1], rtol)
+                if rank is not None:
+                    ranks[best].append(rank)
     per_branch = tuple(_spread(rows, 1.0) for rows in moves)
     platform = None
     if start is not None:

@@ -10,6 +10,9 @@ closed configuration (world axes, frame a's origin p, its axis ``u`` turned to t
 - ``universal``: the rotation about u, then about the second axis (frame b's ``axis_b``), through p;
 - ``planar``: the translations along two directions normal to u, then the rotation about u.
 
+A coupling (a polynomial between joint values or fixed-tendon lengths) closes no loop: it is a
+scalar row of its own, differentiated exactly (:mod:`pinmob.analysis.coupling_rows`).
+
 The loop twist of a closure is then ``V_b - V_e`` (frame b's body, the cut chain's last body),
 and the closed configurations near q are exactly the curves keeping every loop twist zero
 (:mod:`pinmob.screw.lie`). The cut coordinates are extra unknowns; each cut chain is a local
@@ -31,7 +34,9 @@ import numpy as np
 
 from pinmob.analysis.closure_jacobian import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.coupling_rows import CoupledSystem, CouplingRow, coupling_rows
 from pinmob.exceptions import ConfigurationError
+from pinmob.name_matching import choices
 from pinmob.model.closure import Closure, ClosureType
 from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling
@@ -77,6 +82,12 @@ class MechanismLoops:
     nv: int
     columns: Array
     reference: Array
+    couplings: tuple[CouplingRow, ...] = ()
+
+    @property
+    def equations(self) -> CoupledSystem:
+        """The closure equations near q: the loops', then the couplings' rows (:mod:`pinmob.analysis.coupling_rows`)."""
+        return CoupledSystem(self.system, self.couplings)
 
 
 def _cut_screws(conf: Configuration, c: Closure) -> list[Array]:
@@ -92,12 +103,6 @@ def _cut_screws(conf: Configuration, c: Closure) -> list[Array]:
 
     if c.type is ClosureType.WELD:
         return []
-    if c.is_coupling:
-        raise ConfigurationError(
-            f"the higher-order (finite mobility) analysis cannot treat {c.type} coupling {c.name!r} (a polynomial "
-            f"between {'joint values' if c.type is ClosureType.JOINT else 'tendon lengths'}, not a cut joint); "
-            "analyse without --finite"
-        )
     if c.type is ClosureType.BALL:
         return [turn(e) for e in np.eye(3)]
     u = rot @ np.asarray(c.axis, float)
@@ -151,7 +156,7 @@ def mechanism_loops(conf: Configuration) -> MechanismLoops:
             joint = model.joints[j]
             body[joint.idx_v : joint.idx_v + joint.nv] = j
         screws, bodies, ends = [tree], [body], []
-        for c in closures:
+        for c in (c for c in closures if not c.is_coupling):  # couplings: rows of their own, below
             cut = _cut_screws(conf, c)
             end = model.frames[c.frame_a_id].parentJoint
             for s in cut:
@@ -169,6 +174,7 @@ def mechanism_loops(conf: Configuration) -> MechanismLoops:
             support[b] = support[parent[b]]
             support[b, body_all == b] = 1.0
         loops = np.array([support[b] - support[e] for b, e in ends]).reshape(len(ends), n)
-        return MechanismLoops(LoopSystem(s_all.T.copy(), body_all, support, loops), model.nv, col, reference)
+        system = LoopSystem(s_all.T.copy(), body_all, support, loops)
+        return MechanismLoops(system, model.nv, col, reference, coupling_rows(conf, closures, col, n, reference))
 
     return conf.memo("mechanism_loops", compute)

@@ -144,6 +144,7 @@ def follow_motion(
     closure_tol: float = CLOSURE_TOL,
     max_deviation: float = MAX_DEVIATION,
     halvings: int = MAX_HALVINGS,
+    either: bool = False,
 ) -> MotionPath:
     """Follow ``motion`` from the closed configuration q, both ways, by continuation.
 
@@ -159,6 +160,8 @@ def follow_motion(
         max_deviation: largest angle [rad] between a step's platform displacement
             and the intended motion (W metric); a step beyond it is halved or refused.
         halvings: how many times a failed step is halved before the motion stops.
+        either: follow backwards only when forwards stops short of the amplitude (for the farthest reach
+            either way, ``max(path.reached)``, which is then the same; the backward path is then ``(q,)``).
 
     Returns:
         the path; every configuration in it closes within ``closure_tol``.
@@ -189,7 +192,7 @@ def follow_motion(
     check_closed(mech, q, closure_tol, what="the configuration to animate")
     unit = motion.twist / np.linalg.norm(motion.twist[_measure(motion)])
     follower = Follower(mech, motion, rtol, closure_tol, max_deviation, halvings)
-    return _both_ways(follower, q, unit, unit, amp, steps, motion.label, unit_name)
+    return _both_ways(follower, q, unit, unit, amp, steps, motion.label, unit_name, either)
 
 
 def follow_rates(
@@ -205,6 +208,7 @@ def follow_rates(
     closure_tol: float = CLOSURE_TOL,
     max_deviation: float = MAX_DEVIATION,
     halvings: int = MAX_HALVINGS,
+    either: bool = False,
 ) -> MotionPath:
     """Follow a direction of joint rates from the closed configuration q, both ways, every step closed.
 
@@ -220,6 +224,7 @@ def follow_rates(
         closure_tol: closure tolerance of every frame.
         max_deviation: largest angle [rad] between a step's joint displacement and the direction.
         halvings: how many times a failed step is halved before the direction stops.
+        either: follow backwards only when forwards stops short of the amplitude (:func:`follow_motion`).
 
     Returns:
         the path (``reached`` in the dimensionless joint metric); every configuration in it closes.
@@ -228,17 +233,32 @@ def follow_rates(
     check_closed(mech, q, closure_tol, what="the configuration to follow from")
     unit = np.asarray(rates, float) / np.linalg.norm(rates)
     follower = RateFollower(mech, held, rtol, closure_tol, max_deviation, halvings)
-    return _both_ways(follower, q, unit, np.zeros(6), amplitude, steps, label, "(joint metric)")
+    return _both_ways(follower, q, unit, np.zeros(6), amplitude, steps, label, "(joint metric)", either)
 
 
 def _both_ways(
-    follower: Follower, q: Array, unit: Array, twist: Array, amp: float, steps: int, label: str, unit_name: str
+    follower: Follower,
+    q: Array,
+    unit: Array,
+    twist: Array,
+    amp: float,
+    steps: int,
+    label: str,
+    unit_name: str,
+    either: bool = False,
 ) -> MotionPath:
-    """The path along ``unit`` and along ``-unit``, each end's platform displacement measured against ``twist``."""
+    """The path along ``unit`` and along ``-unit``, each end's platform displacement measured against ``twist``.
+
+    With ``either``, ``-unit`` is not followed when ``unit`` reaches ``amp`` (its path is then ``(q,)``).
+    """
     start = follower.pose(q)
-    branches, reached, reasons, moved = [], [], [], []
+    branches, reasons, moved = [], [], []
+    reached: list[float] = []
     for sign in (1.0, -1.0):
-        path, covered, why = follower.branch(q, sign * unit, amp, amp / steps)
+        if either and sign < 0 and reached[0] == amp:
+            path, covered, why = [q], 0.0, ""
+        else:
+            path, covered, why = follower.branch(q, sign * unit, amp, amp / steps)
         branches.append(tuple(path))
         reached.append(covered)
         reasons.append(why)

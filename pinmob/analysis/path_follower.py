@@ -18,6 +18,7 @@ metres / L for prismatic ones).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -77,6 +78,7 @@ class Follower:
         self.model, self.data = mech.model, mech.model.createData()
         self.w = twist_scaling(mech.length_scale)
         self.pid = mech.platform_id if mech.has_platform else 0
+        self._spans: dict[bytes, Any] = {}  # per q: what project_free needs there
 
     def pose(self, q: Array) -> pin.SE3:
         """The platform's pose at q."""
@@ -87,12 +89,22 @@ class Follower:
         """The intended direction at q: the motion's screw, fixed in the world, at the current platform origin."""
         return shift_twists(unit, self.pose(q).translation - start.translation)
 
+    def free_at(self, q: Array) -> tuple[int, Array]:
+        """The platform's DoF and (6, dof) free twists ``[v / L; w]`` at q, computed once per q.
+
+        Both directions of a motion start at the same q.
+        """
+        key = q.tobytes()
+        if key not in self._spans:
+            mob = platform_mobility(Configuration(self.mech, q, closure_tol=self.tol), self.rtol)
+            self._spans[key] = (mob.dof, self.w[:, None] * mob.free_twists)
+        return self._spans[key]
+
     def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
         """``t_F``, the intended twist projected on the free space at q, or (None, reason)."""
-        mob = platform_mobility(Configuration(self.mech, q, closure_tol=self.tol), self.rtol)
-        if mob.dof == 0:
+        dof, free = self.free_at(q)
+        if dof == 0:
             return None, "the platform is rigid there (no free motion left)"
-        free = self.w[:, None] * mob.free_twists
         target = self.w * direction
         coef, *_ = np.linalg.lstsq(free, target, rcond=None)
         share = float(np.linalg.norm(free @ coef) / np.linalg.norm(target))
@@ -199,7 +211,10 @@ class RateFollower(Follower):
 
     def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
         """The direction projected on the closed chain's rates at q (held joints still), or (None, reason)."""
-        null = closed_rates(Configuration.unchecked(self.mech, q), self.held.tolist(), self.rtol)
+        key = q.tobytes()
+        if key not in self._spans:  # both directions start at the same q
+            self._spans[key] = closed_rates(Configuration.unchecked(self.mech, q), self.held.tolist(), self.rtol)
+        null = self._spans[key]
         projected = null @ (null.T @ direction)
         share = float(np.linalg.norm(projected) / np.linalg.norm(direction))
         if share < MIN_SHARE:

@@ -107,6 +107,7 @@ class SpatialTendon(Tendon):
         index: its MuJoCo index.
         kinematics: the compiled model.
         joints: indices of the Pinocchio joints that move it (those carrying its sites and geoms).
+        sites: its sites' Pinocchio frames, in order, when it runs straight between sites (else empty).
     """
 
     name: str
@@ -114,6 +115,11 @@ class SpatialTendon(Tendon):
     kinematics: MujocoKinematics = field(repr=False)
     joints: frozenset[int] = frozenset()
     linear: bool = True
+    sites: tuple[int, ...] = ()
+
+    def site_frames(self) -> tuple[int, ...]:
+        """Its sites' frames when it runs straight between sites (no wrapping geom, no pulley), else ``()``."""
+        return self.sites
 
     def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:
         """MuJoCo's ``ten_length`` and ``ten_J`` row (on Pinocchio's ``v``) at the last kinematics' q."""
@@ -137,12 +143,18 @@ class MomentActuator(Transmission):
         kind: what it drives: ``tendon``, ``site``, ``slider-crank`` or ``ball joint`` (a free joint too).
         index: its MuJoCo index.
         kinematics: the compiled model.
+        tendon: the spatial tendon it drives (None for a site, a slider-crank or a ball joint).
     """
 
     name: str
     kind: str
     index: int
     kinematics: MujocoKinematics = field(repr=False)
+    tendon: Tendon | None = field(default=None, repr=False)
+
+    def driven_tendon(self, model: pin.Model) -> Tendon | None:
+        """The spatial tendon it drives, or None."""
+        return self.tendon
 
     def rate_row(self, model: pin.Model, q: Array) -> Array:
         """(nv,) MuJoCo's ``actuator_moment`` row at q, on Pinocchio's ``v``."""
@@ -191,7 +203,9 @@ def tendon_of(m: Any, tree: Tree, t: int, kinematics: MujocoKinematics) -> Tendo
         if m.wrap_type[w] in (mujoco.mjtWrap.mjWRAP_SITE, mujoco.mjtWrap.mjWRAP_SPHERE, mujoco.mjtWrap.mjWRAP_CYLINDER)
     }
     joints = frozenset(int(j) for b in bodies for j in model.supports[tree.body_joint[b]] if j > 0)
-    return SpatialTendon(tendon_name(m, t), t, kinematics, joints)
+    straight = all(m.wrap_type[w] == mujoco.mjtWrap.mjWRAP_SITE for w in wraps)
+    sites = tuple(model.getFrameId(tree.site_frame[int(m.wrap_objid[w])]) for w in wraps) if straight else ()
+    return SpatialTendon(tendon_name(m, t), t, kinematics, joints, sites=sites)
 
 
 def tendon_frames(m: Any, tree: Tree, t: int) -> list[int]:
@@ -242,7 +256,8 @@ def read_actuators(m: Any, tree: Tree, kinematics: MujocoKinematics) -> tuple[li
             adhesion.append(name)
         else:
             what = {trn.mjTRN_TENDON: "tendon", trn.mjTRN_SITE: "site", trn.mjTRN_SLIDERCRANK: "slider-crank"}
-            held.append(MomentActuator(name, what.get(kind, "ball joint"), a, kinematics))
+            tendon = tendon_of(m, tree, target, kinematics) if kind == trn.mjTRN_TENDON else None
+            held.append(MomentActuator(name, what.get(kind, "ball joint"), a, kinematics, tendon))
     return joints, held, adhesion
 
 

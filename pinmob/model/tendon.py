@@ -39,6 +39,10 @@ class Transmission(ABC):
     def rate_row(self, model: pin.Model, q: Array) -> Array:
         """(nv,) the actuator's moment arms at q: ``row . v`` is the rate of what it drives."""
 
+    def driven_tendon(self, model: pin.Model) -> Tendon | None:
+        """The tendon whose length it drives (held: keeps), or None (a site, a slider-crank, a ball joint)."""
+        return None
+
 
 class Tendon(ABC):
     """A tendon's length as a function of the configuration (see the module docstring).
@@ -59,6 +63,13 @@ class Tendon(ABC):
     @abstractmethod
     def joint_ids(self, model: pin.Model) -> frozenset[int]:
         """The joints whose motion can change the length."""
+
+    def site_frames(self) -> tuple[int, ...]:
+        """Frame indices of the sites the tendon runs straight between, in order (empty: not such a tendon).
+
+        Such a tendon's length is ``sum_i |p_(i+1) - p_i|`` over these frames' origins.
+        """
+        return ()
 
 
 @dataclass(frozen=True)
@@ -120,6 +131,11 @@ class TendonActuator(Transmission):
     def rate_row(self, model: pin.Model, q: Array | None = None) -> Array:
         """(nv,) the row ``s`` with ``s . dq = dl / dt``: ``c_j`` at each joint's velocity index (any q)."""
         return FixedTendon(self.tendon, self.joints, self.coefficients).row(model)
+
+    def driven_tendon(self, model: pin.Model) -> Tendon | None:
+        """Its fixed tendon (a length in metres when a slide is among its joints)."""
+        linear = any("Prismatic" in model.joints[model.getJointId(j)].shortname() for j in self.joints)
+        return FixedTendon(self.tendon, self.joints, self.coefficients, linear)
 
 
 def tendon_rows(model: pin.Model, tendons: Sequence[Transmission], q: Array, col: Array) -> Array:

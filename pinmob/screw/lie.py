@@ -38,9 +38,22 @@ from pinmob.screw.algebra import Array
 
 
 def bracket(a: Array, b: Array) -> Array:
-    """Lie bracket ``[a, b]`` of twists ``[v; w]`` in rows: (6,) or (k, 6) each (broadcast), same shape out."""
-    va, wa, vb, wb = a[..., :3], a[..., 3:], b[..., :3], b[..., 3:]
-    return np.concatenate([np.cross(wa, vb) + np.cross(va, wb), np.cross(wa, wb)], axis=-1)
+    """Lie bracket ``[a, b]`` of twists ``[v; w]`` in rows: (6,) or (k, 6) each (broadcast), same shape out.
+
+    The cross products are written out by component (``np.cross`` costs more than the products on the
+    small arrays of a loop system: the finite analysis's conditions spend most of their time here).
+    """
+    a, b = np.broadcast_arrays(a, b)
+    out = np.empty(a.shape)
+    ax, ay, az, bx, by, bz = a[..., 3], a[..., 4], a[..., 5], b[..., 3], b[..., 4], b[..., 5]  # w_a, w_b
+    out[..., 3] = ay * bz - az * by
+    out[..., 4] = az * bx - ax * bz
+    out[..., 5] = ax * by - ay * bx
+    vx, vy, vz, ux, uy, uz = b[..., 0], b[..., 1], b[..., 2], a[..., 0], a[..., 1], a[..., 2]  # v_b, v_a
+    out[..., 0] = ay * vz - az * vy + uy * bz - uz * by
+    out[..., 1] = az * vx - ax * vz + uz * bx - ux * bz
+    out[..., 2] = ax * vy - ay * vx + ux * by - uy * bx
+    return out
 
 
 @dataclass(frozen=True)
@@ -79,6 +92,11 @@ class LoopSystem:
         Returns:
             (k, 6 c), or (b, k, 6 c): row n is ``Phi^(n)`` (6 per loop, loop after loop).
         """
+        out, _ = self.jets_and_twists(x)
+        return out
+
+    def jets_and_twists(self, x: Array) -> tuple[Array, Array]:
+        """:meth:`jets`, and the bodies' twists' derivatives ``V^(0..k-1)``: (k, B, 6), or (b, k, B, 6)."""
         xb = x[None] if x.ndim == 2 else x
         batch, k, _ = xb.shape
         s = [np.broadcast_to(self.screws, (batch, *self.screws.shape))]
@@ -90,4 +108,5 @@ class LoopSystem:
             u = np.sum([comb(n, b) * s[b] * xb[:, n - b, :, None] for b in range(n + 1)], axis=0)
             v.append(self.support @ u)
             out[:, n] = (self.loops @ u).reshape(batch, -1)
-        return out[0] if x.ndim == 2 else out
+        twists = np.stack(v, axis=1)
+        return (out[0], twists[0]) if x.ndim == 2 else (out, twists)

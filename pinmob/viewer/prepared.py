@@ -16,6 +16,7 @@ import numpy as np
 
 from pinmob.analysis.closed_chain import MechanismMobility
 from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.coupling_rows import is_polynomial
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.mobility import Mobility
@@ -92,7 +93,7 @@ def prepare(
                 bar.update()
             else:
                 paths[m.label] = MotionPath(m.label, (conf.q,), (conf.q,), (0.0, 0.0), 0.0)
-    coupled = any(c.is_coupling for c in mech.closures)  # beyond the finite analysis: no verdicts
+    coupled = any(c.is_coupling and not is_polynomial(c) for c in mech.closures)  # beyond the finite analysis
     if finite and mech.has_platform and mob.motions and not coupled:
         verdicts = {v.label: v for v in finite_mobility(conf, RTOL, motions=mob.motions).motions}
         for label, path in paths.items():

@@ -1,0 +1,243 @@
+"""Couplings as higher-order constraint rows: polynomials in coordinates whose derivatives are exact.
+
+A coupling closure (:data:`pinmob.model.closure.COUPLINGS`) is no cut joint between two frames but one
+scalar equation between coordinates: MuJoCo's ``<equality joint>``, ``q1 - r1 = P(q2 - r2)``, and
+``<equality tendon>``, ``l1 - r1 = P(l2 - r2)``, on fixed tendons (``l = sum_j c_j q_j``, linear in joint values:
+:class:`~pinmob.model.tendon.FixedTendon`) or tendons routed straight between sites (``l = sum_i |p_(i+1) - p_i|``);
+a tendon actuator held is the tendon equality ``l - l(q) = 0`` (:func:`hold_tendons`). Near q, with ``c1(t)``,
+``c2(t)`` the two coordinates along a curve (:class:`~pinmob.analysis.coordinate_series.Coordinate`: their
+Taylor series are exact), each coupling is
+
+    f(t) = s (c1(t) - c1(0)) - P~(c2(t) - c2(0)) = 0,     P~(u) = s (P(u0 + u) - P(u0)),
+
+``u0 = c2(0) - r2`` and ``s = 1 / L`` when coordinate 1 is a length (else 1). With ``x^(1), x^(2), ...`` the
+curve's derivatives at t = 0, ``f^(n+1) = (n + 1)! [t^(n+1)] f`` from the truncated power series of the
+composition: ``A x^(n+1) + R_n(x^(1..n))`` as for the loops' rows (:mod:`pinmob.screw.lie`).
+:class:`CoupledSystem` appends these rows to a :class:`~pinmob.screw.lie.LoopSystem`, so that
+:class:`pinmob.analysis.higher_order.HigherOrder` treats them as it treats the loops. A tendon that wraps geoms
+or runs over a pulley has no such series here: a coupling on one is refused (:func:`coupling_rows`) and an
+actuator on one left unheld (:func:`hold_tendons`), by name.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from math import factorial
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.coordinate_series import Coordinate, truncated_product
+from pinmob.exceptions import ConfigurationError
+from pinmob.model.closure import Closure, ClosureType, make_tendon_coupling
+from pinmob.model.tendon import FixedTendon, Tendon, Transmission
+from pinmob.screw.algebra import Array
+from pinmob.screw.lie import LoopSystem
+
+
+@dataclass(frozen=True)
+class CouplingRow:
+    """One coupling ``f = s (c1 - c1(q)) - P~(c2 - c2(q))`` on the n coordinates of a loop system.
+
+    Attributes:
+        name: the closure's name.
+        first: coordinate 1 (:class:`~pinmob.analysis.coordinate_series.Coordinate`).
+        second: coordinate 2 (None for a coupling of one coordinate).
+        poly: coefficients of ``P~`` (``poly[0] == 0``), already times ``scale``.
+        scale: ``1 / L`` when coordinate 1 is a length, else 1.
+    """
+
+    name: str
+    first: Coordinate
+    second: Coordinate | None
+    poly: tuple[float, ...]
+    scale: float = 1.0
+
+    @property
+    def needs_twists(self) -> bool:
+        """Either coordinate is a path between sites."""
+        return self.first.is_path or (self.second is not None and self.second.is_path)
+
+    def series(self, x: Array, twists: Array | None) -> Array:
+        """(b, k + 1) the Taylor coefficients of f along ``x`` (b, k, n)."""
+        out = self.scale * self.first.series(x, twists)
+        if self.second is not None and len(self.poly) > 1:
+            inner = self.second.series(x, twists)
+            power = np.zeros_like(inner)
+            power[:, 0] = 1.0
+            for coefficient in self.poly[1:]:
+                power = truncated_product(power, inner)
+                out -= coefficient * power
+        return out
+
+
+@dataclass(frozen=True)
+class CoupledSystem:
+    """A loop system and coupling rows: the closure equations near q, loops first, then one row per coupling.
+
+    Same interface as :class:`~pinmob.screw.lie.LoopSystem` (``size``, ``first_order``, ``jets``).
+
+    Attributes:
+        loops: the loops' system.
+        rows: the couplings.
+    """
+
+    loops: LoopSystem
+    rows: tuple[CouplingRow, ...] = ()
+
+    @property
+    def size(self) -> int:
+        """Number of coordinates n (joint and cut)."""
+        return self.loops.size
+
+    def first_order(self) -> Array:
+        """(6 c + k, n) the loops' ``A`` then the couplings' rows (their first derivatives along each coordinate)."""
+        n = self.size
+        rows = (
+            self.jets(np.eye(n)[:, None, :])[:, 0, self.loops.loops.shape[0] * 6 :].T if self.rows else np.zeros((0, n))
+        )
+        return np.vstack([self.loops.first_order(), rows])
+
+    def jets(self, x: Array) -> Array:
+        """The derivatives ``Phi^(0..k-1)`` of the loops' twists then of the couplings (see the module docstring).
+
+        Args:
+            x: (k, n) or (b, k, n), ``x[..., i, :] = x^(i+1)``.
+
+        Returns:
+            (k, 6 c + r) or (b, k, 6 c + r).
+        """
+        if not self.rows:
+            return self.loops.jets(x)
+        xb = x[None] if x.ndim == 2 else x
+        if any(r.needs_twists for r in self.rows):
+            loops, twists = self.loops.jets_and_twists(xb)
+        else:
+            loops, twists = self.loops.jets(xb), None
+        k = xb.shape[1]
+        factorials = np.array([float(factorial(i + 1)) for i in range(k)])
+        out = np.stack([factorials * row.series(xb, twists)[:, 1:] for row in self.rows], axis=-1)
+        both = np.concatenate([loops, out], axis=-1)
+        return both if x.ndim == 3 else both[0]
+
+
+def is_polynomial(closure: Closure) -> bool:
+    """True for a coupling the higher-order analysis writes as a row.
+
+    A joint coupling, or a tendon coupling on fixed tendons or tendons straight between sites.
+    """
+    return closure.type is ClosureType.JOINT or all(
+        isinstance(t, FixedTendon) or t.site_frames() for t in closure.tendons
+    )
+
+
+def _linear(
+    model: pin.Model, q: Array, col: Array, n: int, joints: tuple[str, ...], coefs: tuple[float, ...]
+) -> Coordinate:
+    """The :class:`Coordinate` ``sum_j c_j q_j`` (one-degree joints)."""
+    row, value = np.zeros(n), 0.0
+    for joint, c in zip(joints, coefs, strict=True):
+        j = model.joints[model.getJointId(joint)]
+        value += c * float(q[j.idx_q])
+        row[j.idx_v] += c * float(col[j.idx_v])
+    return Coordinate(row, value)
+
+
+def _path(conf: Configuration, frames: tuple[int, ...], reference: Array, n: int) -> Coordinate:
+    """The :class:`Coordinate` of a tendon straight between the sites of ``frames`` (its length [m])."""
+    model, length = conf.mechanism.model, conf.mechanism.length_scale
+    points = np.array([conf.frame_placement(f).translation for f in frames])
+    value = float(np.sum(np.linalg.norm(np.diff(points, axis=0), axis=1)))
+    bodies = tuple(int(model.frames[f].parentJoint) for f in frames)
+    return Coordinate(np.zeros(n), value, bodies, (points - reference) / length, length)
+
+
+def _tendon(conf: Configuration, tendon: Tendon, closure: Closure, col: Array, reference: Array, n: int) -> Coordinate:
+    if isinstance(tendon, FixedTendon):
+        return _linear(conf.mechanism.model, conf.q, col, n, tendon.joints, tendon.coefficients)
+    if tendon.site_frames():
+        path = _path(conf, tendon.site_frames(), reference, n)
+        if np.min(np.linalg.norm(np.diff(path.points, axis=0), axis=1)) <= 1e-12:
+            raise ConfigurationError(
+                f"the higher-order (finite mobility) analysis cannot treat tendon coupling {closure.name!r}: two "
+                f"consecutive sites of tendon {tendon.name!r} coincide at this configuration (its length is not "
+                "differentiable there); analyse without --finite"
+            )
+        return path
+    raise ConfigurationError(
+        f"the higher-order (finite mobility) analysis cannot treat tendon coupling {closure.name!r} on spatial "
+        f"tendon {tendon.name!r} (it wraps geoms or runs over a pulley: its length's higher derivatives are not "
+        "written); analyse without --finite"
+    )
+
+
+def coupling_rows(
+    conf: Configuration, closures: tuple[Closure, ...], col: Array, n: int, reference: Array
+) -> tuple[CouplingRow, ...]:
+    """The :class:`CouplingRow` of each coupling closure among ``closures`` at ``conf`` (n coordinates).
+
+    ``reference``: (3,) the loop system's reference point [m].
+
+    Raises:
+        ConfigurationError: a tendon coupling on a tendon that wraps geoms or runs over a pulley (named).
+    """
+    model = conf.mechanism.model
+    out = []
+    for c in closures:
+        if not c.is_coupling:
+            continue
+        if c.type is ClosureType.JOINT:
+            coords = [_linear(model, conf.q, col, n, (j,), (1.0,)) for j in c.joints]
+            linear = "Prismatic" in model.joints[model.getJointId(c.joints[0])].shortname()
+        else:
+            coords = [_tendon(conf, t, c, col, reference, n) for t in c.tendons]
+            linear = c.tendons[0].linear
+        s = 1.0 / conf.mechanism.length_scale if linear else 1.0
+        second, coefs = None, np.zeros(1)
+        if len(coords) > 1:
+            second = coords[1]
+            poly = np.polynomial.Polynomial(c.polycoef)
+            coefs = np.array(poly(np.polynomial.Polynomial([second.value - c.reference[1], 1.0])).coef, float)
+            coefs[0] = 0.0
+        out.append(CouplingRow(c.name, coords[0], second, tuple(float(v) * s for v in coefs), s))
+    return tuple(out)
+
+
+def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], tuple[Transmission, ...]]:
+    """``conf`` with its tendon actuators held as tendon equalities at their lengths at q.
+
+    An actuator on a fixed tendon, or on a tendon straight between sites, held keeps the tendon's length at
+    its value: the tendon closure ``l - l(q) = 0`` (one coordinate, ``polycoef = 0``), exact at every order,
+    and written on the closed chain's residual too, so that the tracing and the closed samples hold it as
+    the conditions do.
+
+    Returns:
+        the configuration of the mechanism with those closures (``conf`` itself when there are none), the
+        names of the actuators held so, and the other transmissions (on a tendon that wraps geoms or runs
+        over a pulley, a site, a slider-crank, a ball joint: not held).
+    """
+    mech = conf.mechanism
+    model = mech.model
+    extra, held, others = [], [], []
+    taken = {c.name for c in mech.all_closures}
+    for t in mech.actuated_tendons:
+        tendon = t.driven_tendon(model)
+        if tendon is None or not (isinstance(tendon, FixedTendon) or tendon.site_frames()):
+            others.append(t)
+            continue
+        length = tendon.length(model, conf.data)[0]
+        if isinstance(tendon, FixedTendon):
+            ids = {model.getJointId(j) for j in tendon.joints}
+            frames = [i for i, f in enumerate(model.frames) if f.parentJoint in ids and f.type == pin.FrameType.JOINT]
+        else:
+            frames = list(tendon.site_frames())
+        name = f"actuator {t.name}"
+        while name in taken:
+            name += "'"
+        extra.append(make_tendon_coupling(model, name, (tendon,), (0.0,), (length,), (frames[0], frames[-1])))
+        held.append(t.name)
+    if not extra:
+        return conf, (), tuple(others)
+    locked = replace(mech, closures=mech.closures + tuple(extra), actuated_tendons=tuple(others))
+    return Configuration(locked, conf.q, closure_tol=conf.closure_tol, name=conf.name), tuple(held), tuple(others)

@@ -36,7 +36,6 @@ from pinmob.analysis.closure_jacobian import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.coupling_rows import CoupledSystem, CouplingRow, coupling_rows
 from pinmob.exceptions import ConfigurationError
-from pinmob.name_matching import choices
 from pinmob.model.closure import Closure, ClosureType
 from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array, shift_twists, twist_scaling

@@ -25,7 +25,7 @@ numba is installed (``pip install "pinmob[fast]"``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
@@ -65,6 +65,9 @@ class BatchResult(ReadOnlyArrays):
         locked_dof: (N,) platform DoF with the actuated joints locked.
         actuation_singular_values: (N, 6) of the stacked dimensionless locked-limb wrenches (NaN unless asked for).
         engine: ``numba`` or ``numpy`` (:func:`analyze_batch`); limbs with loops: ``per configuration``.
+        free_twists: (N, 6, 6) an orthonormal basis of the platform's free dimensionless twists ``[v / L; w]``
+            in the first ``dof`` columns, NaN in the others: the span :func:`pinmob.analyze` classifies (None
+            unless asked for).
     """
 
     dof: Ints
@@ -75,6 +78,7 @@ class BatchResult(ReadOnlyArrays):
     locked_dof: Ints
     actuation_singular_values: Array
     engine: str = "numpy"
+    free_twists: Array | None = None
 
 
 def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) -> tuple[Array, Array]:
@@ -123,6 +127,7 @@ def analyze_batch(
     rtol: float = RTOL,
     singular_values: bool = False,
     engine: str | None = None,
+    twists: bool = False,
 ) -> BatchResult:
     """Mobility and singularity numbers at N closed configurations, fast.
 
@@ -143,6 +148,8 @@ def analyze_batch(
         rtol: relative tolerance of every rank decision.
         singular_values: also give the singular values and the limb ratios.
         engine: ``numba`` or ``numpy`` (default: numba when installed, else numpy).
+        twists: also give the platform's free twists (:attr:`BatchResult.free_twists`; by batched LAPACK
+            SVDs with either engine).
 
     Raises:
         ConfigurationError: qs has the wrong shape or non-finite values, the
@@ -155,19 +162,57 @@ def analyze_batch(
             f"analyze_batch needs finite configurations of shape (N, {mech.model.nq}), got shape {qs.shape}"
         )
     require_platform(mech, "analyze_batch")
+    engine = check_engine(engine)
+    if any(limb.closures for limb in mech.limbs):
+        if twists:
+            raise ConfigurationError("analyze_batch gives free twists only for limbs without loops")
+        return _per_configuration(mech, qs, rtol, singular_values)
+    full, origin = world_jacobians(mech, qs)
+    return analyze_jacobians(mech, full, origin, rtol=rtol, singular_values=singular_values, engine=engine,
+                             twists=twists)  # fmt: skip
+
+
+def check_engine(engine: str | None) -> str:
+    """The batch engine to use: ``engine``, or numba when installed, else numpy.
+
+    Raises:
+        ConfigurationError: an unknown engine, or numba asked for and not installed.
+    """
     if engine is None:
         engine = "numba" if numba_available() else "numpy"
     if engine not in ENGINES:
         raise ConfigurationError(f"unknown batch engine {engine!r}; valid: {', '.join(ENGINES)}")
     if engine == "numba" and not numba_available():
         raise ConfigurationError("the numba engine needs numba: pip install 'pinmob[fast]'")
-    if any(limb.closures for limb in mech.limbs):
-        return _per_configuration(mech, qs, rtol, singular_values)
-    full, origin = world_jacobians(mech, qs)
-    full *= rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
+    return engine
+
+
+@one_blas_thread
+def analyze_jacobians(
+    mech: Mechanism,
+    full: Array,
+    origin: Array,
+    *,
+    rtol: float = RTOL,
+    singular_values: bool = False,
+    engine: str | None = None,
+    twists: bool = False,
+) -> BatchResult:
+    """:func:`analyze_batch` from the kinematics already computed: (N, 6, nv) world Jacobians, (N, 3) platform origins.
+
+    ``full`` and ``origin`` as :func:`world_jacobians` gives them (``full`` is not changed); limbs without loops
+    inside them only, and the configurations are not checked.
+    """
+    engine = check_engine(engine)
+    full = full * rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
     if engine == "numba":
-        return _numba(mech, full, origin, rtol, singular_values)
-    return _numpy(mech, full, origin, rtol, singular_values)
+        result = _numba(mech, full, origin, rtol, singular_values)
+        if twists:
+            wrenches = [(rank, vt) for rank, vt in _limb_wrenches(mech, full, origin, rtol)]
+            sw = wrench_scaling(mech.length_scale)[:, None]
+            result = replace(result, free_twists=_stacked(wrenches, rtol, sw, twists=True)[2])
+        return result
+    return _numpy(mech, full, origin, rtol, singular_values, twists)
 
 
 def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
@@ -204,15 +249,20 @@ def _null_rows(a: Array, rtol: float) -> tuple[Ints, Array, Array]:
     return rank_rule_rows(s, rtol), s, vt
 
 
-def _stacked(blocks: list[tuple[Ints, Array]], rtol: float, scale: Array | None) -> tuple[Ints, Array]:
+def _stacked(
+    blocks: list[tuple[Ints, Array]], rtol: float, scale: Array | None, twists: bool = False
+) -> tuple[Ints, Array, Array | None]:
     """Rank and (N, 6) singular values of the null rows of every limb stacked, per configuration.
 
     ``blocks``: per limb, (N,) ranks and (N, 6, 6) ``V^T`` (its null rows are those beyond the rank). The
     configurations with the same ranks are stacked and decomposed together. With ``scale`` (the wrench
     scaling), each block goes to SI and back, as :func:`pinmob.analysis.mobility.mobility_from_wrenches` takes it.
+    With ``twists``, also the (N, 6, 6) null spaces of the stacked matrices (the reciprocal dimensionless twists)
+    as columns, NaN beyond each one's dimension.
     """
     n = blocks[0][0].shape[0]
     ranks, values = np.zeros(n, np.int64), np.zeros((n, 6))
+    null = np.full((n, 6, 6), np.nan) if twists else None
     pattern = np.stack([r for r, _ in blocks], axis=1)
     for key in np.unique(pattern, axis=0):
         where = np.flatnonzero((pattern == key).all(axis=1))
@@ -223,13 +273,26 @@ def _stacked(blocks: list[tuple[Ints, Array]], rtol: float, scale: Array | None)
         else:
             stacked = np.concatenate(rows, axis=1)
         if stacked.shape[1] == 0:
+            if null is not None:
+                null[where] = np.eye(6)  # no wrench: every twist is free (decide_rank of an empty matrix)
             continue
-        r, s, _ = _null_rows(stacked, rtol)
+        r, s, vt = _null_rows(stacked, rtol)
         ranks[where], values[where, : s.shape[1]] = r, s[:, :6]
-    return ranks, values
+        if null is not None:
+            for i, (w, rank) in enumerate(zip(where, r)):
+                null[w, :, : 6 - rank] = vt[i, rank:].T
+    return ranks, values, null
 
 
-def _numpy(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
+def _limb_wrenches(mech: Mechanism, full: Array, origin: Array, rtol: float) -> list[tuple[Ints, Array]]:
+    """Per limb, (N,) twist ranks and (N, 6, 6) ``V^T`` of its transposed dimensionless screws (wrenches: the null rows)."""
+    st = twist_scaling(mech.length_scale)[:, None]
+    return [_null_rows(np.swapaxes(st * twists, 1, 2), rtol)[::2] for twists in limb_jacobians(mech, full, origin)]
+
+
+def _numpy(
+    mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool, spans: bool = False
+) -> BatchResult:
     """:func:`analyze_batch` with batched LAPACK SVDs: the matrices and calls of the single analyses, per limb."""
     st, sw = twist_scaling(mech.length_scale)[:, None], wrench_scaling(mech.length_scale)[:, None]
     generic = generic_twist_ranks(mech)
@@ -248,15 +311,15 @@ def _numpy(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_va
             locked.append((lr, lvt))
         elif unit is not None:
             locked.append((unit[0], unit[2]))
-    d, sv = _stacked(wrenches, rtol, sw)
-    locked_rank, asv = _stacked(locked, rtol, None)
+    d, sv, free = _stacked(wrenches, rtol, sw, spans)
+    locked_rank, asv, _ = _stacked(locked, rtol, None)
     n = full.shape[0]
     if not singular_values:
         sv, asv, ratio_array = np.full((n, 6), np.nan), np.full((n, 6), np.nan), np.full((n, len(mech.limbs)), np.nan)
     else:
         ratio_array = np.stack(ratios, axis=1)
     limb_rank = np.stack([r for r, _ in wrenches], axis=1)
-    return BatchResult(6 - d, d, sv, limb_rank, ratio_array, 6 - locked_rank, asv, "numpy")
+    return BatchResult(6 - d, d, sv, limb_rank, ratio_array, 6 - locked_rank, asv, "numpy", free)
 
 
 def _per_configuration(mech: Mechanism, qs: Array, rtol: float, singular_values: bool) -> BatchResult:

@@ -25,6 +25,7 @@ from pinmob.exceptions import PinmobError
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.batch_rows import Analysed, analyse
 from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, v_vertex
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
@@ -100,7 +101,7 @@ def _evaluate(
         locked_dof=sing.locked_dof,
         singularity=sing.label,
         near_singular=sing.near_singular,
-        closest=sing.closest,
+        closest=sing.closest_all[0],  # the first of those tied within round-off: not decided by it
         singular_limbs=";".join(sing.limbs),
         dependent_limbs=";".join(sing.dependent_limbs),
         uncontrolled=";".join(m.label for m in sing.uncontrolled),
@@ -112,11 +113,15 @@ def _evaluate(
 
 @dataclass
 class _Sample:
-    """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances."""
+    """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances.
+
+    Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave.
+    """
 
     row: dict[str, Any]
     q: Array | None
     distances: dict[str, float]
+    known: dict[str, float] | None = None
 
     @property
     def distance(self) -> float:
@@ -131,6 +136,11 @@ class _Chunk:
         self.band = NEAR_FACTOR * spec.rtol
 
     def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None) -> _Sample:
+        """Sample t assembled from ``seed`` and analysed on its own."""
+        return self.finish(self.assemble(t, seed, max_iter, stall_window))
+
+    def assemble(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None) -> _Sample:
+        """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q."""
         target = self.spec.target(t)
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
@@ -145,25 +155,52 @@ class _Chunk:
                 return _Sample(head | unreachable_chain(str(exc)), None, {})
             reason = unreachable_reason(exc, self.mech, self.spec.closure_tol)
             return _Sample(head | unreachable_row(target, reason) | values, None, {})
+        return _Sample(head, q, {}, dict(known))
+
+    def finish(self, pending: _Sample, analysed: Analysed | None = None) -> _Sample:
+        """The row of an assembled sample (:meth:`assemble`), from ``analysed`` (the batch's) or on its own."""
+        head, q, known = pending.row, pending.q, pending.known
+        if q is None or known is None:
+            return pending
         values = joint_row(self.mech, self.spec.values, q, known)
         if not self.spec.platform:
             head.update(values)
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
-            row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
+            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
             limits = outside_limits(self.mech.model, q)
             row.update(reason=f"joints outside their limits: {', '.join(limits)}" if limits else "", **values)
         return _Sample(head | row, q, distances)
 
+    def analysed(self, samples: list[_Sample]) -> list[Analysed | None]:
+        """The batch's rows of the assembled ``samples`` (None where it cannot decide; all None with ``single``)."""
+        if self.spec.engine != "batch" or not self.spec.platform:
+            return [None] * len(samples)
+        closed = [s.q for s in samples if s.q is not None]
+        batch = iter(analyse(self.mech, closed, self.spec.rtol, self.spec.generic_rank))
+        return [next(batch) if s.q is not None else None for s in samples]
+
     def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:
-        first, last = self.spec.line(start)
-        done: dict[int, _Sample] = {}
+        """The rows of samples ``start .. stop - 1`` (one after the other; :mod:`pinmob.scan.lockstep` runs many)."""
+        pending: dict[int, _Sample] = {}
         q = seed
-        for k in range(start, min(stop, last) + 1):
-            done[k] = self.sample(k, q)
-            q = _seed(done[k], q)
-        if start > first:
-            done[start - 1] = self.sample(start - 1, _seed(done[start], seed))
+        for k in self.line_samples(start, stop):
+            pending[k] = self.assemble(k, q)
+            q = _seed(pending[k], q)
+        if self.spec.line(start)[0] < start:
+            pending[start - 1] = self.assemble(start - 1, _seed(pending[start], seed))
+        return self.complete(start, stop, pending, self.analysed(list(pending.values())))
+
+    def line_samples(self, start: int, stop: int) -> range:
+        """The samples a chunk assembles in order: its own and the next one on its line (its right neighbour)."""
+        return range(start, min(stop, self.spec.line(start)[1]) + 1)
+
+    def complete(
+        self, start: int, stop: int, pending: dict[int, _Sample], analysed: list[Analysed | None]
+    ) -> list[dict[str, Any]]:
+        """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order."""
+        first, last = self.spec.line(start)
+        done = {k: self.finish(s, a) for (k, s), a in zip(pending.items(), analysed)}
         extra: list[_Sample] = []
         for k in range(start, stop):
             extra += self.refine(k, done, first, last)

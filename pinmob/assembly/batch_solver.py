@@ -27,10 +27,14 @@ trust region of :mod:`pinmob.assembly.solver`), and applied by
 ``stall_window`` iterations (:data:`~pinmob.assembly.solver.STALL_GAIN`), when a
 step makes it grow tenfold, or after ``max_iter`` iterations.
 
-The predictor only: a scan then polishes each converged sample with the single-sample
-solver (:func:`pinmob.scan.chunk.assemble_target`, one or two Gauss-Newton steps
-from there), which also decides the closure, and gives every sample the predictor
-did not converge to that solver from its warm start.
+A sample within ``tol`` goes on while a step keeps at most ``POLISH_GAIN`` of its
+``max |e|^2``, down to ``POLISH_FLOOR`` (the single-sample solver's polish rule,
+:mod:`pinmob.assembly.solver`): Newton steps converge quadratically there, or
+halve the distance at a singular solution (a double root), so it ends at
+round-off or ~1e-8 from a singular one, as that solver does, and is closed
+(:func:`finish_closed`). A scan gives every sample the
+predictor did not converge to the single-sample solver from its warm start
+(:mod:`pinmob.scan.lockstep`).
 """
 
 from __future__ import annotations
@@ -40,8 +44,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.solver import MAX_STEP, STALL_GAIN
-from pinmob.model.joints import linear_velocity_mask
+from pinmob.assembly.assemble import warn_outside_limits
+from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
+from pinmob.model.joints import linear_velocity_mask, wrap_angles
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
 
@@ -104,45 +109,41 @@ class PoseProblem:
         pid = mech.platform_id
         body = model.frames[pid].parentJoint
         self.frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
-        self.masks = []
-        for frame in self.frames:
-            mask = np.zeros(model.nv)
+        self.mask = np.zeros((len(self.frames), 1, model.nv))  # (F, 1, nv): the joints supporting each frame
+        for i, frame in enumerate(self.frames):
             for j in list(model.supports[model.frames[frame].parentJoint])[1:]:
-                mask[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
-            self.masks.append(mask)
+                self.mask[i, 0, model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
         col_q = np.where(linear_velocity_mask(model), self.length, 1.0)
         self.col = np.concatenate([col_q, [self.length if f < 3 else 1.0 for f in self.free]])
         self.data = model.createData()
 
     def residual(self, qs: Array, poses: Array) -> tuple[Array, Array]:
         """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate at (B, nq), (B, 6)."""
-        model, data, n, nv = self.model, self.data, len(qs), self.model.nv
+        model, data, n, nv, nf = self.model, self.data, len(qs), self.model.nv, len(self.frames)
         full = np.empty((n, 6, nv))
-        pos, rot = np.empty((n, len(self.frames), 3)), np.empty((n, len(self.frames), 3, 3))
+        pos, rot = np.empty((n, nf, 3)), np.empty((n, nf, 3, 3))
         for b in range(n):
             full[b] = pin.computeJointJacobians(model, data, qs[b])
             pin.updateFramePlacements(model, data)
             for i, frame in enumerate(self.frames):
                 m = data.oMf[frame]
                 pos[b, i], rot[b, i] = m.translation, m.rotation
+        jac = full[:, None] * self.mask  # (B, F, 6, nv): each frame's supporting columns
+        lin = jac[:, :, :3] - _skew(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
         target = _rpy_matrices(poses[:, 3:])
-        rates = _rpy_rates(poses[:, 3:]) if self.free else None
-        errors, rows = [], []
-        for i, mask in enumerate(self.masks):
-            jac = full * mask
-            lin = jac[:, :3] - _skew(pos[:, i]) @ jac[:, 3:]
-            extra = np.zeros((n, 6, len(self.free)))
+        rel = (rot @ target[:, None].transpose(0, 1, 3, 2)).reshape(-1, 3, 3)
+        errors = np.concatenate([(pos - poses[:, None, :3]) / self.length, _log3(rel).reshape(n, nf, 3)], 2)
+        rows = np.concatenate([lin / self.length, jac[:, :, 3:]], 2)  # (B, F, 6, nv)
+        if self.free:
+            extra = np.zeros((n, nf, 6, len(self.free)))
+            rates = _rpy_rates(poses[:, 3:])
             for c, f in enumerate(self.free):
                 if f < 3:
-                    extra[:, f, c] = -1.0
+                    extra[:, :, f, c] = -1.0 / self.length
                 else:
-                    assert rates is not None
-                    extra[:, 3:, c] = -rates[:, :, f - 3]
-            errors.append(np.concatenate([(pos[:, i] - poses[:, :3]) / self.length,
-                                          _log3(rot[:, i] @ target.transpose(0, 2, 1))], 1))  # fmt: skip
-            extra[:, :3] /= self.length
-            rows.append(np.concatenate([np.concatenate([lin / self.length, jac[:, 3:]], 1), extra], 2))
-        return np.concatenate(errors, 1), np.concatenate(rows, 1) * self.col
+                    extra[:, :, 3:, c] = -rates[:, None, :, f - 3]
+            rows = np.concatenate([rows, extra], 3)
+        return errors.reshape(n, 6 * nf), rows.reshape(n, 6 * nf, -1) * self.col
 
     def integrate(self, qs: Array, poses: Array, steps: Array) -> tuple[Array, Array]:
         """Configurations and poses moved by (B, nv + free) dimensionless steps."""
@@ -151,6 +152,20 @@ class PoseProblem:
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
+
+
+def finish_closed(mech: Mechanism, q: Array, kind: str) -> Array:
+    """A configuration the predictor closed, as the single-sample assembly returns it.
+
+    Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`) and the warning for joints outside their
+    limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind`` ``pose``) or of
+    :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``).
+    """
+    q = wrap_angles(mech.model, q)
+    warn_outside_limits(
+        mech, q, "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
+    )
+    return q
 
 
 def _worst(e: Array, frames: int) -> Array:
@@ -165,27 +180,37 @@ def solve_poses(
     tol: float = 1e-12,
     max_iter: int = MAX_ITER,
     stall_window: int = STALL_WINDOW,
+    floor: float = POLISH_FLOOR,
 ) -> BatchSolution:
     """Damped Newton on B pose assemblies in lockstep (module docstring) from (B, nq) starts to (B, 6) poses.
 
-    ``poses`` holds the given coordinates and the free ones' starting values (the warm starts' own).
+    ``poses`` holds the given coordinates and the free ones' starting values (the warm starts' own). A sample
+    within ``tol`` goes on while its steps keep at most ``POLISH_GAIN`` of ``max |e|^2``, down to ``floor``
+    (the single-sample solver's polish); the best iterate of each sample is returned.
     """
     q, p = np.array(qs, float), np.array(poses, float)
     n, frames = len(q), len(problem.frames)
     history = np.full((n, max_iter + 1), np.inf)
-    last = np.full(n, np.inf)
+    best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     iterations = np.zeros(n, int)
-    stopped = np.zeros(n, bool)
     active = np.arange(n)
     for it in range(max_iter + 1):
         e, jac = problem.residual(q[active], p[active])
         now = _worst(e, frames)
-        diverged = now > DIVERGED * np.where(np.isfinite(last[active]), last[active], np.inf)
-        history[active, it] = last[active] = now
+        previous = best[active]
+        better = now < previous
+        best_q[active[better]], best_p[active[better]], best[active[better]] = (
+            q[active[better]],
+            p[active[better]],
+            now[better],
+        )
+        history[active, it] = now
         before = history[active, it - stall_window] if it >= stall_window else np.full(len(active), np.inf)
         stalled = now > (1 - STALL_GAIN) * before
-        done = (now <= tol) | stalled | diverged | ~np.isfinite(now)
-        stopped[active[done & (now > tol)]] = True
+        diverged = now > DIVERGED * previous
+        # at the floor, or a step within tol that kept more than POLISH_GAIN of the cost (the single-sample polish's rule)
+        polished = (now <= floor) | ((previous <= tol) & (now**2 > POLISH_GAIN * previous**2))
+        done = polished | stalled | diverged | ~np.isfinite(now)
         keep = ~done
         active, e, jac = active[keep], e[keep], jac[keep]
         if not active.size or it == max_iter:
@@ -196,4 +221,4 @@ def solve_poses(
         dz = -np.linalg.solve(jtj + mu, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0]
         dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
         q[active], p[active] = problem.integrate(q[active], p[active], dz)
-    return BatchSolution(q, last, last <= tol, iterations)
+    return BatchSolution(best_q, best, best <= tol, iterations)

@@ -139,8 +139,18 @@ class _Chunk:
         """Sample t assembled from ``seed`` and analysed on its own."""
         return self.finish(self.assemble(t, seed, max_iter, stall_window))
 
-    def assemble(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None) -> _Sample:
-        """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q."""
+    def assemble(
+        self,
+        t: float,
+        seed: Array,
+        max_iter: int = MAX_ITER,
+        stall_window: int | None = None,
+        closed: Array | None = None,
+    ) -> _Sample:
+        """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q.
+
+        ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor).
+        """
         target = self.spec.target(t)
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
@@ -149,7 +159,11 @@ class _Chunk:
         if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain)
             head.update(values)
         try:
-            q = assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol, stall_window)
+            q = (
+                closed
+                if closed is not None
+                else assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol, stall_window)
+            )
         except PinmobError as exc:
             if not self.spec.platform:
                 return _Sample(head | unreachable_chain(str(exc)), None, {})

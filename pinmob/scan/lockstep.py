@@ -3,20 +3,23 @@
 A group of up to ``GROUP`` chunks (:func:`pinmob.scan.run.chunk_groups`) runs as one
 job. Step j assembles the j-th sample of every chunk of the group, each
 warm-started from the previous sample of its own chunk (the continuation of the
-single-sample path, so the same assembly branch): first the batched predictor
-(:func:`pinmob.assembly.batch_solver.solve_poses`, damped Newton steps over all
-those samples at once) brings each platform-pose target close to its solution,
-then the single-sample solver (:func:`pinmob.scan.chunk.assemble_target`) polishes
-it from there (a Gauss-Newton step or two) and decides whether it closed. A sample
-the predictor did not converge (out of reach, a stall, a step that diverged) is
-given to that solver from its warm start, exactly as the single-sample path does:
-the reachable / unreachable verdicts and the reasons are that solver's. Joint
-targets (forward kinematics), targets that hold joints, mechanisms without a
-platform or with closures besides the limb tips are assembled by that solver alone.
+single-sample path, so the same assembly branch), by the batched predictor
+(:func:`pinmob.assembly.batch_solver.solve_poses`: damped Newton steps over all
+those samples at once, polished to round-off). A sample it did not bring within
+``PREDICT_TOL`` (out of reach, a stall, a step that diverged) goes to the
+single-sample solver (:func:`pinmob.scan.chunk.assemble_target`) from its warm
+start, exactly as on the single-sample path: an unreachable verdict and its
+reason are that solver's. Joint targets (forward kinematics), targets that hold
+joints, mechanisms without a platform or with closures besides the limb tips are
+assembled by that solver alone.
 
-The group's samples are then analysed in one batch (:mod:`pinmob.scan.batch_rows`)
-and each chunk refines and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`,
-the refinements on the single-sample path). With ``spec.engine == "single"``
+The group's samples are then analysed in one batch (:mod:`pinmob.scan.batch_rows`);
+a predicted sample the batch does not decide (singular or close to it) is polished
+again by the single-sample solver from the predictor's configuration (its
+Gauss-Newton steps end ~1e-8 from a singular solution, a double root, where the
+predictor's damped steps stop earlier) and analysed on its own. Each chunk refines
+and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`, the refinements
+on the single-sample path). With ``spec.engine == "single"``
 the chunks run one after the other, each sample on its own.
 """
 
@@ -27,17 +30,17 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.batch_solver import PoseProblem, solve_poses
+from pinmob.assembly.batch_solver import PoseProblem, finish_closed, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.chunk import _Chunk, _Sample, _seed, assemble_target, run_chunk
 from pinmob.scan.spec import ScanSpec
 from pinmob.screw.algebra import Array
 
 #: Chunks per group (samples assembled in lockstep: up to GROUP per step).
 GROUP = 8
 
-#: The predictor stops a sample at this ``max |e|``: the single-sample solver's polish then takes one step.
+#: A sample the predictor brought within this ``max |e|`` (and polished on to round-off) is closed.
 PREDICT_TOL = 1e-12
 
 #: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
@@ -60,12 +63,14 @@ class Predictor:
         kind, value = spec.target(0)
         return kind == "pose" or (kind == "coords" and not value[1])
 
-    def starts(self, ts: list[float], seeds: list[Array]) -> list[Array]:
-        """Per target t, the predictor's configuration when it converged, else the seed."""
+    def closed(self, targets: list[tuple[str, Any]], seeds: list[Array]) -> list[Array | None]:
+        """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
+
+        Closed: :func:`finish_closed` of a sample it converged; None where it did not.
+        """
         model, data, pid = self.mech.model, self.problem.data, self.mech.platform_id
-        poses = np.empty((len(ts), 6))
-        for i, (t, seed) in enumerate(zip(ts, seeds)):
-            kind, value = self.spec.target(t)
+        poses = np.empty((len(targets), 6))
+        for i, ((kind, value), seed) in enumerate(zip(targets, seeds)):
             if kind == "pose":
                 poses[i] = pose_vector(value)
                 continue
@@ -74,7 +79,18 @@ class Predictor:
             for c, v in value[0].items():
                 poses[i, POSE_COORDS.index(c)] = v
         sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL)
-        return [q if ok else seed for q, ok, seed in zip(sol.q, sol.converged, seeds)]
+        return [
+            finish_closed(self.mech, q, kind) if ok else None for q, ok, (kind, _) in zip(sol.q, sol.converged, targets)
+        ]
+
+    def assemble(self, target: tuple[str, Any], seed: Array) -> Array:
+        """One target from ``seed`` (the seeding walk): the predictor's, else :func:`assemble_target`'s.
+
+        Raises:
+            PinmobError: it does not assemble.
+        """
+        q = self.closed([target], [seed])[0]
+        return assemble_target(self.mech, target, seed, tol=self.spec.closure_tol) if q is None else q
 
 
 def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str, Any]]:
@@ -85,18 +101,23 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
     chunks = [_Chunk(mech, spec) for _ in jobs]
     plans = [list(chunk.line_samples(start, stop)) for chunk, (start, stop, _) in zip(chunks, jobs)]
     pending: list[dict[int, _Sample]] = [{} for _ in jobs]
+    predicted: set[tuple[int, int]] = set()
     last = [seed for _, _, seed in jobs]
     for j in range(max(len(p) for p in plans)):
         which = [c for c, plan in enumerate(plans) if j < len(plan)]
-        _step(predictor, chunks, pending, last, [(c, float(plans[c][j]), last[c]) for c in which])
+        _step(predictor, chunks, pending, predicted, last, [(c, plans[c][j], last[c]) for c in which])
     neighbours = [c for c, (start, _, _) in enumerate(jobs) if spec.line(start)[0] < start]
     if neighbours:  # each chunk's left neighbour, warm-started from its first sample
-        _step(predictor, chunks, pending, last,
-              [(c, float(jobs[c][0] - 1), _seed(pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])  # fmt: skip
+        _step(predictor, chunks, pending, predicted, last,
+              [(c, jobs[c][0] - 1, _seed(pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])  # fmt: skip
     analysed = iter(chunks[0].analysed([s for p in pending for s in p.values()]))
     rows: list[dict[str, Any]] = []
     for c, (start, stop, _) in enumerate(jobs):
         mine = [next(analysed) for _ in pending[c]]
+        for (k, sample), decided in zip(list(pending[c].items()), mine):
+            if decided is None and (c, k) in predicted and sample.q is not None:  # singular or close to it: the
+                again = chunks[c].assemble(k, sample.q)  # single-sample solver's polish (~1e-8 from a double root)
+                pending[c][k] = again if again.q is not None else sample
         rows += chunks[c].complete(start, stop, pending[c], mine)
     return rows
 
@@ -105,12 +126,15 @@ def _step(
     predictor: Predictor,
     chunks: list[_Chunk],
     pending: list[dict[int, _Sample]],
+    predicted: set[tuple[int, int]],
     last: list[Array],
-    work: list[tuple[int, float, Array]],
+    work: list[tuple[int, int, Array]],
 ) -> None:
-    """Assemble sample t of chunk c from ``seed`` for each ``(c, t, seed)``, the predictor's starts batched."""
-    starts = predictor.starts([t for _, t, _ in work], [seed for _, _, seed in work])
-    for (c, t, seed), start in zip(work, starts):
-        sample = chunks[c].assemble(t, start)
-        pending[c][int(t)] = sample
+    """Assemble sample k of chunk c from ``seed`` for each ``(c, k, seed)``: the predictor batched, else on its own."""
+    found = predictor.closed([predictor.spec.target(k) for _, k, _ in work], [seed for _, _, seed in work])
+    for (c, k, seed), q in zip(work, found):
+        sample = chunks[c].assemble(k, seed, closed=q)
+        pending[c][k] = sample
         last[c] = _seed(sample, seed)
+        if q is not None:
+            predicted.add((c, k))

@@ -46,6 +46,7 @@ import pinocchio as pin
 
 from pinmob.assembly.assemble import warn_outside_limits
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
+from pinmob.blas import one_blas_thread
 from pinmob.model.joints import linear_velocity_mask, wrap_angles
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
@@ -95,9 +96,11 @@ def _log3(r: Array) -> Array:
 
 
 def _skew(v: Array) -> Array:
-    z = np.zeros(len(v))
-    x, y, w = v.T
-    return np.stack([np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], -2)
+    """(B, 3, 3) cross-product matrices of (B, 3) vectors."""
+    out = np.zeros((len(v), 3, 3))
+    out[:, 0, 1], out[:, 0, 2], out[:, 1, 2] = -v[:, 2], v[:, 1], -v[:, 0]
+    out[:, 1, 0], out[:, 2, 0], out[:, 2, 1] = v[:, 2], -v[:, 1], v[:, 0]
+    return out
 
 
 class PoseProblem:
@@ -170,9 +173,11 @@ def finish_closed(mech: Mechanism, q: Array, kind: str) -> Array:
 
 def _worst(e: Array, frames: int) -> Array:
     """(B,) ``max |e|`` per sample: the largest position or rotation norm over the frames."""
-    return np.max(np.linalg.norm(e.reshape(len(e), frames, 2, 3), axis=3), axis=(1, 2))
+    parts = e.reshape(len(e), frames * 2, 3)
+    return np.sqrt(np.max(np.einsum("bij,bij->bi", parts, parts), axis=1))
 
 
+@one_blas_thread
 def solve_poses(
     problem: PoseProblem,
     qs: Array,
@@ -217,8 +222,9 @@ def solve_poses(
             break
         iterations[active] += 1
         jtj = jac.transpose(0, 2, 1) @ jac
-        mu = DAMPING * np.trace(jtj, axis1=1, axis2=2)[:, None, None] / jtj.shape[1] * np.eye(jtj.shape[1])
-        dz = -np.linalg.solve(jtj + mu, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0]
+        k = np.arange(jtj.shape[1])
+        jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
+        dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
         dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
         q[active], p[active] = problem.integrate(q[active], p[active], dz)
     return BatchSolution(best_q, best, best <= tol, iterations)

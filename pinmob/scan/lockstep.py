@@ -32,6 +32,7 @@ import pinocchio as pin
 
 from pinmob.assembly.batch_solver import PoseProblem, finish_closed, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
+from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, assemble_target, run_chunk
 from pinmob.scan.spec import ScanSpec
@@ -93,6 +94,7 @@ class Predictor:
         return assemble_target(self.mech, target, seed, tol=self.spec.closure_tol) if q is None else q
 
 
+@one_blas_thread
 def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str, Any]]:
     """The rows of the chunks ``jobs``, in order (module docstring)."""
     if not Predictor.applies(mech, spec):

@@ -1,6 +1,9 @@
 """One chunk of a scan: its samples assembled warm-started along a line, analysed, and refined.
 
-See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule. With the spec's
+See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule. :meth:`_Chunk.run` is the
+single-sample path (each sample assembled by :func:`assemble_target` and analysed by :func:`evaluate`, or by
+the batch of :mod:`pinmob.scan.batch_rows`); :mod:`pinmob.scan.lockstep` runs many chunks' assemblies
+together and completes each chunk with :meth:`_Chunk.complete` (refinements on the single-sample path). With the spec's
 ``finite_order`` each row kept (a sample, or a refined point; not the trial points of a refinement)
 adds its finite DoF (``FINITE_COLUMNS``).
 """

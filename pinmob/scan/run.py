@@ -8,8 +8,13 @@ sample of each line (a grid row by row, in a serpentine) and gives each chunk
 its seed; every chunk then runs from its seed, in this process or on a Dask
 worker (:mod:`pinmob.engine`), so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
 ``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
-the refinement). Each sample is analysed from one kinematics computation
-(:func:`pinmob.analysis.singularity_analysis.singularity`).
+the refinement). The chunks run in groups (:func:`chunk_groups`: the first alone, then up
+to ``GROUP``), each group as one job: with the batched engine (``spec.engine``, the default)
+its chunks' samples are assembled in lockstep and analysed in one batch
+(:mod:`pinmob.scan.lockstep`, :mod:`pinmob.scan.batch_rows`), the single-sample analysis
+(:func:`pinmob.analysis.singularity_analysis.singularity`, one kinematics computation per
+sample) only where the batch cannot decide; with ``single``, each sample on its own. Both give
+the same rows (``tests/test_scan_batch.py``).
 
 Refinement (:mod:`pinmob.scan.refine`): a singularity between samples is looked for
 where, along a line, a distance to singularity has a local minimum above

@@ -3,7 +3,7 @@
 Per robot and grid (microseconds per sample, single process):
 
 * ``pinmob_us``: what ``pinmob scan <robot> --grid ...`` runs (:func:`pinmob.scan.run.scan_in_process` on
-  :func:`pinmob.scan.spec.grid_spec`), the batched engine: samples of up to 8 chunks assembled in lockstep by
+  :func:`pinmob.scan.spec.grid_spec`), the batched engine: samples of up to 16 chunks assembled in lockstep by
   the batched predictor (:mod:`pinmob.scan.lockstep`), analysed in one batch (:mod:`pinmob.scan.batch_rows`),
   the single-sample path where the batch cannot decide, refinements included;
 * ``single_us``: the same scan on the single-sample engine (``ScanSpec.engine = "single"``, every sample

@@ -34,12 +34,12 @@ from pinmob.assembly.batch_solver import PoseProblem, finish_closed, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chunk import _Chunk, _Sample, _seed, assemble_target, run_chunk
+from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
 from pinmob.scan.spec import ScanSpec
 from pinmob.screw.algebra import Array
 
 #: Chunks per group (samples assembled in lockstep: up to GROUP per step).
-GROUP = 8
+GROUP = 16
 
 #: A sample the predictor brought within this ``max |e|`` (and polished on to round-off) is closed.
 PREDICT_TOL = 1e-12
@@ -83,15 +83,6 @@ class Predictor:
         return [
             finish_closed(self.mech, q, kind) if ok else None for q, ok, (kind, _) in zip(sol.q, sol.converged, targets)
         ]
-
-    def assemble(self, target: tuple[str, Any], seed: Array) -> Array:
-        """One target from ``seed`` (the seeding walk): the predictor's, else :func:`assemble_target`'s.
-
-        Raises:
-            PinmobError: it does not assemble.
-        """
-        q = self.closed([target], [seed])[0]
-        return assemble_target(self.mech, target, seed, tol=self.spec.closure_tol) if q is None else q
 
 
 @one_blas_thread

@@ -48,7 +48,7 @@ from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS, SV_COLUMNS
-from pinmob.scan.lockstep import GROUP, Job, Predictor, run_group
+from pinmob.scan.lockstep import GROUP, Job, run_group
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.screw.algebra import Array
 
@@ -68,13 +68,9 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     order = list(stops)
     found: dict[int, Array] = {}
     q = np.array(spec.q_ref, float)
-    predictor = Predictor(mech, spec) if Predictor.applies(mech, spec) else None
     for target, k in spec.waypoints():
         try:
-            if predictor is None:
-                q = chunk.assemble_target(mech, target, q, tol=spec.closure_tol)
-            else:
-                q = predictor.assemble(target, q)
+            q = chunk.assemble_target(mech, target, q, tol=spec.closure_tol)
         except PinmobError:
             pass
         if k in stops:

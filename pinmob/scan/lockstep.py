@@ -59,7 +59,9 @@ class Predictor:
     @staticmethod
     def applies(mech: Mechanism, spec: ScanSpec) -> bool:
         """A platform-pose scan of a mechanism whose closures are its limb tips (module docstring)."""
-        if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs or mech.closures:
+        if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs:
+            return False
+        if mech.closures or any(limb.closures for limb in mech.limbs):  # loops besides the limb tips
             return False
         kind, value = spec.target(0)
         return kind == "pose" or (kind == "coords" and not value[1])
@@ -69,6 +71,8 @@ class Predictor:
 
         Closed: :func:`finish_closed` of a sample it converged; None where it did not.
         """
+        if not targets:
+            return []
         model, data, pid = self.mech.model, self.problem.data, self.mech.platform_id
         poses = np.empty((len(targets), 6))
         for i, ((kind, value), seed) in enumerate(zip(targets, seeds)):
@@ -95,13 +99,15 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
     plans = [list(chunk.line_samples(start, stop)) for chunk, (start, stop, _) in zip(chunks, jobs)]
     pending: list[dict[int, _Sample]] = [{} for _ in jobs]
     predicted: set[tuple[int, int]] = set()
+    lost: set[int] = set()  # chunks whose last sample did not assemble
     last = [seed for _, _, seed in jobs]
     for j in range(max(len(p) for p in plans)):
         which = [c for c, plan in enumerate(plans) if j < len(plan)]
-        _step(predictor, chunks, pending, predicted, last, [(c, plans[c][j], last[c]) for c in which])
+        _step(predictor, chunks, pending, predicted, lost, last, [(c, plans[c][j], last[c]) for c in which])
     neighbours = [c for c, (start, _, _) in enumerate(jobs) if spec.line(start)[0] < start]
     if neighbours:  # each chunk's left neighbour, warm-started from its first sample
-        _step(predictor, chunks, pending, predicted, last,
+        lost = {c for c in neighbours if pending[c][jobs[c][0]].q is None}
+        _step(predictor, chunks, pending, predicted, lost, last,
               [(c, jobs[c][0] - 1, _seed(pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])  # fmt: skip
     analysed = iter(chunks[0].analysed([s for p in pending for s in p.values()]))
     rows: list[dict[str, Any]] = []
@@ -120,14 +126,26 @@ def _step(
     chunks: list[_Chunk],
     pending: list[dict[int, _Sample]],
     predicted: set[tuple[int, int]],
+    lost: set[int],
     last: list[Array],
     work: list[tuple[int, int, Array]],
 ) -> None:
-    """Assemble sample k of chunk c from ``seed`` for each ``(c, k, seed)``: the predictor batched, else on its own."""
-    found = predictor.closed([predictor.spec.target(k) for _, k, _ in work], [seed for _, _, seed in work])
-    for (c, k, seed), q in zip(work, found):
+    """Assemble sample k of chunk c from ``seed`` for each ``(c, k, seed)``: the predictor batched, else on its own.
+
+    A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out of
+    reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before.
+    """
+    tried = [w for w in work if w[0] not in lost]
+    found = dict(zip([w[0] for w in tried], predictor.closed([predictor.spec.target(k) for _, k, _ in tried],
+                                                              [seed for _, _, seed in tried])))  # fmt: skip
+    for c, k, seed in work:
+        q = found.get(c)
         sample = chunks[c].assemble(k, seed, closed=q)
         pending[c][k] = sample
         last[c] = _seed(sample, seed)
         if q is not None:
             predicted.add((c, k))
+        if sample.q is None:
+            lost.add(c)
+        else:
+            lost.discard(c)

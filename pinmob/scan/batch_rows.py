@@ -19,7 +19,7 @@ uncontrolled motion, its motion type is the classification of its free twists
 and its figures are the batch's. Every other sample (singular, near-singular,
 under-actuated, or a mechanism the batch does not cover: limbs with loops
 inside them, limbs coupled by closures) gets the single-sample row
-(:func:`pinmob.scan.chunk.evaluate`), as do the refinements' trial points. The
+(:func:`pinmob.scan.sample.evaluate`), as do the refinements' trial points. The
 rows are those of the single-sample path, the figures to round-off
 (``tests/test_scan_batch.py``).
 """
@@ -47,7 +47,7 @@ DECIDED_FACTOR = 2.0
 #: The scan engines: ``batch`` (this module, the default) and ``single`` (every sample on its own).
 ENGINES = ("batch", "single")
 
-#: A sample's row and the distance of each question (:func:`pinmob.scan.chunk.evaluate`'s numbers).
+#: A sample's row and the distance of each question (:func:`pinmob.scan.sample.evaluate`'s numbers).
 Analysed = tuple[dict[str, Any], dict[str, float]]
 
 

@@ -16,25 +16,21 @@ from typing import Any
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite import finite_mobility
-from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import NEAR_FACTOR
-from pinmob.analysis.singularity_analysis import singularity
-from pinmob.assembly.assemble import assemble_joints, assemble_pose
-from pinmob.assembly.partial_pose import assemble_coordinates
-from pinmob.assembly.reach import pose_vector
 from pinmob.assembly.solver import STALL_WINDOW as SOLVER_STALL
 from pinmob.exceptions import PinmobError
-from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.batch_rows import Analysed, analyse
 from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, v_vertex
-from pinmob.scan.spec import POSE_COORDS, ScanSpec
-from pinmob.scan.unreachable import SV_COLUMNS, unreachable_reason, unreachable_row
+from pinmob.scan.sample import MAX_ITER, _evaluate
+from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
+from pinmob.scan.sample import assemble_target as assemble_target
+from pinmob.scan.sample import evaluate as evaluate
+from pinmob.scan.spec import ScanSpec
+from pinmob.scan.unreachable import unreachable_reason, unreachable_row
 from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
 
 #: Evaluations per refinement, and bracket width (in samples) at which it stops.
 REFINE_EVALS, REFINE_XTOL = 60, 1e-12
@@ -46,72 +42,8 @@ EDGE_STEPS = 6
 FINITE_COLUMNS = ("finite_dof", "finite_mechanism_dof")
 
 
-#: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
-MAX_ITER = 40
-
-#: A sample's platform-pose assembly gives up when its cost gained less than 0.1% over this many damped
-#: iterations (:func:`pinmob.assembly.solver.solve`'s ``stall_window``; 20 elsewhere, and in the refinements,
-#: whose trials next to an edge of the reachable set converge slowly): a sample out of reach costs about 6
-#: iterations instead of 20 to 40. The iterates do not depend on it, only where an unconverged solve stops.
-STALL_WINDOW = 5
-
-
 #: Iterations per assembly while refining (the solver converges slowly next to a singularity).
 REFINE_ITER = 100
-
-
-def assemble_target(
-    mech: Mechanism,
-    target: tuple[str, Any],
-    seed: Array,
-    max_iter: int = MAX_ITER,
-    tol: float = CLOSURE_TOL,
-    stall_window: int | None = None,
-) -> Array:
-    """A closed configuration at a scan target, warm-started from ``seed``.
-
-    The target is a platform pose, actuated joint values, or (a grid's) some pose coordinates and joint values,
-    the rest following (:func:`pinmob.assembly.partial_pose.assemble_coordinates`). ``stall_window`` of a pose
-    target's solver: None for a sample's (``STALL_WINDOW``).
-    """
-    kind, value = target
-    window = STALL_WINDOW if stall_window is None else stall_window
-    if kind == "pose":
-        return assemble_pose(mech, value, seed, tol, max_iter=max_iter, stall_window=window)
-    if kind == "coords":
-        return assemble_coordinates(mech, value[0], value[1], seed, tol, max_iter=max_iter, stall_window=window)
-    return assemble_joints(mech, value, seed, tol, max_iter=max_iter)
-
-
-def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None) -> dict[str, Any]:
-    """One scan row at a closed configuration: pose, DoF, motion type, singularity, singular values."""
-    return _evaluate(mech, q, rtol, generic_rank)[0]
-
-
-def _evaluate(
-    mech: Mechanism, q: Array, rtol: float, generic_rank: int | None
-) -> tuple[dict[str, Any], dict[str, float]]:
-    """The row and the distance of each question, from one :class:`Configuration` (one kinematics computation)."""
-    g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else generic_rank
-    conf = Configuration(mech, q)  # assembled by the scan to the default closure tolerance
-    mob, sing = platform_mobility(conf, rtol), singularity(conf, rtol, g)
-    row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(conf.frame_placement(mech.platform_id)).tolist()))
-    row.update(
-        reachable=True,
-        dof=mob.dof,
-        motion_type=mob.motion_type,
-        constraint_rank=mob.constraint_rank,
-        locked_dof=sing.locked_dof,
-        singularity=sing.label,
-        near_singular=sing.near_singular,
-        closest=sing.closest_all[0],  # the first of those tied within round-off: not decided by it
-        singular_limbs=";".join(sing.limbs),
-        dependent_limbs=";".join(sing.dependent_limbs),
-        uncontrolled=";".join(m.label for m in sing.uncontrolled),
-        distance=sing.distance,
-    )
-    row.update(zip(SV_COLUMNS, [*sing.constraint_singular_values.tolist(), *sing.actuation_singular_values.tolist()]))
-    return row, sing.distances
 
 
 @dataclass

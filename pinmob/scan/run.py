@@ -47,9 +47,10 @@ from pinmob.engine.cluster import check_workers
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
-from pinmob.scan.chunk import FINITE_COLUMNS, SV_COLUMNS
+from pinmob.scan.chunk import FINITE_COLUMNS
 from pinmob.scan.lockstep import GROUP, Job, run_group
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
+from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array
 
 #: A scan whose remaining chunks would take less than this [s] in this process stays in this process: starting a

@@ -3,7 +3,12 @@
 Per robot and grid (microseconds per sample, single process):
 
 * ``pinmob_us``: what ``pinmob scan <robot> --grid ...`` runs (:func:`pinmob.scan.run.scan_in_process` on
-  :func:`pinmob.scan.spec.grid_spec`): every sample assembled warm-started and analysed, refinements included;
+  :func:`pinmob.scan.spec.grid_spec`), the batched engine: samples of up to 16 chunks assembled in lockstep by
+  the batched predictor (:mod:`pinmob.scan.lockstep`), analysed in one batch (:mod:`pinmob.scan.batch_rows`),
+  the single-sample path where the batch cannot decide, refinements included;
+* ``single_us``: the same scan on the single-sample engine (``ScanSpec.engine = "single"``, every sample
+  assembled and analysed on its own: pinmob before the batched engine); both engines' rows are compared
+  (verdicts equal, figures to 1e-7: ``rows_equal``);
 * ``naive_us``: the loop a Pinocchio user writes for the same grid (:func:`naive_scan`, in this file): damped
   Gauss-Newton on the limb tips' pose errors (``log6`` of the target pose against each limb tip, from
   ``pin.computeJointJacobians`` / ``pin.getFrameJacobian``), warm-started from the previous sample of the
@@ -22,10 +27,12 @@ Per robot and grid (microseconds per sample, single process):
   gained less than 0.1% over 5 iterations), then
   :func:`pinmob.analysis.batch.analyze_batch` for the DoF; its verdicts are counted against pinmob's too;
 * the ``computeJointJacobians`` calls per sample of each (counted by a wrapper in a separate, untimed run);
-* the split of pinmob's time: the assemblies alone (the samples' targets, each warm-started from the previous
-  sample's configuration), the per-sample analysis alone (:func:`pinmob.scan.chunk.evaluate`) and pinmob's
-  batch kernel on the same configurations (:func:`pinmob.analysis.batch.analyze_batch`); the rest is the
-  chunks' seeding walk, the refinements and the rows.
+* the split of the engine's time (fractions of one cProfile run, so not the load of the machine): the batched
+  predictor (:func:`pinmob.assembly.batch_solver.solve_poses`), the
+  single-sample solver (samples the predictor did not converge, their polish near singular points, the
+  refinements), the batch analysis, the single-sample analysis (:func:`pinmob.scan.sample.evaluate`: samples
+  the batch does not decide, refinements) and the rest (rows: joint values, limits, targets); and
+  Pinocchio's kinematics alone (the floor's cost per call at the engine's count of calls).
 
 Robots: the 3-PUU over x x y (a full-pose grid: its rotations cannot change), the 6-UPS over x x y, the
 3-RPS over roll x pitch (z held, x, y and yaw following), and the 3-PUU over x x y five times wider (most
@@ -34,7 +41,9 @@ samples out of reach: what an unreachable sample costs, and the refinements at t
 Then the per-design cost of the example sweep (``examples/3puu_sweep.toml``, a 9 x 9 scan per design) in this
 process and on a Dask ``LocalCluster`` of 2 workers (cluster start-up not timed).
 
-Figures on a shared machine are noisy: compare the ratios printed in one run. The target of issue 23 is
+The per-sample figures are CPU time of this process (``time.process_time``: the load of other jobs on a
+shared machine does not inflate them, as it does wall-clock time); the sweep's are wall-clock time. Compare
+the ratios printed in one run. The target of issue 23 is
 ``pinmob_us <= 0.2 naive_us`` on the 3-PUU grid.
 
 Usage: ``python benchmarks/bench_scan.py [--quick]``; the last line printed is one JSON object.
@@ -57,7 +66,6 @@ import pinocchio as pin
 import pinmob
 from pinmob.analysis.batch import analyze_batch
 from pinmob.scan import pose_vector
-from pinmob.scan.chunk import assemble_target, evaluate
 from pinmob.scan.run import scan_in_process
 from pinmob.scan.spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
 from pinmob.screw.algebra import twist_scaling
@@ -78,10 +86,12 @@ MAX_ITER, DAMPING, TOL = 40, 1e-10, 1e-6
 STALL = 5
 
 
-def timed(fn: Callable[[], Any]) -> tuple[float, Any]:
-    t0 = time.perf_counter()
+def timed(fn: Callable[[], Any], clock: Callable[[], float] = time.process_time) -> tuple[float, Any]:
+    """Seconds ``fn`` took and its result; by default CPU time of this process, which other jobs on a shared
+    machine do not inflate (wall-clock time for the sweep on Dask workers, whose work is in other processes)."""
+    t0 = clock()
     out = fn()
-    return time.perf_counter() - t0, out
+    return clock() - t0, out
 
 
 def kinematics_calls(fn: Callable[[], Any]) -> int:
@@ -370,21 +380,46 @@ def batched_scan(mech: pinmob.Mechanism, spec: ScanSpec) -> list[tuple[bool, int
 # --- pinmob -----------------------------------------------------------------------------------------------------
 
 
-def assemblies(mech: pinmob.Mechanism, spec: ScanSpec) -> list[np.ndarray | None]:
-    """pinmob's assemblies of the samples alone, each warm-started from the previous closed one of its line."""
-    out: list[np.ndarray | None] = []
-    q = line = spec.q_ref
-    for k in range(spec.size):
-        if k % spec.line_size == 0:
-            q = line
-        try:
-            q = assemble_target(mech, spec.target(k), q, tol=spec.closure_tol)
-        except pinmob.PinmobError:
-            out.append(None)
-            continue
-        out.append(q)
-        if k % spec.line_size == 0:
-            line = q
+def rows_equal(single: list[dict[str, Any]], batch: list[dict[str, Any]]) -> bool:
+    """The two engines' rows: the same columns, equal values but floats, floats to 1e-7 (NaN equal to NaN)."""
+
+    def same(a: Any, b: Any) -> bool:
+        if isinstance(a, float) and isinstance(b, float):
+            return (np.isnan(a) and np.isnan(b)) or abs(a - b) <= 1e-7 * max(1.0, abs(a), abs(b))
+        return bool(a == b)
+
+    return len(single) == len(batch) and all(
+        list(s) == list(b) and all(same(s[k], b[k]) for k in s) for s, b in zip(single, batch)
+    )
+
+
+#: The parts of the engine's time, by the functions cProfile charges (cumulative; the last entry takes the rest).
+PARTS = {
+    "batched predictor": "solve_poses",
+    "single-sample solver": "assemble_target",
+    "batch analysis": "analyse",
+    "single-sample analysis": "_evaluate",
+}
+
+
+def profile_split(mech: pinmob.Mechanism, spec: ScanSpec) -> dict[str, float]:
+    """Fractions of the engine's time (one cProfile run): :data:`PARTS` and the rest (Pinocchio's calls are not
+    profiled: their time counts in their callers')."""
+    import cProfile
+    import pstats
+
+    prof = cProfile.Profile()
+    prof.enable()
+    list(scan_in_process(mech, spec))
+    prof.disable()
+    stats = pstats.Stats(prof).stats  # type: ignore[attr-defined]
+    total = sum(tt for (_, _, _), (_, _, tt, _, _) in stats.items())
+    cum: dict[str, float] = {}
+    for (path, _, name), (_, _, _, ct, _) in stats.items():
+        if name in PARTS.values() and "pinmob" in path:
+            cum[name] = cum.get(name, 0.0) + ct
+    out = {part: cum.get(fn, 0.0) / total for part, fn in PARTS.items()}
+    out["rest"] = max(0.0, 1.0 - sum(out.values()))
     return out
 
 
@@ -397,6 +432,8 @@ def bench_grid(label: str, count: int) -> dict[str, Any]:
     list(scan_in_process(mech, small))  # warm-up
     analyze_batch(mech, np.array([spec.q_ref] * 2), rtol=spec.rtol, singular_values=True)  # numba's cache loaded
     t_pinmob, rows = timed(lambda: [r for r in scan_in_process(mech, spec)])
+    single_spec = replace(spec, engine="single")
+    t_single, single_rows = timed(lambda: [r for r in scan_in_process(mech, single_spec)])
     samples = [r for r in rows if not r["refined"]]
     t_naive, (verdicts, iters, closed) = timed(lambda: naive_scan(mech, spec))
     ours = [(bool(r["reachable"]), int(r["dof"]) if r["reachable"] else -1) for r in samples]
@@ -406,13 +443,10 @@ def bench_grid(label: str, count: int) -> dict[str, Any]:
     t_floor, _ = timed(lambda: floor_loop(mech, closed, calls))
     t_batched, batched = timed(lambda: batched_scan(mech, spec))
     agree_batched = sum(a == b for a, b in zip(ours, batched))
-    t_assembly, qs = timed(lambda: assemblies(mech, spec))
-    good = np.array([q for q in qs if q is not None])
-    t_analysis, _ = timed(lambda: [evaluate(mech, q, spec.rtol, spec.generic_rank) for q in good])
-    t_batch, _ = timed(lambda: analyze_batch(mech, good, rtol=spec.rtol, singular_values=True))
+    split = profile_split(mech, spec)
     us = 1e6 / n
     calls_pinmob = kinematics_calls(lambda: list(scan_in_process(mech, spec)))
-    calls_assembly = kinematics_calls(lambda: assemblies(mech, spec))
+    calls_single = kinematics_calls(lambda: list(scan_in_process(mech, single_spec)))
     calls_naive = kinematics_calls(lambda: naive_scan(mech, spec))
     return {
         "grid": " ".join(f"{c}:{lo:g}:{hi:g}:{k}" for c, lo, hi, k in spec.axes),
@@ -423,6 +457,8 @@ def bench_grid(label: str, count: int) -> dict[str, Any]:
         "refined": len(rows) - len(samples),
         "agree": agree,
         "pinmob_us": t_pinmob * us,
+        "single_us": t_single * us,
+        "rows_equal": rows_equal(single_rows, rows),
         "naive_us": t_naive * us,
         "floor_us": t_floor * us,
         "batched_us": t_batched * us,
@@ -430,13 +466,11 @@ def bench_grid(label: str, count: int) -> dict[str, Any]:
         "naive_iterations": float(np.mean(iters)),
         "kinematics_per_sample": {
             "pinmob": calls_pinmob / n,
-            "pinmob_assembly": calls_assembly / n,
+            "single": calls_single / n,
             "naive": calls_naive / n,
             "floor": float(np.mean(calls)),
         },  # fmt: skip
-        "assembly_us": t_assembly * us,
-        "analysis_us": t_analysis * us,
-        "batch_analysis_us": t_batch * us,
+        "split": split,
     }
 
 
@@ -451,13 +485,15 @@ def bench_sweep(designs: int) -> dict[str, float]:
     side = int(np.ceil(np.sqrt(designs)))
     spec = replace(spec, designs=DesignSet("grid", ("link", "big_r"), ((0.26, 0.35, side), (0.2, 0.3, side))))
     list(pinmob.sweep(spec, skip=np.arange(spec.count) > 0))  # warm-up
-    serial, records = timed(lambda: list(pinmob.sweep(spec)))
+    serial, records = timed(lambda: list(pinmob.sweep(spec)), time.perf_counter)
     cluster = LocalCluster(n_workers=2, threads_per_worker=1, host="127.0.0.1", dashboard_address="127.0.0.1:0",
                            silence_logs=logging.CRITICAL, preload=[WORKER_SETUP])  # fmt: skip
     with cluster, Client(cluster) as client:
         client.run(lambda: __import__("pinmob"))
         list(pinmob.sweep(spec, scheduler=cluster.scheduler_address, skip=np.arange(spec.count) >= 2))  # warm-up
-        elapsed, dask_records = timed(lambda: list(pinmob.sweep(spec, scheduler=cluster.scheduler_address)))
+        elapsed, dask_records = timed(
+            lambda: list(pinmob.sweep(spec, scheduler=cluster.scheduler_address)), time.perf_counter
+        )
     assert dask_records == records, "Dask records differ from the in-process ones"
     return {"designs": spec.count, "in_process_s": serial / spec.count, "dask2_s": elapsed / spec.count}
 
@@ -468,7 +504,7 @@ def main() -> None:
     args = parser.parse_args()
     count, designs = (9, 4) if args.quick else (21, 16)
     out: dict[str, Any] = {}
-    print("per sample [us], one process (a shared machine: compare the ratios of one run)")
+    print("per sample [us of CPU time], one process (compare the ratios of one run)")
     for name in GRIDS:
         r = out[name] = bench_grid(name, count)
         robot = GRIDS[name][0]
@@ -476,18 +512,20 @@ def main() -> None:
         print(f"{robot} --grid {r['grid']} --at {r['at']}{follow}: {r['reachable']}/{r['samples']} reachable, "
               f"{r['refined']} refined points; verdicts (reachable, DoF) agree on {r['agree']}/{r['samples']}")  # fmt: skip
         ratio = r["pinmob_us"] / r["naive_us"]
-        print(f"  pinmob {r['pinmob_us']:8.0f}   naive loop {r['naive_us']:6.0f} ({r['naive_iterations']:.1f} "
+        print(f"  pinmob {r['pinmob_us']:6.0f}   naive loop {r['naive_us']:6.0f} ({r['naive_iterations']:.1f} "
               f"iterations)   floor {r['floor_us']:5.1f}   pinmob/naive {ratio:.2f}x "
               f"(target 0.2x: {'met' if ratio <= 0.2 else 'not met'})   pinmob/floor {r['pinmob_us'] / r['floor_us']:.0f}x")  # fmt: skip
-        rest = r["pinmob_us"] - r["assembly_us"] - r["analysis_us"]
+        print(f"  single-sample engine {r['single_us']:.0f} ({r['single_us'] / r['naive_us']:.2f}x the naive loop; "
+              f"batched/single {r['pinmob_us'] / r['single_us']:.2f}); rows of the two engines equal: {r['rows_equal']}")  # fmt: skip
         kin = r["kinematics_per_sample"]
         print(f"  batched prototype (in this file) {r['batched_us']:.0f}, {r['batched_us'] / r['naive_us']:.2f}x the naive "
               f"loop; its verdicts agree with pinmob's on {r['batched_agree']}/{r['samples']}")  # fmt: skip
-        print(f"  computeJointJacobians calls per sample: pinmob {kin['pinmob']:.1f} (its assemblies alone "
-              f"{kin['pinmob_assembly']:.1f}), naive loop {kin['naive']:.1f}, floor {kin['floor']:.1f}")  # fmt: skip
-        print(f"  between pinmob and the floor: assemblies {r['assembly_us']:.0f}, analysis {r['analysis_us']:.0f} "
-              f"(the batch kernel on the same configurations: {r['batch_analysis_us']:.0f}), seeding walk + "
-              f"refinements + rows {rest:.0f}")  # fmt: skip
+        print(f"  computeJointJacobians calls per sample: pinmob {kin['pinmob']:.1f} (single-sample engine "
+              f"{kin['single']:.1f}), naive loop {kin['naive']:.1f}, floor {kin['floor']:.1f}")  # fmt: skip
+        kinematics = r["floor_us"] * kin["pinmob"] / kin["floor"]  # the floor's cost per call, at pinmob's count
+        print("  the engine's time (cProfile): " + ", ".join(f"{k} {v:.0%}" for k, v in r["split"].items())
+              + f"; Pinocchio's kinematics at its {kin['pinmob']:.1f} calls per sample ~{kinematics:.0f} us "
+              f"({kinematics / r['pinmob_us']:.0%})")  # fmt: skip
     s = out["sweep"] = bench_sweep(designs)
     print(f"example sweep ({EXAMPLE.name}, 9 x 9 scan per design, {s['designs']} designs): "
           f"{s['in_process_s'] * 1e3:.0f} ms per design in process, {s['dask2_s'] * 1e3:.0f} ms per design on "

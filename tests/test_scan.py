@@ -6,6 +6,7 @@ import csv
 import json
 import math
 import tempfile
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -19,6 +20,7 @@ import pinmob.scan.chunk as scan_module
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.cli import main
 from pinmob.scan import plot, plot_map
+from pinmob.scan.lockstep import Predictor
 from pinmob.scan.output import RowWriter, read_columns
 from pinmob.scan.run import columns, scan
 from pinmob.scan.spec import STRIDE, ScanSpec, grid_spec, path_spec
@@ -61,26 +63,35 @@ def test_three_puu_rank_drops_at_the_workspace_boundary_only():
 
 
 def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
-    """Count the assemblies a scan asks for (the real solver still runs)."""
+    """Count the assemblies a scan asks for (the real solvers still run): single-sample solves and the targets
+    given to the batched predictor (pinmob.scan.lockstep)."""
     calls = {"n": 0}
-    real = scan_module.assemble_target
+    real, predict = scan_module.assemble_target, Predictor.closed
 
     def counted(*args, **kwargs):
         calls["n"] += 1
         return real(*args, **kwargs)
 
+    def counted_targets(self, targets, seeds):
+        calls["n"] += len(targets)
+        return predict(self, targets, seeds)
+
     monkeypatch.setattr(scan_module, "assemble_target", counted)
+    monkeypatch.setattr(Predictor, "closed", counted_targets)
     return calls
 
 
-def test_assemblies_per_sample_stay_bounded(monkeypatch):
+@pytest.mark.parametrize("engine", ["batch", "single"])
+def test_assemblies_per_sample_stay_bounded(monkeypatch, engine):
     """Each sample is assembled once, the walk seeding the chunks adds one per STRIDE samples and each chunk
     two (its neighbours on the line, for the refinement): about 1.19 per sample whatever the length (walking
-    every chunk from the start cost 1.2 per sample at 100 samples, 1.8 at 400, 3.0 at 1000)."""
+    every chunk from the start cost 1.2 per sample at 100 samples, 1.8 at 400, 3.0 at 1000). With the batched
+    engine, each by the predictor (none of these targets is out of reach or singular: none goes to the
+    single-sample solver as well)."""
     mech = pinmob.load("3-PUU")
     calls = _counting(monkeypatch)
     for n in (100, 400):
-        spec = path_spec(mech, "generic", "offset", n)
+        spec = replace(path_spec(mech, "generic", "offset", n), engine=engine)
         calls["n"] = 0
         rows = list(scan(mech, spec, progress=False))
         assert len(rows) == n and not any(r["refined"] for r in rows)
@@ -88,7 +99,7 @@ def test_assemblies_per_sample_stay_bounded(monkeypatch):
         assert calls["n"] == n + math.ceil(n / STRIDE) + 2 * (chunks - 1)
         assert calls["n"] / n < 1.2
     # a grid of 40 short rows inside the workspace: each row walked at its ends only
-    grid = grid_spec(mech, "generic", [("x", -0.02, 0.02, 40), ("y", -0.02, 0.02, 4)])
+    grid = replace(grid_spec(mech, "generic", [("x", -0.02, 0.02, 40), ("y", -0.02, 0.02, 4)]), engine=engine)
     calls["n"] = 0
     assert len(list(scan(mech, grid, progress=False))) == 160
     assert calls["n"] == 160 + 2 * 40 + len(grid.approach())

@@ -25,56 +25,26 @@ numba is installed (``pip install "pinmob[fast]"``).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import replace
 
 import numpy as np
 import pinocchio as pin
-from numpy.typing import NDArray
 
+from pinmob.analysis.batch_numpy import limb_wrench_rows, numpy_engine, stacked_ranks
+from pinmob.analysis.batch_result import BatchResult
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
-from pinmob.analysis.limbs import column_joints, limb_decisions, limb_screws_at, limb_twists, rate_scale, unit_columns
+from pinmob.analysis.limbs import column_joints, limb_decisions, limb_twists, rate_scale
 from pinmob.analysis.mobility import platform_mobility
-from pinmob.analysis.singularity import ratio
 from pinmob.analysis.singularity_analysis import require_platform, singularity_from_twists
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
-from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
-from pinmob.screw.rank import RTOL, rank_rule_rows, svd
-
-#: Integer array (ranks, DoF).
-Ints = NDArray[np.int64]
+from pinmob.screw.algebra import Array, wrench_scaling
+from pinmob.screw.rank import RTOL
 
 #: The engines of :func:`analyze_batch`.
 ENGINES = ("numba", "numpy")
-
-
-@dataclass(frozen=True)
-class BatchResult(ReadOnlyArrays):
-    """Per-configuration results of :func:`analyze_batch` (N configurations, k limbs).
-
-    Attributes:
-        dof: (N,) platform DoF, ``6 - constraint_rank``.
-        constraint_rank: (N,) rank of the stacked limb wrenches.
-        singular_values: (N, 6) of the stacked dimensionless limb wrenches (NaN unless asked for).
-        limb_twist_rank: (N, k) rank of each limb's joint screws.
-        limb_ratio: (N, k) ``sigma_r / sigma_1`` of each limb's unit-normalised dimensionless joint screws, r
-            its generic rank: the limb distances of :func:`pinmob.analyze_singularity` (NaN unless asked for).
-        locked_dof: (N,) platform DoF with the actuated joints locked.
-        actuation_singular_values: (N, 6) of the stacked dimensionless locked-limb wrenches (NaN unless asked for).
-        engine: ``numba`` or ``numpy`` (:func:`analyze_batch`); limbs with loops: ``per configuration``.
-    """
-
-    dof: Ints
-    constraint_rank: Ints
-    singular_values: Array
-    limb_twist_rank: Ints
-    limb_ratio: Array
-    locked_dof: Ints
-    actuation_singular_values: Array
-    engine: str = "numpy"
 
 
 def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) -> tuple[Array, Array]:
@@ -96,16 +66,6 @@ def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) ->
     return np.array(full).reshape(-1, 6, model.nv), np.array(origin).reshape(-1, 3)
 
 
-def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
-    """Joint screws of every limb at every configuration: a list of k arrays (N, 6, n_i).
-
-    :func:`pinmob.analysis.limbs.limb_screws_at` on the world screws of
-    :func:`world_jacobians` per dimensionless rate (times :func:`~pinmob.analysis.limbs.rate_scale`), as for one
-    configuration.
-    """
-    return [limb_screws_at(full, origin, limb.v_indices) for limb in mech.limbs]
-
-
 def numba_available() -> bool:
     """Numba can be imported (the ``fast`` extra): :func:`analyze_batch` then uses its compiled loop."""
     try:
@@ -123,6 +83,7 @@ def analyze_batch(
     rtol: float = RTOL,
     singular_values: bool = False,
     engine: str | None = None,
+    twists: bool = False,
 ) -> BatchResult:
     """Mobility and singularity numbers at N closed configurations, fast.
 
@@ -143,6 +104,8 @@ def analyze_batch(
         rtol: relative tolerance of every rank decision.
         singular_values: also give the singular values and the limb ratios.
         engine: ``numba`` or ``numpy`` (default: numba when installed, else numpy).
+        twists: also give the platform's free twists (:attr:`BatchResult.free_twists`; by batched LAPACK
+            SVDs with either engine).
 
     Raises:
         ConfigurationError: qs has the wrong shape or non-finite values, the
@@ -155,19 +118,57 @@ def analyze_batch(
             f"analyze_batch needs finite configurations of shape (N, {mech.model.nq}), got shape {qs.shape}"
         )
     require_platform(mech, "analyze_batch")
+    engine = check_engine(engine)
+    if any(limb.closures for limb in mech.limbs):
+        if twists:
+            raise ConfigurationError("analyze_batch gives free twists only for limbs without loops")
+        return _per_configuration(mech, qs, rtol, singular_values)
+    full, origin = world_jacobians(mech, qs)
+    return analyze_jacobians(mech, full, origin, rtol=rtol, singular_values=singular_values, engine=engine,
+                             twists=twists)  # fmt: skip
+
+
+def check_engine(engine: str | None) -> str:
+    """The batch engine to use: ``engine``, or numba when installed, else numpy.
+
+    Raises:
+        ConfigurationError: an unknown engine, or numba asked for and not installed.
+    """
     if engine is None:
         engine = "numba" if numba_available() else "numpy"
     if engine not in ENGINES:
         raise ConfigurationError(f"unknown batch engine {engine!r}; valid: {', '.join(ENGINES)}")
     if engine == "numba" and not numba_available():
         raise ConfigurationError("the numba engine needs numba: pip install 'pinmob[fast]'")
-    if any(limb.closures for limb in mech.limbs):
-        return _per_configuration(mech, qs, rtol, singular_values)
-    full, origin = world_jacobians(mech, qs)
-    full *= rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
+    return engine
+
+
+@one_blas_thread
+def analyze_jacobians(
+    mech: Mechanism,
+    full: Array,
+    origin: Array,
+    *,
+    rtol: float = RTOL,
+    singular_values: bool = False,
+    engine: str | None = None,
+    twists: bool = False,
+) -> BatchResult:
+    """:func:`analyze_batch` from the kinematics already computed: (N, 6, nv) world Jacobians, (N, 3) platform origins.
+
+    ``full`` and ``origin`` as :func:`world_jacobians` gives them (``full`` is not changed); limbs without loops
+    inside them only, and the configurations are not checked.
+    """
+    engine = check_engine(engine)
+    full = full * rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
     if engine == "numba":
-        return _numba(mech, full, origin, rtol, singular_values)
-    return _numpy(mech, full, origin, rtol, singular_values)
+        result = _numba(mech, full, origin, rtol, singular_values)
+        if twists:
+            wrenches = limb_wrench_rows(mech, full, origin, rtol)
+            sw = wrench_scaling(mech.length_scale)[:, None]
+            result = replace(result, free_twists=stacked_ranks(wrenches, rtol, sw, twists=True)[2])
+        return result
+    return numpy_engine(mech, full, origin, rtol, singular_values, twists)
 
 
 def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
@@ -196,67 +197,6 @@ def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_va
     if not singular_values:
         sv, asv, ratios = np.full_like(sv, np.nan), np.full_like(asv, np.nan), np.full_like(ratios, np.nan)
     return BatchResult(6 - d, d, sv, limb_rank, ratios, 6 - locked_rank, asv, "numba")
-
-
-def _null_rows(a: Array, rtol: float) -> tuple[Ints, Array, Array]:
-    """Ranks, singular values and ``V^T`` of each (m, 6) matrix of a stack (N, m, 6): decide_rank's SVD, batched."""
-    _, s, vt = svd(a, full_matrices=a.shape[1] < a.shape[2])
-    return rank_rule_rows(s, rtol), s, vt
-
-
-def _stacked(blocks: list[tuple[Ints, Array]], rtol: float, scale: Array | None) -> tuple[Ints, Array]:
-    """Rank and (N, 6) singular values of the null rows of every limb stacked, per configuration.
-
-    ``blocks``: per limb, (N,) ranks and (N, 6, 6) ``V^T`` (its null rows are those beyond the rank). The
-    configurations with the same ranks are stacked and decomposed together. With ``scale`` (the wrench
-    scaling), each block goes to SI and back, as :func:`pinmob.analysis.mobility.mobility_from_wrenches` takes it.
-    """
-    n = blocks[0][0].shape[0]
-    ranks, values = np.zeros(n, np.int64), np.zeros((n, 6))
-    pattern = np.stack([r for r, _ in blocks], axis=1)
-    for key in np.unique(pattern, axis=0):
-        where = np.flatnonzero((pattern == key).all(axis=1))
-        rows = [vt[where, r:, :] for r, (_, vt) in zip(key, blocks)]
-        if scale is not None:
-            si = np.concatenate([np.swapaxes(w, 1, 2) / scale for w in rows], axis=2)
-            stacked = np.swapaxes(scale * si, 1, 2)
-        else:
-            stacked = np.concatenate(rows, axis=1)
-        if stacked.shape[1] == 0:
-            continue
-        r, s, _ = _null_rows(stacked, rtol)
-        ranks[where], values[where, : s.shape[1]] = r, s[:, :6]
-    return ranks, values
-
-
-def _numpy(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
-    """:func:`analyze_batch` with batched LAPACK SVDs: the matrices and calls of the single analyses, per limb."""
-    st, sw = twist_scaling(mech.length_scale)[:, None], wrench_scaling(mech.length_scale)[:, None]
-    generic = generic_twist_ranks(mech)
-    wrenches, locked, ratios = [], [], []
-    for limb, g, twists in zip(mech.limbs, generic, limb_jacobians(mech, full, origin)):
-        a = st * twists  # (N, 6, n_i)
-        rank, _, vt = _null_rows(np.swapaxes(a, 1, 2), rtol)
-        wrenches.append((rank, vt))
-        unit = None
-        if singular_values or not limb.actuated:
-            unit = _null_rows(np.swapaxes(unit_columns(a), 1, 2), rtol)
-            ratios.append(ratio(unit[1], g))
-        if limb.actuated:
-            keep = [c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
-            lr, _, lvt = _null_rows(np.swapaxes(a[:, :, keep], 1, 2), rtol)
-            locked.append((lr, lvt))
-        elif unit is not None:
-            locked.append((unit[0], unit[2]))
-    d, sv = _stacked(wrenches, rtol, sw)
-    locked_rank, asv = _stacked(locked, rtol, None)
-    n = full.shape[0]
-    if not singular_values:
-        sv, asv, ratio_array = np.full((n, 6), np.nan), np.full((n, 6), np.nan), np.full((n, len(mech.limbs)), np.nan)
-    else:
-        ratio_array = np.stack(ratios, axis=1)
-    limb_rank = np.stack([r for r, _ in wrenches], axis=1)
-    return BatchResult(6 - d, d, sv, limb_rank, ratio_array, 6 - locked_rank, asv, "numpy")
 
 
 def _per_configuration(mech: Mechanism, qs: Array, rtol: float, singular_values: bool) -> BatchResult:

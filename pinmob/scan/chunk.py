@@ -1,6 +1,9 @@
 """One chunk of a scan: its samples assembled warm-started along a line, analysed, and refined.
 
-See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule. With the spec's
+See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule. :meth:`_Chunk.run` is the
+single-sample path (each sample assembled by :func:`assemble_target` and analysed by :func:`evaluate`, or by
+the batch of :mod:`pinmob.scan.batch_rows`); :mod:`pinmob.scan.lockstep` runs many chunks' assemblies
+together and completes each chunk with :meth:`_Chunk.complete` (refinements on the single-sample path). With the spec's
 ``finite_order`` each row kept (a sample, or a refined point; not the trial points of a refinement)
 adds its finite DoF (``FINITE_COLUMNS``).
 """
@@ -13,24 +16,21 @@ from typing import Any
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite import finite_mobility
-from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity import NEAR_FACTOR
-from pinmob.analysis.singularity_analysis import singularity
-from pinmob.assembly.assemble import assemble_joints, assemble_pose
-from pinmob.assembly.partial_pose import assemble_coordinates
-from pinmob.assembly.reach import pose_vector
 from pinmob.assembly.solver import STALL_WINDOW as SOLVER_STALL
 from pinmob.exceptions import PinmobError
-from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.batch_rows import Analysed, analyse
 from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, v_vertex
-from pinmob.scan.spec import POSE_COORDS, ScanSpec
-from pinmob.scan.unreachable import SV_COLUMNS, unreachable_reason, unreachable_row
+from pinmob.scan.sample import MAX_ITER, _evaluate
+from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
+from pinmob.scan.sample import assemble_target as assemble_target
+from pinmob.scan.sample import evaluate as evaluate
+from pinmob.scan.spec import ScanSpec
+from pinmob.scan.unreachable import unreachable_reason, unreachable_row
 from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
 
 #: Evaluations per refinement, and bracket width (in samples) at which it stops.
 REFINE_EVALS, REFINE_XTOL = 60, 1e-12
@@ -42,81 +42,21 @@ EDGE_STEPS = 6
 FINITE_COLUMNS = ("finite_dof", "finite_mechanism_dof")
 
 
-#: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
-MAX_ITER = 40
-
-#: A sample's platform-pose assembly gives up when its cost gained less than 0.1% over this many damped
-#: iterations (:func:`pinmob.assembly.solver.solve`'s ``stall_window``; 20 elsewhere, and in the refinements,
-#: whose trials next to an edge of the reachable set converge slowly): a sample out of reach costs about 6
-#: iterations instead of 20 to 40. The iterates do not depend on it, only where an unconverged solve stops.
-STALL_WINDOW = 5
-
-
 #: Iterations per assembly while refining (the solver converges slowly next to a singularity).
 REFINE_ITER = 100
 
 
-def assemble_target(
-    mech: Mechanism,
-    target: tuple[str, Any],
-    seed: Array,
-    max_iter: int = MAX_ITER,
-    tol: float = CLOSURE_TOL,
-    stall_window: int | None = None,
-) -> Array:
-    """A closed configuration at a scan target, warm-started from ``seed``.
-
-    The target is a platform pose, actuated joint values, or (a grid's) some pose coordinates and joint values,
-    the rest following (:func:`pinmob.assembly.partial_pose.assemble_coordinates`). ``stall_window`` of a pose
-    target's solver: None for a sample's (``STALL_WINDOW``).
-    """
-    kind, value = target
-    window = STALL_WINDOW if stall_window is None else stall_window
-    if kind == "pose":
-        return assemble_pose(mech, value, seed, tol, max_iter=max_iter, stall_window=window)
-    if kind == "coords":
-        return assemble_coordinates(mech, value[0], value[1], seed, tol, max_iter=max_iter, stall_window=window)
-    return assemble_joints(mech, value, seed, tol, max_iter=max_iter)
-
-
-def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None) -> dict[str, Any]:
-    """One scan row at a closed configuration: pose, DoF, motion type, singularity, singular values."""
-    return _evaluate(mech, q, rtol, generic_rank)[0]
-
-
-def _evaluate(
-    mech: Mechanism, q: Array, rtol: float, generic_rank: int | None
-) -> tuple[dict[str, Any], dict[str, float]]:
-    """The row and the distance of each question, from one :class:`Configuration` (one kinematics computation)."""
-    g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else generic_rank
-    conf = Configuration(mech, q)  # assembled by the scan to the default closure tolerance
-    mob, sing = platform_mobility(conf, rtol), singularity(conf, rtol, g)
-    row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(conf.frame_placement(mech.platform_id)).tolist()))
-    row.update(
-        reachable=True,
-        dof=mob.dof,
-        motion_type=mob.motion_type,
-        constraint_rank=mob.constraint_rank,
-        locked_dof=sing.locked_dof,
-        singularity=sing.label,
-        near_singular=sing.near_singular,
-        closest=sing.closest,
-        singular_limbs=";".join(sing.limbs),
-        dependent_limbs=";".join(sing.dependent_limbs),
-        uncontrolled=";".join(m.label for m in sing.uncontrolled),
-        distance=sing.distance,
-    )
-    row.update(zip(SV_COLUMNS, [*sing.constraint_singular_values.tolist(), *sing.actuation_singular_values.tolist()]))
-    return row, sing.distances
-
-
 @dataclass
 class _Sample:
-    """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances."""
+    """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances.
+
+    Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave.
+    """
 
     row: dict[str, Any]
     q: Array | None
     distances: dict[str, float]
+    known: dict[str, float] | None = None
 
     @property
     def distance(self) -> float:
@@ -131,6 +71,21 @@ class _Chunk:
         self.band = NEAR_FACTOR * spec.rtol
 
     def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None) -> _Sample:
+        """Sample t assembled from ``seed`` and analysed on its own."""
+        return self.finish(self.assemble(t, seed, max_iter, stall_window))
+
+    def assemble(
+        self,
+        t: float,
+        seed: Array,
+        max_iter: int = MAX_ITER,
+        stall_window: int | None = None,
+        closed: Array | None = None,
+    ) -> _Sample:
+        """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q.
+
+        ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor).
+        """
         target = self.spec.target(t)
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
@@ -139,31 +94,62 @@ class _Chunk:
         if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain)
             head.update(values)
         try:
-            q = assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol, stall_window)
+            q = (
+                closed
+                if closed is not None
+                else assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol, stall_window)
+            )
         except PinmobError as exc:
             if not self.spec.platform:
                 return _Sample(head | unreachable_chain(str(exc)), None, {})
             reason = unreachable_reason(exc, self.mech, self.spec.closure_tol)
             return _Sample(head | unreachable_row(target, reason) | values, None, {})
+        return _Sample(head, q, {}, dict(known))
+
+    def finish(self, pending: _Sample, analysed: Analysed | None = None) -> _Sample:
+        """The row of an assembled sample (:meth:`assemble`), from ``analysed`` (the batch's) or on its own."""
+        head, q, known = pending.row, pending.q, pending.known
+        if q is None or known is None:
+            return pending
         values = joint_row(self.mech, self.spec.values, q, known)
         if not self.spec.platform:
             head.update(values)
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
-            row, distances = _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
+            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
             limits = outside_limits(self.mech.model, q)
             row.update(reason=f"joints outside their limits: {', '.join(limits)}" if limits else "", **values)
         return _Sample(head | row, q, distances)
 
+    def analysed(self, samples: list[_Sample]) -> list[Analysed | None]:
+        """The batch's rows of the assembled ``samples`` (None where it cannot decide; all None with ``single``)."""
+        if self.spec.engine != "batch" or not self.spec.platform:
+            return [None] * len(samples)
+        closed = [s.q for s in samples if s.q is not None]
+        batch = iter(analyse(self.mech, closed, self.spec.rtol, self.spec.generic_rank))
+        return [next(batch) if s.q is not None else None for s in samples]
+
     def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:
-        first, last = self.spec.line(start)
-        done: dict[int, _Sample] = {}
+        """The rows of samples ``start .. stop - 1`` (one after the other; :mod:`pinmob.scan.lockstep` runs many)."""
+        pending: dict[int, _Sample] = {}
         q = seed
-        for k in range(start, min(stop, last) + 1):
-            done[k] = self.sample(k, q)
-            q = _seed(done[k], q)
-        if start > first:
-            done[start - 1] = self.sample(start - 1, _seed(done[start], seed))
+        for k in self.line_samples(start, stop):
+            pending[k] = self.assemble(k, q)
+            q = _seed(pending[k], q)
+        if self.spec.line(start)[0] < start:
+            pending[start - 1] = self.assemble(start - 1, _seed(pending[start], seed))
+        return self.complete(start, stop, pending, self.analysed(list(pending.values())))
+
+    def line_samples(self, start: int, stop: int) -> range:
+        """The samples a chunk assembles in order: its own and the next one on its line (its right neighbour)."""
+        return range(start, min(stop, self.spec.line(start)[1]) + 1)
+
+    def complete(
+        self, start: int, stop: int, pending: dict[int, _Sample], analysed: list[Analysed | None]
+    ) -> list[dict[str, Any]]:
+        """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order."""
+        first, last = self.spec.line(start)
+        done = {k: self.finish(s, a) for (k, s), a in zip(pending.items(), analysed)}
         extra: list[_Sample] = []
         for k in range(start, stop):
             extra += self.refine(k, done, first, last)

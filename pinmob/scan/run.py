@@ -8,8 +8,13 @@ sample of each line (a grid row by row, in a serpentine) and gives each chunk
 its seed; every chunk then runs from its seed, in this process or on a Dask
 worker (:mod:`pinmob.engine`), so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
 ``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
-the refinement). Each sample is analysed from one kinematics computation
-(:func:`pinmob.analysis.singularity_analysis.singularity`).
+the refinement). The chunks run in groups (:func:`chunk_groups`: the first alone, then up
+to ``GROUP``), each group as one job: with the batched engine (``spec.engine``, the default)
+its chunks' samples are assembled in lockstep and analysed in one batch
+(:mod:`pinmob.scan.lockstep`, :mod:`pinmob.scan.batch_rows`), the single-sample analysis
+(:func:`pinmob.analysis.singularity_analysis.singularity`, one kinematics computation per
+sample) only where the batch cannot decide; with ``single``, each sample on its own. Both give
+the same rows (``tests/test_scan_batch.py``).
 
 Refinement (:mod:`pinmob.scan.refine`): a singularity between samples is looked for
 where, along a line, a distance to singularity has a local minimum above
@@ -42,8 +47,10 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.parallel import Engine, Lost
 from pinmob.parallel.cluster import check_workers
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
-from pinmob.scan.chunk import FINITE_COLUMNS, SV_COLUMNS, run_chunk
+from pinmob.scan.chunk import FINITE_COLUMNS
+from pinmob.scan.lockstep import GROUP, Job, run_group
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
+from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array
 
 #: A scan whose remaining chunks would take less than this [s] in this process stays in this process: starting a
@@ -74,15 +81,34 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
             yield start, stops[start], found.pop(start)
 
 
-def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]:
-    """The scan's rows computed in this process, chunk after chunk (what :func:`scan` does with one worker)."""
+def chunk_groups(mech: Mechanism, spec: ScanSpec) -> Iterator[list[Job]]:
+    """The chunks of :func:`chunk_seeds` in groups, each run as one job (:func:`run_group`).
+
+    The first chunk alone (:class:`ScanRun` times it to decide where the others run), then up to ``GROUP`` each.
+    """
+    group: list[Job] = []
     for job in chunk_seeds(mech, spec):
-        yield from run_chunk(mech, spec, *job)
+        group.append(job)
+        if len(group) == GROUP or job[0] == 0:
+            yield group
+            group = []
+    if group:
+        yield group
 
 
-def _chunk_task(shared: tuple[Mechanism, ScanSpec], job: tuple[int, int, Array]) -> list[dict[str, Any]]:
-    """One chunk on a worker (:meth:`pinmob.engine.Engine.map`)."""
-    return run_chunk(shared[0], shared[1], *job)
+def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]:
+    """The scan's rows computed in this process, group after group (what :func:`scan` does with one worker)."""
+    for group in chunk_groups(mech, spec):
+        yield from run_group(mech, spec, group)
+
+
+def _group_task(shared: tuple[Mechanism, ScanSpec], group: list[Job]) -> list[dict[str, Any]]:
+    """One group of chunks on a worker (:meth:`pinmob.engine.Engine.map`)."""
+    return run_group(shared[0], shared[1], group)
+
+
+def _samples(group: list[Job]) -> int:
+    return sum(stop - start for start, stop, _ in group)
 
 
 class ScanRun:
@@ -108,29 +134,29 @@ class ScanRun:
         spec = self.spec
         disable = (None if spec.size >= 50 else True) if self.progress is None else not self.progress
         bar = tqdm(total=spec.size, disable=disable, unit="sample", desc=f"scan {self.mech.name}", leave=False)
-        jobs = chunk_seeds(self.mech, spec)
+        groups = chunk_groups(self.mech, spec)
         try:
-            first = next(jobs, None)
+            first = next(groups, None)
             if first is None:
                 return
             t0 = time.perf_counter()
-            rows = run_chunk(self.mech, spec, *first)
-            pace = (time.perf_counter() - t0) / max(1, first[1] - first[0])
-            bar.update(first[1] - first[0])
+            rows = run_group(self.mech, spec, first)
+            pace = (time.perf_counter() - t0) / max(1, _samples(first))
+            bar.update(_samples(first))
             yield from rows
-            left = spec.size - (first[1] - first[0])
+            left = spec.size - _samples(first)
             engine = self.engine
             if engine.in_process or (engine.scheduler is None and pace * left < CLUSTER_MIN_SECONDS):
                 if not engine.in_process:
                     self.where = f"1 worker (this process: too small to pay for {engine.workers} workers)"
-                for job in jobs:
-                    rows = run_chunk(self.mech, spec, *job)
-                    bar.update(job[1] - job[0])
+                for group in groups:
+                    rows = run_group(self.mech, spec, group)
+                    bar.update(_samples(group))
                     yield from rows
                 return
             with engine:
                 self.where = engine.describe()
-                for result in engine.map(_chunk_task, (self.mech, spec), jobs):
+                for result in engine.map(_group_task, (self.mech, spec), groups):
                     if isinstance(result, Lost):
                         raise EngineError(f"a scan chunk could not be computed: {result.reason}; the scan stopped")
                     bar.update(sum(not r["refined"] for r in result))

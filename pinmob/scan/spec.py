@@ -80,6 +80,8 @@ class ScanSpec:
             ``generic_rank`` is the generic closure rank).
         closure_tol: largest closure residual of an assembled sample (position / L, rotation [rad]).
         values: the joints whose values the rows give (:func:`pinmob.scan.chain.value_joints`).
+        engine: ``batch`` (a chunk's samples analysed together, :mod:`pinmob.scan.batch_rows`) or ``single``
+            (each sample on its own); the same rows, the figures to round-off.
     """
 
     kind: str
@@ -98,6 +100,7 @@ class ScanSpec:
     platform: bool = True
     closure_tol: float = CLOSURE_TOL
     values: tuple[str, ...] = ()
+    engine: str = "batch"
 
     @property
     def size(self) -> int:

@@ -1,0 +1,230 @@
+"""Damped Newton steps on many platform-pose assemblies at once, in lockstep: the predictor of a batched scan.
+
+B targets (platform pose coordinates ``[x, y, z, roll, pitch, yaw]``, some of them
+*free*: unknowns that follow the mechanism) and B warm starts. Every limb tip
+(and the platform frame) is driven to the target pose, as
+:func:`pinmob.assembly.assemble.assemble_pose` does; per frame f, dimensionless
+and in world axes,
+
+    e_f = [ (p_f - p*) / L ;  log3(R_f R*^T) ],
+
+with the Jacobian per joint rate taken from Pinocchio's world joint Jacobian
+(``data.J``, one ``computeJointJacobians`` per sample and iteration) on the
+frame's supporting joints, ``[(J_v - [p_f]x J_w) / L ; J_w]``, and, per free
+coordinate, ``-[e_k / L ; 0]`` (x, y, z) or ``-[0 ; E(rpy) e_k]`` (angles,
+``E`` the world angular velocity per rpy rate). The rotation rows take the
+angular velocity for the rate of ``log3`` (no ``Jlog3``): exact at a solution,
+so the steps converge quadratically near one. Pinocchio computes the
+kinematics one sample at a time (it has no batched kinematics); the errors,
+Jacobians and steps are numpy stacks over the samples still running.
+
+Step: Levenberg-Marquardt on the dimensionless columns ``J' = J D`` (D = L on a
+translation, 1 on a rotation), ``dz = -(J'^T J' + mu I)^-1 J'^T e`` with
+``mu = DAMPING * trace(J'^T J') / n``, capped at ``MAX_STEP`` per column (the
+trust region of :mod:`pinmob.assembly.solver`), and applied by
+``pin.integrate``. A sample stops when its ``max |e|`` is at most ``tol``
+(converged), or unconverged when it gained less than 0.1% over
+``stall_window`` iterations (:data:`~pinmob.assembly.solver.STALL_GAIN`), when a
+step makes it grow tenfold, or after ``max_iter`` iterations.
+
+A sample within ``tol`` goes on while a step keeps at most ``POLISH_GAIN`` of its
+``max |e|^2``, down to ``POLISH_FLOOR`` (the single-sample solver's polish rule,
+:mod:`pinmob.assembly.solver`): Newton steps converge quadratically there, or
+halve the distance at a singular solution (a double root), so it ends at
+round-off or ~1e-8 from a singular one, as that solver does, and is closed
+(:func:`finish_closed`). A scan gives every sample the
+predictor did not converge to the single-sample solver from its warm start
+(:mod:`pinmob.scan.lockstep`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.assembly.assemble import warn_outside_limits
+from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
+from pinmob.blas import one_blas_thread
+from pinmob.model.joints import linear_velocity_mask, wrap_angles
+from pinmob.model.mechanism import Mechanism
+from pinmob.screw.algebra import Array, Mask
+
+#: Damping of the normal equations, relative to their mean diagonal.
+DAMPING = 1e-12
+#: A step that makes ``max |e|`` grow by this factor stops the sample (it left the basin of its warm start).
+DIVERGED = 10.0
+#: Iterations at most, and the stall window: a sample that gained less than ``STALL_GAIN`` over it stops.
+MAX_ITER, STALL_WINDOW = 40, 5
+
+
+@dataclass(frozen=True)
+class BatchSolution:
+    """Outcome of :func:`solve_poses`: per sample, the last configuration, its ``max |e|`` and whether it converged."""
+
+    q: Array
+    residual: Array
+    converged: Mask
+    iterations: Array
+
+
+def _rpy_matrices(rpy: Array) -> Array:
+    """(B, 3, 3) ``Rz(yaw) Ry(pitch) Rx(roll)`` (Pinocchio's rpy) of (B, 3) angles."""
+    (cr, cp, cy), (sr, sp, sy) = np.cos(rpy).T, np.sin(rpy).T
+    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
+                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
+                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)  # fmt: skip
+
+
+def _rpy_rates(rpy: Array) -> Array:
+    """(B, 3, 3) world angular velocity per rpy rate (Pinocchio's ``computeRpyJacobian(rpy, WORLD)``)."""
+    _, cp, cy = np.cos(rpy).T
+    _, sp, sy = np.sin(rpy).T
+    z, o = np.zeros_like(cp), np.ones_like(cp)
+    return np.stack([np.stack([cy * cp, -sy, z], -1), np.stack([sy * cp, cy, z], -1), np.stack([-sp, z, o], -1)], -2)
+
+
+def _log3(r: Array) -> Array:
+    """(B, 3) rotation vectors of (B, 3, 3) rotations (angles below pi; near pi the axis from the symmetric part)."""
+    cos = np.clip((np.trace(r, axis1=1, axis2=2) - 1) / 2, -1.0, 1.0)
+    theta = np.arccos(cos)
+    vee = 0.5 * np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]], -1)
+    small = theta < 1e-6
+    factor = np.where(small, 1 + theta**2 / 6, theta / np.where(small, 1.0, np.sin(np.where(small, 1.0, theta))))
+    return vee * factor[:, None]
+
+
+def _skew(v: Array) -> Array:
+    """(B, 3, 3) cross-product matrices of (B, 3) vectors."""
+    out = np.zeros((len(v), 3, 3))
+    out[:, 0, 1], out[:, 0, 2], out[:, 1, 2] = -v[:, 2], v[:, 1], -v[:, 0]
+    out[:, 1, 0], out[:, 2, 0], out[:, 2, 1] = v[:, 2], -v[:, 1], v[:, 0]
+    return out
+
+
+class PoseProblem:
+    """The frames of a platform-pose assembly and their supporting columns (see the module docstring)."""
+
+    def __init__(self, mech: Mechanism, free: tuple[int, ...] = ()) -> None:
+        model = self.model = mech.model
+        self.length, self.free = mech.length_scale, tuple(free)
+        pid = mech.platform_id
+        body = model.frames[pid].parentJoint
+        self.frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
+        self.mask = np.zeros((len(self.frames), 1, model.nv))  # (F, 1, nv): the joints supporting each frame
+        for i, frame in enumerate(self.frames):
+            for j in list(model.supports[model.frames[frame].parentJoint])[1:]:
+                self.mask[i, 0, model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
+        col_q = np.where(linear_velocity_mask(model), self.length, 1.0)
+        self.col = np.concatenate([col_q, [self.length if f < 3 else 1.0 for f in self.free]])
+        self.data = model.createData()
+
+    def residual(self, qs: Array, poses: Array) -> tuple[Array, Array]:
+        """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate at (B, nq), (B, 6)."""
+        model, data, n, nv, nf = self.model, self.data, len(qs), self.model.nv, len(self.frames)
+        full = np.empty((n, 6, nv))
+        pos, rot = np.empty((n, nf, 3)), np.empty((n, nf, 3, 3))
+        for b in range(n):
+            full[b] = pin.computeJointJacobians(model, data, qs[b])
+            pin.updateFramePlacements(model, data)
+            for i, frame in enumerate(self.frames):
+                m = data.oMf[frame]
+                pos[b, i], rot[b, i] = m.translation, m.rotation
+        jac = full[:, None] * self.mask  # (B, F, 6, nv): each frame's supporting columns
+        lin = jac[:, :, :3] - _skew(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
+        target = _rpy_matrices(poses[:, 3:])
+        rel = (rot @ target[:, None].transpose(0, 1, 3, 2)).reshape(-1, 3, 3)
+        errors = np.concatenate([(pos - poses[:, None, :3]) / self.length, _log3(rel).reshape(n, nf, 3)], 2)
+        rows = np.concatenate([lin / self.length, jac[:, :, 3:]], 2)  # (B, F, 6, nv)
+        if self.free:
+            extra = np.zeros((n, nf, 6, len(self.free)))
+            rates = _rpy_rates(poses[:, 3:])
+            for c, f in enumerate(self.free):
+                if f < 3:
+                    extra[:, :, f, c] = -1.0 / self.length
+                else:
+                    extra[:, :, 3:, c] = -rates[:, None, :, f - 3]
+            rows = np.concatenate([rows, extra], 3)
+        return errors.reshape(n, 6 * nf), rows.reshape(n, 6 * nf, -1) * self.col
+
+    def integrate(self, qs: Array, poses: Array, steps: Array) -> tuple[Array, Array]:
+        """Configurations and poses moved by (B, nv + free) dimensionless steps."""
+        nv, dq = self.model.nv, steps * self.col
+        out = np.array([pin.integrate(self.model, q, d) for q, d in zip(qs, dq[:, :nv])])
+        moved = poses.copy()
+        moved[:, list(self.free)] += dq[:, nv:]
+        return out, moved
+
+
+def finish_closed(mech: Mechanism, q: Array, kind: str) -> Array:
+    """A configuration the predictor closed, as the single-sample assembly returns it.
+
+    Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`) and the warning for joints outside their
+    limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind`` ``pose``) or of
+    :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``).
+    """
+    q = wrap_angles(mech.model, q)
+    warn_outside_limits(
+        mech, q, "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
+    )
+    return q
+
+
+def _worst(e: Array, frames: int) -> Array:
+    """(B,) ``max |e|`` per sample: the largest position or rotation norm over the frames."""
+    parts = e.reshape(len(e), frames * 2, 3)
+    return np.sqrt(np.max(np.einsum("bij,bij->bi", parts, parts), axis=1))
+
+
+@one_blas_thread
+def solve_poses(
+    problem: PoseProblem,
+    qs: Array,
+    poses: Array,
+    tol: float = 1e-12,
+    max_iter: int = MAX_ITER,
+    stall_window: int = STALL_WINDOW,
+    floor: float = POLISH_FLOOR,
+) -> BatchSolution:
+    """Damped Newton on B pose assemblies in lockstep (module docstring) from (B, nq) starts to (B, 6) poses.
+
+    ``poses`` holds the given coordinates and the free ones' starting values (the warm starts' own). A sample
+    within ``tol`` goes on while its steps keep at most ``POLISH_GAIN`` of ``max |e|^2``, down to ``floor``
+    (the single-sample solver's polish); the best iterate of each sample is returned.
+    """
+    q, p = np.array(qs, float), np.array(poses, float)
+    n, frames = len(q), len(problem.frames)
+    history = np.full((n, max_iter + 1), np.inf)
+    best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
+    iterations = np.zeros(n, int)
+    active = np.arange(n)
+    for it in range(max_iter + 1):
+        e, jac = problem.residual(q[active], p[active])
+        now = _worst(e, frames)
+        previous = best[active]
+        better = now < previous
+        best_q[active[better]], best_p[active[better]], best[active[better]] = (
+            q[active[better]],
+            p[active[better]],
+            now[better],
+        )
+        history[active, it] = now
+        before = history[active, it - stall_window] if it >= stall_window else np.full(len(active), np.inf)
+        stalled = now > (1 - STALL_GAIN) * before
+        diverged = now > DIVERGED * previous
+        # at the floor, or a step within tol that kept more than POLISH_GAIN of the cost (the single-sample polish's rule)
+        polished = (now <= floor) | ((previous <= tol) & (now**2 > POLISH_GAIN * previous**2))
+        done = polished | stalled | diverged | ~np.isfinite(now)
+        keep = ~done
+        active, e, jac = active[keep], e[keep], jac[keep]
+        if not active.size or it == max_iter:
+            break
+        iterations[active] += 1
+        jtj = jac.transpose(0, 2, 1) @ jac
+        k = np.arange(jtj.shape[1])
+        jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
+        dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
+        dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
+        q[active], p[active] = problem.integrate(q[active], p[active], dz)
+    return BatchSolution(best_q, best, best <= tol, iterations)

@@ -1,0 +1,142 @@
+"""Scan rows of many closed samples at once: one batched analysis, the single-sample one only where it decides.
+
+A chunk's samples (:mod:`pinmob.scan.chunk`) are assembled first; then their
+kinematics are computed once per sample (``computeJointJacobians`` and the
+platform frame's placement) and analysed together
+(:func:`pinmob.analysis.batch.analyze_jacobians`: DoF, constraint, limb and
+locked ranks, their singular values, the platform's free twists). A sample is
+*decided* by the batch when nothing about it is singular or close to it:
+
+* every limb has its generic twist rank, the constraint rank is the generic one
+  and no motion is left with the actuators locked (``locked_dof = 0``);
+* every distance to singularity (each limb's, the constraint's, the actuation's;
+  the numbers of :func:`pinmob.analysis.singularity_analysis.singularity`) is at
+  least ``DECIDED_FACTOR`` times the near-singular band ``NEAR_FACTOR * rtol``.
+
+Its row then has no singularity class, no singular or dependent limb and no
+uncontrolled motion, its motion type is the classification of its free twists
+(:func:`pinmob.screw.classify.classify_twists`, which depends on their span only)
+and its figures are the batch's. Every other sample (singular, near-singular,
+under-actuated, or a mechanism the batch does not cover: limbs with loops
+inside them, limbs coupled by closures) gets the single-sample row
+(:func:`pinmob.scan.sample.evaluate`), as do the refinements' trial points. The
+rows are those of the single-sample path, the figures to round-off
+(``tests/test_scan_batch.py``).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.analysis.batch import analyze_jacobians
+from pinmob.analysis.generic import generic_twist_ranks
+from pinmob.analysis.limbs import limbwise_obstacle
+from pinmob.analysis.singularity import NEAR_FACTOR, generic_locked_dof
+from pinmob.assembly.reach import POSE_COORDS, pose_vector
+from pinmob.model.mechanism import Mechanism
+from pinmob.scan.unreachable import SV_COLUMNS
+from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.screw.classify import classify_twists, motion_type
+
+#: A sample is decided by the batch when each of its distances is at least this many near-singular bands.
+DECIDED_FACTOR = 2.0
+
+#: The scan engines: ``batch`` (this module, the default) and ``single`` (every sample on its own).
+ENGINES = ("batch", "single")
+
+#: A sample's row and the distance of each question (:func:`pinmob.scan.sample.evaluate`'s numbers).
+Analysed = tuple[dict[str, Any], dict[str, float]]
+
+
+def batchable(mech: Mechanism) -> bool:
+    """The batch can decide samples of ``mech``: a platform, actuated limbs without inner loops, none coupled."""
+    return bool(
+        mech.has_platform
+        and mech.actuated
+        and mech.limbs
+        and not limbwise_obstacle(mech)
+        and not any(limb.closures for limb in mech.limbs)
+    )
+
+
+def _motion_type(span: Array, st: Array, length: float, rtol: float) -> str:
+    """The motion type of an orthonormal span (6, k) of dimensionless twists: :func:`classify_twists`'s label.
+
+    Its closed forms without the call: ``rigid`` (k = 0), ``3T3R`` (k = 6), ``kT`` when the rotation rows are
+    below ``rtol`` (:func:`pinmob.screw.classify.principal_screws_of_span`'s test: no direction, all free).
+    """
+    k = span.shape[1]
+    if k == 0:
+        return "rigid"
+    if k == 6:
+        return "3T3R"
+    w = span[3:]
+    if float(np.sqrt((w * w).sum())) <= rtol:
+        return f"{k}T"
+    return motion_type(classify_twists(span / st, length, rtol))
+
+
+def platform_kinematics(mech: Mechanism, qs: Array) -> tuple[Array, Array]:
+    """(N, 6, nv) world Jacobians and (N, 6) platform poses ``[x, y, z, roll, pitch, yaw]`` of N configurations."""
+    model, pid = mech.model, mech.platform_id
+    data = model.createData()
+    full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
+    for i, q in enumerate(qs):
+        full[i] = pin.computeJointJacobians(model, data, q)
+        poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
+    return full, poses
+
+
+def analyse(mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int) -> list[Analysed | None]:
+    """Per closed configuration, its row and distances when the batch decides it, else None (module docstring)."""
+    if not qs or not batchable(mech):
+        return [None] * len(qs)
+    full, poses = platform_kinematics(mech, np.asarray(qs, float))
+    res = analyze_jacobians(mech, full, poses[:, :3], rtol=rtol, singular_values=True, twists=True)
+    assert res.free_twists is not None  # asked for
+    g, generic = int(generic_rank), np.array(generic_twist_ranks(mech))
+    g_locked = generic_locked_dof(mech, g)
+    band = NEAR_FACTOR * rtol
+    length = mech.length_scale
+    st = twist_scaling(length)[:, None]
+    out: list[Analysed | None] = []
+    for i in range(len(qs)):
+        limb_rank = res.limb_twist_rank[i]
+        if not (np.array_equal(limb_rank, generic) and res.constraint_rank[i] == g and res.locked_dof[i] == 0):
+            out.append(None)
+            continue
+        rows = int(np.sum(6 - generic))  # stacked limb wrenches: the constraint singular values there are
+        sv = np.where(np.arange(6) < rows, res.singular_values[i], np.nan)
+        distances = {f"limb {limb.name}": float(r) for limb, r in zip(mech.limbs, res.limb_ratio[i])}
+        if g > 0:
+            distances["constraint"] = float(sv[g - 1] / sv[0]) if sv[0] > 0 else 0.0
+        asv = res.actuation_singular_values[i]
+        r_act = 6 - g_locked
+        distances["actuation"] = float(asv[r_act - 1] / asv[0]) if r_act > 0 and asv[0] > 0 else float(r_act <= 0)
+        distance = min(distances.values())
+        if not distance >= DECIDED_FACTOR * band:
+            out.append(None)
+            continue
+        dof = int(res.dof[i])
+        span = res.free_twists[i][:, :dof]
+        row: dict[str, Any] = dict(zip(POSE_COORDS, poses[i].tolist()))
+        row.update(
+            reachable=True,
+            dof=dof,
+            motion_type=_motion_type(span, st, length, rtol),
+            constraint_rank=int(res.constraint_rank[i]),
+            locked_dof=0,
+            singularity="none",
+            near_singular=False,
+            closest=next(k for k, v in distances.items() if v <= distance * (1 + 1e-6) + 1e-15),  # closest_all[0]
+            singular_limbs="",
+            dependent_limbs="",
+            uncontrolled="",
+            distance=distance,
+        )
+        row.update(zip(SV_COLUMNS, [*sv.tolist(), *asv.tolist()]))
+        out.append((row, distances))
+    return out

@@ -1,0 +1,151 @@
+"""Chunks of a scan run together: their samples assembled in lockstep and analysed in one batch.
+
+A group of up to ``GROUP`` chunks (:func:`pinmob.scan.run.chunk_groups`) runs as one
+job. Step j assembles the j-th sample of every chunk of the group, each
+warm-started from the previous sample of its own chunk (the continuation of the
+single-sample path, so the same assembly branch), by the batched predictor
+(:func:`pinmob.assembly.batch_solver.solve_poses`: damped Newton steps over all
+those samples at once, polished to round-off). A sample it did not bring within
+``PREDICT_TOL`` (out of reach, a stall, a step that diverged) goes to the
+single-sample solver (:func:`pinmob.scan.chunk.assemble_target`) from its warm
+start, exactly as on the single-sample path: an unreachable verdict and its
+reason are that solver's. Joint targets (forward kinematics), targets that hold
+joints, mechanisms without a platform or with closures besides the limb tips are
+assembled by that solver alone.
+
+The group's samples are then analysed in one batch (:mod:`pinmob.scan.batch_rows`);
+a predicted sample the batch does not decide (singular or close to it) is polished
+again by the single-sample solver from the predictor's configuration (its
+Gauss-Newton steps end ~1e-8 from a singular solution, a double root, where the
+predictor's damped steps stop earlier) and analysed on its own. Each chunk refines
+and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`, the refinements
+on the single-sample path). With ``spec.engine == "single"``
+the chunks run one after the other, each sample on its own.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.assembly.batch_solver import PoseProblem, finish_closed, solve_poses
+from pinmob.assembly.reach import POSE_COORDS, pose_vector
+from pinmob.blas import one_blas_thread
+from pinmob.model.mechanism import Mechanism
+from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.spec import ScanSpec
+from pinmob.screw.algebra import Array
+
+#: Chunks per group (samples assembled in lockstep: up to GROUP per step).
+GROUP = 16
+
+#: A sample the predictor brought within this ``max |e|`` (and polished on to round-off) is closed.
+PREDICT_TOL = 1e-12
+
+#: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
+Job = tuple[int, int, Array]
+
+
+class Predictor:
+    """Starts for the single-sample solver from the batched predictor, for one scan (None: it does not apply)."""
+
+    def __init__(self, mech: Mechanism, spec: ScanSpec) -> None:
+        self.mech, self.spec = mech, spec
+        self.free = tuple(POSE_COORDS.index(c) for c in spec.following)
+        self.problem = PoseProblem(mech, self.free)
+
+    @staticmethod
+    def applies(mech: Mechanism, spec: ScanSpec) -> bool:
+        """A platform-pose scan of a mechanism whose closures are its limb tips (module docstring)."""
+        if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs:
+            return False
+        if mech.closures or any(limb.closures for limb in mech.limbs):  # loops besides the limb tips
+            return False
+        kind, value = spec.target(0)
+        return kind == "pose" or (kind == "coords" and not value[1])
+
+    def closed(self, targets: list[tuple[str, Any]], seeds: list[Array]) -> list[Array | None]:
+        """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
+
+        Closed: :func:`finish_closed` of a sample it converged; None where it did not.
+        """
+        if not targets:
+            return []
+        model, data, pid = self.mech.model, self.problem.data, self.mech.platform_id
+        poses = np.empty((len(targets), 6))
+        for i, ((kind, value), seed) in enumerate(zip(targets, seeds)):
+            if kind == "pose":
+                poses[i] = pose_vector(value)
+                continue
+            pin.framesForwardKinematics(model, data, seed)
+            poses[i] = pose_vector(data.oMf[pid])  # the free coordinates start where the seed has them
+            for c, v in value[0].items():
+                poses[i, POSE_COORDS.index(c)] = v
+        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL)
+        return [
+            finish_closed(self.mech, q, kind) if ok else None for q, ok, (kind, _) in zip(sol.q, sol.converged, targets)
+        ]
+
+
+@one_blas_thread
+def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str, Any]]:
+    """The rows of the chunks ``jobs``, in order (module docstring)."""
+    if not Predictor.applies(mech, spec):
+        return [row for job in jobs for row in run_chunk(mech, spec, *job)]
+    predictor = Predictor(mech, spec)
+    chunks = [_Chunk(mech, spec) for _ in jobs]
+    plans = [list(chunk.line_samples(start, stop)) for chunk, (start, stop, _) in zip(chunks, jobs)]
+    pending: list[dict[int, _Sample]] = [{} for _ in jobs]
+    predicted: set[tuple[int, int]] = set()
+    lost: set[int] = set()  # chunks whose last sample did not assemble
+    last = [seed for _, _, seed in jobs]
+    for j in range(max(len(p) for p in plans)):
+        which = [c for c, plan in enumerate(plans) if j < len(plan)]
+        _step(predictor, chunks, pending, predicted, lost, last, [(c, plans[c][j], last[c]) for c in which])
+    neighbours = [c for c, (start, _, _) in enumerate(jobs) if spec.line(start)[0] < start]
+    if neighbours:  # each chunk's left neighbour, warm-started from its first sample
+        lost = {c for c in neighbours if pending[c][jobs[c][0]].q is None}
+        _step(predictor, chunks, pending, predicted, lost, last,
+              [(c, jobs[c][0] - 1, _seed(pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])  # fmt: skip
+    analysed = iter(chunks[0].analysed([s for p in pending for s in p.values()]))
+    rows: list[dict[str, Any]] = []
+    for c, (start, stop, _) in enumerate(jobs):
+        mine = [next(analysed) for _ in pending[c]]
+        for (k, sample), decided in zip(list(pending[c].items()), mine):
+            if decided is None and (c, k) in predicted and sample.q is not None:  # singular or close to it: the
+                again = chunks[c].assemble(k, sample.q)  # single-sample solver's polish (~1e-8 from a double root)
+                pending[c][k] = again if again.q is not None else sample
+        rows += chunks[c].complete(start, stop, pending[c], mine)
+    return rows
+
+
+def _step(
+    predictor: Predictor,
+    chunks: list[_Chunk],
+    pending: list[dict[int, _Sample]],
+    predicted: set[tuple[int, int]],
+    lost: set[int],
+    last: list[Array],
+    work: list[tuple[int, int, Array]],
+) -> None:
+    """Assemble sample k of chunk c from ``seed`` for each ``(c, k, seed)``: the predictor batched, else on its own.
+
+    A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out of
+    reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before.
+    """
+    tried = [w for w in work if w[0] not in lost]
+    found = dict(zip([w[0] for w in tried], predictor.closed([predictor.spec.target(k) for _, k, _ in tried],
+                                                              [seed for _, _, seed in tried])))  # fmt: skip
+    for c, k, seed in work:
+        q = found.get(c)
+        sample = chunks[c].assemble(k, seed, closed=q)
+        pending[c][k] = sample
+        last[c] = _seed(sample, seed)
+        if q is not None:
+            predicted.add((c, k))
+        if sample.q is None:
+            lost.add(c)
+        else:
+            lost.discard(c)

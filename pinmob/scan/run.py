@@ -6,7 +6,7 @@ the closure solver of the next). One coarse walk (:func:`chunk_seeds`, in this
 process) goes from the reference configuration through every ``STRIDE``-th
 sample of each line (a grid row by row, in a serpentine) and gives each chunk
 its seed; every chunk then runs from its seed, in this process or on a Dask
-worker (:mod:`pinmob.engine`), so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
+worker (:mod:`pinmob.parallel`), so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
 ``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
 the refinement). The chunks run in groups (:func:`chunk_groups`: the first alone, then up
 to ``GROUP``), each group as one job: with the batched engine (``spec.engine``, the default)
@@ -103,7 +103,7 @@ def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]
 
 
 def _group_task(shared: tuple[Mechanism, ScanSpec], group: list[Job]) -> list[dict[str, Any]]:
-    """One group of chunks on a worker (:meth:`pinmob.engine.Engine.map`)."""
+    """One group of chunks on a worker (:meth:`pinmob.parallel.Engine.map`)."""
     return run_group(shared[0], shared[1], group)
 
 

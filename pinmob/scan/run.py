@@ -103,7 +103,7 @@ def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]
 
 
 def _group_task(shared: tuple[Mechanism, ScanSpec], group: list[Job]) -> list[dict[str, Any]]:
-    """One group of chunks on a worker (:meth:`pinmob.parallel.Engine.map`)."""
+    """One group of chunks on a worker (:meth:`pinmob.parallel.cluster.Engine.map`)."""
     return run_group(shared[0], shared[1], group)
 
 

@@ -1,0 +1,329 @@
+"""Motion modes from closed samples: the evidence that decides where the higher-order conditions do not.
+
+The tangent-cone tests of :mod:`pinmob.analysis.finite_side` decide nothing when the second-order cone is
+not a union of linear spaces (a branch that is itself singular at q, such as the Delta's tilting mode at
+``rods-horizontal``), or when a condition lands near its tolerance. :func:`decide_by_samples` then uses
+what an independent check would:
+
+1. **Closed samples near q.** Starts ``q (+) RADIUS u`` along random first-order motions u and along
+   points of the second-order cone (``Q(y) = 0``, the candidate directions of every branch, linear or
+   not), each projected on the closed set by the minimum-norm solver (held joints kept).
+2. **Their local dimension.** At a sample p each first-order motion (the kernel at p) is probed: p moved
+   ``PROBE`` along it and projected back. The motions that extend (landing about all the way along) span
+   the tangent space of the closed set at p, the others (landing about where they started) exist to
+   first order only; the number that extend is the mode's DoF at p, and the platform's DoF and motion
+   type on the mode are those of that tangent space.
+3. **Modes.** Regular samples on a linear cone component's tangent space (and of its dimension)
+   confirm it as a branch; the others are grouped by (dimension, platform DoF): a mode whose tangent
+   cone at q is not linear. The finite DoF are the largest found.
+4. **The reduced equation.** With a single first-order motion n left (``m == 1``, e.g. the actuators
+   held at a constraint singularity), the closure equations are solved in every direction but n
+   (:func:`reduced_growth`): the residual left, ``|g(s)|``, is the reduced equation along n. When it grows
+   like ``s^k`` (k >= 2, far above round-off) on both sides, q is isolated: finite DoF 0.
+
+Every figure the decision rests on is either far from its threshold (a probe extends by about 1 or by
+about 0) or an integer; the printed evidence names the integers only, so that it does not depend on
+round-off (nor on the machine's BLAS).
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.analysis.branches import Branch, platform_motions
+from pinmob.analysis.closure_jacobian import closed_chain_columns
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.higher_order import HigherOrder
+from pinmob.analysis.motion import Motion
+from pinmob.analysis.path_follower import closed_rates
+from pinmob.assembly.residual import closure_residual
+from pinmob.assembly.solver import solve
+from pinmob.model.joints import short_difference
+from pinmob.screw.algebra import Array
+from pinmob.screw.rank import decide_rank
+
+#: Distance of the samples from q (dimensionless joint metric: rad, or m / L).
+RADIUS = 0.03
+#: Size of the probes of a sample's first-order motions.
+PROBE = 0.002
+#: A probed direction extends when its share of the probes' displacements is above this (a real motion: about 1).
+EXTENDS = 0.5
+#: Relative rank tolerance of the platform's motions on a sample's tangent (the probes leave about 1e-3 near q).
+SAMPLE_RTOL = 1e-2
+#: Random first-order motions and cone points tried as starts.
+STARTS = 5
+#: Linear components (the largest first) each given a start of its own.
+COMPONENT_STARTS = 3
+#: A sample belongs to a linear component when the sine of its displacement's angle to it is at most this.
+ON_COMPONENT = 0.3
+#: Steps of the reduced equation along a single remaining motion (joint metric), each twice the last.
+GROWTH_STEPS = (0.025, 0.05, 0.1)
+#: The reduced equation decides only where its residual is above this (dimensionless; round-off is 1e-15).
+GROWTH_FLOOR = 1e-9
+#: Directions below this fraction of the largest are not in the span of the samples' tangents.
+REACH_TOL = 0.05
+#: Convergence of the projections (dimensionless residual).
+PROJECT_TOL = 1e-12
+
+
+@dataclass(frozen=True)
+class ModeSample:
+    """A regular closed sample near q: the mode it lies on, seen there.
+
+    Attributes:
+        q: (nq,) the sample.
+        displacement: (nv,) its dimensionless displacement from q.
+        dimension: the mode's DoF (the closed chain's, held joints still).
+        dof, motion_type, motions: the platform's DoF, motion type and motions on it (None, None, ()
+            without a platform).
+        rates: (nv, dimension) the mode's tangent rates at the sample.
+    """
+
+    q: Array
+    displacement: Array
+    dimension: int
+    dof: int | None
+    motion_type: str | None
+    motions: tuple[Motion, ...]
+    rates: Array
+
+
+@dataclass(frozen=True)
+class Evidence:
+    """What the closed samples (or the reduced equation) decide.
+
+    Attributes:
+        finite_mechanism_dof, finite_dof: the finite DoF found (None: not decided; ``finite_dof`` is None
+            without a platform).
+        branches: the branches through q: the linear components the samples confirm, then the modes
+            whose tangent cone is not linear.
+        how: the evidence that decided, in words ('' when nothing did).
+        conflict: why it did not decide, with the numbers ('' when it did).
+        samples: (tried, regular) closed samples.
+        reach: (nv, k) orthonormal joint rates spanning the tangents of every regular sample (the directions
+            the modes take from q, to about ``REACH_TOL``).
+    """
+
+    finite_mechanism_dof: int | None
+    finite_dof: int | None
+    branches: tuple[Branch, ...]
+    how: str
+    conflict: str
+    samples: tuple[int, int]
+    reach: Array
+
+
+class _Projector:
+    """The minimum-norm projection on the closed set, the held joints kept."""
+
+    def __init__(self, conf: Configuration, held: tuple[int, ...]) -> None:
+        mech = conf.mechanism
+        self.mech, self.q0 = mech, conf.q
+        self.col = closed_chain_columns(conf)
+        self.residual = closure_residual(mech)
+        self.free = np.ones(mech.model.nv, bool)
+        self.free[list(held)] = False
+
+    def __call__(self, q: Array, step: Array) -> Array | None:
+        """The closed configuration reached from q moved by the dimensionless step and projected back (None when it does not close)."""
+        model = self.mech.model
+        start = pin.integrate(model, q, self.col * step)
+        res = solve(
+            model, self.residual, start, tol=PROJECT_TOL, max_iter=60, length=self.mech.length_scale, free=self.free
+        )
+        return res.q if res.residual <= PROJECT_TOL * 10 else None
+
+    def moved(self, a: Array, b: Array) -> Array:
+        """(nv,) dimensionless displacement from a to b."""
+        return short_difference(self.mech.model, a, b) / self.col
+
+
+def regular_sample(conf: Configuration, q: Array, held: tuple[int, ...], rtol: float) -> ModeSample | None:
+    """The :class:`ModeSample` at the closed q near conf, or None where its probes do not tell.
+
+    Each first-order motion u_i at q (an orthonormal basis of the kernel, held joints still) is probed: q moved
+    ``PROBE u_i`` and projected back. The displacements over ``PROBE``, D, map the kernel onto the tangent
+    space of the closed set at q (the projection keeps a step's share along the set and drops the rest): its
+    singular values are about 1 (a motion that extends) or about 0 (one that exists to first order only).
+    The mode's dimension is the number above ``EXTENDS``, its tangent their left singular vectors; a singular
+    value between ``1 - EXTENDS / 2`` and ``EXTENDS / 2`` tells nothing: None.
+    """
+    mech = conf.mechanism
+    project = _Projector(conf, held)
+    here = Configuration.unchecked(mech, q)
+    null = closed_rates(here, held, rtol)
+    moves = []
+    for i in range(null.shape[1]):
+        ends = [project(q, sign * PROBE * null[:, i]) for sign in (1.0, -1.0)]
+        if ends[0] is None or ends[1] is None:
+            return None
+        moves.append(project.moved(ends[1], ends[0]) / (2 * PROBE))  # central: the curvature's share cancels
+    tangent = np.zeros((mech.model.nv, 0))
+    if moves:
+        _, sv, vt = np.linalg.svd(np.array(moves).T, full_matrices=False)  # D = U S V^T, (nv, d)
+        if np.any((sv > EXTENDS / 2) & (sv < 1 - EXTENDS / 2)):
+            return None
+        tangent = null @ vt[: int(np.sum(sv > EXTENDS))].T  # the kernel's combinations that extend
+    if not mech.has_platform:
+        return ModeSample(q, project.moved(conf.q, q), tangent.shape[1], None, None, (), tangent)
+    # every motion extends: the tangent is the kernel, exact (classified as at q); else found to about PROBE^2
+    dof, kind, motions = platform_motions(here, tangent, rtol if tangent.shape[1] == null.shape[1] else SAMPLE_RTOL)
+    return ModeSample(q, project.moved(conf.q, q), tangent.shape[1], dof, kind, motions, tangent)
+
+
+def cone_directions(ho: HigherOrder, count: int, rng: np.random.Generator) -> list[Array]:
+    """Up to ``count`` unit points y of the second-order cone ``Q(y) = 0`` (kernel coordinates), from random starts."""
+    from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
+
+    h = ho.forms()
+    m = ho.m
+    if m == 0 or h.shape[0] == 0:
+        return []
+    pad = np.zeros(max(0, m - h.shape[0] - 1))
+
+    def fun(y: Array) -> Array:
+        return np.concatenate([np.einsum("lab,a,b->l", h, y, y), [y @ y - 1.0], pad])
+
+    out = []
+    for _ in range(count):
+        start = np.asarray(rng.normal(size=m), float)
+        fit = least_squares(fun, start, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
+        y = fit.x / np.linalg.norm(fit.x)
+        if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) <= ho.tol:
+            out.append(y)
+    return out
+
+
+def reduced_growth(conf: Configuration, direction: Array, held: tuple[int, ...]) -> int | None:
+    """The order k at which the closure equations reduced to the single motion ``direction`` start, or None.
+
+    For each step s of ``GROWTH_STEPS`` (both signs) the closure residual at ``q (+) (s n + w)`` is minimised
+    over w orthogonal to n = ``direction`` (unit dimensionless joint rates) and to the held joints (Gauss-Newton:
+    the closure Jacobian has full rank there): what is left is the reduced equation ``|g(s)|``. It decides when
+    every value is above ``GROWTH_FLOOR`` and each doubling of s multiplies it by 2^k, k >= 2 the same integer
+    (within 0.4) on both sides: then q is an isolated solution along n. None otherwise (a curve may exist).
+    """
+    mech = conf.mechanism
+    model = mech.model
+    project = _Projector(conf, held)
+    n = direction / np.linalg.norm(direction)
+    basis = np.eye(model.nv)[:, project.free]
+    basis = basis - np.outer(n, n @ basis)
+    u, s, _ = np.linalg.svd(basis, full_matrices=False)
+    comp = u[:, s > 1e-9]
+    slopes = []
+    for sign in (1.0, -1.0):
+        values = []
+        for step in GROWTH_STEPS:
+            x = np.zeros(comp.shape[1])
+            value = np.inf
+            for _ in range(30):
+                qs = pin.integrate(model, conf.q, project.col * (sign * step * n + comp @ x))
+                e, jac = project.residual(qs)
+                value = float(np.linalg.norm(e))
+                dx = np.linalg.lstsq((jac * project.col) @ comp, -e, rcond=1e-12)[0]
+                x = x + dx
+                if float(np.linalg.norm(dx)) < 1e-14:
+                    break
+            values.append(value)
+        if min(values) <= GROWTH_FLOOR:
+            return None
+        slopes += [np.log2(b / a) for a, b in zip(values, values[1:], strict=False)]
+    k = round(float(np.median(slopes)))
+    return k if k >= 2 and all(abs(x - k) <= 0.4 for x in slopes) else None
+
+
+def _group(samples: list[ModeSample], branches: tuple[Branch, ...]) -> tuple[list[Branch], list[list[ModeSample]]]:
+    """(the linear components some sample confirms, the other samples grouped by (dimension, platform DoF))."""
+    confirmed: list[Branch] = []
+    rest: list[ModeSample] = []
+    taken = [False] * len(branches)
+    for sample in samples:
+        size = float(np.linalg.norm(sample.displacement))
+        on = [
+            i
+            for i, b in enumerate(branches)
+            if b.dimension == sample.dimension
+            and float(np.linalg.norm(sample.displacement - b.rates @ (b.rates.T @ sample.displacement)))
+            <= ON_COMPONENT * size
+        ]
+        if on:
+            taken[on[0]] = True
+        else:
+            rest.append(sample)
+    confirmed = [b for b, t in zip(branches, taken, strict=True) if t]
+    groups: dict[tuple[int, int], list[ModeSample]] = {}
+    for sample in rest:
+        groups.setdefault((sample.dimension, sample.dof or 0), []).append(sample)
+    return confirmed, [groups[k] for k in sorted(groups, reverse=True)]
+
+
+def _mode(group: list[ModeSample]) -> Branch:
+    """A mode seen only at its samples: its platform motion type is the most frequent among them (ties: by name)."""
+    kinds = Counter(s.motion_type for s in group)
+    kind = min(kinds, key=lambda k: (-kinds[k], k or ""))
+    sample = next(s for s in group if s.motion_type == kind)
+    note = "its tangent cone at q is not a linear space: seen at closed samples near q"
+    return Branch(sample.dimension, sample.dof, kind, sample.motions, "near q", sample.rates, None, 0.0, note)
+
+
+def decide_by_samples(
+    conf: Configuration,
+    ho: HigherOrder,
+    branches: tuple[Branch, ...],
+    held: tuple[int, ...],
+    rtol: float,
+    seed: int = 0,
+) -> Evidence:
+    """Decide the finite DoF from closed samples near q and, with one motion left, the reduced equation.
+
+    Args:
+        conf: the closed configuration.
+        ho: the higher-order conditions there (held joints held).
+        branches: the linear cone components that passed the conditions (candidate branches).
+        held: velocity indices of the joints held.
+        rtol: relative tolerance of the rank decisions.
+        seed: of the random starts.
+    """
+    mech = conf.mechanism
+    nv = mech.model.nv
+    has_platform = mech.has_platform
+    if ho.m == 1:
+        k = reduced_growth(conf, ho.kernel[:nv, 0], held)
+        if k is not None:
+            how = f"the closure equations reduced to the one first-order motion: they grow like s^{k}, q is isolated"
+            return Evidence(0, 0 if has_platform else None, (), how, "", (0, 0), np.zeros((nv, 0)))
+    rng = np.random.default_rng(seed)
+    project = _Projector(conf, held)
+    tree = ho.kernel[:nv]
+    starts = [tree @ rng.normal(size=ho.m) for _ in range(STARTS if ho.m else 0)]
+    starts += [tree @ y for y in cone_directions(ho, STARTS, rng)]
+    for b in sorted(branches, key=lambda b: -b.dimension)[:COMPONENT_STARTS]:
+        starts.append(b.rates @ rng.normal(size=b.dimension))
+    samples: list[ModeSample] = []
+    tried = 0
+    for u in starts:
+        norm = float(np.linalg.norm(u))
+        if norm < 1e-12:
+            continue
+        tried += 1
+        q = project(conf.q, RADIUS * u / norm)
+        if q is None or float(np.linalg.norm(project.moved(conf.q, q))) < 0.1 * RADIUS:
+            continue
+        sample = regular_sample(conf, q, held, rtol)
+        if sample is not None:
+            samples.append(sample)
+    if not samples:
+        conflict = f"the probes of none of {tried} closed samples near q tell its dimension (probe {PROBE:g})"
+        return Evidence(None, None, (), "", conflict, (tried, 0), np.zeros((nv, 0)))
+    confirmed, groups = _group(samples, branches)
+    found = tuple(confirmed) + tuple(_mode(g) for g in groups)
+    mech_dof = max(s.dimension for s in samples)
+    dof = max(s.dof or 0 for s in samples) if has_platform else None
+    how = "closed samples near q (at each, the first-order motions that extend when probed)"
+    reach = decide_rank(np.hstack([s.rates for s in samples]).T, REACH_TOL, at_least=1.0).row_space.T
+    return Evidence(mech_dof, dof, found, how, "", (tried, len(samples)), reach)

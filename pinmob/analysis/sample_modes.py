@@ -5,9 +5,8 @@ not a union of linear spaces (a branch that is itself singular at q, such as the
 ``rods-horizontal``), or when a condition lands near its tolerance. :func:`decide_by_samples` then uses
 what an independent check would:
 
-1. **Closed samples near q.** Starts ``q (+) RADIUS u`` along random first-order motions u and along
-   points of the second-order cone (``Q(y) = 0``, the candidate directions of every branch, linear or
-   not), each projected on the closed set by the minimum-norm solver (held joints kept).
+1. **Closed samples near q.** Starts ``q (+) RADIUS u`` along random first-order motions, points of the
+   second-order cone off its linear components, and the linear components, projected on the closed set.
 2. **Their local dimension.** At a sample p each first-order motion (the kernel at p) is probed: p moved
    ``PROBE`` along it and projected back. The motions that extend (landing about all the way along) span
    the tangent space of the closed set at p, the others (landing about where they started) exist to
@@ -16,14 +15,11 @@ what an independent check would:
 3. **Modes.** Regular samples on a linear cone component's tangent space (and of its dimension)
    confirm it as a branch; the others are grouped by (dimension, platform DoF): a mode whose tangent
    cone at q is not linear. The finite DoF are the largest found.
-4. **The reduced equation.** With a single first-order motion n left (``m == 1``, e.g. the actuators
-   held at a constraint singularity), the closure equations are solved in every direction but n
-   (:func:`reduced_growth`): the residual left, ``|g(s)|``, is the reduced equation along n. When it grows
-   like ``s^k`` (k >= 2, far above round-off) on both sides, q is isolated: finite DoF 0.
+4. **The reduced equation.** With a single first-order motion left, the order at which the closure
+   equations reduced to it start (:mod:`pinmob.analysis.reduced_equation`): ``s^k``, k >= 2, makes q isolated.
 
-Every figure the decision rests on is either far from its threshold (a probe extends by about 1 or by
-about 0) or an integer; the printed evidence names the integers only, so that it does not depend on
-round-off (nor on the machine's BLAS).
+Every figure the decision rests on is far from its threshold (a probe extends by about 1 or 0) or an
+integer; the evidence is printed in words, so that it does not depend on round-off (nor on the BLAS).
 """
 
 from __future__ import annotations
@@ -40,6 +36,8 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.higher_order import HigherOrder
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.path_follower import closed_rates
+from pinmob.analysis.reduced_equation import reduced_growth
+from pinmob.analysis.verdicts import sine_to
 from pinmob.assembly.residual import closure_residual
 from pinmob.assembly.solver import solve
 from pinmob.model.joints import short_difference
@@ -55,15 +53,15 @@ EXTENDS = 0.5
 #: Relative rank tolerance of the platform's motions on a sample's tangent (the probes leave about 1e-3 near q).
 SAMPLE_RTOL = 1e-2
 #: Random first-order motions and cone points tried as starts.
-STARTS = 5
+STARTS = 3
+#: Samples probed per linear component (more landing on it are not probed).
+PER_COMPONENT = 2
+#: Random starts of the search for cone points off the linear components.
+CONE_TRIES = 16
 #: Linear components (the largest first) each given a start of its own.
-COMPONENT_STARTS = 3
+COMPONENT_STARTS = 2
 #: A sample belongs to a linear component when the sine of its displacement's angle to it is at most this.
 ON_COMPONENT = 0.3
-#: Steps of the reduced equation along a single remaining motion (joint metric), each twice the last.
-GROWTH_STEPS = (0.025, 0.05, 0.1)
-#: The reduced equation decides only where its residual is above this (dimensionless; round-off is 1e-15).
-GROWTH_FLOOR = 1e-9
 #: Directions below this fraction of the largest are not in the span of the samples' tangents.
 REACH_TOL = 0.05
 #: Convergence of the projections (dimensionless residual).
@@ -121,15 +119,14 @@ class _Projector:
     """The minimum-norm projection on the closed set, the held joints kept."""
 
     def __init__(self, conf: Configuration, held: tuple[int, ...]) -> None:
-        mech = conf.mechanism
-        self.mech, self.q0 = mech, conf.q
+        mech = self.mech = conf.mechanism
         self.col = closed_chain_columns(conf)
         self.residual = closure_residual(mech)
         self.free = np.ones(mech.model.nv, bool)
         self.free[list(held)] = False
 
     def __call__(self, q: Array, step: Array) -> Array | None:
-        """The closed configuration reached from q moved by the dimensionless step and projected back (None when it does not close)."""
+        """The closed configuration from q (+) step projected back (None when it does not close)."""
         model = self.mech.model
         start = pin.integrate(model, q, self.col * step)
         res = solve(
@@ -175,8 +172,13 @@ def regular_sample(conf: Configuration, q: Array, held: tuple[int, ...], rtol: f
     return ModeSample(q, project.moved(conf.q, q), tangent.shape[1], dof, kind, motions, tangent)
 
 
-def cone_directions(ho: HigherOrder, count: int, rng: np.random.Generator) -> list[Array]:
-    """Up to ``count`` unit points y of the second-order cone ``Q(y) = 0`` (kernel coordinates), from random starts."""
+def cone_directions(ho: HigherOrder, avoid: list[Array], count: int, rng: np.random.Generator) -> list[Array]:
+    """Up to ``count`` unit points y of the second-order cone ``Q(y) = 0`` (kernel coordinates) off the spans ``avoid``.
+
+    From up to ``CONE_TRIES`` random starts (least squares on ``[Q(y); |y|^2 - 1]``); a point whose sine to one of
+    the orthonormal (m, d) bases ``avoid`` (the linear components) is at most ``ON_COMPONENT`` is not kept: the
+    starts go where the cone is not linear.
+    """
     from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
 
     h = ho.forms()
@@ -188,53 +190,24 @@ def cone_directions(ho: HigherOrder, count: int, rng: np.random.Generator) -> li
     def fun(y: Array) -> Array:
         return np.concatenate([np.einsum("lab,a,b->l", h, y, y), [y @ y - 1.0], pad])
 
-    out = []
-    for _ in range(count):
+    out: list[Array] = []
+    for _ in range(CONE_TRIES):
+        if len(out) == count:
+            break
         start = np.asarray(rng.normal(size=m), float)
         fit = least_squares(fun, start, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
         y = fit.x / np.linalg.norm(fit.x)
-        if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) <= ho.tol:
-            out.append(y)
+        if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) > ho.tol:
+            continue
+        if any(float(np.linalg.norm(y - b @ (b.T @ y))) <= ON_COMPONENT for b in avoid):
+            continue
+        out.append(y)
     return out
 
 
-def reduced_growth(conf: Configuration, direction: Array, held: tuple[int, ...]) -> int | None:
-    """The order k at which the closure equations reduced to the single motion ``direction`` start, or None.
-
-    For each step s of ``GROWTH_STEPS`` (both signs) the closure residual at ``q (+) (s n + w)`` is minimised
-    over w orthogonal to n = ``direction`` (unit dimensionless joint rates) and to the held joints (Gauss-Newton:
-    the closure Jacobian has full rank there): what is left is the reduced equation ``|g(s)|``. It decides when
-    every value is above ``GROWTH_FLOOR`` and each doubling of s multiplies it by 2^k, k >= 2 the same integer
-    (within 0.4) on both sides: then q is an isolated solution along n. None otherwise (a curve may exist).
-    """
-    mech = conf.mechanism
-    model = mech.model
-    project = _Projector(conf, held)
-    n = direction / np.linalg.norm(direction)
-    basis = np.eye(model.nv)[:, project.free]
-    basis = basis - np.outer(n, n @ basis)
-    u, s, _ = np.linalg.svd(basis, full_matrices=False)
-    comp = u[:, s > 1e-9]
-    slopes = []
-    for sign in (1.0, -1.0):
-        values = []
-        for step in GROWTH_STEPS:
-            x = np.zeros(comp.shape[1])
-            value = np.inf
-            for _ in range(30):
-                qs = pin.integrate(model, conf.q, project.col * (sign * step * n + comp @ x))
-                e, jac = project.residual(qs)
-                value = float(np.linalg.norm(e))
-                dx = np.linalg.lstsq((jac * project.col) @ comp, -e, rcond=1e-12)[0]
-                x = x + dx
-                if float(np.linalg.norm(dx)) < 1e-14:
-                    break
-            values.append(value)
-        if min(values) <= GROWTH_FLOOR:
-            return None
-        slopes += [np.log2(b / a) for a, b in zip(values, values[1:], strict=False)]
-    k = round(float(np.median(slopes)))
-    return k if k >= 2 and all(abs(x - k) <= 0.4 for x in slopes) else None
+def _on(sample: ModeSample, branch: Branch) -> bool:
+    """The sample lies on the branch's tangent space (and has its dimension)."""
+    return sample.dimension == branch.dimension and sine_to(sample.displacement, branch.rates) <= ON_COMPONENT
 
 
 def _group(samples: list[ModeSample], branches: tuple[Branch, ...]) -> tuple[list[Branch], list[list[ModeSample]]]:
@@ -243,14 +216,7 @@ def _group(samples: list[ModeSample], branches: tuple[Branch, ...]) -> tuple[lis
     rest: list[ModeSample] = []
     taken = [False] * len(branches)
     for sample in samples:
-        size = float(np.linalg.norm(sample.displacement))
-        on = [
-            i
-            for i, b in enumerate(branches)
-            if b.dimension == sample.dimension
-            and float(np.linalg.norm(sample.displacement - b.rates @ (b.rates.T @ sample.displacement)))
-            <= ON_COMPONENT * size
-        ]
+        on = [i for i, b in enumerate(branches) if _on(sample, b)]
         if on:
             taken[on[0]] = True
         else:
@@ -301,7 +267,8 @@ def decide_by_samples(
     project = _Projector(conf, held)
     tree = ho.kernel[:nv]
     starts = [tree @ rng.normal(size=ho.m) for _ in range(STARTS if ho.m else 0)]
-    starts += [tree @ y for y in cone_directions(ho, STARTS, rng)]
+    on_kernel = [np.linalg.qr(np.linalg.lstsq(tree, b.rates, rcond=None)[0])[0] for b in branches]
+    starts += [tree @ y for y in cone_directions(ho, on_kernel, STARTS, rng)]
     for b in sorted(branches, key=lambda b: -b.dimension)[:COMPONENT_STARTS]:
         starts.append(b.rates @ rng.normal(size=b.dimension))
     samples: list[ModeSample] = []
@@ -314,6 +281,10 @@ def decide_by_samples(
         q = project(conf.q, RADIUS * u / norm)
         if q is None or float(np.linalg.norm(project.moved(conf.q, q))) < 0.1 * RADIUS:
             continue
+        d = project.moved(conf.q, q)
+        near = [i for i, b in enumerate(branches) if sine_to(d, b.rates) <= ON_COMPONENT]
+        if near and sum(_on(s, branches[near[0]]) for s in samples) >= PER_COMPONENT:
+            continue  # that linear component has its samples: the probes (the cost) go to the others
         sample = regular_sample(conf, q, held, rtol)
         if sample is not None:
             samples.append(sample)

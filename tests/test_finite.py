@@ -21,6 +21,7 @@ from millimetres import in_millimetres, moved, q_in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
+from pinmob.analysis.branches import branch_joints
 from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.motion_path import follow_rates
 from pinmob.analysis.verdicts import Verdict
@@ -356,6 +357,24 @@ def test_branches_do_not_depend_on_units_placement_or_seed(name: str, config: st
                 sorted(b[0] for b in reference[3]),
                 (),
             )
+
+
+@pytest.mark.parametrize(
+    ("name", "config"),
+    [("3-UPU", "constraint-singular"), ("Delta-3RUU", "constraint-singular"), ("3-PUU-vertical", "vertical"),
+     ("Sarrus", "stretched")],
+)  # fmt: skip
+def test_branches_are_listed_in_one_order(name: str, config: str) -> None:
+    """Branches are listed (and numbered in the motions' verdicts) in one order, whatever the random cone points: the
+    larger first, then by motion type, then by tangent. They came in the order of the cone's groups, which the seed
+    (or, with one seed, the machine's BLAS kernel) decided: 3-UPU 2T1R, 3T or 3T, 2T1R."""
+    conf = pinmob.Configuration(pinmob.load(name), config)
+    printed = set()
+    for seed in range(6):
+        fm = finite_mobility(conf, 1e-6, seed=seed)
+        branches = [(b.dimension, b.motion_type, str(branch_joints(conf, b))) for b in fm.free.branches]
+        printed.add((str(branches), tuple(v.words(True) for v in fm.motions + fm.free.internal)))
+    assert len(printed) == 1, printed
 
 
 def test_finite_analysis_does_not_depend_on_placement_or_limb_order() -> None:

@@ -155,6 +155,23 @@ def branch_of(
     return Branch(d, dof_near, kind_near, motions_near, "near q", rates, component.test, traced)
 
 
+def branch_order(branch: Branch) -> tuple[Any, ...]:
+    """The key branches are listed by, the same on every machine.
+
+    The cone's groups come in an order round-off decides. Listed: the larger first (DoF, then the platform's),
+    those with a linear tangent space before the modes seen only at samples, then by motion type, then by the
+    canonical basis of the tangent rates (3 decimals).
+    """
+    rates = canonical_rates(branch.rates)
+    return (
+        -branch.dimension,
+        -(branch.dof or 0),
+        branch.test is None,
+        branch.motion_type or "",
+        tuple(np.round(rates.T, 3).ravel().tolist()),
+    )
+
+
 def branch_joints(conf: Configuration, branch: Branch) -> list[dict[str, float]]:
     """A branch's tangent rates by joint name (largest 1), one dictionary per basis vector."""
     col = closed_chain_columns(conf)

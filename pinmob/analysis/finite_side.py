@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.analysis.branches import Branch, branch_of, platform_motions, tangent_rates
+from pinmob.analysis.branches import Branch, branch_of, branch_order, platform_motions, tangent_rates
 from pinmob.analysis.closure_jacobian import closed_chain, closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import displacement
@@ -170,7 +170,9 @@ def analyse_side(
     rng = np.random.default_rng(seed)
     ho = HigherOrder(mechanism_loops(conf), rtol, held, order_tol)
     found = cone(ho, order, seed)
-    branches = tuple(branch_of(conf, ho, c, rtol, held, seed + i) for i, c in enumerate(found.components))
+    branches = tuple(
+        sorted((branch_of(conf, ho, c, rtol, held, seed + i) for i, c in enumerate(found.components)), key=branch_order)
+    )
     kernel = tangent_rates(ho, np.eye(ho.m))
     notes: list[str] = []
     if not held and ho.m != closed_chain(conf, rtol).null.shape[1]:
@@ -236,12 +238,13 @@ def analyse_side(
     if finite_dof is not None and samples.platform != finite_dof:
         platform_note = f"the samples' platform poses span {samples.platform} dimension(s), the branches' platform motions {finite_dof}"
     evidence = ""
-    if notes or platform_note:  # the conditions up to the order bound do not decide: the closed samples may
+    ambiguous = not held and ho.m != closed_chain(conf, rtol).null.shape[1]  # a first-order rank: stays said
+    if (notes or platform_note) and not ambiguous:  # the conditions up to the order bound do not decide
         fallback = decide_by_samples(conf, ho, branches, held, rtol, seed)
         if fallback.how:
             evidence, notes, platform_note = fallback.how, [], None
             finite_mech, finite_dof = fallback.finite_mechanism_dof or 0, fallback.finite_dof
-            branches = fallback.branches
+            branches = tuple(sorted(fallback.branches, key=branch_order))
             rows = frame_rows(conf, mech.platform) if mech.has_platform else np.zeros((6, nv))
             plat = [None if b.test is None else orthonormal([rows @ b.rates], 6) for b in branches]
             joints = [None if b.test is None else b.rates for b in branches]

@@ -15,8 +15,10 @@ for the whole closed chain, free and with the actuators held:
 3. the local dimension estimated from closed samples near q (:mod:`pinmob.analysis.local_dimension`).
 
 The finite DoF are the largest branch's (for the platform, the largest platform DoF on a branch,
-taken at the branch's generic points). Where the three disagree the number is None and the notes
-say why, with the numbers: the analysis never guesses. Redundant closures (Bennett's, Bricard's
+taken at the branch's generic points). Where the three disagree, the closed samples' own local dimension
+and, with one first-order motion left, the reduced closure equation decide
+(:mod:`pinmob.analysis.sample_modes`), and the report says which evidence did; only where that evidence
+conflicts is the number None, the notes saying why with the numbers: the analysis never guesses. Redundant closures (Bennett's, Bricard's
 linkages) need nothing special: the conditions are written on every loop.
 """
 

@@ -5,8 +5,9 @@ joints ``held`` kept still (none, or the actuated ones): the higher-order condit
 cone (:mod:`pinmob.analysis.tangent_cone`), the branches (:mod:`pinmob.analysis.branches`), a
 verdict per instantaneous motion (:mod:`pinmob.analysis.verdicts`), each motion traced, and the
 local-dimension estimate from closed samples (:mod:`pinmob.analysis.local_dimension`). The finite
-DoF are those of the branches; where the samples, the tracer or the cone do not confirm them, they
-are None and a note says why.
+DoF are those of the branches; where the samples, the tracer or the cone do not confirm them, the
+fallback of :mod:`pinmob.analysis.sample_modes` decides (``Side.evidence`` says how), and where it
+cannot either they are None and a note says why.
 """
 
 from __future__ import annotations

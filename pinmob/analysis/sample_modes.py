@@ -73,7 +73,6 @@ class ModeSample:
     """A regular closed sample near q: the mode it lies on, seen there.
 
     Attributes:
-        q: (nq,) the sample.
         displacement: (nv,) its dimensionless displacement from q.
         dimension: the mode's DoF (the closed chain's, held joints still).
         dof, motion_type, motions: the platform's DoF, motion type and motions on it (None, None, ()
@@ -81,7 +80,6 @@ class ModeSample:
         rates: (nv, dimension) the mode's tangent rates at the sample.
     """
 
-    q: Array
     displacement: Array
     dimension: int
     dof: int | None
@@ -95,15 +93,12 @@ class Evidence:
     """What the closed samples (or the reduced equation) decide.
 
     Attributes:
-        finite_mechanism_dof, finite_dof: the finite DoF found (None: not decided; ``finite_dof`` is None
-            without a platform).
-        branches: the branches through q: the linear components the samples confirm, then the modes
-            whose tangent cone is not linear.
+        finite_mechanism_dof, finite_dof: the finite DoF found (None: not decided, or no platform).
+        branches: the linear components the samples confirm, then the modes whose tangent cone is not linear.
         how: the evidence that decided, in words ('' when nothing did).
         conflict: why it did not decide, with the numbers ('' when it did).
         samples: (tried, regular) closed samples.
-        reach: (nv, k) orthonormal joint rates spanning the tangents of every regular sample (the directions
-            the modes take from q, to about ``REACH_TOL``).
+        reach: (nv, k) orthonormal joint rates spanning every regular sample's tangent (to ``REACH_TOL``).
     """
 
     finite_mechanism_dof: int | None
@@ -139,37 +134,41 @@ class _Projector:
         return short_difference(self.mech.model, a, b) / self.col
 
 
-def regular_sample(conf: Configuration, q: Array, held: tuple[int, ...], rtol: float) -> ModeSample | None:
+def regular_sample(
+    conf: Configuration, q: Array, held: tuple[int, ...], rtol: float, known: int | None = None
+) -> ModeSample | None:
     """The :class:`ModeSample` at the closed q near conf, or None where its probes do not tell.
 
-    Each first-order motion u_i at q (an orthonormal basis of the kernel, held joints still) is probed: q moved
-    ``PROBE u_i`` and projected back. The displacements over ``PROBE``, D, map the kernel onto the tangent
-    space of the closed set at q (the projection keeps a step's share along the set and drops the rest): its
-    singular values are about 1 (a motion that extends) or about 0 (one that exists to first order only).
-    The mode's dimension is the number above ``EXTENDS``, its tangent their left singular vectors; a singular
-    value between ``1 - EXTENDS / 2`` and ``EXTENDS / 2`` tells nothing: None.
+    ``known``: the dimension of the traced linear branch q lies on; a kernel of that dimension at q makes q
+    a regular point of the branch, not probed.
+
+    Each first-order motion u_i at q (the kernel's basis, held joints still) is probed: q moved ``+-PROBE u_i``
+    and projected back. The central differences over ``PROBE``, D, map the kernel onto the closed set's tangent
+    space at q: singular values about 1 (a motion that extends) or 0 (one that exists to first order only).
+    The mode's dimension is the number above ``EXTENDS``; one between ``EXTENDS / 2`` and ``1 - EXTENDS / 2``
+    tells nothing: None.
     """
     mech = conf.mechanism
     project = _Projector(conf, held)
     here = Configuration.unchecked(mech, q)
     null = closed_rates(here, held, rtol)
     moves = []
-    for i in range(null.shape[1]):
+    for i in range(0 if null.shape[1] == known else null.shape[1]):
         ends = [project(q, sign * PROBE * null[:, i]) for sign in (1.0, -1.0)]
         if ends[0] is None or ends[1] is None:
             return None
         moves.append(project.moved(ends[1], ends[0]) / (2 * PROBE))  # central: the curvature's share cancels
-    tangent = np.zeros((mech.model.nv, 0))
+    tangent = null if null.shape[1] == known else np.zeros((mech.model.nv, 0))
     if moves:
         _, sv, vt = np.linalg.svd(np.array(moves).T, full_matrices=False)  # D = U S V^T, (nv, d)
         if np.any((sv > EXTENDS / 2) & (sv < 1 - EXTENDS / 2)):
             return None
         tangent = null @ vt[: int(np.sum(sv > EXTENDS))].T  # the kernel's combinations that extend
     if not mech.has_platform:
-        return ModeSample(q, project.moved(conf.q, q), tangent.shape[1], None, None, (), tangent)
+        return ModeSample(project.moved(conf.q, q), tangent.shape[1], None, None, (), tangent)
     # every motion extends: the tangent is the kernel, exact (classified as at q); else found to about PROBE^2
     dof, kind, motions = platform_motions(here, tangent, rtol if tangent.shape[1] == null.shape[1] else SAMPLE_RTOL)
-    return ModeSample(q, project.moved(conf.q, q), tangent.shape[1], dof, kind, motions, tangent)
+    return ModeSample(project.moved(conf.q, q), tangent.shape[1], dof, kind, motions, tangent)
 
 
 def cone_directions(ho: HigherOrder, avoid: list[Array], count: int, rng: np.random.Generator) -> list[Array]:
@@ -285,7 +284,8 @@ def decide_by_samples(
         near = [i for i, b in enumerate(branches) if sine_to(d, b.rates) <= ON_COMPONENT]
         if near and sum(_on(s, branches[near[0]]) for s in samples) >= PER_COMPONENT:
             continue  # that linear component has its samples: the probes (the cost) go to the others
-        sample = regular_sample(conf, q, held, rtol)
+        known = branches[near[0]].dimension if near and branches[near[0]].traced > 0 else None
+        sample = regular_sample(conf, q, held, rtol, known)
         if sample is not None:
             samples.append(sample)
     if not samples:

@@ -309,6 +309,27 @@ def test_two_modes_with_the_actuators_held_leave_one_motion_growing_like_s_cubed
     assert sampled_dimensions(mech, q, tuple(mech.actuated)) == (0, 0)
 
 
+def test_the_fallback_evidence_alone_on_shaky_held_configurations() -> None:
+    """The evidence of :mod:`pinmob.analysis.sample_modes` on its own, where the hand derivations above know the
+    answer: the flat 3-PUU with its sliders held (two first-order motions, each blocked at order 2: a tilted link is
+    shorter horizontally) is rigid, every closed sample falling back onto q; Fichter's pose with the legs held (one
+    motion, ``c . l''(t, t) != 0``: blocked at order 2) leaves a reduced equation growing like s^2."""
+    from pinmob.analysis.higher_order import HigherOrder
+    from pinmob.analysis.loop_screws import mechanism_loops
+    from pinmob.analysis.sample_modes import decide_by_samples
+    from pinmob.assembly.assemble import joint_velocity_indices
+
+    found = {}
+    for name, config in (("3-PUU-flat", "flat"), ("6-UPS", "type2")):
+        mech = pinmob.load(name)
+        conf = pinmob.Configuration(mech, config)
+        held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
+        ev = decide_by_samples(conf, HigherOrder(mechanism_loops(conf), 1e-6, held), (), held, 1e-6)
+        found[name] = (ev.finite_mechanism_dof, ev.finite_dof, ev.how)
+    assert found["3-PUU-flat"][:2] == (0, 0) and "every one fell back onto q" in found["3-PUU-flat"][2]
+    assert found["6-UPS"][:2] == (0, 0) and "grow like s^2" in found["6-UPS"][2]
+
+
 def test_finite_analysis_does_not_depend_on_units() -> None:
     """The flat 3-PUU in millimetres: same verdicts, orders and finite DoF (pitches and points scale)."""
     mech = pinmob.load("3-PUU-flat")

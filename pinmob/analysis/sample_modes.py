@@ -172,12 +172,7 @@ def regular_sample(
 
 
 def cone_directions(ho: HigherOrder, avoid: list[Array], count: int, rng: np.random.Generator) -> list[Array]:
-    """Up to ``count`` unit points y of the second-order cone ``Q(y) = 0`` (kernel coordinates) off the spans ``avoid``.
-
-    From up to ``CONE_TRIES`` random starts (least squares on ``[Q(y); |y|^2 - 1]``); a point whose sine to one of
-    the orthonormal (m, d) bases ``avoid`` (the linear components) is at most ``ON_COMPONENT`` is not kept: the
-    starts go where the cone is not linear.
-    """
+    """Up to ``count`` unit cone points (``Q(y) = 0``, from random starts), none within ``ON_COMPONENT`` of ``avoid``."""
     from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
 
     h = ho.forms()
@@ -271,7 +266,7 @@ def decide_by_samples(
     for b in sorted(branches, key=lambda b: -b.dimension)[:COMPONENT_STARTS]:
         starts.append(b.rates @ rng.normal(size=b.dimension))
     samples: list[ModeSample] = []
-    tried = 0
+    tried = back = 0
     for u in starts:
         norm = float(np.linalg.norm(u))
         if norm < 1e-12:
@@ -279,6 +274,7 @@ def decide_by_samples(
         tried += 1
         q = project(conf.q, RADIUS * u / norm)
         if q is None or float(np.linalg.norm(project.moved(conf.q, q))) < 0.1 * RADIUS:
+            back += q is not None
             continue
         d = project.moved(conf.q, q)
         near = [i for i, b in enumerate(branches) if sine_to(d, b.rates) <= ON_COMPONENT]
@@ -288,6 +284,9 @@ def decide_by_samples(
         sample = regular_sample(conf, q, held, rtol, known)
         if sample is not None:
             samples.append(sample)
+    if not samples and tried and back == tried:
+        how = "closed samples near q: every one fell back onto q, which is isolated"
+        return Evidence(0, 0 if has_platform else None, (), how, "", (tried, 0), np.zeros((nv, 0)))
     if not samples:
         conflict = f"the probes of none of {tried} closed samples near q tell its dimension (probe {PROBE:g})"
         return Evidence(None, None, (), "", conflict, (tried, 0), np.zeros((nv, 0)))

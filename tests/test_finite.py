@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
+from closed_samples import ClosedSet, sampled_dimensions
 from finite_cases import (
     bricard_line_symmetric,
     four_bar_flat,
@@ -20,6 +21,7 @@ from millimetres import in_millimetres, moved, q_in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
+from pinmob.analysis.branches import branch_joints
 from pinmob.analysis.finite import finite_mobility
 from pinmob.analysis.motion_path import follow_rates
 from pinmob.analysis.verdicts import Verdict
@@ -220,15 +222,112 @@ def test_4ruu_is_kinematotropic_at_its_parallel_axes_configuration() -> None:
         assert far.dof == branch.dimension == far.mechanism_mobility.mechanism_dof
 
 
-def test_delta_rods_horizontal_cannot_be_decided() -> None:
-    """The Delta with horizontal rods: two quadratic conditions of rank 4 on 11 instantaneous motions, whose
-    cone is not a union of linear spaces: the branches cannot be told apart, and the closed samples find
-    motions on none of the linear components. The analysis says so, never guesses.
+def _tilted(closed: ClosedSet, q: np.ndarray, tilt: np.ndarray) -> np.ndarray | None:
+    """A closed configuration near q whose platform is turned by ``tilt`` (rad, about world x and y) from q's: Newton
+    on the closure residual and the two tilt rows (Pinocchio's platform Jacobian), minimum-norm steps."""
+    model, data, pid = closed.model, closed.data, closed.platform
+    start = closed.pose(q).rotation
+    x = q.copy()
+    for _ in range(100):
+        e, jac = closed.residual(x)
+        rotation = closed.pose(x).rotation
+        pin.computeJointJacobians(model, data, x)
+        rows = pin.getFrameJacobian(model, data, pid, pin.LOCAL_WORLD_ALIGNED)[3:5] * closed.col
+        e = np.r_[e, pin.log3(rotation @ start.T)[:2] - tilt]
+        if np.max(np.abs(e)) < 1e-12:
+            return x
+        x = pin.integrate(model, x, closed.col * -np.linalg.lstsq(np.vstack([jac, rows]), e, rcond=1e-12)[0])
+    return None
+
+
+def test_delta_rods_horizontal_two_3dof_modes_meet() -> None:
+    """The Delta with horizontal rods: every parallelogram in the platform's plane, its couple vertical, so to first
+    order the platform also tilts (5 DoF, 3T2R). Per limb, with u the direction of rod a, a the edge, r the rod and t
+    the motor axis, the quadrilateral closes when ``u . (R - I) t = -(a / 2r) |(R - I) t|^2``: R = I (the
+    parallelograms, the 3T mode) or a tilted platform with the rods leaving the plane, a second mode whose
+    tangent cone at q is not a linear space. Both are 3-dimensional (9 with the rods' idle spins); the five
+    first-order freedoms never combine into more. Second method, Pinocchio alone: closed configurations
+    with the platform tilted by 0.02 rad about x or y exist (it is not the 3T mode), and there the probes of
+    :mod:`closed_samples` find 9 and 3 dimensions; closed samples near q give (3, 9), and with the motors
+    held the platform stays put (0). The analysis decides it from closed samples (the conditions up to
+    order 4 do not: it said "cannot decide") and names the branches.
     """
-    fm = finite(pinmob.load("Delta"), "rods-horizontal").finite
-    assert fm.finite_mechanism_dof is None and fm.finite_dof is None
-    assert any("not a union of linear spaces" in n for n in fm.free.notes)
-    assert "cannot decide" in str(fm)
+    mech = pinmob.load("Delta")
+    report = finite(mech, "rods-horizontal")
+    fm, q = report.finite, report.state.q
+    assert (fm.finite_dof, fm.finite_mechanism_dof, fm.finite_dof_locked) == (3, 9, 0)
+    assert [(b.dimension, b.dof) for b in fm.free.branches] == [(9, 3), (9, 3)]
+    assert fm.free.branches[0].motion_type == "3T" and fm.free.branches[1].test is None
+    name = report.to_dict()["finite"]["branch_point"]
+    assert name == f"two 3-DoF branches meet: 3T and {fm.free.branches[1].motion_type}"
+    assert "closed samples" in fm.free.evidence and "closed samples" in fm.locked.evidence
+    assert f"branches through q: 2 ({name})" in str(fm) and "cannot decide" not in str(fm)
+    closed = ClosedSet(mech)
+    for tilt in ([0.02, 0.0], [0.0, 0.02], [-0.014, 0.014]):
+        p = _tilted(closed, q, np.array(tilt))
+        assert p is not None and np.linalg.norm(closed.moved(q, p)) < 0.1
+        assert closed.dimensions_at(p) == (9, 3)
+    assert sampled_dimensions(mech, q) == (3, 9)
+    assert sampled_dimensions(mech, q, tuple(mech.actuated)) == (0, 6)
+
+
+def test_two_modes_with_the_actuators_held_leave_one_motion_growing_like_s_cubed() -> None:
+    """The 3-UPU at its constraint singularity (two 3-DoF modes, 2T1R and 3T, meet) driven by A_u2a, B_u1b and C_leg:
+    with those held one first-order motion is left (T1 z), passing the conditions of orders 2 and 3. The closure
+    equations reduced to it (solved in every other direction by the test's own Newton, Pinocchio alone) leave a
+    residual growing like s^3 (each doubling of s multiplies it by 8): q is isolated, the platform's finite DoF 0.
+    The analysis said ``finite_dof_locked`` None at the default order bound 4 (its closed samples, "closed" within
+    the closure tolerance at s^3 ~ 1e-6, lay on no branch).
+    """
+    import dataclasses
+
+    base = pinmob.load("3-UPU")
+    limbs = tuple(dataclasses.replace(b, actuated=(a,)) for b, a in zip(base.limbs, ("A_u2a", "B_u1b", "C_leg")))
+    mech = dataclasses.replace(base, limbs=limbs, extra_actuated=())
+    report = finite(mech, "constraint-singular")
+    fm, q = report.finite, report.state.q
+    assert (fm.finite_dof, fm.finite_dof_locked) == (3, 0)
+    assert report.to_dict()["finite"]["branch_point"] == "two 3-DoF branches meet: 2T1R and 3T"
+    assert fm.locked.mechanism_dof == 1 and fm.locked.finite_mechanism_dof == 0
+    assert "grow like s^3" in fm.locked.evidence
+    ((label, verdict),) = [(v.label, v.verdict) for v in fm.locked.motions]
+    assert (label, verdict) == ("T1 z", Verdict.BLOCKED)
+    closed = ClosedSet(mech, tuple(mech.actuated))
+    (n,) = closed.null(q).T
+    others = np.linalg.svd(np.eye(mech.model.nv)[:, closed.free] - np.outer(n, n[closed.free]))[0]
+    others = others[:, : int(closed.free.sum()) - 1]  # the free joint directions orthogonal to n
+    values = []
+    for s in (0.01, 0.02, 0.04):
+        w = np.zeros(others.shape[1])
+        for _ in range(50):
+            e, jac = closed.residual(pin.integrate(mech.model, q, closed.col * (s * n + others @ w)))
+            w -= np.linalg.lstsq(jac @ others, e, rcond=1e-12)[0]
+        values.append(
+            np.linalg.norm(closed.residual(pin.integrate(mech.model, q, closed.col * (s * n + others @ w)))[0])
+        )
+    assert values[0] > 1e-8 and all(7 < b / a < 9 for a, b in zip(values, values[1:]))
+    assert sampled_dimensions(mech, q, tuple(mech.actuated)) == (0, 0)
+
+
+def test_the_fallback_evidence_alone_on_shaky_held_configurations() -> None:
+    """The evidence of :mod:`pinmob.analysis.sample_modes` on its own, where the hand derivations above know the
+    answer: the flat 3-PUU with its sliders held (two first-order motions, each blocked at order 2: a tilted link is
+    shorter horizontally) is rigid, every closed sample falling back onto q; Fichter's pose with the legs held (one
+    motion, ``c . l''(t, t) != 0``: blocked at order 2) leaves a reduced equation growing like s^2."""
+    from pinmob.analysis.higher_order import HigherOrder
+    from pinmob.analysis.loop_screws import mechanism_loops
+    from pinmob.analysis.sample_modes import decide_by_samples
+    from pinmob.assembly.assemble import joint_velocity_indices
+
+    found = {}
+    for name, config in (("3-PUU-flat", "flat"), ("6-UPS", "type2")):
+        mech = pinmob.load(name)
+        conf = pinmob.Configuration(mech, config)
+        held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
+        ev = decide_by_samples(conf, HigherOrder(mechanism_loops(conf), 1e-6, held), (), held, 1e-6)
+        found[name] = (ev.finite_mechanism_dof, ev.finite_dof, ev.how)
+    assert found["3-PUU-flat"][:2] == (0, 0) and "every one fell back onto q" in found["3-PUU-flat"][2]
+    assert found["6-UPS"][:2] == (0, 0) and "grow like s^2" in found["6-UPS"][2]
 
 
 def test_finite_analysis_does_not_depend_on_units() -> None:
@@ -279,6 +378,24 @@ def test_branches_do_not_depend_on_units_placement_or_seed(name: str, config: st
                 sorted(b[0] for b in reference[3]),
                 (),
             )
+
+
+@pytest.mark.parametrize(
+    ("name", "config"),
+    [("3-UPU", "constraint-singular"), ("Delta-3RUU", "constraint-singular"), ("3-PUU-vertical", "vertical"),
+     ("Sarrus", "stretched")],
+)  # fmt: skip
+def test_branches_are_listed_in_one_order(name: str, config: str) -> None:
+    """Branches are listed (and numbered in the motions' verdicts) in one order, whatever the random cone points: the
+    larger first, then by motion type, then by tangent. They came in the order of the cone's groups, which the seed
+    (or, with one seed, the machine's BLAS kernel) decided: 3-UPU 2T1R, 3T or 3T, 2T1R."""
+    conf = pinmob.Configuration(pinmob.load(name), config)
+    printed = set()
+    for seed in range(6):
+        fm = finite_mobility(conf, 1e-6, seed=seed)
+        branches = [(b.dimension, b.motion_type, str(branch_joints(conf, b))) for b in fm.free.branches]
+        printed.add((str(branches), tuple(v.words(True) for v in fm.motions + fm.free.internal)))
+    assert len(printed) == 1, printed
 
 
 def test_finite_analysis_does_not_depend_on_placement_or_limb_order() -> None:

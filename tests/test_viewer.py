@@ -416,6 +416,18 @@ def test_panel_document_of_the_spherical_wrist(tmp_path):
         assert r["point"] is not None and abs(np.cross(r["point"], r["direction"])).max() < 1e-9  # through O
 
 
+def test_panel_names_the_branches_meeting_at_a_branch_point(tmp_path):
+    """The 4-RUU at its parallel-axes configuration is kinematotropic (tests/test_finite.py follows each branch 0.3
+    rad): its Schoenflies mode (4 DoF, 3T1R) and a 2-DoF mode (2R) meet. The panel's summary says so, as the text
+    and the JSON do; a regular configuration's panel has no such line."""
+    target = tmp_path / "ruu.html"
+    scene = viewer.export_html(pinmob.load("4-RUU"), "parallel-axes", target, steps=2)
+    line = "Motion branches meet here: a 4-DoF and a 2-DoF branch meet: 3T1R and 2R"
+    assert any(s.startswith(line) for s in scene.panel["summary"]), scene.panel["summary"]
+    regular = viewer.export_html(pinmob.load("4-RUU"), "generic", tmp_path / "g.html", steps=2)
+    assert not any("branches meet" in s for s in regular.panel["summary"])
+
+
 def test_sigkill_of_show_stops_the_server_it_started():
     """SIGKILL cannot be handled: the server notices that its parent is gone (issue 14) and ends within seconds;
     with --detach it is meant to outlive pinmob and does."""

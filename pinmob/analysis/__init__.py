@@ -12,8 +12,10 @@ and :mod:`~pinmob.analysis.singularity_analysis`, :mod:`~pinmob.analysis.paper`
 motion), :mod:`~pinmob.analysis.motion_limits` (what stops it), finite versus instantaneous mobility (:mod:`~pinmob.analysis.finite`, from
 :mod:`~pinmob.analysis.loop_screws`, :mod:`~pinmob.analysis.higher_order`,
 :mod:`~pinmob.analysis.tangent_cone`, :mod:`~pinmob.analysis.branches`,
-:mod:`~pinmob.analysis.verdicts`, :mod:`~pinmob.analysis.local_dimension` and
-:mod:`~pinmob.analysis.finite_side`), :mod:`~pinmob.analysis.batch` (many configurations), and
+:mod:`~pinmob.analysis.verdicts`, :mod:`~pinmob.analysis.local_dimension`,
+:mod:`~pinmob.analysis.sample_modes` and :mod:`~pinmob.analysis.reduced_equation` (where the conditions do
+not decide), :mod:`~pinmob.analysis.branch_names` and :mod:`~pinmob.analysis.finite_side`),
+:mod:`~pinmob.analysis.batch` (many configurations), and
 :mod:`~pinmob.analysis.report` (:class:`~pinmob.analysis.report.Report`) and
 :mod:`~pinmob.analysis.entry_point` (:func:`~pinmob.analysis.entry_point.analyze`, the one entry point).
 """

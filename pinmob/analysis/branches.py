@@ -51,7 +51,8 @@ class Branch(ReadOnlyArrays):
         where: ``q`` (the platform moves on the branch to first order at q) or ``near q`` (classified
             at a nearby point of the branch: at q the platform moves less, to first order).
         rates: (nv, dimension) orthonormal tangent joint rates (dimensionless).
-        test: the higher-order conditions along a random tangent direction.
+        test: the higher-order conditions along a random tangent direction (None: a mode seen only at closed
+            samples near q, whose tangent cone at q is not linear; :mod:`pinmob.analysis.sample_modes`).
         traced: distance the tracer followed a tangent direction (largest of both ways, joint metric).
         note: why a part of it could not be decided ("" when all is clear).
     """
@@ -62,7 +63,7 @@ class Branch(ReadOnlyArrays):
     motions: tuple[Motion, ...]
     where: str
     rates: Array = field(repr=False)
-    test: OrderTest = field(repr=False)
+    test: OrderTest | None = field(repr=False)
     traced: float = 0.0
     note: str = ""
 
@@ -75,7 +76,7 @@ class Branch(ReadOnlyArrays):
             "motions": [m.to_dict() for m in self.motions],
             "classified_at": self.where,
             "joints": joints,
-            "order": self.test.order,
+            "order": None if self.test is None else self.test.order,
             "traced": self.traced,
             "note": self.note,
         }
@@ -152,6 +153,23 @@ def branch_of(
     if dof_near <= dof:  # the platform moves as much at q as nearby (a regular point): classified at q
         return Branch(d, dof, kind, motions, "q", rates, component.test, traced)
     return Branch(d, dof_near, kind_near, motions_near, "near q", rates, component.test, traced)
+
+
+def branch_order(branch: Branch) -> tuple[Any, ...]:
+    """The key branches are listed by, the same on every machine.
+
+    The cone's groups come in an order round-off decides. Listed: the larger first (DoF, then the platform's),
+    those with a linear tangent space before the modes seen only at samples, then by motion type, then by the
+    canonical basis of the tangent rates (3 decimals).
+    """
+    rates = canonical_rates(branch.rates)
+    return (
+        -branch.dimension,
+        -(branch.dof or 0),
+        branch.test is None,
+        branch.motion_type or "",
+        tuple(np.round(rates.T, 3).ravel().tolist()),
+    )
 
 
 def branch_joints(conf: Configuration, branch: Branch) -> list[dict[str, float]]:

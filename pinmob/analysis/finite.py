@@ -15,8 +15,10 @@ for the whole closed chain, free and with the actuators held:
 3. the local dimension estimated from closed samples near q (:mod:`pinmob.analysis.local_dimension`).
 
 The finite DoF are the largest branch's (for the platform, the largest platform DoF on a branch,
-taken at the branch's generic points). Where the three disagree the number is None and the notes
-say why, with the numbers: the analysis never guesses. Redundant closures (Bennett's, Bricard's
+taken at the branch's generic points). Where the three disagree, the closed samples' own local dimension
+and, with one first-order motion left, the reduced closure equation decide
+(:mod:`pinmob.analysis.sample_modes`), and the report says which evidence did; only where that evidence
+conflicts is the number None, the notes saying why with the numbers: the analysis never guesses. Redundant closures (Bennett's, Bricard's
 linkages) need nothing special: the conditions are written on every loop.
 """
 
@@ -25,6 +27,7 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
+from pinmob.analysis.branch_names import branch_point_name
 from pinmob.analysis.branches import branch_joints
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.coupling_rows import hold_tendons
@@ -105,8 +108,10 @@ class FiniteMobility:
             "motions": [m.to_dict() for m in self.free.motions],
             "internal_motions": [m.to_dict() for m in self.free.internal],
             "branches": [b.to_dict(branch_joints(self.conf, b)) for b in self.free.branches],
+            "branch_point": branch_point_name(self.free.branches),
             "samples": self.free.samples.to_dict(),
             "notes": list(self.free.notes),
+            "evidence": self.free.evidence or None,
             "tendons_not_held": list(self.unheld),
         }
         if self.locked is not None:
@@ -119,8 +124,10 @@ class FiniteMobility:
                 "finite_mechanism_dof": lk.finite_mechanism_dof,
                 "motions": [m.to_dict() for m in lk.motions],
                 "branches": [b.to_dict(branch_joints(self.conf, b)) for b in lk.branches],
+                "branch_point": branch_point_name(lk.branches),
                 "samples": lk.samples.to_dict(),
                 "notes": list(lk.notes),
+                "evidence": lk.evidence or None,
             }
         return out
 
@@ -153,6 +160,7 @@ class FiniteMobility:
         lines += [m.line(many) for m in free.internal]
         lines += _branch_lines(free)
         lines += [f"  note: {n}" for n in free.notes]
+        lines += _evidence_lines(free, self.order)
         if self.locked is not None:
             lk = self.locked
             what, inst = ("platform", lk.dof) if self.platform else ("mechanism", lk.mechanism_dof)
@@ -162,6 +170,7 @@ class FiniteMobility:
             )
             lines += [m.line(len(lk.branches) > 1, origin, length) for m in lk.motions]
             lines += [f"  note: {n}" for n in lk.notes]
+            lines += _evidence_lines(lk, self.order)
         if self.unheld:
             lines.append(
                 f"actuators held: actuator(s) {', '.join(self.unheld)} (on a tendon wrapping geoms or over a pulley, "
@@ -181,13 +190,23 @@ def _finite(side: Side, dof: int | None, types: bool = True) -> str:
     return f"{dof} DoF finite" + (f", {' or '.join(kinds)}" if kinds and dof else "")
 
 
+def _evidence_lines(side: Side, order: int) -> list[str]:
+    """The line saying what decided where the conditions up to the order bound did not (none when they did)."""
+    if not side.evidence:
+        return []
+    return [f"  the conditions up to order {order} do not decide; decided by {side.evidence}"]
+
+
 def _branch_lines(side: Side) -> list[str]:
     """One line per motion branch through q (none for a rigid mechanism)."""
     if not side.branches:
         return ["branches through q: none (no closed configuration near q but q)"] if side.mechanism_dof else []
-    lines = [f"branches through q: {len(side.branches)}"]
+    name = branch_point_name(side.branches)
+    lines = [f"branches through q: {len(side.branches)}" + (f" ({name})" if name else "")]
     for i, b in enumerate(side.branches):
         where = "" if b.where == "q" else " (at a nearby point of the branch: at q it moves less, to first order)"
+        if b.test is None:
+            where = " (at closed samples near q: its tangent cone at q is not a linear space)"
         plat = f"; the platform {b.dof} DoF, {b.motion_type}{where}" if b.dof is not None else ""
         lines.append(f"  branch {i + 1}: {b.dimension} DoF{plat}")
     return lines

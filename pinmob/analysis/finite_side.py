@@ -5,8 +5,9 @@ joints ``held`` kept still (none, or the actuated ones): the higher-order condit
 cone (:mod:`pinmob.analysis.tangent_cone`), the branches (:mod:`pinmob.analysis.branches`), a
 verdict per instantaneous motion (:mod:`pinmob.analysis.verdicts`), each motion traced, and the
 local-dimension estimate from closed samples (:mod:`pinmob.analysis.local_dimension`). The finite
-DoF are those of the branches; where the samples, the tracer or the cone do not confirm them, they
-are None and a note says why.
+DoF are those of the branches; where the samples, the tracer or the cone do not confirm them, the
+fallback of :mod:`pinmob.analysis.sample_modes` decides (``Side.evidence`` says how), and where it
+cannot either they are None and a note says why.
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.analysis.branches import Branch, branch_of, platform_motions, tangent_rates
+from pinmob.analysis.branches import Branch, branch_of, branch_order, platform_motions, tangent_rates
 from pinmob.analysis.closure_jacobian import closed_chain, closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.displacement import displacement
@@ -25,8 +26,9 @@ from pinmob.analysis.local_dimension import LocalDimension, local_dimension
 from pinmob.analysis.loop_screws import mechanism_loops
 from pinmob.analysis.motion import Motion
 from pinmob.analysis.motion_path import follow_motion, follow_rates
+from pinmob.analysis.sample_modes import decide_by_samples
 from pinmob.analysis.tangent_cone import cone
-from pinmob.analysis.verdicts import MEMBER_SIN, MotionVerdict, Verdict, judge, orthonormal, sine_to
+from pinmob.analysis.verdicts import MEMBER_SIN, MotionVerdict, Verdict, judge, orthonormal, settle, sine_to
 from pinmob.assembly.residual import compute_kinematics
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import MotionKind
@@ -55,6 +57,8 @@ class Side:
         samples: the local-dimension estimate.
         notes: why a finite DoF could not be decided.
         tolerance: the absolute tolerance of the conditions.
+        evidence: what decided where the conditions up to the order bound did not ('' when they did;
+            :mod:`pinmob.analysis.sample_modes`).
     """
 
     held: tuple[str, ...]
@@ -69,6 +73,7 @@ class Side:
     samples: LocalDimension
     notes: tuple[str, ...]
     tolerance: float
+    evidence: str = ""
 
 
 def internal_motions(conf: Configuration, rates: Array) -> list[tuple[str, Array]]:
@@ -175,7 +180,9 @@ def analyse_side(
     rng = np.random.default_rng(seed)
     ho = HigherOrder(mechanism_loops(conf), rtol, held, order_tol)
     found = cone(ho, order, seed)
-    branches = tuple(branch_of(conf, ho, c, rtol, held, seed + i) for i, c in enumerate(found.components))
+    branches = tuple(
+        sorted((branch_of(conf, ho, c, rtol, held, seed + i) for i, c in enumerate(found.components)), key=branch_order)
+    )
     kernel = tangent_rates(ho, np.eye(ho.m))
     notes: list[str] = []
     if not held and ho.m != closed_chain(conf, rtol).null.shape[1]:
@@ -195,6 +202,8 @@ def analyse_side(
     )
     motions: list[MotionVerdict] = []
     internal: list[MotionVerdict] = []
+    vectors: list[Array] = []
+    internal_vectors: list[Array] = []
     dof = kind = None
     lifts = np.eye(ho.m)
     if mech.has_platform:
@@ -214,6 +223,7 @@ def analyse_side(
                 _trace_motion(conf, mo, rtol) if not held else _trace_rates(conf, test.rates[:nv], held, rtol, target)
             )
             motions.append(judge(mo.label, target, spans, test, traced, motion=mo))
+            vectors.append(target)
     if not held:
         spans = [b.rates for b in branches]
         for label, rates in internal_motions(conf, ho.kernel[:nv] @ lifts):
@@ -221,6 +231,7 @@ def analyse_side(
             test = ho.test(y, None, order, rng)
             traced = _trace_rates(conf, rates, held, rtol)
             internal.append(judge(label, rates, spans, test, traced, joint_rates(mech, col * rates)))
+            internal_vectors.append(rates)
     samples = local_dimension(conf, kernel, [b.rates for b in branches], held, rtol=rtol, seed=seed)
     finite_mech = max((b.dimension for b in branches), default=0)
     finite_dof = max((b.dof or 0 for b in branches), default=0) if mech.has_platform else None
@@ -236,6 +247,25 @@ def analyse_side(
     platform_note = None
     if finite_dof is not None and samples.platform != finite_dof:
         platform_note = f"the samples' platform poses span {samples.platform} dimension(s), the branches' platform motions {finite_dof}"
+    evidence = ""
+    ambiguous = not held and ho.m != closed_chain(conf, rtol).null.shape[1]  # a first-order rank: stays said
+    if (notes or platform_note) and not ambiguous:  # the conditions up to the order bound do not decide
+        fallback = decide_by_samples(conf, ho, branches, held, rtol, seed)
+        if fallback.how:
+            evidence, notes, platform_note = fallback.how, [], None
+            finite_mech, finite_dof = fallback.finite_mechanism_dof or 0, fallback.finite_dof
+            branches = tuple(sorted(fallback.branches, key=branch_order))
+            rows = frame_rows(conf, mech.platform) if mech.has_platform else np.zeros((6, nv))
+            plat = [None if b.test is None else orthonormal([rows @ b.rates], 6) for b in branches]
+            joints = [None if b.test is None else b.rates for b in branches]
+            reach_plat = orthonormal([rows @ fallback.reach], 6)
+            motions = [settle(v, x, plat, reach_plat, finite_dof == 0) for v, x in zip(motions, vectors, strict=True)]
+            internal = [
+                settle(v, x, joints, fallback.reach, finite_mech == 0)
+                for v, x in zip(internal, internal_vectors, strict=True)
+            ]
+        else:
+            notes.append(f"closed samples: {fallback.conflict}")
     decided = not notes
     return Side(
         names,
@@ -250,4 +280,5 @@ def analyse_side(
         samples,
         tuple(notes + ([platform_note] if platform_note else [])),
         ho.tol,
+        evidence,
     )

@@ -36,6 +36,8 @@ from pinmob.screw.rank import decide_rank
 
 #: A motion lies in a span when the sine of its angle to it is at most this.
 MEMBER_SIN = 1e-4
+#: A motion is a combination of the modes seen at closed samples when its sine to their tangents' span is at most this.
+COMBINATION_SIN = 0.1
 
 
 class Verdict(StrEnum):
@@ -105,6 +107,8 @@ class MotionVerdict(ReadOnlyArrays):
         if self.verdict is Verdict.FINITE:
             return f"finite (on branch{'es' if len(self.branches) > 1 else ''} {on})" if many else "finite"
         if self.verdict is Verdict.BLOCKED:
+            if self.order is None:
+                return "blocked (shaky: no closed sample near q moves along it)"
             return f"blocked at order {self.order} (shaky)"
         if self.verdict is Verdict.BRANCH_POINT:
             return f"branch point: only a combination of branches {on}"
@@ -199,3 +203,38 @@ def judge(
             + ("" if traced else ", and the tracer could not follow it")
         )
     return MotionVerdict(label, Verdict.UNDECIDED, None, (), traced, test, note, joints, motion)
+
+
+def settle(
+    verdict: MotionVerdict, vector: Array, spans: list[Array | None], reach: Array, still: bool
+) -> MotionVerdict:
+    """A verdict decided again from the modes the closed samples found (:mod:`pinmob.analysis.sample_modes`).
+
+    Args:
+        verdict: the verdict from the conditions and the tracer.
+        vector: the motion (dimensionless platform twist, or joint rates).
+        spans: per branch, an orthonormal basis of its image at q (None: a mode whose tangent cone at q
+            is not linear).
+        reach: orthonormal basis of the span of every mode's tangents, in the space of ``vector``.
+        still: the samples show that the motion's kind of motion cannot happen (the platform, or the
+            closed chain, does not move at any closed sample near q).
+
+    A motion tangent to a linear branch and traced is finite there; with ``still`` it is blocked (at the
+    order the conditions found, if they found one by more than ``MARGIN``); traced and on no linear branch, it is finite on the other modes;
+    not traced, several branches meet and it lies in the span of their tangents (sine at most
+    ``COMBINATION_SIN``), it is only a combination of them; else blocked.
+    """
+    v = verdict
+    order = v.test.blocked_at if v.test.margin >= MARGIN else None  # an order within the margin: not named
+    linear = [i + 1 for i, s in enumerate(spans) if s is not None and s.size and sine_to(vector, s) <= MEMBER_SIN]
+    others = tuple(i + 1 for i, s in enumerate(spans) if s is None)
+    if still:
+        return MotionVerdict(v.label, Verdict.BLOCKED, order, (), v.traced, v.test, "", v.joints, v.motion)
+    if linear and v.traced > 0:
+        return MotionVerdict(v.label, Verdict.FINITE, None, tuple(linear), v.traced, v.test, "", v.joints, v.motion)
+    if v.traced > 0 and others:
+        return MotionVerdict(v.label, Verdict.FINITE, None, others, v.traced, v.test, "", v.joints, v.motion)
+    if len(spans) > 1 and sine_to(vector, reach) <= COMBINATION_SIN:
+        every = tuple(range(1, len(spans) + 1))
+        return MotionVerdict(v.label, Verdict.BRANCH_POINT, None, every, v.traced, v.test, "", v.joints, v.motion)
+    return MotionVerdict(v.label, Verdict.BLOCKED, order, (), v.traced, v.test, "", v.joints, v.motion)

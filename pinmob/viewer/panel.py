@@ -4,8 +4,8 @@
 sentences ready): the mechanism and configuration, the platform's DoF and
 motion type, one row per free motion (kind, direction, axis point in world
 coordinates [m], pitch [m/rad], how far its clip went and why it stopped, and a
-finite/instantaneous ``verdict`` column shown when one is given), the
-singularity class, the whole mechanism's DoF, the constraint wrenches, the
+finite/instantaneous ``verdict`` column shown when one is given), the motion
+branches meeting at q (named, when given), the singularity class, the whole mechanism's DoF, the constraint wrenches, the
 legend, and the glyphs' labels (their world anchors). :class:`PanelCommand`
 carries it to the page as pinmob's ``pinmob_panel`` command, which
 ``static/panel.js`` understands (see :mod:`pinmob.viewer.page`).
@@ -223,6 +223,7 @@ def panel_document(
     wrenches: bool,
     generated: bool,
     verdicts: Mapping[str, str] | None = None,
+    branch_point: str | None = None,
 ) -> dict[str, Any]:
     """The panel's document (plain JSON); see the module docstring.
 
@@ -240,6 +241,7 @@ def panel_document(
         wrenches: the constraint wrenches are shown on opening.
         generated: the mechanism is drawn as a generated stick figure.
         verdicts: a finite/instantaneous verdict per motion label, shown as a column when given.
+        branch_point: the motion branches meeting at q, named (a line of the summary), or None.
     """
     where = f" at '{mob.configuration}'" if mob.configuration else ""
     summary = ["Axis points are in world coordinates [m]; the world origin and axes are drawn in the scene."]
@@ -249,6 +251,8 @@ def panel_document(
             f"The {mob.rotations} rotation axes meet at ({', '.join(f'{x:.4g}' for x in centre + 0.0)}) m: "
             "the platform turns about that point."
         )
+    if branch_point:
+        summary.append(f"Motion branches meet here: {branch_point} (the platform's DoF and motion type on each).")
     if generated:
         summary.append("The mechanism is drawn as a stick figure (its URDF has no visuals).")
     constraints = [

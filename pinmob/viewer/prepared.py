@@ -14,6 +14,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from pinmob.analysis.branch_names import branch_point_name
 from pinmob.analysis.closed_chain import MechanismMobility
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.coupling_rows import is_polynomial
@@ -43,6 +44,8 @@ class Prepared:
         motion: the motion shown first (its label as the analysis spells it), or None.
         singularity: the singularity report (None where it does not apply).
         chain: the whole mechanism's mobility (None when it could not be computed).
+        branch_point: where motion branches meet at q, their DoF and the platform's motion type on each
+            (:func:`pinmob.analysis.branch_names.branch_point_name`; None elsewhere, or without verdicts).
     """
 
     q: Array
@@ -51,6 +54,7 @@ class Prepared:
     motion: str | None
     singularity: Singularity | None
     chain: MechanismMobility | None
+    branch_point: str | None = None
 
 
 def prepare(
@@ -94,8 +98,11 @@ def prepare(
             else:
                 paths[m.label] = MotionPath(m.label, (conf.q,), (conf.q,), (0.0, 0.0), 0.0)
     coupled = any(c.is_coupling and not is_polynomial(c) for c in mech.closures)  # beyond the finite analysis
+    branch_point = None
     if finite and mech.has_platform and mob.motions and not coupled:
-        verdicts = {v.label: v for v in finite_mobility(conf, RTOL, motions=mob.motions).motions}
+        fm = finite_mobility(conf, RTOL, motions=mob.motions)
+        branch_point = branch_point_name(fm.free.branches)
+        verdicts = {v.label: v for v in fm.motions}
         for label, path in paths.items():
             v = verdicts.get(label)
             if v is not None:
@@ -105,4 +112,4 @@ def prepare(
         sing = report.singularity
     except PinmobError:
         chain, sing = None, None
-    return Prepared(conf.q, mob, paths, motion, sing, chain)
+    return Prepared(conf.q, mob, paths, motion, sing, chain, branch_point)

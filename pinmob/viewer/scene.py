@@ -268,6 +268,7 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool, workspac
         paths_of={"world": ["meshcat", ROOT, "world"], "wrenches": ["meshcat", ROOT, "wrenches"]},
         clips=clips, visible=visible, wrenches=wrenches, generated=generated,
         verdicts={label: path.verdict for label, path in paths.items() if path.verdict},
+        branch_point=prep.branch_point,
     )  # fmt: skip
     if workspace is not None:
         document["workspace"] = workspace.legend()

@@ -22,8 +22,8 @@ The package is layered; imports only go down:
 
 from typing import TYPE_CHECKING, Any
 
-from pinmob.analysis.actuation import Actuation
-from pinmob.analysis.closed_chain import ClosureRank, FrameMobility, MechanismMobility
+from pinmob.analysis.chain.actuation import Actuation
+from pinmob.analysis.chain.mechanism_mobility import ClosureRank, FrameMobility, MechanismMobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.limbs import LimbMobility
@@ -38,7 +38,7 @@ from pinmob.analysis.shortcuts import (
     frame_mobility,
     paper_view,
 )
-from pinmob.analysis.singularity import Singularity
+from pinmob.analysis.singularity.result import Singularity
 from pinmob.assembly import (
     CLOSURE_TOL,
     Assembly,

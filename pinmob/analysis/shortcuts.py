@@ -15,14 +15,19 @@ from collections.abc import Mapping, Sequence
 
 from numpy.typing import ArrayLike
 
-from pinmob.analysis.actuation import actuator_sets as _actuator_sets
-from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
-from pinmob.analysis.closed_chain import frame_mobility as _frame_mobility
-from pinmob.analysis.closure_jacobian import closure_jacobian_twists as _closure_jacobian_twists
+from pinmob.analysis.chain.actuation import actuator_sets as _actuator_sets
+from pinmob.analysis.chain.closed_chain import closure_jacobian_twists as _closure_jacobian_twists
+from pinmob.analysis.chain.mechanism_mobility import (
+    FrameMobility,
+    MechanismMobility,
+    default_end_frames,
+    mechanism_mobility,
+)
+from pinmob.analysis.chain.mechanism_mobility import frame_mobility as _frame_mobility
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.singularity import Singularity
-from pinmob.analysis.singularity_analysis import singularity
+from pinmob.analysis.singularity.classification import singularity
+from pinmob.analysis.singularity.result import Singularity
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
@@ -45,7 +50,7 @@ def analyze_mechanism(
 ) -> MechanismMobility:
     """The whole closed chain's mobility (``pinmob.analyze(...).mechanism_mobility``).
 
-    See :func:`pinmob.analysis.closed_chain.mechanism_mobility`.
+    See :func:`pinmob.analysis.chain.mechanism_mobility.mechanism_mobility`.
     """
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
     return mechanism_mobility(conf, conf.rank_rtol(check_rtol(rtol)), actuated=actuated, frames=frames, outputs=outputs)
@@ -72,7 +77,7 @@ def analyze_singularity(
 def frame_mobility(
     mech: Where, q: At, frame: str, *, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
 ) -> FrameMobility:
-    """Free motions of any ``frame`` on the closed chain (see :func:`pinmob.analysis.closed_chain.frame_mobility`)."""
+    """Free motions of any ``frame`` on the closed chain (see :func:`pinmob.analysis.chain.mechanism_mobility.frame_mobility`)."""
     conf = as_configuration(mech, q, closure_tol=closure_tol)
     return _frame_mobility(conf, frame, conf.rank_rtol(check_rtol(rtol)))
 
@@ -89,7 +94,7 @@ def actuator_sets(
 ) -> list[tuple[str, ...]]:
     """Every valid set of ``size`` actuated joints (``pinmob.analyze(..., actuator_search=size).actuator_sets``).
 
-    See :func:`pinmob.analysis.actuation.actuator_sets`.
+    See :func:`pinmob.analysis.chain.actuation.actuator_sets`.
     """
     conf = as_configuration(mech, q, closure_tol=closure_tol)
     outs = tuple(default_end_frames(conf.mechanism) if outputs is None else outputs)
@@ -101,7 +106,7 @@ def closure_jacobian_twists(
 ) -> Array:
     """Free platform twists by the global loop-closure Jacobian, a second, independent method; (6, m).
 
-    See :func:`pinmob.analysis.closure_jacobian.closure_jacobian_twists`.
+    See :func:`pinmob.analysis.chain.closed_chain.closure_jacobian_twists`.
     """
     conf = as_configuration(mech, q, closure_tol=closure_tol)
     return _closure_jacobian_twists(conf, conf.rank_rtol(check_rtol(rtol)))

@@ -4,7 +4,7 @@ With the actuated joints locked, the motions left (``locked_dof``, idle ones
 included) are all idle when the actuation is valid; actuated rates that are not
 independent on the closed chain over-determine it. Idle motions move no output
 frame, no joint centre and no closure point
-(:func:`pinmob.analysis.closure_jacobian.output_motions`).
+(:func:`pinmob.analysis.chain.closed_chain.output_motions`).
 
 A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
 pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
@@ -24,10 +24,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_motions, rates_of
+from pinmob.analysis.chain.closed_chain import ClosedChain, closed_chain, frame_rows, output_motions, rates_of
+from pinmob.analysis.chain.joint_rates import canonical_rates, joint_rates
+from pinmob.analysis.chain.locking import Locked, lock
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.joint_rates import canonical_rates, joint_rates
-from pinmob.analysis.locking import Locked, lock
 from pinmob.assembly.assemble import joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
@@ -59,7 +59,7 @@ class Actuation:
         base: the floating bases held while judging (free-flyer joints at the root), by joint name.
         rate_singular_values: singular values of the held joints' rates on an orthonormal basis of the
             closed chain's dimensionless motions (``S N``, (held, m)): the matrix whose rank ``rank_a`` is decided
-            (:func:`~pinmob.analysis.locking.lock`); its tolerance is ``rtol * max(1, sigma_1)``.
+            (:func:`~pinmob.analysis.chain.locking.lock`); its tolerance is ``rtol * max(1, sigma_1)``.
         tendons: the actuators on tendons, sites, slider-cranks and ball joints, by name, held with the
             joints (:func:`~pinmob.model.tendon.tendon_rows`).
         tendon_kinds: what each of them drives (:attr:`~pinmob.model.tendon.Transmission.kind`).
@@ -208,7 +208,7 @@ def actuator_sets(
     A set is valid when its joints are independent on the closed chain and
     locking them leaves only idle motions (those that move no ``outputs``
     frame; the same split as the actuation verdict). Exhaustive: C(n, size)
-    sets are tried, each with an SVD of (size, m) and, unless :func:`~pinmob.analysis.locking.lock`
+    sets are tried, each with an SVD of (size, m) and, unless :func:`~pinmob.analysis.chain.locking.lock`
     skips it, of (size + outputs, m); more than ``limit`` sets is refused
     (name fewer candidates).
 

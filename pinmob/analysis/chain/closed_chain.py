@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from pinmob.analysis.chain.joint_centres import joint_centres
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.joint_centres import joint_centres
 from pinmob.analysis.limbs import rate_scale
 from pinmob.assembly.residual import stacked_error
 from pinmob.blas import one_blas_thread

@@ -1,7 +1,7 @@
 """Whole-mechanism mobility: mechanism DoF, redundant constraints, idle motions, actuation, frame motions.
 
 With the dimensionless closure Jacobian ``K`` (rows, nv) of
-:mod:`pinmob.analysis.closure_jacobian`:
+:mod:`pinmob.analysis.chain.closed_chain`:
 
 - mechanism DoF ``m = nv - rank K``: the closed chain's joint velocities are ``null K``;
 - redundant (over-constraining) equations ``rows - rank K``; per closure c,
@@ -21,7 +21,7 @@ With the dimensionless closure Jacobian ``K`` (rows, nv) of
   frame; frames named only to be reported are not outputs), no joint centre
   and no closure point; e.g. a rod spinning about the line through its two
   ball joints;
-- actuation (:mod:`pinmob.analysis.actuation`);
+- actuation (:mod:`pinmob.analysis.chain.actuation`);
 - the motion of any frame: the image of ``null K`` by its Jacobian, classified
   like the platform's (:func:`pinmob.screw.classify.classify_twists`).
 """
@@ -35,12 +35,12 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.actuation import Actuation, actuation, held_indices
-from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, rates_of
+from pinmob.analysis.chain.actuation import Actuation, actuation, held_indices
+from pinmob.analysis.chain.closed_chain import closed_chain, frame_rows, moving_joints, rates_of
+from pinmob.analysis.chain.locking import lock_motions
+from pinmob.analysis.chain.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.locking import lock_motions
 from pinmob.analysis.motion import Motion, classified_motions, columns
-from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id, frame_name

@@ -526,8 +526,8 @@ def test_closure_ranks_of_a_full_row_rank_k_need_no_svd(configurations):
 
 def test_output_motions_are_the_output_rows_times_the_motions(configurations):
     """The output rows' product with the closed chain's motions, without the rows: the product, to round-off."""
+    from pinmob.analysis.chain.actuation import default_end_frames
     from pinmob.analysis.chain.closed_chain import closed_chain, output_motions, output_rows
-    from pinmob.analysis.chain.mechanism_mobility import default_end_frames
     from pinmob.screw.rank import RTOL
 
     for label, conf in configurations:
@@ -544,10 +544,9 @@ def test_output_motions_are_the_output_rows_times_the_motions(configurations):
 def test_lock_without_the_stacked_svd_is_the_stacked_svd(configurations):
     """Where the locked rates have full rank and the bound holds, idle is empty as the stacked SVD finds; elsewhere
     lock is that SVD. Every built-in model and Extended URDF robot, its actuators and each single joint, three rtol."""
-    from pinmob.analysis.chain.actuation import held_indices
+    from pinmob.analysis.chain.actuation import default_end_frames, held_indices
     from pinmob.analysis.chain.closed_chain import closed_chain, output_rows, rates_of
     from pinmob.analysis.chain.locking import lock
-    from pinmob.analysis.chain.mechanism_mobility import default_end_frames
     from pinmob.screw.rank import decide_rank
 
     shortcut = 0
@@ -641,7 +640,7 @@ def test_a_kept_classification_is_the_classification_of_the_space(configurations
     built-in model and configuration and the example-parallel-robots. The paper's view at
     3-PUU-flat's 'flat-raised', a different space at the same configuration, stays its own: 3T1R, against 1T1R.
     """
-    from pinmob.analysis.chain.mechanism_mobility import frame_mobility
+    from pinmob.analysis.chain.mechanism_mobility import frame_mobility_at as frame_mobility
 
     checked = 0
     for label, conf in configurations:

@@ -16,7 +16,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.chain.mechanism_mobility import default_end_frames, mechanism_mobility
+from pinmob.analysis.chain.actuation import default_end_frames
+from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.assemble import Assembly, joint_velocity_indices, project, solve_actuated
 from pinmob.assembly.residual import CLOSURE_TOL
@@ -100,7 +101,7 @@ def assembly_modes(
     With ``values`` (joint values held, e.g. the actuated ones), each is a
     forward-kinematics solution (:func:`solve_actuated`); otherwise a
     projection. Two solutions are one mode when :func:`mode_distance` of their
-    signatures (end frames: :func:`pinmob.analysis.chain.mechanism_mobility.default_end_frames`) is
+    signatures (end frames: :func:`pinmob.analysis.chain.actuation.default_end_frames`) is
     below ``distinct``: copies that differ only by idle motions count once.
     Seeds that fail to converge are skipped.
 

@@ -24,8 +24,8 @@ from numpy.typing import ArrayLike
 
 from pinmob.analysis.ambiguity import AmbiguousRank, ambiguous_ranks, raised_note
 from pinmob.analysis.chain import FrameMobility, MechanismMobility
-from pinmob.analysis.chain.actuation import actuator_sets
-from pinmob.analysis.chain.mechanism_mobility import default_end_frames, mechanism_mobility
+from pinmob.analysis.chain.actuation import actuator_sets, default_end_frames
+from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
 from pinmob.analysis.finite.higher_order import ORDER
@@ -127,7 +127,7 @@ class Report(NotebookDisplay):
         if k is None:
             return None
         outs = default_end_frames(self.state.mechanism)
-        return tuple(actuator_sets(self.state, k, outs, rtol=self.rtol))
+        return tuple(actuator_sets(self.state, None, k, outputs=outs, rtol=self.rtol))
 
     @cached_property
     def finite(self) -> FiniteMobility | None:

@@ -100,7 +100,7 @@ def analyze(
         configuration: name reported with the results (set automatically when q is a name).
         joints: joint values by name [m or rad]: the configuration analysed has them, its other joints start
             from the configuration named by q (default: the first named, else neutral) and are solved when the
-            values do not close the loops as they are (:func:`~pinmob.analysis.configuration.joint_configuration`).
+            values do not close the loops as they are (:func:`~pinmob.analysis.configuration_choice.joint_configuration`).
         rtol: relative tolerance of every rank decision (singular values below
             ``rtol * sigma_max`` count as zero); see :func:`~pinmob.screw.rank.check_rtol`.
         closure_tol: closure tolerance (position / L and rotation [rad]).

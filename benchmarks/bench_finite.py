@@ -1,7 +1,7 @@
 """Cost of the finite-mobility analysis per configuration, on every built-in model and named configuration.
 
 For each configuration (closed once, outside the timing): ``total_ms``, the whole finite analysis of
-:func:`pinmob.analysis.finite.finite_mobility` (free and with the actuators held: higher-order conditions,
+:func:`pinmob.analysis.finite.finite_mobility.finite_mobility` (free and with the actuators held: higher-order conditions,
 cone and branches, every motion traced, closed samples), on a fresh :class:`pinmob.Configuration` each time;
 ``screw_ms``, its screw-based part alone (loop screws, the conditions, the second-order cone and an order test
 per platform motion, no tracing and no sampling). Each is the median of ``--repeat`` runs; the reference is
@@ -30,11 +30,11 @@ from pathlib import Path
 import numpy as np
 
 import pinmob
-from pinmob.analysis.closure_jacobian import frame_rows
-from pinmob.analysis.finite import finite_mobility
-from pinmob.analysis.higher_order import HigherOrder
-from pinmob.analysis.loop_screws import mechanism_loops
-from pinmob.analysis.tangent_cone import cone
+from pinmob.analysis.chain.closed_chain import frame_rows
+from pinmob.analysis.finite.finite_mobility import finite_mobility
+from pinmob.analysis.finite.higher_order import HigherOrder
+from pinmob.analysis.finite.loop_screws import mechanism_loops
+from pinmob.analysis.finite.tangent_cone import cone
 from pinmob.scan import path_spec, scan, with_finite
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL, decide_rank

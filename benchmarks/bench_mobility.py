@@ -60,7 +60,7 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
-from pinmob.analysis.batch import analyze_batch
+from pinmob.analysis.batch.batch_analysis import analyze_batch
 from pinmob.scan import pose_vector
 from pinmob.scan.output import RowWriter
 from pinmob.scan.run import columns, scan

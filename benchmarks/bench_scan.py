@@ -25,7 +25,7 @@ Per robot and grid (microseconds per sample, single process):
   (Pinocchio's kinematics per sample in a Python loop, the errors, Jacobians and damped least-squares solves
   as numpy stacks, a sample stopping at 1e-12, when a step no longer halves a residual below 1e-6, or when it
   gained less than 0.1% over 5 iterations), then
-  :func:`pinmob.analysis.batch.analyze_batch` for the DoF; its verdicts are counted against pinmob's too;
+  :func:`pinmob.analysis.batch.batch_analysis.analyze_batch` for the DoF; its verdicts are counted against pinmob's too;
 * the ``computeJointJacobians`` calls per sample of each (counted by a wrapper in a separate, untimed run);
 * the split of the engine's time (fractions of one cProfile run, so not the load of the machine): the batched
   predictor (:func:`pinmob.assembly.batch_solver.solve_poses`), the
@@ -64,7 +64,7 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
-from pinmob.analysis.batch import analyze_batch
+from pinmob.analysis.batch.batch_analysis import analyze_batch
 from pinmob.scan import pose_vector
 from pinmob.scan.run import scan_in_process
 from pinmob.scan.spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
@@ -338,7 +338,7 @@ class BatchedNewton:
 def batched_scan(mech: pinmob.Mechanism, spec: ScanSpec) -> list[tuple[bool, int]]:
     """(reachable, DoF) per sample: the first sample of each line one after the other (each from the previous
     line's first), then every line's samples in lockstep (each from its line's previous sample), then
-    :func:`pinmob.analysis.batch.analyze_batch` on all closed samples."""
+    :func:`pinmob.analysis.batch.batch_analysis.analyze_batch` on all closed samples."""
     names = [a[0] for a in spec.axes]
     grids = [np.linspace(lo, hi, n) for _, lo, hi, n in spec.axes]
     free = [POSE_COORDS.index(c) for c in spec.following]

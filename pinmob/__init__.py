@@ -22,23 +22,17 @@ The package is layered; imports only go down:
 
 from typing import TYPE_CHECKING, Any
 
-from pinmob.analysis.actuation import Actuation
-from pinmob.analysis.closed_chain import ClosureRank, FrameMobility, MechanismMobility
+from pinmob.analysis.chain.actuation import Actuation, actuator_sets
+from pinmob.analysis.chain.closure_jacobian_twists import closure_jacobian_twists
+from pinmob.analysis.chain.mechanism_mobility import ClosureRank, FrameMobility, MechanismMobility, frame_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.limbs import LimbMobility
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion import Constraint, Method, Motion, View
 from pinmob.analysis.report import Report
-from pinmob.analysis.shortcuts import (
-    actuator_sets,
-    analyze_mechanism,
-    analyze_singularity,
-    closure_jacobian_twists,
-    frame_mobility,
-    paper_view,
-)
-from pinmob.analysis.singularity import Singularity
+from pinmob.analysis.shortcuts import analyze_mechanism, analyze_singularity, paper_view
+from pinmob.analysis.singularity.result import Singularity
 from pinmob.assembly import (
     CLOSURE_TOL,
     Assembly,

@@ -28,7 +28,7 @@ from collections.abc import Mapping, Sequence
 import numpy as np
 from numpy.typing import ArrayLike
 
-from pinmob.analysis.closed_chain import FrameMobility
+from pinmob.analysis.chain.mechanism_mobility import FrameMobility
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.mobility import Mobility
 from pinmob.exceptions import ConfigurationError

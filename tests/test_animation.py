@@ -8,7 +8,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.analysis.motion_path import MAX_DEVIATION, follow_motion
+from pinmob.analysis.follow.motion_path import MAX_DEVIATION, follow_motion
 from pinmob.assembly.residual import check_closed, compute_kinematics, mechanism_residuals, worst_residual
 
 
@@ -171,7 +171,7 @@ def test_near_singular_spherical_clips_stay_on_their_axes():
     # through O. Every clip must still turn about its own axis (measured on the poses, to
     # within the per-step tolerance), or stop and say so; the reported displacement must
     # match the poses.
-    from pinmob.analysis.motion_path import MAX_DEVIATION
+    from pinmob.analysis.follow.motion_path import MAX_DEVIATION
 
     mech = pinmob.load("3-RRR-spherical")
     q = pinmob.closed_configuration(mech, "generic")

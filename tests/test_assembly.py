@@ -20,7 +20,7 @@ from test_closed_chains import rocker_angles as rocker_angles_unwrapped
 
 import pinmob
 from pinmob import analyze_singularity
-from pinmob.analysis.closed_chain import default_end_frames
+from pinmob.analysis.chain.actuation import default_end_frames
 from pinmob.analysis.modes import assembly_modes, mode_distance, mode_signature
 from pinmob.assembly.assemble import solve_actuated
 from pinmob.assembly.residual import worst_residual

@@ -9,7 +9,7 @@ import pytest
 from threadpoolctl import threadpool_info, threadpool_limits
 
 import pinmob
-from pinmob.analysis.batch import analyze_batch
+from pinmob.analysis.batch.batch_analysis import analyze_batch
 from pinmob.blas import one_blas_thread
 
 

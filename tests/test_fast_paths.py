@@ -82,7 +82,7 @@ def test_the_finite_analysis_loads_when_asked_for():
 
     code = (
         "import sys, pinmob\n"
-        "finite = ('pinmob.analysis.finite', 'pinmob.analysis.tangent_cone', 'pinmob.analysis.motion_path')\n"
+        "finite = ('pinmob.analysis.finite.finite_mobility', 'pinmob.analysis.finite.tangent_cone', 'pinmob.analysis.follow.motion_path')\n"
         "print(sorted(m for m in finite if m in sys.modules))\n"
         "mech = pinmob.load('3-PUU')\n"
         "pinmob.analyze(mech, 'generic').to_dict()\n"
@@ -93,7 +93,13 @@ def test_the_finite_analysis_loads_when_asked_for():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split("\n")
     assert out[:2] == ["[]", "[]"]
     assert out[2] == "3"  # the 3-PUU's generic configuration is regular: finite = instantaneous = 3 (3T)
-    assert out[3] == str(["pinmob.analysis.finite", "pinmob.analysis.motion_path", "pinmob.analysis.tangent_cone"])
+    assert out[3] == str(
+        [
+            "pinmob.analysis.finite.finite_mobility",
+            "pinmob.analysis.finite.tangent_cone",
+            "pinmob.analysis.follow.motion_path",
+        ]
+    )
 
 
 def closed_configurations() -> list[tuple[str, object]]:
@@ -128,8 +134,8 @@ def test_closure_ranks_from_the_left_null_space(configurations):
     At the default tolerance the one-SVD path decides every case; at loose tolerances, where a soft
     dependency sits near the threshold, it declines (and the SVDs per closure decide).
     """
-    from pinmob.analysis.closure_jacobian import closed_chain
-    from pinmob.analysis.redundancy import closure_ranks, closure_ranks_by_removal, implied_rows
+    from pinmob.analysis.chain.closed_chain import closed_chain
+    from pinmob.analysis.chain.redundancy import closure_ranks, closure_ranks_by_removal, implied_rows
     from pinmob.screw.rank import RTOL
 
     redundant, declined = 0, 0
@@ -156,14 +162,14 @@ def test_output_rows_are_pinocchios_joint_jacobians(configurations):
     """The joint centres' rows, all at once from the world Jacobian, are Pinocchio's joint Jacobians.
 
     Against the computation they replace: ``pin.getJointJacobian(..., LOCAL_WORLD_ALIGNED)[:3] * col / L``
-    per joint, referred to the joint's centre (:mod:`pinmob.analysis.joint_centres`: its frame origin but for
+    per joint, referred to the joint's centre (:mod:`pinmob.analysis.chain.joint_centres`: its frame origin but for
     the revolutes of a ball or universal joint drawn elsewhere on their axes), with the same exact zeros (the
     columns of the joints that do not support it); the other entries to round-off.
     """
     import pinocchio as pin
 
-    from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows, output_rows, supported_columns
-    from pinmob.analysis.joint_centres import joint_centres
+    from pinmob.analysis.chain.closed_chain import closed_chain_columns, frame_rows, output_rows, supported_columns
+    from pinmob.analysis.chain.joint_centres import joint_centres
 
     for label, conf in configurations:
         mech = conf.mechanism  # type: ignore[attr-defined]
@@ -195,8 +201,8 @@ def test_output_rows_are_pinocchios_joint_jacobians(configurations):
 
 def test_rates_of_is_the_selector_product(configurations):
     """The held joints' rates picked as rows of the closed chain's motions: the numbers of the selector matrix's product."""
-    from pinmob.analysis.actuation import held_indices
-    from pinmob.analysis.closure_jacobian import closed_chain, rates_of
+    from pinmob.analysis.chain.actuation import held_indices
+    from pinmob.analysis.chain.closed_chain import closed_chain, rates_of
     from pinmob.screw.rank import RTOL
 
     for label, conf in configurations:
@@ -321,7 +327,7 @@ def _batch_cases():
 def test_batch_numpy_engine_is_the_single_analysis_bit_for_bit():
     """The numpy engine makes the single analyses' SVDs, batched: the same ranks and singular values, bit for bit."""
     import pinmob
-    from pinmob.analysis.batch import analyze_batch
+    from pinmob.analysis.batch.batch_analysis import analyze_batch
 
     for name, mech, qs in _batch_cases():
         batch = analyze_batch(mech, qs, singular_values=True, engine="numpy")
@@ -338,7 +344,7 @@ def test_batch_numpy_engine_is_the_single_analysis_bit_for_bit():
 def test_batch_engines_agree():
     """numba's compiled loop (one-sided Jacobi SVDs) and the numpy engine (LAPACK): same ranks, values to round-off."""
     pytest.importorskip("numba")
-    from pinmob.analysis.batch import analyze_batch
+    from pinmob.analysis.batch.batch_analysis import analyze_batch
 
     checked = 0
     for name, mech, qs in _batch_cases():
@@ -356,7 +362,7 @@ def test_batch_engines_agree():
 def test_jacobi_svd_is_lapacks():
     """The compiled loop's one-sided Jacobi SVD (span): LAPACK's singular values, the rank, a null space orthogonal to the rows."""
     pytest.importorskip("numba")
-    from pinmob.analysis.batch_kernel import span
+    from pinmob.analysis.batch.batch_kernel import span
 
     rng = np.random.default_rng(10)
     for _ in range(300):
@@ -384,7 +390,7 @@ def test_batch_without_numba():
     code = (
         "import sys; sys.modules['numba'] = None\n"
         "import pinmob\n"
-        "from pinmob.analysis.batch import analyze_batch\n"
+        "from pinmob.analysis.batch.batch_analysis import analyze_batch\n"
         "mech = pinmob.load('3-PUU'); q = pinmob.closed_configuration(mech, 'generic')\n"
         "r = analyze_batch(mech, q[None, :])\n"
         "print(r.engine, int(r.dof[0]))\n"
@@ -449,7 +455,7 @@ def test_joint_rates_are_ordered_by_their_printed_magnitude_then_model_order():
     """Rates by name, largest first as printed (three significant digits), ties in the model's joint order:
     0.0124 before 0.0121 (a sort to three decimals took them as equal), and the five-bar's two elbows, equal by
     symmetry to round-off, always in model order."""
-    from pinmob.analysis.joint_rates import joint_rates
+    from pinmob.analysis.chain.joint_rates import joint_rates
 
     mech = pinmob.load("3-PUU")
     names = [mech.model.names[j] for j in range(1, mech.model.njoints)]
@@ -465,7 +471,7 @@ def test_joint_rates_are_ordered_by_their_printed_magnitude_then_model_order():
 def test_a_multi_degree_joint_prints_the_first_of_its_equal_largest_components():
     """A free joint (MuJoCo's connect.xml) whose two largest components are equal but for round-off prints the
     first, whichever is larger by 1e-12 (it printed joint1 +1 or -1 as round-off had it)."""
-    from pinmob.analysis.joint_rates import joint_rates
+    from pinmob.analysis.chain.joint_rates import joint_rates
 
     mech = pinmob.load(Path(__file__).parent / "data" / "third_party" / "mujoco_testdata" / "connect.xml")
     joint = mech.model.joints[1]
@@ -493,8 +499,8 @@ def test_named_pose_is_assembled_once_per_mechanism_and_given_as_a_copy():
 def test_closure_ranks_of_a_full_row_rank_k_need_no_svd(configurations):
     """K of full row rank (clear margin): each closure's rows have full rank and every closure is essential,
     as the SVDs per closure find; each block's singular values are at least K's smallest."""
-    from pinmob.analysis.closure_jacobian import closed_chain
-    from pinmob.analysis.redundancy import CLEAR, closure_ranks, closure_ranks_by_removal
+    from pinmob.analysis.chain.closed_chain import closed_chain
+    from pinmob.analysis.chain.redundancy import CLEAR, closure_ranks, closure_ranks_by_removal
     from pinmob.screw.rank import singular_values
 
     shortcut = 0
@@ -520,8 +526,8 @@ def test_closure_ranks_of_a_full_row_rank_k_need_no_svd(configurations):
 
 def test_output_motions_are_the_output_rows_times_the_motions(configurations):
     """The output rows' product with the closed chain's motions, without the rows: the product, to round-off."""
-    from pinmob.analysis.closed_chain import default_end_frames
-    from pinmob.analysis.closure_jacobian import closed_chain, output_motions, output_rows
+    from pinmob.analysis.chain.actuation import default_end_frames
+    from pinmob.analysis.chain.closed_chain import closed_chain, output_motions, output_rows
     from pinmob.screw.rank import RTOL
 
     for label, conf in configurations:
@@ -538,10 +544,9 @@ def test_output_motions_are_the_output_rows_times_the_motions(configurations):
 def test_lock_without_the_stacked_svd_is_the_stacked_svd(configurations):
     """Where the locked rates have full rank and the bound holds, idle is empty as the stacked SVD finds; elsewhere
     lock is that SVD. Every built-in model and Extended URDF robot, its actuators and each single joint, three rtol."""
-    from pinmob.analysis.actuation import held_indices
-    from pinmob.analysis.closed_chain import default_end_frames
-    from pinmob.analysis.closure_jacobian import closed_chain, output_rows, rates_of
-    from pinmob.analysis.locking import lock
+    from pinmob.analysis.chain.actuation import default_end_frames, held_indices
+    from pinmob.analysis.chain.closed_chain import closed_chain, output_rows, rates_of
+    from pinmob.analysis.chain.locking import lock
     from pinmob.screw.rank import decide_rank
 
     shortcut = 0
@@ -635,7 +640,7 @@ def test_a_kept_classification_is_the_classification_of_the_space(configurations
     built-in model and configuration and the example-parallel-robots. The paper's view at
     3-PUU-flat's 'flat-raised', a different space at the same configuration, stays its own: 3T1R, against 1T1R.
     """
-    from pinmob.analysis.closed_chain import frame_mobility
+    from pinmob.analysis.chain.mechanism_mobility import frame_mobility_at as frame_mobility
 
     checked = 0
     for label, conf in configurations:
@@ -655,7 +660,7 @@ def test_a_kept_classification_is_the_classification_of_the_space(configurations
 def test_joint_rates_of_one_component_joints_read_directly():
     """A one-component joint's rate read directly: the same names, values and order as the largest-component rule
     applied to every joint, on random rates (zeros and tiny ones among them) of every built-in model."""
-    from pinmob.analysis.joint_rates import RATE_TIE, joint_rates, velocity_segments
+    from pinmob.analysis.chain.joint_rates import RATE_TIE, joint_rates, velocity_segments
 
     def straightforward(mech: pinmob.Mechanism, dq: np.ndarray) -> dict[str, float]:
         big = float(np.max(np.abs(dq)))

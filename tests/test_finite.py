@@ -21,10 +21,10 @@ from millimetres import in_millimetres, moved, q_in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.analysis.branches import branch_joints
-from pinmob.analysis.finite import finite_mobility
-from pinmob.analysis.motion_path import follow_rates
-from pinmob.analysis.verdicts import Verdict
+from pinmob.analysis.finite.branches import branch_joints
+from pinmob.analysis.finite.finite_mobility import finite_mobility
+from pinmob.analysis.finite.verdicts import Verdict
+from pinmob.analysis.follow.motion_path import follow_rates
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import path_spec, with_finite
 
@@ -310,13 +310,13 @@ def test_two_modes_with_the_actuators_held_leave_one_motion_growing_like_s_cubed
 
 
 def test_the_fallback_evidence_alone_on_shaky_held_configurations() -> None:
-    """The evidence of :mod:`pinmob.analysis.sample_modes` on its own, where the hand derivations above know the
+    """The evidence of :mod:`pinmob.analysis.finite.sample_modes` on its own, where the hand derivations above know the
     answer: the flat 3-PUU with its sliders held (two first-order motions, each blocked at order 2: a tilted link is
     shorter horizontally) is rigid, every closed sample falling back onto q; Fichter's pose with the legs held (one
     motion, ``c . l''(t, t) != 0``: blocked at order 2) leaves a reduced equation growing like s^2."""
-    from pinmob.analysis.higher_order import HigherOrder
-    from pinmob.analysis.loop_screws import mechanism_loops
-    from pinmob.analysis.sample_modes import decide_by_samples
+    from pinmob.analysis.finite.higher_order import HigherOrder
+    from pinmob.analysis.finite.loop_screws import mechanism_loops
+    from pinmob.analysis.finite.sample_modes import decide_by_samples
     from pinmob.assembly.assemble import joint_velocity_indices
 
     found = {}
@@ -498,8 +498,8 @@ def test_internal_motions_of_a_mechanism_without_limbs_do_not_depend_on_the_basi
     same canonical motions (they were the basis given: another SVD, another 'motion 1')."""
     from pathlib import Path
 
-    from pinmob.analysis.closure_jacobian import closed_chain
-    from pinmob.analysis.finite_side import internal_motions
+    from pinmob.analysis.chain.closed_chain import closed_chain
+    from pinmob.analysis.finite.finite_side import internal_motions
 
     mech = pinmob.load(Path(__file__).parent / "data" / "formats" / "fivebar" / "fivebar.xml")
     conf = pinmob.analyze(mech).state

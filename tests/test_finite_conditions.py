@@ -3,7 +3,7 @@
 - The Lie-bracket recursion (:mod:`pinmob.screw.lie`) gives the time derivatives of every body's
   spatial twist along a joint-space curve; here they are measured on Pinocchio's own Jacobians at
   configurations along a polynomial curve (a polynomial fit of ``J(q(t)) q'(t)``).
-- The cut joints (:mod:`pinmob.analysis.loop_screws`) must make the loop twists vanish to second order
+- The cut joints (:mod:`pinmob.analysis.finite.loop_screws`) must make the loop twists vanish to second order
   along a closed curve of each closure type: the curve is measured on the closed set (projections of a
   straight line, fitted), its first and second derivatives put into the loop equations.
 - The order-2 conditions must agree with a second method: the second difference of Pinocchio's closure
@@ -22,10 +22,10 @@ from finite_cases import arm_closed_by, four_bar_flat
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.analysis.closure_jacobian import closed_chain
-from pinmob.analysis.higher_order import HigherOrder
-from pinmob.analysis.loop_screws import mechanism_loops
-from pinmob.analysis.tangent_cone import cone
+from pinmob.analysis.chain.closed_chain import closed_chain
+from pinmob.analysis.finite.higher_order import HigherOrder
+from pinmob.analysis.finite.loop_screws import mechanism_loops
+from pinmob.analysis.finite.tangent_cone import cone
 from pinmob.assembly.residual import closure_residual
 from pinmob.assembly.solver import solve
 from pinmob.model.closure import make_closure

@@ -23,8 +23,8 @@ from test_mjcf_tendons import _scaled
 from test_third_party import mujoco_joint, mujoco_model
 
 import pinmob
-from pinmob.analysis.loop_screws import mechanism_loops
-from pinmob.analysis.verdicts import Verdict
+from pinmob.analysis.finite.loop_screws import mechanism_loops
+from pinmob.analysis.finite.verdicts import Verdict
 from pinmob.cli import main
 
 DATA = Path(__file__).parent / "data"

@@ -21,7 +21,7 @@ from closed_samples import sampled_dimensions
 from finite_cases import platform_follows
 
 import pinmob
-from pinmob.analysis.verdicts import Verdict
+from pinmob.analysis.finite.verdicts import Verdict
 from pinmob.assembly.assemble import joint_velocity_indices
 
 MODELS = Path(__file__).resolve().parent.parent / "models"

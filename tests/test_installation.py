@@ -16,8 +16,8 @@ from pinmob.io import builtin_dir
 SCRIPT = """
 import contextlib, io
 import pinmob
-from pinmob.analysis.batch import analyze_batch
-from pinmob.analysis.batch_kernel import ranks
+from pinmob.analysis.batch.batch_analysis import analyze_batch
+from pinmob.analysis.batch.batch_kernel import ranks
 from pinmob.cli import main
 
 mech = pinmob.load("3-PUU")

@@ -136,7 +136,7 @@ def test_six_ups_far_outside_the_usual_units(factor: float) -> None:
 @pytest.mark.parametrize("engine", ["numpy", "numba"])
 def test_the_batch_path_equals_the_single_path_in_micrometres(engine: str) -> None:
     """The scan's batch engines make prismatic columns dimensionless as the single path does."""
-    from pinmob.analysis.batch import analyze_batch
+    from pinmob.analysis.batch.batch_analysis import analyze_batch
 
     for name in ("3-PUU", "6-UPS", "3-RPS"):
         mech = model(name)

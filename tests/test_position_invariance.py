@@ -112,7 +112,7 @@ def same_answers(got: pinmob.Report, ref: pinmob.Report, placement: pin.SE3, red
     """``got`` is ``ref`` moved by ``placement``: the same verdicts, the spans and printed lines turned and moved.
 
     ``redrawn``: ``got`` is ``ref`` redrawn (:func:`redrawn`): the verdicts (the idle motions too: a joint's
-    centre does not depend on where its frame sits on its axis, :mod:`pinmob.analysis.joint_centres`), and the
+    centre does not depend on where its frame sits on its axis, :mod:`pinmob.analysis.chain.joint_centres`), and the
     pitches (the distances, which L scales, and the twists, referred to another platform origin, differ).
     """
     g, r = got.to_dict(), ref.to_dict()

@@ -130,7 +130,7 @@ import subprocess
 import sys
 from dataclasses import replace
 import pinmob
-from pinmob.analysis.batch import numba_available
+from pinmob.analysis.batch.batch_analysis import numba_available
 from pinmob.scan import grid_spec
 from pinmob.scan.batch_rows import analyse, batchable
 from pinmob.scan.chunk import assemble_target

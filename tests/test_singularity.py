@@ -16,7 +16,7 @@ from scipy.linalg import null_space
 
 import pinmob
 from pinmob import analyze_singularity
-from pinmob.analysis.batch import analyze_batch
+from pinmob.analysis.batch.batch_analysis import analyze_batch
 from pinmob.analysis.generic import (
     dependent_limbs,
     generic_configurations,
@@ -25,8 +25,8 @@ from pinmob.analysis.generic import (
 )
 from pinmob.analysis.limbs import limb_decisions, limb_twists
 from pinmob.analysis.mobility import platform_mobility
-from pinmob.analysis.singularity import NEAR_FACTOR
-from pinmob.analysis.singularity_analysis import singularity
+from pinmob.analysis.singularity.classification import singularity
+from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.cli import main
 from pinmob.exceptions import ConfigurationError
 from pinmob.io.builtin import builtin_models

@@ -30,7 +30,7 @@ def run(*args: str, timeout: float = 60) -> subprocess.CompletedProcess:
 
 
 def test_import_pinmob_does_not_import_meshcat():
-    code = "import sys, pinmob, pinmob.analysis.motion_path, pinmob.viewer.skeleton, pinmob.viewer.glyphs; print('meshcat' in sys.modules)"
+    code = "import sys, pinmob, pinmob.analysis.follow.motion_path, pinmob.viewer.skeleton, pinmob.viewer.glyphs; print('meshcat' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert out.stdout.strip() == "False", out.stderr
 

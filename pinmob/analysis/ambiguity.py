@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from pinmob.analysis.closed_chain import MechanismMobility
+from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.configuration import RESIDUAL_FACTOR
 from pinmob.analysis.mobility import Mobility
 from pinmob.screw.algebra import Array

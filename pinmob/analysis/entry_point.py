@@ -8,7 +8,7 @@ from numpy.typing import ArrayLike
 
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.configuration_choice import chosen_configuration
-from pinmob.analysis.higher_order import ORDER, check_order
+from pinmob.analysis.finite.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Options, Report
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint
@@ -100,7 +100,7 @@ def analyze(
         configuration: name reported with the results (set automatically when q is a name).
         joints: joint values by name [m or rad]: the configuration analysed has them, its other joints start
             from the configuration named by q (default: the first named, else neutral) and are solved when the
-            values do not close the loops as they are (:func:`~pinmob.analysis.configuration.joint_configuration`).
+            values do not close the loops as they are (:func:`~pinmob.analysis.configuration_choice.joint_configuration`).
         rtol: relative tolerance of every rank decision (singular values below
             ``rtol * sigma_max`` count as zero); see :func:`~pinmob.screw.rank.check_rtol`.
         closure_tol: closure tolerance (position / L and rotation [rad]).
@@ -114,7 +114,7 @@ def analyze(
         generic_rank: the generic constraint rank (default: declared, else estimated).
         restarts: random restarts when q is None and the mechanism names no configuration.
         relax: with q None and no named configuration, relax unclosable closures to ``3d``.
-        finite: also compute finite versus instantaneous mobility (:mod:`pinmob.analysis.finite`):
+        finite: also compute finite versus instantaneous mobility (:mod:`pinmob.analysis.finite.finite_mobility`):
             ``report.finite``.
         finite_order: the highest order of the conditions the finite analysis checks (2..8).
 

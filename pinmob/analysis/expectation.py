@@ -5,7 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
-from pinmob.analysis.closed_chain import FrameMobility
+from pinmob.analysis.chain.mechanism_mobility import FrameMobility
 from pinmob.analysis.mobility import Mobility
 from pinmob.model.mechanism import Mechanism
 

@@ -12,7 +12,7 @@ When a closure couples two or more limbs (its loop involves the joints of
 several limbs), or the mechanism has no limbs, no limb has wrenches of its
 own: the platform's free twists are then the image of the whole closed
 chain's motions, ``J_platform null(K)``
-(:func:`pinmob.analysis.closed_chain.frame_mobility`), its constraint wrenches
+(:func:`pinmob.analysis.chain.mechanism_mobility.frame_mobility_at`), its constraint wrenches
 their reciprocal, and the result says so (``method``, ``method_note``).
 """
 
@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.closed_chain import frame_mobility
+from pinmob.analysis.chain.mechanism_mobility import frame_mobility_at
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import LimbMobility, limb_wrenches, limbwise_obstacle
@@ -279,7 +279,7 @@ def platform_mobility(conf: Configuration, rtol: float) -> Mobility:
     obstacle = limbwise_obstacle(mech)
     if not obstacle:
         return mobility_from_wrenches(conf, limb_wrenches(conf, rtol), rtol)
-    free = frame_mobility(conf, mech.platform, rtol).free_twists
+    free = frame_mobility_at(conf, mech.platform, rtol).free_twists
     wrenches, _ = reciprocal_wrenches(free, mech.length_scale, rtol)
     note = (
         f"{obstacle}: the limb-wise method does not apply; the platform's motion is the image of the "

@@ -16,7 +16,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.closed_chain import default_end_frames, mechanism_mobility
+from pinmob.analysis.chain.actuation import default_end_frames
+from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.assemble import Assembly, joint_velocity_indices, project, solve_actuated
 from pinmob.assembly.residual import CLOSURE_TOL
@@ -80,7 +81,7 @@ def mode_distance(mech: Mechanism, a: ModeSignature, b: ModeSignature, held: Seq
 
 
 def _moving(mech: Mechanism, q: Array, held: Sequence[str], frames: Sequence[str], tol: float) -> int:
-    """Non-idle motions left at q with the ``held`` joints locked (locked minus idle, :mod:`pinmob.analysis.actuation`)."""
+    """Non-idle motions left at q with the ``held`` joints locked (locked minus idle, :mod:`pinmob.analysis.chain.actuation`)."""
     conf = Configuration(mech, q, closure_tol=tol)
     act = mechanism_mobility(conf, RTOL, actuated=list(held), frames=list(frames)).actuation
     return act.locked_dof - act.idle_dof
@@ -100,7 +101,7 @@ def assembly_modes(
     With ``values`` (joint values held, e.g. the actuated ones), each is a
     forward-kinematics solution (:func:`solve_actuated`); otherwise a
     projection. Two solutions are one mode when :func:`mode_distance` of their
-    signatures (end frames: :func:`pinmob.analysis.closed_chain.default_end_frames`) is
+    signatures (end frames: :func:`pinmob.analysis.chain.actuation.default_end_frames`) is
     below ``distinct``: copies that differ only by idle motions count once.
     Seeds that fail to converge are skipped.
 

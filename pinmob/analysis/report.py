@@ -10,8 +10,7 @@
   its generic constraint rank, from random closed configurations, unless the file declares it);
 * ``paper``: the seed paper's view, only when asked (``paper=True``);
 * ``actuator_sets``: every valid set of K actuated joints, only when asked (``actuator_search=K``);
-* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`,
-  imported then).
+* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
 """
 
 from __future__ import annotations
@@ -23,23 +22,23 @@ from typing import TYPE_CHECKING, Any
 
 from numpy.typing import ArrayLike
 
-from pinmob.analysis.actuation import actuator_sets
 from pinmob.analysis.ambiguity import AmbiguousRank, ambiguous_ranks, raised_note
-from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
+from pinmob.analysis.chain import FrameMobility, MechanismMobility
+from pinmob.analysis.chain.actuation import actuator_sets, default_end_frames
+from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
+from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.higher_order import ORDER
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report_html import NotebookDisplay, Section, joined
-from pinmob.analysis.singularity import Singularity
-from pinmob.analysis.singularity_analysis import singularity
+from pinmob.analysis.singularity import Singularity, singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.joint_values import joint_layout, values_by_name
 
 if TYPE_CHECKING:
-    from pinmob.analysis.finite import FiniteMobility
+    from pinmob.analysis.finite.finite_mobility import FiniteMobility
 
 
 @dataclass(frozen=True)
@@ -128,7 +127,7 @@ class Report(NotebookDisplay):
         if k is None:
             return None
         outs = default_end_frames(self.state.mechanism)
-        return tuple(actuator_sets(self.state, k, outs, rtol=self.rtol))
+        return tuple(actuator_sets(self.state, None, k, outputs=outs, rtol=self.rtol))
 
     @cached_property
     def finite(self) -> FiniteMobility | None:
@@ -139,7 +138,8 @@ class Report(NotebookDisplay):
         motions = None if platform is None else platform.motions
         sing = self.singularity if self.state.mechanism.actuated else None
         locked = sing.uncontrolled if sing is not None and sing.actuation is not None else None
-        from pinmob.analysis.finite import finite_mobility  # its modules load when a finite analysis is asked for
+        # the finite analysis's modules load when it is asked for
+        from pinmob.analysis.finite.finite_mobility import finite_mobility
 
         return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions, locked_motions=locked)
 

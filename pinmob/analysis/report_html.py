@@ -14,10 +14,10 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Protocol
 
-from pinmob.analysis.closed_chain import MechanismMobility
+from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion import KIND_WORDS, Motion, numbers
-from pinmob.analysis.singularity import Singularity
+from pinmob.analysis.singularity.result import Singularity
 from pinmob.screw.algebra import Array
 from pinmob.screw.classify import MotionKind
 

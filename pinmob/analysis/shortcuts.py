@@ -6,7 +6,9 @@ report, with the same rank tolerance (raised for a configuration that closes onl
 :meth:`~pinmob.analysis.configuration.Configuration.rank_rtol`). :func:`pinmob.analyze` gives them all at once, sharing one
 configuration; these are for code that needs one part, with its own errors
 (e.g. :func:`analyze_singularity` refuses a mechanism without limbs, where the
-report says "not analysed").
+report says "not analysed"). :func:`pinmob.frame_mobility`, :func:`pinmob.actuator_sets` and
+:func:`pinmob.closure_jacobian_twists` take the same arguments and live beside what they compute, in
+:mod:`pinmob.analysis.chain`.
 """
 
 from __future__ import annotations
@@ -15,17 +17,13 @@ from collections.abc import Mapping, Sequence
 
 from numpy.typing import ArrayLike
 
-from pinmob.analysis.actuation import actuator_sets as _actuator_sets
-from pinmob.analysis.closed_chain import FrameMobility, MechanismMobility, default_end_frames, mechanism_mobility
-from pinmob.analysis.closed_chain import frame_mobility as _frame_mobility
-from pinmob.analysis.closure_jacobian import closure_jacobian_twists as _closure_jacobian_twists
+from pinmob.analysis.chain.mechanism_mobility import MechanismMobility, mechanism_mobility
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.singularity import Singularity
-from pinmob.analysis.singularity_analysis import singularity
+from pinmob.analysis.singularity.classification import singularity
+from pinmob.analysis.singularity.result import Singularity
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL, check_rtol
 
 Where = Mechanism | Configuration
@@ -45,7 +43,7 @@ def analyze_mechanism(
 ) -> MechanismMobility:
     """The whole closed chain's mobility (``pinmob.analyze(...).mechanism_mobility``).
 
-    See :func:`pinmob.analysis.closed_chain.mechanism_mobility`.
+    See :func:`pinmob.analysis.chain.mechanism_mobility.mechanism_mobility`.
     """
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
     return mechanism_mobility(conf, conf.rank_rtol(check_rtol(rtol)), actuated=actuated, frames=frames, outputs=outputs)
@@ -67,44 +65,6 @@ def analyze_singularity(
     """
     conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)
     return singularity(conf, conf.rank_rtol(check_rtol(rtol)), generic_rank)
-
-
-def frame_mobility(
-    mech: Where, q: At, frame: str, *, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
-) -> FrameMobility:
-    """Free motions of any ``frame`` on the closed chain (see :func:`pinmob.analysis.closed_chain.frame_mobility`)."""
-    conf = as_configuration(mech, q, closure_tol=closure_tol)
-    return _frame_mobility(conf, frame, conf.rank_rtol(check_rtol(rtol)))
-
-
-def actuator_sets(
-    mech: Where,
-    q: At,
-    size: int,
-    *,
-    candidates: Sequence[str] | None = None,
-    outputs: Sequence[str] | None = None,
-    rtol: float = RTOL,
-    closure_tol: float = CLOSURE_TOL,
-) -> list[tuple[str, ...]]:
-    """Every valid set of ``size`` actuated joints (``pinmob.analyze(..., actuator_search=size).actuator_sets``).
-
-    See :func:`pinmob.analysis.actuation.actuator_sets`.
-    """
-    conf = as_configuration(mech, q, closure_tol=closure_tol)
-    outs = tuple(default_end_frames(conf.mechanism) if outputs is None else outputs)
-    return _actuator_sets(conf, size, outs, candidates=candidates, rtol=conf.rank_rtol(check_rtol(rtol)))
-
-
-def closure_jacobian_twists(
-    mech: Where, q: At = None, rtol: float = RTOL, *, closure_tol: float = CLOSURE_TOL
-) -> Array:
-    """Free platform twists by the global loop-closure Jacobian, a second, independent method; (6, m).
-
-    See :func:`pinmob.analysis.closure_jacobian.closure_jacobian_twists`.
-    """
-    conf = as_configuration(mech, q, closure_tol=closure_tol)
-    return _closure_jacobian_twists(conf, conf.rank_rtol(check_rtol(rtol)))
 
 
 def paper_view(

@@ -7,7 +7,7 @@ import json
 import sys
 
 from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.higher_order import ORDER
+from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.report import Report
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.cli.common import joint_values_of, load_for, with_elsewhere

@@ -9,8 +9,8 @@ from collections import Counter
 from pathlib import Path
 from typing import Any
 
-from pinmob.analysis.singularity import NEAR_FACTOR
-from pinmob.analysis.singularity_analysis import require_platform
+from pinmob.analysis.singularity.classification import require_platform
+from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.cli.common import check_outputs, closure_tol_of, load_for, signals_interrupt
 from pinmob.cli.scan_view import check_view_options, view
 from pinmob.exceptions import ConfigurationError

@@ -55,7 +55,7 @@ class Mechanism:
         geometry: the visual and collision geometry (:class:`~pinmob.model.geometry.Geometry`; meshes
             are loaded when first drawn), read as :attr:`visual_model` and :attr:`collision_model`.
         generic_rank: constraint rank at generic configurations, when declared
-            (else :mod:`pinmob.analysis.singularity` estimates it from random closed
+            (else :mod:`pinmob.analysis.singularity.result` estimates it from random closed
             configurations).
         closures: loop closures besides the limb tips meeting at the platform
             (see :attr:`all_closures`).

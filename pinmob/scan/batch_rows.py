@@ -3,14 +3,14 @@
 A chunk's samples (:mod:`pinmob.scan.chunk`) are assembled first; then their
 kinematics are computed once per sample (``computeJointJacobians`` and the
 platform frame's placement) and analysed together
-(:func:`pinmob.analysis.batch.analyze_jacobians`: DoF, constraint, limb and
+(:func:`pinmob.analysis.batch.batch_analysis.analyze_jacobians`: DoF, constraint, limb and
 locked ranks, their singular values, the platform's free twists). A sample is
 *decided* by the batch when nothing about it is singular or close to it:
 
 * every limb has its generic twist rank, the constraint rank is the generic one
   and no motion is left with the actuators locked (``locked_dof = 0``);
 * every distance to singularity (each limb's, the constraint's, the actuation's;
-  the numbers of :func:`pinmob.analysis.singularity_analysis.singularity`) is at
+  the numbers of :func:`pinmob.analysis.singularity.classification.singularity`) is at
   least ``DECIDED_FACTOR`` times the near-singular band ``NEAR_FACTOR * rtol``.
 
 Its row then has no singularity class, no singular or dependent limb and no
@@ -31,10 +31,10 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.batch import analyze_jacobians
+from pinmob.analysis.batch.batch_analysis import analyze_jacobians
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limbwise_obstacle
-from pinmob.analysis.singularity import NEAR_FACTOR, generic_locked_dof
+from pinmob.analysis.singularity.result import NEAR_FACTOR, generic_locked_dof
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.unreachable import SV_COLUMNS

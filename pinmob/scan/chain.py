@@ -7,7 +7,7 @@ are interpolated, ``a(s) = (1 - s) a_A + s a_B``, and the other joints re-closed
 at each sample from the previous one (forward kinematics,
 :func:`pinmob.assembly.assemble.assemble_joints`), as for a platform
 mechanism's joint path. Each row is the whole-mechanism answer
-(:func:`pinmob.analysis.closed_chain.mechanism_mobility`): mechanism DoF
+(:func:`pinmob.analysis.chain.mechanism_mobility.mechanism_mobility`): mechanism DoF
 ``m = nv - rank K``, closure rank, redundant closure equations, idle motions,
 and the actuation verdict.
 
@@ -37,11 +37,11 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.closed_chain import mechanism_mobility
-from pinmob.analysis.closure_jacobian import closed_chain
+from pinmob.analysis.chain.closed_chain import closed_chain
+from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_configurations, generic_constraint_rank
-from pinmob.analysis.singularity import NEAR_FACTOR, distance_of, padded
+from pinmob.analysis.singularity.result import NEAR_FACTOR, distance_of, padded
 from pinmob.assembly.named import close_joint_values, closed_configuration, named_vector
 from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError
 from pinmob.model.closure import CLOSURE_TOL

@@ -15,8 +15,8 @@ from dataclasses import dataclass
 from typing import Any
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.finite import finite_mobility
-from pinmob.analysis.singularity import NEAR_FACTOR
+from pinmob.analysis.finite.finite_mobility import finite_mobility
+from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.assembly.solver import STALL_WINDOW as SOLVER_STALL
 from pinmob.exceptions import PinmobError
 from pinmob.model.joints import outside_limits

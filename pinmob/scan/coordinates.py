@@ -16,7 +16,7 @@ their grid values; of the others (the rule, :func:`held_coordinates`):
 
 Which can still move, in a basis-independent way: with ``N`` an orthonormal basis
 of the closed chain's dimensionless motions at ``--at`` (``null K_hat``,
-:func:`pinmob.analysis.closure_jacobian.closed_chain`, whose image by the
+:func:`pinmob.analysis.chain.closed_chain.closed_chain`, whose image by the
 platform's Jacobian is the platform's free motion space), each coordinate has a
 rate row ``c_i`` on it (x, y, z and prismatic joints in units of L). The gridded
 coordinates must vary independently there (``C_G N`` of full row rank, else a
@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.analysis.closure_jacobian import closed_chain, frame_rows
+from pinmob.analysis.chain.closed_chain import closed_chain, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_configurations
 from pinmob.assembly.partial_pose import POSE_COORDS, pose_coordinate_jacobian, pose_vector

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.singularity import NEAR_FACTOR
+from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism

@@ -14,7 +14,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.singularity import NEAR_FACTOR
+from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
 from pinmob.scan.output import header, read_columns
 from pinmob.scan.plot import FLOOR, MARKS, POSE_UNITS, sample_classes

@@ -12,7 +12,7 @@ the refinement). The chunks run in groups (:func:`chunk_groups`: the first alone
 to ``GROUP``), each group as one job: with the batched engine (``spec.engine``, the default)
 its chunks' samples are assembled in lockstep and analysed in one batch
 (:mod:`pinmob.scan.lockstep`, :mod:`pinmob.scan.batch_rows`), the single-sample analysis
-(:func:`pinmob.analysis.singularity_analysis.singularity`, one kinematics computation per
+(:func:`pinmob.analysis.singularity.classification.singularity`, one kinematics computation per
 sample) only where the batch cannot decide; with ``single``, each sample on its own. Both give
 the same rows (``tests/test_scan_batch.py``).
 

@@ -11,7 +11,7 @@ from typing import Any
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.mobility import platform_mobility
-from pinmob.analysis.singularity_analysis import singularity
+from pinmob.analysis.singularity.classification import singularity
 from pinmob.assembly.assemble import assemble_joints, assemble_pose
 from pinmob.assembly.partial_pose import assemble_coordinates
 from pinmob.assembly.reach import pose_vector

@@ -33,10 +33,10 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.finite.higher_order import ORDER, check_order
+from pinmob.analysis.finite.loop_screws import check_joints
 from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.higher_order import ORDER, check_order
-from pinmob.analysis.loop_screws import check_joints
-from pinmob.analysis.singularity_analysis import require_platform
+from pinmob.analysis.singularity.classification import require_platform
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector
 from pinmob.bounds import check_bound
@@ -75,7 +75,7 @@ class ScanSpec:
         rtol: relative tolerance of rank decisions.
         generic_rank: the mechanism's generic constraint rank.
         finite_order: with a value, each row adds the finite DoF at its configuration (the finite-mobility
-            analysis with this order bound, :func:`pinmob.analysis.finite.finite_mobility`); None: not.
+            analysis with this order bound, :func:`pinmob.analysis.finite.finite_mobility.finite_mobility`); None: not.
         platform: rows about the platform (else about the whole closed chain, :mod:`pinmob.scan.chain`; then
             ``generic_rank`` is the generic closure rank).
         closure_tol: largest closure residual of an assembled sample (position / L, rotation [rad]).

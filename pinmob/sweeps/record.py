@@ -18,9 +18,9 @@ from pathlib import Path
 from typing import Any
 
 from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.finite import FiniteMobility
-from pinmob.analysis.higher_order import ORDER
-from pinmob.analysis.verdicts import MotionVerdict, Verdict
+from pinmob.analysis.finite.finite_mobility import FiniteMobility
+from pinmob.analysis.finite.higher_order import ORDER
+from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.scan.run import scan_in_process
 from pinmob.sweeps.fields import MIN_AT

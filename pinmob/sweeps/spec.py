@@ -139,7 +139,7 @@ class SweepSpec:
         scan: the workspace scan of each design.
         plots: ``atlas`` ``{x, y, color}`` and ``pareto`` ``{x, y, x_goal, y_goal}`` (goals ``max`` or ``min``).
         finite_order: with a value, each record adds the finite-mobility analysis at the reference
-            configuration with this order bound (:func:`pinmob.analysis.finite.finite_mobility`); None: not.
+            configuration with this order bound (:func:`pinmob.analysis.finite.finite_mobility.finite_mobility`); None: not.
     """
 
     name: str

@@ -44,7 +44,7 @@ import tomllib
 from pathlib import Path
 from typing import Any
 
-from pinmob.analysis.higher_order import ORDER, check_order
+from pinmob.analysis.finite.higher_order import ORDER, check_order
 from pinmob.catalog.families import family
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.name_matching import choices

@@ -16,9 +16,9 @@ What the scene holds (meshcat paths):
   free motion (``T1 x``, ``R1 z``... the labels of ``Mobility.motions``) is an
   animation clip of that name moving its geometry: the platform goes a finite
   amount along the motion and back, then the other way and back, every frame
-  a closed configuration (:func:`pinmob.analysis.motion_path.follow_motion`). The first
+  a closed configuration (:func:`pinmob.analysis.follow.motion_path.follow_motion`). The first
   (or the chosen) clip plays in a loop; a row of the panel loads another. A motion that exists
-  only to first order (:mod:`pinmob.analysis.finite`: blocked at some order, or only a combination
+  only to first order (:mod:`pinmob.analysis.finite.finite_mobility`: blocked at some order, or only a combination
   of motion branches) is drawn as such: its glyph grey and half transparent, pulsing in its clip
   while the mechanism stays still, and its row's verdict says so.
 - ``/pinmob/glyphs/<label>``: the free motions at the platform

@@ -97,7 +97,7 @@ def export_html(
         amplitude: distance of each motion [m for T, rad for R/H]; default 0.2 L or 0.35 rad.
         steps: continuation steps per direction.
         animate: follow the motions; False shows them as static glyphs only.
-        finite: tell each motion's finite verdict (:mod:`pinmob.analysis.finite`); a motion that exists
+        finite: tell each motion's finite verdict (:mod:`pinmob.analysis.finite.finite_mobility`); a motion that exists
             only to first order is drawn as such (grey glyph pulsing in its clip, the panel says so).
         workspace: a scan's reachable set drawn beside the mechanism, with its legend in the panel
             (:func:`pinmob.viewer.workspace.workspace_cloud`).

@@ -18,11 +18,11 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.closed_chain import MechanismMobility
+from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
+from pinmob.analysis.follow.motion_path import MotionPath
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion import KIND_WORDS, vector
-from pinmob.analysis.motion_path import MotionPath
-from pinmob.analysis.singularity import Singularity
+from pinmob.analysis.singularity.result import Singularity
 from pinmob.screw.classify import MotionKind
 from pinmob.viewer.glyphs import (
     COUPLE_COLOR,

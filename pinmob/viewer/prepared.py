@@ -3,8 +3,8 @@
 :func:`prepare` closes the configuration, analyses it (:func:`pinmob.analyze`:
 the platform's mobility, the singularity report and the whole mechanism's
 mobility, for the panel's words), follows each free motion
-(:func:`pinmob.analysis.motion_path.follow_motion`), reporting progress, and
-tells each motion's finite-mobility verdict (:mod:`pinmob.analysis.finite`). Every
+(:func:`pinmob.analysis.follow.motion_path.follow_motion`), reporting progress, and
+tells each motion's finite-mobility verdict (:mod:`pinmob.analysis.finite.finite_mobility`). Every
 error a bad argument can cause happens here, before any server is started.
 """
 
@@ -14,16 +14,16 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from pinmob.analysis.branch_names import branch_point_name
-from pinmob.analysis.closed_chain import MechanismMobility
+from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.configuration import Configuration, as_configuration
-from pinmob.analysis.coupling_rows import is_polynomial
 from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.finite import finite_mobility
+from pinmob.analysis.finite.branch_names import branch_point_name
+from pinmob.analysis.finite.coupling_rows import is_polynomial
+from pinmob.analysis.finite.finite_mobility import finite_mobility
+from pinmob.analysis.follow.motion_path import MotionPath, follow_motion
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.motion_path import MotionPath, follow_motion
 from pinmob.analysis.report import Report
-from pinmob.analysis.singularity import Singularity
+from pinmob.analysis.singularity.result import Singularity
 from pinmob.exceptions import PinmobError, ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.name_matching import match_name
@@ -45,7 +45,7 @@ class Prepared:
         singularity: the singularity report (None where it does not apply).
         chain: the whole mechanism's mobility (None when it could not be computed).
         branch_point: where motion branches meet at q, their DoF and the platform's motion type on each
-            (:func:`pinmob.analysis.branch_names.branch_point_name`; None elsewhere, or without verdicts).
+            (:func:`pinmob.analysis.finite.branch_names.branch_point_name`; None elsewhere, or without verdicts).
     """
 
     q: Array
@@ -70,7 +70,7 @@ def prepare(
     """Closed q, its analysis and the followed motions (everything that can fail before meshcat).
 
     With ``finite`` (and a platform, and no joint or tendon coupling), each path carries its motion's verdict from
-    :func:`pinmob.analysis.finite.finite_mobility`: a motion that exists only to first order is then
+    :func:`pinmob.analysis.finite.finite_mobility.finite_mobility`: a motion that exists only to first order is then
     drawn as such by :func:`pinmob.viewer.scene.build` and the panel's verdict column says so.
 
     Raises:

@@ -3,7 +3,7 @@
 :func:`pinmob.viewer.prepared.prepare` does everything that can fail before
 meshcat is touched (the closed configuration, its analysis, the followed
 motions and, by default, each motion's finite-mobility verdict,
-:mod:`pinmob.analysis.finite`); :func:`build` sends
+:mod:`pinmob.analysis.finite.finite_mobility`); :func:`build` sends
 the scene (the mechanism once, one animation clip per free motion, glyphs,
 wrenches, the world axes and grid, camera, lights, and pinmob's panel with the
 motions' clips: :mod:`pinmob.viewer.panel`) to a live or recording meshcat
@@ -21,8 +21,8 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from pinmob.analysis.follow.motion_path import MotionPath
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.motion_path import MotionPath
 from pinmob.exceptions import ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.commands import SetAnimation

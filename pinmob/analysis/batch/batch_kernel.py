@@ -1,4 +1,4 @@
-"""The compiled loop behind :func:`pinmob.analysis.batch.analyze_batch` (numba, the optional ``fast`` extra).
+"""The compiled loop behind :func:`pinmob.analysis.batch.batch_analysis.analyze_batch` (numba, the optional ``fast`` extra).
 
 Per configuration, the same matrices and the same rank rule as
 :func:`pinmob.analyze` (:func:`pinmob.screw.rank.rank_rule`: singular values above

@@ -6,18 +6,18 @@ the rotation is impossible at finite amplitude). :func:`finite_mobility` answers
 for the whole closed chain, free and with the actuators held:
 
 1. Müller's higher-order conditions on the closure equations, from the instantaneous joint screws
-   and their Lie brackets (:mod:`pinmob.screw.lie`, :mod:`pinmob.analysis.loop_screws`,
-   :mod:`pinmob.analysis.tangent_cone`), up to ``order`` (default 4): the second-order tangent cone
+   and their Lie brackets (:mod:`pinmob.screw.lie`, :mod:`pinmob.analysis.finite.loop_screws`,
+   :mod:`pinmob.analysis.finite.tangent_cone`), up to ``order`` (default 4): the second-order tangent cone
    split into linear components, the tangent spaces of the motion branches through q, each checked
-   to ``order`` (:mod:`pinmob.analysis.branches`); per instantaneous motion, finite, blocked at order
-   k (shaky), or a branch point (:mod:`pinmob.analysis.verdicts`);
-2. each motion and branch traced by the predictor-corrector of :mod:`pinmob.analysis.motion_path`;
-3. the local dimension estimated from closed samples near q (:mod:`pinmob.analysis.local_dimension`).
+   to ``order`` (:mod:`pinmob.analysis.finite.branches`); per instantaneous motion, finite, blocked at order
+   k (shaky), or a branch point (:mod:`pinmob.analysis.finite.verdicts`);
+2. each motion and branch traced by the predictor-corrector of :mod:`pinmob.analysis.follow.motion_path`;
+3. the local dimension estimated from closed samples near q (:mod:`pinmob.analysis.finite.local_dimension`).
 
 The finite DoF are the largest branch's (for the platform, the largest platform DoF on a branch,
 taken at the branch's generic points). Where the three disagree, the closed samples' own local dimension
 and, with one first-order motion left, the reduced closure equation decide
-(:mod:`pinmob.analysis.sample_modes`), and the report says which evidence did; only where that evidence
+(:mod:`pinmob.analysis.finite.sample_modes`), and the report says which evidence did; only where that evidence
 conflicts is the number None, the notes saying why with the numbers: the analysis never guesses. Redundant closures (Bennett's, Bricard's
 linkages) need nothing special: the conditions are written on every loop.
 """
@@ -27,14 +27,14 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
-from pinmob.analysis.branch_names import branch_point_name
-from pinmob.analysis.branches import branch_joints
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.coupling_rows import hold_tendons
-from pinmob.analysis.finite_side import Side, analyse_side
-from pinmob.analysis.higher_order import ORDER, ORDER_TOL, check_order
+from pinmob.analysis.finite.branch_names import branch_point_name
+from pinmob.analysis.finite.branches import branch_joints
+from pinmob.analysis.finite.coupling_rows import hold_tendons
+from pinmob.analysis.finite.finite_side import Side, analyse_side
+from pinmob.analysis.finite.higher_order import ORDER, ORDER_TOL, check_order
+from pinmob.analysis.finite.verdicts import MotionVerdict
 from pinmob.analysis.motion import Motion
-from pinmob.analysis.verdicts import MotionVerdict
 from pinmob.assembly.assemble import joint_velocity_indices
 
 
@@ -50,7 +50,7 @@ class FiniteMobility:
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
         unheld: actuators on wrapping tendons, sites and the like, not held by ``locked`` (it holds joints, and
-            tendons as tendon equalities: :func:`pinmob.analysis.coupling_rows.hold_tendons`).
+            tendons as tendon equalities: :func:`pinmob.analysis.finite.coupling_rows.hold_tendons`).
     """
 
     mechanism: str

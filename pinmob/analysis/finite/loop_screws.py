@@ -11,7 +11,7 @@ closed configuration (world axes, frame a's origin p, its axis ``u`` turned to t
 - ``planar``: the translations along two directions normal to u, then the rotation about u.
 
 A coupling (a polynomial between joint values or fixed-tendon lengths) closes no loop: it is a
-scalar row of its own, differentiated exactly (:mod:`pinmob.analysis.coupling_rows`).
+scalar row of its own, differentiated exactly (:mod:`pinmob.analysis.finite.coupling_rows`).
 
 The loop twist of a closure is then ``V_b - V_e`` (frame b's body, the cut chain's last body),
 and the closed configurations near q are exactly the curves keeping every loop twist zero
@@ -21,7 +21,7 @@ as that of the closure Jacobian (``nullity A = nv - rank K``), and the first ``n
 any solution are joint rates.
 
 Units: twists ``[v / L; w]`` at one reference point (the platform origin, else the centroid of the
-closure frames), translation rates per L, as in :mod:`pinmob.analysis.closure_jacobian`.
+closure frames), translation rates per L, as in :mod:`pinmob.analysis.chain.closed_chain`.
 Joints must have a motion subspace constant in their child frame (revolute, prismatic, helical,
 spherical, planar, translation, free-flyer); others are refused with the list.
 """
@@ -32,9 +32,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.analysis.closure_jacobian import closed_chain_columns
+from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.coupling_rows import CoupledSystem, CouplingRow, coupling_rows
+from pinmob.analysis.finite.coupling_rows import CoupledSystem, CouplingRow, coupling_rows
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.closure import Closure, ClosureType
 from pinmob.name_matching import choices
@@ -85,7 +85,7 @@ class MechanismLoops:
 
     @property
     def equations(self) -> CoupledSystem:
-        """The closure equations near q: the loops', then the couplings' rows (:mod:`pinmob.analysis.coupling_rows`)."""
+        """The closure equations near q: the loops', then the couplings' rows (:mod:`pinmob.analysis.finite.coupling_rows`)."""
         return CoupledSystem(self.system, self.couplings)
 
 

@@ -3,12 +3,12 @@
 A limb at a serial (Type I) singularity -- stretched or folded, its joint
 screws dependent -- is at the edge of its workspace: the platform cannot go
 further in the direction that would need the limb to reach beyond it. When
-:func:`pinmob.analysis.motion_path.follow_motion` cannot take another step,
+:func:`pinmob.analysis.follow.motion_path.follow_motion` cannot take another step,
 :func:`limiting_limbs` asks whether a limb is there.
 
 Each limb's distance to its serial singularity is ``d = sigma_r / sigma_1`` of
 its dimensionless joint screws, ``r`` its generic twist rank
-(:mod:`pinmob.analysis.singularity`). Near a fold of the limb's reach, ``d^2``
+(:mod:`pinmob.analysis.singularity.result`). Near a fold of the limb's reach, ``d^2``
 falls linearly with the distance ``s`` travelled along the motion, so from the
 last two configurations of a path (``s_1 < s_2``, ``d_1 > d_2``) the limb becomes
 singular at about
@@ -28,7 +28,7 @@ from dataclasses import dataclass
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limb_decisions, limb_twists, limbwise_obstacle
-from pinmob.analysis.singularity import distance_of
+from pinmob.analysis.singularity.result import distance_of
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
 

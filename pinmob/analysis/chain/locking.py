@@ -1,10 +1,10 @@
 """The closed chain's motions with some joints locked: the motions left, and the idle ones among them.
 
 With the closed chain's dimensionless motions N (nv, m), the locked joints' rates ``S N`` (k, m) and
-the output rows times the motions ``O N`` (o, m) (:func:`pinmob.analysis.closure_jacobian.output_motions`:
+the output rows times the motions ``O N`` (o, m) (:func:`pinmob.analysis.chain.closed_chain.output_motions`:
 output frames, joint centres, closure points): ``locked = null(S N)``, ``idle = null([S N; O N])``. The
 one computation behind the actuation verdict, the idle joints and the actuator search
-(:mod:`pinmob.analysis.actuation`).
+(:mod:`pinmob.analysis.chain.actuation`).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinmob.analysis.closure_jacobian import output_motions
+from pinmob.analysis.chain.closed_chain import output_motions
 from pinmob.analysis.configuration import Configuration
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank
@@ -59,8 +59,8 @@ def lock(rates: Array, outputs: Callable[[], Array], rtol: float, m: int) -> Loc
 def lock_motions(conf: Configuration, null: Array, held: Array, frames: Sequence[str], rtol: float) -> Locked:
     """:func:`lock` of the closed chain's motions ``null`` (nv, m) by the ``held`` rates (k, m), ``frames`` the outputs.
 
-    The output rows times the motions come from :func:`~pinmob.analysis.closure_jacobian.output_motions`,
+    The output rows times the motions come from :func:`~pinmob.analysis.chain.closed_chain.output_motions`,
     computed once, when :func:`lock` first needs them (what is printed depends on the spans found, not on
-    their bases: :mod:`pinmob.analysis.joint_rates`).
+    their bases: :mod:`pinmob.analysis.chain.joint_rates`).
     """
     return lock(held, functools.cache(lambda: output_motions(conf, frames, null)), rtol, null.shape[1])

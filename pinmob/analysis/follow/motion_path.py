@@ -36,7 +36,7 @@ animation clips.
 
 :func:`follow_rates` follows a direction of joint rates the same way (the finite-mobility
 analysis traces internal motions, motion branches and motions with the actuators held with it);
-the steps themselves are in :mod:`pinmob.analysis.path_follower`.
+the steps themselves are in :mod:`pinmob.analysis.follow.path_follower`.
 """
 
 from __future__ import annotations
@@ -46,9 +46,9 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.displacement import Displacement, measure_displacement
+from pinmob.analysis.follow.displacement import Displacement, measure_displacement
+from pinmob.analysis.follow.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.analysis.motion import Motion
-from pinmob.analysis.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError
@@ -83,7 +83,7 @@ class MotionPath(ReadOnlyArrays):
         amplitude: distance asked for in each direction [m or rad].
         notes: why a direction stopped early (empty when both reached the amplitude).
         displacement: (forward, backward) measured displacement of the platform at each end.
-        finite: the finite-mobility verdict on the motion (:mod:`pinmob.analysis.finite`): True (finite),
+        finite: the finite-mobility verdict on the motion (:mod:`pinmob.analysis.finite.finite_mobility`): True (finite),
             False (only instantaneous: blocked at some order, or only a combination of branches),
             None (not analysed, or cannot decide).
         verdict: that verdict in words (empty when not analysed).

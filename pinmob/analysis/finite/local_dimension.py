@@ -29,11 +29,11 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.actuation import rank_of
-from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows
+from pinmob.analysis.chain.actuation import rank_of
+from pinmob.analysis.chain.closed_chain import closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.displacement import displacement
-from pinmob.analysis.path_follower import closed_rates
+from pinmob.analysis.follow.displacement import displacement
+from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.assembly.residual import closure_residual, compute_kinematics
 from pinmob.assembly.solver import solve
 from pinmob.model.joints import short_difference

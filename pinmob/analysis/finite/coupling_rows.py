@@ -5,7 +5,7 @@ scalar equation between coordinates: MuJoCo's ``<equality joint>``, ``q1 - r1 = 
 ``<equality tendon>``, ``l1 - r1 = P(l2 - r2)``, on fixed tendons (``l = sum_j c_j q_j``, linear in joint values:
 :class:`~pinmob.model.tendon.FixedTendon`) or tendons routed straight between sites (``l = sum_i |p_(i+1) - p_i|``);
 a tendon actuator held is the tendon equality ``l - l(q) = 0`` (:func:`hold_tendons`). Near q, with ``c1(t)``,
-``c2(t)`` the two coordinates along a curve (:class:`~pinmob.analysis.coordinate_series.Coordinate`: their
+``c2(t)`` the two coordinates along a curve (:class:`~pinmob.analysis.finite.coordinate_series.Coordinate`: their
 Taylor series are exact), each coupling is
 
     f(t) = s (c1(t) - c1(0)) - P~(c2(t) - c2(0)) = 0,     P~(u) = s (P(u0 + u) - P(u0)),
@@ -14,7 +14,7 @@ Taylor series are exact), each coupling is
 curve's derivatives at t = 0, ``f^(n+1) = (n + 1)! [t^(n+1)] f`` from the truncated power series of the
 composition: ``A x^(n+1) + R_n(x^(1..n))`` as for the loops' rows (:mod:`pinmob.screw.lie`).
 :class:`CoupledSystem` appends these rows to a :class:`~pinmob.screw.lie.LoopSystem`, so that
-:class:`pinmob.analysis.higher_order.HigherOrder` treats them as it treats the loops. A tendon that wraps geoms
+:class:`pinmob.analysis.finite.higher_order.HigherOrder` treats them as it treats the loops. A tendon that wraps geoms
 or runs over a pulley has no such series here: a coupling on one is refused (:func:`coupling_rows`) and an
 actuator on one left unheld (:func:`hold_tendons`), by name.
 """
@@ -28,7 +28,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.coordinate_series import Coordinate, truncated_product
+from pinmob.analysis.finite.coordinate_series import Coordinate, truncated_product
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.closure import Closure, ClosureType, make_tendon_coupling
 from pinmob.model.tendon import FixedTendon, Tendon, Transmission
@@ -42,7 +42,7 @@ class CouplingRow:
 
     Attributes:
         name: the closure's name.
-        first: coordinate 1 (:class:`~pinmob.analysis.coordinate_series.Coordinate`).
+        first: coordinate 1 (:class:`~pinmob.analysis.finite.coordinate_series.Coordinate`).
         second: coordinate 2 (None for a coupling of one coordinate).
         poly: coefficients of ``P~`` (``poly[0] == 0``), already times ``scale``.
         scale: ``1 / L`` when coordinate 1 is a length, else 1.

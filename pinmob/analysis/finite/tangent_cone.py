@@ -1,6 +1,6 @@
 """The second-order tangent cone at a configuration, split into linear components: the motion branches.
 
-The first-order motions y (kernel coordinates of :class:`pinmob.analysis.higher_order.HigherOrder`)
+The first-order motions y (kernel coordinates of :class:`pinmob.analysis.finite.higher_order.HigherOrder`)
 that pass the order-2 conditions form the cone ``{y : y^T H_l y = 0 for every l}``, the quadratic forms
 of order 2 (Müller, J. Mechanisms Robotics 8(4):041013, 2016). Where motion branches cross
 transversally it is the union of their tangent spaces: :func:`cone` finds those linear components
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.analysis.higher_order import MARGIN, ORDER, HigherOrder, OrderTest
+from pinmob.analysis.finite.higher_order import MARGIN, ORDER, HigherOrder, OrderTest
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank

@@ -1,7 +1,7 @@
 """Higher-order conditions on the closure equations: which first-order motions extend, and to which order.
 
-With the loops of :mod:`pinmob.analysis.loop_screws` and the couplings' rows of
-:mod:`pinmob.analysis.coupling_rows` (``n`` joint and cut coordinates, first-order matrix ``A``), a closed
+With the loops of :mod:`pinmob.analysis.finite.loop_screws` and the couplings' rows of
+:mod:`pinmob.analysis.finite.coupling_rows` (``n`` joint and cut coordinates, first-order matrix ``A``), a closed
 curve through q has derivatives ``x^(1), x^(2), ...`` with ``Phi^(n) = A x^(n+1) + R_n(x^(1..n)) = 0``
 for every n (:mod:`pinmob.screw.lie`). With ``N`` an orthonormal basis of ``null A`` (the instantaneous
 motions, ``x^(1) = N y``) and ``C`` one of ``null A^T`` (the combinations of loop equations no joint rate
@@ -19,7 +19,7 @@ the tangent spaces of the motion branches through q.
 Every residual is compared with ``tol = order_tol * max(1, sigma_max(A))`` after scaling by ``|y|^k``
 (the conditions are homogeneous), so the answer does not depend on units or on the size of y (A is
 dimensionless: its natural scale is 1, the floor under a small A).
-The cone itself is split into its linear components by :mod:`pinmob.analysis.tangent_cone`.
+The cone itself is split into its linear components by :mod:`pinmob.analysis.finite.tangent_cone`.
 """
 
 from __future__ import annotations
@@ -29,7 +29,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinmob.analysis.loop_screws import MechanismLoops
+from pinmob.analysis.finite.loop_screws import MechanismLoops
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array

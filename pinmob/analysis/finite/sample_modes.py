@@ -1,6 +1,6 @@
 """Motion modes from closed samples: the evidence that decides where the higher-order conditions do not.
 
-The tangent-cone tests of :mod:`pinmob.analysis.finite_side` decide nothing when the second-order cone is
+The tangent-cone tests of :mod:`pinmob.analysis.finite.finite_side` decide nothing when the second-order cone is
 not a union of linear spaces (a branch that is itself singular at q, such as the Delta's tilting mode at
 ``rods-horizontal``), or when a condition lands near its tolerance. :func:`decide_by_samples` then uses
 what an independent check would:
@@ -16,7 +16,7 @@ what an independent check would:
    confirm it as a branch; the others are grouped by (dimension, platform DoF): a mode whose tangent
    cone at q is not linear. The finite DoF are the largest found.
 4. **The reduced equation.** With a single first-order motion left, the order at which the closure
-   equations reduced to it start (:mod:`pinmob.analysis.reduced_equation`): ``s^k``, k >= 2, makes q isolated.
+   equations reduced to it start (:mod:`pinmob.analysis.finite.reduced_equation`): ``s^k``, k >= 2, makes q isolated.
 
 Every figure the decision rests on is far from its threshold (a probe extends by about 1 or 0) or an
 integer; the evidence is printed in words, so that it does not depend on round-off (nor on the BLAS).
@@ -30,14 +30,14 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.branches import Branch, platform_motions
-from pinmob.analysis.closure_jacobian import closed_chain_columns
+from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.higher_order import HigherOrder
+from pinmob.analysis.finite.branches import Branch, platform_motions
+from pinmob.analysis.finite.higher_order import HigherOrder
+from pinmob.analysis.finite.reduced_equation import reduced_growth
+from pinmob.analysis.finite.verdicts import sine_to
+from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.analysis.motion import Motion
-from pinmob.analysis.path_follower import closed_rates
-from pinmob.analysis.reduced_equation import reduced_growth
-from pinmob.analysis.verdicts import sine_to
 from pinmob.assembly.residual import closure_residual
 from pinmob.assembly.solver import solve
 from pinmob.model.joints import short_difference

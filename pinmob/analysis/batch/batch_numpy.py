@@ -1,4 +1,4 @@
-"""The numpy engine of :func:`pinmob.analysis.batch.analyze_batch`: batched LAPACK SVDs, the single analyses' calls.
+"""The numpy engine of :func:`pinmob.analysis.batch.batch_analysis.analyze_batch`: batched LAPACK SVDs, the single analyses' calls.
 
 Per limb, the matrices :func:`pinmob.analyze` and :func:`pinmob.analyze_singularity` decide (the same calls,
 stacked over the configurations: the same bits); the stacked limb wrenches of configurations with the same
@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.analysis.batch_result import BatchResult, Ints
+from pinmob.analysis.batch.batch_result import BatchResult, Ints
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import column_joints, limb_screws_at, unit_columns
-from pinmob.analysis.singularity import ratio
+from pinmob.analysis.singularity.result import ratio
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
 from pinmob.screw.rank import rank_rule_rows, svd
@@ -23,7 +23,7 @@ def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:
     """Joint screws of every limb at every configuration: a list of k arrays (N, 6, n_i).
 
     :func:`pinmob.analysis.limbs.limb_screws_at` on the world screws of
-    :func:`pinmob.analysis.batch.world_jacobians` per dimensionless rate (times
+    :func:`pinmob.analysis.batch.batch_analysis.world_jacobians` per dimensionless rate (times
     :func:`~pinmob.analysis.limbs.rate_scale`), as for one configuration.
     """
     return [limb_screws_at(full, origin, limb.v_indices) for limb in mech.limbs]

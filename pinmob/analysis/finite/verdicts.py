@@ -3,7 +3,7 @@
 Each instantaneous motion (a platform motion, or an internal motion of the mechanism) gets two
 independent answers:
 
-- from the higher-order conditions (:mod:`pinmob.analysis.tangent_cone`): the motion is tangent
+- from the higher-order conditions (:mod:`pinmob.analysis.finite.tangent_cone`): the motion is tangent
   to a motion branch (its twist lies in the branch's first-order platform image, or its joint rates
   in the branch's tangent rates): *finite*; it is a combination of the tangents of two or more
   branches and of none alone: *branch point*; else the lowest order k at which no choice (of the
@@ -28,7 +28,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.higher_order import MARGIN, OrderTest
+from pinmob.analysis.finite.higher_order import MARGIN, OrderTest
 from pinmob.analysis.motion import Motion
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
@@ -208,7 +208,7 @@ def judge(
 def settle(
     verdict: MotionVerdict, vector: Array, spans: list[Array | None], reach: Array, still: bool
 ) -> MotionVerdict:
-    """A verdict decided again from the modes the closed samples found (:mod:`pinmob.analysis.sample_modes`).
+    """A verdict decided again from the modes the closed samples found (:mod:`pinmob.analysis.finite.sample_modes`).
 
     Args:
         verdict: the verdict from the conditions and the tracer.

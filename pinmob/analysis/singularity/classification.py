@@ -1,4 +1,4 @@
-"""The singularity classes at a configuration, computed from the limbs' joint screws (see :mod:`pinmob.analysis.singularity`)."""
+"""The singularity classes at a configuration, computed from the limbs' joint screws (see :mod:`pinmob.analysis.singularity.result`)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import dependent_limbs, generic_constraint_rank, generic_twist_ranks
 from pinmob.analysis.limbs import column_joints, limb_decisions, limb_twists, unit_columns, wrench_blocks
 from pinmob.analysis.motion import Motion, columns, motions_of
-from pinmob.analysis.singularity import Singularity, distance_of, generic_locked_dof, padded
+from pinmob.analysis.singularity.result import Singularity, distance_of, generic_locked_dof, padded
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism

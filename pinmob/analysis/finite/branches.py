@@ -1,11 +1,11 @@
 """Motion branches through a configuration: their dimension and how the platform moves on each.
 
 A linear component T of the second-order tangent cone that passes every condition up to the
-order bound (:func:`pinmob.analysis.tangent_cone.cone`) is the tangent space of a motion branch:
+order bound (:func:`pinmob.analysis.finite.tangent_cone.cone`) is the tangent space of a motion branch:
 its dimension is the branch's DoF. The platform's motion on the branch is that of its generic
 points: at q the platform's first-order image ``J_p T`` may be smaller (the Sarrus linkage with
 both limbs stretched moves its platform only to second order), so when ``rank J_p T`` is below
-``min(dim T, 6)`` the branch is followed a short way (:func:`pinmob.analysis.motion_path.follow_rates`)
+``min(dim T, 6)`` the branch is followed a short way (:func:`pinmob.analysis.follow.motion_path.follow_rates`)
 to a nearby point p, whose tangent space on the branch (the whole kernel when its dimension is
 ``dim T``, else the cone component at p closest to T) gives the platform's rank there. Only when
 it is higher than at q (the platform moves less at q, to first order) are the branch's motions
@@ -21,14 +21,14 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.closure_jacobian import closed_chain_columns, frame_rows
+from pinmob.analysis.chain.closed_chain import closed_chain_columns, frame_rows
+from pinmob.analysis.chain.joint_rates import canonical_rates, joint_rates
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.higher_order import HigherOrder, OrderTest
-from pinmob.analysis.joint_rates import canonical_rates, joint_rates
-from pinmob.analysis.loop_screws import mechanism_loops
+from pinmob.analysis.finite.higher_order import HigherOrder, OrderTest
+from pinmob.analysis.finite.loop_screws import mechanism_loops
+from pinmob.analysis.finite.tangent_cone import ConeComponent, cone
+from pinmob.analysis.follow.motion_path import follow_rates
 from pinmob.analysis.motion import Motion, motions_of
-from pinmob.analysis.motion_path import follow_rates
-from pinmob.analysis.tangent_cone import ConeComponent, cone
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.bases import subspace_gap
@@ -52,7 +52,7 @@ class Branch(ReadOnlyArrays):
             at a nearby point of the branch: at q the platform moves less, to first order).
         rates: (nv, dimension) orthonormal tangent joint rates (dimensionless).
         test: the higher-order conditions along a random tangent direction (None: a mode seen only at closed
-            samples near q, whose tangent cone at q is not linear; :mod:`pinmob.analysis.sample_modes`).
+            samples near q, whose tangent cone at q is not linear; :mod:`pinmob.analysis.finite.sample_modes`).
         traced: distance the tracer followed a tangent direction (largest of both ways, joint metric).
         note: why a part of it could not be decided ("" when all is clear).
     """

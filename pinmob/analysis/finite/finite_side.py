@@ -1,12 +1,12 @@
 """One side of the finite-mobility analysis: the mechanism as it is, or with some joints held.
 
-:func:`analyse_side` runs every step of :mod:`pinmob.analysis.finite` on the closed chain with the
+:func:`analyse_side` runs every step of :mod:`pinmob.analysis.finite.finite_mobility` on the closed chain with the
 joints ``held`` kept still (none, or the actuated ones): the higher-order conditions and their
-cone (:mod:`pinmob.analysis.tangent_cone`), the branches (:mod:`pinmob.analysis.branches`), a
-verdict per instantaneous motion (:mod:`pinmob.analysis.verdicts`), each motion traced, and the
-local-dimension estimate from closed samples (:mod:`pinmob.analysis.local_dimension`). The finite
+cone (:mod:`pinmob.analysis.finite.tangent_cone`), the branches (:mod:`pinmob.analysis.finite.branches`), a
+verdict per instantaneous motion (:mod:`pinmob.analysis.finite.verdicts`), each motion traced, and the
+local-dimension estimate from closed samples (:mod:`pinmob.analysis.finite.local_dimension`). The finite
 DoF are those of the branches; where the samples, the tracer or the cone do not confirm them, the
-fallback of :mod:`pinmob.analysis.sample_modes` decides (``Side.evidence`` says how), and where it
+fallback of :mod:`pinmob.analysis.finite.sample_modes` decides (``Side.evidence`` says how), and where it
 cannot either they are None and a note says why.
 """
 
@@ -16,19 +16,19 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.analysis.branches import Branch, branch_of, branch_order, platform_motions, tangent_rates
-from pinmob.analysis.closure_jacobian import closed_chain, closed_chain_columns, frame_rows
+from pinmob.analysis.chain.closed_chain import closed_chain, closed_chain_columns, frame_rows
+from pinmob.analysis.chain.joint_rates import canonical_rates, joint_rates
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.displacement import displacement
-from pinmob.analysis.higher_order import HigherOrder
-from pinmob.analysis.joint_rates import canonical_rates, joint_rates
-from pinmob.analysis.local_dimension import LocalDimension, local_dimension
-from pinmob.analysis.loop_screws import mechanism_loops
+from pinmob.analysis.finite.branches import Branch, branch_of, branch_order, platform_motions, tangent_rates
+from pinmob.analysis.finite.higher_order import HigherOrder
+from pinmob.analysis.finite.local_dimension import LocalDimension, local_dimension
+from pinmob.analysis.finite.loop_screws import mechanism_loops
+from pinmob.analysis.finite.sample_modes import decide_by_samples
+from pinmob.analysis.finite.tangent_cone import cone
+from pinmob.analysis.finite.verdicts import MEMBER_SIN, MotionVerdict, Verdict, judge, orthonormal, settle, sine_to
+from pinmob.analysis.follow.displacement import displacement
+from pinmob.analysis.follow.motion_path import follow_motion, follow_rates
 from pinmob.analysis.motion import Motion
-from pinmob.analysis.motion_path import follow_motion, follow_rates
-from pinmob.analysis.sample_modes import decide_by_samples
-from pinmob.analysis.tangent_cone import cone
-from pinmob.analysis.verdicts import MEMBER_SIN, MotionVerdict, Verdict, judge, orthonormal, settle, sine_to
 from pinmob.assembly.residual import compute_kinematics
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import MotionKind
@@ -58,7 +58,7 @@ class Side:
         notes: why a finite DoF could not be decided.
         tolerance: the absolute tolerance of the conditions.
         evidence: what decided where the conditions up to the order bound did not ('' when they did;
-            :mod:`pinmob.analysis.sample_modes`).
+            :mod:`pinmob.analysis.finite.sample_modes`).
     """
 
     held: tuple[str, ...]

@@ -4,7 +4,7 @@ With the actuated joints locked, the motions left (``locked_dof``, idle ones
 included) are all idle when the actuation is valid; actuated rates that are not
 independent on the closed chain over-determine it. Idle motions move no output
 frame, no joint centre and no closure point
-(:func:`pinmob.analysis.closure_jacobian.output_motions`).
+(:func:`pinmob.analysis.chain.closed_chain.output_motions`).
 
 A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
 pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
@@ -22,20 +22,22 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from numpy.typing import NDArray
+import pinocchio as pin
+from numpy.typing import ArrayLike, NDArray
 
-from pinmob.analysis.closure_jacobian import ClosedChain, closed_chain, frame_rows, output_motions, rates_of
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.joint_rates import canonical_rates, joint_rates
-from pinmob.analysis.locking import Locked, lock
+from pinmob.analysis.chain.closed_chain import ClosedChain, closed_chain, frame_rows, output_motions, rates_of
+from pinmob.analysis.chain.joint_rates import canonical_rates, joint_rates
+from pinmob.analysis.chain.locking import Locked, lock
+from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.model.tendon import Transmission
 from pinmob.progress import step
 from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank
+from pinmob.screw.rank import RTOL, check_rtol, decide_rank
 
 #: Largest number of actuator sets :func:`actuator_sets` tries (C(n, k) above it is refused).
 SEARCH_LIMIT = 50_000
@@ -59,7 +61,7 @@ class Actuation:
         base: the floating bases held while judging (free-flyer joints at the root), by joint name.
         rate_singular_values: singular values of the held joints' rates on an orthonormal basis of the
             closed chain's dimensionless motions (``S N``, (held, m)): the matrix whose rank ``rank_a`` is decided
-            (:func:`~pinmob.analysis.locking.lock`); its tolerance is ``rtol * max(1, sigma_1)``.
+            (:func:`~pinmob.analysis.chain.locking.lock`); its tolerance is ``rtol * max(1, sigma_1)``.
         tendons: the actuators on tendons, sites, slider-cranks and ball joints, by name, held with the
             joints (:func:`~pinmob.model.tendon.tendon_rows`).
         tendon_kinds: what each of them drives (:attr:`~pinmob.model.tendon.Transmission.kind`).
@@ -193,14 +195,32 @@ def actuation(
     )
 
 
+def default_end_frames(mech: Mechanism) -> tuple[str, ...]:
+    """The platform if any; else the leaf bodies of the tree that carry no closure frame (a coupling's do not count)."""
+    if mech.has_platform:
+        return (mech.platform,)
+    model = mech.model
+    has_child = {int(model.parents[j]) for j in range(1, model.njoints)}
+    loops = (c for c in mech.all_closures if not c.is_coupling)  # a coupled fingertip is still a free end
+    closing = {model.frames[i].parentJoint for c in loops for i in (c.frame_a_id, c.frame_b_id)}
+    leaves = [j for j in range(1, model.njoints) if j not in has_child and j not in closing]
+    out = []
+    for j in leaves:
+        bodies = [f.name for f in model.frames if f.parentJoint == j and f.type == pin.FrameType.BODY]
+        out.append(bodies[0] if bodies else model.names[j])
+    return tuple(out)
+
+
 @one_blas_thread
 def actuator_sets(
-    conf: Configuration,
+    mech: Mechanism | Configuration,
+    q: ArrayLike | str | Configuration | None,
     size: int,
-    outputs: Sequence[str],
     *,
     candidates: Sequence[str] | None = None,
-    rtol: float,
+    outputs: Sequence[str] | None = None,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
     limit: int = SEARCH_LIMIT,
 ) -> list[tuple[str, ...]]:
     """Every valid set of ``size`` actuated joints among ``candidates`` (default: all one-degree joints).
@@ -208,14 +228,18 @@ def actuator_sets(
     A set is valid when its joints are independent on the closed chain and
     locking them leaves only idle motions (those that move no ``outputs``
     frame; the same split as the actuation verdict). Exhaustive: C(n, size)
-    sets are tried, each with an SVD of (size, m) and, unless :func:`~pinmob.analysis.locking.lock`
+    sets are tried, each with an SVD of (size, m) and, unless :func:`~pinmob.analysis.chain.locking.lock`
     skips it, of (size + outputs, m); more than ``limit`` sets is refused
-    (name fewer candidates).
+    (name fewer candidates). ``outputs`` default to :func:`default_end_frames`; ``rtol`` is raised where the
+    loops close only to CAD accuracy (:meth:`~pinmob.analysis.configuration.Configuration.rank_rtol`).
 
     Raises:
         ConfigurationError: size out of range or too many combinations.
     """
+    conf = as_configuration(mech, q, closure_tol=closure_tol)
+    rtol = conf.rank_rtol(check_rtol(rtol))
     mech = conf.mechanism
+    outputs = tuple(default_end_frames(mech) if outputs is None else outputs)
     model = mech.model
     names = (
         list(candidates)

@@ -19,7 +19,7 @@ then, per configuration:
 Two engines give the same numbers: ``numpy`` (batched LAPACK SVDs, the very
 calls :func:`pinmob.analyze` makes, so the same bits) and ``numba`` (a compiled
 loop over the configurations with a one-sided Jacobi SVD per matrix,
-:mod:`pinmob.analysis.batch_kernel`; the same numbers to round-off), used when
+:mod:`pinmob.analysis.batch.batch_kernel`; the same numbers to round-off), used when
 numba is installed (``pip install "pinmob[fast]"``).
 """
 
@@ -30,13 +30,13 @@ from dataclasses import replace
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.batch_numpy import limb_wrench_rows, numpy_engine, stacked_ranks
-from pinmob.analysis.batch_result import BatchResult
+from pinmob.analysis.batch.batch_numpy import limb_wrench_rows, numpy_engine, stacked_ranks
+from pinmob.analysis.batch.batch_result import BatchResult
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import column_joints, limb_decisions, limb_twists, rate_scale
 from pinmob.analysis.mobility import platform_mobility
-from pinmob.analysis.singularity_analysis import require_platform, singularity_from_twists
+from pinmob.analysis.singularity.classification import require_platform, singularity_from_twists
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
@@ -95,7 +95,7 @@ def analyze_batch(
     compiles its loop (seconds; cached on disk). A mechanism with loops inside
     its limbs (the Delta's parallelograms) is analysed one configuration at a
     time instead (loop-aware limb screws,
-    :func:`pinmob.analysis.singularity_analysis.singularity_from_twists`): the
+    :func:`pinmob.analysis.singularity.classification.singularity_from_twists`): the
     same results, at the speed of :func:`pinmob.analyze`.
 
     Args:
@@ -172,8 +172,8 @@ def analyze_jacobians(
 
 
 def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
-    """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch_kernel.ranks`."""
-    from pinmob.analysis.batch_kernel import ranks
+    """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch.batch_kernel.ranks`."""
+    from pinmob.analysis.batch.batch_kernel import ranks
 
     columns = np.concatenate([np.asarray(limb.v_indices, np.int64) for limb in mech.limbs])
     offsets = np.cumsum([0] + [len(limb.v_indices) for limb in mech.limbs]).astype(np.int64)

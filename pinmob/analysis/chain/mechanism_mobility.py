@@ -1,7 +1,7 @@
 """Whole-mechanism mobility: mechanism DoF, redundant constraints, idle motions, actuation, frame motions.
 
 With the dimensionless closure Jacobian ``K`` (rows, nv) of
-:mod:`pinmob.analysis.closure_jacobian`:
+:mod:`pinmob.analysis.chain.closed_chain`:
 
 - mechanism DoF ``m = nv - rank K``: the closed chain's joint velocities are ``null K``;
 - redundant (over-constraining) equations ``rows - rank K``; per closure c,
@@ -21,7 +21,7 @@ With the dimensionless closure Jacobian ``K`` (rows, nv) of
   frame; frames named only to be reported are not outputs), no joint centre
   and no closure point; e.g. a rod spinning about the line through its two
   ball joints;
-- actuation (:mod:`pinmob.analysis.actuation`);
+- actuation (:mod:`pinmob.analysis.chain.actuation`);
 - the motion of any frame: the image of ``null K`` by its Jacobian, classified
   like the platform's (:func:`pinmob.screw.classify.classify_twists`).
 """
@@ -33,14 +33,15 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
+from numpy.typing import ArrayLike
 
-from pinmob.analysis.actuation import Actuation, actuation, held_indices
-from pinmob.analysis.closure_jacobian import closed_chain, frame_rows, moving_joints, rates_of
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.locking import lock_motions
+from pinmob.analysis.chain.actuation import Actuation, actuation, default_end_frames, held_indices
+from pinmob.analysis.chain.closed_chain import closed_chain, frame_rows, moving_joints, rates_of
+from pinmob.analysis.chain.locking import lock_motions
+from pinmob.analysis.chain.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
+from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.motion import Motion, classified_motions, columns
-from pinmob.analysis.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
+from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id, frame_name
@@ -48,7 +49,7 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.model.tendon import tendon_rows
 from pinmob.screw.algebra import Array
 from pinmob.screw.classify import motion_type
-from pinmob.screw.rank import decide_rank
+from pinmob.screw.rank import RTOL, check_rtol, decide_rank
 
 
 @dataclass(frozen=True)
@@ -194,25 +195,22 @@ class MechanismMobility(ReadOnlyArrays):
         return "\n".join(lines)
 
 
-def default_end_frames(mech: Mechanism) -> tuple[str, ...]:
-    """The platform if any; else the leaf bodies of the tree that carry no closure frame (a coupling's do not count)."""
-    if mech.has_platform:
-        return (mech.platform,)
-    model = mech.model
-    has_child = {int(model.parents[j]) for j in range(1, model.njoints)}
-    loops = (c for c in mech.all_closures if not c.is_coupling)  # a coupled fingertip is still a free end
-    closing = {model.frames[i].parentJoint for c in loops for i in (c.frame_a_id, c.frame_b_id)}
-    leaves = [j for j in range(1, model.njoints) if j not in has_child and j not in closing]
-    out = []
-    for j in leaves:
-        bodies = [f.name for f in model.frames if f.parentJoint == j and f.type == pin.FrameType.BODY]
-        out.append(bodies[0] if bodies else model.names[j])
-    return tuple(out)
+def frame_mobility(
+    mech: Mechanism | Configuration,
+    q: ArrayLike | str | Configuration | None,
+    frame: str,
+    *,
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+) -> FrameMobility:
+    """Free motions of ``frame`` at ``q``: :func:`frame_mobility_at`, ``rtol`` raised as :func:`pinmob.analyze` raises it."""
+    conf = as_configuration(mech, q, closure_tol=closure_tol)
+    return frame_mobility_at(conf, frame, conf.rank_rtol(check_rtol(rtol)))
 
 
 @one_blas_thread
-def frame_mobility(conf: Configuration, frame: str, rtol: float) -> FrameMobility:
-    """Free motions of ``frame`` on the closed chain, at its origin with world axes (cached per frame and tolerance).
+def frame_mobility_at(conf: Configuration, frame: str, rtol: float) -> FrameMobility:
+    """Free motions of ``frame`` at ``conf`` with the rank tolerance ``rtol`` as given (cached per frame and tolerance).
 
     The image ``J_frame null(K)`` of every closed-chain motion (all closures,
     limb tips welded to the platform included), classified like the
@@ -291,7 +289,7 @@ def mechanism_mobility(
         idle_dof=split.idle.shape[1],
         idle_joints=moving_joints(mech, null @ split.idle),
         actuation=actuation(conf, chain, acts, split, reported, rtol, tendons),
-        frames=tuple(frame_mobility(conf, f, rtol) for f in reported),
+        frames=tuple(frame_mobility_at(conf, f, rtol) for f in reported),
         end_frames=outs,
         singular_values=dec.singular_values,
         tolerance=dec.tolerance,

@@ -3,7 +3,7 @@
 ``two 3-DoF branches meet: 3T and 3H`` (the Delta with horizontal rods), ``a 4-DoF and a 2-DoF branch meet:
 3T1R and 2R`` (the 4-RUU at its parallel-axes configuration). The DoF named are the platform's on each
 branch (the closed chain's, and no motion type, for a mechanism without a platform); the branches are
-named in the order the analysis lists them (:func:`pinmob.analysis.branches.branch_order`, the same on
+named in the order the analysis lists them (:func:`pinmob.analysis.finite.branches.branch_order`, the same on
 every machine). The text, the JSON (``branch_point``) and the viewer's panel say it alike.
 """
 
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 
-from pinmob.analysis.branches import Branch
+from pinmob.analysis.finite.branches import Branch
 
 #: Words for small counts.
 COUNTS = {2: "two", 3: "three", 4: "four", 5: "five", 6: "six", 7: "seven", 8: "eight", 9: "nine"}

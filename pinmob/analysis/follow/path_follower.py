@@ -1,10 +1,10 @@
-"""The predictor-corrector behind :func:`pinmob.analysis.motion_path.follow_motion`: one step at a time.
+"""The predictor-corrector behind :func:`pinmob.analysis.follow.motion_path.follow_motion`: one step at a time.
 
 :class:`Follower` follows a platform motion (a screw fixed in the world): at each closed q it
 projects the intended twist on the free twists there, predicts the joint step that moves the
 platform along it while keeping every closure to first order, re-closes the loops (the target
 pose, else a projection) and checks the platform's achieved displacement against the step asked
-for (see :mod:`pinmob.analysis.motion_path` for the rules and thresholds).
+for (see :mod:`pinmob.analysis.follow.motion_path` for the rules and thresholds).
 
 :class:`RateFollower` follows a direction of joint rates instead (a motion that need not move the
 platform: a limb's internal motion, a motion branch, a motion with the actuators held): it
@@ -23,12 +23,12 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.closure_jacobian import closed_chain_columns
+from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.displacement import angle_between, displacement
+from pinmob.analysis.follow.displacement import angle_between, displacement
+from pinmob.analysis.follow.motion_limits import describe, limiting_limbs
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.motion import Motion
-from pinmob.analysis.motion_limits import describe, limiting_limbs
 from pinmob.assembly.assemble import assemble_pose as _assemble_pose
 from pinmob.assembly.assemble import project
 from pinmob.assembly.residual import closure_residual, compute_kinematics, frame_jacobian, stacked_error
@@ -51,7 +51,7 @@ MIN_PROGRESS = 0.5
 def closed_rates(conf: Configuration, held: Sequence[int], rtol: float) -> Array:
     """(nv, m) orthonormal dimensionless joint rates of the closed chain at conf, the ``held`` joints still.
 
-    ``null [K_hat; rows picking the held rates]`` (:mod:`pinmob.analysis.closure_jacobian`'s
+    ``null [K_hat; rows picking the held rates]`` (:mod:`pinmob.analysis.chain.closed_chain`'s
     dimensionless closure Jacobian), by the one rank rule.
     """
     mech = conf.mechanism

@@ -8,8 +8,8 @@ multiplied by L (``col``), so that the rank decision does not depend on units.
 The closed chain's joint velocities are ``null(K)``; any frame's motions are
 their image by its Jacobian.
 
-:func:`closure_jacobian_twists` is a second, independent computation of the
-platform's free twists (the tests compare it with the limb-wise method).
+:func:`~pinmob.analysis.chain.closure_jacobian_twists.closure_jacobian_twists` is a second, independent
+computation of the platform's free twists (the tests compare it with the limb-wise method).
 """
 
 from __future__ import annotations
@@ -21,14 +21,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from pinmob.analysis.chain.joint_centres import joint_centres
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.joint_centres import joint_centres
 from pinmob.analysis.limbs import rate_scale
 from pinmob.assembly.residual import stacked_error
-from pinmob.blas import one_blas_thread
 from pinmob.model.joints import frame_id, velocity_spans
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, Mask, shift_twists, twist_scaling
+from pinmob.screw.algebra import Array, Mask, twist_scaling
 from pinmob.screw.rank import RankDecision, decide_rank, decision, svd
 
 
@@ -236,48 +235,6 @@ def rates_of(motions: Array, idx: NDArray[Any]) -> Array:
     without the product.
     """
     return motions[np.asarray(idx, dtype=np.intp)]
-
-
-@one_blas_thread
-def closure_jacobian_twists(conf: Configuration, rtol: float) -> Array:
-    """Free platform twists from the global loop-closure Jacobian (an independent method).
-
-    Closure rows ``K = [J_2 - J_1; ...; J_k - J_1]`` (tip Jacobians over all
-    joints, carried to the platform origin), followed by the rows of the
-    mechanism's own closures (loops inside limbs, lengths divided by L, see
-    :func:`~pinmob.assembly.residual.stacked_error`); the closed chain's joint
-    velocities are ``null(K)``; the platform twists are their image ``J_1 null(K)``.
-    Joint columns are scaled to comparable units before the rank decision.
-
-    Returns:
-        (6, m) orthonormal (dimensionless) basis, in SI, of the platform's free twists.
-    """
-    mech = conf.mechanism
-    model, data = mech.model, conf.data
-    p = conf.platform_origin
-    scale = twist_scaling(mech.length_scale)[:, None]
-    full = [
-        scale * shift_twists(conf.frame_jacobian(limb.tip_id), p - data.oMf[limb.tip_id].translation)
-        for limb in mech.limbs
-    ]
-    col = np.linalg.norm(np.sum(np.abs(np.stack(full)), axis=0), axis=0)
-    col = np.where(col > 0, 1.0 / np.where(col > 0, col, 1.0), 1.0)
-    rows = [f - full[0] for f in full[1:]]
-    if mech.closures:  # loops inside limbs (e.g. parallelograms): their rows, dimensionless like the tip rows
-        rows.append(stacked_error(mech, model, data, mech.closures)[1])
-    if rows:
-        k = np.vstack(rows) * col
-        dq = decide_rank(k, rtol, n=model.nv).null_space.T * col[:, None]
-    else:
-        dq = np.diag(col)
-    # rank of the image against the size of the platform Jacobian itself: when every closed-chain motion
-    # leaves the platform still (e.g. limbs folding at a dead centre) the image is round-off only
-    image = full[0] @ dq
-    reference = float(np.linalg.norm(full[0] * col, 2))
-    if image.size == 0 or float(np.linalg.norm(image, 2)) <= rtol * reference:
-        return np.zeros((6, 0))
-    dec = decide_rank(image.T, rtol, n=6, reference=reference)
-    return dec.row_space.T / scale
 
 
 def moving_joints(mech: Mechanism, basis: Array, tol: float = 1e-6) -> tuple[str, ...]:

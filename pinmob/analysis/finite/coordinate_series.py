@@ -15,7 +15,7 @@ coefficients:
   squared length is a product of series and its length the series' square root
   (``r_0 = sqrt(s_0)``, ``r_m = (s_m - sum_(j=1..m-1) r_j r_(m-j)) / (2 r_0)``).
 
-:mod:`pinmob.analysis.coupling_rows` composes them with a coupling's polynomial.
+:mod:`pinmob.analysis.finite.coupling_rows` composes them with a coupling's polynomial.
 """
 
 from __future__ import annotations

@@ -6,7 +6,7 @@ direction w orthogonal to n (the Jacobian has full rank there) and what is left,
 ``g(s) = min_w |F(q (+) (s n + w))|`` along n. q is an isolated solution when g grows like ``s^k`` (k >= 2) on both
 sides; a curve through q along n makes g vanish. The higher-order conditions ask the same question order by
 order; this answers it from the equations themselves, at steps far above round-off
-(:mod:`pinmob.analysis.sample_modes` uses it where the conditions up to the order bound do not decide).
+(:mod:`pinmob.analysis.finite.sample_modes` uses it where the conditions up to the order bound do not decide).
 """
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.closure_jacobian import closed_chain_columns
+from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.residual import closure_residual
 from pinmob.screw.algebra import Array

@@ -1,4 +1,4 @@
-"""The result of :func:`pinmob.analysis.batch.analyze_batch`: per-configuration numbers of N configurations."""
+"""The result of :func:`pinmob.analysis.batch.batch_analysis.analyze_batch`: per-configuration numbers of N configurations."""
 
 from __future__ import annotations
 

@@ -34,7 +34,7 @@ import pinocchio as pin
 from pinmob.analysis.batch.batch_analysis import analyze_jacobians
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limbwise_obstacle
-from pinmob.analysis.singularity.result import NEAR_FACTOR, generic_locked_dof
+from pinmob.analysis.singularity.result import NEAR_FACTOR, distance_of, generic_locked_dof
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.unreachable import SV_COLUMNS
@@ -65,17 +65,13 @@ def batchable(mech: Mechanism) -> bool:
 def _motion_type(span: Array, st: Array, length: float, rtol: float) -> str:
     """The motion type of an orthonormal span (6, k) of dimensionless twists: :func:`classify_twists`'s label.
 
-    Its closed forms without the call: ``rigid`` (k = 0), ``3T3R`` (k = 6), ``kT`` when the rotation rows are
-    below ``rtol`` (:func:`pinmob.screw.classify.principal_screws_of_span`'s test: no direction, all free).
+    One closed form without the call: ``kT`` when the rotation rows are below ``rtol``
+    (:func:`pinmob.screw.classify.principal_screws_of_span`'s test: no direction, all free; it answers k = 0 and
+    k = 6 itself).
     """
-    k = span.shape[1]
-    if k == 0:
-        return "rigid"
-    if k == 6:
-        return "3T3R"
     w = span[3:]
-    if float(np.sqrt((w * w).sum())) <= rtol:
-        return f"{k}T"
+    if span.shape[1] and float(np.sqrt((w * w).sum())) <= rtol:
+        return f"{span.shape[1]}T"
     return motion_type(classify_twists(span / st, length, rtol))
 
 
@@ -112,10 +108,9 @@ def analyse(mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int) ->
         sv = np.where(np.arange(6) < rows, res.singular_values[i], np.nan)
         distances = {f"limb {limb.name}": float(r) for limb, r in zip(mech.limbs, res.limb_ratio[i])}
         if g > 0:
-            distances["constraint"] = float(sv[g - 1] / sv[0]) if sv[0] > 0 else 0.0
+            distances["constraint"] = distance_of(sv, g)
         asv = res.actuation_singular_values[i]
-        r_act = 6 - g_locked
-        distances["actuation"] = float(asv[r_act - 1] / asv[0]) if r_act > 0 and asv[0] > 0 else float(r_act <= 0)
+        distances["actuation"] = distance_of(asv, 6 - g_locked)
         distance = min(distances.values())
         if not distance >= DECIDED_FACTOR * band:
             out.append(None)

@@ -28,13 +28,13 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
 from pinmob.assembly.batch_solver import PoseProblem, finish_closed, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.references import platform_pose
 from pinmob.scan.spec import ScanSpec
 from pinmob.screw.algebra import Array
 
@@ -73,14 +73,13 @@ class Predictor:
         """
         if not targets:
             return []
-        model, data, pid = self.mech.model, self.problem.data, self.mech.platform_id
         poses = np.empty((len(targets), 6))
         for i, ((kind, value), seed) in enumerate(zip(targets, seeds)):
             if kind == "pose":
                 poses[i] = pose_vector(value)
                 continue
-            pin.framesForwardKinematics(model, data, seed)
-            poses[i] = pose_vector(data.oMf[pid])  # the free coordinates start where the seed has them
+            # the free coordinates start where the seed has them
+            poses[i] = pose_vector(platform_pose(self.mech, seed, self.problem.data))
             for c, v in value[0].items():
                 poses[i, POSE_COORDS.index(c)] = v
         sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL)

@@ -78,7 +78,8 @@ def prepare(
         ClosureError: q does not close.
     """
     conf = as_configuration(mech, q)
-    report = analyze(conf, rtol=RTOL)
+    given = mobility if isinstance(mobility, Report) and np.array_equal(mobility.state.q, conf.q) else None
+    report = given or analyze(conf, rtol=RTOL)  # a Report at q: its answers, not a second analysis
     if isinstance(mobility, Report):  # the whole report given: its platform mobility
         mobility = mobility.mobility
     mob = mobility if mobility is not None else report.mobility

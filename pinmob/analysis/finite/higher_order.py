@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinmob.analysis.finite.loop_screws import MechanismLoops
-from pinmob.exceptions import ConfigurationError
+from pinmob.exceptions import ArgumentError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank, decision, svd
@@ -50,11 +50,13 @@ def check_order(order: object) -> int:
     """A validated order bound: an integer in 2..8.
 
     Raises:
-        ConfigurationError: naming the value and the valid range.
+        ArgumentError: naming the value and the valid range (its ``parameter``: ``finite_order``).
     """
     if isinstance(order, bool) or not isinstance(order, int) or order not in ORDERS:
-        raise ConfigurationError(
-            f"the order bound of the finite analysis must be an integer from {ORDERS[0]} to {ORDERS[-1]}, got {order!r}"
+        raise ArgumentError(
+            f"the order bound of the finite analysis must be an integer from {ORDERS[0]} to {ORDERS[-1]}, got {order!r}",
+            "finite_order",
+            order,
         )
     return order
 

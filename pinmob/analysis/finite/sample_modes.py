@@ -117,6 +117,7 @@ class _Projector:
         mech = self.mech = conf.mechanism
         self.col = closed_chain_columns(conf)
         self.residual = closure_residual(mech)
+        self.held = held
         self.free = np.ones(mech.model.nv, bool)
         self.free[list(held)] = False
 
@@ -135,7 +136,7 @@ class _Projector:
 
 
 def regular_sample(
-    conf: Configuration, q: Array, held: tuple[int, ...], rtol: float, known: int | None = None
+    conf: Configuration, q: Array, project: _Projector, rtol: float, known: int | None = None
 ) -> ModeSample | None:
     """The :class:`ModeSample` at the closed q near conf, or None where its probes do not tell.
 
@@ -149,9 +150,8 @@ def regular_sample(
     tells nothing: None.
     """
     mech = conf.mechanism
-    project = _Projector(conf, held)
     here = Configuration.unchecked(mech, q)
-    null = closed_rates(here, held, rtol)
+    null = closed_rates(here, project.held, rtol)
     moves = []
     for i in range(0 if null.shape[1] == known else null.shape[1]):
         ends = [project(q, sign * PROBE * null[:, i]) for sign in (1.0, -1.0)]
@@ -206,7 +206,6 @@ def _on(sample: ModeSample, branch: Branch) -> bool:
 
 def _group(samples: list[ModeSample], branches: tuple[Branch, ...]) -> tuple[list[Branch], list[list[ModeSample]]]:
     """(the linear components some sample confirms, the other samples grouped by (dimension, platform DoF))."""
-    confirmed: list[Branch] = []
     rest: list[ModeSample] = []
     taken = [False] * len(branches)
     for sample in samples:
@@ -215,7 +214,7 @@ def _group(samples: list[ModeSample], branches: tuple[Branch, ...]) -> tuple[lis
             taken[on[0]] = True
         else:
             rest.append(sample)
-    confirmed = [b for b, t in zip(branches, taken, strict=True) if t]
+    confirmed: list[Branch] = [b for b, t in zip(branches, taken, strict=True) if t]
     groups: dict[tuple[int, int], list[ModeSample]] = {}
     for sample in rest:
         groups.setdefault((sample.dimension, sample.dof or 0), []).append(sample)
@@ -281,7 +280,7 @@ def decide_by_samples(
         if near and sum(_on(s, branches[near[0]]) for s in samples) >= PER_COMPONENT:
             continue  # that linear component has its samples: the probes (the cost) go to the others
         known = branches[near[0]].dimension if near and branches[near[0]].traced > 0 else None
-        sample = regular_sample(conf, q, held, rtol, known)
+        sample = regular_sample(conf, q, project, rtol, known)
         if sample is not None:
             samples.append(sample)
     if not samples and tried and back == tried:

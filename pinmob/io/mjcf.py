@@ -256,11 +256,13 @@ def load_mjcf(path: str | Path) -> Mechanism:
             tree.model,
             [],
             name=name,
-            actuated={"": joints},
+            actuated={"": list(dict.fromkeys(joint for _, joint in joints))},
             description=f"MJCF {path.name} (compiled by MuJoCo)",
             source=path,
             closures=closures,
             geometry=Geometry(Visuals(path, m)),
         )
     named = named_configurations(m, tree, mech.length_scale)
-    return replace(mech, configurations=named, quaternion_wxyz=True, actuated_tendons=tuple(tendons))
+    return replace(
+        mech, configurations=named, quaternion_wxyz=True, actuated_tendons=tuple(tendons), joint_actuators=tuple(joints)
+    )

@@ -14,6 +14,7 @@ import pinmob
 from pinmob.cli import main
 
 MODELS = Path(pinmob.io.builtin_dir())
+FIVE_BAR = Path(__file__).parent / "data" / "example-parallel-robots" / "5bar_linkage" / "robot.yaml"
 
 
 def write_mechanism(tmp_path: Path, text: str) -> Path:
@@ -179,6 +180,29 @@ def test_unknown_joint_in_configuration(tmp_path: Path) -> None:
     path = write_mechanism(tmp_path, GOOD.replace("A_slider = 0.0", "A_sldier = 0.0"))
     with pytest.raises(pinmob.MechanismFileError, match="unknown joint 'A_sldier'.*'A_slider'"):
         pinmob.load(path)
+
+
+def test_each_file_of_a_load_is_looked_at_once(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """One ``stat`` of the URDF per load (its check) and two of the TOML (``load`` finds the file, then its check),
+    an Extended URDF's YAML likewise. The old code stat'ed the TOML 4 times and the URDF 3 (exists, is_dir and the
+    check, each with its own wording of a missing file)."""
+    import os
+    from collections import Counter
+
+    toml = write_mechanism(tmp_path, GOOD)
+    calls: Counter[str] = Counter()
+    real = os.stat
+
+    def counted(path: object, *args: object, **kwargs: object) -> os.stat_result:
+        calls[os.path.basename(os.fspath(path))] += 1  # type: ignore[arg-type]
+        return real(path, *args, **kwargs)  # type: ignore[arg-type]
+
+    monkeypatch.setattr(os, "stat", counted)
+    pinmob.load(toml)
+    assert (calls["mech.toml"], calls["3puu.urdf"]) == (2, 1)
+    calls.clear()
+    pinmob.load(FIVE_BAR)
+    assert (calls["robot.yaml"], calls["robot.urdf"]) == (2, 2)  # the URDF: found beside the YAML, then checked
 
 
 def test_missing_urdf(tmp_path: Path) -> None:

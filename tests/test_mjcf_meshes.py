@@ -45,7 +45,7 @@ def load_warned(path: Path) -> tuple[pinmob.Mechanism, list[str]]:
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         mech = pinmob.load(path)
-        visual = mech.visual_model  # the drawing compiles the file again: no second warning
+        visual = mech.visual_model  # the drawing (from the model compiled at load): no second warning
     assert visual is None or not any(g.meshPath for g in visual.geometryObjects)  # no mesh drawn
     return mech, [str(w.message) for w in caught]
 
@@ -215,3 +215,27 @@ def test_a_missing_height_field_and_a_skin_outside_cost_only_the_drawing(tmp_pat
     got, ref = pinmob.analyze(mech).to_dict(), pinmob.analyze(pinmob.load(plain)).to_dict()
     for key in ("mechanism_dof", "redundant_constraints", "joint_values"):
         assert got[key] == ref[key], key
+
+
+def test_an_mjcf_is_compiled_once_when_loaded_and_drawn(monkeypatch: pytest.MonkeyPatch) -> None:
+    """Loading the four-bar and drawing it compiles the file once (MuJoCo's MjSpec.compile counted); the old code
+    compiled it again to draw it (2). A pickled copy (a Dask worker's) holds no compiled model: it compiles once
+    when it draws, and draws the same geoms."""
+    import pickle
+
+    calls = {"compile": 0}
+    real = mujoco.MjSpec.compile
+
+    def counted(spec: mujoco.MjSpec) -> mujoco.MjModel:
+        calls["compile"] += 1
+        return real(spec)
+
+    monkeypatch.setattr(mujoco.MjSpec, "compile", counted)
+    path = Path(__file__).parent / "data" / "fourbar_connect.xml"
+    mech = pinmob.load(path)
+    copy = pickle.loads(pickle.dumps(mech))
+    visual = mech.visual_model
+    assert visual is not None and calls["compile"] == 1
+    assert mujoco.MjModel.from_xml_path(str(path)).ngeom == visual.ngeoms == 3  # MuJoCo's geoms, one per capsule
+    assert copy.visual_model is not None and calls["compile"] == 2
+    assert [g.name for g in copy.visual_model.geometryObjects] == [g.name for g in visual.geometryObjects]

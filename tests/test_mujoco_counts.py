@@ -34,6 +34,8 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "formats/fivebar/fivebar.xml": (4, 2, 2, 0),
     "formats/fourbar/fourbar.xml": (3, 1, 1, 0),
     "fourbar_connect.xml": (3, 1, 1, 0),
+    # a position and a velocity servo on the crank (MuJoCo's PD pair): two actuators, one coordinate held
+    "fourbar_servo_pair.xml": (3, 2, 1, 0),
     "fourbar_weld.xml": (4, 1, 1, 0),
     # test_mjcf_tendons' fixtures: a cable hand (spatial tendons over sites and pulleys, a site actuator, a spatial
     # tendon equality), a gripper whose four-bar fingers are coupled by tendon equalities, and a slider-crank, a
@@ -165,15 +167,44 @@ def test_counts_agree_with_mujoco(name):
     assert (nv, nu, dof, left) == MUJOCO[name]
     m = mujoco_at(path, doc["joint_values"])[0]
     on_bodies = int(np.count_nonzero(m.actuator_trntype[: m.nu] == mujoco.mjtTrn.mjTRN_BODY))  # adhesion: contacts
-    assert len(act["actuated"]) + len(act["actuated_tendons"]) == nu - on_bodies
+    assert len(act["joint_actuators"]) + len(act["actuated_tendons"]) == nu - on_bodies  # every actuator named once
+    on_joints = [int(m.actuator_trnid[a, 0]) for a in joint_actuators(m)]  # MuJoCo's joint of each, in order
+    assert [mujoco_joint(m, j) for j in act["joint_actuators"].values()] == on_joints
+    assert sorted(mujoco_joint(m, j) for j in act["actuated"]) == sorted(set(on_joints))  # each joint once
     assert (doc["mechanism_dof"], act["locked_dof"]) == (dof, left)
+
+
+def joint_actuators(m: Any) -> list[int]:
+    """MuJoCo's actuators on a hinge or slide (``joint`` and ``jointinparent`` transmissions), in order."""
+    on_joint = {int(mujoco.mjtTrn.mjTRN_JOINT), int(mujoco.mjtTrn.mjTRN_JOINTINPARENT)}
+    kinds = {int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)}
+    return [
+        a
+        for a in range(m.nu)
+        if int(m.actuator_trntype[a]) in on_joint and int(m.jnt_type[m.actuator_trnid[a, 0]]) in kinds
+    ]
+
+
+def drives(m: Any) -> list[int]:
+    """One actuator per transmission (``actuator_trntype``, ``actuator_trnid``), those on bodies left out.
+
+    Actuators with one transmission move one thing (a position and a velocity servo on one joint): their
+    forces add, and their moment rows are one row times their gears. They are one drive, not an actuator
+    that over-determines the chain with the other.
+    """
+    first: dict[tuple[int, int, int], int] = {}
+    for a in range(m.nu):
+        if int(m.actuator_trntype[a]) != int(mujoco.mjtTrn.mjTRN_BODY):  # adhesion: held by neither
+            first.setdefault((int(m.actuator_trntype[a]), *map(int, m.actuator_trnid[a])), a)
+    return sorted(first.values())
 
 
 @pytest.mark.parametrize("name", sorted(MUJOCO))
 def test_redundant_actuators_agree_with_mujoco(name):
-    """The actuators pinmob calls redundant are MuJoCo's: ``rank([eq; held bases]) + (held actuators) -
-    rank([eq; moments; held bases])`` at pinmob's configuration. A floating base that the closures already
-    hold in part (pinned to the world) makes no actuator redundant (tests/data/unnamed_parts.xml said 3)."""
+    """The actuators pinmob calls redundant are MuJoCo's: ``rank([eq; held bases]) + (drives) -
+    rank([eq; their moments; held bases])`` at pinmob's configuration, one drive per transmission (:func:`drives`).
+    A floating base that the closures already hold in part (pinned to the world) makes no actuator redundant
+    (tests/data/unnamed_parts.xml said 3)."""
     path = DATA / name
     doc = pinmob.analyze(pinmob.load(path)).to_dict()
     act = doc["actuation"]
@@ -181,10 +212,38 @@ def test_redundant_actuators_agree_with_mujoco(name):
     jac = d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq]
     moments = np.zeros((m.nu, m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
-    moments = moments[m.actuator_trntype[: m.nu] != mujoco.mjtTrn.mjTRN_BODY]  # adhesion: held by neither
+    moments = moments[drives(m)]
     held = np.zeros((6 * len(act["base_held"]), m.nv))
     for k, base in enumerate(act["base_held"]):
         j = mujoco_joint(m, base)
         held[6 * k : 6 * k + 6, m.jnt_dofadr[j] : m.jnt_dofadr[j] + 6] = np.eye(6)
     redundant = clear_rank(np.vstack([jac, held])) + len(moments) - clear_rank(np.vstack([jac, moments, held]))
     assert (act["redundant_actuators"], act["overdetermined"]) == (redundant, redundant > 0)
+
+
+def test_a_joint_driven_by_two_actuators_is_actuated_once(tmp_path):
+    """The four-bar's crank driven by a position and a velocity servo (MuJoCo's PD pair): MuJoCo has two actuators
+    (``nu`` 2) whose transmissions are both the crank (``actuator_trnid``). pinmob names both, actuates the crank
+    once and calls neither redundant: one coordinate driven, the chain not over-determined. A motor on the rocker
+    as well does over-determine the 1-DoF chain: one redundant actuator, not two. On the old code the report named
+    no actuator ('joint_actuators' did not exist) and the text only '1 actuated joint(s)'."""
+    path = DATA / "fourbar_servo_pair.xml"
+    m = mujoco.MjModel.from_xml_path(str(path))
+    names = [mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_ACTUATOR, a) for a in range(m.nu)]
+    crank = mujoco.mj_id2name(m, mujoco.mjtObj.mjOBJ_JOINT, int(m.actuator_trnid[0, 0]))
+    assert m.nu == 2 and m.actuator_trnid[:, 0].tolist() == [m.actuator_trnid[0, 0]] * 2 and crank == "crank"
+    report = pinmob.analyze(pinmob.load(path))
+    act = report.to_dict()["actuation"]
+    assert act["actuated"] == [crank] and act["joint_actuators"] == dict.fromkeys(names, crank)
+    assert (act["valid"], act["redundant_actuators"], act["locked_dof"]) == (True, 0, 0)
+    assert f"1 actuated joint(s) ('crank' by 2 actuators: {', '.join(names)})" in str(report)
+    # the named actuators are the file's: naming joints instead (--actuated) drops them
+    chosen = pinmob.analyze(pinmob.load(path), actuated=["crank"]).to_dict()["actuation"]
+    assert chosen["joint_actuators"] == {} and chosen["actuated"] == ["crank"]
+    rocker = tmp_path / "rocker_too.xml"
+    rocker.write_text(
+        path.read_text().replace("</actuator>", '  <motor name="rocker_motor" joint="rocker"/>\n  </actuator>')
+    )
+    act = pinmob.analyze(pinmob.load(rocker)).to_dict()["actuation"]
+    assert act["actuated"] == ["crank", "rocker"] and act["joint_actuators"]["rocker_motor"] == "rocker"
+    assert (act["valid"], act["redundant_actuators"]) == (False, 1)  # 2 drives on 1 DoF (MuJoCo's rank: 2 + 2 - 3)

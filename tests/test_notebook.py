@@ -1,8 +1,9 @@
 """Notebooks: a Report's HTML and text displays, the viewer in a cell, and the example notebook executed.
 
-The HTML is read back with the standard library's parser: its tables and sections must say what
-``str(report)`` says (the same texts and numbers), and a mechanism whose names are markup (from its
-files) must come out as text, never as tags. The viewer's cell in a browser: tests/test_browser.py.
+The HTML is read back with the standard library's parser and checked against what is known of each
+model without pinmob (the hand derivations of tests/test_three_puu.py and tests/test_external_robots.py):
+its DoF and motion type, one table row per free motion with its kind, direction and axis, and a mechanism
+whose names are markup (from its files) must come out as text, never as tags. The viewer's cell in a browser: tests/test_browser.py.
 The example notebook runs in a fresh kernel of this interpreter (a kernel spec written for
 ``sys.executable``, found first: a new ``.venv`` runs it, whatever other kernels the machine has).
 """
@@ -16,11 +17,12 @@ import warnings
 from html.parser import HTMLParser
 from pathlib import Path
 
+import numpy as np
 import pytest
+from numpy.testing import assert_allclose
 
 import pinmob
 from pinmob import viewer
-from pinmob.analysis.report_html import joined
 
 ROOT = Path(__file__).resolve().parent.parent
 NOTEBOOK = ROOT / "examples" / "notebook.ipynb"
@@ -84,27 +86,41 @@ def flat_report() -> pinmob.Report:
     return pinmob.analyze(pinmob.load("3-PUU-flat"), "flat")
 
 
-def test_report_html_says_what_the_text_says(flat_report):
-    """Tables of the answer and the motions, then each section of str(report) as printed, under its title."""
-    text = str(flat_report)
+def vector(cell: str) -> np.ndarray:
+    """A cell's ``[ 0,  0,  1]`` as numbers."""
+    return np.array(json.loads(cell), float)
+
+
+def test_report_html_says_what_the_hand_derivation_says(flat_report):
+    """3-PUU-flat (tests/test_three_puu.py, by hand): 2 DoF, 1T1R, a translation along z and a rotation about
+    the z axis through the platform's centre (the origin); 5 joints x 3 limbs = 15, closure rank 10: mechanism
+    DoF 5. The answer's table, one row per motion, then the sections under their titles."""
     page = parsed(flat_report._repr_html_())
     facts, motions = dict(page.tables[0]), page.tables[1]
-    # the answer derived by hand in tests/test_three_puu.py: 2 DoF, one translation along z and one rotation about z
     assert facts["mechanism"] == "3-PUU-flat" and facts["configuration"] == "flat"
     assert facts["platform"] == "2 DoF, 1T1R" and facts["mechanism DoF"] == "5"
-    assert facts["singularity"] == flat_report.singularity.label
     assert motions[0] == ["motion", "kind", "direction", "axis through [m]", "pitch [m/rad]"]
-    assert [row[:2] for row in motions[1:]] == [["T1 z", "translation"], ["R1 z", "rotation"]]
-    # each motion's numbers as the text prints them, on that motion's line
-    lines = {m: next(x for x in text.splitlines() if x.startswith(f"  {m} ")) for m in ("T1 z", "R1 z")}
-    assert f"direction {motions[1][2]}" in lines["T1 z"] and motions[1][3] == ""
-    assert f"direction {motions[2][2]}, axis through {motions[2][3]} m (world)" in lines["R1 z"]
-    # the sections: titled, their texts as printed, together the whole text
-    sections = flat_report.sections()
-    assert page.summaries == [s.title for s in sections]
-    assert page.pres == [s.text for s in sections]
-    assert joined(sections) == text
+    assert len(motions) == 1 + 2  # the header and one row per free motion
+    (t_label, t_kind, t_dir, t_point, t_pitch), (r_label, r_kind, r_dir, r_point, r_pitch) = motions[1:]
+    assert (t_label, t_kind, t_point, t_pitch) == ("T1 z", "translation", "", "")  # a translation has no axis
+    assert (r_label, r_kind, r_pitch) == ("R1 z", "rotation", "")
+    assert_allclose(vector(t_dir), [0, 0, 1], atol=1e-4)
+    assert_allclose(vector(r_dir), [0, 0, 1], atol=1e-4)
+    assert_allclose(vector(r_point), [0, 0, 0], atol=1e-4)
     assert page.summaries[:3] == ["platform", "singularity", "expected"] and "mechanism" in page.summaries
+    assert page.pres[0].startswith("3-PUU-flat at 'flat': 2 DoF, 1T1R\n")
+    assert "SINGULAR" in page.pres[1]  # every limb at a serial singularity (the hand derivation's twist rank 4 of 5)
+
+
+def test_report_html_of_the_generic_3puu():
+    """3-PUU at 'generic' (the seed paper's eq. 38): 3 DoF, 3T; three rows, translations along x, y and z."""
+    page = parsed(pinmob.analyze(pinmob.load("3-PUU"), "generic")._repr_html_())
+    facts, motions = dict(page.tables[0]), page.tables[1]
+    assert facts["platform"] == "3 DoF, 3T"
+    assert len(motions) == 1 + 3
+    assert [row[1] for row in motions[1:]] == ["translation"] * 3
+    assert all(row[3] == row[4] == "" for row in motions[1:])
+    assert_allclose(np.array([vector(row[2]) for row in motions[1:]]), np.eye(3), atol=1e-4)
 
 
 def test_report_html_without_limbs():
@@ -121,7 +137,7 @@ def test_report_html_without_limbs():
     shown = facts["frame 'effector'"]
     assert shown == f"{frames[0].dof} DoF, {frames[0].motion_type}" and f"frame 'effector': {shown}" in str(report)
     assert page.summaries[:2] == ["closed configuration", "mechanism"]
-    assert page.pres == [s.text for s in report.sections()] and joined(report.sections()) == str(report)
+    assert "mechanism DoF 2 (nv 5 - closure rank 3)" in page.pres[1]
 
 
 def test_repr_pretty_is_the_text(flat_report):
@@ -169,8 +185,9 @@ def test_report_html_escapes_names_from_files(tmp_path):
     }
     assert "<script" not in out and "<i>" not in out and "<b>" not in out and "<u>" not in out
     assert dict(page.tables[0])["mechanism"] == HOSTILE and dict(page.tables[0])["configuration"] == "<u>flat</u>"
-    assert page.pres == [s.text for s in report.sections()]  # the texts, names included, read back unchanged
+    assert page.pres[0].startswith(f"{HOSTILE} at '<u>flat</u>': 2 DoF, 1T1R\n")  # the names read back as text
     assert "limb (Type I): <i>A</i> SINGULAR" in page.pres[1] and "A<b>slider</b>&amp;" in page.pres[1]
+    assert html.escape(HOSTILE, quote=True) in out  # escaped in the page, read back as the name
 
 
 def test_viewer_in_a_cell_is_the_exported_page(flat_report):

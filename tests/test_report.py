@@ -12,6 +12,7 @@ from contextlib import redirect_stderr, redirect_stdout
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 from test_errors import GOOD, write_mechanism
 
@@ -164,6 +165,30 @@ def test_configuration_state() -> None:
     assert pinmob.analyze(copy).to_dict() == pinmob.analyze(again).to_dict()
     with pytest.raises(pinmob.ConfigurationError, match="not both"):
         pinmob.analyze(again, q)
+
+
+def test_each_way_of_making_a_configuration_pickles_as_it_was_made() -> None:
+    """The constructor, from_checked and unchecked; unpickled, each is rebuilt the way it was made.
+
+    An unchecked configuration (its closure tolerance inf, at a q whose loops are open) went through the
+    constructor on unpickling, which refused its tolerance: ArgumentError on the old code."""
+    mech = pinmob.load("3-PUU")
+    q_open = pin.integrate(mech.model, mech.neutral(), np.full(mech.model.nv, 0.1))  # every joint moved: loops open
+    with pytest.raises(pinmob.ClosureError):
+        pinmob.Configuration(mech, q_open)
+    made = {
+        "constructor": pinmob.Configuration(mech, "generic", closure_tol=1e-7),
+        "from_checked": pinmob.Configuration.from_checked(mech, "generic", 1e-7, name="g", source="test"),
+        "unchecked": pinmob.Configuration.unchecked(mech, q_open).with_name("open"),
+    }
+    for way, conf in made.items():
+        copy = pickle.loads(pickle.dumps(conf))
+        assert np.array_equal(copy.q, conf.q) and not copy.q.flags.writeable, way
+        assert (copy.name, copy.source, copy.closure_tol) == (conf.name, conf.source, conf.closure_tol), way
+        assert copy.residuals == conf.residuals, way
+        assert np.array_equal(copy.world_jacobian, conf.world_jacobian), way
+    assert made["unchecked"].closure_tol == np.inf and made["unchecked"].source == "unchecked"
+    assert made["constructor"].source == "named configuration 'generic'" and made["from_checked"].source == "test"
 
 
 ENTRY_POINTS = {

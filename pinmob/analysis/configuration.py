@@ -39,12 +39,26 @@ from pinmob.screw.algebra import Array
 T = TypeVar("T")
 
 
+#: The source of a :meth:`Configuration.unchecked` (its loops not checked).
+UNCHECKED = "unchecked"
+
 #: The rank tolerance is at least this times the configuration's closure residual (:meth:`Configuration.rank_rtol`).
 RESIDUAL_FACTOR = 10.0
 
 
 class Configuration:
     """A closed configuration ``q`` of ``mechanism``, validated, closed and with its kinematics computed.
+
+    Made in one of three ways, which differ only in what they check:
+
+    - ``Configuration(mechanism, q, closure_tol=...)``: the public door; checks ``closure_tol``, resolves and
+      closes a configuration name (or checks a vector) and checks that the loops close.
+    - :meth:`from_checked`: the same for a ``closure_tol`` a door of the library has checked already
+      (:func:`pinmob.analyze` checks each argument once).
+    - :meth:`unchecked`: the kinematics at any valid q, the loops not checked (open limbs' generic ranks,
+      points between closed configurations); its ``closure_tol`` is ``inf`` and its source ``unchecked``.
+
+    :meth:`with_name` copies one under another name; a pickled one is rebuilt the way it was made.
 
     Args:
         mechanism: the mechanism.
@@ -89,6 +103,17 @@ class Configuration:
         self._close(mechanism, q, closure_tol, name, source)
         return self
 
+    @classmethod
+    def unchecked(cls, mechanism: Mechanism, q: ArrayLike) -> Configuration:
+        """The kinematics at any valid q, the loops not checked (for the generic ranks of open limbs).
+
+        Analyses of the mechanism need a closed configuration; use the constructor for those.
+        """
+        self = object.__new__(cls)
+        self._set(mechanism, mechanism.check_q(q), np.inf, None, UNCHECKED)
+        self._residuals = {}
+        return self
+
     def _close(
         self, mechanism: Mechanism, q: ArrayLike | str, tol: float, name: str | None, source: str | None
     ) -> None:
@@ -100,37 +125,19 @@ class Configuration:
             source = source or f"named configuration {q!r}"
         else:
             vec = mechanism.check_q(q)
-        vec.flags.writeable = False
-        self._mechanism = mechanism
-        self._q = vec
-        self._name = name
-        self._tol = tol
-        self._source = source or "given"
-        self._memo: dict[Any, Any] = {}
-        self._data = self._kinematics()
+        self._set(mechanism, vec, tol, name, source or "given")
         what = f"configuration {name!r}" if name else "configuration"
         self._residuals = check_closed(mechanism, vec, tol, what, data=self._data)
 
-    @classmethod
-    def unchecked(cls, mechanism: Mechanism, q: Array) -> Configuration:
-        """Kinematics at any valid q, without the closure check (for the generic ranks of open limbs).
-
-        Analyses of the mechanism need a closed configuration; use the constructor for those.
-        """
-        self = object.__new__(cls)
-        self._mechanism, self._q, self._name, self._tol = mechanism, mechanism.check_q(q), None, np.inf
-        self._q.flags.writeable = False
-        self._source, self._memo = "unchecked", {}
-        self._data = self._kinematics()
-        self._residuals = {}
-        return self
-
-    def _kinematics(self) -> pin.Data:
-        model = self._mechanism.model
-        data = acquire(model)
-        release_with(self, model, data)
-        compute_kinematics(model, data, self._q)
-        return data
+    def _set(self, mechanism: Mechanism, vec: Array, tol: float, name: str | None, source: str) -> None:
+        """Every constructor's state: q read-only, an empty memo, the kinematics at q in a pooled ``pin.Data``."""
+        vec.flags.writeable = False
+        self._mechanism, self._q, self._name, self._tol, self._source = mechanism, vec, name, tol, source
+        self._memo: dict[Any, Any] = {}
+        model = mechanism.model
+        self._data = acquire(model)
+        release_with(self, model, self._data)
+        compute_kinematics(model, self._data, vec)
 
     # ------------------------------------------------------------------ state
 
@@ -225,7 +232,7 @@ class Configuration:
         return other
 
     def __getstate__(self) -> dict[str, Any]:
-        """Pickled without the kinematics and caches (recomputed on unpickling)."""
+        """Pickled without the kinematics and caches (recomputed on unpickling, by the constructor it was made with)."""
         return {
             "mechanism": self._mechanism,
             "q": np.array(self._q),
@@ -235,9 +242,12 @@ class Configuration:
         }
 
     def __setstate__(self, state: dict[str, Any]) -> None:
-        Configuration.__init__(
-            self, state["mechanism"], state["q"], closure_tol=state["tol"], name=state["name"], source=state["source"]
-        )
+        mechanism, q, tol = state["mechanism"], state["q"], state["tol"]
+        if np.isinf(tol):  # made by unchecked(): no closure tolerance
+            self._set(mechanism, mechanism.check_q(q), tol, state["name"], state["source"])
+            self._residuals = {}
+        else:  # its closure_tol was checked when it was made
+            self._close(mechanism, q, tol, state["name"], state["source"])
 
     def __repr__(self) -> str:
         where = f" {self._name!r}" if self._name else ""

@@ -107,21 +107,31 @@ class Motion(ReadOnlyArrays):
         }
         return with_world_point(out, self.point, origin, length)
 
-    def line(self, origin: Array, length: float = 1.0) -> str:
-        """``  R1 z     rotation    direction [...], axis through [...] m (world)`` (+ ``pitch ... m/rad``).
+    def words(self, origin: Array, length: float = 1.0) -> tuple[str, str, str, str, str]:
+        """(label, kind, direction, world axis point [m], pitch [m/rad]) as printed; ``""`` where there is none.
+
+        The one source of a motion's words: :meth:`line` writes them, the notebook's table shows them.
 
         Args:
             origin: (3,) world position [m] of the origin the axis point is relative to.
             length: the mechanism's length scale L [m] (entries below 1e-10 L, or 1e-10 times the origin's
                 largest coordinate, print as 0: :func:`world_point`).
         """
-        text = f"  {self.label:<8} {KIND_WORDS[self.kind]:<11} direction {numbers(self.direction)}"
         point = self.world_point(origin, length)
-        if point is not None:
-            text += f", axis through {numbers(point)} m (world)"
-        if self.kind is MotionKind.SCREW:
-            text += f", pitch {self.pitch:.4g} m/rad"
-        return text
+        return (
+            self.label,
+            KIND_WORDS[self.kind],
+            numbers(self.direction),
+            "" if point is None else numbers(point),
+            f"{self.pitch:.4g}" if self.kind is MotionKind.SCREW else "",
+        )
+
+    def line(self, origin: Array, length: float = 1.0) -> str:
+        """``  R1 z     rotation    direction [...], axis through [...] m (world)`` (+ ``pitch ... m/rad``): :meth:`words`."""
+        label, kind, direction, point, pitch = self.words(origin, length)
+        text = f"  {label:<8} {kind:<11} direction {direction}"
+        text += f", axis through {point} m (world)" if point else ""
+        return text + (f", pitch {pitch} m/rad" if pitch else "")
 
 
 @dataclass(frozen=True)

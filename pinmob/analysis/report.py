@@ -31,7 +31,7 @@ from pinmob.analysis.expectation import ExpectationCheck, expectation_check
 from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.report_html import NotebookDisplay, Section, joined
+from pinmob.analysis.report_html import Section, joined, report_html
 from pinmob.analysis.singularity import Singularity, singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ConfigurationError
@@ -59,7 +59,7 @@ class Options:
 
 
 @dataclass(frozen=True, eq=False)
-class Report(NotebookDisplay):
+class Report:
     """Everything pinmob answers at one closed configuration (what ``pinmob analyze`` prints).
 
     Attributes:
@@ -123,8 +123,7 @@ class Report(NotebookDisplay):
     @cached_property
     def actuator_sets(self) -> tuple[tuple[str, ...], ...] | None:
         """Every valid set of K actuated joints (only when asked for with ``actuator_search=K``)."""
-        k = self.options.actuator_search
-        if k is None:
+        if (k := self.options.actuator_search) is None:
             return None
         outs = default_end_frames(self.state.mechanism)
         return tuple(actuator_sets(self.state, None, k, outputs=outs, rtol=self.rtol))
@@ -138,16 +137,14 @@ class Report(NotebookDisplay):
         motions = None if platform is None else platform.motions
         sing = self.singularity if self.state.mechanism.actuated else None
         locked = sing.uncontrolled if sing is not None and sing.actuation is not None else None
-        # the finite analysis's modules load when it is asked for
-        from pinmob.analysis.finite.finite_mobility import finite_mobility
+        from pinmob.analysis.finite.finite_mobility import finite_mobility  # its modules load when it is asked for
 
         return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions, locked_motions=locked)
 
     @property
     def platform_frame(self) -> FrameMobility | None:
         """The platform frame's motion on the whole closed chain (None without a platform)."""
-        mech = self.state.mechanism
-        if not mech.has_platform:
+        if not (mech := self.state.mechanism).has_platform:
             return None
         return next((f for f in self.mechanism_mobility.frames if f.frame == mech.platform), None)
 
@@ -260,6 +257,10 @@ class Report(NotebookDisplay):
     def _repr_pretty_(self, p: Any, cycle: bool) -> None:  # IPython's text display: str(report), not the dataclass repr
         p.text(str(self))
 
+    def _repr_html_(self) -> str:  # Jupyter's rich display: the sections as HTML (analysis/report_html.py)
+        chain, sections = self.mechanism_mobility, self.sections()
+        return report_html(self.mechanism, self.configuration, self.mobility, self.singularity, chain, sections)
+
     def brief(self) -> str:
         """``pinmob analyze --brief``'s line (:func:`~pinmob.analysis.summary.summary_line`), ambiguous ranks, finite verdict."""
         chain = self.mechanism_mobility if self.mobility is None else None
@@ -282,8 +283,7 @@ class Report(NotebookDisplay):
         return ([f"note: {note}"] if note else []) + [str(a) for a in self.ambiguous_ranks]
 
     def _actuator_lines(self) -> list[str]:
-        sets = self.actuator_sets
-        if sets is None:
+        if (sets := self.actuator_sets) is None:
             return []
         lines = [f"valid sets of {self.options.actuator_search} actuated joints: {len(sets)}"]
         lines += ["  " + ", ".join(x) for x in sets[:50]]

@@ -2,8 +2,8 @@
 
 The HTML has no wording of its own beyond headings: a table of the answer (the mechanism, the DoF and
 motion type, the singularity class, the whole mechanism's DoF), a table of the platform's free motions
-(directions, world axis points and pitches printed by :func:`~pinmob.analysis.motion.numbers`, as the
-text prints them), then each :class:`Section` of ``str(report)``, its text as printed, under its title.
+(:meth:`~pinmob.analysis.motion.Motion.words`, the words each motion's line of the text is written
+from), then each :class:`Section` of ``str(report)``, its text as printed, under its title.
 Every string is escaped: names come from the mechanism's files.
 """
 
@@ -12,14 +12,10 @@ from __future__ import annotations
 import html
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Protocol
 
 from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.motion import KIND_WORDS, Motion, numbers
 from pinmob.analysis.singularity.result import Singularity
-from pinmob.screw.algebra import Array
-from pinmob.screw.classify import MotionKind
 
 
 @dataclass(frozen=True)
@@ -29,28 +25,6 @@ class Section:
     title: str
     text: str
     gap: bool = False
-
-
-class _Shown(Protocol):  # what the displays read of a Report
-    @property
-    def mechanism(self) -> str: ...
-    @property
-    def configuration(self) -> str | None: ...
-    @property
-    def mobility(self) -> Mobility | None: ...
-    @property
-    def singularity(self) -> Singularity | None: ...
-    @property
-    def mechanism_mobility(self) -> MechanismMobility: ...
-    def sections(self) -> list[Section]: ...
-
-
-class NotebookDisplay:
-    """Jupyter's rich display of a :class:`~pinmob.analysis.report.Report` (``_repr_html_``: :func:`report_html`)."""
-
-    def _repr_html_(self: _Shown) -> str:
-        chain, sections = self.mechanism_mobility, self.sections()
-        return report_html(self.mechanism, self.configuration, self.mobility, self.singularity, chain, sections)
 
 
 def joined(sections: Sequence[Section]) -> str:
@@ -76,19 +50,6 @@ def _table(rows: Sequence[Sequence[str]], header: Sequence[str] | None = None) -
         first = f"<td{_LEFT}>{_e(row[0])}</td>" if plain else f'<th scope="row"{_LEFT}>{_e(row[0])}</th>'
         lines.append(f"<tr>{first}" + "".join(f"<td{_LEFT}>{_e(c)}</td>" for c in row[1:]) + "</tr>")
     return '<table class="pinmob-table">' + "".join(lines) + "</table>"
-
-
-def motion_cells(motion: Motion, origin: Array, length: float) -> tuple[str, str, str, str, str]:
-    """(label, kind, direction, world axis point [m], pitch [m/rad]), printed as ``Motion.line`` prints them."""
-    point = motion.world_point(origin, length)
-    pitch = f"{motion.pitch:.4g}" if motion.kind is MotionKind.SCREW else ""
-    return (
-        motion.label,
-        KIND_WORDS[motion.kind],
-        numbers(motion.direction),
-        "" if point is None else numbers(point),
-        pitch,
-    )
 
 
 def report_html(
@@ -122,7 +83,7 @@ def report_html(
         origin, length = mobility.platform_origin, mobility.length_scale
         parts.append("<p><strong>free motions of the platform</strong> (world coordinates)</p>")
         header = ("motion", "kind", "direction", "axis through [m]", "pitch [m/rad]")
-        parts.append(_table([motion_cells(m, origin, length) for m in mobility.motions], header))
+        parts.append(_table([m.words(origin, length) for m in mobility.motions], header))
     for s in sections:
         parts.append(
             f'<details open><summary><strong>{_e(s.title)}</strong></summary><pre style="white-space: pre-wrap">'

@@ -37,7 +37,6 @@ from __future__ import annotations
 
 import warnings
 from dataclasses import replace
-from functools import partial
 from pathlib import Path
 from typing import Any
 
@@ -180,13 +179,34 @@ def named_configurations(m: Any, tree: Tree, length: float) -> dict[str, NamedCo
     return out
 
 
-def load_visuals(path: Path, model: pin.Model) -> tuple[pin.GeometryModel | None, None]:
-    """The visual geometry of the MJCF file (:func:`pinmob.io.mjcf_geometry.visual_geometry`), built when first drawn."""
-    from pinmob.io.mjcf_geometry import visual_geometry
+class Visuals:
+    """The :class:`Geometry` loader of an MJCF: its visual geometry (:func:`pinmob.io.mjcf_geometry.visual_geometry`).
 
-    m = compile_mjcf(path, warn=False)  # load_mjcf warned
-    geometry = confine(visual_geometry(m, build_tree(m, model.name), path), mesh_roots(path), path.name)
-    return (geometry if geometry.ngeoms else None), None
+    It builds from the model :func:`load_mjcf` compiled, held until the first draw (then dropped: the
+    :class:`Geometry` keeps what it built), so drawing compiles nothing again. It pickles as its path (a
+    Dask worker's copy holds no compiled model): a copy that draws compiles the file once.
+    """
+
+    def __init__(self, path: Path, compiled: Any = None) -> None:
+        self.path, self._compiled = path, compiled
+
+    def __call__(self, model: pin.Model) -> tuple[pin.GeometryModel | None, None]:
+        """``(visual, None)`` for ``model`` (None when the file has no geom to draw)."""
+        from pinmob.io.mjcf_geometry import visual_geometry
+
+        m, self._compiled = self._compiled, None
+        if m is None:
+            m = compile_mjcf(self.path, warn=False)  # load_mjcf warned
+        geometry = confine(
+            visual_geometry(m, build_tree(m, model.name), self.path), mesh_roots(self.path), self.path.name
+        )
+        return (geometry if geometry.ngeoms else None), None
+
+    def __getstate__(self) -> dict[str, Any]:
+        return {"path": self.path}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.path, self._compiled = state["path"], None
 
 
 def load_mjcf(path: str | Path) -> Mechanism:
@@ -236,11 +256,13 @@ def load_mjcf(path: str | Path) -> Mechanism:
             tree.model,
             [],
             name=name,
-            actuated={"": joints},
+            actuated={"": list(dict.fromkeys(joint for _, joint in joints))},
             description=f"MJCF {path.name} (compiled by MuJoCo)",
             source=path,
             closures=closures,
-            geometry=Geometry(partial(load_visuals, path)),
+            geometry=Geometry(Visuals(path, m)),
         )
     named = named_configurations(m, tree, mech.length_scale)
-    return replace(mech, configurations=named, quaternion_wxyz=True, actuated_tendons=tuple(tendons))
+    return replace(
+        mech, configurations=named, quaternion_wxyz=True, actuated_tendons=tuple(tendons), joint_actuators=tuple(joints)
+    )

@@ -44,17 +44,9 @@ def check_xml_files(model_file: Path) -> None:
                 f"<include file={_shown(path, main_folder)!r}> lies outside the model's folder "
                 f"{str(main_folder)!r}; copy it into that folder",
             )
-        _check_regular(model_file, path, main_folder)
+        what = "the model file" if path == model_file else f"<include file={_shown(path, main_folder)!r}>"
+        check_regular(path, f"{model_file}: {what}", missing_ok=True)  # MuJoCo names a missing include
         todo += [_resolved(name, main_folder, path.parent) for name in _includes(path)]
-
-
-def _check_regular(model_file: Path, path: Path, main_folder: Path) -> None:
-    """Refuse ``path`` if it is not a regular file within the size bound (a missing one is left to MuJoCo)."""
-    what = "the model file" if path == model_file else f"<include file={_shown(path, main_folder)!r}>"
-    try:
-        check_regular(path, f"{model_file}: {what}")
-    except OSError:
-        return
 
 
 def _includes(path: Path) -> list[str]:

@@ -233,20 +233,25 @@ def tendon_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKine
     return make_tendon_coupling(tree.model, name, tendons, tuple(m.eq_data[e, :5]), reference, (frames[0], frames[-1]))
 
 
-def read_actuators(m: Any, tree: Tree, kinematics: MujocoKinematics) -> tuple[list[str], list[Transmission], list[str]]:
-    """The actuated joints, the other held actuators and the names of the ones left out (see the module docstring)."""
+def read_actuators(
+    m: Any, tree: Tree, kinematics: MujocoKinematics
+) -> tuple[list[tuple[str, str]], list[Transmission], list[str]]:
+    """``(actuator, joint)`` per actuator on a hinge or slide, the other held actuators, the ones left out by name.
+
+    See the module docstring. The joints actuated are those of the pairs, each once: two actuators on one joint (MuJoCo's position and
+    velocity servo pair) drive one coordinate, and hold it once.
+    """
     import mujoco
 
     trn = mujoco.mjtTrn
-    joints: list[str] = []
+    joints: list[tuple[str, str]] = []
     held: list[Transmission] = []
     adhesion: list[str] = []
     for a in range(m.nu):
         kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
         name = label(m, "actuator", a)
         if kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[target]) not in (FREE, BALL):
-            if tree.joint_names[target] not in joints:  # a hinge's or slide's own coordinate
-                joints.append(tree.joint_names[target])
+            joints.append((name, tree.joint_names[target]))  # a hinge's or slide's own coordinate
         elif kind == trn.mjTRN_TENDON and is_fixed(m, target):
             wraps = _wraps(m, target)
             coef = tuple(float(m.wrap_prm[w]) for w in wraps)

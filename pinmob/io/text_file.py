@@ -1,8 +1,9 @@
 """Reading a small text file of a mechanism (TOML, YAML) so that no file can cost a traceback, a hang or the memory.
 
-A mechanism file is a few kilobytes. :func:`check_regular` refuses what is not a
-regular file (every file a model is read from: TOML, YAML, URDF, MJCF and its includes) and a file over 4 MB (``PINMOB_MAX_FILE_BYTES`` raises the bound:
-:mod:`pinmob.bounds`); :func:`read_text` also text that is not UTF-8; :func:`parsing` turns what a parser
+A mechanism file is a few kilobytes. :func:`check_regular` is the one check of every file a model is
+read from (TOML, YAML, URDF, MJCF and its includes), one ``stat`` per file per load: it refuses a missing
+file, a folder, what is not a regular file and a file over 4 MB (``PINMOB_MAX_FILE_BYTES`` raises the
+bound: :mod:`pinmob.bounds`); :func:`read_text` also text that is not UTF-8; :func:`parsing` turns what a parser
 raises on hostile input (nesting thousands of levels deep: ``RecursionError``;
 an integer of thousands of digits: ``ValueError``) into one
 :class:`~pinmob.exceptions.MechanismFileError` naming the file; :func:`shown`
@@ -26,22 +27,37 @@ _SHORT.maxlevel, _SHORT.maxlist, _SHORT.maxdict, _SHORT.maxstring, _SHORT.maxoth
 _SHORT.maxlong = 40
 
 
-def check_regular(path: Path, label: str) -> int:
+def check_regular(path: Path, label: str, kind: str = "", *, missing_ok: bool = False) -> int:
     """Refuse ``path`` (named ``label`` in the message) unless it is a regular file within the file bound.
 
     Opening a named pipe blocks until a writer comes, and a device or a huge file exhausts the memory: every
-    file a model is read from goes through this first.
+    file a model is read from goes through this first, once (one ``stat``).
+
+    Args:
+        path: the file.
+        label: how the message names it, e.g. ``urdf file '/x/robot.urdf'``.
+        kind: what it should be (``TOML``, ``URDF``): a folder is "a folder, not a <kind> file".
+        missing_ok: a missing file passes (its reader says so: MuJoCo names a missing include).
 
     Returns:
         The bound, in bytes (read no more than one byte over it).
 
     Raises:
-        OSError: ``path`` cannot be looked at (missing, no permission): the caller words it.
-        MechanismFileError: a folder, device, pipe or socket, or larger than the bound (``PINMOB_MAX_FILE_BYTES``).
+        MechanismFileError: missing, cannot be looked at (no permission), a folder, device, pipe or socket, or
+            larger than the bound (``PINMOB_MAX_FILE_BYTES``).
     """
-    info = path.stat()
+    try:
+        info = path.stat()
+    except FileNotFoundError:
+        if missing_ok:
+            return bound("bytes")
+        raise MechanismFileError(f"{label} does not exist") from None
+    except OSError as exc:
+        raise MechanismFileError(f"{label} cannot be read: {exc.strerror or exc}") from None
+    if stat.S_ISDIR(info.st_mode):
+        raise MechanismFileError(f"{label} is a folder" + (f", not a {kind} file" if kind else ""))
     if not stat.S_ISREG(info.st_mode):
-        raise MechanismFileError(f"{label} is not a regular file (a folder, device, pipe or socket)")
+        raise MechanismFileError(f"{label} is not a regular file (a device, pipe or socket)")
     limit = bound("bytes")
     if info.st_size > limit:
         raise MechanismFileError(
@@ -58,13 +74,7 @@ def read_text(path: Path, kind: str) -> str:
         MechanismFileError: missing, a folder or not a regular file, larger than its bound,
             unreadable, or not UTF-8.
     """
-    label = f"mechanism file {str(path)!r}"
-    try:
-        if path.is_dir():
-            raise MechanismFileError(f"{label} is a folder, not a {kind} file")
-        limit = check_regular(path, label)
-    except OSError as exc:
-        raise MechanismFileError(f"{label} cannot be read: {exc.strerror or exc}") from None
+    limit = check_regular(path, f"mechanism file {str(path)!r}", kind)
     try:
         data = path.read_bytes()[: limit + 1]
     except OSError as exc:

@@ -66,8 +66,6 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry]:
 
 def read_toml(path: Path) -> dict[str, Any]:
     """Parse a TOML file; a missing, unreadable, oversized, non-UTF-8 or too deeply nested file or a syntax error is a :class:`MechanismFileError`."""
-    if not path.exists():
-        raise MechanismFileError(f"mechanism file {str(path)!r} does not exist")
     text = read_text(path, "TOML")
     import tomllib  # imported when a file is read, not with pinmob
 

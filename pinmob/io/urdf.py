@@ -90,13 +90,7 @@ def read_urdf(urdf: Path) -> pin.Model:
         MechanismFileError: the file is missing, a folder, not a regular file, over the file bound, or does not
             parse (with the parser's messages).
     """
-    label = f"urdf file {str(urdf)!r}"
-    if urdf.is_dir() or not urdf.exists():
-        raise MechanismFileError(f"{label} " + ("is a folder" if urdf.is_dir() else "does not exist"))
-    try:
-        check_regular(urdf, label)  # a pipe would block Pinocchio's reader, a huge file exhaust the memory
-    except OSError as exc:
-        raise MechanismFileError(f"{label} cannot be read: {exc.strerror or exc}") from None
+    check_regular(urdf, f"urdf file {str(urdf)!r}", "URDF")  # a pipe would block Pinocchio's reader
     try:
         with native_stderr() as printed:
             model = pin.buildModelFromUrdf(str(urdf))

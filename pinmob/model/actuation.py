@@ -14,7 +14,8 @@ from pinmob.name_matching import choices
 def with_actuated(mech: Mechanism, names: Sequence[str]) -> Mechanism:
     """A copy of ``mech`` whose actuated joints are ``names`` (each limb gets those of its chain), and no other actuator.
 
-    The actuators of the file are replaced, those on tendons too (:attr:`Mechanism.actuated_tendons`).
+    The actuators of the file are replaced, those on tendons too (:attr:`Mechanism.actuated_tendons`), and their
+    names (:attr:`Mechanism.joint_actuators`).
 
     Raises:
         FrameError: a name is not a joint of the model (the message lists them).
@@ -29,4 +30,4 @@ def with_actuated(mech: Mechanism, names: Sequence[str]) -> Mechanism:
     limbs = tuple(replace(b, actuated=tuple(a for a in names if a in b.joints)) for b in mech.limbs)
     in_limbs = {a for b in limbs for a in b.actuated}
     extra = tuple(a for a in names if a not in in_limbs)
-    return replace(mech, limbs=limbs, extra_actuated=extra, actuated_tendons=())
+    return replace(mech, limbs=limbs, extra_actuated=extra, actuated_tendons=(), joint_actuators=())

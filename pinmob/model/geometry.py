@@ -24,7 +24,7 @@ class Geometry:
 
     Args:
         loader: builds ``(visual, collision)`` from the mechanism's model when first asked
-            (a module-level function or a :func:`functools.partial` of one, so that it pickles).
+            (a module-level function, a :func:`functools.partial` of one, or an object that pickles).
         visual: the visual geometry, when already built (then no loader).
         collision: the collision geometry, when already built.
     """

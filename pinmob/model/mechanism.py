@@ -62,6 +62,7 @@ class Mechanism:
         extra_actuated: actuated joints not attached to a limb (mechanisms
             described by closures only).
         actuated_tendons: actuators held as their moment arms (MJCF; :class:`~pinmob.model.tendon.Transmission`).
+        joint_actuators: the file's actuators on joints, ``(actuator, joint)`` (MJCF names them apart from joints).
         quaternion_wxyz: joint values give quaternions ``(w, x, y, z)``, MuJoCo's ``qpos`` order (MJCF
             files), instead of Pinocchio's ``(x, y, z, w)``.
     """
@@ -80,6 +81,7 @@ class Mechanism:
     closures: tuple[Closure, ...] = ()
     extra_actuated: tuple[str, ...] = ()
     actuated_tendons: tuple[Transmission, ...] = ()
+    joint_actuators: tuple[tuple[str, str], ...] = ()
     quaternion_wxyz: bool = False
 
     # ------------------------------------------------------------------ build
@@ -172,7 +174,7 @@ class Mechanism:
         ):
             raise ConfigurationError(f"generic_rank must be an integer from 0 to 6, got {generic_rank!r}")
         check_names(model, mechanism=[name], limb=dict(pairs), closure=names, configuration=configurations or {})
-        mech = cls(
+        return cls(
             name=name,
             model=model,
             limbs=tuple(built),
@@ -187,7 +189,6 @@ class Mechanism:
             closures=tuple(closures),
             extra_actuated=extra,
         )
-        return mech
 
     # ------------------------------------------------------------------ queries
 
@@ -251,8 +252,7 @@ class Mechanism:
     def coupling_closures(self) -> dict[str, tuple[str, ...]]:
         """Closures whose loops involve the joints of two or more limbs: closure name -> those limbs.
 
-        The limb-wise method cannot treat them (:func:`pinmob.analyze`
-        then uses the closure Jacobian of the whole mechanism).
+        The limb-wise method cannot treat them (:func:`pinmob.analyze` then uses the whole closure Jacobian).
         """
         return dict(self._coupling)
 

@@ -65,6 +65,8 @@ class Actuation:
         tendons: the actuators on tendons, sites, slider-cranks and ball joints, by name, held with the
             joints (:func:`~pinmob.model.tendon.tendon_rows`).
         tendon_kinds: what each of them drives (:attr:`~pinmob.model.tendon.Transmission.kind`).
+        joint_actuators: the file's actuators on the actuated joints, ``(actuator, joint)`` (MJCF); a joint
+            with two (MuJoCo's position and velocity servo pair) is actuated once: one coordinate driven.
     """
 
     actuated: tuple[str, ...]
@@ -78,13 +80,22 @@ class Actuation:
     rate_singular_values: tuple[float, ...] = ()
     tendons: tuple[str, ...] = ()
     tendon_kinds: tuple[str, ...] = ()
+    joint_actuators: tuple[tuple[str, str], ...] = ()
 
     @property
     def count_text(self) -> str:
-        """``3 actuated joint(s)``, with ``and 1 tendon actuator(s)`` (``site/tendon``...) when there are."""
+        """``3 actuated joint(s)``, with ``and 1 tendon actuator(s)`` (``site/tendon``...) when there are.
+
+        A joint driven by several actuators is named with them: ``1 actuated joint(s) ('crank' by 2 actuators:
+        crank_position, crank_velocity)``.
+        """
         kinds = "/".join(sorted(set(self.tendon_kinds))) or "tendon"
         tendons = f" and {len(self.tendons)} {kinds} actuator(s)" if self.tendons else ""
-        return f"{len(self.actuated)} actuated joint(s){tendons}"
+        by_joint: dict[str, list[str]] = {}
+        for actuator, joint in self.joint_actuators:
+            by_joint.setdefault(joint, []).append(actuator)
+        shared = [f"{j!r} by {len(a)} actuators: {', '.join(a)}" for j, a in by_joint.items() if len(a) > 1]
+        return f"{len(self.actuated)} actuated joint(s)" + (f" ({'; '.join(shared)})" if shared else "") + tendons
 
     def to_dict(self) -> dict[str, Any]:
         """The ``actuation`` entry of ``pinmob analyze --json``."""
@@ -99,6 +110,7 @@ class Actuation:
             "frame_dof_locked": dict(self.frame_dof),
             "base_held": list(self.base),
             "actuated_tendons": list(self.tendons),
+            "joint_actuators": dict(self.joint_actuators),
         }
 
     @property
@@ -163,8 +175,13 @@ def actuation(
     frames: Sequence[str],
     rtol: float,
     tendons: Sequence[Transmission] = (),
+    joint_actuators: Sequence[tuple[str, str]] = (),
 ) -> Actuation:
-    """The :class:`Actuation` verdict from the locked split of the closed chain's motions (joints and tendons held)."""
+    """The :class:`Actuation` verdict from the locked split of the closed chain's motions (joints and tendons held).
+
+    ``joint_actuators`` name the actuators of ``actuated`` (``(actuator, joint)``); a joint is counted once however
+    many drive it.
+    """
     mech = conf.mechanism
     n = chain.null
     m = n.shape[1]
@@ -192,6 +209,7 @@ def actuation(
         tuple(split.singular_values.tolist()),
         tuple(t.name for t in tendons),
         tuple(t.kind for t in tendons),
+        tuple(joint_actuators),
     )
 
 

@@ -265,7 +265,7 @@ def mechanism_mobility(
     """
     mech = conf.mechanism
     acts = tuple(mech.actuated if actuated is None else actuated)
-    tendons = mech.actuated_tendons if actuated is None else ()  # joints named: those alone are actuated
+    tendons, names = (mech.actuated_tendons, mech.joint_actuators) if actuated is None else ((), ())  # joints named
     outs = tuple(default_end_frames(mech) if outputs is None else (frame_name(mech.model, f) for f in outputs))
     named = (frame_name(mech.model, f) for f in frames or ())
     reported = outs + tuple(f for f in dict.fromkeys(named) if f not in outs)
@@ -288,7 +288,7 @@ def mechanism_mobility(
         closures=closure_ranks(mech, chain.k_hat, rtol, top, chain.left_null, dec.margin),
         idle_dof=split.idle.shape[1],
         idle_joints=moving_joints(mech, null @ split.idle),
-        actuation=actuation(conf, chain, acts, split, reported, rtol, tendons),
+        actuation=actuation(conf, chain, acts, split, reported, rtol, tendons, names),
         frames=tuple(frame_mobility_at(conf, f, rtol) for f in reported),
         end_frames=outs,
         singular_values=dec.singular_values,

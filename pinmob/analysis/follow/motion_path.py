@@ -251,14 +251,14 @@ def _both_ways(
 
     With ``either``, ``-unit`` is not followed when ``unit`` reaches ``amp`` (its path is then ``(q,)``).
     """
-    start = follower.pose(q)
+    start, origin = follower.pose(q), follower.at(q)  # both directions share what is computed at q
     branches, reasons, moved = [], [], []
     reached: list[float] = []
     for sign in (1.0, -1.0):
         if either and sign < 0 and reached[0] == amp:
             path, covered, why = [q], 0.0, ""
         else:
-            path, covered, why = follower.branch(q, sign * unit, amp, amp / steps)
+            path, covered, why = follower.branch(origin, sign * unit, amp, amp / steps)
         branches.append(tuple(path))
         reached.append(covered)
         reasons.append(why)

@@ -18,7 +18,6 @@ metres / L for prismatic ones).
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -78,7 +77,10 @@ class Follower:
         self.model, self.data = mech.model, mech.model.createData()
         self.w = twist_scaling(mech.length_scale)
         self.pid = mech.platform_id if mech.has_platform else 0
-        self._spans: dict[bytes, Any] = {}  # per q: what project_free needs there
+
+    def at(self, q: Array) -> Configuration:
+        """The configuration q of the path, closed within the tolerance (what :meth:`project_free` reads there)."""
+        return Configuration(self.mech, q, closure_tol=self.tol)
 
     def pose(self, q: Array) -> pin.SE3:
         """The platform's pose at q."""
@@ -89,20 +91,21 @@ class Follower:
         """The intended direction at q: the motion's screw, fixed in the world, at the current platform origin."""
         return shift_twists(unit, self.pose(q).translation - start.translation)
 
-    def free_at(self, q: Array) -> tuple[int, Array]:
-        """The platform's DoF and (6, dof) free twists ``[v / L; w]`` at q, computed once per q.
+    def free_at(self, here: Configuration) -> tuple[int, Array]:
+        """The platform's DoF and (6, dof) free twists ``[v / L; w]`` at ``here``, computed once per configuration.
 
-        Both directions of a motion start at the same q.
+        Both directions of a motion start at the same configuration (its :meth:`Configuration.memo`).
         """
-        key = q.tobytes()
-        if key not in self._spans:
-            mob = platform_mobility(Configuration(self.mech, q, closure_tol=self.tol), self.rtol)
-            self._spans[key] = (mob.dof, self.w[:, None] * mob.free_twists)
-        return self._spans[key]
 
-    def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
-        """``t_F``, the intended twist projected on the free space at q, or (None, reason)."""
-        dof, free = self.free_at(q)
+        def compute() -> tuple[int, Array]:
+            mob = platform_mobility(here, self.rtol)
+            return mob.dof, self.w[:, None] * mob.free_twists
+
+        return here.memo(("followed free twists", self.rtol), compute)
+
+    def project_free(self, here: Configuration, direction: Array) -> tuple[Array | None, str]:
+        """``t_F``, the intended twist projected on the free space at ``here``, or (None, reason)."""
+        dof, free = self.free_at(here)
         if dof == 0:
             return None, "the platform is rigid there (no free motion left)"
         target = self.w * direction
@@ -154,14 +157,16 @@ class Follower:
 
     moving = "platform"
 
-    def branch(self, q: Array, unit: Array, amp: float, ds: float) -> tuple[list[Array], float, str]:
-        """Configurations from q along ``unit`` up to ``amp``, the distance covered, and why it stopped ("" if not)."""
-        path, current, covered, start = [q], q, [0.0], self.pose(q)
+    def branch(self, origin: Configuration, unit: Array, amp: float, ds: float) -> tuple[list[Array], float, str]:
+        """Configurations from ``origin`` along ``unit`` up to ``amp``, the distance covered, and why it stopped ("" if not)."""
+        path, here, covered, start = [origin.q], origin, [0.0], self.pose(origin.q)
         limit = int(np.ceil(amp / ds)) * 2**self.halvings + 4  # every step covers at least ds / 2^halvings
         while covered[-1] < amp * (1 - 1e-9):
             if len(path) > limit:
                 return path, covered[-1], f"{limit} steps taken without reaching the amplitude"
-            projected, why = self.project_free(current, self.direction_at(current, unit, start))
+            here = here if here.q is path[-1] else self.at(path[-1])
+            current = here.q
+            projected, why = self.project_free(here, self.direction_at(current, unit, start))
             if projected is None:
                 return path, covered[-1], why
             h = first = min(ds, amp - covered[-1])
@@ -177,7 +182,6 @@ class Follower:
                     self.stopped(path, covered, first, f"{why} (also with steps down to {h * 2:.2g})"),
                 )
             path.append(nxt)
-            current = nxt
             covered.append(covered[-1] + h)
         return path, covered[-1], ""
 
@@ -209,12 +213,14 @@ class RateFollower(Follower):
         """The rates stay the same (joint space has no screw to carry along)."""
         return unit
 
-    def project_free(self, q: Array, direction: Array) -> tuple[Array | None, str]:
-        """The direction projected on the closed chain's rates at q (held joints still), or (None, reason)."""
-        key = q.tobytes()
-        if key not in self._spans:  # both directions start at the same q
-            self._spans[key] = closed_rates(Configuration.unchecked(self.mech, q), self.held.tolist(), self.rtol)
-        null = self._spans[key]
+    def at(self, q: Array) -> Configuration:
+        """The kinematics at q (each step re-closes the loops within the tolerance: :meth:`step`)."""
+        return Configuration.unchecked(self.mech, q)
+
+    def project_free(self, here: Configuration, direction: Array) -> tuple[Array | None, str]:
+        """The direction projected on the closed chain's rates at ``here`` (held joints still), or (None, reason)."""
+        held = tuple(self.held.tolist())  # both directions start at the same configuration (its memo)
+        null = here.memo(("followed closed rates", held, self.rtol), lambda: closed_rates(here, held, self.rtol))
         projected = null @ (null.T @ direction)
         share = float(np.linalg.norm(projected) / np.linalg.norm(direction))
         if share < MIN_SHARE:

@@ -23,6 +23,7 @@ from pinmob import analyze_singularity
 from pinmob.analysis.chain.actuation import default_end_frames
 from pinmob.analysis.modes import assembly_modes, mode_distance, mode_signature
 from pinmob.assembly.assemble import solve_actuated
+from pinmob.assembly.coupling import polynomial_and_slope
 from pinmob.assembly.residual import worst_residual
 from pinmob.assembly.seeds import configuration_distance, random_configuration
 from pinmob.exceptions import ClosureError, ConfigurationError
@@ -431,3 +432,16 @@ def test_an_unreachable_named_pose_says_so_on_the_command_line(tmp_path, capsys)
     assert err.count("\n") == 1
     ((coordinate, (residual, reached)),) = _out_of_reach(err.strip()).items()
     assert coordinate == "x" and residual >= 0.5 and reached <= 0.4
+
+
+def test_a_couplings_polynomial_and_its_slope_equal_numpys() -> None:
+    """The coupling residual's ``P(x)`` and ``P'(x)`` (Horner's rule) against ``np.polynomial.Polynomial`` and its
+    ``deriv()``, for MuJoCo's five coefficients and fewer, at points on both sides of the reference."""
+    rng = np.random.default_rng(7)
+    for n in range(1, 6):
+        coefficients = tuple(float(c) for c in rng.normal(size=n))
+        poly = np.polynomial.Polynomial(coefficients)
+        for x in (-1.3, -0.2, 0.0, 0.4, 2.1):
+            value, slope = polynomial_and_slope(coefficients, x)
+            assert value == pytest.approx(float(poly(x)), rel=1e-14, abs=1e-15)
+            assert slope == pytest.approx(float(poly.deriv()(x)), rel=1e-14, abs=1e-15)

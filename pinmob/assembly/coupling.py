@@ -14,6 +14,19 @@ from pinmob.model.closure import Closure
 from pinmob.screw.algebra import Array, Mask
 
 
+def polynomial_and_slope(coefficients: tuple[float, ...], x: float) -> tuple[float, float]:
+    """``P(x) = sum_k c_k x^k`` and ``P'(x)`` by Horner's rule.
+
+    A coupling's residual is evaluated at every solver step: building ``np.polynomial.Polynomial`` and its
+    derivative there cost more than the tendon lengths.
+    """
+    value = slope = 0.0
+    for c in reversed(coefficients):
+        slope = slope * x + value
+        value = value * x + c
+    return value, slope
+
+
 def coupling_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
     """Residual ``(q1 - r1) - P(q2 - r2)`` of a ``joint`` closure (``P(x) = sum_k c_k x^k``), its row and mask.
 
@@ -24,12 +37,11 @@ def coupling_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array,
     row = np.zeros((1, model.nv))
     row[0, model.joints[j1].idx_v] = 1.0
     e = float(data.joints[j1].joint_q[0]) - c.reference[0]
-    poly = np.polynomial.Polynomial(c.polycoef)
     if len(c.joints) > 1:
         j2 = model.getJointId(c.joints[1])
-        x = float(data.joints[j2].joint_q[0]) - c.reference[1]
-        e -= float(poly(x))
-        row[0, model.joints[j2].idx_v] -= float(poly.deriv()(x))
+        value, slope = polynomial_and_slope(c.polycoef, float(data.joints[j2].joint_q[0]) - c.reference[1])
+        e -= value
+        row[0, model.joints[j2].idx_v] -= slope
     else:
         e -= c.polycoef[0]
     linear = "Prismatic" in model.joints[j1].shortname()
@@ -44,12 +56,11 @@ def tendon_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, A
     """
     l1, row = c.tendons[0].length(model, data)
     e = l1 - c.reference[0]
-    poly = np.polynomial.Polynomial(c.polycoef)
     if len(c.tendons) > 1:
         l2, row2 = c.tendons[1].length(model, data)
-        x = l2 - c.reference[1]
-        e -= float(poly(x))
-        row = row - float(poly.deriv()(x)) * row2
+        value, slope = polynomial_and_slope(c.polycoef, l2 - c.reference[1])
+        e -= value
+        row = row - slope * row2
     else:
         e -= c.polycoef[0]
     return np.array([e]), row.reshape(1, model.nv), np.array([c.tendons[0].linear])

@@ -50,7 +50,7 @@ def _run(args: argparse.Namespace) -> int:
         axes = [parse_grid_axis(text) for text in args.grid]
         if not names and not args.at:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
-        spec = grid_spec(mech, args.at or names[0], axes, rtol)
+        spec = grid_spec(mech, args.at or names[0], axes, rtol, closure_tol)
         if args.plot and len(spec.axes) != 2:
             raise ConfigurationError(
                 f"--plot maps a grid over two coordinates; this grid has {len(spec.axes)}: drop --plot or grid two"
@@ -71,11 +71,16 @@ def _run(args: argparse.Namespace) -> int:
     if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
         spec = with_finite(mech, spec, args.finite_order)
         what += f", finite DoF per sample (order bound {spec.finite_order})"
-    band = NEAR_FACTOR * rtol
+    used = spec.reference_rtol(mech)  # rtol, or raised for the CAD gaps held (spec.cad)
+    band = NEAR_FACTOR * used
+    if spec.cad:  # loops closed to CAD accuracy (pinmob.assembly.cad_gaps)
+        what += f", closure tolerance {spec.closure_tol:g} (CAD gaps of the reference held; rank tolerance {used:.2g})"
     generic = "generic constraint rank" if spec.platform else "generic closure rank"
     key = "generic_rank" if spec.platform else "generic_closure_rank"
     meta = {"mechanism": mech.name, "scan": what, key: spec.generic_rank, "rtol": rtol, "near_singular_band": band,
             "length_scale": mech.length_scale}  # fmt: skip
+    if spec.cad:
+        meta.update(closure_tol=spec.closure_tol, rank_rtol=used)
     counts: Counter[str] = Counter()
     tally: Counter[str] = Counter()
     finite: Counter[str] = Counter()
@@ -118,7 +123,7 @@ def _run(args: argparse.Namespace) -> int:
         if why:
             print(f"first sample not assembled: {why}")
         for row in listed:
-            print("  " + (_format_row(row, rtol, mech.actuated) if spec.platform else _format_chain_row(row, rtol)))
+            print("  " + (_format_row(row, used, mech.actuated) if spec.platform else _format_chain_row(row, used)))
         if total > len(listed):
             print(f"  ... ({total - len(listed)} more in the output files)")
         for label, path in (("csv", args.csv), ("json", args.json_out)):
@@ -128,10 +133,10 @@ def _run(args: argparse.Namespace) -> int:
             title = f"{mech.name}: {what}"
             if args.grid:
                 plot_map(
-                    csv_path, args.plot, title, rtol=rtol, units={a[0]: coordinate_unit(mech, a[0]) for a in spec.axes}
+                    csv_path, args.plot, title, rtol=used, units={a[0]: coordinate_unit(mech, a[0]) for a in spec.axes}
                 )
             else:
-                plot_path(csv_path, args.plot, title, rtol, mech.length_scale, varied_joint(mech, spec), spec.platform)
+                plot_path(csv_path, args.plot, title, used, mech.length_scale, varied_joint(mech, spec), spec.platform)
             print(f"plot: {args.plot}")
     if args.show or args.html:
         view(args, mech, spec, kept, what, str(args.at or names[0] if args.grid else start))

@@ -7,6 +7,7 @@ import warnings
 from typing import Any
 
 from pinmob import viewer
+from pinmob.analysis.configuration import Configuration
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.coordinates import coordinate_unit
@@ -41,8 +42,10 @@ def view(
 ) -> None:
     """Draw the scan's reachable set beside the mechanism (at ``--sample K``, else at ``reference``)."""
     state: Any = reference
+    if spec.cad:  # closed within the scan's closure tolerance only (CAD gaps)
+        state = Configuration(mech, spec.q_ref, closure_tol=spec.closure_tol, name=reference)
     if args.sample is not None:
-        state = sample_configuration(mech, rows, args.sample, spec.q_ref)
+        state = sample_configuration(mech, rows, args.sample, spec.q_ref, spec.closure_tol)
     ws = workspace_cloud(rows, spec.rtol, args.sample, f"{mech.name}: {what}", axes_words(mech, spec))
     at = f"sample #{args.sample}" if args.sample is not None else repr(reference)
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC

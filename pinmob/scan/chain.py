@@ -170,21 +170,24 @@ def joint_path_ends(
     qb = path_end(mech, end, qa, closure_tol)
     if mech.has_platform:
         return acts, qa, qb, generic_constraint_rank(mech, rtol=rtol)
-    return acts, qa, qb, generic_closure_rank(mech, (qa, qb), rtol)
+    return acts, qa, qb, generic_closure_rank(mech, (qa, qb), rtol, closure_tol)
 
 
-def generic_closure_rank(mech: Mechanism, ends: tuple[Array, ...], rtol: float = RTOL) -> int:
+def generic_closure_rank(
+    mech: Mechanism, ends: tuple[Array, ...], rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
+) -> int:
     """The closure rank at generic configurations.
 
     The most frequent rank (ties: the larger) of ``K_hat`` over the random closed configurations near the named
     ones (:func:`pinmob.analysis.generic.generic_configurations`, the same the platform's generic ranks use),
-    decided with the looser tolerance ``sqrt(rtol)`` as there; when none can be built, the larger rank at ``ends``.
+    decided with the looser tolerance ``sqrt(rtol)`` as there; when none can be built, the larger rank at ``ends``
+    (closed within ``closure_tol``).
     """
     loose = float(np.sqrt(rtol))
     try:
         qs = generic_configurations(mech)
     except PinmobError:
-        return max(closed_chain(Configuration(mech, q), loose).decision.rank for q in ends)
+        return max(closed_chain(Configuration(mech, q, closure_tol=closure_tol), loose).decision.rank for q in ends)
     counts = Counter(closed_chain(Configuration(mech, q), loose).decision.rank for q in qs)
     return max(counts, key=lambda r: (counts[r], r))
 
@@ -192,8 +195,15 @@ def generic_closure_rank(mech: Mechanism, ends: tuple[Array, ...], rtol: float =
 def evaluate_chain(
     mech: Mechanism, q: Array, rtol: float, generic_rank: int, closure_tol: float = CLOSURE_TOL
 ) -> tuple[dict[str, Any], dict[str, float]]:
-    """The whole-mechanism row at a closed configuration, and the distance of each question (module docstring)."""
-    mm = mechanism_mobility(Configuration(mech, q, closure_tol=closure_tol), rtol)
+    """The whole-mechanism row at a closed configuration, and the distance of each question (module docstring).
+
+    With ``closure_tol`` above the default, as :func:`pinmob.analyze` at that tolerance: the rank tolerance is at
+    least 10 x q's closure residual, and the row adds ``residual`` and ``rank_rtol``.
+    """
+    conf = Configuration(mech, q, closure_tol=closure_tol)
+    cad = closure_tol > CLOSURE_TOL
+    rtol = conf.rank_rtol(rtol) if cad else rtol
+    mm = mechanism_mobility(conf, rtol)
     act = mm.actuation
     free = mm.mechanism_dof - act.idle_dof
     distances = {"closure": distance_of(mm.singular_values, generic_rank)}
@@ -223,6 +233,8 @@ def evaluate_chain(
     sv = padded(np.asarray(mm.singular_values, float))
     av = padded(np.asarray(act.rate_singular_values, float))
     row.update(zip(SV_COLUMNS, [*sv.tolist(), *av.tolist()]))
+    if cad:
+        row.update(residual=conf.residual, rank_rtol=rtol)
     return row, distances
 
 

@@ -17,8 +17,10 @@ from typing import Any
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.finite_mobility import finite_mobility
 from pinmob.analysis.singularity.result import NEAR_FACTOR
+from pinmob.assembly.closure_miss import format_worst
+from pinmob.assembly.residual import check_closed
 from pinmob.assembly.solver import STALL_WINDOW as SOLVER_STALL
-from pinmob.exceptions import PinmobError
+from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.batch_rows import Analysed, analyse
@@ -68,7 +70,9 @@ class _Chunk:
 
     def __init__(self, mech: Mechanism, spec: ScanSpec) -> None:
         self.mech, self.spec = mech, spec
-        self.band = NEAR_FACTOR * spec.rtol
+        self.solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held (spec.cad)
+        self.rtol = spec.reference_rtol(mech)  # spec.rtol; with spec.cad, raised for the gaps (refinement's)
+        self.band = NEAR_FACTOR * self.rtol
 
     def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None) -> _Sample:
         """Sample t assembled from ``seed`` and analysed on its own."""
@@ -97,14 +101,30 @@ class _Chunk:
             q = (
                 closed
                 if closed is not None
-                else assemble_target(self.mech, target, seed, max_iter, self.spec.closure_tol, stall_window)
+                else assemble_target(self.solver, target, seed, max_iter, self.spec.closure_tol, stall_window)
             )
+            reason = self.opened(q)
         except PinmobError as exc:
-            if not self.spec.platform:
-                return _Sample(head | unreachable_chain(str(exc)), None, {})
-            reason = unreachable_reason(exc, self.mech, self.spec.closure_tol)
-            return _Sample(head | unreachable_row(target, reason) | values, None, {})
-        return _Sample(head, q, {}, dict(known))
+            reason = str(exc) if not self.spec.platform else unreachable_reason(exc, self.mech, self.spec.closure_tol)
+        if reason is None:
+            return _Sample(head, q, {}, dict(known))
+        if not self.spec.platform:
+            return _Sample(head | unreachable_chain(reason), None, {})
+        return _Sample(head | unreachable_row(target, reason) | values, None, {})
+
+    def opened(self, q: Array) -> str | None:
+        """Why q is refused, or None: assembled with CAD gaps held (``spec.cad``), the file's loops open too far.
+
+        The gaps held are the reference's; where they grew beyond the closure tolerance the sample is not analysed.
+        """
+        if not self.spec.cad:
+            return None
+        try:
+            check_closed(self.mech, q, self.spec.closure_tol)
+        except ClosureError as exc:
+            worst = format_worst(exc.residuals, self.mech.length_scale, self.spec.closure_tol)
+            return f"assembled with the CAD gaps of the reference held, the loops open beyond closure_tol: {worst}"
+        return None
 
     def finish(self, pending: _Sample, analysed: Analysed | None = None) -> _Sample:
         """The row of an assembled sample (:meth:`assemble`), from ``analysed`` (the batch's) or on its own."""
@@ -116,14 +136,15 @@ class _Chunk:
             head.update(values)
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
-            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank)
+            tol = self.spec.closure_tol
+            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             limits = outside_limits(self.mech.model, q)
             row.update(reason=f"joints outside their limits: {', '.join(limits)}" if limits else "", **values)
         return _Sample(head | row, q, distances)
 
     def analysed(self, samples: list[_Sample]) -> list[Analysed | None]:
         """The batch's rows of the assembled ``samples`` (None where it cannot decide; all None with ``single``)."""
-        if self.spec.engine != "batch" or not self.spec.platform:
+        if self.spec.engine != "batch" or not self.spec.platform or self.spec.cad:  # cad: a tolerance per sample
             return [None] * len(samples)
         closed = [s.q for s in samples if s.q is not None]
         batch = iter(analyse(self.mech, closed, self.spec.rtol, self.spec.generic_rank))
@@ -170,13 +191,14 @@ class _Chunk:
             return dict.fromkeys(FINITE_COLUMNS)
         order = self.spec.finite_order
         assert order is not None  # asked for
-        fm = finite_mobility(Configuration(self.mech, q), self.spec.rtol, order)
+        conf = Configuration(self.mech, q, closure_tol=self.spec.closure_tol)
+        fm = finite_mobility(conf, conf.rank_rtol(self.spec.rtol) if self.spec.cad else self.spec.rtol, order)
         return {"finite_dof": fm.finite_dof, "finite_mechanism_dof": fm.finite_mechanism_dof}
 
     def refine(self, k: int, done: dict[int, _Sample], first: int, last: int) -> list[_Sample]:
         """Refined points around sample k (see the module docstring)."""
         here = done[k]
-        if here.q is None or here.distance <= self.spec.rtol:
+        if here.q is None or here.distance <= self.rtol:
             return []
         left, right = done.get(k - 1) if k > first else None, done.get(k + 1) if k < last else None
         out = []
@@ -186,7 +208,7 @@ class _Chunk:
         if left is not None and right is not None and left.q is not None and right.q is not None:
             for key, d in here.distances.items():
                 dl, dr = left.distances[key], right.distances[key]
-                if d <= self.spec.rtol or not (min(dl, dr) >= d and max(dl, dr) > d):  # not a local minimum
+                if d <= self.rtol or not (min(dl, dr) >= d and max(dl, dr) > d):  # not a local minimum
                     continue
                 if d < self.band or _vertex_below(k, d, dl, dr, 0.5 * d):
                     out.append(self._search(k, done, key))
@@ -224,12 +246,12 @@ class _Chunk:
             a, c = (near, far) if towards > 0 else (far, near)
             fa, fc = (f_near, math.inf) if towards > 0 else (math.inf, f_near)
             best = minimise(f, a, near, c, fa, f_near, fc,
-                            stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
+                            stop=0.1 * self.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
         else:
             lo = k - 1 if (k - 1) in done else k
             hi = k + 1 if (k + 1) in done else k
             best = minimise(f, lo, k, hi, value(done[lo]), value(done[k]), value(done[hi]),
-                            stop=0.1 * self.spec.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
+                            stop=0.1 * self.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
         if best.t == k:
             return _Sample({}, None, {})
         return self._mark(trials[best.t], best.t)

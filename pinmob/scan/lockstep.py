@@ -93,7 +93,7 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
     """The rows of the chunks ``jobs``, in order (module docstring)."""
     if not Predictor.applies(mech, spec):
         return [row for job in jobs for row in run_chunk(mech, spec, *job)]
-    predictor = Predictor(mech, spec)
+    predictor = Predictor(spec.assembly_mechanism(mech), spec)  # the CAD gaps held (spec.cad): closes exactly
     chunks = [_Chunk(mech, spec) for _ in jobs]
     plans = [list(chunk.line_samples(start, stop)) for chunk, (start, stop, _) in zip(chunks, jobs)]
     pending: list[dict[int, _Sample]] = [{} for _ in jobs]

@@ -1,7 +1,9 @@
 """Where a scan starts: named configurations and platform poses, closed.
 
 :func:`resolve_pose` reads a ``--at``, ``--from`` or ``--to`` that is a configuration name or a pose
-``x,y,z,roll,pitch,yaw``; :func:`nearest_seed` picks the named configuration nearest a pose to assemble it from.
+``x,y,z,roll,pitch,yaw``; :func:`nearest_seed` picks the named configuration nearest a pose to assemble it from;
+:func:`reference` closes either, and with a raised closure tolerance holds its CAD gaps
+(:mod:`pinmob.assembly.cad_gaps`).
 """
 
 from __future__ import annotations
@@ -9,9 +11,12 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from pinmob.assembly.assemble import assemble_pose
+from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
 from pinmob.assembly.named import closed_configuration
 from pinmob.assembly.partial_pose import pose_from_vector
 from pinmob.exceptions import ConfigurationError, PinmobError
+from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
 from pinmob.name_matching import choices
 from pinmob.screw.algebra import Array
@@ -24,10 +29,13 @@ def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pi
     return pin.SE3(data.oMf[mech.platform_id])
 
 
-def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
-    """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, closed q)."""
+def resolve_pose(mech: Mechanism, text: str, closure_tol: float = CLOSURE_TOL) -> tuple[pin.SE3, Array]:
+    """A named configuration, or ``x,y,z,roll,pitch,yaw`` [m, rad]: (platform pose, q closed within ``closure_tol``).
+
+    q is empty for a pose (:func:`reference` assembles it).
+    """
     if any(text.casefold() == name.casefold() for name in mech.configurations):
-        q = closed_configuration(mech, text)
+        q = closed_configuration(mech, text, closure_tol)
         return platform_pose(mech, q), q
     try:
         values = [float(v) for v in text.split(",")]
@@ -41,15 +49,31 @@ def resolve_pose(mech: Mechanism, text: str) -> tuple[pin.SE3, Array]:
     return pose_from_vector(np.array(values)), np.array([])
 
 
-def nearest_seed(mech: Mechanism, pose: pin.SE3) -> Array:
-    """The named configuration whose platform pose is nearest to ``pose`` (else neutral)."""
+def nearest_seed(mech: Mechanism, pose: pin.SE3, closure_tol: float = CLOSURE_TOL) -> Array:
+    """The named configuration (closed within ``closure_tol``) whose platform pose is nearest to ``pose`` (else neutral)."""
     best, seed = np.inf, mech.neutral()
     for name in mech.configurations:
         try:
-            q = closed_configuration(mech, name)
+            q = closed_configuration(mech, name, closure_tol)
         except PinmobError:
             continue
         d = float(np.linalg.norm(pin.log6(platform_pose(mech, q).actInv(pose)).vector))
         if d < best:
             best, seed = d, q
     return seed
+
+
+def reference(mech: Mechanism, text: str, closure_tol: float = CLOSURE_TOL) -> tuple[pin.SE3, Array, Gaps]:
+    """Where a scan starts (``--at``, ``--from``): platform pose, closed q, and the CAD gaps it holds.
+
+    A pose is assembled from the nearest named configuration (:func:`nearest_seed`). With ``closure_tol`` above
+    the default the gaps are those of the configuration named, or of that seed
+    (:func:`pinmob.assembly.cad_gaps.frame_gaps`; the pose is assembled with them held); else none.
+    """
+    pose, q = resolve_pose(mech, text, closure_tol)
+    cad = closure_tol > CLOSURE_TOL
+    if q.size:
+        return pose, q, frame_gaps(mech, q) if cad else ()
+    seed = nearest_seed(mech, pose, closure_tol)
+    gaps = frame_gaps(mech, seed) if cad else ()
+    return pose, assemble_pose(gaps_closed(mech, gaps), pose, seed, closure_tol), gaps

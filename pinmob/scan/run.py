@@ -53,6 +53,10 @@ from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array
 
+#: The columns a scan with a raised closure tolerance (``spec.cad``) adds: each assembled sample's largest closure
+#: residual on the file's mechanism (position / L, rotation [rad]) and the rank tolerance of its decisions.
+CAD_COLUMNS = ("residual", "rank_rtol")
+
 #: A scan whose remaining chunks would take less than this [s] in this process stays in this process: starting a
 #: ``LocalCluster`` (worker processes importing Pinocchio and pinmob) costs a few seconds.
 CLUSTER_MIN_SECONDS = 10.0
@@ -69,9 +73,10 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     order = list(stops)
     found: dict[int, Array] = {}
     q = np.array(spec.q_ref, float)
+    solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held
     for target, k in spec.waypoints():
         try:
-            q = chunk.assemble_target(mech, target, q, tol=spec.closure_tol)
+            q = chunk.assemble_target(solver, target, q, tol=spec.closure_tol)
         except PinmobError:
             pass
         if k in stops:
@@ -197,8 +202,9 @@ def columns(spec: ScanSpec) -> list[str]:
     """CSV columns of a scan's rows, in order."""
     params = list(spec.params(0))
     finite = list(FINITE_COLUMNS) if spec.finite_order is not None else []
+    cad = list(CAD_COLUMNS) if spec.cad else []
     if not spec.platform:
-        return ["index", *params, "refined", *value_columns(spec.values), *CHAIN_COLUMNS, *finite]
+        return ["index", *params, "refined", *value_columns(spec.values), *CHAIN_COLUMNS, *finite, *cad]
     return ["index", *params, "refined", *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank",
             "locked_dof", "singularity", "near_singular", "closest", "singular_limbs", "dependent_limbs",
-            "uncontrolled", "distance", *SV_COLUMNS, *finite, "reason", *value_columns(spec.values)]  # fmt: skip
+            "uncontrolled", "distance", *SV_COLUMNS, *finite, "reason", *value_columns(spec.values), *cad]  # fmt: skip

@@ -55,17 +55,26 @@ def assemble_target(
     return assemble_joints(mech, value, seed, tol, max_iter=max_iter)
 
 
-def evaluate(mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None) -> dict[str, Any]:
-    """One scan row at a closed configuration: pose, DoF, motion type, singularity, singular values."""
-    return _evaluate(mech, q, rtol, generic_rank)[0]
+def evaluate(
+    mech: Mechanism, q: Array, rtol: float = RTOL, generic_rank: int | None = None, closure_tol: float = CLOSURE_TOL
+) -> dict[str, Any]:
+    """One scan row at a closed configuration: pose, DoF, motion type, singularity, singular values.
+
+    With ``closure_tol`` above the default, as :func:`pinmob.analyze` at that tolerance: the rank tolerance is
+    :meth:`~pinmob.analysis.configuration.Configuration.rank_rtol` (at least 10 x q's closure residual), and the
+    row adds ``residual`` and ``rank_rtol``.
+    """
+    return _evaluate(mech, q, rtol, generic_rank, closure_tol)[0]
 
 
 def _evaluate(
-    mech: Mechanism, q: Array, rtol: float, generic_rank: int | None
+    mech: Mechanism, q: Array, rtol: float, generic_rank: int | None, closure_tol: float = CLOSURE_TOL
 ) -> tuple[dict[str, Any], dict[str, float]]:
     """The row and the distance of each question, from one :class:`Configuration` (one kinematics computation)."""
     g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else generic_rank
-    conf = Configuration(mech, q)  # assembled by the scan to the default closure tolerance
+    conf = Configuration(mech, q, closure_tol=closure_tol)
+    cad = closure_tol > CLOSURE_TOL  # loops closed to CAD accuracy: analyze's rank tolerance at this residual
+    rtol = conf.rank_rtol(rtol) if cad else rtol
     mob, sing = platform_mobility(conf, rtol), singularity(conf, rtol, g)
     row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(conf.frame_placement(mech.platform_id)).tolist()))
     row.update(
@@ -83,4 +92,6 @@ def _evaluate(
         distance=sing.distance,
     )
     row.update(zip(SV_COLUMNS, [*sing.constraint_singular_values.tolist(), *sing.actuation_singular_values.tolist()]))
+    if cad:
+        row.update(residual=conf.residual, rank_rtol=rtol)
     return row, sing.distances

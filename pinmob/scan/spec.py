@@ -38,7 +38,9 @@ from pinmob.analysis.finite.loop_screws import check_joints
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.singularity.classification import require_platform
 from pinmob.assembly.assemble import assemble_pose
+from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
 from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector
+from pinmob.assembly.residual import check_closure_tol
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL
@@ -46,8 +48,8 @@ from pinmob.model.joint_values import parse_joint_values
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import end_values, joint_path_ends, value_joints
 from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_coordinates
-from pinmob.scan.references import nearest_seed, resolve_pose
 from pinmob.scan.references import platform_pose as platform_pose  # re-exported: its home before references.py
+from pinmob.scan.references import reference, resolve_pose
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
@@ -82,6 +84,9 @@ class ScanSpec:
         values: the joints whose values the rows give (:func:`pinmob.scan.chain.value_joints`).
         engine: ``batch`` (a chunk's samples analysed together, :mod:`pinmob.scan.batch_rows`) or ``single``
             (each sample on its own); the same rows, the figures to round-off.
+        gaps: with a ``closure_tol`` above the default (:attr:`cad`), the frame placements that hold the
+            reference configuration's CAD gaps (:mod:`pinmob.assembly.cad_gaps`): the samples are assembled on
+            the mechanism so corrected (:meth:`assembly_mechanism`), and analysed on the file's.
     """
 
     kind: str
@@ -101,6 +106,30 @@ class ScanSpec:
     closure_tol: float = CLOSURE_TOL
     values: tuple[str, ...] = ()
     engine: str = "batch"
+    gaps: Gaps = ()
+
+    @property
+    def cad(self) -> bool:
+        """A closure tolerance above the default: loops closed to CAD accuracy, each row analysed as ``analyze`` does.
+
+        Each sample is then checked against ``closure_tol`` on the file's mechanism and its rank decisions use
+        that sample's tolerance (:meth:`pinmob.analysis.configuration.Configuration.rank_rtol`: at least 10 x its
+        closure residual); the rows add its ``residual`` and ``rank_rtol``.
+        """
+        return self.closure_tol > CLOSURE_TOL
+
+    def reference_rtol(self, mech: Mechanism) -> float:
+        """``rtol``; with :attr:`cad`, the rank tolerance at ``q_ref`` (at least 10 x its residual, the gaps held).
+
+        What the refinement and the near-singular band of the summary use (each row has its own, ``rank_rtol``).
+        """
+        if not self.cad:
+            return self.rtol
+        return Configuration(mech, self.q_ref, closure_tol=self.closure_tol).rank_rtol(self.rtol)
+
+    def assembly_mechanism(self, mech: Mechanism) -> Mechanism:
+        """The mechanism the samples are assembled on: ``mech`` with the reference's gaps held (:attr:`gaps`)."""
+        return gaps_closed(mech, self.gaps)
 
     @property
     def size(self) -> int:
@@ -246,8 +275,10 @@ def path_spec(
     platform poses.
 
     Raises:
-        PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end.
+        PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end,
+            ``closure_tol`` out of range (:func:`~pinmob.assembly.residual.check_closure_tol`).
     """
+    closure_tol = check_closure_tol(closure_tol)
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
     check_bound("samples", samples, "the path (samples)", "samples")
@@ -257,16 +288,15 @@ def path_spec(
     if joints or not mech.has_platform or "=" in start or "=" in end:
         acts, qa, qb, g = joint_path_ends(mech, start, end, rtol, closure_tol)
         va, vb = end_values(mech, acts, start, qa), end_values(mech, acts, end, qb)
+        gaps = frame_gaps(mech, qa) if closure_tol > CLOSURE_TOL else ()
         return ScanSpec("joints", qa, va, vb, samples, acts, rtol=rtol, generic_rank=g,
-                        platform=mech.has_platform, closure_tol=closure_tol,
+                        platform=mech.has_platform, closure_tol=closure_tol, gaps=gaps,
                         values=value_joints(mech))  # fmt: skip
-    pa, qa = resolve_pose(mech, start)
-    pb, qb = resolve_pose(mech, end)
-    if qa.size == 0:
-        qa = assemble_pose(mech, pa, nearest_seed(mech, pa))
+    pa, qa, gaps = reference(mech, start, closure_tol)
+    pb, _ = resolve_pose(mech, end, closure_tol)
     g = generic_constraint_rank(mech, rtol=rtol)
     return ScanSpec("pose", qa, pa.homogeneous, pb.homogeneous, samples, rtol=rtol, generic_rank=g,
-                    values=value_joints(mech))  # fmt: skip
+                    closure_tol=closure_tol, gaps=gaps, values=value_joints(mech))  # fmt: skip
 
 
 def coordinate_path_spec(
@@ -288,45 +318,50 @@ def coordinate_path_spec(
     refs = [t for t in (start, end) if "=" not in t] or list(mech.configurations)[:1]
     if not refs:
         raise ConfigurationError(f"{mech.name!r} declares no configuration: give one end of the path as a pose")
-    pose, q_ref = resolve_pose(mech, refs[0])
-    if q_ref.size == 0:
-        q_ref = assemble_pose(mech, pose, nearest_seed(mech, pose))
-    held = held_coordinates(mech, q_ref, names, refs[0], rtol)
+    _, q_ref, gaps = reference(mech, refs[0], closure_tol)
+    solver = gaps_closed(mech, gaps)  # the reference closes it exactly: its motions are the file's less the gaps
+    held = held_coordinates(solver, q_ref, names, refs[0], rtol)
     at_ref = coordinate_values(mech, q_ref, names + held)
     ends = []
     for text, values in zip((start, end), given):
         if "=" in text:
             ends.append([values.get(n, at_ref[n]) for n in names])
         else:
-            end_pose, q_end = resolve_pose(mech, text)
+            end_pose, q_end = resolve_pose(mech, text, closure_tol)
             if q_end.size == 0:
-                q_end = assemble_pose(mech, end_pose, q_ref)
+                q_end = assemble_pose(solver, end_pose, q_ref, closure_tol)
             ends.append(list(coordinate_values(mech, q_end, names).values()))
     spec = ScanSpec("coords", q_ref, np.array(ends[0]), np.array(ends[1]), samples, rtol=rtol, closure_tol=closure_tol,
                     generic_rank=generic_constraint_rank(mech, rtol=rtol), held=tuple((c, at_ref[c]) for c in held),
-                    coords=names, values=value_joints(mech))  # fmt: skip
+                    coords=names, values=value_joints(mech), gaps=gaps)  # fmt: skip
     kind, target = spec.target(0)
     try:
         if kind == "pose":
-            q0 = assemble_pose(mech, target, q_ref, closure_tol)
+            q0 = assemble_pose(solver, target, q_ref, closure_tol)
         else:
-            q0 = assemble_coordinates(mech, target[0], target[1], q_ref, closure_tol)
+            q0 = assemble_coordinates(solver, target[0], target[1], q_ref, closure_tol)
     except ClosureError as exc:
         raise ClosureError(f"path start {start!r} does not assemble from {refs[0]!r}: {exc}", exc.residuals) from None
     return replace(spec, q_ref=q0)
 
 
-def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]], rtol: float = RTOL) -> ScanSpec:
+def grid_spec(
+    mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]], rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL
+) -> ScanSpec:  # fmt: skip
     """A grid over one to three coordinates (pose coordinates or joints) around ``at`` (a configuration or a pose).
 
     The coordinates not on the grid are held at their values at ``at`` or follow the mechanism
-    (:func:`pinmob.scan.coordinates.held_coordinates`).
+    (:func:`pinmob.scan.coordinates.held_coordinates`). With ``closure_tol`` above the default, ``at`` may close
+    only within it (CAD geometry): its gaps are held (:attr:`ScanSpec.cad`, :mod:`pinmob.assembly.cad_gaps`).
 
     Raises:
         ConfigurationError: no platform, an unknown or repeated coordinate (the message lists the valid ones), an
             empty range, too many samples, or gridded coordinates that cannot vary independently at ``at``.
+        ArgumentError: ``closure_tol`` out of range (:func:`~pinmob.assembly.residual.check_closure_tol`).
     """
     require_platform(mech, "pinmob scan")
+    closure_tol = check_closure_tol(closure_tol)
     names = check_coordinates(mech, [a[0] for a in axes])
     out = []
     for name, lo, hi, n in axes:
@@ -334,15 +369,13 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
             raise ConfigurationError(f"grid axis {name}: need finite bounds and at least 1 sample, got {lo}, {hi}, {n}")
         out.append((name, float(lo), float(hi), int(n)))
     check_bound("samples", int(np.prod([a[3] for a in out])), f"the grid ({' x '.join(str(a[3]) for a in out)})")
-    pose, q = resolve_pose(mech, at)
-    if q.size == 0:
-        q = assemble_pose(mech, pose, nearest_seed(mech, pose))
-    held = held_coordinates(mech, q, names, at, rtol)
+    _, q, gaps = reference(mech, at, closure_tol)
+    held = held_coordinates(gaps_closed(mech, gaps), q, names, at, rtol)
     values = coordinate_values(mech, q, names + held)
     g = generic_constraint_rank(mech, rtol=rtol)
     return ScanSpec("grid", q, axes=tuple(out), rtol=rtol, generic_rank=g,
                     held=tuple((c, values[c]) for c in held), start=tuple((c, values[c]) for c in names),
-                    values=value_joints(mech))  # fmt: skip
+                    values=value_joints(mech), closure_tol=closure_tol, gaps=gaps)  # fmt: skip
 
 
 def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> ScanSpec:
@@ -357,5 +390,5 @@ def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> Sc
         ConfigurationError: a bad order bound, or a joint type the higher-order conditions cannot treat.
     """
     order = check_order(ORDER if order is None else order)
-    check_joints(Configuration(mech, spec.q_ref))
+    check_joints(Configuration(mech, spec.q_ref, closure_tol=spec.closure_tol))
     return replace(spec, finite_order=order)

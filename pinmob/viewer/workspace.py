@@ -28,6 +28,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.partial_pose import POSE_COORDS, pose_from_vector
 from pinmob.exceptions import ConfigurationError
+from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joint_values import q_from_values
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chain import value_joints
@@ -169,10 +170,12 @@ def workspace_cloud(
     )
 
 
-def sample_configuration(mech: Mechanism, rows: Iterable[Mapping[str, Any]], index: int, seed: Array) -> Configuration:
-    """The closed configuration of the assembled sample ``index`` (its row's joint values, else its pose).
+def sample_configuration(
+    mech: Mechanism, rows: Iterable[Mapping[str, Any]], index: int, seed: Array, closure_tol: float = CLOSURE_TOL
+) -> Configuration:
+    """The configuration of the assembled sample ``index`` (its row's joint values, else its pose).
 
-    The rows hold every one-degree joint's value (``q_<name>``); a mechanism with other joints is assembled at
+    It is closed within ``closure_tol`` (the scan's). The rows hold every one-degree joint's value (``q_<name>``); a mechanism with other joints is assembled at
     the row's platform pose from ``seed`` set to those values.
 
     Raises:
@@ -192,8 +195,8 @@ def sample_configuration(mech: Mechanism, rows: Iterable[Mapping[str, Any]], ind
     joints = value_joints(mech)
     q = q_from_values(mech.model, {n: float(row[f"q_{n}"]) for n in joints}, seed, mech.name)
     if sum(mech.model.joints[mech.model.getJointId(n)].nq for n in joints) != mech.model.nq:
-        q = assemble_pose(mech, pose_from_vector(np.array([float(row[c]) for c in POSE_COORDS])), q)
-    return Configuration(mech, q, name=f"sample #{index}")
+        q = assemble_pose(mech, pose_from_vector(np.array([float(row[c]) for c in POSE_COORDS])), q, closure_tol)
+    return Configuration(mech, q, closure_tol=closure_tol, name=f"sample #{index}")
 
 
 def send_workspace(vis: Any, ws: Workspace, root: str) -> list[Array]:

@@ -14,7 +14,9 @@ seed, the units or where the mechanism stands, which change the kernel's basis):
 projected on the kernel) go on until a round finds no new group of cone points and every group
 holds two points or more, at least two rounds and at most ``CONE_ROUNDS``. A finite union of
 linear spaces is hit again and again on each component; a continuum of lines keeps leaving lone
-points.
+points, and once ``LONE_STOP`` of them (or a quarter of a round's points, if more) lie on no line
+seen twice the sampling stops (the cone is not linear: the closed samples decide, and the further
+rounds only cost).
 A decision within a factor ``MARGIN`` of its tolerance (a definite form's eigenvalue, the forms
 vanishing on the whole kernel, a component's higher-order test) decides nothing: ``Cone.undecided``
 says which.
@@ -35,6 +37,8 @@ from pinmob.screw.rank import decide_rank
 CONE_STARTS = 4
 #: Most rounds of sampling (see the module docstring for when it stops earlier).
 CONE_ROUNDS = 4
+#: Sampling stops once this many cone points (or a quarter of a round's, if more) lie alone on no line seen twice.
+LONE_STOP = 3
 #: Two cone points span a line of the cone when their polar values are below this (relative to max |H|).
 POLAR_TOL = 1e-4
 
@@ -135,6 +139,8 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
                 _add(groups, y, h, POLAR_TOL * top)
         if round_ and len(groups) == known and all(len(g) > 1 for g in groups):
             break  # a round that found no new group, and every group seen twice
+        if sum(len(g) == 1 for g in groups) >= max(LONE_STOP, CONE_STARTS * max(k, 2) // 4):
+            break  # a quarter of a round's points on no line seen twice: a continuum of lines, not a finite union
     spans: list[Array] = []
     for group in sorted(groups, key=len, reverse=True):
         if len(group) < 2:
@@ -154,8 +160,9 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
 
 def _add(groups: list[list[Array]], y: Array, h: Array, tol: float) -> None:
     """Put the cone point y in the first group whose every point is polar to it (else in a new group)."""
+    hy = np.einsum("lab,a->lb", h, y)  # the polar forms at y: y^T H_l x = (hy x)_l
     for group in groups:
-        if all(float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, x)))) <= tol for x in group):
+        if float(np.max(np.abs(hy @ np.array(group).T))) <= tol:
             group.append(y)
             return
     groups.append([y])

@@ -34,6 +34,7 @@ from pinmob.analysis.finite.branches import Branch, platform_motions
 from pinmob.analysis.finite.higher_order import HigherOrder
 from pinmob.analysis.finite.local_dimension import ClosedProjector, LocalDimension
 from pinmob.analysis.finite.reduced_equation import reduced_growth
+from pinmob.analysis.finite.tangent_cone import cone_point
 from pinmob.analysis.finite.verdicts import sine_to
 from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.analysis.motion import Motion
@@ -143,27 +144,16 @@ def regular_sample(
 
 def cone_directions(ho: HigherOrder, avoid: list[Array], count: int, rng: np.random.Generator) -> list[Array]:
     """Up to ``count`` unit cone points (``Q(y) = 0``, from random starts), none within ``ON_COMPONENT`` of ``avoid``."""
-    from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
-
     h = ho.forms()
     m = ho.m
     if m == 0 or h.shape[0] == 0:
         return []
-    pad = np.zeros(max(0, m - h.shape[0] - 1))
-
-    def fun(y: Array) -> Array:
-        return np.concatenate([np.einsum("lab,a,b->l", h, y, y), [y @ y - 1.0], pad])
-
-    def jac(y: Array) -> Array:  # the forms are symmetric: d(y^T H y) = 2 H y
-        return np.vstack([2 * np.einsum("lab,b->la", h, y), 2 * y, np.zeros((pad.size, m))])
-
     out: list[Array] = []
     for _ in range(CONE_TRIES):
         if len(out) == count:
             break
-        start = np.asarray(rng.normal(size=m), float)
-        fit = least_squares(fun, start, jac=jac, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
-        y = fit.x / np.linalg.norm(fit.x)
+        x = cone_point(h, np.asarray(rng.normal(size=m), float))
+        y = x / np.linalg.norm(x)
         if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) > ho.tol:
             continue
         if any(float(np.linalg.norm(y - b @ (b.T @ y))) <= ON_COMPONENT for b in avoid):

@@ -99,6 +99,19 @@ class ClosedSet:
 
     def dimensions_at(self, p: np.ndarray) -> tuple[int, int] | None:
         """(closed set, platform poses) dimensions at the closed sample p (None: a probe fell in between)."""
+        found = self.tangent_at(p)
+        if found is None:
+            return None
+        extend, poses = found
+        sp = np.linalg.svd(poses, compute_uv=False) if poses.size else np.zeros(0)
+        return extend.shape[1], int(np.sum(sp > PLATFORM_TOL))
+
+    def tangent_at(self, p: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """(joint rates (nv, d), platform twists (6, d)) of the d motions that extend at the closed sample p.
+
+        The twists are ``[dx / L; dtheta]`` per unit of the dimensionless joint motion (None: a probe fell in
+        between).
+        """
         null = self.null(p)
         joints, poses = [], []
         for i in range(null.shape[1]):
@@ -110,13 +123,12 @@ class ClosedSet:
             twist = np.r_[(b.translation - a.translation) / self.length, pin.log3(b.rotation @ a.rotation.T)]
             poses.append(twist / (2 * PROBE))
         if not joints:
-            return 0, 0
+            return np.zeros((self.model.nv, 0)), np.zeros((6, 0))
         _, s, vt = np.linalg.svd(np.array(joints).T, full_matrices=False)
         if np.any((s > 0.25) & (s < 0.75)):
             return None
         extend = vt[s > 0.5].T  # the probed motions' combinations that extend
-        sp = np.linalg.svd(np.array(poses).T @ extend, compute_uv=False) if extend.size else np.zeros(0)
-        return int(np.sum(s > 0.5)), int(np.sum(sp > PLATFORM_TOL))
+        return null @ extend, np.array(poses).T @ extend
 
 
 def sampled_dimensions(
@@ -143,3 +155,66 @@ def sampled_dimensions(
         assert not off, f"{off} closed samples off q, none whose probes tell its dimension"
         return 0, 0  # every projection fell back onto q: q is isolated
     return max(d[1] for d in found), max(d[0] for d in found)
+
+
+def platform_twists(closed: ClosedSet, q: np.ndarray, rates: np.ndarray) -> np.ndarray:
+    """(6, d) the platform's twists ``[v / L; w]`` (world-aligned, at its origin) for the dimensionless joint rates."""
+    model, data = closed.model, closed.data
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    jac = pin.getFrameJacobian(model, data, closed.platform, pin.LOCAL_WORLD_ALIGNED) * closed.col
+    jac[:3] /= closed.length
+    return jac @ rates
+
+
+def motion_type(twists: np.ndarray, length: float, tol: float = 1e-3) -> str:
+    """The motion type (``3T``, ``2T1R``, ``3H``, ...) of the span of the twists ``[v / L; w]`` (6, d), by hand.
+
+    Its dimension d' (singular values above ``tol`` of the largest); the translations are the span's members with
+    no rotation (d' minus the rank of the rotation parts); on the rest the principal pitches are the generalised
+    eigenvalues of ``(sym(w_i . v_j), w_i . w_j)`` over a complement of the translations (v in metres): zero
+    (``|h| <= tol L``) a rotation, else a screw. Named ``<t>T<r>R<h>H`` without the zero counts (``rigid``: none).
+    """
+    u, s, _ = np.linalg.svd(twists, full_matrices=False)
+    basis = u[:, s > tol * max(float(s[0]), 1e-300)] if s.size else np.zeros((6, 0))
+    if basis.shape[1] == 0:
+        return "rigid"
+    import scipy.linalg
+
+    _, sw, vt = np.linalg.svd(basis[3:], full_matrices=True)
+    rot = int(np.sum(sw > tol))
+    t = basis.shape[1] - rot
+    translations = basis[:3] @ vt[rot:].T  # (3, t) their directions
+    turning = basis @ vt[:rot].T  # a complement of the translations in the span
+    v, w = turning[:3] * length, turning[3:]
+    # a rotation part with a component along the translations can have its pitch cancelled by them: a rotation
+    along = np.linalg.qr(translations)[0].T @ w if t else np.zeros((0, rot))
+    keep = np.eye(rot)
+    if along.size:
+        _, sa, va = np.linalg.svd(along, full_matrices=True)
+        keep = va[int(np.sum(sa > tol)) :].T  # the rotation parts orthogonal to the translations
+    v, w = v @ keep, w @ keep
+    pitches = scipy.linalg.eigh((w.T @ v + v.T @ w) / 2, w.T @ w, eigvals_only=True) if w.shape[1] else np.zeros(0)
+    h = int(np.sum(np.abs(pitches) > tol * length))
+    return "".join(f"{n}{k}" for n, k in ((t, "T"), (rot - h, "R"), (h, "H")) if n)
+
+
+def trace(closed: ClosedSet, q: np.ndarray, direction: np.ndarray, distance: float, steps: int) -> np.ndarray | None:
+    """Continuation along the closed set from q, starting along ``direction`` (dimensionless joint rates).
+
+    Each step moves ``distance / steps`` along the previous direction projected on the first-order motions where
+    it stands (``null``), then Newton brings it back (:meth:`ClosedSet.project`). None when a step does not close
+    or lands farther than twice the step from where it was aimed.
+    """
+    x, d = q.copy(), direction / np.linalg.norm(direction)
+    h = distance / steps
+    for _ in range(steps):
+        null = closed.null(x)
+        d = null @ (null.T @ d)
+        d /= np.linalg.norm(d)
+        nxt = closed.project(x, h * d)
+        if nxt is None or np.linalg.norm(closed.moved(x, nxt)) > 2 * h:
+            return None
+        d = closed.moved(x, nxt)
+        x = nxt
+    return x

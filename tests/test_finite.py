@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 import pytest
-from closed_samples import ClosedSet, sampled_dimensions
+from closed_samples import ClosedSet, motion_type, platform_twists, sampled_dimensions, trace
 from finite_cases import (
     bricard_line_symmetric,
     four_bar_flat,
@@ -258,17 +258,94 @@ def test_delta_rods_horizontal_two_3dof_modes_meet() -> None:
     assert (fm.finite_dof, fm.finite_mechanism_dof, fm.finite_dof_locked) == (3, 9, 0)
     assert [(b.dimension, b.dof) for b in fm.free.branches] == [(9, 3), (9, 3)]
     assert fm.free.branches[0].motion_type == "3T" and fm.free.branches[1].test is None
-    name = report.to_dict()["finite"]["branch_point"]
-    assert name == f"two 3-DoF branches meet: 3T and {fm.free.branches[1].motion_type}"
     assert "closed samples" in fm.free.evidence and "closed samples" in fm.locked.evidence
-    assert f"branches through q: 2 ({name})" in str(fm) and "cannot decide" not in str(fm)
     closed = ClosedSet(mech)
+    kinds = []
     for tilt in ([0.02, 0.0], [0.0, 0.02], [-0.014, 0.014]):
         p = _tilted(closed, q, np.array(tilt))
         assert p is not None and np.linalg.norm(closed.moved(q, p)) < 0.1
         assert closed.dimensions_at(p) == (9, 3)
+        _, twists = closed.tangent_at(p)
+        kinds.append(motion_type(twists, mech.length_scale))
+    # the tilting mode's platform motion, from the pitches at the test's own samples: at the tilts about x and about
+    # the bisector three screws (rotation parts of rank 3, every principal pitch non-zero); about y exactly (a
+    # plane of symmetry) one of them degenerates into a translation, the others into rotations
+    assert kinds == ["3H", "1T2R", "3H"]
+    assert fm.free.branches[1].motion_type == "3H"
+    name = report.to_dict()["finite"]["branch_point"]
+    assert name == "two 3-DoF branches meet: 3T and 3H"
+    assert f"branches through q: 2 ({name})" in str(fm) and "cannot decide" not in str(fm)
+    # the 3T mode: the platform's twists at a sample reached by translating it (the test's own continuation)
+    t = trace(
+        closed,
+        q,
+        closed.null(q)
+        @ (
+            closed.null(q).T
+            @ np.linalg.lstsq(platform_twists(closed, q, np.eye(mech.model.nv)), [1.0, 1.0, 1.0, 0, 0, 0], rcond=None)[
+                0
+            ]
+        ),
+        0.05,
+        5,
+    )
+    assert t is not None and motion_type(closed.tangent_at(t)[1], mech.length_scale) == "3T"
     assert sampled_dimensions(mech, q) == (3, 9)
     assert sampled_dimensions(mech, q, tuple(mech.actuated)) == (0, 6)
+
+
+#: The platform's motion type at the generic points of a branch (0.2 from q along it), where it is not the one the
+#: analysis names: the analysis names the type at q (on the branch's tangent, which has the branch's DoF there),
+#: and along these branches pitches or rotations appear that grow with the distance from q (the test below
+#: measures them): the 3-PUU-vertical's 1T2R mode has two screws of opposite pitches +-0.0244 L per 0.1 from q,
+#: whose axes tilt off the translation (z) so that one of them is a rotation again (1T1R1H); the Delta-3RUU's mixed 2T1R mode picks up rotations about the other axes (singular values of the
+#: rotation parts 0.002 at 0.02 from q, 0.02 at 0.2: three screws, 3H). None: a pitch within a factor 2 of the
+#: classification's tolerance there (the 4-RUU's 2R mode: -9.5e-4 L at 0.2), not asserted.
+AT_GENERIC_POINTS: dict[tuple[str, str], str | None] = {
+    ("3-PUU-vertical", "1T2R"): "1T1R1H",
+    ("Delta-3RUU", "2T1R"): "3H",
+    ("4-RUU", "2R"): None,
+}
+
+
+@pytest.mark.parametrize(
+    ("name", "config"),
+    [
+        ("3-UPU", "constraint-singular"),
+        ("Delta-3RUU", "constraint-singular"),
+        ("4-RUU", "parallel-axes"),
+        ("3-PUU-vertical", "vertical"),
+        ("Sarrus", "stretched"),
+    ],
+)
+def test_each_branch_traced_by_the_tests_own_continuation(name: str, config: str) -> None:
+    """Where branches meet, each branch the analysis names is followed by the test's own continuation
+    (:func:`closed_samples.trace`: Pinocchio's closure residual, Newton, no pinmob analysis), both ways from q along
+    a random tangent of it. 0.002 from q the platform's motion type, from its twists' rotation ranks and principal
+    pitches (:func:`closed_samples.motion_type`), is the one the analysis names (the type at q, the limit along the
+    branch); 0.2 from q (a generic point of the branch) the closed chain's first-order DoF is the branch's, and the
+    platform's type is the named one or the one of :data:`AT_GENERIC_POINTS`."""
+    mech = pinmob.load(name)
+    report = finite(mech, config)
+    q = report.state.q
+    branches = report.finite.free.branches
+    assert len(branches) == 2
+    closed = ClosedSet(mech)
+    rng = np.random.default_rng(3)
+    for branch in branches:
+        direction = branch.rates @ rng.normal(size=branch.dimension)
+        for sign in (1.0, -1.0):
+            near = trace(closed, q, sign * direction, 0.002, 1)
+            assert near is not None
+            kind = motion_type(platform_twists(closed, near, closed.null(near)), mech.length_scale)
+            assert kind == branch.motion_type, (sign, kind)
+            far = trace(closed, q, sign * direction, 0.2, 10)
+            assert far is not None
+            null = closed.null(far)
+            assert null.shape[1] == branch.dimension
+            generic = AT_GENERIC_POINTS.get((name, branch.motion_type), branch.motion_type)
+            if generic is not None:
+                assert motion_type(platform_twists(closed, far, null), mech.length_scale) == generic, sign
 
 
 def test_two_modes_with_the_actuators_held_leave_one_motion_growing_like_s_cubed() -> None:
@@ -324,7 +401,8 @@ def test_the_fallback_evidence_alone_on_shaky_held_configurations() -> None:
         mech = pinmob.load(name)
         conf = pinmob.Configuration(mech, config)
         held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
-        ev = decide_by_samples(conf, HigherOrder(mechanism_loops(conf), 1e-6, held), (), held, 1e-6)
+        ho = HigherOrder(mechanism_loops(conf), 1e-6, held)
+        ev = decide_by_samples(conf, ho.kernel[: mech.model.nv], ho, (), held, 1e-6)
         found[name] = (ev.finite_mechanism_dof, ev.finite_dof, ev.how)
     assert found["3-PUU-flat"][:2] == (0, 0) and "every one fell back onto q" in found["3-PUU-flat"][2]
     assert found["6-UPS"][:2] == (0, 0) and "grow like s^2" in found["6-UPS"][2]

@@ -8,6 +8,9 @@ from :mod:`~pinmob.analysis.finite.loop_screws` (the loops' relative screws),
 :mod:`~pinmob.analysis.finite.branches` and :mod:`~pinmob.analysis.finite.branch_names` (the branches through a
 singular point), :mod:`~pinmob.analysis.finite.verdicts` (one verdict per motion),
 :mod:`~pinmob.analysis.finite.local_dimension`, :mod:`~pinmob.analysis.finite.sample_modes` and
-:mod:`~pinmob.analysis.finite.reduced_equation` (where the conditions do not decide), and
-:mod:`~pinmob.analysis.finite.finite_side` (each side of a singular point).
+:mod:`~pinmob.analysis.finite.reduced_equation` (where the conditions do not decide),
+:mod:`~pinmob.analysis.finite.motion_tracing` (each motion followed), and
+:mod:`~pinmob.analysis.finite.finite_side` (the analysis of one side: the mechanism free, or with joints held) or,
+where a coupling's higher derivatives are not written, :mod:`~pinmob.analysis.finite.sampled_side` (closed samples
+alone).
 """

@@ -15,8 +15,8 @@ curve's derivatives at t = 0, ``f^(n+1) = (n + 1)! [t^(n+1)] f`` from the trunca
 composition: ``A x^(n+1) + R_n(x^(1..n))`` as for the loops' rows (:mod:`pinmob.screw.lie`).
 :class:`CoupledSystem` appends these rows to a :class:`~pinmob.screw.lie.LoopSystem`, so that
 :class:`pinmob.analysis.finite.higher_order.HigherOrder` treats them as it treats the loops. A tendon that wraps geoms
-or runs over a pulley has no such series here: a coupling on one is refused (:func:`coupling_rows`) and an
-actuator on one left unheld (:func:`hold_tendons`), by name.
+or runs over a pulley has no such series here (:func:`unwritten`): a side with a coupling on one (or such a
+tendon's actuator held) is decided from closed samples alone, and :func:`coupling_rows` refuses it by name.
 """
 
 from __future__ import annotations
@@ -92,12 +92,14 @@ class CoupledSystem:
         return self.loops.size
 
     def first_order(self) -> Array:
-        """(6 c + k, n) the loops' ``A`` then the couplings' rows (their first derivatives along each coordinate)."""
-        n = self.size
-        rows = (
-            self.jets(np.eye(n)[:, None, :])[:, 0, self.loops.loops.shape[0] * 6 :].T if self.rows else np.zeros((0, n))
-        )
-        return np.vstack([self.loops.first_order(), rows])
+        """(6 c + k, n) the loops' ``A`` then the couplings' rows (their first derivatives along each coordinate).
+
+        With couplings, ``Phi^(0)`` along each unit coordinate rate, loops and couplings in one pass (the loops'
+        part is ``A``'s column, exactly).
+        """
+        if not self.rows:
+            return self.loops.first_order()
+        return self.jets(np.eye(self.size)[:, None, :])[:, 0].T
 
     def jets(self, x: Array) -> Array:
         """The derivatives ``Phi^(0..k-1)`` of the loops' twists then of the couplings (see the module docstring).
@@ -122,14 +124,34 @@ class CoupledSystem:
         return both if x.ndim == 3 else both[0]
 
 
+def has_series(tendon: Tendon) -> bool:
+    """True for a tendon whose length's Taylor series is written: a fixed tendon, or one straight between sites."""
+    return isinstance(tendon, FixedTendon) or bool(tendon.site_frames())
+
+
 def is_polynomial(closure: Closure) -> bool:
     """True for a coupling the higher-order analysis writes as a row.
 
-    A joint coupling, or a tendon coupling on fixed tendons or tendons straight between sites.
+    A joint coupling, or a tendon coupling on tendons that each have a written series (:func:`has_series`).
     """
-    return closure.type is ClosureType.JOINT or all(
-        isinstance(t, FixedTendon) or t.site_frames() for t in closure.tendons
-    )
+    return closure.type is ClosureType.JOINT or all(has_series(t) for t in closure.tendons)
+
+
+def unwritten(closures: tuple[Closure, ...]) -> tuple[str, ...]:
+    """``coupling 'c' on tendon 't'`` for each coupling among ``closures`` whose rows are not written.
+
+    (The tendons named are those without a written series.)
+
+    Such a coupling is on a tendon that wraps geoms or runs over a pulley: its residual and Jacobian are known
+    (MuJoCo's length and its row), its higher derivatives are not; the side it is on is decided from closed
+    samples alone (:mod:`pinmob.analysis.finite.sampled_side`).
+    """
+    out = []
+    for c in closures:
+        if c.is_coupling and c.type is not ClosureType.JOINT and not is_polynomial(c):
+            names = ", ".join(repr(t.name) for t in c.tendons if not has_series(t))
+            out.append(f"coupling {c.name!r} on tendon{'s' if ',' in names else ''} {names}")
+    return tuple(out)
 
 
 def _linear(
@@ -156,7 +178,7 @@ def _path(conf: Configuration, frames: tuple[int, ...], reference: Array, n: int
 def _tendon(conf: Configuration, tendon: Tendon, closure: Closure, col: Array, reference: Array, n: int) -> Coordinate:
     if isinstance(tendon, FixedTendon):
         return _linear(conf.mechanism.model, conf.q, col, n, tendon.joints, tendon.coefficients)
-    if tendon.site_frames():
+    if has_series(tendon):
         path = _path(conf, tendon.site_frames(), reference, n)
         if np.min(np.linalg.norm(np.diff(path.points, axis=0), axis=1)) <= 1e-12:
             raise ConfigurationError(
@@ -207,15 +229,16 @@ def coupling_rows(
 def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], tuple[Transmission, ...]]:
     """``conf`` with its tendon actuators held as tendon equalities at their lengths at q.
 
-    An actuator on a fixed tendon, or on a tendon straight between sites, held keeps the tendon's length at
-    its value: the tendon closure ``l - l(q) = 0`` (one coordinate, ``polycoef = 0``), exact at every order,
-    and written on the closed chain's residual too, so that the tracing and the closed samples hold it as
-    the conditions do.
+    An actuator on a tendon held keeps the tendon's length at its value: the tendon closure ``l - l(q) = 0``
+    (one coordinate, ``polycoef = 0``), written on the closed chain's residual too, so that the tracing and the
+    closed samples hold it as the conditions do. On a fixed tendon or one straight between sites it is a row
+    exact at every order; on a tendon that wraps geoms or runs over a pulley it has no written series
+    (:func:`unwritten`), and the side with it is decided from closed samples alone.
 
     Returns:
         the configuration of the mechanism with those closures (``conf`` itself when there are none), the
-        names of the actuators held so, and the other transmissions (on a tendon that wraps geoms or runs
-        over a pulley, a site, a slider-crank, a ball joint: not held).
+        names of the actuators held so, and the other transmissions (on a site, a slider-crank, a ball joint:
+        not held).
     """
     mech = conf.mechanism
     model = mech.model
@@ -223,15 +246,16 @@ def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], t
     taken = {c.name for c in mech.all_closures}
     for t in mech.actuated_tendons:
         tendon = t.driven_tendon(model)
-        if tendon is None or not (isinstance(tendon, FixedTendon) or tendon.site_frames()):
+        if tendon is None:
             others.append(t)
             continue
-        length = tendon.length(model, conf.data)[0]
-        if isinstance(tendon, FixedTendon):
-            ids = {model.getJointId(j) for j in tendon.joints}
+        length, row = tendon.length(model, conf.data)
+        frames = list(tendon.site_frames())
+        if not frames:  # a fixed or wrapping tendon: placed on the frames of the joints that move it at q
+            ids = {j for j in range(1, model.njoints) if np.any(row[model.idx_vs[j] : model.idx_vs[j] + model.nvs[j]])}
+            ids = ids or set(tendon.joint_ids(model))
             frames = [i for i, f in enumerate(model.frames) if f.parentJoint in ids and f.type == pin.FrameType.JOINT]
-        else:
-            frames = list(tendon.site_frames())
+            frames = frames or [0]
         name = f"actuator {t.name}"
         while name in taken:
             name += "'"

@@ -30,9 +30,10 @@ from typing import Any
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.branch_names import branch_point_name
 from pinmob.analysis.finite.branches import branch_joints
-from pinmob.analysis.finite.coupling_rows import hold_tendons
+from pinmob.analysis.finite.coupling_rows import hold_tendons, unwritten
 from pinmob.analysis.finite.finite_side import Side, analyse_side
 from pinmob.analysis.finite.higher_order import ORDER, ORDER_TOL, check_order
+from pinmob.analysis.finite.sampled_side import sampled_side
 from pinmob.analysis.finite.verdicts import MotionVerdict
 from pinmob.analysis.motion import Motion
 from pinmob.assembly.assemble import joint_velocity_indices
@@ -49,7 +50,7 @@ class FiniteMobility:
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
-        unheld: actuators on wrapping tendons, sites and the like, not held by ``locked`` (it holds joints, and
+        unheld: actuators on sites, slider-cranks and ball joints, not held by ``locked`` (it holds joints, and
             tendons as tendon equalities: :func:`pinmob.analysis.finite.coupling_rows.hold_tendons`).
     """
 
@@ -112,6 +113,7 @@ class FiniteMobility:
             "samples": self.free.samples.to_dict(),
             "notes": list(self.free.notes),
             "evidence": self.free.evidence or None,
+            "conditions_not_written": list(self.free.unwritten),
             "tendons_not_held": list(self.unheld),
         }
         if self.locked is not None:
@@ -128,6 +130,7 @@ class FiniteMobility:
                 "samples": lk.samples.to_dict(),
                 "notes": list(lk.notes),
                 "evidence": lk.evidence or None,
+                "conditions_not_written": list(lk.unwritten),
             }
         return out
 
@@ -143,8 +146,11 @@ class FiniteMobility:
         many = len(free.branches) > 1
         origin = self.conf.platform_origin if self.platform else None
         length = self.conf.mechanism.length_scale
+        conditions = f"higher-order conditions up to order {self.order} (tolerance {self.tolerance:.2e})"
+        if free.unwritten:
+            conditions = "no higher-order conditions (see below)"
         lines = [
-            f"finite mobility: higher-order conditions up to order {self.order} (tolerance {self.tolerance:.2e}), "
+            f"finite mobility: {conditions}, "
             f"each motion traced, {free.samples.samples} closed samples within {free.samples.radius:g} of q"
         ]
         if self.platform:
@@ -173,8 +179,8 @@ class FiniteMobility:
             lines += _evidence_lines(lk, self.order)
         if self.unheld:
             lines.append(
-                f"actuators held: actuator(s) {', '.join(self.unheld)} (on a tendon wrapping geoms or over a pulley, "
-                "a site, a slider-crank or a ball joint) not held (this analysis holds joints and tendons; name the "
+                f"actuators held: actuator(s) {', '.join(self.unheld)} (on a site, a slider-crank or a ball joint) "
+                "not held (this analysis holds joints and tendons; name the "
                 "joints to hold with --actuated)"
             )
         return "\n".join(lines)
@@ -192,6 +198,11 @@ def _finite(side: Side, dof: int | None, types: bool = True) -> str:
 
 def _evidence_lines(side: Side, order: int) -> list[str]:
     """The line saying what decided where the conditions up to the order bound did not (none when they did)."""
+    if side.unwritten:
+        return [
+            f"  decided by {side.evidence or 'nothing'} alone: the order conditions were not used "
+            f"({'; '.join(side.unwritten)}: wrapping geoms or over a pulley, no higher derivatives written)"
+        ]
     if not side.evidence:
         return []
     return [f"  the conditions up to order {order} do not decide; decided by {side.evidence}"]
@@ -239,14 +250,20 @@ def finite_mobility(
     """
     order = check_order(order)
 
+    def side(c: Configuration, held: tuple[int, ...], given: tuple[Motion, ...] | None) -> Side:
+        blind = unwritten(c.mechanism.all_closures)  # no higher derivatives: the closed samples alone decide
+        if blind:
+            return sampled_side(c, rtol, held, blind, seed, given)
+        return analyse_side(c, rtol, order, order_tol, held, seed, given)
+
     def compute() -> FiniteMobility:
         mech = conf.mechanism
-        free = analyse_side(conf, rtol, order, order_tol, (), seed, motions)
+        free = side(conf, (), motions)
         locked = None
-        tendons, held_tendons, others = hold_tendons(conf)  # fixed-tendon actuators held as tendon equalities
+        tendons, held_tendons, others = hold_tendons(conf)  # tendon actuators held as tendon equalities
         if mech.actuated or held_tendons:
             held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
-            locked = analyse_side(tendons, rtol, order, order_tol, held, seed, locked_motions)
+            locked = side(tendons, held, locked_motions)
             locked = replace(locked, held=locked.held + held_tendons)
         unheld = tuple(t.name for t in others)
         return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf, unheld)

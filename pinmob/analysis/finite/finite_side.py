@@ -15,6 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+import pinocchio as pin
 
 from pinmob.analysis.chain.closed_chain import closed_chain, closed_chain_columns, frame_rows
 from pinmob.analysis.chain.joint_rates import canonical_rates, joint_rates
@@ -23,21 +24,13 @@ from pinmob.analysis.finite.branches import Branch, branch_of, branch_order, pla
 from pinmob.analysis.finite.higher_order import HigherOrder
 from pinmob.analysis.finite.local_dimension import LocalDimension, local_dimension
 from pinmob.analysis.finite.loop_screws import mechanism_loops
+from pinmob.analysis.finite.motion_tracing import trace_motion, trace_rates
 from pinmob.analysis.finite.sample_modes import decide_by_samples
 from pinmob.analysis.finite.tangent_cone import cone
 from pinmob.analysis.finite.verdicts import MEMBER_SIN, MotionVerdict, Verdict, judge, orthonormal, settle, sine_to
-from pinmob.analysis.follow.displacement import displacement
-from pinmob.analysis.follow.motion_path import follow_motion, follow_rates
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.residual import compute_kinematics
 from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.classify import MotionKind
 from pinmob.screw.rank import decide_rank
-
-#: Distance each motion is traced: a fraction of L for translations, radians otherwise, joint metric for joints.
-TRACE = 0.05
-#: Halvings of a failed tracing step (the first step is TRACE / 2; the smallest tried TRACE / 2 / 2^HALVINGS).
-HALVINGS = 2
 
 
 @dataclass(frozen=True)
@@ -59,6 +52,9 @@ class Side:
         tolerance: the absolute tolerance of the conditions.
         evidence: what decided where the conditions up to the order bound did not ('' when they did;
             :mod:`pinmob.analysis.finite.sample_modes`).
+        unwritten: the couplings whose higher derivatives are not written (``coupling 'c' on tendon 't'``): the
+            order conditions were not used, the closed samples alone decided
+            (:mod:`pinmob.analysis.finite.sampled_side`).
     """
 
     held: tuple[str, ...]
@@ -74,6 +70,14 @@ class Side:
     notes: tuple[str, ...]
     tolerance: float
     evidence: str = ""
+    unwritten: tuple[str, ...] = ()
+
+
+def held_names(model: pin.Model, held: tuple[int, ...]) -> tuple[str, ...]:
+    """The names of the joints whose velocity indices are ``held``."""
+    return tuple(
+        model.names[j] for j in range(1, model.njoints) if model.joints[j].nv and model.joints[j].idx_v in held
+    )
 
 
 def internal_motions(conf: Configuration, rates: Array) -> list[tuple[str, Array]]:
@@ -107,58 +111,6 @@ def internal_motions(conf: Configuration, rates: Array) -> list[tuple[str, Array
     return out
 
 
-def _trace_motion(conf: Configuration, motion: Motion, rtol: float) -> float:
-    mech = conf.mechanism
-    amp = TRACE * mech.length_scale if motion.kind is MotionKind.TRANSLATION else TRACE
-    path = follow_motion(
-        mech,
-        conf.q,
-        motion,
-        amplitude=amp,
-        steps=2,
-        rtol=rtol,
-        closure_tol=conf.closure_tol,
-        halvings=HALVINGS,
-        either=True,  # the farthest reach is all that is used
-    )
-    return max(path.reached)
-
-
-def _trace_rates(
-    conf: Configuration, rates: Array, held: tuple[int, ...], rtol: float, twist: Array | None = None
-) -> float:
-    """Distance the rates were followed (joint metric), with ``twist`` only as far as the platform follows it.
-
-    With ``twist`` (a dimensionless platform twist), a direction whose end leaves the platform short of
-    half the first-order prediction along ``twist`` counts as not followed (it moved internal joints only).
-    """
-    mech = conf.mechanism
-    path = follow_rates(
-        mech,
-        conf.q,
-        rates,
-        amplitude=TRACE,
-        steps=2,
-        held=held,
-        rtol=rtol,
-        closure_tol=conf.closure_tol,
-        halvings=HALVINGS,
-        either=True,  # the farthest reach and its end are all that is used
-    )
-    reached = max(path.reached)
-    if twist is None or reached == 0.0:
-        return reached
-    sign, end = (1.0, path.forward[-1]) if path.reached[0] >= path.reached[1] else (-1.0, path.backward[-1])
-    data = mech.model.createData()
-    compute_kinematics(mech.model, data, end)
-    moved = twist_scaling(mech.length_scale) * displacement(
-        conf.frame_placement(mech.platform_id), data.oMf[mech.platform_id]
-    )
-    predicted = sign * reached * (frame_rows(conf, mech.platform) @ rates) / np.linalg.norm(rates)
-    unit = twist / np.linalg.norm(twist)
-    return reached if moved @ unit >= 0.5 * abs(predicted @ unit) > 0 else 0.0
-
-
 def analyse_side(
     conf: Configuration,
     rtol: float,
@@ -185,10 +137,12 @@ def analyse_side(
     )
     kernel = tangent_rates(ho, np.eye(ho.m))
     notes: list[str] = []
-    if not held and ho.m != closed_chain(conf, rtol).null.shape[1]:
+    jacobian_dof = ho.m if held else closed_chain(conf, rtol).null.shape[1]
+    ambiguous = ho.m != jacobian_dof  # a first-order rank: stays said, not decided by samples
+    if ambiguous:
         notes.append(
             f"the loop screws give {ho.m} instantaneous DoF, the closure Jacobian "
-            f"{closed_chain(conf, rtol).null.shape[1]}: a rank decision is too close to its tolerance"
+            f"{jacobian_dof}: a rank decision is too close to its tolerance"
         )
     if not found.linear:
         notes.append("the second-order cone is not a union of linear spaces: its branches cannot be told apart")
@@ -196,10 +150,7 @@ def analyse_side(
         notes.append(f"cannot decide the second-order cone: {found.undecided}")
     notes += [f"branch {i + 1}: {b.note}" for i, b in enumerate(branches) if b.note]
     col = closed_chain_columns(conf)
-    model = mech.model
-    names = tuple(
-        model.names[j] for j in range(1, model.njoints) if model.joints[j].nv and model.joints[j].idx_v in held
-    )
+    names = held_names(mech.model, held)
     motions: list[MotionVerdict] = []
     internal: list[MotionVerdict] = []
     vectors: list[Array] = []
@@ -220,7 +171,7 @@ def analyse_side(
             target = w * mo.twist
             test = ho.test(np.asarray(np.linalg.lstsq(on_kernel, target, rcond=None)[0], float), lifts, order, rng)
             traced = (
-                _trace_motion(conf, mo, rtol) if not held else _trace_rates(conf, test.rates[:nv], held, rtol, target)
+                trace_motion(conf, mo, rtol) if not held else trace_rates(conf, test.rates[:nv], held, rtol, target)
             )
             motions.append(judge(mo.label, target, spans, test, traced, motion=mo))
             vectors.append(target)
@@ -229,28 +180,34 @@ def analyse_side(
         for label, rates in internal_motions(conf, ho.kernel[:nv] @ lifts):
             y = np.asarray(np.linalg.lstsq(ho.kernel[:nv], rates, rcond=None)[0], float)
             test = ho.test(y, None, order, rng)
-            traced = _trace_rates(conf, rates, held, rtol)
+            traced = trace_rates(conf, rates, held, rtol)
             internal.append(judge(label, rates, spans, test, traced, joint_rates(mech, col * rates)))
             internal_vectors.append(rates)
-    samples = local_dimension(conf, kernel, [b.rates for b in branches], held, rtol=rtol, seed=seed)
     finite_mech = max((b.dimension for b in branches), default=0)
     finite_dof = max((b.dof or 0 for b in branches), default=0) if mech.has_platform else None
     undecided = [v.label for v in motions + internal if v.verdict is Verdict.UNDECIDED]
     if undecided:
         notes.append(f"the verdict on {', '.join(undecided)} is undecided, so the finite DoF too")
-    if samples.unexplained:
-        notes.append(f"{samples.unexplained} closed sample(s) near q lie on none of the branches found")
-    if samples.dimension != finite_mech:
-        notes.append(
-            f"the closed samples span {samples.dimension} dimension(s) on a branch, the branches {finite_mech}"
-        )
+    fallback = None
+    if notes and not ambiguous:  # the conditions do not decide, whatever the estimate below: the fallback decides
+        fallback = decide_by_samples(conf, ho.kernel[:nv], ho, branches, held, rtol, seed)
     platform_note = None
-    if finite_dof is not None and samples.platform != finite_dof:
-        platform_note = f"the samples' platform poses span {samples.platform} dimension(s), the branches' platform motions {finite_dof}"
+    if fallback is not None and fallback.how:
+        samples = fallback.samples  # its samples are the estimate (local_dimension's would go unused)
+    else:
+        samples = local_dimension(conf, kernel, [b.rates for b in branches], held, rtol=rtol, seed=seed)
+        if samples.unexplained:
+            notes.append(f"{samples.unexplained} closed sample(s) near q lie on none of the branches found")
+        if samples.dimension != finite_mech:
+            notes.append(
+                f"the closed samples span {samples.dimension} dimension(s) on a branch, the branches {finite_mech}"
+            )
+        if finite_dof is not None and samples.platform != finite_dof:
+            platform_note = f"the samples' platform poses span {samples.platform} dimension(s), the branches' platform motions {finite_dof}"
     evidence = ""
-    ambiguous = not held and ho.m != closed_chain(conf, rtol).null.shape[1]  # a first-order rank: stays said
     if (notes or platform_note) and not ambiguous:  # the conditions up to the order bound do not decide
-        fallback = decide_by_samples(conf, ho, branches, held, rtol, seed)
+        if fallback is None:
+            fallback = decide_by_samples(conf, ho.kernel[:nv], ho, branches, held, rtol, seed)
         if fallback.how:
             evidence, notes, platform_note = fallback.how, [], None
             finite_mech, finite_dof = fallback.finite_mechanism_dof or 0, fallback.finite_dof

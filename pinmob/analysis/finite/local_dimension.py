@@ -3,7 +3,7 @@
 Closed configurations near q are sampled: random first-order motions ``u`` (unit, dimensionless
 joint rates in ``null K``) give the starts ``q (+) radius u``, each projected back onto the closed
 set by the minimum-norm damped least-squares solver of :mod:`pinmob.assembly.solver` (held joints
-kept). A sample's displacement ``d`` from q (dimensionless joint metric) lies, up to the branch's
+kept; :class:`ClosedProjector`, the one projection :mod:`pinmob.analysis.finite.sample_modes` uses too). A sample's displacement ``d`` from q (dimensionless joint metric) lies, up to the branch's
 curvature, in the tangent space of the branch it landed on: it is assigned to the branch whose
 tangent rates ``R_b`` it is closest to (``sin angle <= ASSIGN_SIN``; farther: *unexplained*). The
 samples of a branch span, in its coordinates ``R_b^T d``, as many dimensions as the branch has
@@ -48,7 +48,48 @@ SAMPLE_RTOL = 0.05
 #: Samples closer to q than this fraction of the radius are not used (they fell back onto q).
 NEAR = 0.1
 #: Damped iterations of each projection (a start that does not close by then is dropped).
-MAX_ITER = 40
+MAX_ITER = 60
+#: Convergence target of each projection (dimensionless residual); a projection is kept when it closes within
+#: the configuration's closure tolerance.
+PROJECT_TOL = 1e-12
+
+
+class ClosedProjector:
+    """The minimum-norm projection on the closed set near a configuration, the held joints kept.
+
+    The one sampler of the closed set: :func:`local_dimension` and :mod:`pinmob.analysis.finite.sample_modes`
+    both project with it. A start is damped-least-squares solved (:mod:`pinmob.assembly.solver`) to
+    ``PROJECT_TOL`` in at most ``MAX_ITER`` iterations and kept when it closes within ``conf.closure_tol``.
+    """
+
+    def __init__(self, conf: Configuration, held: tuple[int, ...]) -> None:
+        mech = self.mech = conf.mechanism
+        self.col = closed_chain_columns(conf)
+        self.residual = closure_residual(mech)
+        self.held = held
+        self.tol = conf.closure_tol
+        self.free = np.ones(mech.model.nv, bool)
+        self.free[list(held)] = False
+
+    def __call__(self, q: Array, step: Array) -> Array | None:
+        """The closed configuration from ``q (+) step`` (dimensionless) projected back (None when it does not close)."""
+        model = self.mech.model
+        start = pin.integrate(model, q, self.col * step)
+        res = solve(
+            model,
+            self.residual,
+            start,
+            tol=PROJECT_TOL,
+            max_iter=MAX_ITER,
+            length=self.mech.length_scale,
+            free=self.free,
+            polish=False,
+        )
+        return res.q if res.residual <= self.tol else None
+
+    def moved(self, a: Array, b: Array) -> Array:
+        """(nv,) dimensionless displacement from a to b."""
+        return short_difference(self.mech.model, a, b) / self.col
 
 
 @dataclass(frozen=True)
@@ -131,12 +172,9 @@ def local_dimension(
     mech = conf.mechanism
     model, length = mech.model, mech.length_scale
     rng = np.random.default_rng(seed)
-    col = closed_chain_columns(conf)
+    project = ClosedProjector(conf, held)
     m = kernel.shape[1]
     count = min(32, 2 * m + 6) if tries is None else tries
-    free = np.ones(model.nv, bool)
-    free[list(held)] = False
-    residual = closure_residual(mech)
     data = model.createData()
     start = conf.frame_placement(mech.platform_id) if mech.has_platform else None
     w = twist_scaling(length)
@@ -147,12 +185,11 @@ def local_dimension(
     for _ in range(count if m else 0):
         u = kernel @ rng.normal(size=m)
         u /= np.linalg.norm(u)
-        q0 = pin.integrate(model, conf.q, col * radius * u)
-        res = solve(model, residual, q0, tol=1e-12, max_iter=MAX_ITER, length=length, free=free, polish=False)
-        if res.residual > conf.closure_tol:
+        q = project(conf.q, radius * u)
+        if q is None:
             continue
         closed += 1
-        d = short_difference(model, conf.q, res.q) / col
+        d = project.moved(conf.q, q)
         size = float(np.linalg.norm(d))
         if size < NEAR * radius:
             near += 1
@@ -164,11 +201,11 @@ def local_dimension(
             continue
         moves[best].append(branches[best].T @ d / size)
         if start is not None:
-            compute_kinematics(model, data, res.q)
+            compute_kinematics(model, data, q)
             poses[best].append(w * displacement(start, data.oMf[mech.platform_id]))
             bound = min(6, branches[best].shape[1])  # no sample's rank exceeds it: once found, the largest is known
             if bound not in ranks[best]:
-                rank = _platform_rank(conf, res.q, held, branches[best].shape[1], rtol)
+                rank = _platform_rank(conf, q, held, branches[best].shape[1], rtol)
                 if rank is not None:
                     ranks[best].append(rank)
     per_branch = tuple(_spread(rows, 1.0) for rows in moves)

@@ -28,19 +28,16 @@ from collections import Counter
 from dataclasses import dataclass
 
 import numpy as np
-import pinocchio as pin
 
-from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.branches import Branch, platform_motions
 from pinmob.analysis.finite.higher_order import HigherOrder
+from pinmob.analysis.finite.local_dimension import ClosedProjector, LocalDimension
 from pinmob.analysis.finite.reduced_equation import reduced_growth
+from pinmob.analysis.finite.tangent_cone import cone_point
 from pinmob.analysis.finite.verdicts import sine_to
 from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.residual import closure_residual
-from pinmob.assembly.solver import solve
-from pinmob.model.joints import short_difference
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import decide_rank
 
@@ -64,8 +61,6 @@ COMPONENT_STARTS = 2
 ON_COMPONENT = 0.3
 #: Directions below this fraction of the largest are not in the span of the samples' tangents.
 REACH_TOL = 0.05
-#: Convergence of the projections (dimensionless residual).
-PROJECT_TOL = 1e-12
 
 
 @dataclass(frozen=True)
@@ -97,7 +92,8 @@ class Evidence:
         branches: the linear components the samples confirm, then the modes whose tangent cone is not linear.
         how: the evidence that decided, in words ('' when nothing did).
         conflict: why it did not decide, with the numbers ('' when it did).
-        samples: (tried, regular) closed samples.
+        samples: the samples as a local-dimension estimate (starts tried, closed, the radius, the largest
+            dimension and platform DoF, each mode's dimension; none unexplained, ``near``: those fallen back onto q).
         reach: (nv, k) orthonormal joint rates spanning every regular sample's tangent (to ``REACH_TOL``).
     """
 
@@ -106,37 +102,12 @@ class Evidence:
     branches: tuple[Branch, ...]
     how: str
     conflict: str
-    samples: tuple[int, int]
+    samples: LocalDimension
     reach: Array
 
 
-class _Projector:
-    """The minimum-norm projection on the closed set, the held joints kept."""
-
-    def __init__(self, conf: Configuration, held: tuple[int, ...]) -> None:
-        mech = self.mech = conf.mechanism
-        self.col = closed_chain_columns(conf)
-        self.residual = closure_residual(mech)
-        self.held = held
-        self.free = np.ones(mech.model.nv, bool)
-        self.free[list(held)] = False
-
-    def __call__(self, q: Array, step: Array) -> Array | None:
-        """The closed configuration from q (+) step projected back (None when it does not close)."""
-        model = self.mech.model
-        start = pin.integrate(model, q, self.col * step)
-        res = solve(
-            model, self.residual, start, tol=PROJECT_TOL, max_iter=60, length=self.mech.length_scale, free=self.free
-        )
-        return res.q if res.residual <= PROJECT_TOL * 10 else None
-
-    def moved(self, a: Array, b: Array) -> Array:
-        """(nv,) dimensionless displacement from a to b."""
-        return short_difference(self.mech.model, a, b) / self.col
-
-
 def regular_sample(
-    conf: Configuration, q: Array, project: _Projector, rtol: float, known: int | None = None
+    conf: Configuration, q: Array, project: ClosedProjector, rtol: float, known: int | None = None
 ) -> ModeSample | None:
     """The :class:`ModeSample` at the closed q near conf, or None where its probes do not tell.
 
@@ -173,24 +144,16 @@ def regular_sample(
 
 def cone_directions(ho: HigherOrder, avoid: list[Array], count: int, rng: np.random.Generator) -> list[Array]:
     """Up to ``count`` unit cone points (``Q(y) = 0``, from random starts), none within ``ON_COMPONENT`` of ``avoid``."""
-    from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
-
     h = ho.forms()
     m = ho.m
     if m == 0 or h.shape[0] == 0:
         return []
-    pad = np.zeros(max(0, m - h.shape[0] - 1))
-
-    def fun(y: Array) -> Array:
-        return np.concatenate([np.einsum("lab,a,b->l", h, y, y), [y @ y - 1.0], pad])
-
     out: list[Array] = []
     for _ in range(CONE_TRIES):
         if len(out) == count:
             break
-        start = np.asarray(rng.normal(size=m), float)
-        fit = least_squares(fun, start, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
-        y = fit.x / np.linalg.norm(fit.x)
+        x = cone_point(h, np.asarray(rng.normal(size=m), float))
+        y = x / np.linalg.norm(x)
         if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) > ho.tol:
             continue
         if any(float(np.linalg.norm(y - b @ (b.T @ y))) <= ON_COMPONENT for b in avoid):
@@ -232,7 +195,8 @@ def _mode(group: list[ModeSample]) -> Branch:
 
 def decide_by_samples(
     conf: Configuration,
-    ho: HigherOrder,
+    kernel: Array,
+    ho: HigherOrder | None,
     branches: tuple[Branch, ...],
     held: tuple[int, ...],
     rtol: float,
@@ -242,8 +206,12 @@ def decide_by_samples(
 
     Args:
         conf: the closed configuration.
-        ho: the higher-order conditions there (held joints held).
-        branches: the linear cone components that passed the conditions (candidate branches).
+        kernel: (nv, m) the first-order motions at q (dimensionless joint rates, held joints still).
+        ho: the higher-order conditions there (held joints held), whose second-order cone gives starts off
+            its linear components; None where they are not written (:mod:`pinmob.analysis.finite.sampled_side`):
+            then every sample is probed, none taken for a regular point of a candidate branch.
+        branches: the candidate branches: the linear cone components that passed the conditions, or (without
+            ``ho``) the whole first-order kernel.
         held: velocity indices of the joints held.
         rtol: relative tolerance of the rank decisions.
         seed: of the random starts.
@@ -251,27 +219,30 @@ def decide_by_samples(
     mech = conf.mechanism
     nv = mech.model.nv
     has_platform = mech.has_platform
-    if ho.m == 1:
-        k = reduced_growth(conf, ho.kernel[:nv, 0], held)
+    m = kernel.shape[1]
+    if m == 1:
+        k = reduced_growth(conf, kernel[:, 0], held)
         if k is not None:
             how = f"the closure equations reduced to the one first-order motion: they grow like s^{k}, q is isolated"
-            return Evidence(0, 0 if has_platform else None, (), how, "", (0, 0), np.zeros((nv, 0)))
+            none = LocalDimension(0, 0, RADIUS, 0, 0 if has_platform else None, (), 0, 0)
+            return Evidence(0, 0 if has_platform else None, (), how, "", none, np.zeros((nv, 0)))
     rng = np.random.default_rng(seed)
-    project = _Projector(conf, held)
-    tree = ho.kernel[:nv]
-    starts = [tree @ rng.normal(size=ho.m) for _ in range(STARTS if ho.m else 0)]
-    on_kernel = [np.linalg.qr(np.linalg.lstsq(tree, b.rates, rcond=None)[0])[0] for b in branches]
-    starts += [tree @ y for y in cone_directions(ho, on_kernel, STARTS, rng)]
+    project = ClosedProjector(conf, held)
+    starts = [kernel @ rng.normal(size=m) for _ in range(STARTS if m else 0)]
+    if ho is not None:
+        on_kernel = [np.linalg.qr(np.linalg.lstsq(kernel, b.rates, rcond=None)[0])[0] for b in branches]
+        starts += [kernel @ y for y in cone_directions(ho, on_kernel, STARTS, rng)]
     for b in sorted(branches, key=lambda b: -b.dimension)[:COMPONENT_STARTS]:
         starts.append(b.rates @ rng.normal(size=b.dimension))
     samples: list[ModeSample] = []
-    tried = back = 0
+    tried = closed = back = 0
     for u in starts:
         norm = float(np.linalg.norm(u))
         if norm < 1e-12:
             continue
         tried += 1
         q = project(conf.q, RADIUS * u / norm)
+        closed += q is not None
         if q is None or float(np.linalg.norm(project.moved(conf.q, q))) < 0.1 * RADIUS:
             back += q is not None
             continue
@@ -279,20 +250,26 @@ def decide_by_samples(
         near = [i for i, b in enumerate(branches) if sine_to(d, b.rates) <= ON_COMPONENT]
         if near and sum(_on(s, branches[near[0]]) for s in samples) >= PER_COMPONENT:
             continue  # that linear component has its samples: the probes (the cost) go to the others
-        known = branches[near[0]].dimension if near and branches[near[0]].traced > 0 else None
+        known = branches[near[0]].dimension if ho is not None and near and branches[near[0]].traced > 0 else None
         sample = regular_sample(conf, q, project, rtol, known)
         if sample is not None:
             samples.append(sample)
+
+    def estimate(dimension: int, dof: int | None, per_branch: tuple[int, ...]) -> LocalDimension:
+        return LocalDimension(tried, closed, RADIUS, dimension, dof, per_branch, 0, back)
+
     if not samples and tried and back == tried:
         how = "closed samples near q: every one fell back onto q, which is isolated"
-        return Evidence(0, 0 if has_platform else None, (), how, "", (tried, 0), np.zeros((nv, 0)))
+        return Evidence(
+            0, 0 if has_platform else None, (), how, "", estimate(0, 0 if has_platform else None, ()), np.zeros((nv, 0))
+        )
     if not samples:
         conflict = f"the probes of none of {tried} closed samples near q tell its dimension (probe {PROBE:g})"
-        return Evidence(None, None, (), "", conflict, (tried, 0), np.zeros((nv, 0)))
+        return Evidence(None, None, (), "", conflict, estimate(0, None, ()), np.zeros((nv, 0)))
     confirmed, groups = _group(samples, branches)
     found = tuple(confirmed) + tuple(_mode(g) for g in groups)
     mech_dof = max(s.dimension for s in samples)
     dof = max(s.dof or 0 for s in samples) if has_platform else None
     how = "closed samples near q (at each, the first-order motions that extend when probed)"
     reach = decide_rank(np.hstack([s.rates for s in samples]).T, REACH_TOL, at_least=1.0).row_space.T
-    return Evidence(mech_dof, dof, found, how, "", (tried, len(samples)), reach)
+    return Evidence(mech_dof, dof, found, how, "", estimate(mech_dof, dof, tuple(b.dimension for b in found)), reach)

@@ -35,6 +35,8 @@ from pinmob.screw.rank import decide_rank
 CONE_STARTS = 4
 #: Most rounds of sampling (see the module docstring for when it stops earlier).
 CONE_ROUNDS = 4
+#: Gauss-Newton steps of a cone point's search before SciPy's Levenberg-Marquardt takes over.
+NEWTON_STEPS = 30
 #: Two cone points span a line of the cone when their polar values are below this (relative to max |H|).
 POLAR_TOL = 1e-4
 
@@ -77,6 +79,40 @@ class Cone:
     undecided: str = ""
 
 
+def cone_point(h: Array, start: Array) -> Array:
+    """A point of ``{y : y^T H_l y = 0, |y| = 1}`` near ``start`` (unnormalised; check ``Q`` at it).
+
+    Gauss-Newton with minimum-norm steps on ``[Q(y); |y|^2 - 1]`` (Jacobian ``[2 H_l y; 2 y]``, the forms symmetric)
+    until the step is below 1e-13, at most ``NEWTON_STEPS``; where that does not converge (a start near a singular
+    point of the cone), SciPy's Levenberg-Marquardt from the same start.
+    """
+    y = start / np.linalg.norm(start)
+    for _ in range(NEWTON_STEPS):
+        f = np.append(np.einsum("lab,a,b->l", h, y, y), y @ y - 1.0)
+        jac = np.vstack([2 * np.einsum("lab,b->la", h, y), 2 * y])
+        try:  # the minimum-norm step J^T (J J^T)^-1 f (J has more columns than rows but for tiny kernels)
+            step = jac.T @ np.linalg.solve(jac @ jac.T, f) if jac.shape[0] <= jac.shape[1] else None
+        except np.linalg.LinAlgError:
+            step = None
+        if step is None or not np.all(np.isfinite(step)):
+            step = np.linalg.lstsq(jac, f, rcond=None)[0]
+        y = y - step
+        if float(np.linalg.norm(step)) < 1e-13:
+            return y
+    from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
+
+    k = h.shape[1]
+    pad = np.zeros(max(0, k - h.shape[0] - 1))
+
+    def fun(y: Array) -> Array:
+        return np.concatenate([np.einsum("lab,a,b->l", h, y, y), [y @ y - 1.0], pad])
+
+    def jac_lm(y: Array) -> Array:
+        return np.vstack([2 * np.einsum("lab,b->la", h, y), 2 * y, np.zeros((pad.size, k))])
+
+    return np.asarray(least_squares(fun, start, jac=jac_lm, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14).x)
+
+
 def _span(points: Array) -> Array:
     """(m, d) orthonormal basis of the span of unit rows ``points`` (directions closer than 1e-3 merged)."""
     return decide_rank(points, 1e-3).row_space.T  # the one rank rule: relative to the largest
@@ -86,7 +122,7 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
     """The second-order cone ``{y : Q(y) = 0}`` at q as a union of linear components, each checked to ``order``.
 
     When every form vanishes, the cone is the whole kernel. Otherwise points of the cone on the unit
-    sphere are found from random starts (least squares on ``[Q(y); |y|^2 - 1]``, rounds of them, see
+    sphere are found from random starts (:func:`cone_point`: least squares on ``[Q(y); |y|^2 - 1]``, rounds of them, see
     the module docstring); two points lie on one linear component when every polar value
     ``y_i^T H_l y_j`` vanishes (``POLAR_TOL`` of ``max |H|``): components are the groups of pairwise
     polar points, spanned. A component is kept when Q vanishes on its whole span and a random
@@ -108,16 +144,6 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
     if largest < ho.tol * MARGIN:
         undecided = undecided or _within("the forms on the kernel", largest, ho.tol)
     k = sub.shape[1]
-    pad = np.zeros(max(0, k - hs.shape[0] - 1))
-
-    def fun(y: Array) -> Array:
-        return np.concatenate([np.einsum("lab,a,b->l", hs, y, y), [y @ y - 1.0], pad])
-
-    def jac(y: Array) -> Array:
-        return np.vstack([2 * np.einsum("lab,b->la", hs, y), 2 * y, np.zeros((pad.size, k))])
-
-    from scipy.optimize import least_squares  # SciPy is loaded when a finite analysis runs
-
     to_sub = sub.T @ ho.kernel[: ho.loops.nv].T  # a joint-rate direction's coordinates in the reduced cone's space
     groups: list[list[Array]] = []
     tried = found = 0
@@ -127,8 +153,8 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
             start: Array = np.asarray(to_sub @ rng.normal(size=ho.loops.nv), float)
             if not np.linalg.norm(start) > 1e-9:
                 start = np.asarray(rng.normal(size=k), float)
-            fit = least_squares(fun, start, jac=jac, method="lm", xtol=1e-12, ftol=1e-14, gtol=1e-14)
-            y = sub @ (fit.x / np.linalg.norm(fit.x))
+            x = cone_point(hs, start)
+            y = sub @ (x / np.linalg.norm(x))
             tried += 1
             if float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, y)))) <= ho.tol:
                 found += 1
@@ -154,9 +180,14 @@ def cone(ho: HigherOrder, order: int = ORDER, seed: int = 0) -> Cone:
 
 def _add(groups: list[list[Array]], y: Array, h: Array, tol: float) -> None:
     """Put the cone point y in the first group whose every point is polar to it (else in a new group)."""
-    for group in groups:
-        if all(float(np.max(np.abs(np.einsum("lab,a,b->l", h, y, x)))) <= tol for x in group):
-            group.append(y)
+    if groups:
+        hy = np.einsum("lab,a->lb", h, y)  # the polar forms at y: y^T H_l x = (hy x)_l
+        points = np.array([x for g in groups for x in g])
+        owner = np.repeat(np.arange(len(groups)), [len(g) for g in groups])
+        far = np.max(np.abs(hy @ points.T), axis=0) > tol  # per point: not polar to y
+        fits = np.flatnonzero(np.bincount(owner, weights=far, minlength=len(groups)) == 0)
+        if fits.size:
+            groups[int(fits[0])].append(y)
             return
     groups.append([y])
 

@@ -1,0 +1,154 @@
+"""One side of the finite analysis decided by closed samples alone, where the order conditions are not written.
+
+A coupling on a tendon that wraps geoms or runs over a pulley (:func:`pinmob.analysis.finite.coupling_rows.unwritten`),
+or such a tendon's actuator held, has a residual and a Jacobian (MuJoCo's length and its row) but no written
+higher derivatives: the conditions of :mod:`pinmob.analysis.finite.higher_order` cannot be written for the
+closure equations. :func:`sampled_side` decides the :class:`~pinmob.analysis.finite.finite_side.Side` from what
+needs only the residual and its Jacobian:
+
+1. the first-order motions (the closure Jacobian's kernel, held joints still) as the one candidate branch,
+   traced a short way along a random direction;
+2. closed samples near q, each probed (:func:`pinmob.analysis.finite.sample_modes.decide_by_samples`, every
+   sample probed: none is taken for a regular point of the candidate); with one first-order motion left, the
+   order at which the reduced closure equation starts;
+3. each instantaneous motion traced, then judged by the modes the samples found
+   (:func:`pinmob.analysis.finite.verdicts.settle`): finite on a confirmed branch and traced, blocked where the
+   samples never move it, a combination where modes meet.
+
+The finite DoF are the samples'; the report says that they decided and that the order conditions were not used
+(``Side.unwritten``). Where the samples conflict the DoF are None and a note gives the numbers.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from pinmob.analysis.chain.closed_chain import closed_chain_columns, frame_rows
+from pinmob.analysis.chain.joint_rates import joint_rates
+from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.finite.branches import BRANCH_STEP, Branch, branch_order, platform_motions
+from pinmob.analysis.finite.finite_side import Side, held_names, internal_motions
+from pinmob.analysis.finite.higher_order import OrderTest
+from pinmob.analysis.finite.local_dimension import LocalDimension
+from pinmob.analysis.finite.motion_tracing import trace_motion, trace_rates
+from pinmob.analysis.finite.sample_modes import RADIUS, decide_by_samples
+from pinmob.analysis.finite.verdicts import MEMBER_SIN, MotionVerdict, Verdict, orthonormal, settle, sine_to
+from pinmob.analysis.follow.motion_path import follow_rates
+from pinmob.analysis.follow.path_follower import closed_rates
+from pinmob.analysis.motion import Motion
+from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.screw.rank import decide_rank
+
+
+def untested(rates: Array) -> OrderTest:
+    """The :class:`OrderTest` of a motion no condition beyond the first order was written for (order 1, no residual)."""
+    return OrderTest(None, 1, (), 0.0, rates)
+
+
+def sampled_side(
+    conf: Configuration,
+    rtol: float,
+    held: tuple[int, ...],
+    unwritten: tuple[str, ...],
+    seed: int = 0,
+    given: tuple[Motion, ...] | None = None,
+) -> Side:
+    """The :class:`Side` of ``conf`` (joints of velocity indices ``held`` still) from closed samples alone.
+
+    Args:
+        conf: the closed configuration.
+        rtol: relative tolerance of the rank decisions.
+        held: velocity indices of the joints held.
+        unwritten: the couplings whose higher derivatives are not written (named in the report).
+        seed: of the random directions.
+        given: the platform motions to judge, as for :func:`pinmob.analysis.finite.finite_side.analyse_side`.
+    """
+    mech = conf.mechanism
+    nv = mech.model.nv
+    col = closed_chain_columns(conf)
+    kernel = closed_rates(conf, held, rtol)  # (nv, m) dimensionless, orthonormal
+    m = kernel.shape[1]
+    rng = np.random.default_rng(seed)
+    dof = kind = None
+    found_motions: tuple[Motion, ...] = ()
+    rows = frame_rows(conf, mech.platform) if mech.has_platform else np.zeros((6, nv))
+    w = twist_scaling(mech.length_scale)
+    if mech.has_platform:
+        dof, kind, found_motions = platform_motions(conf, kernel, rtol)
+        image = orthonormal([rows @ kernel], 6)
+        if given is not None and len(given) == dof and all(sine_to(w * g.twist, image) <= MEMBER_SIN for g in given):
+            found_motions = given
+    candidates: tuple[Branch, ...] = ()
+    notes: list[str] = []
+    if m:
+        path = follow_rates(
+            mech,
+            conf.q,
+            kernel @ rng.normal(size=m),
+            amplitude=BRANCH_STEP,
+            steps=1,
+            held=held,
+            rtol=rtol,
+            closure_tol=conf.closure_tol,
+            halvings=2,
+        )
+        candidates = (Branch(m, dof, kind, found_motions, "q", kernel, untested(kernel), max(path.reached)),)
+    evidence = decide_by_samples(conf, kernel, None, candidates, held, rtol, seed) if m else None
+    finite_mech: int | None
+    finite_dof: int | None
+    branches: tuple[Branch, ...]
+    if evidence is None:  # the closure Jacobian has full rank: q is isolated (the implicit function theorem)
+        how = "the closure Jacobian (no first-order motion: q is isolated)"
+        samples = LocalDimension(0, 0, RADIUS, 0, 0 if mech.has_platform else None, (), 0, 0)
+        finite_mech, finite_dof, branches, reach = 0, (0 if mech.has_platform else None), (), kernel
+        conflict = ""
+    else:
+        how, samples, reach = evidence.how, evidence.samples, evidence.reach
+        finite_mech, finite_dof = evidence.finite_mechanism_dof, evidence.finite_dof
+        branches = tuple(sorted(evidence.branches, key=branch_order))
+        conflict = evidence.conflict
+        notes = [] if how else [f"closed samples: {conflict}"]
+    plat: list[Array | None] = [None if b.test is None else orthonormal([rows @ b.rates], 6) for b in branches]
+    joints: list[Array | None] = [None if b.test is None else b.rates for b in branches]
+    reach_plat = orthonormal([rows @ reach], 6)
+    motions: list[MotionVerdict] = []
+    internal: list[MotionVerdict] = []
+    lifts = np.eye(m)
+    if mech.has_platform and m:
+        on_kernel = rows @ kernel
+        lifts = decide_rank(on_kernel, rtol, n=m, at_least=1.0).null_space.T
+        for mo in found_motions:
+            target = w * mo.twist
+            rates = kernel @ np.linalg.lstsq(on_kernel, target, rcond=None)[0]
+            traced = trace_motion(conf, mo, rtol) if not held else trace_rates(conf, rates, held, rtol, target)
+            v = MotionVerdict(mo.label, Verdict.UNDECIDED, None, (), traced, untested(rates), "", motion=mo)
+            motions.append(v if not how else settle(v, target, plat, reach_plat, finite_dof == 0))
+    if not held and m:
+        for label, rates in internal_motions(conf, kernel @ lifts):
+            traced = trace_rates(conf, rates, held, rtol)
+            by_name = joint_rates(mech, col * rates)
+            v = MotionVerdict(label, Verdict.UNDECIDED, None, (), traced, untested(rates), "", by_name)
+            internal.append(v if not how else settle(v, rates, joints, reach, finite_mech == 0))
+    if not how:  # the samples conflict: every verdict stays undecided, with the numbers
+        motions = [_undecided(v, conflict) for v in motions]
+        internal = [_undecided(v, conflict) for v in internal]
+    return Side(
+        held_names(mech.model, held),
+        dof,
+        kind,
+        m,
+        finite_dof if how else None,
+        finite_mech if how else None,
+        branches,
+        tuple(motions),
+        tuple(internal),
+        samples,
+        tuple(notes),
+        0.0,
+        how,
+        unwritten,
+    )
+
+
+def _undecided(v: MotionVerdict, why: str) -> MotionVerdict:
+    return MotionVerdict(v.label, Verdict.UNDECIDED, None, (), v.traced, v.test, why, v.joints, v.motion)

@@ -18,7 +18,6 @@ from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.finite.branch_names import branch_point_name
-from pinmob.analysis.finite.coupling_rows import is_polynomial
 from pinmob.analysis.finite.finite_mobility import finite_mobility
 from pinmob.analysis.follow.motion_path import MotionPath, follow_motion
 from pinmob.analysis.mobility import Mobility
@@ -69,7 +68,7 @@ def prepare(
 ) -> Prepared:
     """Closed q, its analysis and the followed motions (everything that can fail before meshcat).
 
-    With ``finite`` (and a platform, and no joint or tendon coupling), each path carries its motion's verdict from
+    With ``finite`` (and a platform), each path carries its motion's verdict from
     :func:`pinmob.analysis.finite.finite_mobility.finite_mobility`: a motion that exists only to first order is then
     drawn as such by :func:`pinmob.viewer.scene.build` and the panel's verdict column says so.
 
@@ -98,9 +97,8 @@ def prepare(
                 bar.update()
             else:
                 paths[m.label] = MotionPath(m.label, (conf.q,), (conf.q,), (0.0, 0.0), 0.0)
-    coupled = any(c.is_coupling and not is_polynomial(c) for c in mech.closures)  # beyond the finite analysis
     branch_point = None
-    if finite and mech.has_platform and mob.motions and not coupled:
+    if finite and mech.has_platform and mob.motions:
         fm = finite_mobility(conf, RTOL, motions=mob.motions)
         branch_point = branch_point_name(fm.free.branches)
         verdicts = {v.label: v for v in fm.motions}

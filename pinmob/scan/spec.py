@@ -39,6 +39,7 @@ from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.singularity.classification import require_platform
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector
+from pinmob.assembly.residual import check_closure_tol
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL
@@ -49,7 +50,7 @@ from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_c
 from pinmob.scan.references import nearest_seed, resolve_pose
 from pinmob.scan.references import platform_pose as platform_pose  # re-exported: its home before references.py
 from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.screw.rank import RTOL, check_rtol
 
 KINDS = ("pose", "joints", "coords", "grid")
 
@@ -221,7 +222,7 @@ class ScanSpec:
                 for t in np.arange(1, steps) / steps]  # fmt: skip
 
 
-def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, float, int]:
+def parse_grid_axis(text: str, option: str = "grid axis") -> tuple[str, float, float, int]:
     """``COORD:LO:HI:N`` -> (coordinate, low, high, count); checked by :func:`grid_spec`."""
     parts = text.split(":") if isinstance(text, str) else []
     try:
@@ -248,6 +249,7 @@ def path_spec(
     Raises:
         PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end.
     """
+    rtol, closure_tol = check_rtol(rtol), check_closure_tol(closure_tol)
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
     check_bound("samples", samples, "the path (samples)", "samples")
@@ -316,17 +318,25 @@ def coordinate_path_spec(
     return replace(spec, q_ref=q0)
 
 
-def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]], rtol: float = RTOL) -> ScanSpec:
+def grid_spec(
+    mech: Mechanism,
+    at: str,
+    axes: list[tuple[str, float, float, int]],
+    rtol: float = RTOL,
+    closure_tol: float = CLOSURE_TOL,
+) -> ScanSpec:
     """A grid over one to three coordinates (pose coordinates or joints) around ``at`` (a configuration or a pose).
 
     The coordinates not on the grid are held at their values at ``at`` or follow the mechanism
-    (:func:`pinmob.scan.coordinates.held_coordinates`).
+    (:func:`pinmob.scan.coordinates.held_coordinates`). Each sample closes within ``closure_tol``.
 
     Raises:
+        ArgumentError: ``rtol`` or ``closure_tol`` out of range.
         ConfigurationError: no platform, an unknown or repeated coordinate (the message lists the valid ones), an
             empty range, too many samples, or gridded coordinates that cannot vary independently at ``at``.
     """
-    require_platform(mech, "pinmob scan")
+    rtol, closure_tol = check_rtol(rtol), check_closure_tol(closure_tol)
+    require_platform(mech, "grid_spec")
     names = check_coordinates(mech, [a[0] for a in axes])
     out = []
     for name, lo, hi, n in axes:
@@ -336,11 +346,11 @@ def grid_spec(mech: Mechanism, at: str, axes: list[tuple[str, float, float, int]
     check_bound("samples", int(np.prod([a[3] for a in out])), f"the grid ({' x '.join(str(a[3]) for a in out)})")
     pose, q = resolve_pose(mech, at)
     if q.size == 0:
-        q = assemble_pose(mech, pose, nearest_seed(mech, pose))
+        q = assemble_pose(mech, pose, nearest_seed(mech, pose), closure_tol)
     held = held_coordinates(mech, q, names, at, rtol)
     values = coordinate_values(mech, q, names + held)
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("grid", q, axes=tuple(out), rtol=rtol, generic_rank=g,
+    return ScanSpec("grid", q, axes=tuple(out), rtol=rtol, generic_rank=g, closure_tol=closure_tol,
                     held=tuple((c, values[c]) for c in held), start=tuple((c, values[c]) for c in names),
                     values=value_joints(mech))  # fmt: skip
 

@@ -96,7 +96,7 @@ class Follower:
         """
         key = q.tobytes()
         if key not in self._spans:
-            mob = platform_mobility(Configuration(self.mech, q, closure_tol=self.tol), self.rtol)
+            mob = platform_mobility(Configuration.from_checked(self.mech, q, self.tol), self.rtol)
             self._spans[key] = (mob.dof, self.w[:, None] * mob.free_twists)
         return self._spans[key]
 

@@ -274,7 +274,7 @@ def platform_mobility(conf: Configuration, rtol: float) -> Mobility:
     if not mech.has_platform:
         raise ConfigurationError(
             f"{mech.name!r} has no platform frame: the whole-mechanism analysis (report.mechanism_mobility, "
-            "whose frames `frames` names) gives the motion of any frame"
+            "for the frames `frames` names) gives the motion of any frame"
         ).naming("frames")
     obstacle = limbwise_obstacle(mech)
     if not obstacle:

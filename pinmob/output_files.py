@@ -24,10 +24,22 @@ from pinmob.exceptions import ConfigurationError
 TEMP_SUFFIX = ".pinmob-tmp"
 
 
-def check_target(option: str, path: str | Path, force: bool) -> Path:
-    """The output path, if an output may be written there; else a :class:`ConfigurationError` naming ``option``."""
+def check_target(option: str, path: str | Path, force: bool, switch: str = "force") -> Path:
+    """The output path, if an output may be written there; else a :class:`ConfigurationError` naming ``option``.
+
+    ``option``: how the message calls the output (``html file``; a Python parameter in backticks, such as
+    ```target```, is one the command line words as its option). ``switch``: the Python parameter that allows
+    overwriting (``force``), named in the refusal of an existing file.
+    """
     target = Path(path).expanduser()
     shown = f"{option} {str(target)!r}"
+    try:
+        return _checked(target, shown, force, switch)
+    except ConfigurationError as exc:
+        raise exc.naming(option.strip("`"), switch) from None
+
+
+def _checked(target: Path, shown: str, force: bool, switch: str) -> Path:
     if target.is_symlink():
         raise ConfigurationError(
             f"{shown} is a symbolic link (to {os.readlink(target)!r}); pinmob does not write through links: "
@@ -39,7 +51,9 @@ def check_target(option: str, path: str | Path, force: bool) -> Path:
         if not stat.S_ISREG(target.stat().st_mode):
             raise ConfigurationError(f"{shown} is not a regular file (a device, pipe or socket); give a file name")
         if not force:
-            raise ConfigurationError(f"{shown} exists already; choose another file name or allow overwriting (--force)")
+            raise ConfigurationError(
+                f"{shown} exists already; choose another file name or allow overwriting (`{switch}=True`)"
+            )
     parent = target.parent if str(target.parent) else Path(".")
     if not parent.is_dir():
         raise ConfigurationError(f"cannot write {shown}: folder {str(parent)!r} does not exist")

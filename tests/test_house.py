@@ -128,7 +128,24 @@ def test_imports_only_go_down() -> None:
     assert not wrong, "\n".join(wrong)
 
 
+#: The modules over 300 lines, each reviewed: one concept that a cut would split (300 lines is a hint, issue 25).
+LONG_MODULES = {
+    "pinmob.builder.mechanism_builder": "one class, MechanismBuilder: its methods add limbs, chains and closures to "
+    "one model and write it; a cut would split the class",
+    "pinmob.scan.spec": "a scan's specification: ScanSpec and the functions that build one (path, coordinate path, "
+    "grid, finite DoF), which share its fields and checks",
+    "pinmob.sweeps.spec_file": "reading a sweep spec file: every table of the TOML (top level, [design], [scan], "
+    "[plots]) with the checks they share; it was cut in two by line count (spec_designs.py held the [design] table "
+    "and the shared checks the other half imported)",
+}
+
+
 def test_modules_are_small() -> None:
-    """One concept per module, 300 lines as a rule: at most two exceptions (today: the model builder)."""
-    long = sorted(n for n, p in MODULES.items() if len(p.read_text(encoding="utf-8").splitlines()) > 300)
-    assert len(long) <= 2, long
+    """One concept per module; 300 lines is a hint: a longer module is one reviewed in LONG_MODULES, with its reason.
+
+    The rule was "at most two modules over 300 lines", which made helpers cut one concept by line count."""
+    long = {n for n, p in MODULES.items() if len(p.read_text(encoding="utf-8").splitlines()) > 300}
+    assert long <= set(LONG_MODULES), (
+        f"over 300 lines, not reviewed in LONG_MODULES: {sorted(long - set(LONG_MODULES))}"
+    )
+    assert set(LONG_MODULES) <= set(MODULES), "LONG_MODULES names a module that no longer exists"

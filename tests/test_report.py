@@ -19,6 +19,7 @@ from test_errors import GOOD, write_mechanism
 import pinmob
 import pinmob.assembly.assemble as assemble_module
 from pinmob.cli import main
+from pinmob.cli.flags import worded_report
 
 MODELS = Path(__file__).resolve().parent.parent / "models"
 
@@ -44,7 +45,7 @@ def test_report_is_what_the_cli_prints(name: str, config: str) -> None:
     assert json.loads(cli("analyze", name, "--config", config, "--json")) == json.loads(
         json.dumps(report.to_dict(), allow_nan=False)
     )
-    assert cli("analyze", name, "--config", config) == str(report) + "\n"
+    assert cli("analyze", name, "--config", config) == worded_report(str(report)) + "\n"  # paper=True: --paper-view
 
 
 FINITE_CASES = [("3-PUU-flat", "flat"), ("Sarrus", "stretched"), ("6-UPS", "type2"), ("3-UPU", "constraint-singular")]
@@ -56,7 +57,7 @@ def test_finite_report_is_what_the_cli_prints(name: str, config: str) -> None:
     report = pinmob.analyze(pinmob.load(name), config, finite=True)
     document = json.loads(cli("analyze", name, "--config", config, "--json", "--finite"))
     assert document == json.loads(json.dumps(report.to_dict(), allow_nan=False))
-    assert cli("analyze", name, "--config", config, "--finite") == str(report) + "\n"
+    assert cli("analyze", name, "--config", config, "--finite") == worded_report(str(report)) + "\n"
     for key in ("finite_dof", "finite_mechanism_dof", "finite_dof_locked", "finite"):
         assert key in document
     assert all({"finite", "order", "branches"} <= set(m) for m in document["finite"]["motions"])

@@ -62,7 +62,7 @@ def test_workers_must_be_a_positive_whole_number():
     mech = pinmob.load("3-UPU")
     spec = path_spec(mech, "generic", "constraint-singular", 3)
     for bad in (0, -2, 1.5, True):
-        with pytest.raises(ConfigurationError, match="--workers"):
+        with pytest.raises(ConfigurationError, match="^workers must be a whole number"):
             scan(mech, spec, workers=bad)  # type: ignore[arg-type]
 
 

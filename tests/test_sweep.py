@@ -256,7 +256,7 @@ def test_pareto_front_against_brute_force():
 
 def test_workers_is_checked(tmp_path, capsys):
     _one_line_error(capsys, ["sweep", str(_spec(tmp_path)), "--workers", "0"], "--workers")
-    with pytest.raises(ConfigurationError, match="--workers"):
+    with pytest.raises(ConfigurationError, match="^workers must be a whole number"):
         pinmob.sweep(_spec(tmp_path), workers=0)
 
 

@@ -90,7 +90,7 @@ def test_the_mechanism_at_a_chosen_sample(puu):
     assert_allclose(ws.chosen, [row["x"], row["y"], row["z"]])
     assert ws.legend()["marks"][-1]["color"] == f"#{CHOSEN_COLOR:06x}"
     lost = next(r["index"] for r in rows if not r["reachable"])
-    with pytest.raises(pinmob.ConfigurationError, match=f"--sample {lost}: that sample was not assembled; valid: "):
+    with pytest.raises(pinmob.ConfigurationError, match=f"`index={lost}`: that sample was not assembled; valid: "):
         sample_configuration(mech, rows, lost, spec.q_ref)
 
 

@@ -63,7 +63,7 @@ class AmbiguousRank:
             f"ambiguous {self.decision}: singular values {self.kept:.2e} (counted) and {self.dropped:.2e} (not) lie "
             f"within a factor {AMBIGUOUS_MARGIN:g} of the tolerance {self.tolerance:.2e}, no clear gap: the rank is "
             f"{self.rank} as counted, {other} if the geometry means otherwise "
-            "(check the model's accuracy, or set --rtol / --closure-tol)"
+            "(check the model's accuracy, or set `rtol` / `closure_tol`)"
         )
 
 

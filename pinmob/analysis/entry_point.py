@@ -40,6 +40,28 @@ def found_configuration(
     return Configuration.from_checked(mech, found.q, closure_tol, source=found.method), relaxed
 
 
+def asked_configuration(
+    mech: Mechanism,
+    config: str | None,
+    joints: Mapping[str, float] | None,
+    *,
+    closure_tol: float,
+    restarts: int,
+    relax: bool,
+    name: str | None = None,
+) -> tuple[Configuration, tuple[str, ...]]:
+    """The configuration :func:`analyze` (and ``pinmob show``) works at, ``closure_tol`` checked once.
+
+    :func:`~pinmob.analysis.configuration_choice.chosen_configuration` (by joint values, by name, or the mechanism's
+    first); when the mechanism names none, a closed one found (:func:`found_configuration`). Returns it with the
+    closures relaxed to find it (``relax``).
+    """
+    chosen = chosen_configuration(mech, config, joints, closure_tol=closure_tol, name=name)
+    if chosen is not None:
+        return chosen, ()
+    return found_configuration(mech, restarts, relax, check_closure_tol(closure_tol))  # names none: find one
+
+
 def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Residuals) -> ClosureError:
     """The error of :func:`found_configuration` when nothing closed; ``residuals``: those of the best attempt."""
     length = mech.length_scale
@@ -142,9 +164,9 @@ def analyze(
             joints,
         )
     if isinstance(mech, Mechanism) and (q is None or isinstance(q, str)):
-        chosen = chosen_configuration(mech, q, joints, closure_tol=closure_tol, name=configuration)
-        if chosen is None:  # the mechanism names no configuration: find a closed one
-            chosen, relaxed = found_configuration(mech, restarts, relax, check_closure_tol(closure_tol))
+        chosen, relaxed = asked_configuration(
+            mech, q, joints, closure_tol=closure_tol, restarts=restarts, relax=relax, name=configuration
+        )
         conf = as_configuration(chosen, configuration=configuration)
     else:
         conf = as_configuration(mech, q, configuration=configuration, closure_tol=closure_tol)

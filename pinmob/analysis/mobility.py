@@ -191,7 +191,7 @@ class Mobility(ReadOnlyArrays):
             lines.append(
                 f"note: limb(s) {', '.join(singular)} are at a serial singularity: their joint screws are dependent "
                 "here, so each has more constraint wrenches than at generic configurations. A method that carries "
-                "the generic limb wrenches to this configuration (as the seed paper does) misses them: see --paper-view."
+                "the generic limb wrenches to this configuration (as the seed paper does) misses them: see `paper=True`."
             )
         lines.append(
             f"singular values {numbers(self.singular_values, 3)}, tolerance {self.tolerance:.2e}, "
@@ -274,8 +274,8 @@ def platform_mobility(conf: Configuration, rtol: float) -> Mobility:
     if not mech.has_platform:
         raise ConfigurationError(
             f"{mech.name!r} has no platform frame: the whole-mechanism analysis (report.mechanism_mobility, "
-            "or pinmob analyze --frame NAME) gives the motion of any frame"
-        )
+            "for the frames `frames` names) gives the motion of any frame"
+        ).naming("frames")
     obstacle = limbwise_obstacle(mech)
     if not obstacle:
         return mobility_from_wrenches(conf, limb_wrenches(conf, rtol), rtol)

@@ -1,8 +1,8 @@
 """The whole answer at one closed configuration: :class:`Report`, from the one entry point :func:`analyze`.
 
-``Report.to_dict()`` is the document ``pinmob analyze --json`` prints and ``str(report)`` the text
-``pinmob analyze`` prints. The platform mobility is computed at once; the other parts when first used
-(``to_dict`` and ``str`` use them all):
+``Report.to_dict()`` is the document ``pinmob analyze --json`` prints, ``str(report)`` the text ``pinmob analyze``
+prints (the parameters it names in backticks, as ``paper=True``, worded as options). The platform mobility is
+computed at once; the other parts when first used (``to_dict`` and ``str`` use them all):
 
 * ``mechanism_mobility``: the whole closed chain (closure Jacobian, redundancy, idle motions, actuation,
   frame motions);

@@ -11,6 +11,7 @@ from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.report import Report
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.cli.common import joint_values_of, load_for, with_elsewhere
+from pinmob.cli.flags import worded_report
 from pinmob.exceptions import ConfigurationError
 from pinmob.name_matching import choices
 from pinmob.screw.rank import RTOL
@@ -52,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
     if args.json:
         print(json.dumps(report.to_dict(), indent=2, allow_nan=False))
     else:
-        print(report.brief() if args.brief else report)
+        print(worded_report(report.brief() if args.brief else str(report)))  # the parameters it names as options
     return check_status(args, report)
 
 

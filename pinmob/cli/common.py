@@ -9,7 +9,6 @@ import tomllib
 from collections.abc import Iterator
 from pathlib import Path
 
-from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol
 from pinmob.exceptions import ConfigurationError, UnknownConfigurationError
 from pinmob.io.builtin import builtin_models
 from pinmob.model.joint_values import parse_joint_values
@@ -43,11 +42,6 @@ def load_for(args: argparse.Namespace) -> Mechanism:
             raise ConfigurationError(f"--actuated {args.actuated!r}: name the actuated joints, e.g. --actuated a,b")
         mech = with_actuated(mech, names)
     return mech
-
-
-def closure_tol_of(args: argparse.Namespace) -> float:
-    """``--closure-tol``, checked (default :data:`~pinmob.model.closure.CLOSURE_TOL`), for ``show`` and ``scan``."""
-    return CLOSURE_TOL if args.closure_tol is None else check_closure_tol(args.closure_tol, "--closure-tol")
 
 
 def elsewhere(config: str, mech: Mechanism | None = None) -> str:

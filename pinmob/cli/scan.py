@@ -11,10 +11,10 @@ from typing import Any
 
 from pinmob.analysis.singularity.classification import require_platform
 from pinmob.analysis.singularity.result import NEAR_FACTOR
-from pinmob.cli.common import check_outputs, closure_tol_of, load_for, signals_interrupt
+from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.cli.common import check_outputs, load_for, signals_interrupt
 from pinmob.cli.scan_view import check_view_options, view
 from pinmob.exceptions import ConfigurationError
-from pinmob.parallel.cluster import check_workers
 from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
 from pinmob.scan.chain import check_actuated
 from pinmob.scan.coordinates import coordinate_unit
@@ -22,7 +22,7 @@ from pinmob.scan.output import RowWriter
 from pinmob.scan.plot import plot_path, varied_joint
 from pinmob.scan.plot_map import plot_map
 from pinmob.scan.spec import ScanSpec, parse_grid_axis
-from pinmob.screw.rank import RTOL, check_rtol
+from pinmob.screw.rank import RTOL
 
 
 def run(args: argparse.Namespace) -> int:
@@ -35,19 +35,18 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _run(args: argparse.Namespace) -> int:
-    rtol = RTOL if args.rtol is None else check_rtol(args.rtol, "--rtol")
+    rtol = RTOL if args.rtol is None else args.rtol  # checked by the library (path_spec, grid_spec)
     _check_scan_options(args)
-    check_workers(args.workers)
     check_outputs({"--csv": args.csv, "--json": args.json_out, "--plot": args.plot, "--html": args.html}, args.force)
     if args.plot and Path(args.plot).suffix.lower() != ".png":
         raise ConfigurationError(f"--plot {args.plot!r}: the plot is a PNG image; give a file name ending in .png")
     mech = load_for(args)
     check_view_options(args, mech)
-    closure_tol = closure_tol_of(args)
+    closure_tol = CLOSURE_TOL if args.closure_tol is None else args.closure_tol
     names = list(mech.configurations)
     if args.grid:
-        require_platform(mech, "pinmob scan --grid")
-        axes = [parse_grid_axis(text) for text in args.grid]
+        require_platform(mech, "pinmob scan --grid", "`pinmob analyze`", "`pinmob scan --from A --to B`")
+        axes = [parse_grid_axis(text, "--grid") for text in args.grid]
         if not names and not args.at:
             raise ConfigurationError(f"{mech.name!r} declares no configuration; give --at")
         spec = grid_spec(mech, args.at or names[0], axes, rtol, closure_tol)
@@ -68,6 +67,7 @@ def _run(args: argparse.Namespace) -> int:
         joints = "" if spec.platform else f" ({', '.join(spec.joints)})"  # a closed chain's actuated joints
         kind = {"joints": "actuated-joint", "coords": f"coordinate ({', '.join(spec.coords)})"}.get(spec.kind, "pose")
         what = f"{kind} path{joints} {start!r} -> {end!r}, {samples} samples" + _held_text(spec)
+    rtol = spec.rtol  # as checked
     if args.finite or args.finite_order is not None:  # --finite-order K implies --finite
         spec = with_finite(mech, spec, args.finite_order)
         what += f", finite DoF per sample (order bound {spec.finite_order})"

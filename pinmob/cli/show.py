@@ -11,9 +11,9 @@ import pinocchio as pin
 
 from pinmob import viewer
 from pinmob.analysis.configuration import Configuration, as_configuration
-from pinmob.analysis.configuration_choice import chosen_configuration
-from pinmob.analysis.entry_point import analyze, found_configuration
-from pinmob.cli.common import closure_tol_of, joint_values_of, load_for, signals_interrupt, with_elsewhere
+from pinmob.analysis.entry_point import analyze, asked_configuration
+from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.cli.common import joint_values_of, load_for, signals_interrupt, with_elsewhere
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Mechanism
@@ -23,15 +23,20 @@ def run(args: argparse.Namespace) -> int:
     """``pinmob show``: the mechanism and its free motions, animated, in meshcat (or a self-contained HTML file)."""
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
     mech = load_for(args)
-    closure_tol = closure_tol_of(args)
     with with_elsewhere(mech):
         named = None if args.joints is None else f"--joints {args.joints}"
-        state = chosen_configuration(mech, args.config, joint_values_of(args), closure_tol=closure_tol, name=named)
-    if state is None:  # a file without a configuration: a closed one found from neutral
-        state, _ = found_configuration(mech, restarts=20, relax=False, closure_tol=closure_tol)
+        state, _ = asked_configuration(  # checks --closure-tol; a file without a configuration: one found
+            mech,
+            args.config,
+            joint_values_of(args),
+            closure_tol=CLOSURE_TOL if args.closure_tol is None else args.closure_tol,
+            restarts=20,
+            relax=False,
+            name=named,
+        )
     if state.name is None:
         state = state.with_name("found closed configuration")
-    mech, shown, note = with_viewed_frame(mech, state, closure_tol)
+    mech, shown, note = with_viewed_frame(mech, state, state.closure_tol)
     config = shown if isinstance(shown, str) else str(shown.name)
     if note:
         print(f"note: {note}")

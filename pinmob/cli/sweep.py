@@ -13,7 +13,6 @@ from typing import Any
 from pinmob.cli.common import check_distinct, signals_interrupt
 from pinmob.exceptions import ConfigurationError
 from pinmob.output_files import Replacing, check_target
-from pinmob.parallel.cluster import check_workers
 from pinmob.sweeps.plot import plot_atlas, plot_pareto, written_by
 from pinmob.sweeps.run import sweep
 from pinmob.sweeps.spec import SweepSpec
@@ -30,7 +29,6 @@ def run(args: argparse.Namespace) -> int:
 def _run(args: argparse.Namespace) -> int:
     spec = load_spec(args.spec)
     spec.check_count()
-    check_workers(args.workers)
     if args.out and Path(args.out).suffix.lower() != ".parquet":
         raise ConfigurationError(
             f"--out {args.out!r}: the records go to a Parquet file; give a name ending in .parquet"

@@ -7,7 +7,7 @@ import os
 from collections.abc import Callable, Iterable, Iterator
 from typing import Any, TypeVar
 
-from pinmob.exceptions import ArgumentError, ConfigurationError, EngineError
+from pinmob.exceptions import ArgumentError, EngineError
 from pinmob.parallel.quiet import install as quiet_logs
 from pinmob.parallel.tasks import Lost, Watch, ordered_results
 from pinmob.signals import deferred_interrupts
@@ -25,10 +25,12 @@ LOOPBACK = "127.0.0.1"
 WORKER_SETUP = "pinmob.parallel.worker"
 
 
-def check_workers(workers: object, option: str = "--workers") -> int:
-    """``workers`` as a positive integer; anything else is a :class:`ConfigurationError` naming the option."""
+def check_workers(workers: object) -> int:
+    """``workers`` as a positive integer; anything else is an :class:`ArgumentError` naming the parameter."""
     if isinstance(workers, bool) or not isinstance(workers, int) or workers < 1:
-        raise ConfigurationError(f"{option} must be a whole number of worker processes, at least 1, got {workers!r}")
+        raise ArgumentError(
+            f"workers must be a whole number of worker processes, at least 1, got {workers!r}", "workers", workers
+        )
     return workers
 
 

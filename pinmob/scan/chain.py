@@ -109,8 +109,8 @@ def check_actuated(mech: Mechanism) -> tuple[str, ...]:
         why = f" (its actuator(s) {', '.join(tendons)} drive tendons or sites, not joints)" if tendons else ""
         raise ConfigurationError(
             f"{mech.name!r} declares no actuated joint{why}, and a joint path interpolates the actuated joints: "
-            "name them with --actuated a,b,... (pinmob.model.actuation.with_actuated in Python)"
-        )
+            "name them with `actuated=a,b,...` (pinmob.model.actuation.with_actuated in Python)"
+        ).naming("actuated")
     return mech.actuated
 
 

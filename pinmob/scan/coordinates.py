@@ -60,7 +60,7 @@ def coordinate_names(mech: Mechanism) -> tuple[str, ...]:
     return (POSE_COORDS if mech.has_platform else ()) + value_joints(mech)
 
 
-def check_coordinates(mech: Mechanism, names: list[str], option: str = "--grid") -> tuple[str, ...]:
+def check_coordinates(mech: Mechanism, names: list[str], option: str = "`axes`") -> tuple[str, ...]:
     """The grid's coordinate names, checked: known, one to three, all different.
 
     Raises:
@@ -75,7 +75,7 @@ def check_coordinates(mech: Mechanism, names: list[str], option: str = "--grid")
                 f"unknown grid coordinate {name!r} of {mech.name!r}; valid: {pose}joints {choices(value_joints(mech))}"
             )
     if not 1 <= len(names) <= 3 or len(set(names)) != len(names):
-        raise ConfigurationError(f"{option} needs one to three different coordinates, got {list(names)}")
+        raise ConfigurationError(f"{option} needs one to three different coordinates, got {list(names)}").naming("axes")
     return tuple(names)
 
 

@@ -45,7 +45,6 @@ import pinmob.scan.chunk as chunk
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
 from pinmob.parallel import Engine, Lost
-from pinmob.parallel.cluster import check_workers
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
 from pinmob.scan.lockstep import GROUP, Job, run_group
@@ -129,7 +128,7 @@ class ScanRun:
         self, mech: Mechanism, spec: ScanSpec, workers: int, progress: bool | None, scheduler: str | None
     ) -> None:
         self.mech, self.spec = mech, spec
-        self.engine = Engine(check_workers(workers), scheduler)
+        self.engine = Engine(workers, scheduler)  # checks workers
         self.progress = progress
         self.where = "1 worker (this process)"
 

@@ -51,7 +51,7 @@ from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_c
 from pinmob.scan.references import platform_pose as platform_pose  # re-exported: its home before references.py
 from pinmob.scan.references import reference, resolve_pose
 from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.screw.rank import RTOL, check_rtol
 
 KINDS = ("pose", "joints", "coords", "grid")
 
@@ -250,7 +250,7 @@ class ScanSpec:
                 for t in np.arange(1, steps) / steps]  # fmt: skip
 
 
-def parse_grid_axis(text: str, option: str = "--grid") -> tuple[str, float, float, int]:
+def parse_grid_axis(text: str, option: str = "grid axis") -> tuple[str, float, float, int]:
     """``COORD:LO:HI:N`` -> (coordinate, low, high, count); checked by :func:`grid_spec`."""
     parts = text.split(":") if isinstance(text, str) else []
     try:
@@ -278,7 +278,7 @@ def path_spec(
         PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end,
             ``closure_tol`` out of range (:func:`~pinmob.assembly.residual.check_closure_tol`).
     """
-    closure_tol = check_closure_tol(closure_tol)
+    rtol, closure_tol = check_rtol(rtol), check_closure_tol(closure_tol)
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
     check_bound("samples", samples, "the path (samples)", "samples")
@@ -356,12 +356,12 @@ def grid_spec(
     only within it (CAD geometry): its gaps are held (:attr:`ScanSpec.cad`, :mod:`pinmob.assembly.cad_gaps`).
 
     Raises:
+        ArgumentError: ``rtol`` or ``closure_tol`` out of range.
         ConfigurationError: no platform, an unknown or repeated coordinate (the message lists the valid ones), an
             empty range, too many samples, or gridded coordinates that cannot vary independently at ``at``.
-        ArgumentError: ``closure_tol`` out of range (:func:`~pinmob.assembly.residual.check_closure_tol`).
     """
-    require_platform(mech, "pinmob scan")
-    closure_tol = check_closure_tol(closure_tol)
+    rtol, closure_tol = check_rtol(rtol), check_closure_tol(closure_tol)
+    require_platform(mech, "grid_spec")
     names = check_coordinates(mech, [a[0] for a in axes])
     out = []
     for name, lo, hi, n in axes:
@@ -373,9 +373,9 @@ def grid_spec(
     held = held_coordinates(gaps_closed(mech, gaps), q, names, at, rtol)
     values = coordinate_values(mech, q, names + held)
     g = generic_constraint_rank(mech, rtol=rtol)
-    return ScanSpec("grid", q, axes=tuple(out), rtol=rtol, generic_rank=g,
+    return ScanSpec("grid", q, axes=tuple(out), rtol=rtol, generic_rank=g, closure_tol=closure_tol,
                     held=tuple((c, values[c]) for c in held), start=tuple((c, values[c]) for c in names),
-                    values=value_joints(mech), closure_tol=closure_tol, gaps=gaps)  # fmt: skip
+                    values=value_joints(mech), gaps=gaps)  # fmt: skip
 
 
 def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> ScanSpec:

@@ -11,7 +11,6 @@ import numpy as np
 
 from pinmob.exceptions import ConfigurationError
 from pinmob.parallel import Engine, Lost
-from pinmob.parallel.cluster import check_workers
 from pinmob.sweeps.record import empty_record, evaluate_design, failed
 from pinmob.sweeps.spec import SweepSpec
 from pinmob.sweeps.spec_file import load_spec
@@ -44,7 +43,7 @@ class SweepRun:
                 f"skip must hold one boolean per design ({spec.count}), got shape {np.shape(skip)}"
             )
         self.spec = spec
-        self.engine = Engine(check_workers(workers), scheduler)
+        self.engine = Engine(workers, scheduler)  # checks workers
         self.progress = progress
         self.skip = skip
         self.where = self.engine.describe()

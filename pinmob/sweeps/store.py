@@ -104,7 +104,7 @@ class Store:
 
     def __init__(self, target: str | Path, spec: SweepSpec, force: bool = False) -> None:
         spec.check_count()
-        self.target = check_target("--out", target, force=True)
+        self.target = check_target("`target`", target, force=True)
         self.spec, self.force = spec, force
         self.journal = self.target.with_name(f".{self.target.name}.pinmob-journal")
         self.lock = TargetLock(self.target.with_name(f".{self.target.name}.pinmob-lock"), self.target)
@@ -122,7 +122,7 @@ class Store:
 
     def check(self) -> None:
         """Refuse, before any work, a target this sweep may not resume nor replace (see the module docstring)."""
-        shown = f"--out {str(self.target)!r}"
+        shown = f"`target` {str(self.target)!r}"
         if self.force or not self.target.exists():
             return
         meta = sweep_metadata(self.target)
@@ -130,17 +130,17 @@ class Store:
             self._keep = True  # this sweep's own file: resumed
             return
         if meta is None:
-            raise ConfigurationError(
-                f"{shown} exists and is not a pinmob sweep file; choose another file name, or replace it (--force)"
+            raise _refused(
+                f"{shown} exists and is not a pinmob sweep file; choose another file name, or replace it (`force=True`)"
             )
         if meta.get("spec") == self.spec.spec_digest():
-            raise ConfigurationError(
+            raise _refused(
                 f"{shown} holds this sweep's records computed by another pinmob (version {meta.get('pinmob')!r}, or "
-                "its code changed since): they are not resumed; choose another file name, or start over (--force)"
+                "its code changed since): they are not resumed; choose another file name, or start over (`force=True`)"
             )
-        raise ConfigurationError(
+        raise _refused(
             f"{shown} holds the records of another sweep ({meta.get('name')!r}, {meta.get('written')} of "
-            f"{meta.get('designs')} designs); choose another file name, or replace it (--force)"
+            f"{meta.get('designs')} designs); choose another file name, or replace it (`force=True`)"
         )
 
     def __enter__(self) -> Store:
@@ -157,19 +157,19 @@ class Store:
                     elif journal_identity(self.journal) == self.spec.identity():
                         self._publish(complete=False)  # a run killed hard: keep its complete batches
                     else:
-                        raise ConfigurationError(
+                        raise _refused(
                             f"{str(self.journal)!r} holds the unfinished records of another sweep (or of another "
                             f"pinmob) into {str(self.target)!r}; run that sweep again to finish it, or start over "
-                            "(--force)"
+                            "(`force=True`)"
                         )
             if self._keep and self.target.exists():
                 try:
                     for record in records_of(self.target, ["design"]):
                         self.done[record["design"]] = True
                 except (pa.ArrowException, OSError, KeyError, IndexError) as exc:
-                    raise ConfigurationError(
-                        f"--out {str(self.target)!r} cannot be read ({' '.join(str(exc).split())}); choose another "
-                        "file name, or start over (--force)"
+                    raise _refused(
+                        f"`target` {str(self.target)!r} cannot be read ({' '.join(str(exc).split())}); choose another "
+                        "file name, or start over (`force=True`)"
                     ) from None
             self.resumed = int(self.done.sum())
             self._sink = pa.OSFile(str(self.journal), "wb")
@@ -253,13 +253,18 @@ class Store:
                         writer.write_table(pa.Table.from_pylist(group, schema=final))
                 replacing.commit()
         except OSError as exc:
-            raise ConfigurationError(
-                f"cannot write --out {str(self.target)!r}: {' '.join(str(exc).split())}; the records so far are kept "
+            raise _refused(
+                f"cannot write `target` {str(self.target)!r}: {' '.join(str(exc).split())}; the records so far are kept "
                 f"in {str(self.journal)!r}, which the next run of this sweep recovers"
             ) from None
         self.journal.unlink(missing_ok=True)
         self._keep = True  # the target now holds this sweep's records
         self.in_file = count
+
+
+def _refused(message: str) -> ConfigurationError:
+    """The error of a refusal that names the ``target`` and ``force`` parameters (the command line: --out, --force)."""
+    return ConfigurationError(message).naming("target", "force")
 
 
 __all__ = ["META", "Store", "read_records", "schema", "sweep_metadata"]

@@ -107,9 +107,11 @@ def export_html(
         ClosureError: q does not close.
     """
     try:
-        target = check_target("html file", path, overwrite)  # only a regular file or a new path, never a link
+        target = check_target(
+            "html file", path, overwrite, "overwrite"
+        )  # only a regular file or a new path, never a link
     except ConfigurationError as exc:
-        raise ViewerError(str(exc)) from None
+        raise ViewerError(str(exc)).naming(*exc.parameters) from None
     page, scene = scene_html(
         mech,
         q,
@@ -129,7 +131,7 @@ def export_html(
                 raise ViewerError(f"{str(target)!r} appeared while writing; not overwritten")
             replacing.commit()
     except ConfigurationError as exc:
-        raise ViewerError(str(exc)) from None
+        raise ViewerError(str(exc)).naming(*exc.parameters) from None
     except OSError as exc:
         raise ViewerError(f"cannot write {str(target)!r}: {exc.strerror or exc}") from None
     scene.html = target

@@ -191,7 +191,7 @@ def sample_configuration(
             if good
             else "none (no sample was assembled)"
         )
-        raise ConfigurationError(f"--sample {index}: that sample {what}; valid: {valid}")
+        raise ConfigurationError(f"`index={index}`: that sample {what}; valid: {valid}").naming("index")
     joints = value_joints(mech)
     q = q_from_values(mech.model, {n: float(row[f"q_{n}"]) for n in joints}, seed, mech.name)
     if sum(mech.model.joints[mech.model.getJointId(n)].nq for n in joints) != mech.model.nq:

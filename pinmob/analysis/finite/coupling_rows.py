@@ -184,14 +184,14 @@ def _tendon(conf: Configuration, tendon: Tendon, closure: Closure, col: Array, r
             raise ConfigurationError(
                 f"the higher-order (finite mobility) analysis cannot treat tendon coupling {closure.name!r}: two "
                 f"consecutive sites of tendon {tendon.name!r} coincide at this configuration (its length is not "
-                "differentiable there); analyse without --finite"
-            )
+                "differentiable there); analyse without `finite=True`"
+            ).naming("finite")
         return path
     raise ConfigurationError(
         f"the higher-order (finite mobility) analysis cannot treat tendon coupling {closure.name!r} on spatial "
         f"tendon {tendon.name!r} (it wraps geoms or runs over a pulley: its length's higher derivatives are not "
-        "written); analyse without --finite"
-    )
+        "written); analyse without `finite=True`"
+    ).naming("finite")
 
 
 def coupling_rows(

@@ -181,7 +181,7 @@ class FiniteMobility:
             lines.append(
                 f"actuators held: actuator(s) {', '.join(self.unheld)} (on a site, a slider-crank or a ball joint) "
                 "not held (this analysis holds joints and tendons; name the "
-                "joints to hold with --actuated)"
+                "joints to hold with `actuated`)"
             )
         return "\n".join(lines)
 

@@ -49,7 +49,7 @@ import numpy as np
 from pinmob.analysis.follow.displacement import Displacement, measure_displacement
 from pinmob.analysis.follow.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.residual import CLOSURE_TOL, check_closed
+from pinmob.assembly.residual import CLOSURE_TOL, check_closed, check_closure_tol
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
@@ -168,11 +168,12 @@ def follow_motion(
 
     Raises:
         ConfigurationError: ``steps`` < 1, a non-positive amplitude or max_deviation.
+        ArgumentError: ``closure_tol`` out of range.
         ClosureError: q itself does not close.
     """
     if steps < 1:
         raise ConfigurationError(f"steps must be at least 1, got {steps}")
-    check_bound("steps", steps, "the animation (--steps)")
+    check_bound("steps", steps, "the animation (steps)", "steps")
     amp = default_amplitude(motion, mech.length_scale) if amplitude is None else float(amplitude)
     if not np.isfinite(amp) or amp <= 0:
         raise ConfigurationError(
@@ -189,6 +190,7 @@ def follow_motion(
             f"amplitude or use at least {min(np.ceil(amp / limit), 1e18):.0f} steps"
         )
     q = mech.check_q(q)
+    closure_tol = check_closure_tol(closure_tol)  # once: every step's Configuration trusts it
     check_closed(mech, q, closure_tol, what="the configuration to animate")
     unit = motion.twist / np.linalg.norm(motion.twist[_measure(motion)])
     follower = Follower(mech, motion, rtol, closure_tol, max_deviation, halvings)
@@ -230,6 +232,7 @@ def follow_rates(
         the path (``reached`` in the dimensionless joint metric); every configuration in it closes.
     """
     q = mech.check_q(q)
+    closure_tol = check_closure_tol(closure_tol)  # once: every step's Configuration trusts it
     check_closed(mech, q, closure_tol, what="the configuration to follow from")
     unit = np.asarray(rates, float) / np.linalg.norm(rates)
     follower = RateFollower(mech, held, rtol, closure_tol, max_deviation, halvings)

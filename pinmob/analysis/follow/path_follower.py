@@ -80,7 +80,7 @@ class Follower:
 
     def at(self, q: Array) -> Configuration:
         """The configuration q of the path, closed within the tolerance (what :meth:`project_free` reads there)."""
-        return Configuration(self.mech, q, closure_tol=self.tol)
+        return Configuration.from_checked(self.mech, q, self.tol)
 
     def pose(self, q: Array) -> pin.SE3:
         """The platform's pose at q."""

@@ -17,8 +17,16 @@ from pinmob.screw.classify import classify_twists
 from pinmob.screw.rank import RTOL, RankDecision, decide_rank, decide_ranks
 
 
-def require_platform(mech: Mechanism, what: str = "a singularity report") -> None:
+def require_platform(
+    mech: Mechanism,
+    what: str = "a singularity report",
+    analysis: str = "pinmob.analyze",
+    path_scan: str = "a joint path scan (pinmob.scan.path_spec)",
+) -> None:
     """Raise unless the mechanism has limbs meeting at a platform frame.
+
+    ``what`` needs the platform; the message advises ``analysis`` and ``path_scan`` instead (the command line
+    names its commands).
 
     Raises:
         ConfigurationError: no limbs or no platform frame (Extended URDF, MJCF, closures only), or a
@@ -28,14 +36,14 @@ def require_platform(mech: Mechanism, what: str = "a singularity report") -> Non
         coupled = "; ".join(f"{c!r} couples limbs {', '.join(limbs)}" for c, limbs in mech.coupling_closures.items())
         raise ConfigurationError(
             f"{what} uses limb-wise singularity classes, which do not apply to {mech.name!r}: closure {coupled} "
-            "(no limb has wrenches of its own); `pinmob analyze` reports its mobility from the closure Jacobian"
+            f"(no limb has wrenches of its own); {analysis} reports its mobility from the closure Jacobian"
         )
     if not mech.limbs or not mech.has_platform:
         raise ConfigurationError(
             f"{what} needs limbs meeting at a platform frame; {mech.name!r} is described by loop closures only "
             "(Extended URDF, MJCF or a TOML file without limbs), so it has no platform to scan or classify: "
-            "`pinmob analyze` reports its mobility and `pinmob scan --from A --to B` scans the whole closed chain along "
-            "a path in its actuated joints; a platform scan needs a TOML mechanism file naming its limbs and platform"
+            f"{analysis} reports its mobility and {path_scan} scans the whole closed chain along a path in its "
+            "actuated joints; a platform scan needs a TOML mechanism file naming its limbs and platform"
         )
 
 

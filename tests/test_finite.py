@@ -5,6 +5,8 @@ The source of every expected value is in the test's docstring (or in :mod:`finit
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -21,12 +23,16 @@ from millimetres import in_millimetres, moved, q_in_millimetres
 from numpy.testing import assert_allclose
 
 import pinmob
+import pinmob.analysis.finite.motion_tracing as tracing
+from pinmob.analysis.chain.closed_chain import frame_rows
 from pinmob.analysis.finite.branches import branch_joints
 from pinmob.analysis.finite.finite_mobility import finite_mobility
 from pinmob.analysis.finite.verdicts import Verdict
 from pinmob.analysis.follow.motion_path import follow_rates
+from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import path_spec, with_finite
+from pinmob.screw.algebra import twist_scaling
 
 
 def finite(mech: pinmob.Mechanism, q, **kw) -> pinmob.Report:
@@ -590,3 +596,29 @@ def test_internal_motions_of_a_mechanism_without_limbs_do_not_depend_on_the_basi
         assert [label for label, _ in turned] == [label for label, _ in reference] == ["motion 1", "motion 2"]
         for (_, a), (_, b) in zip(turned, reference):
             assert_allclose(a, b, atol=1e-9)
+
+
+def test_a_held_motion_followed_only_backwards_is_traced(monkeypatch: pytest.MonkeyPatch) -> None:
+    """The 3-PUU at 'generic' with A's and B's sliders held keeps one translation (limb C's slider drives it).
+
+    Its rates are followed with ``either=True``: backwards only when forwards stops short. Here the forward half
+    is cut to q (as a singularity just ahead would cut it) and the real backward half is kept: the platform then
+    moved along -twist, as predicted, and the motion counts as followed. On the old code its end was compared
+    along +twist and the motion counted as not followed (0.0)."""
+    mech = pinmob.load("3-PUU")
+    conf = pinmob.Configuration(mech, "generic")
+    model = mech.model
+    held = tuple(model.joints[model.getJointId(n)].idx_v for n in ("A_slider", "B_slider"))
+    null = closed_rates(conf, held, 1e-6)
+    assert null.shape[1] == 1  # one motion left with two sliders held (3T less two)
+    rates = null[:, 0]
+    twist = twist_scaling(mech.length_scale) * (frame_rows(conf, mech.platform) @ rates)
+    both = tracing.trace_rates(conf, rates, held, 1e-6, twist)
+    assert both > 0
+
+    def forward_cut(*args, **kwargs):
+        path = follow_rates(*args, **{**kwargs, "either": False})  # both halves followed; the forward one cut
+        return replace(path, forward=path.forward[:1], reached=(0.0, path.reached[1]))
+
+    monkeypatch.setattr(tracing, "follow_rates", forward_cut)
+    assert tracing.trace_rates(conf, rates, held, 1e-6, twist) == pytest.approx(both)

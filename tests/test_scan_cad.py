@@ -24,6 +24,7 @@ import pinocchio as pin
 import pytest
 
 import pinmob
+from pinmob.assembly.cad_gaps import frame_gaps
 from pinmob.exceptions import ArgumentError
 from pinmob.model.actuation import with_actuated
 from pinmob.scan import grid_spec, path_spec, scan
@@ -219,3 +220,24 @@ def test_cad_closed_chain_joint_path_scans_with_the_closure_tolerance():
         q = q_of(mech, row)
         mm = pinmob.analyze(mech, q, closure_tol=TOL).mechanism_mobility
         assert (mm.mechanism_dof, mm.rank, mm.redundant_constraints) == (3, 4, 2)
+
+
+def test_a_pose_reference_without_a_closed_configuration_holds_no_gap(tmp_path: Path):
+    """A pose ``--at`` on a file whose named configurations are gone is assembled from the neutral configuration:
+    its misses (open loops, 0.47 m and 2.6 rad for the 3-UR5) are not CAD gaps and are not held.
+
+    Three UR5 arms rigidly holding one object, away from their singularities: the object has 6 DoF (3T3R), each arm
+    a 6R chain of full rank. On the old code the neutral configuration's misses were held as gaps and the grid at
+    ``--closure-tol 2e-5`` was refused ("could not assemble '3-UR5' at platform pose ...")."""
+    toml = (MODELS / "3ur5.toml").read_text()
+    toml = toml[: toml.index("[configurations.")].replace("[[limbs]]", "generic_rank = 0\n\n[[limbs]]", 1)
+    (tmp_path / "3ur5.toml").write_text(toml)
+    shutil.copy(MODELS / "3ur5.urdf", tmp_path / "3ur5.urdf")
+    mech = pinmob.load(tmp_path / "3ur5.toml")
+    assert not mech.configurations
+    with pytest.raises(pinmob.ClosureError, match="does not close"):
+        frame_gaps(mech, mech.neutral(), TOL)
+    spec = grid_spec(mech, "0,0,0.35,0,0,0", [("x", -0.02, 0.02, 3)], closure_tol=TOL)
+    assert spec.gaps == ()
+    rows = [r for r in scan(mech, spec) if not r["refined"]]
+    assert [(r["dof"], r["motion_type"]) for r in rows] == [(6, "3T3R")] * 3

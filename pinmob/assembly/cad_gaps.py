@@ -27,6 +27,7 @@ from dataclasses import replace
 import numpy as np
 import pinocchio as pin
 
+from pinmob.assembly.residual import check_closed
 from pinmob.model.data_pool import borrowed
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
@@ -39,12 +40,16 @@ Gaps = tuple[tuple[int, tuple[float, ...]], ...]
 _POSE_TYPES, _POINT_TYPES = ("6d", "revolute", "cylindrical", "planar"), ("3d", "universal")
 
 
-def frame_gaps(mech: Mechanism, q: Array) -> Gaps:
+def frame_gaps(mech: Mechanism, q: Array, closure_tol: float) -> Gaps:
     """The frame placements (in their parent joints' frames) that close every loop of ``mech`` exactly at q.
 
     See the module docstring for which frame of each loop moves. A loop already closed to round-off gives
     (almost) its own placement back.
+
+    Raises:
+        ClosureError: q does not close within ``closure_tol``: its misses are not CAD gaps but open loops.
     """
+    check_closed(mech, q, closure_tol, what="the configuration whose CAD gaps a scan holds")
     model = mech.model
     out: dict[int, pin.SE3] = {}
     with borrowed(model) as data:

@@ -46,7 +46,7 @@ def view(
         state = Configuration(mech, spec.q_ref, closure_tol=spec.closure_tol, name=reference)
     if args.sample is not None:
         state = sample_configuration(mech, rows, args.sample, spec.q_ref, spec.closure_tol)
-    ws = workspace_cloud(rows, spec.rtol, args.sample, f"{mech.name}: {what}", axes_words(mech, spec))
+    ws = workspace_cloud(rows, spec.reference_rtol(mech), args.sample, f"{mech.name}: {what}", axes_words(mech, spec))
     at = f"sample #{args.sample}" if args.sample is not None else repr(reference)
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
     if args.html:

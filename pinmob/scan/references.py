@@ -49,8 +49,11 @@ def resolve_pose(mech: Mechanism, text: str, closure_tol: float = CLOSURE_TOL) -
     return pose_from_vector(np.array(values)), np.array([])
 
 
-def nearest_seed(mech: Mechanism, pose: pin.SE3, closure_tol: float = CLOSURE_TOL) -> Array:
-    """The named configuration (closed within ``closure_tol``) whose platform pose is nearest to ``pose`` (else neutral)."""
+def nearest_seed(mech: Mechanism, pose: pin.SE3, closure_tol: float = CLOSURE_TOL) -> tuple[Array, bool]:
+    """The named configuration (closed within ``closure_tol``) whose platform pose is nearest to ``pose``, and True.
+
+    Without one that closes: the neutral configuration, unchecked, and False.
+    """
     best, seed = np.inf, mech.neutral()
     for name in mech.configurations:
         try:
@@ -60,7 +63,7 @@ def nearest_seed(mech: Mechanism, pose: pin.SE3, closure_tol: float = CLOSURE_TO
         d = float(np.linalg.norm(pin.log6(platform_pose(mech, q).actInv(pose)).vector))
         if d < best:
             best, seed = d, q
-    return seed
+    return seed, bool(np.isfinite(best))
 
 
 def reference(mech: Mechanism, text: str, closure_tol: float = CLOSURE_TOL) -> tuple[pin.SE3, Array, Gaps]:
@@ -68,12 +71,13 @@ def reference(mech: Mechanism, text: str, closure_tol: float = CLOSURE_TOL) -> t
 
     A pose is assembled from the nearest named configuration (:func:`nearest_seed`). With ``closure_tol`` above
     the default the gaps are those of the configuration named, or of that seed
-    (:func:`pinmob.assembly.cad_gaps.frame_gaps`; the pose is assembled with them held); else none.
+    (:func:`pinmob.assembly.cad_gaps.frame_gaps`; the pose is assembled with them held); else none, and none
+    when no named configuration closes (the seed is then the neutral configuration, whose misses are open loops).
     """
     pose, q = resolve_pose(mech, text, closure_tol)
     cad = closure_tol > CLOSURE_TOL
     if q.size:
-        return pose, q, frame_gaps(mech, q) if cad else ()
-    seed = nearest_seed(mech, pose, closure_tol)
-    gaps = frame_gaps(mech, seed) if cad else ()
+        return pose, q, frame_gaps(mech, q, closure_tol) if cad else ()
+    seed, closed = nearest_seed(mech, pose, closure_tol)
+    gaps = frame_gaps(mech, seed, closure_tol) if cad and closed else ()
     return pose, assemble_pose(gaps_closed(mech, gaps), pose, seed, closure_tol), gaps

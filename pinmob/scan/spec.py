@@ -288,7 +288,7 @@ def path_spec(
     if joints or not mech.has_platform or "=" in start or "=" in end:
         acts, qa, qb, g = joint_path_ends(mech, start, end, rtol, closure_tol)
         va, vb = end_values(mech, acts, start, qa), end_values(mech, acts, end, qb)
-        gaps = frame_gaps(mech, qa) if closure_tol > CLOSURE_TOL else ()
+        gaps = frame_gaps(mech, qa, closure_tol) if closure_tol > CLOSURE_TOL else ()
         return ScanSpec("joints", qa, va, vb, samples, acts, rtol=rtol, generic_rank=g,
                         platform=mech.has_platform, closure_tol=closure_tol, gaps=gaps,
                         values=value_joints(mech))  # fmt: skip

@@ -16,7 +16,7 @@ composition: ``A x^(n+1) + R_n(x^(1..n))`` as for the loops' rows (:mod:`pinmob.
 :class:`CoupledSystem` appends these rows to a :class:`~pinmob.screw.lie.LoopSystem`, so that
 :class:`pinmob.analysis.finite.higher_order.HigherOrder` treats them as it treats the loops. A tendon that wraps geoms
 or runs over a pulley has no such series here (:func:`unwritten`): a side with a coupling on one (or such a
-tendon's actuator held) is decided from closed samples alone, and :func:`coupling_rows` refuses it by name.
+tendon's actuator held) is decided from closed samples alone and never reaches :func:`coupling_rows`.
 """
 
 from __future__ import annotations
@@ -187,11 +187,8 @@ def _tendon(conf: Configuration, tendon: Tendon, closure: Closure, col: Array, r
                 "differentiable there); analyse without `finite=True`"
             ).naming("finite")
         return path
-    raise ConfigurationError(
-        f"the higher-order (finite mobility) analysis cannot treat tendon coupling {closure.name!r} on spatial "
-        f"tendon {tendon.name!r} (it wraps geoms or runs over a pulley: its length's higher derivatives are not "
-        "written); analyse without `finite=True`"
-    ).naming("finite")
+    # finite_mobility sends a side with such a coupling to the closed samples (sampled_side): never here
+    raise AssertionError(f"tendon {tendon.name!r} of coupling {closure.name!r} has no written series")
 
 
 def coupling_rows(

@@ -76,4 +76,5 @@ def trace_rates(
     )
     predicted = sign * reached * (frame_rows(conf, mech.platform) @ rates) / np.linalg.norm(rates)
     unit = twist / np.linalg.norm(twist)
-    return reached if moved @ unit >= 0.5 * abs(predicted @ unit) > 0 else 0.0
+    along = predicted @ unit  # the end reached backwards lies along -twist: compare along the prediction's side
+    return reached if np.sign(along) * (moved @ unit) >= 0.5 * abs(along) > 0 else 0.0

@@ -16,7 +16,9 @@ coordinate, ``-[e_k / L ; 0]`` (x, y, z) or ``-[0 ; E(rpy) e_k]`` (angles,
 angular velocity for the rate of ``log3`` (no ``Jlog3``): exact at a solution,
 so the steps converge quadratically near one. Pinocchio computes the
 kinematics one sample at a time (it has no batched kinematics); the errors,
-Jacobians and steps are numpy stacks over the samples still running.
+Jacobians and steps are computed by a compiled loop over the samples still
+running when numba is installed (:mod:`pinmob.assembly.batch_newton_kernel`), else
+as numpy stacks (the same iterates to round-off).
 
 Step: Levenberg-Marquardt on the dimensionless columns ``J' = J D`` (D = L on a
 translation, 1 on a rotation), ``dz = -(J'^T J' + mu I)^-1 J'^T e`` with
@@ -40,6 +42,7 @@ predictor did not converge to the single-sample solver from its warm start
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 import pinocchio as pin
@@ -100,6 +103,17 @@ def _skew(v: Array) -> Array:
     return out
 
 
+def compiled_kernel() -> ModuleType | None:
+    """:mod:`pinmob.assembly.batch_newton_kernel` when numba is installed (the ``fast`` extra), else None (numpy)."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return None
+    from pinmob.assembly import batch_newton_kernel
+
+    return batch_newton_kernel
+
+
 class PoseProblem:
     """The frames of a platform-pose assembly and their supporting columns (see the module docstring)."""
 
@@ -115,19 +129,29 @@ class PoseProblem:
                 self.mask[i, 0, model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
         col_q = np.where(linear_velocity_mask(model), self.length, 1.0)
         self.col = np.concatenate([col_q, [self.length if f < 3 else 1.0 for f in self.free]])
+        self.free_array = np.array(self.free, np.int64)
         self.data = model.createData()
+        self.kernel = compiled_kernel()
+
+    def kinematics(self, qs: Array) -> tuple[Array, Array]:
+        """(B, 6, nv) world Jacobians and (B, F, 4, 4) frame placements at (B, nq): Pinocchio, one sample at a time."""
+        model, data = self.model, self.data
+        full, frames = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), len(self.frames), 4, 4))
+        jacobians, placement = pin.computeJointJacobians, pin.updateFramePlacement
+        for b, q in enumerate(qs):
+            full[b] = jacobians(model, data, q)
+            for i, frame in enumerate(self.frames):
+                frames[b, i] = placement(model, data, frame).homogeneous
+        return full, frames
 
     def residual(self, qs: Array, poses: Array) -> tuple[Array, Array]:
         """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate at (B, nq), (B, 6)."""
-        model, data, n, nv, nf = self.model, self.data, len(qs), self.model.nv, len(self.frames)
-        full = np.empty((n, 6, nv))
-        pos, rot = np.empty((n, nf, 3)), np.empty((n, nf, 3, 3))
-        for b in range(n):
-            full[b] = pin.computeJointJacobians(model, data, qs[b])
-            pin.updateFramePlacements(model, data)
-            for i, frame in enumerate(self.frames):
-                m = data.oMf[frame]
-                pos[b, i], rot[b, i] = m.translation, m.rotation
+        return self.residual_of(*self.kinematics(qs), poses)
+
+    def residual_of(self, full: Array, frames: Array, poses: Array) -> tuple[Array, Array]:
+        """:meth:`residual` from the kinematics (:meth:`kinematics`), in numpy."""
+        n, nf = len(full), len(self.frames)
+        pos, rot = frames[:, :, :3, 3], frames[:, :, :3, :3]
         jac = full[:, None] * self.mask  # (B, F, 6, nv): each frame's supporting columns
         lin = jac[:, :, :3] - _skew(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
         target = _rpy_matrices(poses[:, 3:])
@@ -191,18 +215,23 @@ def solve_poses(
     (the single-sample solver's polish); the best iterate of each sample is returned.
     """
     q, p = np.array(qs, float), np.array(poses, float)
-    n, frames = len(q), len(problem.frames)
+    n, frames, kernel = len(q), len(problem.frames), problem.kernel
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     active = np.arange(n)
     for it in range(max_iter + 1):
-        e, jac = problem.residual(q[active], p[active])
-        now = _worst(e, frames)
+        full, placements = problem.kinematics(q[active])
+        here = p[active]
+        if kernel is not None:
+            e, now = kernel.pose_errors(placements, here, problem.length)
+        else:
+            e, jac = problem.residual_of(full, placements, here)
+            now = _worst(e, frames)
         previous = best[active]
         better = now < previous
         best_q[active[better]], best_p[active[better]], best[active[better]] = (
             q[active[better]],
-            p[active[better]],
+            here[better],
             now[better],
         )
         history[active, it] = now
@@ -213,13 +242,18 @@ def solve_poses(
         polished = (now <= floor) | ((previous <= tol) & (now**2 > POLISH_GAIN * previous**2))
         done = polished | stalled | diverged | ~np.isfinite(now)
         keep = ~done
-        active, e, jac = active[keep], e[keep], jac[keep]
-        if not active.size or it == max_iter:
+        if not keep.any() or it == max_iter:
             break
-        jtj = jac.transpose(0, 2, 1) @ jac
-        k = np.arange(jtj.shape[1])
-        jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
-        dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
-        dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
+        if kernel is not None:
+            dz = kernel.damped_steps(full, placements, here, e, np.flatnonzero(keep), problem.mask[:, 0],
+                                     problem.col, problem.free_array, problem.length, DAMPING, MAX_STEP)  # fmt: skip
+        else:
+            e, jac = e[keep], jac[keep]
+            jtj = jac.transpose(0, 2, 1) @ jac
+            k = np.arange(jtj.shape[1])
+            jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
+            dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
+            dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
+        active = active[keep]
         q[active], p[active] = problem.integrate(q[active], p[active], dz)
     return BatchSolution(best_q, best, best <= tol)

@@ -48,7 +48,7 @@ from pinmob.parallel import Engine, Lost
 from pinmob.parallel.cluster import check_workers
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
-from pinmob.scan.lockstep import GROUP, Job, run_group
+from pinmob.scan.lockstep import GROUP, Job, Predictor, run_group
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array
@@ -62,16 +62,19 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     """``(start, stop, seed)`` of every chunk, in order, from one coarse walk (:meth:`ScanSpec.waypoints`).
 
     The seed is the walk's configuration at the chunk's first sample (or, when
-    that does not assemble, at the last waypoint that did). The walk advances only
+    that does not assemble, at the last waypoint that did); the walk's targets are
+    assembled as a chunk's samples are (:meth:`pinmob.scan.lockstep.Predictor.assemble`
+    where the batched predictor applies). The walk advances only
     as far as the chunks asked for so far need (chunks are produced lazily).
     """
     stops = dict(spec.chunks())
     order = list(stops)
     found: dict[int, Array] = {}
     q = np.array(spec.q_ref, float)
+    walk = Predictor(mech, spec).assemble if Predictor.applies(mech, spec) else None
     for target, k in spec.waypoints():
         try:
-            q = chunk.assemble_target(mech, target, q, tol=spec.closure_tol)
+            q = walk(target, q) if walk else chunk.assemble_target(mech, target, q, tol=spec.closure_tol)
         except PinmobError:
             pass
         if k in stops:

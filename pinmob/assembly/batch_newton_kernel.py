@@ -3,7 +3,8 @@
 The same errors, Jacobians and damped steps as that module's numpy path (its docstring), one sample at a time in
 a compiled loop over the stack: :func:`pose_errors` (each frame's position and ``log3`` rotation error, and the
 sample's ``max |e|``) and :func:`damped_steps` (the Jacobian per dimensionless rate, the damped normal equations
-solved by Gaussian elimination with partial pivoting, the step capped). Round-off differs from numpy's LAPACK
+solved by Gaussian elimination with partial pivoting, the step capped) and the stopping rule
+(:func:`advance`). Round-off differs from numpy's LAPACK
 calls, not the iterates' limits (``tests/test_scan_batch.py`` runs both). Importing this module imports numba.
 """
 
@@ -11,8 +12,12 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.jit_cache import njit
 from pinmob.screw.algebra import Array
+
+#: :func:`pinmob.assembly.batch_stopping.advance`, compiled.
+advance = njit(plain_advance)
 
 
 @njit

@@ -48,11 +48,17 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.assembly.assemble import warn_outside_limits
+from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
 from pinmob.model.joints import linear_velocity_mask, wrap_angles
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
+
+#: Pinocchio joints whose ``integrate`` is ``q + v`` (one coordinate per velocity, no rotation group).
+VECTOR_JOINTS = frozenset(
+    f"JointModel{k}" for k in ("RX", "RY", "RZ", "PX", "PY", "PZ", "RevoluteUnaligned", "PrismaticUnaligned")
+)
 
 #: Damping of the normal equations, relative to their mean diagonal.
 DAMPING = 1e-12
@@ -130,6 +136,8 @@ class PoseProblem:
         col_q = np.where(linear_velocity_mask(model), self.length, 1.0)
         self.col = np.concatenate([col_q, [self.length if f < 3 else 1.0 for f in self.free]])
         self.free_array = np.array(self.free, np.int64)
+        #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
+        self.vector_space = all(model.joints[j].shortname() in VECTOR_JOINTS for j in range(1, model.njoints))
         self.data = model.createData()
         self.kernel = compiled_kernel()
 
@@ -172,7 +180,10 @@ class PoseProblem:
     def integrate(self, qs: Array, poses: Array, steps: Array) -> tuple[Array, Array]:
         """Configurations and poses moved by (B, nv + free) dimensionless steps."""
         nv, dq = self.model.nv, steps * self.col
-        out = np.array([pin.integrate(self.model, q, d) for q, d in zip(qs, dq[:, :nv])])
+        if self.vector_space:
+            out = qs + dq[:, :nv]
+        else:
+            out = np.array([pin.integrate(self.model, q, d) for q, d in zip(qs, dq[:, :nv])])
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
@@ -216,32 +227,21 @@ def solve_poses(
     """
     q, p = np.array(qs, float), np.array(poses, float)
     n, frames, kernel = len(q), len(problem.frames), problem.kernel
+    advance = plain_advance if kernel is None else kernel.advance
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     active = np.arange(n)
     for it in range(max_iter + 1):
-        full, placements = problem.kinematics(q[active])
-        here = p[active]
+        now_q, here = q[active], p[active]
+        full, placements = problem.kinematics(now_q)
         if kernel is not None:
             e, now = kernel.pose_errors(placements, here, problem.length)
         else:
             e, jac = problem.residual_of(full, placements, here)
             now = _worst(e, frames)
-        previous = best[active]
-        better = now < previous
-        best_q[active[better]], best_p[active[better]], best[active[better]] = (
-            q[active[better]],
-            here[better],
-            now[better],
-        )
-        history[active, it] = now
-        before = history[active, it - stall_window] if it >= stall_window else np.full(len(active), np.inf)
-        stalled = now > (1 - STALL_GAIN) * before
-        diverged = now > DIVERGED * previous
-        # at the floor, or a step within tol that kept more than POLISH_GAIN of the cost (the single-sample polish's rule)
-        polished = (now <= floor) | ((previous <= tol) & (now**2 > POLISH_GAIN * previous**2))
-        done = polished | stalled | diverged | ~np.isfinite(now)
-        keep = ~done
+        better, keep = advance(now, active, it, best, history, tol, floor, stall_window, STALL_GAIN, POLISH_GAIN,
+                               DIVERGED)  # fmt: skip
+        best_q[active[better]], best_p[active[better]] = now_q[better], here[better]
         if not keep.any() or it == max_iter:
             break
         if kernel is not None:
@@ -255,5 +255,5 @@ def solve_poses(
             dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
             dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
         active = active[keep]
-        q[active], p[active] = problem.integrate(q[active], p[active], dz)
+        q[active], p[active] = problem.integrate(now_q[keep], here[keep], dz)
     return BatchSolution(best_q, best, best <= tol)

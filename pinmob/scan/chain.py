@@ -31,11 +31,13 @@ The CSV's ``sv1..sv6`` are the six largest singular values of ``K_hat``,
 
 from __future__ import annotations
 
+import functools
 import warnings
 from collections import Counter
 from typing import Any
 
 import numpy as np
+import pinocchio as pin
 
 from pinmob.analysis.chain.closed_chain import closed_chain
 from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
@@ -83,8 +85,22 @@ def joint_row(
     """
     if q is None:
         return dict.fromkeys(value_columns(joints), float("nan"))
+    where = _coordinates(mech.model, tuple(joints), mech.model.nq)
+    if where is not None:  # one coordinate each: its value (joint_value's rule for them), read at once
+        return dict(zip(value_columns(joints), np.asarray(q, float)[list(where)].tolist()))
     near = targets or {}
     return {f"q_{n}": joint_value(mech.model, q, n, near.get(n)) for n in joints}
+
+
+@functools.lru_cache(maxsize=64)
+def _coordinates(model: pin.Model, joints: tuple[str, ...], nq: int) -> tuple[int, ...] | None:
+    """The coordinate in q of each joint when each has exactly one (None: not so; cached per model and size)."""
+    out = []
+    for name in joints:
+        if not model.existJointName(name) or model.joints[model.getJointId(name)].nq != 1:
+            return None
+        out.append(int(model.joints[model.getJointId(name)].idx_q))
+    return tuple(out)
 
 
 def end_values(mech: Mechanism, joints: tuple[str, ...], text: str, q: Array) -> Array:

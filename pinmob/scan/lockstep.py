@@ -42,7 +42,7 @@ from pinmob.screw.algebra import Array
 GROUP = 16
 
 #: A sample the predictor brought within this ``max |e|`` (and polished on to round-off) is closed.
-PREDICT_TOL = 1e-12
+PREDICT_TOL = 1e-10
 
 #: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
 Job = tuple[int, int, Array]
@@ -91,7 +91,7 @@ class Predictor:
             poses[i] = pose_vector(platform_pose(self.mech, seed, self.problem.data))
             for c, v in value[0].items():
                 poses[i, POSE_COORDS.index(c)] = v
-        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL)
+        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL, floor=1e-10)
         return [
             finish_closed(self.mech, q, kind) if ok else None for q, ok, (kind, _) in zip(sol.q, sol.converged, targets)
         ]

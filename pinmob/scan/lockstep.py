@@ -5,9 +5,10 @@ job. Step j assembles the j-th sample of every chunk of the group, each
 warm-started from the previous sample of its own chunk (the continuation of the
 single-sample path, so the same assembly branch), by the batched predictor
 (:func:`pinmob.assembly.batch_solver.solve_poses`: damped Newton steps over all
-those samples at once, polished to round-off). A sample it did not bring within
-``PREDICT_TOL`` (out of reach, a stall, a step that diverged) goes to the
-single-sample solver (:func:`pinmob.scan.chunk.assemble_target`) from its warm
+those samples at once, each stopped within ``PREDICT_TOL``, not polished on: a
+configuration that close to closure gives the same row to far below the 1e-7 the
+engines agree to). A sample it did not bring within ``PREDICT_TOL`` (out of
+reach, a stall, a step that diverged) goes to the single-sample solver (:func:`pinmob.scan.chunk.assemble_target`) from its warm
 start, exactly as on the single-sample path: an unreachable verdict and its
 reason are that solver's. Joint targets (forward kinematics), targets that hold
 joints, mechanisms without a platform or with closures besides the limb tips are
@@ -41,7 +42,7 @@ from pinmob.screw.algebra import Array
 #: Chunks per group (samples assembled in lockstep: up to GROUP per step).
 GROUP = 16
 
-#: A sample the predictor brought within this ``max |e|`` (and polished on to round-off) is closed.
+#: A sample the predictor brought within this ``max |e|`` is closed (the predictor stops there: no polish).
 PREDICT_TOL = 1e-10
 
 #: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
@@ -91,7 +92,7 @@ class Predictor:
             poses[i] = pose_vector(platform_pose(self.mech, seed, self.problem.data))
             for c, v in value[0].items():
                 poses[i, POSE_COORDS.index(c)] = v
-        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL, floor=1e-10)
+        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
         return [
             finish_closed(self.mech, q, kind) if ok else None for q, ok, (kind, _) in zip(sol.q, sol.converged, targets)
         ]

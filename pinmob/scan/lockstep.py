@@ -8,9 +8,9 @@ single-sample path, so the same assembly branch), by the batched predictor
 those samples at once, each stopped within ``PREDICT_TOL``, not polished on: a
 configuration that close to closure gives the same row to far below the 1e-7 the
 engines agree to). A sample it did not bring within ``PREDICT_TOL`` (out of
-reach, a stall, a step that diverged) goes to the single-sample solver (:func:`pinmob.scan.chunk.assemble_target`) from its warm
-start, exactly as on the single-sample path: an unreachable verdict and its
-reason are that solver's. Joint targets (forward kinematics), targets that hold
+reach, a stall, a step that diverged) goes to the single-sample solver
+(:func:`pinmob.scan.chunk.assemble_target`) from its warm start, exactly as on
+the single-sample path: an unreachable verdict and its reason are that solver's. Joint targets (forward kinematics), targets that hold
 joints, mechanisms without a platform or with closures besides the limb tips are
 assembled by that solver alone.
 

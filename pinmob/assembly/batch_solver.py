@@ -51,7 +51,7 @@ from pinmob.assembly.assemble import warn_outside_limits
 from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
-from pinmob.model.joints import linear_velocity_mask, wrap_angles
+from pinmob.model.joints import angle_mask, linear_velocity_mask, wrap_angles
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
 
@@ -189,18 +189,29 @@ class PoseProblem:
         return out, moved
 
 
-def finish_closed(mech: Mechanism, q: Array, kind: str) -> Array:
-    """A configuration the predictor closed, as the single-sample assembly returns it.
+def finish_closed(mech: Mechanism, qs: Array, kind: str) -> Array:
+    """(N, nq) configurations the predictor closed, as the single-sample assembly returns each.
 
-    Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`) and the warning for joints outside their
-    limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind`` ``pose``) or of
-    :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``).
+    Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`, the same arithmetic over the whole stack;
+    that function itself for a row with an angle whose wrapped value is outside its limits) and the warning for
+    joints outside their limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind`` ``pose``) or of
+    :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``), checked where any coordinate is
+    outside its limits.
     """
-    q = wrap_angles(mech.model, q)
-    warn_outside_limits(
-        mech, q, "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
-    )
-    return q
+    model, out = mech.model, np.array(qs, float).reshape(-1, mech.model.nq)
+    idx = np.flatnonzero(angle_mask(model))
+    if idx.size:
+        lower, upper = model.lowerPositionLimit[idx], model.upperPositionLimit[idx]
+        x = np.pi - np.mod(np.pi - out[:, idx], 2 * np.pi)  # in (-pi, pi]
+        special = ((lower < upper) & ((x < lower) | (x > upper))).any(axis=1)
+        out[:, idx] = x
+        for i in np.flatnonzero(special):
+            out[i] = wrap_angles(model, qs[i])
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    what = "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
+    for i in np.flatnonzero(((lower < upper) & ((out < lower - 1e-9) | (out > upper + 1e-9))).any(axis=1)):
+        warn_outside_limits(mech, out[i], what)
+    return out
 
 
 def _worst(e: Array, frames: int) -> Array:
@@ -209,7 +220,6 @@ def _worst(e: Array, frames: int) -> Array:
     return np.sqrt(np.max(np.einsum("bij,bij->bi", parts, parts), axis=1))
 
 
-@one_blas_thread
 def solve_poses(
     problem: PoseProblem,
     qs: Array,
@@ -225,6 +235,16 @@ def solve_poses(
     within ``tol`` goes on while its steps keep at most ``POLISH_GAIN`` of ``max |e|^2``, down to ``floor``
     (the single-sample solver's polish); the best iterate of each sample is returned.
     """
+    if problem.kernel is None:  # numpy's LAPACK calls on one BLAS thread (the compiled loop calls no BLAS)
+        with one_blas_thread:
+            return _solve(problem, qs, poses, tol, max_iter, stall_window, floor)
+    return _solve(problem, qs, poses, tol, max_iter, stall_window, floor)
+
+
+def _solve(
+    problem: PoseProblem, qs: Array, poses: Array, tol: float, max_iter: int, stall_window: int, floor: float
+) -> BatchSolution:
+    """:func:`solve_poses`'s iterations."""
     q, p = np.array(qs, float), np.array(poses, float)
     n, frames, kernel = len(q), len(problem.frames), problem.kernel
     advance = plain_advance if kernel is None else kernel.advance

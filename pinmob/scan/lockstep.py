@@ -93,9 +93,12 @@ class Predictor:
             for c, v in value[0].items():
                 poses[i, POSE_COORDS.index(c)] = v
         sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
-        return [
-            finish_closed(self.mech, q, kind) if ok else None for q, ok, (kind, _) in zip(sol.q, sol.converged, targets)
-        ]
+        out: list[Array | None] = [None] * len(targets)
+        for kind in {kind for kind, _ in targets}:
+            which = [i for i, (k, _) in enumerate(targets) if k == kind and sol.converged[i]]
+            for i, q in zip(which, finish_closed(self.mech, sol.q[which], kind)):
+                out[i] = q
+        return out
 
 
 @one_blas_thread

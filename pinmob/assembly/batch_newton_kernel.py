@@ -192,3 +192,59 @@ def damped_steps(
         for i in range(m):
             out[s, i] *= scale
     return out
+
+
+@njit
+def iterate(
+    full: Array,
+    frames: Array,
+    q: Array,
+    p: Array,
+    active: Array,
+    it: int,
+    best: Array,
+    best_q: Array,
+    best_p: Array,
+    history: Array,
+    mask: Array,
+    col: Array,
+    free: Array,
+    length: float,
+    numbers: Array,
+    stall_window: int,
+    last: bool,
+    vector_space: bool,
+) -> tuple[Array, Array]:
+    """One iteration of :func:`pinmob.assembly.batch_solver.solve_poses` on the samples ``active``, in place.
+
+    From the kinematics at ``q[active]`` (``full``, ``frames``): the errors (:func:`pose_errors`), the stopping
+    rule (:func:`advance`, which updates ``best`` and ``history``), the best iterates kept (``best_q``,
+    ``best_p``) and, for the samples that go on (none when ``last``), the damped steps (:func:`damped_steps`),
+    applied to ``q`` and ``p`` when ``vector_space`` (``q + dq``; else the caller integrates them). ``numbers``:
+    damping, maximum step, tol, floor, stall gain, polish gain and divergence factor.
+
+    Returns:
+        the samples that go on, and their (dimensionless) steps.
+    """
+    damping, max_step, tol, floor = numbers[0], numbers[1], numbers[2], numbers[3]
+    here = p[active]
+    e, now = pose_errors(frames, here, length)
+    better, keep = advance(now, active, it, best, history, tol, floor, stall_window, numbers[4], numbers[5], numbers[6])
+    for s in range(active.size):
+        if better[s]:
+            best_q[active[s]] = q[active[s]]
+            best_p[active[s]] = here[s]
+    which = np.flatnonzero(keep)
+    if last or which.size == 0:
+        return active[:0], np.zeros((0, col.size))
+    steps = damped_steps(full, frames, here, e, which, mask, col, free, length, damping, max_step)
+    going = active[which]
+    nv = full.shape[2]
+    if vector_space:
+        for s in range(going.size):
+            b = going[s]
+            for j in range(nv):
+                q[b, j] += steps[s, j] * col[j]
+            for c in range(free.size):
+                p[b, free[c]] += steps[s, nv + c] * col[nv + c]
+    return going, steps

@@ -238,7 +238,32 @@ def solve_poses(
     if problem.kernel is None:  # numpy's LAPACK calls on one BLAS thread (the compiled loop calls no BLAS)
         with one_blas_thread:
             return _solve(problem, qs, poses, tol, max_iter, stall_window, floor)
-    return _solve(problem, qs, poses, tol, max_iter, stall_window, floor)
+    return _solve_compiled(problem, qs, poses, tol, max_iter, stall_window, floor)
+
+
+def _solve_compiled(
+    problem: PoseProblem, qs: Array, poses: Array, tol: float, max_iter: int, stall_window: int, floor: float
+) -> BatchSolution:
+    """:func:`solve_poses`'s iterations, each one compiled call (``batch_newton_kernel.iterate``) after Pinocchio's."""
+    kernel = problem.kernel
+    assert kernel is not None
+    q, p = np.array(qs, float), np.array(poses, float)
+    n = len(q)
+    history = np.full((n, max_iter + 1), np.inf)
+    best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
+    numbers = np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
+    active, mask = np.arange(n), problem.mask[:, 0]
+    for it in range(max_iter + 1):
+        full, placements = problem.kinematics(q[active])
+        going, dz = kernel.iterate(full, placements, q, p, active, it, best, best_q, best_p, history, mask,
+                                   problem.col, problem.free_array, problem.length, numbers, stall_window,
+                                   it == max_iter, problem.vector_space)  # fmt: skip
+        if not going.size:
+            break
+        if not problem.vector_space:
+            q[going], p[going] = problem.integrate(q[going], p[going], dz)
+        active = going
+    return BatchSolution(best_q, best, best <= tol)
 
 
 def _solve(

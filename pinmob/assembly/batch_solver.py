@@ -34,7 +34,7 @@ A sample within ``tol`` goes on while a step keeps at most ``POLISH_GAIN`` of it
 :mod:`pinmob.assembly.solver`): Newton steps converge quadratically there, or
 halve the distance at a singular solution (a double root), so it ends at
 round-off or ~1e-8 from a singular one, as that solver does, and is closed
-(:func:`finish_closed`). A scan gives every sample the
+(:meth:`PoseProblem.finish`). A scan gives every sample the
 predictor did not converge to the single-sample solver from its warm start
 (:mod:`pinmob.scan.lockstep`).
 """
@@ -140,6 +140,30 @@ class PoseProblem:
         self.vector_space = all(model.joints[j].shortname() in VECTOR_JOINTS for j in range(1, model.njoints))
         self.data = model.createData()
         self.kernel = compiled_kernel()
+        self.angles = np.flatnonzero(angle_mask(model))
+        self.limits = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+        self.limited = self.limits[0] < self.limits[1]  # lower >= upper: no limits (wrap_angles' rule)
+
+    def finish(self, mech: Mechanism, qs: Array, kind: str) -> Array:
+        """(N, nq) configurations the predictor closed, as the single-sample assembly returns each.
+
+        Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`, the same arithmetic over the whole
+        stack; that function itself for a row with an angle whose wrapped value is outside its limits) and the
+        warning for joints outside their limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind``
+        ``pose``) or of :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``), checked where
+        any coordinate is outside its limits.
+        """
+        out, idx, (lower, upper) = np.array(qs, float).reshape(-1, self.model.nq), self.angles, self.limits
+        if idx.size:
+            x = np.pi - np.mod(np.pi - out[:, idx], 2 * np.pi)  # in (-pi, pi]
+            special = (self.limited[idx] & ((x < lower[idx]) | (x > upper[idx]))).any(axis=1)
+            out[:, idx] = x
+            for i in np.flatnonzero(special):
+                out[i] = wrap_angles(self.model, qs[i])
+        what = "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
+        for i in np.flatnonzero((self.limited & ((out < lower - 1e-9) | (out > upper + 1e-9))).any(axis=1)):
+            warn_outside_limits(mech, out[i], what)
+        return out
 
     def kinematics(self, qs: Array) -> tuple[Array, Array]:
         """(B, 6, nv) world Jacobians and (B, F, 4, 4) frame placements at (B, nq): Pinocchio, one sample at a time."""
@@ -187,31 +211,6 @@ class PoseProblem:
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
-
-
-def finish_closed(mech: Mechanism, qs: Array, kind: str) -> Array:
-    """(N, nq) configurations the predictor closed, as the single-sample assembly returns each.
-
-    Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`, the same arithmetic over the whole stack;
-    that function itself for a row with an angle whose wrapped value is outside its limits) and the warning for
-    joints outside their limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind`` ``pose``) or of
-    :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``), checked where any coordinate is
-    outside its limits.
-    """
-    model, out = mech.model, np.array(qs, float).reshape(-1, mech.model.nq)
-    idx = np.flatnonzero(angle_mask(model))
-    if idx.size:
-        lower, upper = model.lowerPositionLimit[idx], model.upperPositionLimit[idx]
-        x = np.pi - np.mod(np.pi - out[:, idx], 2 * np.pi)  # in (-pi, pi]
-        special = ((lower < upper) & ((x < lower) | (x > upper))).any(axis=1)
-        out[:, idx] = x
-        for i in np.flatnonzero(special):
-            out[i] = wrap_angles(model, qs[i])
-    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
-    what = "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
-    for i in np.flatnonzero(((lower < upper) & ((out < lower - 1e-9) | (out > upper + 1e-9))).any(axis=1)):
-        warn_outside_limits(mech, out[i], what)
-    return out
 
 
 def _worst(e: Array, frames: int) -> Array:

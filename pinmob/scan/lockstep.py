@@ -30,7 +30,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.assembly.batch_solver import PoseProblem, finish_closed, solve_poses
+from pinmob.assembly.batch_solver import PoseProblem, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
@@ -79,7 +79,7 @@ class Predictor:
     def closed(self, targets: list[tuple[str, Any]], seeds: list[Array]) -> list[Array | None]:
         """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
 
-        Closed: :func:`finish_closed` of a sample it converged; None where it did not.
+        Closed: :meth:`~pinmob.assembly.batch_solver.PoseProblem.finish` of a sample it converged; None where it did not.
         """
         if not targets:
             return []
@@ -96,7 +96,7 @@ class Predictor:
         out: list[Array | None] = [None] * len(targets)
         for kind in {kind for kind, _ in targets}:
             which = [i for i, (k, _) in enumerate(targets) if k == kind and sol.converged[i]]
-            for i, q in zip(which, finish_closed(self.mech, sol.q[which], kind)):
+            for i, q in zip(which, self.problem.finish(self.mech, sol.q[which], kind)):
                 out[i] = q
         return out
 

@@ -70,6 +70,7 @@ from pinmob.scan.run import scan_in_process
 from pinmob.scan.spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL
+from pinmob.testing import kinematics_calls
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "3puu_sweep.toml"
 
@@ -92,22 +93,6 @@ def timed(fn: Callable[[], Any], clock: Callable[[], float] = time.process_time)
     t0 = clock()
     out = fn()
     return clock() - t0, out
-
-
-def kinematics_calls(fn: Callable[[], Any]) -> int:
-    """How many times ``fn`` calls ``pin.computeJointJacobians`` (counted by a wrapper; not timed)."""
-    original, count = pin.computeJointJacobians, [0]
-
-    def counting(*args: Any) -> Any:
-        count[0] += 1
-        return original(*args)
-
-    pin.computeJointJacobians = counting
-    try:
-        fn()
-    finally:
-        pin.computeJointJacobians = original
-    return count[0]
 
 
 # --- the naive loop, as a Pinocchio user writes it -------------------------------------------------------------

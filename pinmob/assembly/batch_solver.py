@@ -29,14 +29,11 @@ trust region of :mod:`pinmob.assembly.solver`), and applied by
 ``stall_window`` iterations (:data:`~pinmob.assembly.solver.STALL_GAIN`), when a
 step makes it grow tenfold, or after ``max_iter`` iterations.
 
-A sample within ``tol`` goes on while a step keeps at most ``POLISH_GAIN`` of its
-``max |e|^2``, down to ``POLISH_FLOOR`` (the single-sample solver's polish rule,
-:mod:`pinmob.assembly.solver`): Newton steps converge quadratically there, or
-halve the distance at a singular solution (a double root), so it ends at
-round-off or ~1e-8 from a singular one, as that solver does, and is closed
-(:meth:`PoseProblem.finish`). A scan gives every sample the
-predictor did not converge to the single-sample solver from its warm start
-(:mod:`pinmob.scan.lockstep`).
+With ``floor`` below ``tol``, a sample within ``tol`` goes on while a step keeps at
+most ``POLISH_GAIN`` of its ``max |e|^2``, down to ``floor`` (the single-sample
+solver's polish rule, :mod:`pinmob.assembly.solver`; a scan stops at ``tol``,
+:mod:`pinmob.scan.lockstep`), and is closed (:meth:`PoseProblem.finish`). A scan
+gives every sample the predictor did not converge to the single-sample solver.
 """
 
 from __future__ import annotations
@@ -176,12 +173,11 @@ class PoseProblem:
                 frames[b, i] = placement(model, data, frame).homogeneous
         return full, frames
 
-    def residual(self, qs: Array, poses: Array) -> tuple[Array, Array]:
-        """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate at (B, nq), (B, 6)."""
-        return self.residual_of(*self.kinematics(qs), poses)
-
     def residual_of(self, full: Array, frames: Array, poses: Array) -> tuple[Array, Array]:
-        """:meth:`residual` from the kinematics (:meth:`kinematics`), in numpy."""
+        """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate, in numpy.
+
+        From the kinematics at (B, nq) configurations (:meth:`kinematics`) and (B, 6) target poses.
+        """
         n, nf = len(full), len(self.frames)
         pos, rot = frames[:, :, :3, 3], frames[:, :, :3, :3]
         jac = full[:, None] * self.mask  # (B, F, 6, nv): each frame's supporting columns

@@ -10,13 +10,14 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numpy.typing import NDArray
 
 from pinmob.screw.algebra import Array, Mask
 
 
 def advance(
     now: Array,
-    active: Array,
+    active: NDArray[np.intp],
     it: int,
     best: Array,
     history: Array,

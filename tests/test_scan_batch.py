@@ -218,3 +218,38 @@ def test_the_compiled_steps_are_numpys_steps():
         steps = kernel.damped_steps(full, frames, poses, e2, which, problem.mask[:, 0], problem.col,
                                     problem.free_array, problem.length, DAMPING, MAX_STEP)  # fmt: skip
         np.testing.assert_allclose(steps, dz[which], atol=1e-12)
+
+
+def test_the_motion_type_from_the_counts_is_classify_twists_label():
+    """motion_type_of_span (the batch's label, counts only) against motion_type(classify_twists(...)) (the single
+    analysis's): random spans of every dimension, world-aligned ones moved off the origin and mixed, a helical
+    screw beside a translation, and the 3-RPS's free twists at closed samples of a roll x pitch grid."""
+    import numpy as np
+
+    from pinmob.analysis.batch.batch_analysis import analyze_batch
+    from pinmob.screw.classify import classify_twists, motion_type
+    from pinmob.screw.motion_label import motion_type_of_span
+
+    rng, length = np.random.default_rng(5), 0.3
+    spans = [rng.normal(size=(6, k)) for k in range(7) for _ in range(10)]
+    for cols in ([0, 1, 2], [0, 1, 5], [3, 4, 5], [0, 1, 2, 5], [2, 3, 4], [5], [0, 5]):
+        t = np.eye(6)[:, cols]
+        t[:3] += np.cross(rng.normal(size=3), t[3:].T).T  # about a point off the origin
+        spans.append(t @ np.linalg.qr(rng.normal(size=(len(cols), len(cols))))[0])
+    helix = np.zeros((6, 2))
+    helix[5, 0], helix[2, 0], helix[0, 1] = 1.0, 0.01, 1.0
+    spans.append(helix)
+    mech = pinmob.load("3-RPS")
+    spec = grid_spec(mech, "home", [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)])
+    qs = [pinmob.closed_configuration(mech, "home")]
+    for k in range(spec.size):
+        qs.append(assemble_target(mech, spec.target(k), qs[-1], tol=spec.closure_tol))
+    res = analyze_batch(mech, np.array(qs), twists=True)
+    st = np.array([1 / mech.length_scale] * 3 + [1.0] * 3)[:, None]
+    spans += [res.free_twists[i][:, : res.dof[i]] / st for i in range(len(qs))]
+    labels = set()
+    for t, size in zip(spans, [length] * (len(spans) - len(qs)) + [mech.length_scale] * len(qs)):
+        label = motion_type(classify_twists(t, size))
+        assert motion_type_of_span(t, size) == label, (t, label)
+        labels.add(label)
+    assert {"rigid", "3T", "3R", "2T1R", "3T1R", "3T3R", "1T1H"} <= set(labels)

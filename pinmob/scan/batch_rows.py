@@ -39,7 +39,7 @@ from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.classify import classify_twists, motion_type
+from pinmob.screw.motion_label import motion_type_of_span
 
 #: A sample is decided by the batch when each of its distances is at least this many near-singular bands.
 DECIDED_FACTOR = 2.0
@@ -65,14 +65,14 @@ def batchable(mech: Mechanism) -> bool:
 def _motion_type(span: Array, st: Array, length: float, rtol: float) -> str:
     """The motion type of an orthonormal span (6, k) of dimensionless twists: :func:`classify_twists`'s label.
 
-    One closed form without the call: ``kT`` when the rotation rows are below ``rtol``
+    One closed form: ``kT`` when the rotation rows are below ``rtol``
     (:func:`pinmob.screw.classify.principal_screws_of_span`'s test: no direction, all free; it answers k = 0 and
-    k = 6 itself).
+    k = 6 itself); else the counts alone (:func:`pinmob.screw.motion_label.motion_type_of_span`).
     """
     w = span[3:]
     if span.shape[1] and float(np.sqrt((w * w).sum())) <= rtol:
         return f"{span.shape[1]}T"
-    return motion_type(classify_twists(span / st, length, rtol))
+    return motion_type_of_span(span / st, length, rtol)
 
 
 def platform_kinematics(mech: Mechanism, qs: Array) -> tuple[Array, Array]:

@@ -147,12 +147,13 @@ def _step(
     A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out of
     reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before.
     """
+    targets = {c: predictor.spec.target(k) for c, k, _ in work}
     tried = [w for w in work if w[0] not in lost]
-    found = dict(zip([w[0] for w in tried], predictor.closed([predictor.spec.target(k) for _, k, _ in tried],
+    found = dict(zip([w[0] for w in tried], predictor.closed([targets[c] for c, _, _ in tried],
                                                               [seed for _, _, seed in tried])))  # fmt: skip
     for c, k, seed in work:
         q = found.get(c)
-        sample = chunks[c].assemble(k, seed, closed=q)
+        sample = chunks[c].assemble(k, seed, closed=q, target=targets[c])
         pending[c][k] = sample
         last[c] = _seed(sample, seed)
         if q is not None:

@@ -43,7 +43,7 @@ from pinmob.screw.algebra import Array
 GROUP = 16
 
 #: A sample the predictor brought within this ``max |e|`` is closed (the predictor stops there: no polish).
-PREDICT_TOL = 1e-10
+PREDICT_TOL = 1e-12
 
 #: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
 Job = tuple[int, int, Array]

@@ -157,12 +157,12 @@ def test_without_numba_the_numpy_path_gives_the_same_rows():
 
 
 def test_the_predictors_rotation_error_is_right_up_to_a_half_turn():
-    """The batched solver's rotation vectors (``batch_solver._log3``) against the vectors the rotations were made
+    """The batched solver's rotation vectors (numpy path: ``rotation_stacks.log3_stack``) against the vectors the rotations were made
     from: a closed form from the antisymmetric part gave 1e6 instead of 2.5 rad at pi - 1e-10."""
     import numpy as np
     import pinocchio as pin
 
-    from pinmob.assembly.batch_solver import _log3
+    from pinmob.assembly.rotation_stacks import log3_stack as _log3
 
     axis = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
     angles = [0.0, 1e-8, 1.0, 3.0, np.pi - 1e-7, np.pi - 1e-10]

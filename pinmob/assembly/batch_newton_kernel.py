@@ -11,10 +11,11 @@ calls, not the iterates' limits (``tests/test_scan_batch.py`` runs both). Import
 from __future__ import annotations
 
 import numpy as np
+from numpy.typing import NDArray
 
 from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.jit_cache import njit
-from pinmob.screw.algebra import Array
+from pinmob.screw.algebra import Array, Mask
 
 #: :func:`pinmob.assembly.batch_stopping.advance`, compiled.
 advance = njit(plain_advance)
@@ -248,3 +249,27 @@ def iterate(
             for c in range(free.size):
                 p[b, free[c]] += steps[s, nv + c] * col[nv + c]
     return going, steps
+
+
+@njit
+def wrap_and_check(
+    out: Array, angles: NDArray[np.intp], lower: Array, upper: Array, limited: Mask
+) -> tuple[Mask, Mask]:
+    """:meth:`pinmob.assembly.batch_solver.PoseProblem.finish`'s arithmetic, in place on (N, nq) ``out``.
+
+    Each angle (indices ``angles``) moved into (-pi, pi]; per row, whether a wrapped angle is outside its limits
+    (the caller wraps that row by :func:`~pinmob.model.joints.wrap_angles` instead) and whether any coordinate is
+    outside its limits by more than 1e-9 (the caller warns).
+    """
+    n = out.shape[0]
+    special, outside = np.zeros(n, np.bool_), np.zeros(n, np.bool_)
+    for i in range(n):
+        for k in angles:
+            x = np.pi - np.mod(np.pi - out[i, k], 2 * np.pi)
+            out[i, k] = x
+            if limited[k] and (x < lower[k] or x > upper[k]):
+                special[i] = True
+        for c in range(out.shape[1]):
+            if limited[c] and (out[i, c] < lower[c] - 1e-9 or out[i, c] > upper[c] + 1e-9):
+                outside[i] = True
+    return special, outside

@@ -43,9 +43,11 @@ from types import ModuleType
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import NDArray
 
 from pinmob.assembly.assemble import warn_outside_limits
 from pinmob.assembly.batch_stopping import advance as plain_advance
+from pinmob.assembly.rotation_stacks import log3_stack, rpy_matrices, rpy_rates, skew_stack
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
 from pinmob.model.joints import angle_mask, linear_velocity_mask, wrap_angles
@@ -72,38 +74,6 @@ class BatchSolution:
     q: Array
     residual: Array
     converged: Mask
-
-
-def _rpy_matrices(rpy: Array) -> Array:
-    """(B, 3, 3) ``Rz(yaw) Ry(pitch) Rx(roll)`` (Pinocchio's rpy) of (B, 3) angles."""
-    (cr, cp, cy), (sr, sp, sy) = np.cos(rpy).T, np.sin(rpy).T
-    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
-                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
-                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)  # fmt: skip
-
-
-def _rpy_rates(rpy: Array) -> Array:
-    """(B, 3, 3) world angular velocity per rpy rate (Pinocchio's ``computeRpyJacobian(rpy, WORLD)``)."""
-    _, cp, cy = np.cos(rpy).T
-    _, sp, sy = np.sin(rpy).T
-    z, o = np.zeros_like(cp), np.ones_like(cp)
-    return np.stack([np.stack([cy * cp, -sy, z], -1), np.stack([sy * cp, cy, z], -1), np.stack([-sp, z, o], -1)], -2)
-
-
-def _log3(r: Array) -> Array:
-    """(B, 3) rotation vectors of (B, 3, 3) rotations: ``pin.log3`` of each, right up to pi.
-
-    A closed form from the antisymmetric part alone lost the axis near pi (1e6 instead of 2.5 at pi - 1e-10).
-    """
-    return np.array([pin.log3(m) for m in r]).reshape(len(r), 3)
-
-
-def _skew(v: Array) -> Array:
-    """(B, 3, 3) cross-product matrices of (B, 3) vectors."""
-    out = np.zeros((len(v), 3, 3))
-    out[:, 0, 1], out[:, 0, 2], out[:, 1, 2] = -v[:, 2], v[:, 1], -v[:, 0]
-    out[:, 1, 0], out[:, 2, 0], out[:, 2, 1] = v[:, 2], -v[:, 1], v[:, 0]
-    return out
 
 
 def compiled_kernel() -> ModuleType | None:
@@ -150,15 +120,14 @@ class PoseProblem:
         ``pose``) or of :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``), checked where
         any coordinate is outside its limits.
         """
-        out, idx, (lower, upper) = np.array(qs, float).reshape(-1, self.model.nq), self.angles, self.limits
-        if idx.size:
-            x = np.pi - np.mod(np.pi - out[:, idx], 2 * np.pi)  # in (-pi, pi]
-            special = (self.limited[idx] & ((x < lower[idx]) | (x > upper[idx]))).any(axis=1)
-            out[:, idx] = x
-            for i in np.flatnonzero(special):
-                out[i] = wrap_angles(self.model, qs[i])
+        out, (lower, upper) = np.array(qs, float).reshape(-1, self.model.nq), self.limits
+        check = _wrap_and_check if self.kernel is None else self.kernel.wrap_and_check
+        special, outside = check(out, self.angles, lower, upper, self.limited)
+        for i in np.flatnonzero(special):
+            out[i] = wrap_angles(self.model, qs[i])
+            outside[i] = bool((self.limited & ((out[i] < lower - 1e-9) | (out[i] > upper + 1e-9))).any())
         what = "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
-        for i in np.flatnonzero((self.limited & ((out < lower - 1e-9) | (out > upper + 1e-9))).any(axis=1)):
+        for i in np.flatnonzero(outside):
             warn_outside_limits(mech, out[i], what)
         return out
 
@@ -181,14 +150,14 @@ class PoseProblem:
         n, nf = len(full), len(self.frames)
         pos, rot = frames[:, :, :3, 3], frames[:, :, :3, :3]
         jac = full[:, None] * self.mask  # (B, F, 6, nv): each frame's supporting columns
-        lin = jac[:, :, :3] - _skew(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
-        target = _rpy_matrices(poses[:, 3:])
+        lin = jac[:, :, :3] - skew_stack(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
+        target = rpy_matrices(poses[:, 3:])
         rel = (rot @ target[:, None].transpose(0, 1, 3, 2)).reshape(-1, 3, 3)
-        errors = np.concatenate([(pos - poses[:, None, :3]) / self.length, _log3(rel).reshape(n, nf, 3)], 2)
+        errors = np.concatenate([(pos - poses[:, None, :3]) / self.length, log3_stack(rel).reshape(n, nf, 3)], 2)
         rows = np.concatenate([lin / self.length, jac[:, :, 3:]], 2)  # (B, F, 6, nv)
         if self.free:
             extra = np.zeros((n, nf, 6, len(self.free)))
-            rates = _rpy_rates(poses[:, 3:])
+            rates = rpy_rates(poses[:, 3:])
             for c, f in enumerate(self.free):
                 if f < 3:
                     extra[:, :, f, c] = -1.0 / self.length
@@ -207,6 +176,17 @@ class PoseProblem:
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
+
+
+def _wrap_and_check(
+    out: Array, angles: NDArray[np.intp], lower: Array, upper: Array, limited: Mask
+) -> tuple[Mask, Mask]:
+    """``batch_newton_kernel.wrap_and_check`` in numpy (the same arithmetic over the whole stack)."""
+    x = np.pi - np.mod(np.pi - out[:, angles], 2 * np.pi)  # in (-pi, pi]
+    special = np.any(limited[angles] & ((x < lower[angles]) | (x > upper[angles])), axis=1)
+    out[:, angles] = x
+    outside = np.any(limited & ((out < lower - 1e-9) | (out > upper + 1e-9)), axis=1)
+    return np.asarray(special, np.bool_), np.asarray(outside, np.bool_)
 
 
 def _worst(e: Array, frames: int) -> Array:

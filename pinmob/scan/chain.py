@@ -83,24 +83,27 @@ def joint_row(
     A continuous joint's angle is in (-pi, pi], or the turn nearest its value in ``targets`` (the values a
     joint path asked for: its rows then read them, not their angles).
     """
+    columns, where = _coordinates(mech.model, tuple(joints), mech.model.nq)
     if q is None:
-        return dict.fromkeys(value_columns(joints), float("nan"))
-    where = _coordinates(mech.model, tuple(joints), mech.model.nq)
+        return dict.fromkeys(columns, float("nan"))
     if where is not None:  # one coordinate each: its value (joint_value's rule for them), read at once
-        return dict(zip(value_columns(joints), np.asarray(q, float)[list(where)].tolist()))
+        return dict(zip(columns, np.asarray(q, float)[list(where)].tolist()))
     near = targets or {}
     return {f"q_{n}": joint_value(mech.model, q, n, near.get(n)) for n in joints}
 
 
 @functools.lru_cache(maxsize=64)
-def _coordinates(model: pin.Model, joints: tuple[str, ...], nq: int) -> tuple[int, ...] | None:
-    """The coordinate in q of each joint when each has exactly one (None: not so; cached per model and size)."""
-    out = []
+def _coordinates(model: pin.Model, joints: tuple[str, ...], nq: int) -> tuple[tuple[str, ...], tuple[int, ...] | None]:
+    """The joints' columns, and the coordinate in q of each joint when each has exactly one (None: not so).
+
+    Cached per model, joints and size.
+    """
+    columns, out = tuple(value_columns(joints)), []
     for name in joints:
         if not model.existJointName(name) or model.joints[model.getJointId(name)].nq != 1:
-            return None
+            return columns, None
         out.append(int(model.joints[model.getJointId(name)].idx_q))
-    return tuple(out)
+    return columns, tuple(out)
 
 
 def end_values(mech: Mechanism, joints: tuple[str, ...], text: str, q: Array) -> Array:

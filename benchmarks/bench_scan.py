@@ -26,9 +26,10 @@ Per robot and grid (microseconds per sample, single process):
   as numpy stacks, a sample stopping at 1e-12, when a step no longer halves a residual below 1e-6, or when it
   gained less than 0.1% over 5 iterations), then
   :func:`pinmob.analysis.batch.batch_analysis.analyze_batch` for the DoF; its verdicts are counted against pinmob's too;
-* the ``computeJointJacobians`` calls per sample of each (counted by a wrapper in a separate, untimed run);
+* the ``computeJointJacobians`` calls per sample of each (counted by :func:`pinmob.testing.kinematics_calls` in a
+  separate, untimed run);
 * the split of the engine's time (fractions of one cProfile run, so not the load of the machine): the batched
-  predictor (:func:`pinmob.assembly.batch_solver.solve_poses`), the
+  predictor (:func:`pinmob.assembly.batch_solver.solve_poses`: the samples and the chunks' seeding walk), the
   single-sample solver (samples the predictor did not converge, their polish near singular points, the
   refinements), the batch analysis, the single-sample analysis (:func:`pinmob.scan.sample.evaluate`: samples
   the batch does not decide, refinements) and the rest (rows: joint values, limits, targets); and
@@ -70,6 +71,7 @@ from pinmob.scan.run import scan_in_process
 from pinmob.scan.spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL
+from pinmob.testing import kinematics_calls
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "3puu_sweep.toml"
 
@@ -92,22 +94,6 @@ def timed(fn: Callable[[], Any], clock: Callable[[], float] = time.process_time)
     t0 = clock()
     out = fn()
     return clock() - t0, out
-
-
-def kinematics_calls(fn: Callable[[], Any]) -> int:
-    """How many times ``fn`` calls ``pin.computeJointJacobians`` (counted by a wrapper; not timed)."""
-    original, count = pin.computeJointJacobians, [0]
-
-    def counting(*args: Any) -> Any:
-        count[0] += 1
-        return original(*args)
-
-    pin.computeJointJacobians = counting
-    try:
-        fn()
-    finally:
-        pin.computeJointJacobians = original
-    return count[0]
 
 
 # --- the naive loop, as a Pinocchio user writes it -------------------------------------------------------------

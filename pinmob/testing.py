@@ -1,4 +1,4 @@
-"""Assertions for users' own test suites: ``assert_mobility``.
+"""Assertions for users' own test suites: ``assert_mobility``; and :func:`kinematics_calls`, a cost count.
 
 Example (pytest)::
 
@@ -23,9 +23,11 @@ chain (``pinmob.analyze(...).mechanism_mobility``) instead of the limb-wise wren
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
 
 import numpy as np
+import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from pinmob.analysis.chain.mechanism_mobility import FrameMobility
@@ -162,3 +164,23 @@ def assert_mobility(
             f"tolerance {tol:.3g} (rtol {rtol:g} x largest), L = {mech.length_scale:.4g} m"
         )
     return result
+
+
+def kinematics_calls(fn: Callable[[], Any]) -> int:
+    """How many times ``fn()`` calls ``pinocchio.computeJointJacobians``: the kinematics computations it costs.
+
+    Counted by a wrapper put in place of the Pinocchio function for the call (restored afterwards, also when
+    ``fn`` raises); code that bound the function to another name before the call is not counted.
+    """
+    original, count = pin.computeJointJacobians, [0]
+
+    def counting(*args: Any) -> Any:
+        count[0] += 1
+        return original(*args)
+
+    pin.computeJointJacobians = counting
+    try:
+        fn()
+    finally:
+        pin.computeJointJacobians = original
+    return count[0]

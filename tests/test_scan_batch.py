@@ -157,14 +157,99 @@ def test_without_numba_the_numpy_path_gives_the_same_rows():
 
 
 def test_the_predictors_rotation_error_is_right_up_to_a_half_turn():
-    """The batched solver's rotation vectors (``batch_solver._log3``) against the vectors the rotations were made
+    """The batched solver's rotation vectors (numpy path: ``rotation_stacks.log3_stack``) against the vectors the rotations were made
     from: a closed form from the antisymmetric part gave 1e6 instead of 2.5 rad at pi - 1e-10."""
     import numpy as np
     import pinocchio as pin
 
-    from pinmob.assembly.batch_solver import _log3
+    from pinmob.assembly.rotation_stacks import log3_stack as _log3
 
     axis = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
     angles = [0.0, 1e-8, 1.0, 3.0, np.pi - 1e-7, np.pi - 1e-10]
     rotations = np.stack([pin.exp3(axis * t) for t in angles])
     np.testing.assert_allclose(_log3(rotations), [axis * t for t in angles], atol=1e-6)
+
+
+def test_the_compiled_rotation_error_is_right_up_to_a_half_turn():
+    """The compiled predictor's ``log3`` (by the unit quaternion) against the vectors the rotations were made from,
+    to round-off: its first form (the angle from ``acos`` of the trace) was 2e-8 off at pi - 1e-12."""
+    import numpy as np
+    import pinocchio as pin
+
+    from pinmob.assembly.batch_newton_kernel import log3
+
+    rng = np.random.default_rng(3)
+    out = np.empty(3)
+    for t in [0.0, 1e-12, 1e-8, 1e-4, 0.5, 2.0, 3.0, *(np.pi - np.logspace(-13, -1, 13)), np.pi]:
+        axis = rng.normal(size=3)
+        axis /= np.linalg.norm(axis)
+        log3(pin.exp3(axis * t), out)
+        if t == np.pi:  # either direction of the axis is the same half turn
+            out *= np.sign(out @ axis)
+        np.testing.assert_allclose(out, axis * t, atol=5e-15 * max(1.0, t))
+
+
+def test_the_compiled_steps_are_numpys_steps():
+    """The compiled errors and damped steps (``batch_newton_kernel``) equal the numpy path's (``residual_of``, the
+    normal equations solved by LAPACK) to round-off, at configurations off closure, with and without free coordinates (where they are determined)."""
+    import numpy as np
+    import pinocchio as pin
+
+    from pinmob.assembly import batch_newton_kernel as kernel
+    from pinmob.assembly.batch_solver import DAMPING, MAX_STEP, PoseProblem
+
+    rng = np.random.default_rng(4)
+    for name, at, free in (("3-PUU", "generic", ()), ("3-RPS", "home", (0, 1, 5)), ("6-UPS", "home", ())):
+        mech = pinmob.load(name)
+        q0 = pinmob.closed_configuration(mech, at)
+        problem = PoseProblem(mech, free)
+        qs = np.array([pin.integrate(mech.model, q0, 0.05 * rng.normal(size=mech.model.nv)) for _ in range(6)])
+        poses = 0.05 * rng.normal(size=(6, 6))
+        full, frames = problem.kinematics(qs)
+        e, jac = problem.residual_of(full, frames, poses)
+        jtj = jac.transpose(0, 2, 1) @ jac
+        jtj += (DAMPING / jtj.shape[1]) * np.einsum("bii->b", jtj)[:, None, None] * np.eye(jtj.shape[1])
+        dz = -np.linalg.solve(jtj, jac.transpose(0, 2, 1) @ e[..., None])[..., 0]
+        dz *= np.minimum(1.0, MAX_STEP / np.abs(dz).max(axis=1))[:, None]
+        e2, worst = kernel.pose_errors(frames, poses, problem.length)
+        np.testing.assert_allclose(e2, e, atol=1e-14)
+        np.testing.assert_allclose(worst, np.linalg.norm(e.reshape(6, -1, 3), axis=2).max(axis=1), rtol=1e-14)
+        which = np.array([0, 2, 5])
+        steps = kernel.damped_steps(full, frames, poses, e2, which, problem.mask[:, 0], problem.col,
+                                    problem.free_array, problem.length, DAMPING, MAX_STEP)  # fmt: skip
+        np.testing.assert_allclose(steps, dz[which], atol=1e-12)
+
+
+def test_the_motion_type_from_the_counts_is_classify_twists_label():
+    """motion_type_of_span (the batch's label, counts only) against motion_type(classify_twists(...)) (the single
+    analysis's): random spans of every dimension, world-aligned ones moved off the origin and mixed, a helical
+    screw beside a translation, and the 3-RPS's free twists at closed samples of a roll x pitch grid."""
+    import numpy as np
+
+    from pinmob.analysis.batch.batch_analysis import analyze_batch
+    from pinmob.screw.classify import classify_twists, motion_type
+    from pinmob.screw.motion_label import motion_type_of_span
+
+    rng, length = np.random.default_rng(5), 0.3
+    spans = [rng.normal(size=(6, k)) for k in range(7) for _ in range(10)]
+    for cols in ([0, 1, 2], [0, 1, 5], [3, 4, 5], [0, 1, 2, 5], [2, 3, 4], [5], [0, 5]):
+        t = np.eye(6)[:, cols]
+        t[:3] += np.cross(rng.normal(size=3), t[3:].T).T  # about a point off the origin
+        spans.append(t @ np.linalg.qr(rng.normal(size=(len(cols), len(cols))))[0])
+    helix = np.zeros((6, 2))
+    helix[5, 0], helix[2, 0], helix[0, 1] = 1.0, 0.01, 1.0
+    spans.append(helix)
+    mech = pinmob.load("3-RPS")
+    spec = grid_spec(mech, "home", [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)])
+    qs = [pinmob.closed_configuration(mech, "home")]
+    for k in range(spec.size):
+        qs.append(assemble_target(mech, spec.target(k), qs[-1], tol=spec.closure_tol))
+    res = analyze_batch(mech, np.array(qs), twists=True)
+    st = np.array([1 / mech.length_scale] * 3 + [1.0] * 3)[:, None]
+    spans += [res.free_twists[i][:, : res.dof[i]] / st for i in range(len(qs))]
+    labels = set()
+    for t, size in zip(spans, [length] * (len(spans) - len(qs)) + [mech.length_scale] * len(qs)):
+        label = motion_type(classify_twists(t, size))
+        assert motion_type_of_span(t, size) == label, (t, label)
+        labels.add(label)
+    assert {"rigid", "3T", "3R", "2T1R", "3T1R", "3T3R", "1T1H"} <= set(labels)

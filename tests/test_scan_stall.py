@@ -25,6 +25,7 @@ from pinmob.assembly import solver
 from pinmob.exceptions import PinmobError
 from pinmob.scan.run import scan_in_process
 from pinmob.scan.spec import POSE_COORDS, grid_spec
+from pinmob.testing import kinematics_calls
 
 #: Coordinate pairs tried in turn: the first a mechanism's first configuration lets vary independently.
 PAIRS = (("x", "y"), ("roll", "pitch"), *itertools.combinations(POSE_COORDS, 2))
@@ -86,21 +87,6 @@ def test_rows_equal_those_of_the_solvers_window(name, monkeypatch):
         assert not differ, (name, differ)
 
 
-def kinematics_calls(fn) -> int:
-    original, count = pin.computeJointJacobians, [0]
-
-    def counting(*args):
-        count[0] += 1
-        return original(*args)
-
-    pin.computeJointJacobians = counting
-    try:
-        fn()
-    finally:
-        pin.computeJointJacobians = original
-    return count[0]
-
-
 def test_an_out_of_reach_sample_costs_a_few_iterations():
     """3-PUU half a metre off: unreachable; the assembly computes the kinematics at most 25 times (39 with the window of 20)."""
     mech = pinmob.load("3-PUU")
@@ -135,3 +121,23 @@ def test_misses_equal_as_printed_keep_the_residuals_order():
     assert unreachable_reason(ClosureError("not closed", big), mech).endswith(
         "limb C open by 3.00e-03 m, platform pose off by 2.00e-03 m, limb B open by 1.00e-03 m"
     )
+
+
+def test_kinematics_calls_counts_each_computation_and_restores_pinocchio():
+    """pinmob.testing.kinematics_calls (the benchmark's and these tests' count, once): one per call, counted by hand
+    here, and Pinocchio's own function back in place afterwards, also when the counted call raises."""
+    from pinmob.testing import kinematics_calls
+
+    mech = pinmob.load("3-PUU")
+    data, q = mech.model.createData(), mech.neutral()
+    original = pin.computeJointJacobians
+    assert kinematics_calls(lambda: [pin.computeJointJacobians(mech.model, data, q) for _ in range(7)]) == 7
+    assert pin.computeJointJacobians is original
+
+    def failing() -> None:
+        pin.computeJointJacobians(mech.model, data, q)
+        raise RuntimeError("stop")
+
+    with pytest.raises(RuntimeError):
+        kinematics_calls(failing)
+    assert pin.computeJointJacobians is original

@@ -16,7 +16,9 @@ coordinate, ``-[e_k / L ; 0]`` (x, y, z) or ``-[0 ; E(rpy) e_k]`` (angles,
 angular velocity for the rate of ``log3`` (no ``Jlog3``): exact at a solution,
 so the steps converge quadratically near one. Pinocchio computes the
 kinematics one sample at a time (it has no batched kinematics); the errors,
-Jacobians and steps are numpy stacks over the samples still running.
+Jacobians and steps are computed by a compiled loop over the samples still
+running when numba is installed (:mod:`pinmob.assembly.batch_newton_kernel`), else
+as numpy stacks (the same iterates to round-off).
 
 Step: Levenberg-Marquardt on the dimensionless columns ``J' = J D`` (D = L on a
 translation, 1 on a rotation), ``dz = -(J'^T J' + mu I)^-1 J'^T e`` with
@@ -27,29 +29,35 @@ trust region of :mod:`pinmob.assembly.solver`), and applied by
 ``stall_window`` iterations (:data:`~pinmob.assembly.solver.STALL_GAIN`), when a
 step makes it grow tenfold, or after ``max_iter`` iterations.
 
-A sample within ``tol`` goes on while a step keeps at most ``POLISH_GAIN`` of its
-``max |e|^2``, down to ``POLISH_FLOOR`` (the single-sample solver's polish rule,
-:mod:`pinmob.assembly.solver`): Newton steps converge quadratically there, or
-halve the distance at a singular solution (a double root), so it ends at
-round-off or ~1e-8 from a singular one, as that solver does, and is closed
-(:func:`finish_closed`). A scan gives every sample the
-predictor did not converge to the single-sample solver from its warm start
-(:mod:`pinmob.scan.lockstep`).
+With ``floor`` below ``tol``, a sample within ``tol`` goes on while a step keeps at
+most ``POLISH_GAIN`` of its ``max |e|^2``, down to ``floor`` (the single-sample
+solver's polish rule, :mod:`pinmob.assembly.solver`; a scan stops at ``tol``,
+:mod:`pinmob.scan.lockstep`), and is closed (:meth:`PoseProblem.finish`). A scan
+gives every sample the predictor did not converge to the single-sample solver.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from types import ModuleType
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import NDArray
 
 from pinmob.assembly.assemble import warn_outside_limits
+from pinmob.assembly.batch_stopping import advance as plain_advance
+from pinmob.assembly.rotation_stacks import log3_stack, rpy_matrices, rpy_rates, skew_stack
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
-from pinmob.model.joints import linear_velocity_mask, wrap_angles
+from pinmob.model.joints import angle_mask, linear_velocity_mask, wrap_angles
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
+
+#: Pinocchio joints whose ``integrate`` is ``q + v`` (one coordinate per velocity, no rotation group).
+VECTOR_JOINTS = frozenset(
+    f"JointModel{k}" for k in ("RX", "RY", "RZ", "PX", "PY", "PZ", "RevoluteUnaligned", "PrismaticUnaligned")
+)
 
 #: Damping of the normal equations, relative to their mean diagonal.
 DAMPING = 1e-12
@@ -68,36 +76,15 @@ class BatchSolution:
     converged: Mask
 
 
-def _rpy_matrices(rpy: Array) -> Array:
-    """(B, 3, 3) ``Rz(yaw) Ry(pitch) Rx(roll)`` (Pinocchio's rpy) of (B, 3) angles."""
-    (cr, cp, cy), (sr, sp, sy) = np.cos(rpy).T, np.sin(rpy).T
-    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
-                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
-                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)  # fmt: skip
+def compiled_kernel() -> ModuleType | None:
+    """:mod:`pinmob.assembly.batch_newton_kernel` when numba is installed (the ``fast`` extra), else None (numpy)."""
+    try:
+        import numba  # noqa: F401
+    except ImportError:
+        return None
+    from pinmob.assembly import batch_newton_kernel
 
-
-def _rpy_rates(rpy: Array) -> Array:
-    """(B, 3, 3) world angular velocity per rpy rate (Pinocchio's ``computeRpyJacobian(rpy, WORLD)``)."""
-    _, cp, cy = np.cos(rpy).T
-    _, sp, sy = np.sin(rpy).T
-    z, o = np.zeros_like(cp), np.ones_like(cp)
-    return np.stack([np.stack([cy * cp, -sy, z], -1), np.stack([sy * cp, cy, z], -1), np.stack([-sp, z, o], -1)], -2)
-
-
-def _log3(r: Array) -> Array:
-    """(B, 3) rotation vectors of (B, 3, 3) rotations: ``pin.log3`` of each, right up to pi.
-
-    A closed form from the antisymmetric part alone lost the axis near pi (1e6 instead of 2.5 at pi - 1e-10).
-    """
-    return np.array([pin.log3(m) for m in r]).reshape(len(r), 3)
-
-
-def _skew(v: Array) -> Array:
-    """(B, 3, 3) cross-product matrices of (B, 3) vectors."""
-    out = np.zeros((len(v), 3, 3))
-    out[:, 0, 1], out[:, 0, 2], out[:, 1, 2] = -v[:, 2], v[:, 1], -v[:, 0]
-    out[:, 1, 0], out[:, 2, 0], out[:, 2, 1] = v[:, 2], -v[:, 1], v[:, 0]
-    return out
+    return batch_newton_kernel
 
 
 class PoseProblem:
@@ -115,28 +102,62 @@ class PoseProblem:
                 self.mask[i, 0, model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
         col_q = np.where(linear_velocity_mask(model), self.length, 1.0)
         self.col = np.concatenate([col_q, [self.length if f < 3 else 1.0 for f in self.free]])
+        self.free_array = np.array(self.free, np.int64)
+        #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
+        self.vector_space = all(model.joints[j].shortname() in VECTOR_JOINTS for j in range(1, model.njoints))
         self.data = model.createData()
+        self.kernel = compiled_kernel()
+        self.angles = np.flatnonzero(angle_mask(model))
+        self.limits = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+        self.limited = self.limits[0] < self.limits[1]  # lower >= upper: no limits (wrap_angles' rule)
 
-    def residual(self, qs: Array, poses: Array) -> tuple[Array, Array]:
-        """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate at (B, nq), (B, 6)."""
-        model, data, n, nv, nf = self.model, self.data, len(qs), self.model.nv, len(self.frames)
-        full = np.empty((n, 6, nv))
-        pos, rot = np.empty((n, nf, 3)), np.empty((n, nf, 3, 3))
-        for b in range(n):
-            full[b] = pin.computeJointJacobians(model, data, qs[b])
-            pin.updateFramePlacements(model, data)
+    def finish(self, mech: Mechanism, qs: Array, kind: str) -> Array:
+        """(N, nq) configurations the predictor closed, as the single-sample assembly returns each.
+
+        Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`, the same arithmetic over the whole
+        stack; that function itself for a row with an angle whose wrapped value is outside its limits) and the
+        warning for joints outside their limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind``
+        ``pose``) or of :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``), checked where
+        any coordinate is outside its limits.
+        """
+        out, (lower, upper) = np.array(qs, float).reshape(-1, self.model.nq), self.limits
+        check = _wrap_and_check if self.kernel is None else self.kernel.wrap_and_check
+        special, outside = check(out, self.angles, lower, upper, self.limited)
+        for i in np.flatnonzero(special):
+            out[i] = wrap_angles(self.model, qs[i])
+            outside[i] = bool((self.limited & ((out[i] < lower - 1e-9) | (out[i] > upper + 1e-9))).any())
+        what = "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
+        for i in np.flatnonzero(outside):
+            warn_outside_limits(mech, out[i], what)
+        return out
+
+    def kinematics(self, qs: Array) -> tuple[Array, Array]:
+        """(B, 6, nv) world Jacobians and (B, F, 4, 4) frame placements at (B, nq): Pinocchio, one sample at a time."""
+        model, data = self.model, self.data
+        full, frames = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), len(self.frames), 4, 4))
+        jacobians, placement = pin.computeJointJacobians, pin.updateFramePlacement
+        for b, q in enumerate(qs):
+            full[b] = jacobians(model, data, q)
             for i, frame in enumerate(self.frames):
-                m = data.oMf[frame]
-                pos[b, i], rot[b, i] = m.translation, m.rotation
+                frames[b, i] = placement(model, data, frame).homogeneous
+        return full, frames
+
+    def residual_of(self, full: Array, frames: Array, poses: Array) -> tuple[Array, Array]:
+        """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate, in numpy.
+
+        From the kinematics at (B, nq) configurations (:meth:`kinematics`) and (B, 6) target poses.
+        """
+        n, nf = len(full), len(self.frames)
+        pos, rot = frames[:, :, :3, 3], frames[:, :, :3, :3]
         jac = full[:, None] * self.mask  # (B, F, 6, nv): each frame's supporting columns
-        lin = jac[:, :, :3] - _skew(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
-        target = _rpy_matrices(poses[:, 3:])
+        lin = jac[:, :, :3] - skew_stack(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
+        target = rpy_matrices(poses[:, 3:])
         rel = (rot @ target[:, None].transpose(0, 1, 3, 2)).reshape(-1, 3, 3)
-        errors = np.concatenate([(pos - poses[:, None, :3]) / self.length, _log3(rel).reshape(n, nf, 3)], 2)
+        errors = np.concatenate([(pos - poses[:, None, :3]) / self.length, log3_stack(rel).reshape(n, nf, 3)], 2)
         rows = np.concatenate([lin / self.length, jac[:, :, 3:]], 2)  # (B, F, 6, nv)
         if self.free:
             extra = np.zeros((n, nf, 6, len(self.free)))
-            rates = _rpy_rates(poses[:, 3:])
+            rates = rpy_rates(poses[:, 3:])
             for c, f in enumerate(self.free):
                 if f < 3:
                     extra[:, :, f, c] = -1.0 / self.length
@@ -148,24 +169,24 @@ class PoseProblem:
     def integrate(self, qs: Array, poses: Array, steps: Array) -> tuple[Array, Array]:
         """Configurations and poses moved by (B, nv + free) dimensionless steps."""
         nv, dq = self.model.nv, steps * self.col
-        out = np.array([pin.integrate(self.model, q, d) for q, d in zip(qs, dq[:, :nv])])
+        if self.vector_space:
+            out = qs + dq[:, :nv]
+        else:
+            out = np.array([pin.integrate(self.model, q, d) for q, d in zip(qs, dq[:, :nv])])
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
 
 
-def finish_closed(mech: Mechanism, q: Array, kind: str) -> Array:
-    """A configuration the predictor closed, as the single-sample assembly returns it.
-
-    Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`) and the warning for joints outside their
-    limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind`` ``pose``) or of
-    :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``).
-    """
-    q = wrap_angles(mech.model, q)
-    warn_outside_limits(
-        mech, q, "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
-    )
-    return q
+def _wrap_and_check(
+    out: Array, angles: NDArray[np.intp], lower: Array, upper: Array, limited: Mask
+) -> tuple[Mask, Mask]:
+    """``batch_newton_kernel.wrap_and_check`` in numpy (the same arithmetic over the whole stack)."""
+    x = np.pi - np.mod(np.pi - out[:, angles], 2 * np.pi)  # in (-pi, pi]
+    special = np.any(limited[angles] & ((x < lower[angles]) | (x > upper[angles])), axis=1)
+    out[:, angles] = x
+    outside = np.any(limited & ((out < lower - 1e-9) | (out > upper + 1e-9)), axis=1)
+    return np.asarray(special, np.bool_), np.asarray(outside, np.bool_)
 
 
 def _worst(e: Array, frames: int) -> Array:
@@ -174,7 +195,6 @@ def _worst(e: Array, frames: int) -> Array:
     return np.sqrt(np.max(np.einsum("bij,bij->bi", parts, parts), axis=1))
 
 
-@one_blas_thread
 def solve_poses(
     problem: PoseProblem,
     qs: Array,
@@ -190,36 +210,70 @@ def solve_poses(
     within ``tol`` goes on while its steps keep at most ``POLISH_GAIN`` of ``max |e|^2``, down to ``floor``
     (the single-sample solver's polish); the best iterate of each sample is returned.
     """
+    if problem.kernel is None:  # numpy's LAPACK calls on one BLAS thread (the compiled loop calls no BLAS)
+        with one_blas_thread:
+            return _solve(problem, qs, poses, tol, max_iter, stall_window, floor)
+    return _solve_compiled(problem, qs, poses, tol, max_iter, stall_window, floor)
+
+
+def _solve_compiled(
+    problem: PoseProblem, qs: Array, poses: Array, tol: float, max_iter: int, stall_window: int, floor: float
+) -> BatchSolution:
+    """:func:`solve_poses`'s iterations, each one compiled call (``batch_newton_kernel.iterate``) after Pinocchio's."""
+    kernel = problem.kernel
+    assert kernel is not None
     q, p = np.array(qs, float), np.array(poses, float)
-    n, frames = len(q), len(problem.frames)
+    n = len(q)
+    history = np.full((n, max_iter + 1), np.inf)
+    best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
+    numbers = np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
+    active, mask = np.arange(n), problem.mask[:, 0]
+    for it in range(max_iter + 1):
+        full, placements = problem.kinematics(q[active])
+        going, dz = kernel.iterate(full, placements, q, p, active, it, best, best_q, best_p, history, mask,
+                                   problem.col, problem.free_array, problem.length, numbers, stall_window,
+                                   it == max_iter, problem.vector_space)  # fmt: skip
+        if not going.size:
+            break
+        if not problem.vector_space:
+            q[going], p[going] = problem.integrate(q[going], p[going], dz)
+        active = going
+    return BatchSolution(best_q, best, best <= tol)
+
+
+def _solve(
+    problem: PoseProblem, qs: Array, poses: Array, tol: float, max_iter: int, stall_window: int, floor: float
+) -> BatchSolution:
+    """:func:`solve_poses`'s iterations."""
+    q, p = np.array(qs, float), np.array(poses, float)
+    n, frames, kernel = len(q), len(problem.frames), problem.kernel
+    advance = plain_advance if kernel is None else kernel.advance
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     active = np.arange(n)
     for it in range(max_iter + 1):
-        e, jac = problem.residual(q[active], p[active])
-        now = _worst(e, frames)
-        previous = best[active]
-        better = now < previous
-        best_q[active[better]], best_p[active[better]], best[active[better]] = (
-            q[active[better]],
-            p[active[better]],
-            now[better],
-        )
-        history[active, it] = now
-        before = history[active, it - stall_window] if it >= stall_window else np.full(len(active), np.inf)
-        stalled = now > (1 - STALL_GAIN) * before
-        diverged = now > DIVERGED * previous
-        # at the floor, or a step within tol that kept more than POLISH_GAIN of the cost (the single-sample polish's rule)
-        polished = (now <= floor) | ((previous <= tol) & (now**2 > POLISH_GAIN * previous**2))
-        done = polished | stalled | diverged | ~np.isfinite(now)
-        keep = ~done
-        active, e, jac = active[keep], e[keep], jac[keep]
-        if not active.size or it == max_iter:
+        now_q, here = q[active], p[active]
+        full, placements = problem.kinematics(now_q)
+        if kernel is not None:
+            e, now = kernel.pose_errors(placements, here, problem.length)
+        else:
+            e, jac = problem.residual_of(full, placements, here)
+            now = _worst(e, frames)
+        better, keep = advance(now, active, it, best, history, tol, floor, stall_window, STALL_GAIN, POLISH_GAIN,
+                               DIVERGED)  # fmt: skip
+        best_q[active[better]], best_p[active[better]] = now_q[better], here[better]
+        if not keep.any() or it == max_iter:
             break
-        jtj = jac.transpose(0, 2, 1) @ jac
-        k = np.arange(jtj.shape[1])
-        jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
-        dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
-        dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
-        q[active], p[active] = problem.integrate(q[active], p[active], dz)
+        if kernel is not None:
+            dz = kernel.damped_steps(full, placements, here, e, np.flatnonzero(keep), problem.mask[:, 0],
+                                     problem.col, problem.free_array, problem.length, DAMPING, MAX_STEP)  # fmt: skip
+        else:
+            e, jac = e[keep], jac[keep]
+            jtj = jac.transpose(0, 2, 1) @ jac
+            k = np.arange(jtj.shape[1])
+            jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
+            dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
+            dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
+        active = active[keep]
+        q[active], p[active] = problem.integrate(now_q[keep], here[keep], dz)
     return BatchSolution(best_q, best, best <= tol)

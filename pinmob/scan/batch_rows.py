@@ -34,12 +34,12 @@ import pinocchio as pin
 from pinmob.analysis.batch.batch_analysis import analyze_jacobians
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limbwise_obstacle
-from pinmob.analysis.singularity.result import NEAR_FACTOR, distance_of, generic_locked_dof
+from pinmob.analysis.singularity.result import NEAR_FACTOR, generic_locked_dof, ratio
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.classify import classify_twists, motion_type
+from pinmob.screw.motion_label import motion_type_of_span
 
 #: A sample is decided by the batch when each of its distances is at least this many near-singular bands.
 DECIDED_FACTOR = 2.0
@@ -65,14 +65,14 @@ def batchable(mech: Mechanism) -> bool:
 def _motion_type(span: Array, st: Array, length: float, rtol: float) -> str:
     """The motion type of an orthonormal span (6, k) of dimensionless twists: :func:`classify_twists`'s label.
 
-    One closed form without the call: ``kT`` when the rotation rows are below ``rtol``
+    One closed form: ``kT`` when the rotation rows are below ``rtol``
     (:func:`pinmob.screw.classify.principal_screws_of_span`'s test: no direction, all free; it answers k = 0 and
-    k = 6 itself).
+    k = 6 itself); else the counts alone (:func:`pinmob.screw.motion_label.motion_type_of_span`).
     """
     w = span[3:]
     if span.shape[1] and float(np.sqrt((w * w).sum())) <= rtol:
         return f"{span.shape[1]}T"
-    return motion_type(classify_twists(span / st, length, rtol))
+    return motion_type_of_span(span / st, length, rtol)
 
 
 def platform_kinematics(mech: Mechanism, qs: Array) -> tuple[Array, Array]:
@@ -94,44 +94,47 @@ def analyse(mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int) ->
     res = analyze_jacobians(mech, full, poses[:, :3], rtol=rtol, singular_values=True, twists=True)
     assert res.free_twists is not None  # asked for
     g, generic = int(generic_rank), np.array(generic_twist_ranks(mech))
-    g_locked = generic_locked_dof(mech, g)
-    band = NEAR_FACTOR * rtol
+    rows = int(np.sum(6 - generic))  # stacked limb wrenches: the constraint singular values there are
+    sv = np.where(np.arange(6) < rows, res.singular_values, np.nan)
+    asv = res.actuation_singular_values
+    names = [f"limb {limb.name}" for limb in mech.limbs]
+    columns = [res.limb_ratio]  # the distances, column by column: distance_of of each sample's values
+    if g > 0:
+        names.append("constraint")
+        columns.append(ratio(sv, g)[:, None])
+    names.append("actuation")
+    columns.append(ratio(asv, 6 - generic_locked_dof(mech, g))[:, None])
+    distances = np.concatenate(columns, axis=1)
+    distance = distances.min(axis=1)
+    decided = (
+        (res.limb_twist_rank == generic).all(axis=1)
+        & (res.constraint_rank == g)
+        & (res.locked_dof == 0)
+        & np.isfinite(distances).all(axis=1)
+        & (distance >= DECIDED_FACTOR * NEAR_FACTOR * rtol)
+    )
+    closest = np.argmax(distances <= (distance * (1 + 1e-6) + 1e-15)[:, None], axis=1)  # closest_all[0]
     length = mech.length_scale
     st = twist_scaling(length)[:, None]
-    out: list[Analysed | None] = []
-    for i in range(len(qs)):
-        limb_rank = res.limb_twist_rank[i]
-        if not (np.array_equal(limb_rank, generic) and res.constraint_rank[i] == g and res.locked_dof[i] == 0):
-            out.append(None)
-            continue
-        rows = int(np.sum(6 - generic))  # stacked limb wrenches: the constraint singular values there are
-        sv = np.where(np.arange(6) < rows, res.singular_values[i], np.nan)
-        distances = {f"limb {limb.name}": float(r) for limb, r in zip(mech.limbs, res.limb_ratio[i])}
-        if g > 0:
-            distances["constraint"] = distance_of(sv, g)
-        asv = res.actuation_singular_values[i]
-        distances["actuation"] = distance_of(asv, 6 - g_locked)
-        distance = min(distances.values())
-        if not distance >= DECIDED_FACTOR * band:
-            out.append(None)
-            continue
+    pose_list, sv_list, asv_list, d_list = poses.tolist(), sv.tolist(), asv.tolist(), distances.tolist()
+    out: list[Analysed | None] = [None] * len(qs)
+    for i in np.flatnonzero(decided).tolist():
         dof = int(res.dof[i])
-        span = res.free_twists[i][:, :dof]
-        row: dict[str, Any] = dict(zip(POSE_COORDS, poses[i].tolist()))
+        row: dict[str, Any] = dict(zip(POSE_COORDS, pose_list[i]))
         row.update(
             reachable=True,
             dof=dof,
-            motion_type=_motion_type(span, st, length, rtol),
-            constraint_rank=int(res.constraint_rank[i]),
+            motion_type=_motion_type(res.free_twists[i][:, :dof], st, length, rtol),
+            constraint_rank=g,
             locked_dof=0,
             singularity="none",
             near_singular=False,
-            closest=next(k for k, v in distances.items() if v <= distance * (1 + 1e-6) + 1e-15),  # closest_all[0]
+            closest=names[closest[i]],
             singular_limbs="",
             dependent_limbs="",
             uncontrolled="",
-            distance=distance,
+            distance=float(distance[i]),
         )
-        row.update(zip(SV_COLUMNS, [*sv.tolist(), *asv.tolist()]))
-        out.append((row, distances))
+        row.update(zip(SV_COLUMNS, sv_list[i] + asv_list[i]))
+        out[i] = (row, dict(zip(names, d_list[i])))
     return out

@@ -31,11 +31,13 @@ The CSV's ``sv1..sv6`` are the six largest singular values of ``K_hat``,
 
 from __future__ import annotations
 
+import functools
 import warnings
 from collections import Counter
 from typing import Any
 
 import numpy as np
+import pinocchio as pin
 
 from pinmob.analysis.chain.closed_chain import closed_chain
 from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
@@ -81,10 +83,27 @@ def joint_row(
     A continuous joint's angle is in (-pi, pi], or the turn nearest its value in ``targets`` (the values a
     joint path asked for: its rows then read them, not their angles).
     """
+    columns, where = _coordinates(mech.model, tuple(joints), mech.model.nq)
     if q is None:
-        return dict.fromkeys(value_columns(joints), float("nan"))
+        return dict.fromkeys(columns, float("nan"))
+    if where is not None:  # one coordinate each: its value (joint_value's rule for them), read at once
+        return dict(zip(columns, np.asarray(q, float)[list(where)].tolist()))
     near = targets or {}
     return {f"q_{n}": joint_value(mech.model, q, n, near.get(n)) for n in joints}
+
+
+@functools.lru_cache(maxsize=64)
+def _coordinates(model: pin.Model, joints: tuple[str, ...], nq: int) -> tuple[tuple[str, ...], tuple[int, ...] | None]:
+    """The joints' columns, and the coordinate in q of each joint when each has exactly one (None: not so).
+
+    Cached per model, joints and size.
+    """
+    columns, out = tuple(value_columns(joints)), []
+    for name in joints:
+        if not model.existJointName(name) or model.joints[model.getJointId(name)].nq != 1:
+            return columns, None
+        out.append(int(model.joints[model.getJointId(name)].idx_q))
+    return columns, tuple(out)
 
 
 def end_values(mech: Mechanism, joints: tuple[str, ...], text: str, q: Array) -> Array:

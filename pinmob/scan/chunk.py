@@ -85,12 +85,14 @@ class _Chunk:
         max_iter: int = MAX_ITER,
         stall_window: int | None = None,
         closed: Array | None = None,
+        target: tuple[str, Any] | None = None,
     ) -> _Sample:
         """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q.
 
-        ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor).
+        ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor);
+        ``target``: ``spec.target(t)``, already computed (None: computed here).
         """
-        target = self.spec.target(t)
+        target = self.spec.target(t) if target is None else target
         head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
         values = joint_row(self.mech, self.spec.values, None)  # joint values, the given ones known

@@ -5,11 +5,12 @@ job. Step j assembles the j-th sample of every chunk of the group, each
 warm-started from the previous sample of its own chunk (the continuation of the
 single-sample path, so the same assembly branch), by the batched predictor
 (:func:`pinmob.assembly.batch_solver.solve_poses`: damped Newton steps over all
-those samples at once, polished to round-off). A sample it did not bring within
-``PREDICT_TOL`` (out of reach, a stall, a step that diverged) goes to the
-single-sample solver (:func:`pinmob.scan.chunk.assemble_target`) from its warm
-start, exactly as on the single-sample path: an unreachable verdict and its
-reason are that solver's. Joint targets (forward kinematics), targets that hold
+those samples at once, each stopped within ``PREDICT_TOL``, not polished on: a
+configuration that close to closure gives the same row to far below the 1e-7 the
+engines agree to). A sample it did not bring within ``PREDICT_TOL`` (out of
+reach, a stall, a step that diverged) goes to the single-sample solver
+(:func:`pinmob.scan.chunk.assemble_target`) from its warm start, exactly as on
+the single-sample path: an unreachable verdict and its reason are that solver's. Joint targets (forward kinematics), targets that hold
 joints, mechanisms without a platform or with closures besides the limb tips are
 assembled by that solver alone.
 
@@ -29,11 +30,11 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.assembly.batch_solver import PoseProblem, finish_closed, solve_poses
+from pinmob.assembly.batch_solver import PoseProblem, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.chunk import _Chunk, _Sample, _seed, assemble_target, run_chunk
 from pinmob.scan.references import platform_pose
 from pinmob.scan.spec import ScanSpec
 from pinmob.screw.algebra import Array
@@ -41,7 +42,7 @@ from pinmob.screw.algebra import Array
 #: Chunks per group (samples assembled in lockstep: up to GROUP per step).
 GROUP = 16
 
-#: A sample the predictor brought within this ``max |e|`` (and polished on to round-off) is closed.
+#: A sample the predictor brought within this ``max |e|`` is closed (the predictor stops there: no polish).
 PREDICT_TOL = 1e-12
 
 #: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
@@ -66,10 +67,19 @@ class Predictor:
         kind, value = spec.target(0)
         return kind == "pose" or (kind == "coords" and not value[1])
 
+    def assemble(self, target: tuple[str, Any], seed: Array) -> Array:
+        """One target closed from ``seed``: by the predictor, else by the single-sample solver (its verdict, its error).
+
+        Raises:
+            PinmobError: the single-sample solver's, when the target does not assemble.
+        """
+        q = self.closed([target], [seed])[0]
+        return q if q is not None else assemble_target(self.mech, target, seed, tol=self.spec.closure_tol)
+
     def closed(self, targets: list[tuple[str, Any]], seeds: list[Array]) -> list[Array | None]:
         """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
 
-        Closed: :func:`finish_closed` of a sample it converged; None where it did not.
+        Closed: :meth:`~pinmob.assembly.batch_solver.PoseProblem.finish` of a sample it converged; None where it did not.
         """
         if not targets:
             return []
@@ -82,10 +92,13 @@ class Predictor:
             poses[i] = pose_vector(platform_pose(self.mech, seed, self.problem.data))
             for c, v in value[0].items():
                 poses[i, POSE_COORDS.index(c)] = v
-        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL)
-        return [
-            finish_closed(self.mech, q, kind) if ok else None for q, ok, (kind, _) in zip(sol.q, sol.converged, targets)
-        ]
+        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
+        out: list[Array | None] = [None] * len(targets)
+        for kind in {kind for kind, _ in targets}:
+            which = [i for i, (k, _) in enumerate(targets) if k == kind and sol.converged[i]]
+            for i, q in zip(which, self.problem.finish(self.mech, sol.q[which], kind)):
+                out[i] = q
+        return out
 
 
 @one_blas_thread
@@ -134,12 +147,13 @@ def _step(
     A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out of
     reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before.
     """
+    targets = {c: predictor.spec.target(k) for c, k, _ in work}
     tried = [w for w in work if w[0] not in lost]
-    found = dict(zip([w[0] for w in tried], predictor.closed([predictor.spec.target(k) for _, k, _ in tried],
+    found = dict(zip([w[0] for w in tried], predictor.closed([targets[c] for c, _, _ in tried],
                                                               [seed for _, _, seed in tried])))  # fmt: skip
     for c, k, seed in work:
         q = found.get(c)
-        sample = chunks[c].assemble(k, seed, closed=q)
+        sample = chunks[c].assemble(k, seed, closed=q, target=targets[c])
         pending[c][k] = sample
         last[c] = _seed(sample, seed)
         if q is not None:

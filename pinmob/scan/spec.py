@@ -171,7 +171,13 @@ class ScanSpec:
         if self.kind == "grid":
             n_last = self.axes[-1][3]
             r = int(t // n_last)
-            lines = np.unravel_index(r, [a[3] for a in self.axes[:-1]]) if len(self.axes) > 1 else ()
+            lines: list[int] = []  # the line's step along each other coordinate (np.unravel_index, C order)
+            left = r
+            for n in reversed([a[3] for a in self.axes[:-1]]):
+                left, i = divmod(left, n)
+                lines.insert(0, i)
+            if left:
+                raise ValueError(f"sample {t} is beyond the grid's {self.size} samples")
             steps = [*(float(i) for i in lines), t - r * n_last]  # each coordinate's step, the last fractional
             return {"grid_" + name: lo + (hi - lo) * i / (n - 1) if n > 1 else lo
                     for (name, lo, hi, n), i in zip(self.axes, steps)}  # fmt: skip

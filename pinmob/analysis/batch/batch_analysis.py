@@ -25,12 +25,10 @@ numba is installed (``pip install "pinmob[fast]"``).
 
 from __future__ import annotations
 
-from dataclasses import replace
-
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.batch.batch_numpy import limb_wrench_rows, numpy_engine, stacked_ranks
+from pinmob.analysis.batch.batch_numpy import numpy_engine
 from pinmob.analysis.batch.batch_result import BatchResult
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
@@ -40,7 +38,7 @@ from pinmob.analysis.singularity.classification import require_platform, singula
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, wrench_scaling
+from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 
 #: The engines of :func:`analyze_batch`.
@@ -104,8 +102,8 @@ def analyze_batch(
         rtol: relative tolerance of every rank decision.
         singular_values: also give the singular values and the limb ratios.
         engine: ``numba`` or ``numpy`` (default: numba when installed, else numpy).
-        twists: also give the platform's free twists (:attr:`BatchResult.free_twists`; by batched LAPACK
-            SVDs with either engine).
+        twists: also give the platform's free twists (:attr:`BatchResult.free_twists`: the null space of the
+            stacked wrenches, from the SVD that ranks them, LAPACK's or the compiled loop's).
 
     Raises:
         ConfigurationError: qs has the wrong shape or non-finite values, the
@@ -162,16 +160,13 @@ def analyze_jacobians(
     engine = check_engine(engine)
     full = full * rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
     if engine == "numba":
-        result = _numba(mech, full, origin, rtol, singular_values)
-        if twists:
-            wrenches = limb_wrench_rows(mech, full, origin, rtol)
-            sw = wrench_scaling(mech.length_scale)[:, None]
-            result = replace(result, free_twists=stacked_ranks(wrenches, rtol, sw, twists=True)[2])
-        return result
+        return _numba(mech, full, origin, rtol, singular_values, twists)
     return numpy_engine(mech, full, origin, rtol, singular_values, twists)
 
 
-def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool) -> BatchResult:
+def _numba(
+    mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool, twists: bool
+) -> BatchResult:
     """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch.batch_kernel.ranks`."""
     from pinmob.analysis.batch.batch_kernel import ranks
 
@@ -181,7 +176,7 @@ def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_va
     for limb, start in zip(mech.limbs, offsets):
         free += [start + c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
         free_offsets.append(len(free))
-    limb_rank, d, locked_rank, sv, asv, ratios = ranks(
+    limb_rank, d, locked_rank, sv, asv, ratios, free_twists = ranks(
         full,
         origin,
         float(mech.length_scale),
@@ -196,7 +191,7 @@ def _numba(mech: Mechanism, full: Array, origin: Array, rtol: float, singular_va
     )
     if not singular_values:
         sv, asv, ratios = np.full_like(sv, np.nan), np.full_like(asv, np.nan), np.full_like(ratios, np.nan)
-    return BatchResult(6 - d, d, sv, limb_rank, ratios, 6 - locked_rank, asv, "numba")
+    return BatchResult(6 - d, d, sv, limb_rank, ratios, 6 - locked_rank, asv, "numba", free_twists if twists else None)
 
 
 def _per_configuration(mech: Mechanism, qs: Array, rtol: float, singular_values: bool) -> BatchResult:

@@ -137,8 +137,8 @@ def ranks(
     generic: Ints,
     rtol: float,
     ratios: bool,
-) -> tuple[Ints, Ints, Ints, Array, Array, Array]:
-    """Limb twist ranks, constraint ranks, locked ranks, their singular values and the limb ratios of N configurations.
+) -> tuple[Ints, Ints, Ints, Array, Array, Array, Array]:
+    """Limb twist ranks, constraint ranks, locked ranks, their singular values, the limb ratios and the free twists.
 
     Per configuration, the limbs' joint screws are carried to the platform origin
     p and made dimensionless, ``[(v + w x p) / L; w]``; per limb, the null space of
@@ -164,7 +164,9 @@ def ranks(
 
     Returns:
         (N, k) limb twist ranks, (N,) constraint ranks, (N,) locked ranks, (N, 6) singular values of the
-        stacked wrenches and of the stacked locked wrenches, (N, k) limb ratios ``sigma_g / sigma_1``.
+        stacked wrenches and of the stacked locked wrenches, (N, k) limb ratios ``sigma_g / sigma_1``, and (N, 6, 6)
+        an orthonormal basis of the null space of the stacked wrenches (the platform's free dimensionless twists)
+        in the first ``6 - rank`` columns, NaN in the others (its right singular vectors beyond the rank).
     """
     n, k, m = full.shape[0], offsets.size - 1, columns.size
     limb_rank = np.zeros((n, k), np.int64)
@@ -172,6 +174,7 @@ def ranks(
     locked_rank = np.zeros(n, np.int64)
     sv_out, asv_out = np.zeros((n, 6)), np.zeros((n, 6))
     ratio = np.zeros((n, k))
+    free_twists = np.full((n, 6, 6), np.nan)
     a = np.zeros((6, m))
     rows = max(6 * k, max(m, 6))
     g = np.zeros((rows, 6))
@@ -207,6 +210,9 @@ def ranks(
                 ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
         rank[s] = span(wrenches, used, rtol, sv, v)  # the stacked wrenches (rebuilt for each configuration)
         sv_out[s] = sv
+        for c in range(rank[s], 6):
+            for i in range(6):
+                free_twists[s, i, c - rank[s]] = v[i, c]
         locked_rank[s] = span(locked, locked_used, rtol, sv, v)
         asv_out[s] = sv
-    return limb_rank, rank, locked_rank, sv_out, asv_out, ratio
+    return limb_rank, rank, locked_rank, sv_out, asv_out, ratio, free_twists

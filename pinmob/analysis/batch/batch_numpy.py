@@ -70,12 +70,6 @@ def stacked_ranks(
     return ranks, values, null
 
 
-def limb_wrench_rows(mech: Mechanism, full: Array, origin: Array, rtol: float) -> list[tuple[Ints, Array]]:
-    """Per limb, (N,) twist ranks and (N, 6, 6) ``V^T`` of its transposed dimensionless screws (wrenches: the null rows)."""
-    st = twist_scaling(mech.length_scale)[:, None]
-    return [null_rows(np.swapaxes(st * twists, 1, 2), rtol)[::2] for twists in limb_jacobians(mech, full, origin)]
-
-
 def numpy_engine(
     mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool, spans: bool = False
 ) -> BatchResult:

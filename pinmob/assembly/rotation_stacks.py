@@ -1,0 +1,44 @@
+"""Stacks of rotations for the numpy path of :mod:`pinmob.assembly.batch_solver`: (B, 3, 3) at once.
+
+Pinocchio's rpy matrices and world angular velocity per rpy rate of (B, 3) angles, the rotation vectors of (B, 3, 3)
+rotations (``pin.log3`` of each) and the cross-product matrices of (B, 3) vectors.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.screw.algebra import Array
+
+
+def rpy_matrices(rpy: Array) -> Array:
+    """(B, 3, 3) ``Rz(yaw) Ry(pitch) Rx(roll)`` (Pinocchio's rpy) of (B, 3) angles."""
+    (cr, cp, cy), (sr, sp, sy) = np.cos(rpy).T, np.sin(rpy).T
+    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
+                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
+                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)  # fmt: skip
+
+
+def rpy_rates(rpy: Array) -> Array:
+    """(B, 3, 3) world angular velocity per rpy rate (Pinocchio's ``computeRpyJacobian(rpy, WORLD)``)."""
+    _, cp, cy = np.cos(rpy).T
+    _, sp, sy = np.sin(rpy).T
+    z, o = np.zeros_like(cp), np.ones_like(cp)
+    return np.stack([np.stack([cy * cp, -sy, z], -1), np.stack([sy * cp, cy, z], -1), np.stack([-sp, z, o], -1)], -2)
+
+
+def log3_stack(r: Array) -> Array:
+    """(B, 3) rotation vectors of (B, 3, 3) rotations: ``pin.log3`` of each, right up to pi.
+
+    A closed form from the antisymmetric part alone lost the axis near pi (1e6 instead of 2.5 at pi - 1e-10).
+    """
+    return np.array([pin.log3(m) for m in r]).reshape(len(r), 3)
+
+
+def skew_stack(v: Array) -> Array:
+    """(B, 3, 3) cross-product matrices of (B, 3) vectors."""
+    out = np.zeros((len(v), 3, 3))
+    out[:, 0, 1], out[:, 0, 2], out[:, 1, 2] = -v[:, 2], v[:, 1], -v[:, 0]
+    out[:, 1, 0], out[:, 2, 0], out[:, 2, 1] = v[:, 2], -v[:, 1], v[:, 0]
+    return out

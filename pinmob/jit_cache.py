@@ -21,6 +21,7 @@ numba setting is changed: other numba users in the same process are not affected
 
 from __future__ import annotations
 
+import hashlib
 import os
 import sys
 from collections.abc import Callable
@@ -47,6 +48,28 @@ def cache_dir() -> Path:
     return base / "pinmob" / "numba"
 
 
+def called_sources(fn: Callable[..., Any]) -> set[str]:
+    """The source files of ``fn`` and of the compiled functions it calls by a global name, transitively.
+
+    numba stamps a cached function with its own file only: a compiled function it calls from another file (such as
+    ``advance = njit(plain_advance)``) is compiled into it, and an edit of that file alone left the old code
+    running from the cache.
+    """
+    files: set[str] = set()
+    todo, seen = [fn], set()
+    while todo:
+        f = todo.pop()
+        if f in seen:
+            continue
+        seen.add(f)
+        files.add(f.__code__.co_filename)
+        for name in f.__code__.co_names:
+            called = getattr(f.__globals__.get(name), "py_func", None)  # a numba dispatcher's Python function
+            if callable(called):
+                todo.append(called)
+    return files
+
+
 def _cache_class() -> type | None:
     """A numba ``FunctionCache`` whose only locator is :func:`cache_dir`, or None if numba's layout differs."""
     try:
@@ -60,11 +83,19 @@ def _cache_class() -> type | None:
         return None
 
     class Locator(user_wide):  # type: ignore[misc, valid-type]
-        """numba's user-wide locator (source stamp, disambiguator, writability check) under :func:`cache_dir`."""
+        """numba's user-wide locator (disambiguator, writability check) under :func:`cache_dir`.
+
+        Its source stamp covers the files of the compiled functions the function calls too (:func:`called_sources`).
+        """
 
         def __init__(self, py_func: Callable[..., Any], py_file: str) -> None:
             super().__init__(py_func, py_file)
+            self._py_func = py_func
             self._cache_path = str(cache_dir() / self.get_suitable_cache_subpath(py_file))
+
+        def get_source_stamp(self) -> Any:
+            others = sorted(called_sources(self._py_func) - {self._py_file})
+            return (super().get_source_stamp(), *(hashlib.sha256(Path(f).read_bytes()).digest() for f in others))
 
     class Impl(results):  # type: ignore[misc, valid-type]
         _locator_classes = [Locator]

@@ -71,7 +71,54 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "batch_kernel.complement",
         "batch_kernel.ranks",
         "batch_kernel.span",
+        "batch_newton_kernel.damped_steps",  # the scan's batched predictor (a pose path of the 3-PUU)
+        "batch_newton_kernel.iterate",
+        "batch_newton_kernel.log3",
+        "batch_newton_kernel.pose_errors",
+        "batch_newton_kernel.rpy_matrix",
+        "batch_newton_kernel.wrap_and_check",
+        "batch_stopping.advance",
     ]
+
+
+PREDICTOR = """
+import numpy as np
+import pinmob
+from pinmob.assembly.batch_newton_kernel import iterate
+from pinmob.scan import path_spec, scan
+
+mech = pinmob.load("3-PUU")
+rows = list(scan(mech, path_spec(mech, "generic", "offset", 3)))
+print(sum(iterate.stats.cache_hits.values()), len(rows))
+"""
+
+
+def test_an_edit_of_a_function_a_compiled_loop_calls_recompiles_the_loop(package, tmp_path):
+    """The predictor's compiled iteration calls ``batch_stopping.advance`` (another file), compiled into it.
+
+    numba stamps a cached function with its own file: after an edit of batch_stopping.py alone, the next process
+    loaded the old iteration from the cache (a reviewer's run: the numpy path took the edited stopping rule, the
+    compiled one the old). Now the stamp covers the files of the compiled functions it calls: the edit recompiles."""
+    env = {k: v for k, v in os.environ.items() if k not in ("NUMBA_CACHE_DIR", "PYTHONPATH")}
+    env |= {
+        "PYTHONPATH": str(package.parent),
+        "XDG_CACHE_HOME": str(tmp_path / "cache"),
+        "PYTHONDONTWRITEBYTECODE": "1",
+    }
+
+    def hits() -> int:
+        run = subprocess.run(
+            [sys.executable, "-c", PREDICTOR], capture_output=True, text=True, env=env, cwd=package.parent, timeout=300
+        )
+        assert run.returncode == 0, run.stderr
+        found, rows = run.stdout.split()
+        assert int(rows) >= 3
+        return int(found)
+
+    assert hits() == 0 and hits() > 0  # compiled, then loaded from the cache
+    stopping = package / "assembly" / "batch_stopping.py"
+    stopping.write_text(stopping.read_text() + "\n# edited\n")
+    assert hits() == 0  # compiled again, not the old code from the cache
 
 
 def test_unwritable_cache_folder_means_no_disk_cache(package, tmp_path):

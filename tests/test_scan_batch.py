@@ -35,6 +35,10 @@ POSE_GRIDS = [
     ("3-RPS", "home", [("roll", -0.2, 0.2, 7), ("pitch", -0.2, 0.2, 7)]),
     ("3-PRS", "home", [("roll", -0.2, 0.2, 7), ("pitch", -0.2, 0.2, 7)]),
     ("Delta", "generic", [("x", -0.05, 0.05, 5), ("y", -0.05, 0.05, 5)]),
+    # coarse and wide: the seeding walk's steps are long (the first from 'generic' to yaw -2.5, pitch -1), where
+    # two solvers from one seed can close on equivalent joint values (U joints turned by pi): the walk must be the
+    # single-sample engine's
+    ("3-UPU-wrist", "generic", [("yaw", -2.5, 2.5, 4), ("pitch", -1.0, 1.0, 4)]),
 ]
 #: Paths of the other scan tests: through a Type II pose, to a constraint singularity, off the workspace.
 PATHS = [("6-UPS", "home", "0,0,0.4,0,0,2.0944", 70), ("3-UPU", "generic", "constraint-singular", 40)]

@@ -34,7 +34,7 @@ from pinmob.assembly.batch_solver import PoseProblem, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chunk import _Chunk, _Sample, _seed, assemble_target, run_chunk
+from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
 from pinmob.scan.references import platform_pose
 from pinmob.scan.spec import ScanSpec
 from pinmob.screw.algebra import Array
@@ -66,15 +66,6 @@ class Predictor:
             return False
         kind, value = spec.target(0)
         return kind == "pose" or (kind == "coords" and not value[1])
-
-    def assemble(self, target: tuple[str, Any], seed: Array) -> Array:
-        """One target closed from ``seed``: by the predictor, else by the single-sample solver (its verdict, its error).
-
-        Raises:
-            PinmobError: the single-sample solver's, when the target does not assemble.
-        """
-        q = self.closed([target], [seed])[0]
-        return q if q is not None else assemble_target(self.mech, target, seed, tol=self.spec.closure_tol)
 
     def closed(self, targets: list[tuple[str, Any]], seeds: list[Array]) -> list[Array | None]:
         """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.

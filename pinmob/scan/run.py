@@ -47,7 +47,7 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
-from pinmob.scan.lockstep import GROUP, Job, Predictor, run_group
+from pinmob.scan.lockstep import GROUP, Job, run_group
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array
@@ -66,8 +66,10 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
 
     The seed is the walk's configuration at the chunk's first sample (or, when
     that does not assemble, at the last waypoint that did); the walk's targets are
-    assembled as a chunk's samples are (:meth:`pinmob.scan.lockstep.Predictor.assemble`
-    where the batched predictor applies). The walk advances only
+    assembled by the single-sample solver on both engines: its steps are long (the first from the reference to
+    the first sample, the others up to 8 samples apart), where the batched predictor, from the same seed, could
+    close on other joint values (U joints turned by pi: the 3-UPU-wrist over yaw and pitch) and so seed the
+    chunks on another assembly branch. The walk advances only
     as far as the chunks asked for so far need (chunks are produced lazily).
     """
     stops = dict(spec.chunks())
@@ -75,10 +77,9 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     found: dict[int, Array] = {}
     q = np.array(spec.q_ref, float)
     solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held
-    walk = Predictor(solver, spec).assemble if Predictor.applies(solver, spec) else None
     for target, k in spec.waypoints():
         try:
-            q = walk(target, q) if walk else chunk.assemble_target(solver, target, q, tol=spec.closure_tol)
+            q = chunk.assemble_target(solver, target, q, tol=spec.closure_tol)
         except PinmobError:
             pass
         if k in stops:

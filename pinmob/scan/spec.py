@@ -183,13 +183,14 @@ class ScanSpec:
                     for (name, lo, hi, n), i in zip(self.axes, steps)}  # fmt: skip
         return {"s": t / (self.samples - 1) if self.samples > 1 else 0.0}
 
-    def target(self, t: float) -> tuple[str, Any]:
+    def target(self, t: float, params: dict[str, float] | None = None) -> tuple[str, Any]:
         """``("pose", SE3)``, ``("joints", {name: value})`` or ``("coords", (pose, joints))`` at sample t.
 
         A grid's target: the gridded and held coordinates (pose coordinates, joint values); a plain pose when
         all six pose coordinates are given and no joint (the others follow, :mod:`pinmob.scan.coordinates`).
+        ``params``: :meth:`params` at t, already computed (None: computed here).
         """
-        p = self.params(t)
+        p = self.params(t) if params is None else params
         if self.kind == "grid":
             return self.coordinates_target({name[5:]: value for name, value in p.items()})
         s = p["s"]

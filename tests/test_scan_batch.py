@@ -257,3 +257,69 @@ def test_the_motion_type_from_the_counts_is_classify_twists_label():
         assert motion_type_of_span(t, size) == label, (t, label)
         labels.add(label)
     assert {"rigid", "3T", "3R", "2T1R", "3T1R", "3T3R", "1T1H"} <= set(labels)
+
+
+def test_the_secant_start_moves_on_along_the_line_the_short_way_round():
+    """The predictor's start on a line (``lockstep.secant_starts``): the closed sample moved on by the last
+    step, a revolute angle's part of it the short way round across the wrap at +-pi; the start is nearer the
+    next closed sample than the sample is (3-PUU, a line of x at generic). Both on the vector-space path (q + move)
+    and on Pinocchio's difference / integrate path. Fails on the old code: no secant_starts."""
+    import numpy as np
+
+    from pinmob.assembly.batch_solver import PoseProblem
+    from pinmob.scan.lockstep import secant_starts
+
+    mech = pinmob.load("3-PUU")
+    q0 = pinmob.closed_configuration(mech, "generic")
+    line = [pinmob.assemble_pose(mech, _moved(mech, q0, dx), q0) for dx in (0.0, 0.01, 0.02)]
+    for vector_space in (True, False):
+        problem = PoseProblem(mech)
+        problem.vector_space = vector_space
+        start = secant_starts(problem, [line[0], None], [line[1], line[1]])
+        assert np.array_equal(start[1], line[1])  # no sample before: the seed itself
+        assert np.linalg.norm(start[0] - line[2]) < 0.1 * np.linalg.norm(line[1] - line[2])
+        angle = int(problem.angles[0])
+        before, seed = line[1].copy(), line[1].copy()
+        before[angle], seed[angle] = np.pi - 0.02, -np.pi + 0.03  # moved +0.05 rad across the wrap
+        moved = secant_starts(problem, [before], [seed])[0]
+        assert moved[angle] == pytest.approx(-np.pi + 0.08, abs=1e-12)
+
+
+def _moved(mech, q, dx):
+    """The platform pose at q moved by dx along x."""
+    import pinocchio as pin
+
+    data = mech.model.createData()
+    pin.framesForwardKinematics(mech.model, data, q)
+    pose = data.oMf[mech.platform_id].copy()
+    pose.translation = pose.translation + [dx, 0.0, 0.0]
+    return pose
+
+
+def test_the_rows_joint_values_and_limits_column_wise_are_the_per_sample_ones():
+    """row_columns.joint_rows / limits_of over a stack equal joint_row / outside_limits per configuration (the
+    per-sample functions the rows used before), with configurations outside the limits and samples not closed
+    (None). Fails on the old code: no row_columns."""
+    import numpy as np
+    import pinocchio as pin
+
+    from pinmob.model.joints import outside_limits
+    from pinmob.scan.chain import joint_row, value_joints
+    from pinmob.scan.row_columns import joint_rows, limits_of
+
+    rng = np.random.default_rng(5)
+    for name in ("3-PUU", "6-UPS", "Delta"):
+        mech = pinmob.load(name)
+        q0 = pinmob.closed_configuration(mech, next(iter(mech.configurations)))
+        qs = [pin.integrate(mech.model, q0, 0.3 * rng.normal(size=mech.model.nv)) for _ in range(6)]
+        qs[1] = qs[1].copy()
+        qs[1][0] = mech.model.upperPositionLimit[0] + 0.5  # outside its limits
+        qs[3] = None
+        joints = value_joints(mech)
+        targets = [None, {}, None, None, {joints[0]: 0.1}, None]
+        want_limits = [None if q is None else outside_limits(mech.model, q) for q in qs]
+        assert limits_of(mech.model, qs) == want_limits
+        assert any(want_limits[1])
+        want_rows = [None if q is None else joint_row(mech, joints, q, t) for q, t in zip(qs, targets)]
+        assert joint_rows(mech, joints, qs, targets) == want_rows
+    assert limits_of(mech.model, [None]) == [None] and joint_rows(mech, joints, [None], [None]) == [None]

@@ -108,6 +108,8 @@ class PoseProblem:
         self.data = model.createData()
         self.kernel = compiled_kernel()
         self.angles = np.flatnonzero(angle_mask(model))
+        #: The revolute angles' velocity indices (a joint with an angle has one coordinate per velocity).
+        self.angle_rates = np.array([_rate_of(model, int(i)) for i in self.angles], np.int64)
         self.limits = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
         self.limited = self.limits[0] < self.limits[1]  # lower >= upper: no limits (wrap_angles' rule)
 
@@ -176,6 +178,13 @@ class PoseProblem:
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
+
+
+def _rate_of(model: pin.Model, iq: int) -> int:
+    """The velocity index of configuration coordinate ``iq`` of a joint with one coordinate per velocity."""
+    joint = next(model.joints[j] for j in range(1, model.njoints)
+                 if model.joints[j].idx_q <= iq < model.joints[j].idx_q + model.joints[j].nq)  # fmt: skip
+    return int(joint.idx_v + iq - joint.idx_q)
 
 
 def _wrap_and_check(

@@ -83,7 +83,7 @@ def joint_row(
     A continuous joint's angle is in (-pi, pi], or the turn nearest its value in ``targets`` (the values a
     joint path asked for: its rows then read them, not their angles).
     """
-    columns, where = _coordinates(mech.model, tuple(joints), mech.model.nq)
+    columns, where = joint_coordinates(mech.model, tuple(joints), mech.model.nq)
     if q is None:
         return dict.fromkeys(columns, float("nan"))
     if where is not None:  # one coordinate each: its value (joint_value's rule for them), read at once
@@ -93,7 +93,9 @@ def joint_row(
 
 
 @functools.lru_cache(maxsize=64)
-def _coordinates(model: pin.Model, joints: tuple[str, ...], nq: int) -> tuple[tuple[str, ...], tuple[int, ...] | None]:
+def joint_coordinates(
+    model: pin.Model, joints: tuple[str, ...], nq: int
+) -> tuple[tuple[str, ...], tuple[int, ...] | None]:
     """The joints' columns, and the coordinate in q of each joint when each has exactly one (None: not so).
 
     Cached per model, joints and size.

@@ -25,7 +25,8 @@ from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.batch_rows import Analysed, analyse
 from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
-from pinmob.scan.refine import minimise, v_vertex
+from pinmob.scan.refine import minimise, vertex_below
+from pinmob.scan.row_columns import joint_rows, limits_of
 from pinmob.scan.sample import MAX_ITER, _evaluate
 from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
 from pinmob.scan.sample import assemble_target as assemble_target
@@ -86,19 +87,25 @@ class _Chunk:
         stall_window: int | None = None,
         closed: Array | None = None,
         target: tuple[str, Any] | None = None,
+        params: dict[str, float] | None = None,
     ) -> _Sample:
         """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q.
 
         ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor);
-        ``target``: ``spec.target(t)``, already computed (None: computed here).
+        ``target``, ``params``: ``spec.target(t)`` and ``spec.params(t)``, already computed (None: computed here).
         """
-        target = self.spec.target(t) if target is None else target
-        head = {"index": int(math.floor(t + 1e-9)), **self.spec.params(t), "refined": False}
+        params = self.spec.params(t) if params is None else params
+        target = self.spec.target(t, params) if target is None else target
+        head = {"index": int(math.floor(t + 1e-9)), **params, "refined": False}
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
-        values = joint_row(self.mech, self.spec.values, None)  # joint values, the given ones known
-        values.update({k: v for k, v in zip(value_columns(list(known)), known.values()) if k in values})
+
+        def values() -> dict[str, float]:  # the joint values of a row not assembled: NaN, the given ones known
+            row = joint_row(self.mech, self.spec.values, None)
+            row.update({k: v for k, v in zip(value_columns(list(known)), known.values()) if k in row})
+            return row
+
         if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain)
-            head.update(values)
+            head.update(values())
         try:
             q = (
                 closed
@@ -112,7 +119,7 @@ class _Chunk:
             return _Sample(head, q, {}, dict(known))
         if not self.spec.platform:
             return _Sample(head | unreachable_chain(reason), None, {})
-        return _Sample(head | unreachable_row(target, reason) | values, None, {})
+        return _Sample(head | unreachable_row(target, reason) | values(), None, {})
 
     def opened(self, q: Array) -> str | None:
         """Why q is refused, or None: assembled with CAD gaps held (``spec.cad``), the file's loops open too far.
@@ -128,19 +135,24 @@ class _Chunk:
             return f"assembled with the CAD gaps of the reference held, the loops open beyond closure_tol: {worst}"
         return None
 
-    def finish(self, pending: _Sample, analysed: Analysed | None = None) -> _Sample:
-        """The row of an assembled sample (:meth:`assemble`), from ``analysed`` (the batch's) or on its own."""
+    def finish(self, pending: _Sample, analysed: Analysed | None = None, values: dict[str, float] | None = None,
+               limits: tuple[str, ...] | None = None) -> _Sample:  # fmt: skip
+        """The row of an assembled sample (:meth:`assemble`), from ``analysed`` (the batch's) or on its own.
+
+        ``values``, ``limits``: its :func:`~pinmob.scan.chain.joint_row` and
+        :func:`~pinmob.model.joints.outside_limits`, already computed (None: computed here).
+        """
         head, q, known = pending.row, pending.q, pending.known
         if q is None or known is None:
             return pending
-        values = joint_row(self.mech, self.spec.values, q, known)
+        values = joint_row(self.mech, self.spec.values, q, known) if values is None else values
         if not self.spec.platform:
             head.update(values)
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
             tol = self.spec.closure_tol
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
-            limits = outside_limits(self.mech.model, q)
+            limits = outside_limits(self.mech.model, q) if limits is None else limits
             row.update(reason=f"joints outside their limits: {', '.join(limits)}" if limits else "", **values)
         return _Sample(head | row, q, distances)
 
@@ -172,7 +184,10 @@ class _Chunk:
     ) -> list[dict[str, Any]]:
         """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order."""
         first, last = self.spec.line(start)
-        done = {k: self.finish(s, a) for (k, s), a in zip(pending.items(), analysed)}
+        qs = [s.q if s.known is not None else None for s in pending.values()]
+        found = zip(joint_rows(self.mech, self.spec.values, qs, [s.known for s in pending.values()]),
+                    limits_of(self.mech.model, qs))  # fmt: skip
+        done = {k: self.finish(s, a, *more) for (k, s), a, more in zip(pending.items(), analysed, found)}
         extra: list[_Sample] = []
         for k in range(start, stop):
             extra += self.refine(k, done, first, last)
@@ -212,7 +227,7 @@ class _Chunk:
                 dl, dr = left.distances[key], right.distances[key]
                 if d <= self.rtol or not (min(dl, dr) >= d and max(dl, dr) > d):  # not a local minimum
                     continue
-                if d < self.band or _vertex_below(k, d, dl, dr, 0.5 * d):
+                if d < self.band or vertex_below(k, d, dl, dr, 0.5 * d):
                     out.append(self._search(k, done, key))
         return [s for s in out if s.q is not None and s.distance < self.band]
 
@@ -267,12 +282,6 @@ class _Chunk:
 def _seed(sample: _Sample, fallback: Array) -> Array:
     """The sample's configuration, or ``fallback`` when it did not assemble."""
     return fallback if sample.q is None else sample.q
-
-
-def _vertex_below(k: int, d: float, dl: float, dr: float, level: float) -> bool:
-    """The V through the three samples (:func:`pinmob.scan.refine.v_vertex`) predicts a minimum below ``level``."""
-    vertex = v_vertex(k - 1, k, k + 1, dl, d, dr)
-    return vertex is not None and vertex[1] < level
 
 
 def _distinct(points: list[_Sample]) -> list[_Sample]:

@@ -29,6 +29,7 @@ from __future__ import annotations
 from typing import Any
 
 import numpy as np
+import pinocchio as pin
 
 from pinmob.assembly.batch_solver import PoseProblem, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
@@ -67,10 +68,13 @@ class Predictor:
         kind, value = spec.target(0)
         return kind == "pose" or (kind == "coords" and not value[1])
 
-    def closed(self, targets: list[tuple[str, Any]], seeds: list[Array]) -> list[Array | None]:
+    def closed(
+        self, targets: list[tuple[str, Any]], seeds: list[Array], starts: list[Array] | None = None
+    ) -> list[Array | None]:
         """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
 
-        Closed: :meth:`~pinmob.assembly.batch_solver.PoseProblem.finish` of a sample it converged; None where it did not.
+        Closed: :meth:`~pinmob.assembly.batch_solver.PoseProblem.finish` of a sample it converged; None where it did
+        not. ``starts``: where the Newton steps start (default: the seeds; the free coordinates start at the seed's).
         """
         if not targets:
             return []
@@ -83,7 +87,8 @@ class Predictor:
             poses[i] = pose_vector(platform_pose(self.mech, seed, self.problem.data))
             for c, v in value[0].items():
                 poses[i, POSE_COORDS.index(c)] = v
-        sol = solve_poses(self.problem, np.array(seeds), poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
+        start = np.array(seeds if starts is None else starts)
+        sol = solve_poses(self.problem, start, poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
         out: list[Array | None] = [None] * len(targets)
         for kind in {kind for kind, _ in targets}:
             which = [i for i, (k, _) in enumerate(targets) if k == kind and sol.converged[i]]
@@ -104,9 +109,10 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
     predicted: set[tuple[int, int]] = set()
     lost: set[int] = set()  # chunks whose last sample did not assemble
     last = [seed for _, _, seed in jobs]
+    before: list[Array | None] = [None] * len(jobs)  # the chunk's closed sample before its last, when that closed
     for j in range(max(len(p) for p in plans)):
         which = [c for c, plan in enumerate(plans) if j < len(plan)]
-        _step(predictor, chunks, pending, predicted, lost, last, [(c, plans[c][j], last[c]) for c in which])
+        _step(predictor, chunks, pending, predicted, lost, last, [(c, plans[c][j], last[c]) for c in which], before)
     neighbours = [c for c, (start, _, _) in enumerate(jobs) if spec.line(start)[0] < start]
     if neighbours:  # each chunk's left neighbour, warm-started from its first sample
         lost = {c for c in neighbours if pending[c][jobs[c][0]].q is None}
@@ -132,20 +138,37 @@ def _step(
     lost: set[int],
     last: list[Array],
     work: list[tuple[int, int, Array]],
+    before: list[Array | None] | None = None,
 ) -> None:
     """Assemble sample k of chunk c from ``seed`` for each ``(c, k, seed)``: the predictor batched, else on its own.
 
     A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out of
-    reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before.
+    reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before. With
+    ``before`` (the forward pass along the chunks' lines), the predictor starts a chunk whose last two samples
+    closed from their secant, extrapolated one sample on (:func:`secant_starts`), and ``before`` is kept up to date.
     """
-    targets = {c: predictor.spec.target(k) for c, k, _ in work}
+    spec = predictor.spec
+    params = {c: spec.params(k) for c, k, _ in work}
+    targets = {c: spec.target(k, params[c]) for c, k, _ in work}
     tried = [w for w in work if w[0] not in lost]
-    found = dict(zip([w[0] for w in tried], predictor.closed([targets[c] for c, _, _ in tried],
-                                                              [seed for _, _, seed in tried])))  # fmt: skip
+    seeds = [seed for _, _, seed in tried]
+    starts = None if before is None else secant_starts(predictor.problem, [before[c] for c, _, _ in tried], seeds)
+    closed = predictor.closed([targets[c] for c, _, _ in tried], seeds, starts)
+    if starts is not None:  # a secant start that needed a correction longer than its step: from the seed instead
+        again = [
+            i for i, q in enumerate(closed) if q is not None and off_secant(predictor.problem, seeds[i], starts[i], q)
+        ]
+        redone = predictor.closed([targets[tried[i][0]] for i in again], [seeds[i] for i in again])
+        for i, q in zip(again, redone):
+            closed[i] = q
+    found = dict(zip([w[0] for w in tried], closed))
     for c, k, seed in work:
         q = found.get(c)
-        sample = chunks[c].assemble(k, seed, closed=q, target=targets[c])
+        sample = chunks[c].assemble(k, seed, closed=q, target=targets[c], params=params[c])
         pending[c][k] = sample
+        if before is not None:
+            previous = pending[c].get(k - 1)
+            before[c] = seed if sample.q is not None and previous is not None and previous.q is not None else None
         last[c] = _seed(sample, seed)
         if q is not None:
             predicted.add((c, k))
@@ -153,3 +176,38 @@ def _step(
             lost.add(c)
         else:
             lost.discard(c)
+
+
+def short_move(problem: PoseProblem, a: Array, b: Array) -> Array:
+    """``b - a`` in the tangent space (Pinocchio's ``difference``), each revolute angle's part the short way round."""
+    move = b - a if problem.vector_space else pin.difference(problem.model, a, b)
+    move[problem.angle_rates] = np.remainder(move[problem.angle_rates] + np.pi, 2 * np.pi) - np.pi
+    return move
+
+
+def secant_starts(problem: PoseProblem, before: list[Array | None], seeds: list[Array]) -> list[Array]:
+    """Where the predictor starts each sample: ``seed`` moved on by ``seed - before`` (a line's secant), or ``seed``.
+
+    ``before``: the closed sample before the one that gave ``seed`` on the same line (None: start at ``seed``).
+    The move is :func:`short_move` (the closed samples' angles are wrapped into (-pi, pi]). A start only: the
+    sample's verdict and branch are the Newton steps' from it (checked by :func:`off_secant`), and a sample the
+    predictor does not close goes to the single-sample solver from ``seed``, as before.
+    """
+    starts = list(seeds)
+    for i, (b, q) in enumerate(zip(before, seeds)):
+        if b is not None:
+            move = short_move(problem, b, q)
+            starts[i] = q + move if problem.vector_space else pin.integrate(problem.model, q, move)
+    return starts
+
+
+def off_secant(problem: PoseProblem, seed: Array, start: Array, q: Array) -> bool:
+    """True when the Newton steps from a secant ``start`` went further than the secant's own step (joint metric).
+
+    Along a smooth line the correction is of second order in the step; a longer one means the steps left the
+    continuation (on a coarse grid, the 3-UPU-wrist's U joints closed turned by pi), so the sample is closed again
+    from ``seed``, as the single-sample engine's continuation does.
+    """
+    per_unit = problem.col[: problem.model.nv]  # slides per L, angles in rad: the same decision in any unit
+    step = float(np.linalg.norm(short_move(problem, seed, start) / per_unit))
+    return 0.0 < step < float(np.linalg.norm(short_move(problem, start, q) / per_unit))  # 0: the start was the seed

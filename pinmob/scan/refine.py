@@ -165,3 +165,9 @@ def _fallback(a: float, b: float, c: float, fa: float, fc: float) -> float:
     if math.isinf(fa) and not math.isinf(fc) and b > a:
         return 0.5 * (a + b)
     return b + GOLDEN * (c - b) if c - b >= b - a else b - GOLDEN * (b - a)
+
+
+def vertex_below(k: int, d: float, dl: float, dr: float, level: float) -> bool:
+    """The V through the three samples (:func:`v_vertex`) predicts a minimum below ``level``."""
+    vertex = v_vertex(k - 1, k, k + 1, dl, d, dr)
+    return vertex is not None and vertex[1] < level

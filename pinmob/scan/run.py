@@ -4,9 +4,11 @@ What is scanned, in which order, is a :class:`pinmob.scan.spec.ScanSpec`. Each
 target is assembled warm-started (the previous sample's configuration seeds
 the closure solver of the next). One coarse walk (:func:`chunk_seeds`, in this
 process) goes from the reference configuration through every ``STRIDE``-th
-sample of each line (a grid row by row, in a serpentine) and gives each chunk
-its seed; every chunk then runs from its seed, in this process or on a Dask
-worker (:mod:`pinmob.parallel`), so ``workers=N`` gives the rows of ``workers=1``, and each sample costs
+sample of a path, or of a grid's lines up to their last chunk's first sample (a
+grid row by row, in a serpentine; a line of at most ``CHUNK`` samples at its
+first sample only), and gives each chunk its seed; every chunk then runs from
+its seed, in this process or on a Dask worker (:mod:`pinmob.parallel`), so
+``workers=N`` gives the rows of ``workers=1``, and each sample costs at most
 ``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
 the refinement). The chunks run in groups (:func:`chunk_groups`: the first alone, then up
 to ``GROUP``), each group as one job: with the batched engine (``spec.engine``, the default)

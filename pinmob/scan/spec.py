@@ -19,7 +19,8 @@
 Samples are numbered ``k = 0 .. size - 1`` along the scan lines; a fractional
 ``t`` lies between samples of a line (:meth:`ScanSpec.target`). A line is cut
 into chunks of at most ``CHUNK`` samples; the coarse walk that seeds them
-(:meth:`ScanSpec.waypoints`) visits every ``STRIDE``-th sample. Running a
+(:meth:`ScanSpec.waypoints`) visits every ``STRIDE``-th sample (of a grid's
+line, up to its last chunk's first sample). Running a
 spec is :mod:`pinmob.scan`'s business.
 """
 
@@ -183,13 +184,14 @@ class ScanSpec:
                     for (name, lo, hi, n), i in zip(self.axes, steps)}  # fmt: skip
         return {"s": t / (self.samples - 1) if self.samples > 1 else 0.0}
 
-    def target(self, t: float) -> tuple[str, Any]:
+    def target(self, t: float, params: dict[str, float] | None = None) -> tuple[str, Any]:
         """``("pose", SE3)``, ``("joints", {name: value})`` or ``("coords", (pose, joints))`` at sample t.
 
         A grid's target: the gridded and held coordinates (pose coordinates, joint values); a plain pose when
         all six pose coordinates are given and no joint (the others follow, :mod:`pinmob.scan.coordinates`).
+        ``params``: :meth:`params` at t, already computed (None: computed here).
         """
-        p = self.params(t)
+        p = self.params(t) if params is None else params
         if self.kind == "grid":
             return self.coordinates_target({name[5:]: value for name, value in p.items()})
         s = p["s"]
@@ -220,10 +222,11 @@ class ScanSpec:
         """The coarse walk seeding the chunks: ``(target, sample index or None)``.
 
         A path: every STRIDE-th sample. A grid: straight from the reference
-        (``--at``) to the first sample (steps of at most two spacings), then
-        every STRIDE-th sample and the last of each line, lines alternately
-        forwards and backwards (each move is at most STRIDE spacings), a
-        three-coordinate grid's lines in a serpentine (:meth:`line_order`).
+        (``--at``) to the first sample (steps of at most two spacings), then, on
+        each line, the chunks' first samples and every STRIDE-th sample between
+        them (the first sample alone on a line of at most CHUNK samples), lines
+        alternately forwards and backwards (each move is at most STRIDE
+        spacings), a three-coordinate grid's lines in a serpentine (:meth:`line_order`).
         """
         if self.kind != "grid":
             for k in range(0, self.samples, STRIDE):
@@ -231,7 +234,7 @@ class ScanSpec:
             return
         yield from ((target, None) for target in self.approach())
         n = self.line_size
-        cols = sorted({*range(0, n, STRIDE), n - 1})
+        cols = sorted({*range(0, (n - 1) // CHUNK * CHUNK + 1, STRIDE), *range(0, n, CHUNK)})
         for turn, r in enumerate(self.line_order()):
             for c in cols if turn % 2 == 0 else cols[::-1]:
                 yield self.target(r * n + c), r * n + c

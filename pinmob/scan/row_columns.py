@@ -1,0 +1,46 @@
+"""A scan's rows column-wise: the joint values and the joints outside their limits of many samples at once.
+
+What :func:`pinmob.scan.chain.joint_row` and :func:`pinmob.model.joints.outside_limits` give per configuration, for
+the samples a batch assembled (:meth:`pinmob.scan.chunk._Chunk.complete`), with numpy over the whole stack: the same
+values and tuples.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.model.joints import outside_limits
+from pinmob.model.mechanism import Mechanism
+from pinmob.scan.chain import joint_coordinates, joint_row
+from pinmob.screw.algebra import Array
+
+
+def joint_rows(
+    mech: Mechanism, joints: tuple[str, ...], qs: list[Array | None], targets: list[dict[str, float] | None]
+) -> list[dict[str, float] | None]:
+    """:func:`~pinmob.scan.chain.joint_row` of each configuration of ``qs`` with its ``targets`` (None: q None).
+
+    Read column-wise, at once, when each joint has one coordinate.
+    """
+    closed = [q for q in qs if q is not None]
+    columns, where = joint_coordinates(mech.model, tuple(joints), mech.model.nq)
+    if where is None or not closed:
+        return [None if q is None else joint_row(mech, joints, q, t) for q, t in zip(qs, targets)]
+    rows = iter(np.asarray(closed, float)[:, list(where)].tolist())
+    return [None if q is None else dict(zip(columns, next(rows))) for q in qs]
+
+
+def limits_of(model: pin.Model, qs: list[Array | None], tol: float = 1e-9) -> list[tuple[str, ...] | None]:
+    """:func:`~pinmob.model.joints.outside_limits` of each configuration of ``qs`` (None: q None).
+
+    Every coordinate of every configuration checked at once; that function called only for the configurations with
+    a coordinate outside its limits (lower < upper), so the same tuples.
+    """
+    closed = [q for q in qs if q is not None]
+    if not closed:
+        return [None] * len(qs)
+    lower, upper = model.lowerPositionLimit, model.upperPositionLimit
+    x = np.asarray(closed, float)
+    flagged = iter(((lower < upper) & ((x < lower - tol) | (x > upper + tol))).any(axis=1).tolist())
+    return [None if q is None else outside_limits(model, q, tol) if next(flagged) else () for q in qs]

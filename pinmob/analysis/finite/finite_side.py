@@ -49,7 +49,7 @@ class Side:
         internal: a verdict per internal motion (platform still to first order; free side only).
         samples: the local-dimension estimate.
         notes: why a finite DoF could not be decided.
-        tolerance: the absolute tolerance of the conditions.
+        tolerance: the absolute tolerance of the conditions (None where they were not written: ``unwritten``).
         evidence: what decided where the conditions up to the order bound did not ('' when they did;
             :mod:`pinmob.analysis.finite.sample_modes`).
         unwritten: the couplings whose higher derivatives are not written (``coupling 'c' on tendon 't'``): the
@@ -68,7 +68,7 @@ class Side:
     internal: tuple[MotionVerdict, ...]
     samples: LocalDimension
     notes: tuple[str, ...]
-    tolerance: float
+    tolerance: float | None
     evidence: str = ""
     unwritten: tuple[str, ...] = ()
 

@@ -145,7 +145,7 @@ def sampled_side(
         tuple(internal),
         samples,
         tuple(notes),
-        0.0,
+        None,  # no condition written: no tolerance
         how,
         unwritten,
     )

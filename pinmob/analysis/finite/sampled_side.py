@@ -80,15 +80,7 @@ def sampled_side(
     notes: list[str] = []
     if m:
         path = follow_rates(
-            mech,
-            conf.q,
-            kernel @ rng.normal(size=m),
-            amplitude=BRANCH_STEP,
-            steps=1,
-            held=held,
-            rtol=rtol,
-            closure_tol=conf.closure_tol,
-            halvings=2,
+            mech, conf, kernel @ rng.normal(size=m), amplitude=BRANCH_STEP, steps=1, held=held, rtol=rtol, halvings=2
         )
         candidates = (Branch(m, dof, kind, found_motions, "q", kernel, untested(kernel), max(path.reached)),)
     evidence = decide_by_samples(conf, kernel, None, candidates, held, rtol, seed) if m else None

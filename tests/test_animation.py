@@ -97,6 +97,23 @@ def test_follow_motion_rejects_bad_arguments(puu):
         follow_motion(puu, puu.neutral() + 0.01, motion)
 
 
+def test_a_configuration_is_followed_from_as_it_is(puu, flat):
+    """From a closed Configuration, follow_motion gives the frames it gives from its vector with the same closure
+    tolerance (the Configuration's own); an unchecked Configuration (loops not checked, no tolerance) or one of
+    another mechanism is refused. On the old code a Configuration was not accepted at all."""
+    conf = pinmob.Configuration(puu, "generic", closure_tol=1e-5)
+    motion = pinmob.analyze(conf).motions[0]
+    from_vector = follow_motion(puu, conf.q, motion, amplitude=0.04, steps=4, closure_tol=1e-5)
+    from_conf = follow_motion(puu, conf, motion, amplitude=0.04, steps=4)
+    assert from_conf.complete and len(from_conf.frames()) == len(from_vector.frames())
+    for a, b in zip(from_conf.frames(), from_vector.frames(), strict=True):
+        assert np.array_equal(a, b)
+    with pytest.raises(pinmob.ConfigurationError, match=r"not Configuration\.unchecked"):
+        follow_motion(puu, pinmob.Configuration.unchecked(puu, conf.q), motion)
+    with pytest.raises(pinmob.ConfigurationError, match="closed Configuration of '3-PUU'"):
+        follow_motion(puu, pinmob.Configuration(flat, "flat"), motion)
+
+
 def test_rotation_about_a_fixed_point_keeps_the_distance(tmp_path):
     # A spherical joint (three revolutes through the origin) carrying the platform at
     # (0, 0, 0.2): every free motion is a rotation about the origin, so following one

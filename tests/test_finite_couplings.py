@@ -11,6 +11,7 @@ counts by hand are in :data:`CASES`.
 
 from __future__ import annotations
 
+import json
 import warnings
 from pathlib import Path
 
@@ -214,6 +215,29 @@ def test_a_coupling_over_a_pulley_is_decided_by_closed_samples_alone(capsys):
     fin = pinmob.analyze(_load(DATA / "tendons" / "cable_hand.xml"), finite=True).finite
     assert fin.to_dict()["conditions_not_written"] == ["coupling 'f3_follows_f2' on tendons 'flex3', 'flex2'"]
     assert all(m.verdict is Verdict.FINITE for m in fin.free.internal)
+
+
+def test_json_gives_no_order_bound_or_tolerance_where_no_condition_was_written(capsys):
+    """The cable hand's two sides are decided by closed samples alone (``conditions_not_written``, the text's "no
+    higher-order conditions"): the JSON gives their order bound and tolerance as null. The gripper's conditions are
+    written: each side's order bound is the one asked for, and the free side's tolerance the one the text prints.
+
+    On the old code the cable hand's JSON said ``"order_bound": 4, "tolerance": 0.0`` and the held side had
+    neither."""
+    hand = str(DATA / "tendons" / "cable_hand.xml")
+    assert main(["analyze", hand, "--finite", "--json"]) == 0
+    fin = json.loads(capsys.readouterr().out)["finite"]
+    for side in (fin, fin["locked"]):
+        assert side["conditions_not_written"] and side["evidence"]
+        assert (side["order_bound"], side["tolerance"]) == (None, None)
+    gripper = str(DATA / "tendons" / "gripper.xml")
+    assert main(["analyze", gripper, "--finite", "--finite-order", "3", "--json"]) == 0
+    fin = json.loads(capsys.readouterr().out)["finite"]
+    assert main(["analyze", gripper, "--finite", "--finite-order", "3"]) == 0
+    text = capsys.readouterr().out
+    for side in (fin, fin["locked"]):
+        assert side["conditions_not_written"] == [] and side["order_bound"] == 3 and side["tolerance"] > 0
+    assert f"higher-order conditions up to order 3 (tolerance {fin['tolerance']:.2e})" in text
 
 
 def test_coupling_rows_derivatives_are_the_exact_polynomial_ones():

@@ -91,9 +91,7 @@ def prepare(
         for m in mob.motions:
             bar.set_postfix_str(m.label)
             if animate:
-                paths[m.label] = follow_motion(
-                    mech, conf.q, m, amplitude=amplitude, steps=steps, closure_tol=conf.closure_tol
-                )
+                paths[m.label] = follow_motion(mech, conf, m, amplitude=amplitude, steps=steps)  # conf: checked
                 bar.update()
             else:
                 paths[m.label] = MotionPath(m.label, (conf.q,), (conf.q,), (0.0, 0.0), 0.0)

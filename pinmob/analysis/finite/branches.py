@@ -125,17 +125,7 @@ def branch_of(
     rates = tangent_rates(ho, component.basis)
     d = rates.shape[1]
     direction = rates @ np.random.default_rng(seed).normal(size=d)
-    path = follow_rates(
-        mech,
-        conf.q,
-        direction,
-        amplitude=BRANCH_STEP,
-        steps=1,
-        held=held,
-        rtol=rtol,
-        closure_tol=conf.closure_tol,
-        halvings=2,
-    )
+    path = follow_rates(mech, conf, direction, amplitude=BRANCH_STEP, steps=1, held=held, rtol=rtol, halvings=2)
     traced = max(path.reached)
     if not mech.has_platform:
         return Branch(d, None, None, (), "q", rates, component.test, traced)
@@ -144,7 +134,7 @@ def branch_of(
         note = "" if traced else "the tracer could not follow it"
         return Branch(d, dof, kind, motions, "q", rates, component.test, traced, note)
     end = path.forward[-1] if path.reached[0] >= path.reached[1] else path.backward[-1]
-    near = Configuration(mech, end, closure_tol=conf.closure_tol)
+    near = Configuration.from_checked(mech, end, conf.closure_tol)
     there = nearby_tangent(near, rates, rtol, held)
     if there is None:
         note = "no tangent space of the same dimension at a nearby point of it"

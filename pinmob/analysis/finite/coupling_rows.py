@@ -261,4 +261,4 @@ def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], t
     if not extra:
         return conf, (), tuple(others)
     locked = replace(mech, closures=mech.closures + tuple(extra), actuated_tendons=tuple(others))
-    return Configuration(locked, conf.q, closure_tol=conf.closure_tol, name=conf.name), tuple(held), tuple(others)
+    return Configuration.from_checked(locked, conf.q, conf.closure_tol, name=conf.name), tuple(held), tuple(others)

@@ -45,8 +45,10 @@ class FiniteMobility:
 
     Attributes:
         mechanism, configuration: names.
-        order: the bound on the order of the conditions checked.
-        tolerance: the absolute tolerance of the conditions (``order_tol * max(1, sigma_max(A))``).
+        order: the bound on the order of the conditions checked (asked for: where a side's conditions are not
+            written, ``Side.unwritten``, none is checked).
+        tolerance: the absolute tolerance of the free side's conditions (``order_tol * max(1, sigma_max(A))``;
+            None where they are not written).
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
@@ -57,7 +59,7 @@ class FiniteMobility:
     mechanism: str
     configuration: str | None
     order: int
-    tolerance: float
+    tolerance: float | None
     free: Side
     locked: Side | None
     platform: str
@@ -98,10 +100,14 @@ class FiniteMobility:
         return out | {"finite": self.to_dict()}
 
     def to_dict(self) -> dict[str, Any]:
-        """The ``finite`` entry of ``pinmob analyze --finite --json`` (plain JSON)."""
+        """The ``finite`` entry of ``pinmob analyze --finite --json`` (plain JSON).
+
+        ``order_bound`` and ``tolerance`` are those of the side's conditions, null where they are not written
+        (``conditions_not_written``: the closed samples alone decided).
+        """
         out = {
-            "order_bound": self.order,
-            "tolerance": self.tolerance,
+            "order_bound": None if self.free.unwritten else self.order,
+            "tolerance": self.free.tolerance,
             "dof": self.free.dof,
             "finite_dof": self.finite_dof,
             "mechanism_dof": self.free.mechanism_dof,
@@ -120,6 +126,8 @@ class FiniteMobility:
             lk = self.locked
             out["locked"] = {
                 "held": list(lk.held),
+                "order_bound": None if lk.unwritten else self.order,
+                "tolerance": lk.tolerance,
                 "dof": lk.dof if self.platform else lk.mechanism_dof,
                 "finite_dof": self.finite_dof_locked,
                 "mechanism_dof": lk.mechanism_dof,
@@ -146,9 +154,9 @@ class FiniteMobility:
         many = len(free.branches) > 1
         origin = self.conf.platform_origin if self.platform else None
         length = self.conf.mechanism.length_scale
-        conditions = f"higher-order conditions up to order {self.order} (tolerance {self.tolerance:.2e})"
-        if free.unwritten:
-            conditions = "no higher-order conditions (see below)"
+        conditions = "no higher-order conditions (see below)"
+        if free.tolerance is not None:
+            conditions = f"higher-order conditions up to order {self.order} (tolerance {free.tolerance:.2e})"
         lines = [
             f"finite mobility: {conditions}, "
             f"each motion traced, {free.samples.samples} closed samples within {free.samples.radius:g} of q"

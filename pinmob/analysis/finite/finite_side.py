@@ -27,7 +27,7 @@ from pinmob.analysis.finite.loop_screws import mechanism_loops
 from pinmob.analysis.finite.motion_tracing import trace_motion, trace_rates
 from pinmob.analysis.finite.sample_modes import decide_by_samples
 from pinmob.analysis.finite.tangent_cone import cone
-from pinmob.analysis.finite.verdicts import MEMBER_SIN, MotionVerdict, Verdict, judge, orthonormal, settle, sine_to
+from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict, judge, motions_to_judge, orthonormal, settle_side
 from pinmob.analysis.motion import Motion
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.rank import decide_rank
@@ -49,7 +49,7 @@ class Side:
         internal: a verdict per internal motion (platform still to first order; free side only).
         samples: the local-dimension estimate.
         notes: why a finite DoF could not be decided.
-        tolerance: the absolute tolerance of the conditions.
+        tolerance: the absolute tolerance of the conditions (None where they were not written: ``unwritten``).
         evidence: what decided where the conditions up to the order bound did not ('' when they did;
             :mod:`pinmob.analysis.finite.sample_modes`).
         unwritten: the couplings whose higher derivatives are not written (``coupling 'c' on tendon 't'``): the
@@ -68,7 +68,7 @@ class Side:
     internal: tuple[MotionVerdict, ...]
     samples: LocalDimension
     notes: tuple[str, ...]
-    tolerance: float
+    tolerance: float | None
     evidence: str = ""
     unwritten: tuple[str, ...] = ()
 
@@ -162,9 +162,7 @@ def analyse_side(
         on_kernel = rows @ ho.kernel[:nv]
         dof, kind, found_motions = platform_motions(conf, kernel, rtol)
         w = twist_scaling(mech.length_scale)
-        image = orthonormal([on_kernel], 6)
-        if given is not None and len(given) == dof and all(sine_to(w * g.twist, image) <= MEMBER_SIN for g in given):
-            found_motions = given  # the report's own motions (same labels), when they span this side's image
+        found_motions = motions_to_judge(found_motions, given, dof, on_kernel, mech.length_scale)
         lifts = decide_rank(on_kernel, rtol, n=ho.m, at_least=1.0).null_space.T
         spans = [orthonormal([rows @ b.rates], 6) for b in branches]
         for mo in found_motions:
@@ -213,14 +211,9 @@ def analyse_side(
             finite_mech, finite_dof = fallback.finite_mechanism_dof or 0, fallback.finite_dof
             branches = tuple(sorted(fallback.branches, key=branch_order))
             rows = frame_rows(conf, mech.platform) if mech.has_platform else np.zeros((6, nv))
-            plat = [None if b.test is None else orthonormal([rows @ b.rates], 6) for b in branches]
-            joints = [None if b.test is None else b.rates for b in branches]
-            reach_plat = orthonormal([rows @ fallback.reach], 6)
-            motions = [settle(v, x, plat, reach_plat, finite_dof == 0) for v, x in zip(motions, vectors, strict=True)]
-            internal = [
-                settle(v, x, joints, fallback.reach, finite_mech == 0)
-                for v, x in zip(internal, internal_vectors, strict=True)
-            ]
+            motions, internal = settle_side(
+                motions, vectors, internal, internal_vectors, branches, rows, fallback.reach, finite_dof, finite_mech
+            )
         else:
             notes.append(f"closed samples: {fallback.conflict}")
     decided = not notes

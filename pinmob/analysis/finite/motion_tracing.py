@@ -2,7 +2,8 @@
 
 :func:`trace_motion` follows a platform motion with the viewer's path follower
 (:func:`pinmob.analysis.follow.motion_path.follow_motion`), :func:`trace_rates` joint rates (internal motions,
-motions with joints held) with :func:`pinmob.analysis.follow.motion_path.follow_rates`; each returns the
+motions with joints held) with :func:`pinmob.analysis.follow.motion_path.follow_rates`, each from the analysed
+Configuration (closed, its closure tolerance checked where it was made: not checked again); each returns the
 farthest distance reached either way (0: it could not move at all), which
 :func:`pinmob.analysis.finite.verdicts.judge` and :func:`~pinmob.analysis.finite.verdicts.settle` weigh.
 """
@@ -32,12 +33,11 @@ def trace_motion(conf: Configuration, motion: Motion, rtol: float) -> float:
     amp = TRACE * mech.length_scale if motion.kind is MotionKind.TRANSLATION else TRACE
     path = follow_motion(
         mech,
-        conf.q,
+        conf,  # closed, its closure_tol checked: not checked again
         motion,
         amplitude=amp,
         steps=2,
         rtol=rtol,
-        closure_tol=conf.closure_tol,
         halvings=HALVINGS,
         either=True,  # the farthest reach is all that is used
     )
@@ -55,13 +55,12 @@ def trace_rates(
     mech = conf.mechanism
     path = follow_rates(
         mech,
-        conf.q,
+        conf,  # closed, its closure_tol checked: not checked again
         rates,
         amplitude=TRACE,
         steps=2,
         held=held,
         rtol=rtol,
-        closure_tol=conf.closure_tol,
         halvings=HALVINGS,
         either=True,  # the farthest reach and its end are all that is used
     )

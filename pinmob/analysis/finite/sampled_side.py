@@ -32,7 +32,7 @@ from pinmob.analysis.finite.higher_order import OrderTest
 from pinmob.analysis.finite.local_dimension import LocalDimension
 from pinmob.analysis.finite.motion_tracing import trace_motion, trace_rates
 from pinmob.analysis.finite.sample_modes import RADIUS, decide_by_samples
-from pinmob.analysis.finite.verdicts import MEMBER_SIN, MotionVerdict, Verdict, orthonormal, settle, sine_to
+from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict, motions_to_judge, settle_side
 from pinmob.analysis.follow.motion_path import follow_rates
 from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.analysis.motion import Motion
@@ -75,22 +75,12 @@ def sampled_side(
     w = twist_scaling(mech.length_scale)
     if mech.has_platform:
         dof, kind, found_motions = platform_motions(conf, kernel, rtol)
-        image = orthonormal([rows @ kernel], 6)
-        if given is not None and len(given) == dof and all(sine_to(w * g.twist, image) <= MEMBER_SIN for g in given):
-            found_motions = given
+        found_motions = motions_to_judge(found_motions, given, dof, rows @ kernel, mech.length_scale)
     candidates: tuple[Branch, ...] = ()
     notes: list[str] = []
     if m:
         path = follow_rates(
-            mech,
-            conf.q,
-            kernel @ rng.normal(size=m),
-            amplitude=BRANCH_STEP,
-            steps=1,
-            held=held,
-            rtol=rtol,
-            closure_tol=conf.closure_tol,
-            halvings=2,
+            mech, conf, kernel @ rng.normal(size=m), amplitude=BRANCH_STEP, steps=1, held=held, rtol=rtol, halvings=2
         )
         candidates = (Branch(m, dof, kind, found_motions, "q", kernel, untested(kernel), max(path.reached)),)
     evidence = decide_by_samples(conf, kernel, None, candidates, held, rtol, seed) if m else None
@@ -108,11 +98,10 @@ def sampled_side(
         branches = tuple(sorted(evidence.branches, key=branch_order))
         conflict = evidence.conflict
         notes = [] if how else [f"closed samples: {conflict}"]
-    plat: list[Array | None] = [None if b.test is None else orthonormal([rows @ b.rates], 6) for b in branches]
-    joints: list[Array | None] = [None if b.test is None else b.rates for b in branches]
-    reach_plat = orthonormal([rows @ reach], 6)
     motions: list[MotionVerdict] = []
     internal: list[MotionVerdict] = []
+    vectors: list[Array] = []
+    internal_vectors: list[Array] = []
     lifts = np.eye(m)
     if mech.has_platform and m:
         on_kernel = rows @ kernel
@@ -121,15 +110,19 @@ def sampled_side(
             target = w * mo.twist
             rates = kernel @ np.linalg.lstsq(on_kernel, target, rcond=None)[0]
             traced = trace_motion(conf, mo, rtol) if not held else trace_rates(conf, rates, held, rtol, target)
-            v = MotionVerdict(mo.label, Verdict.UNDECIDED, None, (), traced, untested(rates), "", motion=mo)
-            motions.append(v if not how else settle(v, target, plat, reach_plat, finite_dof == 0))
+            motions.append(MotionVerdict(mo.label, Verdict.UNDECIDED, None, (), traced, untested(rates), "", motion=mo))
+            vectors.append(target)
     if not held and m:
         for label, rates in internal_motions(conf, kernel @ lifts):
             traced = trace_rates(conf, rates, held, rtol)
             by_name = joint_rates(mech, col * rates)
-            v = MotionVerdict(label, Verdict.UNDECIDED, None, (), traced, untested(rates), "", by_name)
-            internal.append(v if not how else settle(v, rates, joints, reach, finite_mech == 0))
-    if not how:  # the samples conflict: every verdict stays undecided, with the numbers
+            internal.append(MotionVerdict(label, Verdict.UNDECIDED, None, (), traced, untested(rates), "", by_name))
+            internal_vectors.append(rates)
+    if how:
+        motions, internal = settle_side(
+            motions, vectors, internal, internal_vectors, branches, rows, reach, finite_dof, finite_mech
+        )
+    else:  # the samples conflict: every verdict stays undecided, with the numbers
         motions = [_undecided(v, conflict) for v in motions]
         internal = [_undecided(v, conflict) for v in internal]
     return Side(
@@ -144,7 +137,7 @@ def sampled_side(
         tuple(internal),
         samples,
         tuple(notes),
-        0.0,
+        None,  # no condition written: no tolerance
         how,
         unwritten,
     )

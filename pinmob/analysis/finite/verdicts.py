@@ -22,16 +22,18 @@ branch). Every other combination is *cannot decide*, with both answers in the no
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from enum import StrEnum
 from typing import Any
 
 import numpy as np
 
+from pinmob.analysis.finite.branches import Branch
 from pinmob.analysis.finite.higher_order import MARGIN, OrderTest
 from pinmob.analysis.motion import Motion
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array
+from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.rank import decide_rank
 
 #: A motion lies in a span when the sine of its angle to it is at most this.
@@ -150,6 +152,25 @@ def orthonormal(columns: list[Array], rows: int) -> Array:
     return decide_rank(stacked.T, 1e-9, at_least=1.0).row_space.T  # the one rank rule, natural scale 1
 
 
+def motions_to_judge(
+    own: tuple[Motion, ...], given: tuple[Motion, ...] | None, dof: int, image: Array, length: float
+) -> tuple[Motion, ...]:
+    """The platform motions a side judges: ``given`` when it has ``dof`` motions, each in ``image``'s span; else ``own``.
+
+    Args:
+        own: the side's own instantaneous platform motions (classified from its first-order motions).
+        given: the report's (its free or uncontrolled motions: the same labels), or None.
+        dof: the side's instantaneous platform DoF.
+        image: (6, k) dimensionless platform twists spanning those of the side's first-order motions.
+        length: the mechanism's length scale L [m].
+    """
+    w = twist_scaling(length)
+    span = orthonormal([image], 6)
+    if given is not None and len(given) == dof and all(sine_to(w * g.twist, span) <= MEMBER_SIN for g in given):
+        return given
+    return own
+
+
 def judge(
     label: str,
     vector: Array,
@@ -238,3 +259,40 @@ def settle(
         every = tuple(range(1, len(spans) + 1))
         return MotionVerdict(v.label, Verdict.BRANCH_POINT, None, every, v.traced, v.test, "", v.joints, v.motion)
     return MotionVerdict(v.label, Verdict.BLOCKED, order, (), v.traced, v.test, "", v.joints, v.motion)
+
+
+def settle_side(
+    motions: Sequence[MotionVerdict],
+    vectors: Sequence[Array],
+    internal: Sequence[MotionVerdict],
+    internal_vectors: Sequence[Array],
+    branches: Sequence[Branch],
+    rows: Array,
+    reach: Array,
+    finite_dof: int | None,
+    finite_mechanism_dof: int | None,
+) -> tuple[list[MotionVerdict], list[MotionVerdict]]:
+    """Every verdict of a side settled (:func:`settle`) by the modes closed samples found: (platform, internal).
+
+    Args:
+        motions: the platform motions' verdicts (from the conditions, or undecided, and the tracer).
+        vectors: their dimensionless platform twists, one per verdict.
+        internal: the internal motions' verdicts.
+        internal_vectors: their joint rates (dimensionless), one per verdict.
+        branches: the modes the samples found (:mod:`pinmob.analysis.finite.sample_modes`; a branch without a
+            test is a mode whose tangent cone at q is not linear).
+        rows: (6, nv) the platform's dimensionless twist per joint rate (zeros without a platform).
+        reach: (nv, r) orthonormal joint rates spanning every mode's tangents at the samples.
+        finite_dof: the platform's finite DoF the samples decided (0: the platform cannot move near q).
+        finite_mechanism_dof: the closed chain's (0: q is isolated).
+    """
+    plat = [None if b.test is None else orthonormal([rows @ b.rates], 6) for b in branches]
+    joints = [None if b.test is None else b.rates for b in branches]
+    reach_plat = orthonormal([rows @ reach], 6)
+    return (
+        [settle(v, x, plat, reach_plat, finite_dof == 0) for v, x in zip(motions, vectors, strict=True)],
+        [
+            settle(v, x, joints, reach, finite_mechanism_dof == 0)
+            for v, x in zip(internal, internal_vectors, strict=True)
+        ],
+    )

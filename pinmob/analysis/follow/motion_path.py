@@ -35,8 +35,9 @@ is only instantaneous in that direction. Each direction's result is measured
 animation clips.
 
 :func:`follow_rates` follows a direction of joint rates the same way (the finite-mobility
-analysis traces internal motions, motion branches and motions with the actuators held with it);
-the steps themselves are in :mod:`pinmob.analysis.follow.path_follower`.
+analysis traces internal motions, motion branches and motions with the actuators held with it,
+from its Configuration: nothing about it is checked again); the steps themselves are in
+:mod:`pinmob.analysis.follow.path_follower`.
 """
 
 from __future__ import annotations
@@ -46,6 +47,7 @@ from typing import Any
 
 import numpy as np
 
+from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.follow.displacement import Displacement, measure_displacement
 from pinmob.analysis.follow.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.analysis.motion import Motion
@@ -135,7 +137,7 @@ def _measure(motion: Motion) -> slice:
 
 def follow_motion(
     mech: Mechanism,
-    q: Array,
+    q: Array | Configuration,
     motion: Motion,
     *,
     amplitude: float | None = None,
@@ -150,7 +152,8 @@ def follow_motion(
 
     Args:
         mech: the mechanism.
-        q: (nq,) closed configuration where ``motion`` was found.
+        q: (nq,) closed configuration where ``motion`` was found, or a closed :class:`Configuration` of ``mech``
+            (checked where it was made: not checked again, ``closure_tol`` is its own).
         motion: one of ``analyze(mech, q).motions``.
         amplitude: distance in each direction [m for T, rad for R and H];
             default :func:`default_amplitude`.
@@ -167,7 +170,7 @@ def follow_motion(
         the path; every configuration in it closes within ``closure_tol``.
 
     Raises:
-        ConfigurationError: ``steps`` < 1, a non-positive amplitude or max_deviation.
+        ConfigurationError: ``steps`` < 1, a non-positive amplitude or max_deviation, an unchecked Configuration.
         ArgumentError: ``closure_tol`` out of range.
         ClosureError: q itself does not close.
     """
@@ -189,17 +192,15 @@ def follow_motion(
             f"{limit:.3g} {unit_name} ({MAX_STEP:g} L for translations, {MAX_STEP:g} rad otherwise); lower the "
             f"amplitude or use at least {min(np.ceil(amp / limit), 1e18):.0f} steps"
         )
-    q = mech.check_q(q)
-    closure_tol = check_closure_tol(closure_tol)  # once: every step's Configuration trusts it
-    check_closed(mech, q, closure_tol, what="the configuration to animate")
+    origin = _origin(mech, q, closure_tol, "the configuration to animate")
     unit = motion.twist / np.linalg.norm(motion.twist[_measure(motion)])
-    follower = Follower(mech, motion, rtol, closure_tol, max_deviation, halvings)
-    return _both_ways(follower, q, unit, unit, amp, steps, motion.label, unit_name, either)
+    follower = Follower(mech, motion, rtol, origin.closure_tol, max_deviation, halvings)
+    return _both_ways(follower, origin, unit, unit, amp, steps, motion.label, unit_name, either)
 
 
 def follow_rates(
     mech: Mechanism,
-    q: Array,
+    q: Array | Configuration,
     rates: Array,
     *,
     label: str = "motion",
@@ -216,7 +217,7 @@ def follow_rates(
 
     Args:
         mech: the mechanism.
-        q: (nq,) closed configuration.
+        q: (nq,) closed configuration, or a closed :class:`Configuration` of ``mech`` (as for :func:`follow_motion`).
         rates: (nv,) joint rates, dimensionless (translation rates per L).
         label: the path's label.
         amplitude: distance in each direction, in the dimensionless joint metric [rad, or m / L].
@@ -231,17 +232,29 @@ def follow_rates(
     Returns:
         the path (``reached`` in the dimensionless joint metric); every configuration in it closes.
     """
+    origin = _origin(mech, q, closure_tol, "the configuration to follow from")
+    unit = np.asarray(rates, float) / np.linalg.norm(rates)
+    follower = RateFollower(mech, held, rtol, origin.closure_tol, max_deviation, halvings)
+    return _both_ways(follower, origin, unit, np.zeros(6), amplitude, steps, label, "(joint metric)", either)
+
+
+def _origin(mech: Mechanism, q: Array | Configuration, closure_tol: float, what: str) -> Configuration:
+    """The closed configuration a path starts from: a Configuration as it is (checked where it was made), else q's."""
+    if isinstance(q, Configuration):
+        if q.mechanism is not mech or not np.isfinite(q.closure_tol):
+            raise ConfigurationError(
+                f"{what} must be a closed Configuration of {mech.name!r} (not Configuration.unchecked), got {q!r}"
+            )
+        return q
     q = mech.check_q(q)
     closure_tol = check_closure_tol(closure_tol)  # once: every step's Configuration trusts it
-    check_closed(mech, q, closure_tol, what="the configuration to follow from")
-    unit = np.asarray(rates, float) / np.linalg.norm(rates)
-    follower = RateFollower(mech, held, rtol, closure_tol, max_deviation, halvings)
-    return _both_ways(follower, q, unit, np.zeros(6), amplitude, steps, label, "(joint metric)", either)
+    check_closed(mech, q, closure_tol, what=what)
+    return Configuration.from_checked(mech, q, closure_tol)
 
 
 def _both_ways(
     follower: Follower,
-    q: Array,
+    origin: Configuration,
     unit: Array,
     twist: Array,
     amp: float,
@@ -250,11 +263,12 @@ def _both_ways(
     unit_name: str,
     either: bool = False,
 ) -> MotionPath:
-    """The path along ``unit`` and along ``-unit``, each end's platform displacement measured against ``twist``.
+    """The path from ``origin`` along ``unit`` and ``-unit``, each end's platform displacement measured against ``twist``.
 
-    With ``either``, ``-unit`` is not followed when ``unit`` reaches ``amp`` (its path is then ``(q,)``).
+    With ``either``, ``-unit`` is not followed when ``unit`` reaches ``amp`` (its path is then ``(q,)``). Both
+    directions share what is computed at q (``origin``'s memo).
     """
-    start, origin = follower.pose(q), follower.at(q)  # both directions share what is computed at q
+    q, start = origin.q, follower.pose(origin.q)
     branches, reasons, moved = [], [], []
     reached: list[float] = []
     for sign in (1.0, -1.0):

@@ -11,8 +11,8 @@ import scipy.linalg
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.screw.classify import _generalised_eigh
 from pinmob.screw.rank import singular_values, svd
+from pinmob.screw.screw_groups import _generalised_eigh
 
 
 @pytest.mark.parametrize("shape", [(5, 6), (6, 6), (6, 3), (18, 15), (30, 36), (4, 5, 6)])

@@ -16,8 +16,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.screw.algebra import Array, cross_columns
-from pinmob.screw.bases import canonical_directions, clean, positive
+from pinmob.screw.bases import clean, positive
 from pinmob.screw.rank import RTOL, decide_rank
+from pinmob.screw.screw_groups import screw_groups
 
 
 class MotionKind(StrEnum):
@@ -124,44 +125,13 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
 
     :func:`principal_screws` answers the whole space (r = 6) in closed form; the tests compare it with these steps.
     """
-    v, w = span[:3], span[3:]
-    tie = max(1e-9, rtol)  # components of unit directions closer than this are ties (round-off must not pick)
-    if float(np.sqrt((w * w).sum())) <= rtol:  # every singular value of w is below rtol: no direction, all free
-        return canonical_directions(v, tie), []
-    split = decide_rank(w, rtol, at_least=1.0)  # directions of the orthonormal span: natural scale 1
-    wr = split.rank
-    trans = canonical_directions(v @ split.null_space.T, tie) if wr < w.shape[1] else np.zeros((3, 0))
-    if wr == 0:
-        return trans, []
-    gv, gw = v @ split.row_space.T, w @ split.row_space.T  # complement: span(gw) has dimension wr
-    pitch_tol = max(1e-9, 10 * rtol)
-    # split span(gw) into W0 (perpendicular to T) and its orthogonal complement W1
-    if trans.shape[1]:
-        dec = decide_rank(trans.T @ gw, rtol, n=wr, at_least=1.0)  # orthonormal span and directions: natural scale 1
-        x0, x1 = dec.null_space.T, dec.row_space.T
-    else:
-        x0, x1 = np.eye(wr), np.zeros((wr, 0))
-    groups: list[tuple[Array, float]] = []
-    if x1.shape[1]:
-        # W1 directions, orthogonal to W0 in direction space, all with pitch 0
-        w0 = gw @ x0
-        u1 = canonical_directions(gw @ x1 - (w0 @ np.linalg.pinv(w0) @ (gw @ x1) if w0.size else 0), tie)
-        groups.append((np.asarray(np.linalg.lstsq(gw, u1, rcond=None)[0], dtype=np.float64), 0.0))
-    if x0.shape[1]:
-        a = x0.T @ (0.5 * (gw.T @ gv + gv.T @ gw)) @ x0
-        b = x0.T @ gw.T @ gw @ x0
-        pitches, y = _generalised_eigh(a, b)
-        i = 0
-        while i < len(pitches):
-            j = i
-            while j + 1 < len(pitches) and abs(pitches[j + 1] - pitches[i]) <= pitch_tol:
-                j += 1
-            group = x0 @ y[:, i : j + 1]
-            dirs = canonical_directions(gw @ group, tie)
-            groups.append(
-                (group @ np.linalg.lstsq(gw @ group, dirs, rcond=None)[0], float(np.mean(pitches[i : j + 1])))
-            )
-            i = j + 1
+    trans, gv, gw, found = screw_groups(span, rtol)
+    tie, pitch_tol = max(1e-9, rtol), max(1e-9, 10 * rtol)
+    groups = [
+        (np.asarray(np.linalg.lstsq(gw, dirs, rcond=None)[0], dtype=np.float64) if basis is None
+         else basis @ np.linalg.lstsq(gw @ basis, dirs, rcond=None)[0], pitch)
+        for basis, dirs, pitch in found
+    ]  # fmt: skip
     out: list[tuple[Array, Array, float]] = []
     for coeffs, pitch in groups:
         h = 0.0 if abs(pitch) <= pitch_tol else pitch
@@ -173,19 +143,6 @@ def principal_screws_of_span(span: Array, rtol: float = RTOL) -> tuple[Array, li
             vv = _closest_moment(u, vv, trans, h, rtol)
             out.append((clean(u), clean(cross_columns(u, vv)), h))
     return trans, out
-
-
-def _generalised_eigh(a: Array, b: Array) -> tuple[Array, Array]:
-    """Eigenvalues (ascending) and B-orthonormal eigenvectors of ``a x = h b x`` (symmetric a, positive definite b).
-
-    LAPACK's reduction (``dsygv``, what SciPy's ``eigh(a, b)`` calls), with numpy: ``b = L L^T``
-    (Cholesky), the eigenpairs ``(h, z)`` of the symmetric ``L^-1 a L^-T``, and ``x = L^-T z``
-    (so that ``x^T b x = I``).
-    """
-    low = np.linalg.cholesky(b)
-    c = np.linalg.solve(low, np.linalg.solve(low, a).T)  # L^-1 a L^-T (a is symmetric)
-    vals, z = np.linalg.eigh(0.5 * (c + c.T))
-    return np.asarray(vals, dtype=np.float64), np.asarray(np.linalg.solve(low.T, z), dtype=np.float64)
 
 
 def _orthonormal_span(m: Array, rtol: float, tol: float = 1e-12) -> Array:

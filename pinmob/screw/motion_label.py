@@ -1,11 +1,11 @@
 """The motion type of a span of twists from the counts alone, for the many samples of a scan.
 
-:func:`motion_type_of_span` takes the decisions of :func:`~pinmob.screw.classify.classify_twists`, that is of
-:func:`~pinmob.screw.classify.principal_screws` (the same calls on the same matrices, in the same order: the
-free translations, the directions with a component along them, the principal pitches and their groups) and
-counts translations, rotations and screws, without their axes, points and canonical vectors (least squares,
-closest points, cleaning), which the label does not read: ``motion_type(classify_twists(t, L, rtol))``
-exactly, at about half its cost (``tests/test_scan_batch.py`` compares them).
+:func:`motion_type_of_span` counts the decisions :func:`~pinmob.screw.classify.classify_twists` takes (one
+function, :func:`~pinmob.screw.screw_groups.screw_groups`: the free translations, the directions with a
+component along them, the principal pitches and their groups) as translations, rotations and screws, without
+their axes, points and canonical vectors (least squares, closest points, cleaning), which the label does not
+read: ``motion_type(classify_twists(t, L, rtol))`` exactly, at about half its cost (``tests/test_scan_batch.py``
+compares them).
 """
 
 from __future__ import annotations
@@ -13,9 +13,8 @@ from __future__ import annotations
 import numpy as np
 
 from pinmob.screw.algebra import Array
-from pinmob.screw.bases import canonical_directions
-from pinmob.screw.classify import _generalised_eigh, _orthonormal_span
-from pinmob.screw.rank import RTOL, decide_rank
+from pinmob.screw.classify import _orthonormal_span, screw_groups
+from pinmob.screw.rank import RTOL
 
 
 def motion_type_of_span(twists: Array, length: float, rtol: float = RTOL) -> str:
@@ -39,44 +38,11 @@ def motion_type_of_span(twists: Array, length: float, rtol: float = RTOL) -> str
 
 
 def _counts(span: Array, rtol: float) -> tuple[int, int, int]:
-    """Translations, rotations and screws of :func:`~pinmob.screw.classify.principal_screws_of_span` (6, r)."""
-    v, w = span[:3], span[3:]
-    tie = max(1e-9, rtol)
-    if float(np.sqrt((w * w).sum())) <= rtol:
-        return canonical_directions(v, tie).shape[1], 0, 0
-    split = decide_rank(w, rtol, at_least=1.0)
-    wr = split.rank
-    trans = canonical_directions(v @ split.null_space.T, tie) if wr < w.shape[1] else np.zeros((3, 0))
-    if wr == 0:
-        return trans.shape[1], 0, 0
-    gv, gw = v @ split.row_space.T, w @ split.row_space.T
+    """Translations, rotations and screws of :func:`~pinmob.screw.classify.screw_groups` (its decisions counted)."""
+    trans, _, _, groups = screw_groups(span, rtol)
     pitch_tol = max(1e-9, 10 * rtol)
-    if trans.shape[1]:
-        dec = decide_rank(trans.T @ gw, rtol, n=wr, at_least=1.0)
-        x0, x1 = dec.null_space.T, dec.row_space.T
-    else:
-        x0, x1 = np.eye(wr), np.zeros((wr, 0))
-    rotations = screws = 0
-    if x1.shape[1]:  # zero-pitch directions with a component along the translations
-        w0 = gw @ x0
-        rotations += canonical_directions(gw @ x1 - (w0 @ np.linalg.pinv(w0) @ (gw @ x1) if w0.size else 0), tie).shape[
-            1
-        ]
-    if x0.shape[1]:
-        a = x0.T @ (0.5 * (gw.T @ gv + gv.T @ gw)) @ x0
-        b = x0.T @ gw.T @ gw @ x0
-        pitches, y = _generalised_eigh(a, b)
-        i = 0
-        while i < len(pitches):
-            j = i
-            while j + 1 < len(pitches) and abs(pitches[j + 1] - pitches[i]) <= pitch_tol:
-                j += 1
-            count = canonical_directions(gw @ (x0 @ y[:, i : j + 1]), tie).shape[1]
-            if abs(float(np.mean(pitches[i : j + 1]))) <= pitch_tol:
-                rotations += count
-            else:
-                screws += count
-            i = j + 1
+    rotations = sum(dirs.shape[1] for _, dirs, pitch in groups if abs(pitch) <= pitch_tol)
+    screws = sum(dirs.shape[1] for _, dirs, pitch in groups if abs(pitch) > pitch_tol)
     return trans.shape[1], rotations, screws
 
 

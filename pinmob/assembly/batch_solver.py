@@ -253,36 +253,28 @@ def _solve_compiled(
 def _solve(
     problem: PoseProblem, qs: Array, poses: Array, tol: float, max_iter: int, stall_window: int, floor: float
 ) -> BatchSolution:
-    """:func:`solve_poses`'s iterations."""
+    """:func:`solve_poses`'s iterations with numpy stacks (without numba; the compiled ones: :func:`_solve_compiled`)."""
     q, p = np.array(qs, float), np.array(poses, float)
-    n, frames, kernel = len(q), len(problem.frames), problem.kernel
-    advance = plain_advance if kernel is None else kernel.advance
+    n, frames = len(q), len(problem.frames)
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     active = np.arange(n)
     for it in range(max_iter + 1):
         now_q, here = q[active], p[active]
         full, placements = problem.kinematics(now_q)
-        if kernel is not None:
-            e, now = kernel.pose_errors(placements, here, problem.length)
-        else:
-            e, jac = problem.residual_of(full, placements, here)
-            now = _worst(e, frames)
-        better, keep = advance(now, active, it, best, history, tol, floor, stall_window, STALL_GAIN, POLISH_GAIN,
+        e, jac = problem.residual_of(full, placements, here)
+        now = _worst(e, frames)
+        better, keep = plain_advance(now, active, it, best, history, tol, floor, stall_window, STALL_GAIN, POLISH_GAIN,
                                DIVERGED)  # fmt: skip
         best_q[active[better]], best_p[active[better]] = now_q[better], here[better]
         if not keep.any() or it == max_iter:
             break
-        if kernel is not None:
-            dz = kernel.damped_steps(full, placements, here, e, np.flatnonzero(keep), problem.mask[:, 0],
-                                     problem.col, problem.free_array, problem.length, DAMPING, MAX_STEP)  # fmt: skip
-        else:
-            e, jac = e[keep], jac[keep]
-            jtj = jac.transpose(0, 2, 1) @ jac
-            k = np.arange(jtj.shape[1])
-            jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
-            dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
-            dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
+        e, jac = e[keep], jac[keep]
+        jtj = jac.transpose(0, 2, 1) @ jac
+        k = np.arange(jtj.shape[1])
+        jtj[:, k, k] += (DAMPING / k.size) * np.einsum("bii->b", jtj)[:, None]  # + mu I
+        dz = np.asarray(-np.linalg.solve(jtj, (jac.transpose(0, 2, 1) @ e[..., None]))[..., 0], float)
+        dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
         active = active[keep]
         q[active], p[active] = problem.integrate(now_q[keep], here[keep], dz)
     return BatchSolution(best_q, best, best <= tol)

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from pinmob.exceptions import EngineError
+from pinmob.signals import deferred_interrupts
 
 #: Seconds without any worker after which waiting stops with an error.
 NO_WORKER_TIMEOUT = 60.0
@@ -90,9 +91,11 @@ def ordered_results(
                 except StopIteration:
                     exhausted = True
                     break
-                future = client.submit(_with_shared, name, fn, item, key=f"pinmob-{token}-{submitted}")
-                pending[future] = submitted
-                submitted += 1
+                # a Future interrupted while it is made has no ``_cleared``; its finaliser then prints a traceback
+                with deferred_interrupts():
+                    future = client.submit(_with_shared, name, fn, item, key=f"pinmob-{token}-{submitted}")
+                    pending[future] = submitted
+                    submitted += 1
             if yielded in done:
                 yield done.pop(yielded)
                 yielded += 1

@@ -49,7 +49,7 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
-from pinmob.scan.lockstep import GROUP, Job, run_group
+from pinmob.scan.lockstep import GROUP, Job, Predictor, off_secant, run_group, secant_starts
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array
@@ -67,11 +67,15 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     """``(start, stop, seed)`` of every chunk, in order, from one coarse walk (:meth:`ScanSpec.waypoints`).
 
     The seed is the walk's configuration at the chunk's first sample (or, when
-    that does not assemble, at the last waypoint that did); the walk's targets are
-    assembled by the single-sample solver on both engines: its steps are long (the first from the reference to
-    the first sample, the others up to 8 samples apart), where the batched predictor, from the same seed, could
-    close on other joint values (U joints turned by pi: the 3-UPU-wrist over yaw and pitch) and so seed the
-    chunks on another assembly branch. The walk advances only
+    that does not assemble, at the last waypoint that did). A waypoint one even
+    step on from the two before it (a grid's first column, a path's every
+    ``STRIDE``-th sample), both closed, is closed by the batched predictor from their secant
+    (:func:`~pinmob.scan.lockstep.secant_starts`), as the chunks' samples are, and kept only when its Newton
+    correction was not longer than the secant's step (:func:`~pinmob.scan.lockstep.off_secant`); every other
+    waypoint (the approach from the reference, a line's turn, a sample the predictor did not close or closed off
+    the secant) by the single-sample solver from the waypoint before. The walk's steps are long, and the
+    predictor from a plain warm start could close them on other joint values (U joints turned by pi: the
+    3-UPU-wrist over yaw and pitch) and so seed the chunks on another assembly branch. The walk advances only
     as far as the chunks asked for so far need (chunks are produced lazily).
     """
     stops = dict(spec.chunks())
@@ -79,16 +83,35 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     found: dict[int, Array] = {}
     q = np.array(spec.q_ref, float)
     solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held
+    predictor = Predictor(solver, spec) if Predictor.applies(mech, spec) else None
+    behind: list[tuple[int | None, Array | None]] = [(None, None), (None, None)]  # the last two: (k, closed q)
     for target, k in spec.waypoints():
-        try:
-            q = chunk.assemble_target(solver, target, q, tol=spec.closure_tol)
-        except PinmobError:
-            pass
+        closed = _secant_waypoint(predictor, target, k, behind)
+        if closed is None:
+            try:
+                closed = chunk.assemble_target(solver, target, q, tol=spec.closure_tol)
+            except PinmobError:
+                pass
+        if closed is not None:
+            q = closed
+        behind = [behind[1], (k, closed)]
         if k in stops:
             found[k] = q
         while order and order[0] in found:
             start = order.pop(0)
             yield start, stops[start], found.pop(start)
+
+
+def _secant_waypoint(
+    predictor: Predictor | None, target: tuple[str, Any], k: int | None, behind: list[tuple[int | None, Array | None]]
+) -> Array | None:
+    """Waypoint k closed by the predictor from the secant of the two before it (:func:`chunk_seeds`), else None."""
+    (k1, q1), (k2, q2) = behind
+    if predictor is None or k is None or k1 is None or k2 is None or q1 is None or q2 is None or k - k2 != k2 - k1:
+        return None
+    start = secant_starts(predictor.problem, [q1], [q2])[0]
+    (closed,) = predictor.closed([target], [q2], [start])
+    return None if closed is None or off_secant(predictor.problem, q2, start, closed) else closed
 
 
 def chunk_groups(mech: Mechanism, spec: ScanSpec) -> Iterator[list[Job]]:

@@ -44,6 +44,7 @@ from typing import Any
 import numpy as np
 
 import pinmob.scan.chunk as chunk
+from pinmob.assembly.reach import pose_vector
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
 from pinmob.parallel import Engine, Lost
@@ -66,17 +67,17 @@ CLUSTER_MIN_SECONDS = 10.0
 def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Array]]:
     """``(start, stop, seed)`` of every chunk, in order, from one coarse walk (:meth:`ScanSpec.waypoints`).
 
-    The seed is the walk's configuration at the chunk's first sample (or, when
-    that does not assemble, at the last waypoint that did). A waypoint one even
-    step on from the two before it (a grid's first column, a path's every
-    ``STRIDE``-th sample), both closed, is closed by the batched predictor from their secant
+    The seed is the walk's configuration at the chunk's first sample (or, when that does not assemble, at the
+    last waypoint that did). A waypoint one even step on from the two before it (in sample index or in the
+    target's coordinates: the approach from the reference, a grid's first column, a path's every ``STRIDE``-th
+    sample), both closed, is closed by the batched predictor from their secant
     (:func:`~pinmob.scan.lockstep.secant_starts`), as the chunks' samples are, and kept only when its Newton
-    correction was not longer than the secant's step (:func:`~pinmob.scan.lockstep.off_secant`); every other
-    waypoint (the approach from the reference, a line's turn, a sample the predictor did not close or closed off
-    the secant) by the single-sample solver from the waypoint before. The walk's steps are long, and the
-    predictor from a plain warm start could close them on other joint values (U joints turned by pi: the
-    3-UPU-wrist over yaw and pitch) and so seed the chunks on another assembly branch. The walk advances only
-    as far as the chunks asked for so far need (chunks are produced lazily).
+    correction was not longer than the secant's step (:func:`~pinmob.scan.lockstep.off_secant`). Every other
+    waypoint (the first two, a line's turn, one the predictor did not close or closed off the secant) is closed
+    by the single-sample solver from the waypoint before: the walk's steps can be long, and the predictor from
+    a plain warm start could close them on other joint values (U joints turned by pi: the 3-UPU-wrist over yaw
+    and pitch) and so seed the chunks on another assembly branch. The walk advances only as far as the chunks
+    asked for so far need (chunks are produced lazily).
     """
     stops = dict(spec.chunks())
     order = list(stops)
@@ -84,9 +85,10 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     q = np.array(spec.q_ref, float)
     solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held
     predictor = Predictor(solver, spec) if Predictor.applies(mech, spec) else None
-    behind: list[tuple[int | None, Array | None]] = [(None, None), (None, None)]  # the last two: (k, closed q)
+    behind: list[tuple[Walked, Array | None]] = [((None, None), None)] * 2  # the last two waypoints, closed q
     for target, k in spec.waypoints():
-        closed = _secant_waypoint(predictor, target, k, behind)
+        here = (k, _target_values(target))
+        closed = _secant_waypoint(predictor, target, here, behind)
         if closed is None:
             try:
                 closed = chunk.assemble_target(solver, target, q, tol=spec.closure_tol)
@@ -94,7 +96,7 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
                 pass
         if closed is not None:
             q = closed
-        behind = [behind[1], (k, closed)]
+        behind = [behind[1], (here, closed)]
         if k in stops:
             found[k] = q
         while order and order[0] in found:
@@ -102,12 +104,37 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
             yield start, stops[start], found.pop(start)
 
 
+#: Where the walk is: a waypoint's sample index (None: on the approach) and its target's coordinate values.
+Walked = tuple[int | None, Array | None]
+
+
+def _target_values(target: tuple[str, Any]) -> Array:
+    """A target's coordinates as a vector (pose coordinates, then joint values), to compare moves."""
+    kind, value = target
+    if kind == "pose":
+        return pose_vector(value)
+    if kind == "coords":
+        return np.array([*value[0].values(), *value[1].values()], float)
+    return np.array(list(value.values()), float)
+
+
+def _even(here: Walked, mid: Walked, back: Walked) -> bool:
+    """True when the move from ``mid`` to ``here`` is the move from ``back`` to ``mid`` (sample index or values)."""
+    (k, v), (k2, v2), (k1, v1) = here, mid, back
+    if k is not None and k1 is not None and k2 is not None and k - k2 == k2 - k1:
+        return True
+    if v is None or v1 is None or v2 is None or v.shape != v1.shape or v.shape != v2.shape:
+        return False
+    step = float(np.linalg.norm(v2 - v1))
+    return step > 0.0 and float(np.linalg.norm((v - v2) - (v2 - v1))) <= 1e-9 * step
+
+
 def _secant_waypoint(
-    predictor: Predictor | None, target: tuple[str, Any], k: int | None, behind: list[tuple[int | None, Array | None]]
+    predictor: Predictor | None, target: tuple[str, Any], here: Walked, behind: list[tuple[Walked, Array | None]]
 ) -> Array | None:
-    """Waypoint k closed by the predictor from the secant of the two before it (:func:`chunk_seeds`), else None."""
-    (k1, q1), (k2, q2) = behind
-    if predictor is None or k is None or k1 is None or k2 is None or q1 is None or q2 is None or k - k2 != k2 - k1:
+    """A waypoint closed by the predictor from the secant of the two before it (:func:`chunk_seeds`), else None."""
+    (back, q1), (mid, q2) = behind
+    if predictor is None or q1 is None or q2 is None or not _even(here, mid, back):
         return None
     start = secant_starts(predictor.problem, [q1], [q2])[0]
     (closed,) = predictor.closed([target], [q2], [start])

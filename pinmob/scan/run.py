@@ -73,7 +73,7 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     sample), both closed, is closed by the batched predictor from their secant
     (:func:`~pinmob.scan.lockstep.secant_starts`), as the chunks' samples are, and kept only when its Newton
     correction was not longer than the secant's step (:func:`~pinmob.scan.lockstep.off_secant`). Every other
-    waypoint (the first two, a line's turn, one the predictor did not close or closed off the secant) is closed
+    waypoint (the first, a line's turn, one the predictor did not close or closed off the secant) is closed
     by the single-sample solver from the waypoint before: the walk's steps can be long, and the predictor from
     a plain warm start could close them on other joint values (U joints turned by pi: the 3-UPU-wrist over yaw
     and pitch) and so seed the chunks on another assembly branch. The walk advances only as far as the chunks
@@ -85,7 +85,9 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     q = np.array(spec.q_ref, float)
     solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held
     predictor = Predictor(solver, spec) if Predictor.applies(mech, spec) else None
-    behind: list[tuple[Walked, Array | None]] = [((None, None), None)] * 2  # the last two waypoints, closed q
+    # the last two waypoints and their closed configurations; a grid's walk starts at the reference's coordinates
+    here: Walked = (None, _target_values(spec.coordinates_target(dict(spec.start))) if spec.start else None)
+    behind: list[tuple[Walked, Array | None]] = [((None, None), None), (here, q)]
     for target, k in spec.waypoints():
         here = (k, _target_values(target))
         closed = _secant_waypoint(predictor, target, here, behind)

@@ -10,9 +10,9 @@ first sample only), and gives each chunk its seed; every chunk then runs from
 its seed, in this process or on a Dask worker (:mod:`pinmob.parallel`), so
 ``workers=N`` gives the rows of ``workers=1``, and each sample costs at most
 ``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
-the refinement). The chunks run in groups (:func:`chunk_groups`: the first alone, then up
-to ``GROUP``), each group as one job: with the batched engine (``spec.engine``, the default)
-its chunks' samples are assembled in lockstep and analysed in one batch
+the refinement). The chunks run in groups (:func:`chunk_groups`: up to ``GROUP``; the first
+chunk alone when its pace decides where the others run), each group as one job: with the
+batched engine (``spec.engine``, the default) its chunks' samples are assembled in lockstep and analysed in one batch
 (:mod:`pinmob.scan.lockstep`, :mod:`pinmob.scan.batch_rows`), the single-sample analysis
 (:func:`pinmob.analysis.singularity.classification.singularity`, one kinematics computation per
 sample) only where the batch cannot decide; with ``single``, each sample on its own. Both give
@@ -143,15 +143,16 @@ def _secant_waypoint(
     return None if closed is None or off_secant(predictor.problem, q2, start, closed) else closed
 
 
-def chunk_groups(mech: Mechanism, spec: ScanSpec) -> Iterator[list[Job]]:
-    """The chunks of :func:`chunk_seeds` in groups, each run as one job (:func:`run_group`).
+def chunk_groups(mech: Mechanism, spec: ScanSpec, first_alone: bool = True) -> Iterator[list[Job]]:
+    """The chunks of :func:`chunk_seeds` in groups of up to ``GROUP``, each run as one job (:func:`run_group`).
 
-    The first chunk alone (:class:`ScanRun` times it to decide where the others run), then up to ``GROUP`` each.
+    With ``first_alone``, the first chunk is a group of its own (:class:`ScanRun` times it to decide where the
+    others run). The rows do not depend on the groups.
     """
     group: list[Job] = []
     for job in chunk_seeds(mech, spec):
         group.append(job)
-        if len(group) == GROUP or job[0] == 0:
+        if len(group) == GROUP or (first_alone and job[0] == 0):
             yield group
             group = []
     if group:
@@ -160,7 +161,7 @@ def chunk_groups(mech: Mechanism, spec: ScanSpec) -> Iterator[list[Job]]:
 
 def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]:
     """The scan's rows computed in this process, group after group (what :func:`scan` does with one worker)."""
-    for group in chunk_groups(mech, spec):
+    for group in chunk_groups(mech, spec, first_alone=False):
         yield from run_group(mech, spec, group)
 
 
@@ -176,7 +177,8 @@ def _samples(group: list[Job]) -> int:
 class ScanRun:
     """The rows of a scan, one at a time (iterate over it); :attr:`where` says where the chunks ran.
 
-    The first chunk runs in this process. With ``workers > 1`` the others go to a
+    The first group of chunks runs in this process (with ``workers > 1`` or a ``scheduler``, the first chunk
+    alone, to time it). With ``workers > 1`` the others go to a
     Dask ``LocalCluster`` only when, at the first chunk's pace, they would take
     more than ``CLUSTER_MIN_SECONDS`` here; with a ``scheduler`` they go to that
     cluster. The rows do not depend on where they were computed.
@@ -196,7 +198,7 @@ class ScanRun:
         spec = self.spec
         disable = (None if spec.size >= 50 else True) if self.progress is None else not self.progress
         bar = tqdm(total=spec.size, disable=disable, unit="sample", desc=f"scan {self.mech.name}", leave=False)
-        groups = chunk_groups(self.mech, spec)
+        groups = chunk_groups(self.mech, spec, first_alone=not self.engine.in_process)  # in process: no pace needed
         try:
             first = next(groups, None)
             if first is None:

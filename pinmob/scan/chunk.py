@@ -121,6 +121,15 @@ class _Chunk:
             return _Sample(head | unreachable_chain(reason), None, {})
         return _Sample(head | unreachable_row(target, reason) | values(), None, {})
 
+    def closed(self, t: float, q: Array, params: dict[str, float]) -> _Sample:
+        """Sample t closed at q by the batched predictor (its target gives no joint value): :meth:`assemble`'s.
+
+        ``params``: ``spec.params(t)``. The target itself is built only where q is refused (:meth:`opened`).
+        """
+        if self.spec.cad or not self.spec.platform:
+            return self.assemble(t, q, closed=q, params=params)
+        return _Sample({"index": int(math.floor(t + 1e-9)), **params, "refined": False}, q, {}, {})
+
     def opened(self, q: Array) -> str | None:
         """Why q is refused, or None: assembled with CAD gaps held (``spec.cad``), the file's loops open too far.
 

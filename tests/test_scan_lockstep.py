@@ -60,6 +60,28 @@ def test_the_targets_as_vectors_are_the_targets_coordinates():
     _pose_targets_match(path_spec(ups, "home", "0,0,0.4,0,0,2.0944", 7), [0, 3, 6])
 
 
+def test_the_params_of_many_samples_are_each_samples_params():
+    """ScanSpec.params_of (a group's samples at once) gives params(t) of each, the same floats: grids of one, two
+    and three coordinates (one of them a single value), fractional samples between a line's, a path's s; a sample
+    beyond the grid is refused as by params. Fails on the old code: no params_of."""
+    puu = pinmob.load("3-PUU")
+    for axes in (
+        [("x", -0.06, 0.06, 21), ("y", -0.06, 0.06, 21)],
+        [("y", -0.07, 0.05, 13)],
+        [("x", -0.06, 0.06, 1), ("y", -0.07, 0.05, 13)],
+        [("x", -0.06, 0.06, 3), ("y", -0.06, 0.06, 5), ("z", -0.25, -0.15, 4)],
+    ):
+        spec = grid_spec(puu, "generic", axes)
+        ts = [*range(spec.size), 0.5, spec.size - 1.75]
+        assert spec.params_of(ts) == [spec.params(t) for t in ts]
+        with pytest.raises(ValueError, match="beyond the grid"):
+            spec.params_of([spec.size + 2])
+    spec = grid_spec(puu, "generic", [("x", -0.06, 0.06, 3), ("y", -0.06, 0.06, 5)])
+    assert spec.params_of([6])[0] == pytest.approx({"grid_x": 0.0, "grid_y": -0.03})  # x step 1 of 2, y 1 of 4
+    path = path_spec(puu, "generic", "offset", 7)
+    assert path.params_of([0, 3, 6, 2.5]) == [path.params(t) for t in (0, 3, 6, 2.5)]
+
+
 def test_targets_with_joint_values_are_not_vectors():
     """A joint grid's targets are joint values: pose_targets refuses them (the predictor does not run there)."""
     puu = pinmob.load("3-PUU")

@@ -157,7 +157,7 @@ class _Lockstep:
     def __init__(self, predictor: Predictor, chunks: list[_Chunk], seeds: list[Array], samples: list[int]) -> None:
         spec = predictor.spec
         self.predictor, self.chunks, self.kind = predictor, chunks, spec.target_kind
-        self.params = {k: spec.params(k) for k in samples}
+        self.params = dict(zip(samples, spec.params_of(samples)))
         self.row = {k: i for i, k in enumerate(self.params)}
         self.poses = spec.pose_targets(list(self.params), list(self.params.values()))
         self.pending: list[dict[int, _Sample]] = [{} for _ in chunks]
@@ -256,15 +256,14 @@ def secant_stack(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -
 
 def _secant(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -> tuple[Array, Array]:
     """:func:`secant_stack`'s starts, and the length of each one's step from its seed (:func:`off_secants`; 0: none)."""
-    starts, step = seeds.copy(), np.zeros(len(seeds))
-    if has.any():
-        move = short_moves(problem, before[has], seeds[has])
-        if problem.vector_space:
-            starts[has] = seeds[has] + move
-        else:
-            starts[has] = [pin.integrate(problem.model, q, m) for q, m in zip(seeds[has], move)]
-        step[has] = _lengths(problem, move)
-    return starts, step
+    move = short_moves(problem, before, seeds)
+    if problem.vector_space:
+        starts = np.where(has[:, None], seeds + move, seeds)
+    else:
+        starts = seeds.copy()
+        for i in np.flatnonzero(has):
+            starts[i] = pin.integrate(problem.model, seeds[i], move[i])
+    return starts, np.where(has, _lengths(problem, move), 0.0)
 
 
 def _lengths(problem: PoseProblem, moves: Array) -> Array:

@@ -26,7 +26,7 @@ spec is :mod:`pinmob.scan`'s business.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -192,6 +192,25 @@ class ScanSpec:
                     for (name, lo, hi, n), i in zip(self.axes, steps)}  # fmt: skip
         return {"s": t / (self.samples - 1) if self.samples > 1 else 0.0}
 
+    def params_of(self, ts: Sequence[float]) -> list[dict[str, float]]:
+        """:meth:`params` at each of ``ts``, the same values (the same arithmetic), computed over them at once."""
+        t = np.asarray(ts, float)
+        if self.kind != "grid":
+            return [{"s": s} for s in (t / (self.samples - 1) if self.samples > 1 else 0.0 * t).tolist()]
+        counts = np.array([a[3] for a in self.axes])
+        r = t // counts[-1]
+        steps = np.empty((len(t), len(counts)))
+        steps[:, -1] = t - r * counts[-1]
+        left = r.astype(np.int64)
+        for j in range(len(counts) - 2, -1, -1):  # np.unravel_index, C order
+            left, steps[:, j] = np.divmod(left, counts[j])
+        if left.any():
+            raise ValueError(f"sample {t[np.flatnonzero(left)[0]]} is beyond the grid's {self.size} samples")
+        lo, hi = np.array([a[1] for a in self.axes]), np.array([a[2] for a in self.axes])
+        values = np.where(counts > 1, lo + (hi - lo) * steps / np.maximum(counts - 1, 1), lo)
+        names = ["grid_" + a[0] for a in self.axes]
+        return [dict(zip(names, row)) for row in values.tolist()]
+
     def target(self, t: float, params: dict[str, float] | None = None) -> tuple[str, Any]:
         """``("pose", SE3)``, ``("joints", {name: value})`` or ``("coords", (pose, joints))`` at sample t.
 
@@ -212,7 +231,7 @@ class ScanSpec:
         ma, mb = pin.SE3(np.asarray(self.a)), pin.SE3(np.asarray(self.b))
         return "pose", ma * pin.exp6(s * pin.log6(ma.actInv(mb)))
 
-    def pose_targets(self, ts: list[float], params: list[dict[str, float]] | None = None) -> Array:
+    def pose_targets(self, ts: Sequence[float], params: Sequence[dict[str, float]] | None = None) -> Array:
         """(B, 6) pose coordinates :data:`POSE_COORDS` the targets at samples ``ts`` give (NaN: following).
 
         The vectors of :meth:`target` without its poses and dicts: a ``pose`` target's coordinates (a pose path's
@@ -222,7 +241,7 @@ class ScanSpec:
         """
         if self.kind == "joints" or any(c not in POSE_COORDS for c in (*self.varied, *(c for c, _ in self.held))):
             raise ValueError(f"a {self.kind} scan's targets give joint values, not only pose coordinates")
-        params = [self.params(t) for t in ts] if params is None else params
+        params = self.params_of(ts) if params is None else params
         if self.kind == "pose":
             return np.array([pose_vector(self.target(t, p)[1]) for t, p in zip(ts, params)])
         out = np.full((len(ts), 6), np.nan)

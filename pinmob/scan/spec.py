@@ -247,9 +247,11 @@ class ScanSpec:
         out = np.full((len(ts), 6), np.nan)
         for c, v in self.held:
             out[:, POSE_COORDS.index(c)] = v
-        cols = [POSE_COORDS.index(c) for c in self.varied]
+        varied = self.varied
+        cols = [POSE_COORDS.index(c) for c in varied]
         if self.kind == "grid":
-            out[:, cols] = [[p["grid_" + c] for c in self.varied] for p in params]
+            names = ["grid_" + c for c in varied]
+            out[:, cols] = [[p[name] for name in names] for p in params]
         else:  # a coordinate path: c(s) = (1 - s) c_A + s c_B, as target's
             s = np.array([p["s"] for p in params])
             out[:, cols] = (1 - s)[:, None] * np.asarray(self.a) + s[:, None] * np.asarray(self.b)

@@ -162,7 +162,8 @@ class _Chunk:
             tol = self.spec.closure_tol
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             limits = outside_limits(self.mech.model, q) if limits is None else limits
-            row.update(reason=f"joints outside their limits: {', '.join(limits)}" if limits else "", **values)
+            reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
+            return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)
 
     def analysed(self, samples: list[_Sample]) -> list[Analysed | None]:
@@ -188,14 +189,14 @@ class _Chunk:
         """The samples a chunk assembles in order: its own and the next one on its line (its right neighbour)."""
         return range(start, min(stop, self.spec.line(start)[1]) + 1)
 
-    def complete(
-        self, start: int, stop: int, pending: dict[int, _Sample], analysed: list[Analysed | None]
-    ) -> list[dict[str, Any]]:
-        """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order."""
+    def complete(self, start: int, stop: int, pending: dict[int, _Sample], analysed: list[Analysed | None],
+                 columns: list[tuple[Any, Any]] | None = None) -> list[dict[str, Any]]:  # fmt: skip
+        """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order.
+
+        ``columns``: :meth:`columns` of ``pending``'s samples, already computed (None: computed here).
+        """
         first, last = self.spec.line(start)
-        qs = [s.q if s.known is not None else None for s in pending.values()]
-        found = zip(joint_rows(self.mech, self.spec.values, qs, [s.known for s in pending.values()]),
-                    limits_of(self.mech.model, qs))  # fmt: skip
+        found = self.columns(list(pending.values())) if columns is None else columns
         done = {k: self.finish(s, a, *more) for (k, s), a, more in zip(pending.items(), analysed, found)}
         extra: list[_Sample] = []
         for k in range(start, stop):
@@ -210,6 +211,12 @@ class _Chunk:
         for _, row in rows:
             row.pop("_t", None)
         return [row for _, row in rows]
+
+    def columns(self, samples: list[_Sample]) -> list[tuple[Any, Any]]:
+        """Each assembled sample's joint values and joints outside their limits (:meth:`finish`'s), read at once."""
+        qs = [s.q if s.known is not None else None for s in samples]
+        return list(zip(joint_rows(self.mech, self.spec.values, qs, [s.known for s in samples]),
+                        limits_of(self.mech.model, qs)))  # fmt: skip
 
     def finite(self, q: Array | None) -> dict[str, int | None]:
         """The finite DoF of a row (None: not assembled, or the analysis cannot decide)."""

@@ -136,14 +136,16 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
         group.step([(c, jobs[c][0] - 1, _seed(group.pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])
     pending = group.pending
     analysed = iter(chunks[0].analysed([s for p in pending for s in p.values()]))
+    mine = [[next(analysed) for _ in p] for p in pending]
+    for c, chunk in enumerate(chunks):
+        for (k, sample), decided in zip(list(pending[c].items()), mine[c]):
+            if decided is None and (c, k) in group.predicted and sample.q is not None:  # singular or close to it:
+                again = chunk.assemble(k, sample.q)  # the single-sample solver's polish (~1e-8 from a double root)
+                pending[c][k] = again if again.q is not None else sample
+    columns = iter(chunks[0].columns([s for p in pending for s in p.values()]))  # the group's at once
     rows: list[dict[str, Any]] = []
     for c, (start, stop, _) in enumerate(jobs):
-        mine = [next(analysed) for _ in pending[c]]
-        for (k, sample), decided in zip(list(pending[c].items()), mine):
-            if decided is None and (c, k) in group.predicted and sample.q is not None:  # singular or close to it:
-                again = chunks[c].assemble(k, sample.q)  # the single-sample solver's polish (~1e-8 from a double root)
-                pending[c][k] = again if again.q is not None else sample
-        rows += chunks[c].complete(start, stop, pending[c], mine)
+        rows += chunks[c].complete(start, stop, pending[c], mine[c], [next(columns) for _ in pending[c]])
     return rows
 
 

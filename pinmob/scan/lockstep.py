@@ -10,7 +10,10 @@ configuration that close to closure gives the same row to far below the 1e-7 the
 engines agree to). A sample it did not bring within ``PREDICT_TOL`` (out of
 reach, a stall, a step that diverged) goes to the single-sample solver
 (:func:`pinmob.scan.chunk.assemble_target`) from its warm start, exactly as on
-the single-sample path: an unreachable verdict and its reason are that solver's. Joint targets (forward kinematics), targets that hold
+the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
+its samples: their targets are rows of pose-coordinate vectors built for the whole group at once
+(:meth:`pinmob.scan.spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
+(:func:`secant_stack`, :func:`off_secants`). Joint targets (forward kinematics), targets that hold
 joints, mechanisms without a platform or with closures besides the limb tips are
 assembled by that solver alone.
 
@@ -36,6 +39,7 @@ from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.spec import ScanSpec
 from pinmob.screw.algebra import Array, Mask
 
@@ -142,7 +146,7 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
             if decided is None and (c, k) in group.predicted and sample.q is not None:  # singular or close to it:
                 again = chunk.assemble(k, sample.q)  # the single-sample solver's polish (~1e-8 from a double root)
                 pending[c][k] = again if again.q is not None else sample
-    columns = iter(chunks[0].columns([s for p in pending for s in p.values()]))  # the group's at once
+    columns = iter(values_and_limits(mech, spec.values, [s for p in pending for s in p.values()]))  # at once
     rows: list[dict[str, Any]] = []
     for c, (start, stop, _) in enumerate(jobs):
         rows += chunks[c].complete(start, stop, pending[c], mine[c], [next(columns) for _ in pending[c]])
@@ -200,7 +204,7 @@ class _Lockstep:
         for (c, k, seed), q_c in zip(work, found):
             chunk, pending = self.chunks[c], self.pending[c]
             sample = (
-                chunk.closed(k, q_c, self.params[k])
+                chunk.assemble(k, q_c, closed=q_c, params=self.params[k])
                 if q_c is not None
                 else chunk.assemble(k, seed, params=self.params[k])
             )

@@ -113,13 +113,15 @@ class Predictor:
     def seed_poses(self, poses: Array, seeds: Array) -> Array:
         """``poses`` with each following coordinate (NaN) at its value at the sample's seed (its platform pose)."""
         missing = np.isnan(poses)
-        if not missing.any():
+        rows = np.flatnonzero(missing.any(axis=1))
+        if not rows.size:
             return poses
-        out, model, data, pid = poses.copy(), self.problem.model, self.problem.data, self.mech.platform_id
-        for i in np.flatnonzero(missing.any(axis=1)):
-            pin.forwardKinematics(model, data, seeds[i])  # platform_pose's placement, without the other frames
-            out[i, missing[i]] = pose_vector(pin.updateFramePlacement(model, data, pid))[missing[i]]
-        return out
+        at, model, data, pid = np.empty((len(poses), 6)), self.problem.model, self.problem.data, self.mech.platform_id
+        for i in rows:  # pose_vector of platform_pose's placement, without the other frames
+            pin.forwardKinematics(model, data, seeds[i])
+            placement = pin.updateFramePlacement(model, data, pid)
+            at[i, :3], at[i, 3:] = placement.translation, pin.rpy.matrixToRpy(placement.rotation)
+        return np.where(missing, at, poses)
 
 
 @one_blas_thread
@@ -187,7 +189,7 @@ class _Lockstep:
         found: list[Array | None] = [None] * len(work)
         if tried:
             seeds = np.array([work[i][2] for i in tried], float)
-            poses = predictor.seed_poses(self.poses[[self.row[work[i][1]] for i in tried]], seeds)
+            poses = self.poses[[self.row[work[i][1]] for i in tried]]  # NaN where following: close seeds them
             behind = [self.before[work[i][0]] for i in tried] if secant else []
             has = np.array([b is not None for b in behind], bool)
             if has.any():

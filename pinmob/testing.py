@@ -169,8 +169,8 @@ def assert_mobility(
 def kinematics_calls(fn: Callable[[], Any]) -> int:
     """How many times ``fn()`` calls ``pinocchio.computeJointJacobians``: the kinematics computations it costs.
 
-    Only that function is counted (the one every assembly step and analysis calls); ``framesForwardKinematics``
-    calls (reading a pose without Jacobians) are not.
+    Only that function is counted (the one every assembly step and analysis calls); ``forwardKinematics`` and
+    ``framesForwardKinematics`` calls (reading a pose without Jacobians) are not.
 
     Counted by a wrapper put in place of the Pinocchio function for the call (restored afterwards, also when
     ``fn`` raises); code that bound the function to another name before the call is not counted.

@@ -64,20 +64,20 @@ def test_three_puu_rank_drops_at_the_workspace_boundary_only():
 
 def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     """Count the assemblies a scan asks for (the real solvers still run): single-sample solves and the targets
-    given to the batched predictor (pinmob.scan.lockstep)."""
+    given to the batched predictor (pinmob.scan.lockstep.Predictor.close, on stacks)."""
     calls = {"n": 0}
-    real, predict = scan_module.assemble_target, Predictor.closed
+    real, predict = scan_module.assemble_target, Predictor.close
 
     def counted(*args, **kwargs):
         calls["n"] += 1
         return real(*args, **kwargs)
 
-    def counted_targets(self, targets, *rest):
-        calls["n"] += len(targets)
-        return predict(self, targets, *rest)
+    def counted_targets(self, poses, *rest):
+        calls["n"] += len(poses)
+        return predict(self, poses, *rest)
 
     monkeypatch.setattr(scan_module, "assemble_target", counted)
-    monkeypatch.setattr(Predictor, "closed", counted_targets)
+    monkeypatch.setattr(Predictor, "close", counted_targets)  # Predictor.closed's too
     return calls
 
 

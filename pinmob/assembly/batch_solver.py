@@ -93,23 +93,25 @@ class PoseProblem:
     def __init__(self, mech: Mechanism, free: tuple[int, ...] = ()) -> None:
         model = self.model = mech.model
         self.length, self.free = mech.length_scale, tuple(free)
+        joints = [model.joints[j] for j in range(model.njoints)]  # Pinocchio's wrappers, made once
         pid = mech.platform_id
         body = model.frames[pid].parentJoint
         self.frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
         self.mask = np.zeros((len(self.frames), 1, model.nv))  # (F, 1, nv): the joints supporting each frame
         for i, frame in enumerate(self.frames):
             for j in list(model.supports[model.frames[frame].parentJoint])[1:]:
-                self.mask[i, 0, model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
+                self.mask[i, 0, joints[j].idx_v : joints[j].idx_v + joints[j].nv] = 1.0
         col_q = np.where(linear_velocity_mask(model), self.length, 1.0)
         self.col = np.concatenate([col_q, [self.length if f < 3 else 1.0 for f in self.free]])
         self.free_array = np.array(self.free, np.int64)
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
-        self.vector_space = all(model.joints[j].shortname() in VECTOR_JOINTS for j in range(1, model.njoints))
+        self.vector_space = all(joint.shortname() in VECTOR_JOINTS for joint in joints[1:])
         self.data = model.createData()
         self.kernel = compiled_kernel()
         self.angles = np.flatnonzero(angle_mask(model))
         #: The revolute angles' velocity indices (a joint with an angle has one coordinate per velocity).
-        self.angle_rates = np.array([_rate_of(model, int(i)) for i in self.angles], np.int64)
+        rate = {j.idx_q + i: j.idx_v + i for j in joints[1:] for i in range(j.nq)}
+        self.angle_rates = np.array([rate[int(i)] for i in self.angles], np.int64)
         self.limits = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
         self.limited = self.limits[0] < self.limits[1]  # lower >= upper: no limits (wrap_angles' rule)
 
@@ -178,13 +180,6 @@ class PoseProblem:
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
-
-
-def _rate_of(model: pin.Model, iq: int) -> int:
-    """The velocity index of configuration coordinate ``iq`` of a joint with one coordinate per velocity."""
-    joint = next(model.joints[j] for j in range(1, model.njoints)
-                 if model.joints[j].idx_q <= iq < model.joints[j].idx_q + model.joints[j].nq)  # fmt: skip
-    return int(joint.idx_v + iq - joint.idx_q)
 
 
 def _wrap_and_check(

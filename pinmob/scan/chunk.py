@@ -26,7 +26,7 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.scan.batch_rows import Analysed, analyse
 from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, vertex_below
-from pinmob.scan.row_columns import joint_rows, limits_of
+from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.sample import MAX_ITER, _evaluate
 from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
 from pinmob.scan.sample import assemble_target as assemble_target
@@ -79,24 +79,20 @@ class _Chunk:
         """Sample t assembled from ``seed`` and analysed on its own."""
         return self.finish(self.assemble(t, seed, max_iter, stall_window))
 
-    def assemble(
-        self,
-        t: float,
-        seed: Array,
-        max_iter: int = MAX_ITER,
-        stall_window: int | None = None,
-        closed: Array | None = None,
-        target: tuple[str, Any] | None = None,
-        params: dict[str, float] | None = None,
-    ) -> _Sample:
+    def assemble(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None,
+                 closed: Array | None = None, target: tuple[str, Any] | None = None,
+                 params: dict[str, float] | None = None) -> _Sample:  # fmt: skip
         """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q.
 
-        ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor);
+        ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor, whose
+        targets give no joint value: without ``target`` and ``spec.cad``, the target is not built);
         ``target``, ``params``: ``spec.target(t)`` and ``spec.params(t)``, already computed (None: computed here).
         """
         params = self.spec.params(t) if params is None else params
-        target = self.spec.target(t, params) if target is None else target
         head = {"index": int(math.floor(t + 1e-9)), **params, "refined": False}
+        if closed is not None and target is None and self.spec.platform and not self.spec.cad:
+            return _Sample(head, closed, {}, {})  # nothing to check (opened) nor to report
+        target = self.spec.target(t, params) if target is None else target
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
 
         def values() -> dict[str, float]:  # the joint values of a row not assembled: NaN, the given ones known
@@ -153,7 +149,8 @@ class _Chunk:
             tol = self.spec.closure_tol
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             limits = outside_limits(self.mech.model, q) if limits is None else limits
-            row.update(reason=f"joints outside their limits: {', '.join(limits)}" if limits else "", **values)
+            reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
+            return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)
 
     def analysed(self, samples: list[_Sample]) -> list[Analysed | None]:
@@ -179,15 +176,16 @@ class _Chunk:
         """The samples a chunk assembles in order: its own and the next one on its line (its right neighbour)."""
         return range(start, min(stop, self.spec.line(start)[1]) + 1)
 
-    def complete(
-        self, start: int, stop: int, pending: dict[int, _Sample], analysed: list[Analysed | None]
-    ) -> list[dict[str, Any]]:
-        """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order."""
+    def complete(self, start: int, stop: int, pending: dict[int, _Sample], analysed: list[Analysed | None],
+                 columns: list[tuple[Any, Any]] | None = None) -> list[dict[str, Any]]:  # fmt: skip
+        """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order.
+
+        ``columns``: :func:`~pinmob.scan.row_columns.values_and_limits` of ``pending``'s samples, already computed.
+        """
         first, last = self.spec.line(start)
-        qs = [s.q if s.known is not None else None for s in pending.values()]
-        found = zip(joint_rows(self.mech, self.spec.values, qs, [s.known for s in pending.values()]),
-                    limits_of(self.mech.model, qs))  # fmt: skip
-        done = {k: self.finish(s, a, *more) for (k, s), a, more in zip(pending.items(), analysed, found)}
+        if columns is None:
+            columns = values_and_limits(self.mech, self.spec.values, list(pending.values()))
+        done = {k: self.finish(s, a, *more) for (k, s), a, more in zip(pending.items(), analysed, columns)}
         extra: list[_Sample] = []
         for k in range(start, stop):
             extra += self.refine(k, done, first, last)

@@ -10,7 +10,10 @@ configuration that close to closure gives the same row to far below the 1e-7 the
 engines agree to). A sample it did not bring within ``PREDICT_TOL`` (out of
 reach, a stall, a step that diverged) goes to the single-sample solver
 (:func:`pinmob.scan.chunk.assemble_target`) from its warm start, exactly as on
-the single-sample path: an unreachable verdict and its reason are that solver's. Joint targets (forward kinematics), targets that hold
+the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
+its samples: their targets are rows of pose-coordinate vectors built for the whole group at once
+(:meth:`pinmob.scan.spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
+(:func:`secant_stack`, :func:`off_secants`). Joint targets (forward kinematics), targets that hold
 joints, mechanisms without a platform or with closures besides the limb tips are
 assembled by that solver alone.
 
@@ -36,9 +39,9 @@ from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
-from pinmob.scan.references import platform_pose
+from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.spec import ScanSpec
-from pinmob.screw.algebra import Array
+from pinmob.screw.algebra import Array, Mask
 
 #: Chunks per group (samples assembled in lockstep: up to GROUP per step).
 GROUP = 16
@@ -78,23 +81,47 @@ class Predictor:
         """
         if not targets:
             return []
-        poses = np.empty((len(targets), 6))
-        for i, ((kind, value), seed) in enumerate(zip(targets, seeds)):
+        poses = np.full((len(targets), 6), np.nan)
+        for i, (kind, value) in enumerate(targets):
             if kind == "pose":
                 poses[i] = pose_vector(value)
-                continue
-            # the free coordinates start where the seed has them
-            poses[i] = pose_vector(platform_pose(self.mech, seed, self.problem.data))
-            for c, v in value[0].items():
-                poses[i, POSE_COORDS.index(c)] = v
-        start = np.array(seeds if starts is None else starts)
-        sol = solve_poses(self.problem, start, poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
-        out: list[Array | None] = [None] * len(targets)
-        for kind in {kind for kind, _ in targets}:
-            which = [i for i, (k, _) in enumerate(targets) if k == kind and sol.converged[i]]
-            for i, q in zip(which, self.problem.finish(self.mech, sol.q[which], kind)):
-                out[i] = q
-        return out
+            else:
+                poses[i, [POSE_COORDS.index(c) for c in value[0]]] = list(value[0].values())
+        seed_stack = np.array(seeds, float)
+        kinds = [kind for kind, _ in targets]
+        q, ok = self.close(poses, seed_stack, kinds, seed_stack if starts is None else np.array(starts, float))
+        return [q[i] if ok[i] else None for i in range(len(targets))]
+
+    def close(
+        self, poses: Array, seeds: Array, kinds: str | list[str], starts: Array | None = None
+    ) -> tuple[Array, Mask]:
+        """:meth:`closed` on stacks: (B, 6) target pose coordinates (NaN: following), (B, nq) seeds.
+
+        Returns the (B, nq) closed configurations (finished, :meth:`closed`; the rows not converged as the solver
+        left them) and the (B,) mask of those converged. ``kinds``: the targets' kind (``pose`` or ``coords``), one
+        for all or one each. The following coordinates start where each seed has them.
+        """
+        poses = self.seed_poses(poses, seeds)
+        sol = solve_poses(self.problem, seeds if starts is None else starts, poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
+        q = sol.q
+        for kind in {kinds} if isinstance(kinds, str) else set(kinds):
+            which = sol.converged if isinstance(kinds, str) else sol.converged & (np.array(kinds) == kind)
+            if which.any():
+                q[which] = self.problem.finish(self.mech, q[which], kind)
+        return q, sol.converged
+
+    def seed_poses(self, poses: Array, seeds: Array) -> Array:
+        """``poses`` with each following coordinate (NaN) at its value at the sample's seed (its platform pose)."""
+        missing = np.isnan(poses)
+        rows = np.flatnonzero(missing.any(axis=1))
+        if not rows.size:
+            return poses
+        at, model, data, pid = np.empty((len(poses), 6)), self.problem.model, self.problem.data, self.mech.platform_id
+        for i in rows:  # pose_vector of platform_pose's placement, without the other frames
+            pin.forwardKinematics(model, data, seeds[i])
+            placement = pin.updateFramePlacement(model, data, pid)
+            at[i, :3], at[i, 3:] = placement.translation, pin.rpy.matrixToRpy(placement.rotation)
+        return np.where(missing, at, poses)
 
 
 @one_blas_thread
@@ -105,83 +132,111 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
     predictor = Predictor(spec.assembly_mechanism(mech), spec)  # the CAD gaps held (spec.cad): closes exactly
     chunks = [_Chunk(mech, spec) for _ in jobs]
     plans = [list(chunk.line_samples(start, stop)) for chunk, (start, stop, _) in zip(chunks, jobs)]
-    pending: list[dict[int, _Sample]] = [{} for _ in jobs]
-    predicted: set[tuple[int, int]] = set()
-    lost: set[int] = set()  # chunks whose last sample did not assemble
-    last = [seed for _, _, seed in jobs]
-    before: list[Array | None] = [None] * len(jobs)  # the chunk's closed sample before its last, when that closed
-    for j in range(max(len(p) for p in plans)):
-        which = [c for c, plan in enumerate(plans) if j < len(plan)]
-        _step(predictor, chunks, pending, predicted, lost, last, [(c, plans[c][j], last[c]) for c in which], before)
     neighbours = [c for c, (start, _, _) in enumerate(jobs) if spec.line(start)[0] < start]
+    group = _Lockstep(predictor, chunks, [seed for _, _, seed in jobs],
+                      [k for plan in plans for k in plan] + [jobs[c][0] - 1 for c in neighbours])  # fmt: skip
+    for j in range(max(len(p) for p in plans)):
+        group.step([(c, plan[j], group.last[c]) for c, plan in enumerate(plans) if j < len(plan)], secant=True)
     if neighbours:  # each chunk's left neighbour, warm-started from its first sample
-        lost = {c for c in neighbours if pending[c][jobs[c][0]].q is None}
-        _step(predictor, chunks, pending, predicted, lost, last,
-              [(c, jobs[c][0] - 1, _seed(pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])  # fmt: skip
+        group.lost = {c for c in neighbours if group.pending[c][jobs[c][0]].q is None}
+        group.step([(c, jobs[c][0] - 1, _seed(group.pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])
+    pending = group.pending
     analysed = iter(chunks[0].analysed([s for p in pending for s in p.values()]))
+    mine = [[next(analysed) for _ in p] for p in pending]
+    for c, chunk in enumerate(chunks):
+        for (k, sample), decided in zip(list(pending[c].items()), mine[c]):
+            if decided is None and (c, k) in group.predicted and sample.q is not None:  # singular or close to it:
+                again = chunk.assemble(k, sample.q)  # the single-sample solver's polish (~1e-8 from a double root)
+                pending[c][k] = again if again.q is not None else sample
+    columns = iter(values_and_limits(mech, spec.values, [s for p in pending for s in p.values()]))  # at once
     rows: list[dict[str, Any]] = []
     for c, (start, stop, _) in enumerate(jobs):
-        mine = [next(analysed) for _ in pending[c]]
-        for (k, sample), decided in zip(list(pending[c].items()), mine):
-            if decided is None and (c, k) in predicted and sample.q is not None:  # singular or close to it: the
-                again = chunks[c].assemble(k, sample.q)  # single-sample solver's polish (~1e-8 from a double root)
-                pending[c][k] = again if again.q is not None else sample
-        rows += chunks[c].complete(start, stop, pending[c], mine)
+        rows += chunks[c].complete(start, stop, pending[c], mine[c], [next(columns) for _ in pending[c]])
     return rows
 
 
-def _step(
-    predictor: Predictor,
-    chunks: list[_Chunk],
-    pending: list[dict[int, _Sample]],
-    predicted: set[tuple[int, int]],
-    lost: set[int],
-    last: list[Array],
-    work: list[tuple[int, int, Array]],
-    before: list[Array | None] | None = None,
-) -> None:
-    """Assemble sample k of chunk c from ``seed`` for each ``(c, k, seed)``: the predictor batched, else on its own.
+class _Lockstep:
+    """A group's chunks assembled in lockstep (:func:`run_group`): their samples so far and the state of each line.
 
-    A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out of
-    reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before. With
-    ``before`` (the forward pass along the chunks' lines), the predictor starts a chunk whose last two samples
-    closed from their secant, extrapolated one sample on (:func:`secant_starts`), and ``before`` is kept up to date.
+    The targets of all the samples the group assembles (``samples``) are built at once, as vectors
+    (:meth:`ScanSpec.pose_targets`, with their :meth:`ScanSpec.params`).
     """
-    spec = predictor.spec
-    params = {c: spec.params(k) for c, k, _ in work}
-    targets = {c: spec.target(k, params[c]) for c, k, _ in work}
-    tried = [w for w in work if w[0] not in lost]
-    seeds = [seed for _, _, seed in tried]
-    starts = None if before is None else secant_starts(predictor.problem, [before[c] for c, _, _ in tried], seeds)
-    closed = predictor.closed([targets[c] for c, _, _ in tried], seeds, starts)
-    if starts is not None:  # a secant start that needed a correction longer than its step: from the seed instead
-        again = [
-            i for i, q in enumerate(closed) if q is not None and off_secant(predictor.problem, seeds[i], starts[i], q)
-        ]
-        redone = predictor.closed([targets[tried[i][0]] for i in again], [seeds[i] for i in again])
-        for i, q in zip(again, redone):
-            closed[i] = q
-    found = dict(zip([w[0] for w in tried], closed))
-    for c, k, seed in work:
-        q = found.get(c)
-        sample = chunks[c].assemble(k, seed, closed=q, target=targets[c], params=params[c])
-        pending[c][k] = sample
-        if before is not None:
-            previous = pending[c].get(k - 1)
-            before[c] = seed if sample.q is not None and previous is not None and previous.q is not None else None
-        last[c] = _seed(sample, seed)
-        if q is not None:
-            predicted.add((c, k))
-        if sample.q is None:
-            lost.add(c)
-        else:
-            lost.discard(c)
+
+    def __init__(self, predictor: Predictor, chunks: list[_Chunk], seeds: list[Array], samples: list[int]) -> None:
+        spec = predictor.spec
+        self.predictor, self.chunks, self.kind = predictor, chunks, spec.target_kind
+        self.params = dict(zip(samples, spec.params_of(samples)))
+        self.row = {k: i for i, k in enumerate(self.params)}
+        self.poses = spec.pose_targets(list(self.params), list(self.params.values()))
+        self.pending: list[dict[int, _Sample]] = [{} for _ in chunks]
+        self.predicted: set[tuple[int, int]] = set()  # (chunk, sample) closed by the predictor
+        self.lost: set[int] = set()  # chunks whose last sample did not assemble
+        self.last = list(seeds)  # each chunk's last closed configuration (its seed at first)
+        self.before: list[Array | None] = [None] * len(chunks)  # the closed sample before the last, when it closed
+
+    def step(self, work: list[tuple[int, int, Array]], secant: bool = False) -> None:
+        """Assemble sample k of chunk c from ``seed`` for each ``(c, k, seed)``: the predictor batched, else on its own.
+
+        A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out
+        of reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before. With
+        ``secant`` (the forward pass along the chunks' lines), the predictor starts a chunk whose last two samples
+        closed from their secant, extrapolated one sample on (:func:`secant_starts`; from the seed again where the
+        steps went off it, :func:`off_secant`), and ``before`` is kept up to date. A sample the predictor did not
+        close gets its target (:meth:`ScanSpec.target`) for the single-sample solver.
+        """
+        predictor, problem, kind = self.predictor, self.predictor.problem, self.kind
+        tried = [i for i, (c, _, _) in enumerate(work) if c not in self.lost]
+        found: list[Array | None] = [None] * len(work)
+        if tried:
+            seeds = np.array([work[i][2] for i in tried], float)
+            poses = self.poses[[self.row[work[i][1]] for i in tried]]  # NaN where following: close seeds them
+            behind = [self.before[work[i][0]] for i in tried] if secant else []
+            has = np.array([b is not None for b in behind], bool)
+            if has.any():
+                starts, step = _secant(problem, np.array([seeds[j] if b is None else b for j, b in enumerate(behind)]),
+                                       has, seeds)  # fmt: skip
+                q, ok = predictor.close(poses, seeds, kind, starts)
+                again = np.flatnonzero(ok & off_secants(problem, seeds, starts, q, step))
+                if again.size:  # a secant start that needed a correction longer than its step: from the seed instead
+                    q[again], ok[again] = predictor.close(poses[again], seeds[again], kind)
+            else:
+                q, ok = predictor.close(poses, seeds, kind)
+            for j in np.flatnonzero(ok):
+                found[tried[j]] = q[j]
+        for (c, k, seed), q_c in zip(work, found):
+            chunk, pending = self.chunks[c], self.pending[c]
+            sample = (
+                chunk.assemble(k, q_c, closed=q_c, params=self.params[k])
+                if q_c is not None
+                else chunk.assemble(k, seed, params=self.params[k])
+            )
+            pending[k] = sample
+            if secant:
+                previous = pending.get(k - 1)
+                self.before[c] = (
+                    seed if sample.q is not None and previous is not None and previous.q is not None else None
+                )
+            self.last[c] = _seed(sample, seed)
+            if q_c is not None:
+                self.predicted.add((c, k))
+            if sample.q is None:
+                self.lost.add(c)
+            else:
+                self.lost.discard(c)
 
 
 def short_move(problem: PoseProblem, a: Array, b: Array) -> Array:
     """``b - a`` in the tangent space (Pinocchio's ``difference``), each revolute angle's part the short way round."""
-    move = b - a if problem.vector_space else pin.difference(problem.model, a, b)
-    move[problem.angle_rates] = np.remainder(move[problem.angle_rates] + np.pi, 2 * np.pi) - np.pi
+    return short_moves(problem, np.asarray(a)[None], np.asarray(b)[None])[0]
+
+
+def short_moves(problem: PoseProblem, a: Array, b: Array) -> Array:
+    """:func:`short_move` of each row of (B, nq) stacks: (B, nv)."""
+    if problem.vector_space:
+        move = b - a
+    else:
+        move = np.array([pin.difference(problem.model, x, y) for x, y in zip(a, b)]).reshape(len(a), problem.model.nv)
+    move[:, problem.angle_rates] = np.remainder(move[:, problem.angle_rates] + np.pi, 2 * np.pi) - np.pi
     return move
 
 
@@ -193,12 +248,36 @@ def secant_starts(problem: PoseProblem, before: list[Array | None], seeds: list[
     sample's verdict and branch are the Newton steps' from it (checked by :func:`off_secant`), and a sample the
     predictor does not close goes to the single-sample solver from ``seed``, as before.
     """
-    starts = list(seeds)
-    for i, (b, q) in enumerate(zip(before, seeds)):
-        if b is not None:
-            move = short_move(problem, b, q)
-            starts[i] = q + move if problem.vector_space else pin.integrate(problem.model, q, move)
-    return starts
+    if not seeds:
+        return []
+    stack = np.array(seeds, float)
+    has = np.array([b is not None for b in before])
+    behind = np.array([q if b is None else b for b, q in zip(before, stack)], float)
+    moved = secant_stack(problem, behind, has, stack)
+    return [moved[i] if has[i] else seeds[i] for i in range(len(seeds))]
+
+
+def secant_stack(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -> Array:
+    """:func:`secant_starts` on (B, nq) stacks: the rows of ``before`` where ``has``, the others ignored."""
+    return _secant(problem, before, has, seeds)[0]
+
+
+def _secant(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -> tuple[Array, Array]:
+    """:func:`secant_stack`'s starts, and the length of each one's step from its seed (:func:`off_secants`; 0: none)."""
+    move = short_moves(problem, before, seeds)
+    if problem.vector_space:
+        starts = np.where(has[:, None], seeds + move, seeds)
+    else:
+        starts = seeds.copy()
+        for i in np.flatnonzero(has):
+            starts[i] = pin.integrate(problem.model, seeds[i], move[i])
+    return starts, np.where(has, _lengths(problem, move), 0.0)
+
+
+def _lengths(problem: PoseProblem, moves: Array) -> Array:
+    """(B,) lengths of (B, nv) tangent moves in the joint metric: slides per L, angles in rad (any unit alike)."""
+    x = moves / problem.col[: problem.model.nv]
+    return np.sqrt(np.einsum("ij,ij->i", x, x))
 
 
 def off_secant(problem: PoseProblem, seed: Array, start: Array, q: Array) -> bool:
@@ -208,6 +287,10 @@ def off_secant(problem: PoseProblem, seed: Array, start: Array, q: Array) -> boo
     continuation (on a coarse grid, the 3-UPU-wrist's U joints closed turned by pi), so the sample is closed again
     from ``seed``, as the single-sample engine's continuation does.
     """
-    per_unit = problem.col[: problem.model.nv]  # slides per L, angles in rad: the same decision in any unit
-    step = float(np.linalg.norm(short_move(problem, seed, start) / per_unit))
-    return 0.0 < step < float(np.linalg.norm(short_move(problem, start, q) / per_unit))  # 0: the start was the seed
+    return bool(off_secants(problem, np.asarray(seed)[None], np.asarray(start)[None], np.asarray(q)[None])[0])
+
+
+def off_secants(problem: PoseProblem, seeds: Array, starts: Array, qs: Array, step: Array | None = None) -> Mask:
+    """:func:`off_secant` of each row of (B, nq) stacks; ``step``: the secant steps' lengths, when known (:func:`_secant`)."""
+    step = _lengths(problem, short_moves(problem, seeds, starts)) if step is None else step
+    return (step > 0.0) & (step < _lengths(problem, short_moves(problem, starts, qs)))  # 0: the start was the seed

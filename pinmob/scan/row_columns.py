@@ -7,6 +7,8 @@ values and tuples.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 import pinocchio as pin
 
@@ -44,3 +46,12 @@ def limits_of(model: pin.Model, qs: list[Array | None], tol: float = 1e-9) -> li
     x = np.asarray(closed, float)
     flagged = iter(((lower < upper) & ((x < lower - tol) | (x > upper + tol))).any(axis=1).tolist())
     return [None if q is None else outside_limits(model, q, tol) if next(flagged) else () for q in qs]
+
+
+def values_and_limits(mech: Mechanism, joints: tuple[str, ...], samples: list[Any]) -> list[tuple[Any, Any]]:
+    """Per sample (``.q``, ``.known``: :class:`pinmob.scan.chunk._Sample`), :func:`joint_rows` and :func:`limits_of`.
+
+    None and None for a sample not assembled (``known`` None: a finished row).
+    """
+    qs = [s.q if s.known is not None else None for s in samples]
+    return list(zip(joint_rows(mech, joints, qs, [s.known for s in samples]), limits_of(mech.model, qs)))

@@ -26,7 +26,7 @@ spec is :mod:`pinmob.scan`'s business.
 
 from __future__ import annotations
 
-from collections.abc import Iterator
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -41,6 +41,7 @@ from pinmob.analysis.singularity.classification import require_platform
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
 from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector
+from pinmob.assembly.reach import pose_vector
 from pinmob.assembly.residual import check_closure_tol
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ClosureError, ConfigurationError
@@ -162,6 +163,13 @@ class ScanSpec:
         given = set(self.varied) | {c for c, _ in self.held}
         return tuple(c for c in POSE_COORDS if c not in given)
 
+    @property
+    def target_kind(self) -> str:
+        """The kind of every target of the scan (:meth:`target`): ``pose``, ``joints`` or ``coords``."""
+        if self.kind in ("pose", "joints"):
+            return self.kind
+        return "pose" if {*self.varied, *(c for c, _ in self.held)} == set(POSE_COORDS) else "coords"
+
     def line(self, k: int) -> tuple[int, int]:
         """First and last sample of the scan line holding sample k."""
         first = k - k % self.line_size
@@ -184,6 +192,25 @@ class ScanSpec:
                     for (name, lo, hi, n), i in zip(self.axes, steps)}  # fmt: skip
         return {"s": t / (self.samples - 1) if self.samples > 1 else 0.0}
 
+    def params_of(self, ts: Sequence[float]) -> list[dict[str, float]]:
+        """:meth:`params` at each of ``ts``, the same values (the same arithmetic), computed over them at once."""
+        t = np.asarray(ts, float)
+        if self.kind != "grid":
+            return [{"s": s} for s in (t / (self.samples - 1) if self.samples > 1 else 0.0 * t).tolist()]
+        counts = np.array([a[3] for a in self.axes])
+        r = t // counts[-1]
+        steps = np.empty((len(t), len(counts)))
+        steps[:, -1] = t - r * counts[-1]
+        left = r.astype(np.int64)
+        for j in range(len(counts) - 2, -1, -1):  # np.unravel_index, C order
+            left, steps[:, j] = np.divmod(left, counts[j])
+        if left.any():
+            raise ValueError(f"sample {t[np.flatnonzero(left)[0]]} is beyond the grid's {self.size} samples")
+        lo, hi = np.array([a[1] for a in self.axes]), np.array([a[2] for a in self.axes])
+        values = np.where(counts > 1, lo + (hi - lo) * steps / np.maximum(counts - 1, 1), lo)
+        names = ["grid_" + a[0] for a in self.axes]
+        return [dict(zip(names, row)) for row in values.tolist()]
+
     def target(self, t: float, params: dict[str, float] | None = None) -> tuple[str, Any]:
         """``("pose", SE3)``, ``("joints", {name: value})`` or ``("coords", (pose, joints))`` at sample t.
 
@@ -203,6 +230,32 @@ class ScanSpec:
             return "joints", dict(zip(self.joints, vals.tolist()))
         ma, mb = pin.SE3(np.asarray(self.a)), pin.SE3(np.asarray(self.b))
         return "pose", ma * pin.exp6(s * pin.log6(ma.actInv(mb)))
+
+    def pose_targets(self, ts: Sequence[float], params: Sequence[dict[str, float]] | None = None) -> Array:
+        """(B, 6) pose coordinates :data:`POSE_COORDS` the targets at samples ``ts`` give (NaN: following).
+
+        The vectors of :meth:`target` without its poses and dicts: a ``pose`` target's coordinates (a pose path's
+        through :func:`~pinmob.assembly.reach.pose_vector`), a ``coords`` target's given pose coordinates. For
+        targets that give no joint value (a joint path's, or a grid's holding a joint: ``ValueError``).
+        ``params``: :meth:`params` at each t, already computed (None: computed here).
+        """
+        if self.kind == "joints" or any(c not in POSE_COORDS for c in (*self.varied, *(c for c, _ in self.held))):
+            raise ValueError(f"a {self.kind} scan's targets give joint values, not only pose coordinates")
+        params = self.params_of(ts) if params is None else params
+        if self.kind == "pose":
+            return np.array([pose_vector(self.target(t, p)[1]) for t, p in zip(ts, params)])
+        out = np.full((len(ts), 6), np.nan)
+        for c, v in self.held:
+            out[:, POSE_COORDS.index(c)] = v
+        varied = self.varied
+        cols = [POSE_COORDS.index(c) for c in varied]
+        if self.kind == "grid":
+            names = ["grid_" + c for c in varied]
+            out[:, cols] = [[p[name] for name in names] for p in params]
+        else:  # a coordinate path: c(s) = (1 - s) c_A + s c_B, as target's
+            s = np.array([p["s"] for p in params])
+            out[:, cols] = (1 - s)[:, None] * np.asarray(self.a) + s[:, None] * np.asarray(self.b)
+        return out
 
     def coordinates_target(self, gridded: dict[str, float]) -> tuple[str, Any]:
         """A grid's target with the gridded coordinates at ``gridded`` and the held ones at their values."""

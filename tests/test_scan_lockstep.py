@@ -1,0 +1,126 @@
+"""The lockstep's work on stacks (pinmob.scan.lockstep): the targets as vectors, the secant starts and their check.
+
+A group's samples are assembled step by step, every chunk's next sample at once; the targets are built as
+(B, 6) pose-coordinate vectors (``ScanSpec.pose_targets``), not as poses and dicts, and the secant starts and the
+off-secant check run over the whole stack. Checked here against the targets' own coordinates and against moves
+made by hand (the rows of whole scans: tests/test_scan_batch.py).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pinmob
+from pinmob.assembly.batch_solver import PoseProblem
+from pinmob.assembly.partial_pose import pose_from_vector
+from pinmob.assembly.reach import POSE_COORDS, pose_vector
+from pinmob.model.joints import linear_velocity_mask
+from pinmob.scan import grid_spec, path_spec
+from pinmob.scan.lockstep import off_secant, off_secants, secant_stack, secant_starts
+
+
+def _pose_targets_match(spec, ks):
+    """pose_targets(ks) against each target's own pose (a pose) or given coordinates (NaN where following)."""
+    got = spec.pose_targets(ks)
+    assert got.shape == (len(ks), 6)
+    for row, k in zip(got, ks):
+        kind, value = spec.target(k)
+        assert kind == spec.target_kind
+        if kind == "pose":
+            want = pose_vector(value)
+            assert np.allclose(row[:3], want[:3], atol=1e-15)
+            assert np.allclose(pose_from_vector(row).rotation, value.rotation, atol=1e-15)
+        else:
+            pose, joints = value
+            assert not joints
+            for i, c in enumerate(POSE_COORDS):
+                assert (row[i] == pose[c]) if c in pose else np.isnan(row[i])
+    return got
+
+
+def test_the_targets_as_vectors_are_the_targets_coordinates():
+    """A pose grid (the 3-PUU: all six coordinates given), a grid with following coordinates (the 3-RPS over roll
+    and pitch: x, y and yaw NaN), a coordinate path and a pose path: the vectors hold the targets' coordinates, the
+    grid's values lo + (hi - lo) i / (n - 1) by hand. Fails on the old code: no pose_targets."""
+    puu = pinmob.load("3-PUU")
+    spec = grid_spec(puu, "generic", [("x", -0.06, 0.06, 3), ("y", -0.04, 0.02, 4)])
+    assert spec.target_kind == "pose"
+    got = _pose_targets_match(spec, list(range(spec.size)))
+    assert got[5, 0] == pytest.approx(0.0) and got[5, 1] == pytest.approx(-0.02)  # sample 5: x step 1, y step 1
+    rps = pinmob.load("3-RPS")
+    spec = grid_spec(rps, "home", [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)])
+    assert spec.target_kind == "coords"
+    got = _pose_targets_match(spec, list(range(spec.size)))
+    assert np.isnan(got[:, [0, 1, 5]]).all() and got[7, 3] == 0.2 and got[7, 4] == 0.0
+    path = path_spec(rps, "home", "roll=0.1,pitch=-0.1", 5)
+    got = _pose_targets_match(path, [0, 2, 4])
+    assert got[1, 3] == pytest.approx(0.05) and got[2, 4] == pytest.approx(-0.1)
+    ups = pinmob.load("6-UPS")
+    _pose_targets_match(path_spec(ups, "home", "0,0,0.4,0,0,2.0944", 7), [0, 3, 6])
+
+
+def test_the_params_of_many_samples_are_each_samples_params():
+    """ScanSpec.params_of (a group's samples at once) gives params(t) of each, the same floats: grids of one, two
+    and three coordinates (one of them a single value), fractional samples between a line's, a path's s; a sample
+    beyond the grid is refused as by params. Fails on the old code: no params_of."""
+    puu = pinmob.load("3-PUU")
+    for axes in (
+        [("x", -0.06, 0.06, 21), ("y", -0.06, 0.06, 21)],
+        [("y", -0.07, 0.05, 13)],
+        [("x", -0.06, 0.06, 1), ("y", -0.07, 0.05, 13)],
+        [("x", -0.06, 0.06, 3), ("y", -0.06, 0.06, 5), ("z", -0.25, -0.15, 4)],
+    ):
+        spec = grid_spec(puu, "generic", axes)
+        ts = [*range(spec.size), 0.5, spec.size - 1.75]
+        assert spec.params_of(ts) == [spec.params(t) for t in ts]
+        with pytest.raises(ValueError, match="beyond the grid"):
+            spec.params_of([spec.size + 2])
+    spec = grid_spec(puu, "generic", [("x", -0.06, 0.06, 3), ("y", -0.06, 0.06, 5)])
+    assert spec.params_of([6])[0] == pytest.approx({"grid_x": 0.0, "grid_y": -0.03})  # x step 1 of 2, y 1 of 4
+    path = path_spec(puu, "generic", "offset", 7)
+    assert path.params_of([0, 3, 6, 2.5]) == [path.params(t) for t in (0, 3, 6, 2.5)]
+
+
+def test_targets_with_joint_values_are_not_vectors():
+    """A joint grid's targets are joint values: pose_targets refuses them (the predictor does not run there)."""
+    puu = pinmob.load("3-PUU")
+    spec = grid_spec(puu, "generic", [("A_slider", -0.01, 0.01, 3)])
+    with pytest.raises(ValueError, match="joint values"):
+        spec.pose_targets([0, 1])
+
+
+@pytest.mark.parametrize("vector_space", [True, False])
+def test_the_secant_starts_and_their_check_over_a_stack_follow_moves_made_by_hand(vector_space):
+    """Per row: the start is the seed moved on by (seed - before), the short way round across the wrap at +-pi;
+    off_secant is True exactly where the correction (start to q) is longer than that step (joint metric, slides
+    per L), False where it is shorter or where there was no secant (start = seed). The stack's answers are the
+    rows' (secant_starts, off_secant). On q + move and on Pinocchio's difference / integrate path. Fails on the
+    old code: no secant_stack, no off_secants."""
+    mech = pinmob.load("3-PUU")
+    problem = PoseProblem(mech)
+    problem.vector_space = vector_space
+    rng = np.random.default_rng(3)
+    q0 = pinmob.closed_configuration(mech, "generic")
+    angle = int(problem.angles[0])
+    slide = int(np.flatnonzero(linear_velocity_mask(mech.model))[0])
+    n = 6
+    seeds = np.tile(q0, (n, 1)) + 0.01 * rng.normal(size=(n, mech.model.nq))
+    before = seeds.copy()
+    seeds[:, angle], before[:, angle] = -np.pi + 0.01, np.pi - 0.03  # 0.04 rad on across the wrap at +-pi
+    before[:, slide] -= 0.03 * mech.length_scale  # 0.03 L behind: the step's length is 0.05
+    has = np.array([True, True, True, True, False, True])
+    starts = secant_stack(problem, before, has, seeds)
+    want = seeds.copy()
+    want[has, angle] = -np.pi + 0.05
+    want[has, slide] += 0.03 * mech.length_scale
+    assert np.allclose(starts, want, atol=1e-12)
+    listed = secant_starts(problem, [b if h else None for b, h in zip(before, has)], list(seeds))
+    assert np.array_equal(np.array(listed), starts)
+    # corrections from the start: 0.06 (longer than the step, 0.05) or 0.04 (shorter), along the slide
+    qs = starts.copy()
+    longer = np.array([True, False, True, False, True, False])
+    qs[:, slide] += np.where(longer, 0.06, 0.04) * mech.length_scale
+    expected = longer & has  # no secant (row 4): never off it
+    assert off_secants(problem, seeds, starts, qs).tolist() == expected.tolist()
+    assert [off_secant(problem, s, t, q) for s, t, q in zip(seeds, starts, qs)] == expected.tolist()

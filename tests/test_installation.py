@@ -78,6 +78,16 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "batch_newton_kernel.rpy_matrix",
         "batch_newton_kernel.wrap_and_check",
         "batch_stopping.advance",
+        "motion_kernel._cholesky",  # the scan rows' motion types (motion_kernel.counts)
+        "motion_kernel._cols",
+        "motion_kernel._column_rank",
+        "motion_kernel._decide",
+        "motion_kernel._mm",
+        "motion_kernel._solve",
+        "motion_kernel._span_counts",
+        "motion_kernel._symmetric_eig",
+        "motion_kernel._tr",
+        "motion_kernel.counts",
     ]
 
 

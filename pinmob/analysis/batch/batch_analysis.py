@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pinmob.analysis.batch.batch_numpy import numpy_engine
 from pinmob.analysis.batch.batch_result import BatchResult
@@ -39,6 +40,7 @@ from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
+from pinmob.screw.motion_label import label, motion_type_of_orthonormal
 from pinmob.screw.rank import RTOL
 
 #: The engines of :func:`analyze_batch`.
@@ -162,6 +164,23 @@ def analyze_jacobians(
     if engine == "numba":
         return _numba(mech, full, origin, rtol, singular_values, twists)
     return numpy_engine(mech, full, origin, rtol, singular_values, twists)
+
+
+def motion_types(
+    free_twists: Array, dof: ArrayLike, length: float, rtol: float, engine: str | None = None
+) -> list[str]:
+    """The motion type of each of N spans ``free_twists[i][:, :dof[i]]`` (:attr:`BatchResult.free_twists`).
+
+    :func:`pinmob.screw.motion_label.motion_type_of_orthonormal` of each (``classify_twists``' label), or, with
+    the numba engine, the same decisions compiled for all N (:func:`pinmob.analysis.batch.motion_kernel.counts`).
+    """
+    dofs = np.asarray(dof, np.int64)
+    if check_engine(engine) == "numba":
+        from pinmob.analysis.batch.motion_kernel import counts
+
+        found = counts(np.ascontiguousarray(free_twists, float), dofs, float(length), float(rtol))
+        return [label(*c) for c in found.tolist()]
+    return [motion_type_of_orthonormal(t[:, :k], length, rtol) for t, k in zip(free_twists, dofs.tolist())]
 
 
 def _numba(

@@ -6,7 +6,7 @@ the steps of :func:`pinmob.screw.screw_groups.screw_groups`: the free translatio
 component along them, the principal pitches grouped) and counts them as translations, rotations and screws.
 The same matrices, the same rank rule (singular values above ``tol * max(1, sigma_1)``, the same tolerances)
 and the same pitch grouping; each SVD is the one-sided Jacobi SVD of the batch kernel
-(:func:`pinmob.analysis.batch.batch_kernel.span`: LAPACK's singular values and singular vectors to
+(:func:`pinmob.analysis.batch.jacobi.span`: LAPACK's singular values and singular vectors to
 round-off, no Gram matrix, so no squared condition number), the generalised eigenproblem of the pitches the
 numpy path's reduction (Cholesky, then a cyclic Jacobi eigensolver for the symmetric ``L^-1 a L^-T``, at most
 3 x 3). The labels are the numpy path's (``tests/test_scan_batch.py`` compares them with
@@ -18,51 +18,13 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.batch.batch_kernel import span
+from pinmob.analysis.batch.jacobi import span
+from pinmob.analysis.batch.small_matrices import EPS, cholesky, cols, mm, solve, symmetric_eig, tr
 from pinmob.jit_cache import njit
 from pinmob.screw.algebra import Array
 
-#: numpy's ``pinv`` keeps the singular values above ``max(rows, cols) * EPS * sigma_1``.
-EPS = 2.0**-52
-
 #: The orthonormality test of :func:`pinmob.screw.classify._orthonormal_span` (``m^T m = c I`` to this).
 GRAM_TOL = 1e-12
-
-
-@njit
-def _mm(a: Array, b: Array) -> Array:
-    """``a @ b`` of small matrices (a plain loop: no BLAS call per tiny product)."""
-    n, k = a.shape
-    m = b.shape[1]
-    out = np.zeros((n, m))
-    for i in range(n):
-        for j in range(m):
-            s = 0.0
-            for p in range(k):
-                s += a[i, p] * b[p, j]
-            out[i, j] = s
-    return out
-
-
-@njit
-def _tr(a: Array) -> Array:
-    """``a.T`` as a new C-ordered array."""
-    n, m = a.shape
-    out = np.zeros((m, n))
-    for i in range(n):
-        for j in range(m):
-            out[j, i] = a[i, j]
-    return out
-
-
-@njit
-def _cols(a: Array, start: int, stop: int) -> Array:
-    """``a[:, start:stop]`` as a new C-ordered array."""
-    out = np.zeros((a.shape[0], stop - start))
-    for i in range(a.shape[0]):
-        for j in range(start, stop):
-            out[i, j - start] = a[i, j]
-    return out
 
 
 @njit
@@ -73,15 +35,15 @@ def _decide(m: Array, tol: float, at_least: float, v: Array) -> int:
     ``null_space.T`` of :func:`pinmob.screw.rank.decide_rank`). Singular values beyond ``min(r, c)`` (zero to
     round-off in the Jacobi SVD) are not counted, as LAPACK gives none.
     """
-    rows, cols = m.shape  # never empty here
+    rows, width = m.shape  # never empty here
     g = m.copy()
-    sv = np.zeros(cols)
+    sv = np.zeros(width)
     span(g, rows, tol, sv, v)
     if sv[0] <= 0.0:
         return 0
     bound = tol * max(at_least, sv[0])
     rank = 0
-    for j in range(min(rows, cols)):
+    for j in range(min(rows, width)):
         if sv[j] > bound:
             rank += 1
     return rank
@@ -95,90 +57,7 @@ def _column_rank(d: Array, tie: float) -> tuple[int, Array]:
     vectors of ``d.T`` span the column space of d (the canonical directions span it too: only the span is used).
     """
     v = np.zeros((3, 3))
-    return _decide(_tr(d), tie, 1.0, v), v
-
-
-@njit
-def _cholesky(b: Array) -> Array:
-    """Lower-triangular L with ``L L^T = b`` (symmetric positive definite, n <= 3)."""
-    n = b.shape[0]
-    low = np.zeros((n, n))
-    for j in range(n):
-        s = b[j, j]
-        for k in range(j):
-            s -= low[j, k] * low[j, k]
-        low[j, j] = np.sqrt(s)
-        for i in range(j + 1, n):
-            s = b[i, j]
-            for k in range(j):
-                s -= low[i, k] * low[j, k]
-            low[i, j] = s / low[j, j]
-    return low
-
-
-@njit
-def _solve(t: Array, a: Array, lower: bool) -> Array:
-    """``T^-1 a`` for a triangular T: forward substitution when ``lower``, else back substitution."""
-    n, m = a.shape
-    x = np.zeros((n, m))
-    for c in range(m):
-        for step in range(n):
-            i = step if lower else n - 1 - step
-            s = a[i, c]
-            for k in range(n):
-                if (k < i) if lower else (k > i):
-                    s -= t[i, k] * x[k, c]
-            x[i, c] = s / t[i, i]
-    return x
-
-
-@njit
-def _symmetric_eig(c: Array) -> tuple[Array, Array]:
-    """Ascending eigenvalues and orthonormal eigenvectors (columns) of a small symmetric matrix: cyclic Jacobi."""
-    n = c.shape[0]
-    a = c.copy()
-    z = np.eye(n)
-    for _ in range(60):
-        off = 0.0
-        for p in range(n):
-            for q in range(p + 1, n):
-                off += abs(a[p, q])
-        if off == 0.0:
-            break
-        for p in range(n):
-            for q in range(p + 1, n):
-                apq = a[p, q]
-                if apq == 0.0:
-                    continue
-                if abs(apq) <= EPS * 0.5 * min(abs(a[p, p]), abs(a[q, q])):  # below round-off of both diagonals
-                    a[p, q] = a[q, p] = 0.0
-                    continue
-                theta = (a[q, q] - a[p, p]) / (2.0 * apq)
-                if abs(theta) > 1e150:
-                    t = 0.5 / theta
-                else:
-                    t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + np.sqrt(1.0 + theta * theta))
-                cs = 1.0 / np.sqrt(1.0 + t * t)
-                sn = t * cs
-                for k in range(n):  # a <- a J (columns p, q)
-                    akp, akq = a[k, p], a[k, q]
-                    a[k, p], a[k, q] = cs * akp - sn * akq, sn * akp + cs * akq
-                for k in range(n):  # a <- J^T a (rows p, q)
-                    apk, aqk = a[p, k], a[q, k]
-                    a[p, k], a[q, k] = cs * apk - sn * aqk, sn * apk + cs * aqk
-                a[p, q] = a[q, p] = 0.0
-                for k in range(n):
-                    zkp, zkq = z[k, p], z[k, q]
-                    z[k, p], z[k, q] = cs * zkp - sn * zkq, sn * zkp + cs * zkq
-    vals = np.zeros(n)
-    for i in range(n):
-        vals[i] = a[i, i]
-    order = np.argsort(vals)
-    vecs = np.zeros((n, n))
-    for j in range(n):
-        for i in range(n):
-            vecs[i, j] = z[i, order[j]]
-    return vals[order], vecs
+    return _decide(tr(d), tie, 1.0, v), v
 
 
 @njit
@@ -200,7 +79,7 @@ def _span_counts(s: Array, k: int, length: float, rtol: float) -> tuple[int, int
         for i in range(3, 6):
             m[i, j] = s[i, j]
     # classify._orthonormal_span: orthogonal columns of one length are rescaled, else the SVD's row space
-    gram = _mm(_tr(m), m)
+    gram = mm(tr(m), m)
     c = 0.0
     for j in range(k):
         c += gram[j, j]
@@ -215,8 +94,8 @@ def _span_counts(s: Array, k: int, length: float, rtol: float) -> tuple[int, int
         basis = m / np.sqrt(c)
     else:
         v6 = np.zeros((6, 6))
-        r = _decide(_tr(m), rtol, 0.0, v6)
-        basis = _cols(v6, 0, r)
+        r = _decide(tr(m), rtol, 0.0, v6)
+        basis = cols(v6, 0, r)
     n = basis.shape[1]
     if n == 0:
         return 0, 0, 0
@@ -237,27 +116,27 @@ def _span_counts(s: Array, k: int, length: float, rtol: float) -> tuple[int, int
     t = 0
     trans = np.zeros((3, 0))
     if wr < n:
-        t, u = _column_rank(_mm(v, _cols(vw, wr, n)), tie)
-        trans = _cols(u, 0, t)
+        t, u = _column_rank(mm(v, cols(vw, wr, n)), tie)
+        trans = cols(u, 0, t)
     if wr == 0:
         return t, 0, 0
-    row = _cols(vw, 0, wr)
-    gv, gw = _mm(v, row), _mm(w, row)
+    row = cols(vw, 0, wr)
+    gv, gw = mm(v, row), mm(w, row)
     pitch_tol = max(1e-9, 10.0 * rtol)
     if t:
         vx = np.zeros((wr, wr))
-        r1 = _decide(_mm(_tr(trans), gw), rtol, 1.0, vx)
-        x0, x1 = _cols(vx, r1, wr), _cols(vx, 0, r1)
+        r1 = _decide(mm(tr(trans), gw), rtol, 1.0, vx)
+        x0, x1 = cols(vx, r1, wr), cols(vx, 0, r1)
     else:
         x0, x1 = np.eye(wr), np.zeros((wr, 0))
     rotations = screws = 0
     r0 = x0.shape[1]
-    w0 = _mm(gw, x0)
+    w0 = mm(gw, x0)
     if x1.shape[1]:  # the directions with a component along the translations, less their part in span(w0)
-        g1 = _mm(gw, x1)
+        g1 = mm(gw, x1)
         if r0:
             vq = np.zeros((3, 3))
-            g = _tr(w0)
+            g = tr(w0)
             sq = np.zeros(3)
             span(g, r0, 1.0, sq, vq)
             cutoff = max(3, r0) * EPS * sq[0]
@@ -265,24 +144,24 @@ def _span_counts(s: Array, k: int, length: float, rtol: float) -> tuple[int, int
             for j in range(min(r0, 3)):
                 if sq[j] > cutoff:
                     kept += 1
-            q = _cols(vq, 0, kept)
-            g1 = g1 - _mm(q, _mm(_tr(q), g1))
+            q = cols(vq, 0, kept)
+            g1 = g1 - mm(q, mm(tr(q), g1))
         found, _ = _column_rank(g1, tie)
         rotations += found
     if r0:
-        sym = 0.5 * (_mm(_tr(gw), gv) + _mm(_tr(gv), gw))
-        a = _mm(_mm(_tr(x0), sym), x0)
-        b = _mm(_tr(w0), w0)
-        low = _cholesky(b)
-        c2 = _solve(low, _tr(_solve(low, a, True)), True)  # L^-1 a L^-T
-        pitches, z = _symmetric_eig(0.5 * (c2 + _tr(c2)))
-        y = _solve(_tr(low), z, False)  # L^-T z
+        sym = 0.5 * (mm(tr(gw), gv) + mm(tr(gv), gw))
+        a = mm(mm(tr(x0), sym), x0)
+        b = mm(tr(w0), w0)
+        low = cholesky(b)
+        c2 = solve(low, tr(solve(low, a, True)), True)  # L^-1 a L^-T
+        pitches, z = symmetric_eig(0.5 * (c2 + tr(c2)))
+        y = solve(tr(low), z, False)  # L^-T z
         i = 0
         while i < r0:
             j = i
             while j + 1 < r0 and abs(pitches[j + 1] - pitches[i]) <= pitch_tol:
                 j += 1
-            found, _ = _column_rank(_mm(w0, _cols(y, i, j + 1)), tie)
+            found, _ = _column_rank(mm(w0, cols(y, i, j + 1)), tie)
             pitch = 0.0
             for p in range(i, j + 1):
                 pitch += pitches[p]

@@ -97,3 +97,20 @@ def test_the_kernels_free_twists_span_the_numpy_engines():
                 assert np.isnan(fast.free_twists[i][:, d:]).all()
                 checked += 1
     assert checked > 60
+
+
+def test_the_round_robin_sweeps_every_pair_once_in_rounds_of_disjoint_pairs():
+    """The order of orthogonalize's rotations: every pair j < k of n columns exactly once, consecutive pairs of a
+    round sharing no column (the table of up to six columns is the function's)."""
+    from pinmob.analysis.batch.jacobi import PAIRS, round_robin
+
+    for n in range(10):
+        first, second = round_robin(n)
+        pairs = list(zip(first.tolist(), second.tolist()))
+        assert sorted(pairs) == [(j, k) for j in range(n) for k in range(j + 1, n)]
+        per_round = n // 2
+        for r in range(0, len(pairs), max(per_round, 1)):
+            columns = [c for pair in pairs[r : r + per_round] for c in pair]
+            assert len(columns) == len(set(columns)), (n, pairs)
+        if n <= 6:
+            assert pairs == list(zip(PAIRS[0, n, : len(pairs)].tolist(), PAIRS[1, n, : len(pairs)].tolist()))

@@ -80,6 +80,7 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "jacobi.column_rank",  # the kernels' Jacobi SVDs
         "jacobi.complete",
         "jacobi.orthogonalize",
+        "jacobi.round_robin",
         "jacobi.span",
         "motion_kernel._column_rank",  # the scan rows' motion types (motion_kernel.counts)
         "motion_kernel._decide",

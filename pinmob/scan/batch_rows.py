@@ -46,6 +46,24 @@ DECIDED_FACTOR = 2.0
 #: The scan engines: ``batch`` (this module, the default) and ``single`` (every sample on its own).
 ENGINES = ("batch", "single")
 
+#: The columns of a decided sample's row, in the single-sample row's order (:func:`pinmob.scan.sample.evaluate`).
+ROW_KEYS = (
+    *POSE_COORDS,
+    "reachable",
+    "dof",
+    "motion_type",
+    "constraint_rank",
+    "locked_dof",
+    "singularity",
+    "near_singular",
+    "closest",
+    "singular_limbs",
+    "dependent_limbs",
+    "uncontrolled",
+    "distance",
+    *SV_COLUMNS,
+)
+
 #: A sample's row and the distance of each question (:func:`pinmob.scan.sample.evaluate`'s numbers).
 Analysed = tuple[dict[str, Any], dict[str, float]]
 
@@ -103,24 +121,10 @@ def analyse(mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int) ->
     which = np.flatnonzero(decided)
     labels = motion_types(res.free_twists[which], res.dof[which], mech.length_scale, rtol, res.engine)
     pose_list, sv_list, asv_list, d_list = poses.tolist(), sv.tolist(), asv.tolist(), distances.tolist()
+    dof_list, distance_list, closest_list = res.dof.tolist(), distance.tolist(), closest.tolist()
     out: list[Analysed | None] = [None] * len(qs)
     for i, motion in zip(which.tolist(), labels):
-        dof = int(res.dof[i])
-        row: dict[str, Any] = dict(zip(POSE_COORDS, pose_list[i]))
-        row.update(
-            reachable=True,
-            dof=dof,
-            motion_type=motion,
-            constraint_rank=g,
-            locked_dof=0,
-            singularity="none",
-            near_singular=False,
-            closest=names[closest[i]],
-            singular_limbs="",
-            dependent_limbs="",
-            uncontrolled="",
-            distance=float(distance[i]),
-        )
-        row.update(zip(SV_COLUMNS, sv_list[i] + asv_list[i]))
-        out[i] = (row, dict(zip(names, d_list[i])))
+        values = [*pose_list[i], True, dof_list[i], motion, g, 0, "none", False, names[closest_list[i]], "", "", ""]
+        values += [distance_list[i], *sv_list[i], *asv_list[i]]
+        out[i] = (dict(zip(ROW_KEYS, values)), dict(zip(names, d_list[i])))
     return out

@@ -114,3 +114,33 @@ def test_the_round_robin_sweeps_every_pair_once_in_rounds_of_disjoint_pairs():
             assert len(columns) == len(set(columns)), (n, pairs)
         if n <= 6:
             assert pairs == list(zip(PAIRS[0, n, : len(pairs)].tolist(), PAIRS[1, n, : len(pairs)].tolist()))
+
+
+def test_more_than_six_stacked_wrenches_are_reduced_to_six_columns_with_their_svd():
+    """stack_columns: up to six rows become the columns as they are; more (the 3-RRR's nine, the 3-UR5's eighteen
+    locked wrenches) the six rows of R of their QR factorisation: LAPACK's singular values of all the rows, and a
+    complement orthogonal to every row."""
+    from pinmob.analysis.batch.batch_kernel import stack_columns
+    from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize
+
+    rng = np.random.default_rng(14)
+    for _ in range(200):
+        used, rank = int(rng.integers(0, 19)), int(rng.integers(0, 7))
+        rows = rng.normal(size=(used, rank)) @ rng.normal(size=(rank, 6)) if rank else np.zeros((used, 6))
+        rows *= 10.0 ** rng.uniform(-3, 3)
+        ref = np.zeros(6)
+        if used:
+            ref[: min(used, 6)] = np.linalg.svd(rows, compute_uv=False)
+        scale = max(float(ref[0]), 1e-300)
+        g, sv, order = np.zeros((6, 6)), np.zeros(6), np.zeros(6, np.int64)
+        work = np.zeros((18, 6))
+        work[:used] = rows
+        count = stack_columns(work, used, g)
+        assert count == min(used, 6)
+        orthogonalize(g, 0, count)
+        r = column_rank(g, count, 1e-9, sv, order)
+        assert_allclose(sv, ref, atol=1e-13 * scale)
+        assert r == (int(np.sum(ref > 1e-9 * ref[0])) if ref[0] > 0 else 0)
+        null = np.zeros((6, 6))
+        complete(g, order, r, null, 0, False)
+        assert np.abs(rows @ null[:, : 6 - r]).max(initial=0.0) <= 1e-12 * scale

@@ -172,15 +172,23 @@ def motion_types(
     """The motion type of each of N spans ``free_twists[i][:, :dof[i]]`` (:attr:`BatchResult.free_twists`).
 
     :func:`pinmob.screw.motion_label.motion_type_of_orthonormal` of each (``classify_twists``' label), or, with
-    the numba engine, the same decisions compiled for all N (:func:`pinmob.analysis.batch.motion_kernel.counts`).
+    the numba engine, the same decisions compiled (:func:`pinmob.analysis.batch.motion_kernel.counts`) for the
+    spans that its closed form (rotation rows below ``rtol``: ``kT``), taken here for all N at once, leaves.
     """
     dofs = np.asarray(dof, np.int64)
-    if check_engine(engine) == "numba":
+    if check_engine(engine) != "numba":
+        return [motion_type_of_orthonormal(t[:, :k], length, rtol) for t, k in zip(free_twists, dofs.tolist())]
+    spans = np.ascontiguousarray(free_twists, float)
+    w = np.where(np.arange(6) < dofs[:, None, None], spans[:, 3:], 0.0)
+    translations = (dofs > 0) & (np.sqrt((w * w).sum(axis=(1, 2))) <= rtol)
+    labels = [f"{k}T" if pure else "" for k, pure in zip(dofs.tolist(), translations.tolist())]
+    rest = np.flatnonzero(~translations)
+    if rest.size:
         from pinmob.analysis.batch.motion_kernel import counts
 
-        found = counts(np.ascontiguousarray(free_twists, float), dofs, float(length), float(rtol))
-        return [label(*c) for c in found.tolist()]
-    return [motion_type_of_orthonormal(t[:, :k], length, rtol) for t, k in zip(free_twists, dofs.tolist())]
+        for i, c in zip(rest.tolist(), counts(spans[rest], dofs[rest], float(length), float(rtol)).tolist()):
+            labels[i] = label(*c)
+    return labels
 
 
 def _numba(

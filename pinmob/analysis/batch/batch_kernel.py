@@ -8,8 +8,9 @@ same numbers to round-off (the tests compare them with the numpy path, which cal
 LAPACK). A limb's screws and the stacked wrenches (at most six) are orthogonalised
 as columns (:func:`~pinmob.analysis.batch.jacobi.orthogonalize`, 6 long), the
 wrenches reciprocal to them (the complement of their span) by Householder reflections
-(:func:`~pinmob.analysis.batch.jacobi.complete`); more than six wrenches by
-rows (:func:`~pinmob.analysis.batch.jacobi.span`). Per limb, of the eleven
+(:func:`~pinmob.analysis.batch.jacobi.complete`); more than six stacked wrenches are
+first reduced to six (the R of their QR factorisation:
+:func:`stack_columns`). Per limb, of the eleven
 SVDs a 3-PUU sample took before, only the one of the unit columns is left where it
 proves the limb's rank (:data:`CERTAIN`): then the screws and the unactuated screws
 have full column rank and their complements need no SVD; an actuated limb that is
@@ -23,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize, span
+from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize
 from pinmob.jit_cache import njit
 from pinmob.screw.algebra import Array
 
@@ -94,8 +95,6 @@ def ranks(
     g = np.zeros((6, width))  # a limb's screws or the stacked wrenches, as columns
     sv = np.zeros(width)
     order = np.zeros(width, np.int64)
-    v = np.zeros((6, 6))
-    no_twists = np.zeros((6, 0))
     wrenches = np.zeros((6 * k, 6))
     locked = np.zeros((6 * k, 6))
     identity = np.arange(width)
@@ -116,81 +115,103 @@ def ranks(
             lo, hi = offsets[i], offsets[i + 1]
             size = hi - lo
             certain = False
-            if ratios or not actuated[i]:  # the screws with unit columns
-                shortest, longest = np.inf, 0.0
-                for c in range(lo, hi):
-                    norm = 0.0
-                    for e in range(6):
-                        norm += a[e, c] * a[e, c]
-                    norm = np.sqrt(norm)
-                    shortest, longest = min(shortest, norm), max(longest, norm)
-                    scale = 1.0 / norm if norm > 0.0 else 1.0
-                    for e in range(6):
-                        g[e, c - lo] = a[e, c] * scale
-                orthogonalize(g, 0, size)
-                r = column_rank(g, size, rtol, sv, order)
-                if not actuated[i]:
-                    locked_used += complete(g, order, r, locked, locked_used, True)
-                if ratios:  # sigma_g / sigma_1
-                    ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
-                # sigma_n / sigma_1 of the screws themselves is at least the unit columns' times shortest / longest
-                certain = size <= 6 and sv[0] > 0.0 and sv[size - 1] / sv[0] * (shortest / longest) > CERTAIN * rtol
-            start = 0
-            if actuated[i]:  # the unactuated screws first (locked wrenches), then the actuated ones added
-                for c in range(lo, hi):
-                    if is_free[c]:
-                        g[:, start] = a[:, c]
-                        start += 1
-                if certain:  # full column rank, as are its columns: the complement by Householder QR
-                    locked_used += complete(g, identity, start, locked, locked_used, True)
+            unactuated = 0
+            for task in range(3):  # one call site each below: numba compiles what a site calls once more per site
+                if task == 0:  # the screws with unit columns: the limb ratio, an unactuated limb's locked wrenches
+                    if actuated[i] and not ratios:
+                        continue
+                    shortest, longest = np.inf, 0.0
+                    for c in range(lo, hi):
+                        norm = 0.0
+                        for e in range(6):
+                            norm += a[e, c] * a[e, c]
+                        norm = np.sqrt(norm)
+                        shortest, longest = min(shortest, norm), max(longest, norm)
+                        scale = 1.0 / norm if norm > 0.0 else 1.0
+                        for e in range(6):
+                            g[e, c - lo] = a[e, c] * scale
+                    begin, end = 0, size
+                elif task == 1:  # an actuated limb's unactuated screws: its locked wrenches
+                    if not actuated[i]:
+                        continue
+                    for c in range(lo, hi):
+                        if is_free[c]:
+                            g[:, unactuated] = a[:, c]
+                            unactuated += 1
+                    begin, end = 0, unactuated
+                else:  # the screws: the actuated ones added to the unactuated ones orthogonalised
+                    end = unactuated
+                    for c in range(lo, hi):
+                        if not (actuated[i] and is_free[c]):
+                            g[:, end] = a[:, c]
+                            end += 1
+                    begin = unactuated
+                if certain and task > 0:  # full column rank, as are its columns: the complement by Householder QR
+                    r, ordered = end, identity
                 else:
-                    orthogonalize(g, 0, start)
-                    r = column_rank(g, start, rtol, sv, order)
-                    locked_used += complete(g, order, r, locked, locked_used, True)
-                filled = start
-                for c in range(lo, hi):
-                    if not is_free[c]:
-                        g[:, filled] = a[:, c]
-                        filled += 1
+                    orthogonalize(g, begin, end)
+                    r, ordered = column_rank(g, end, rtol, sv, order), order
+                if task == 0:
+                    if ratios:  # sigma_g / sigma_1
+                        ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
+                    # sigma_n / sigma_1 of the screws is at least the unit columns' times shortest / longest
+                    certain = size <= 6 and sv[0] > 0.0 and sv[size - 1] / sv[0] * (shortest / longest) > CERTAIN * rtol
+                    if actuated[i]:
+                        continue
+                target = wrenches if task == 2 else locked
+                written = complete(g, ordered, r, target, used if task == 2 else locked_used, True)
+                if task == 2:
+                    limb_rank[s, i] = r
+                    used += written
+                else:
+                    locked_used += written
+        for which in range(2):  # the stacked wrenches (and their null space), then the stacked locked wrenches
+            count = stack_columns(wrenches if which == 0 else locked, used if which == 0 else locked_used, g)
+            orthogonalize(g, 0, count)
+            r = column_rank(g, count, rtol, sv, order)
+            if which == 0:
+                rank[s], sv_out[s] = r, sv[:6]
+                complete(g, order, r, free_twists[s], 0, False)
             else:
-                g[:, :size] = a[:, lo:hi]
-            if certain:
-                r = size
-                used += complete(g, identity, r, wrenches, used, True)
-            else:
-                orthogonalize(g, start, size)
-                r = column_rank(g, size, rtol, sv, order)
-                used += complete(g, order, r, wrenches, used, True)
-            limb_rank[s, i] = r
-        rank[s] = _stacked(wrenches, used, rtol, g, sv, order, v, free_twists[s])
-        sv_out[s] = sv[:6]
-        locked_rank[s] = _stacked(locked, locked_used, rtol, g, sv, order, v, no_twists)
-        asv_out[s] = sv[:6]
+                locked_rank[s], asv_out[s] = r, sv[:6]
     return limb_rank, rank, locked_rank, sv_out, asv_out, ratio, free_twists
 
 
 @njit
-def _stacked(rows: Array, used: int, rtol: float, g: Array, sv: Array, order: Ints, v: Array, null: Array) -> int:
-    """Rank and singular values (``sv[:6]``) of the stacked wrenches ``rows[:used]``; their null space into ``null``.
+def stack_columns(rows: Array, used: int, g: Array) -> int:
+    """The stacked wrenches ``rows[:used]`` (used, 6) as columns of ``g``: the same singular values and null space.
 
-    Up to six wrenches: as columns (:func:`orthogonalize`; the null space by :func:`complete`); more: by
-    :func:`span` on the rows. ``null`` (6, 6) gets an orthonormal basis of the twists reciprocal to every wrench
-    in its first ``6 - rank`` columns (none when it has no columns).
+    Up to six: the rows themselves. More: the rows of R of their QR factorisation (Householder reflections
+    of ``rows``, which is overwritten), six of them: ``rows = Q R`` has R's singular values and null space.
+
+    Returns:
+        the number of columns written (``min(used, 6)``).
     """
     if used > 6:
-        sv6 = np.zeros(6)
-        r = span(rows, used, rtol, sv6, v)
-        sv[:6] = sv6
-        if null.shape[1]:
-            for c in range(r, 6):
-                for i in range(6):
-                    null[i, c - r] = v[i, c]
-        return r
+        for c in range(6):
+            norm = 0.0
+            for i in range(c, used):
+                norm += rows[i, c] * rows[i, c]
+            norm = np.sqrt(norm)
+            if norm == 0.0:
+                continue
+            alpha = -norm if rows[c, c] >= 0.0 else norm  # the new diagonal entry
+            rows[c, c] -= alpha  # the reflector h = x - alpha e_c, stored in place of x
+            hh = 0.0
+            for i in range(c, used):
+                hh += rows[i, c] * rows[i, c]
+            for d in range(c + 1, 6):
+                dot = 0.0
+                for i in range(c, used):
+                    dot += rows[i, c] * rows[i, d]
+                dot *= 2.0 / hh
+                for i in range(c, used):
+                    rows[i, d] -= dot * rows[i, c]
+            rows[c, c] = alpha
+            for i in range(c + 1, used):
+                rows[i, c] = 0.0
+        used = 6
     for c in range(used):
         for i in range(6):
             g[i, c] = rows[c, i]
-    orthogonalize(g, 0, used)
-    r = column_rank(g, used, rtol, sv, order)
-    if null.shape[1]:
-        complete(g, order, r, null, 0, False)
-    return r
+    return used

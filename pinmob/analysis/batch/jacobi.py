@@ -103,14 +103,11 @@ def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
 def orthogonalize(g: Array, start: int, stop: int) -> None:
     """One-sided Jacobi on the columns ``g[:, :stop]`` (6, stop) in place, the first ``start`` already orthogonal.
 
-    The plane rotations of :func:`span`, on the columns themselves (the screws or wrenches, 6 long; no right
-    singular vectors kept): afterwards the columns are pairwise orthogonal to round-off, their lengths the
-    singular values of the matrix and the long ones (normalised) its left singular vectors. The pairs are
-    swept in round-robin order (:func:`round_robin`: consecutive pairs share no column, so the processor
-    overlaps their rotations; a third faster than the cyclic order on six columns). Columns
-    ``start .. stop - 1`` added to columns orthogonalised before (a rotated matrix with the same singular
-    values as the one they came from) continue from there: only the pairs with a new column are rotated
-    in the first sweep (the old pairs are orthogonal until a new column turns an old one).
+    The rotations of :func:`span` on the columns themselves (screws or wrenches, no singular vectors kept),
+    in round-robin order (:func:`round_robin`: consecutive pairs share no column, so the processor overlaps
+    them; a third faster than the cyclic order on six columns). Columns ``start ..`` added to columns
+    orthogonalised before (with the same singular values as the ones they came from) continue from there:
+    the first sweep rotates only the pairs with a new column (the old pairs stay orthogonal until then).
     """
     if stop <= 6:
         first, second = PAIRS[0, stop], PAIRS[1, stop]

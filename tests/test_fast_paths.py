@@ -362,7 +362,7 @@ def test_batch_engines_agree():
 def test_jacobi_svd_is_lapacks():
     """The compiled loop's one-sided Jacobi SVD (span): LAPACK's singular values, the rank, a null space orthogonal to the rows."""
     pytest.importorskip("numba")
-    from pinmob.analysis.batch.batch_kernel import span
+    from pinmob.analysis.batch.jacobi import span
 
     rng = np.random.default_rng(10)
     for _ in range(300):

@@ -259,6 +259,57 @@ def test_the_motion_type_from_the_counts_is_classify_twists_label():
     assert {"rigid", "3T", "3R", "2T1R", "3T1R", "3T3R", "1T1H"} <= set(labels)
 
 
+def test_the_batchs_motion_types_are_classify_twists_labels_compiled_and_not():
+    """motion_types (the batch's labels of orthonormal dimensionless spans, as analyze_jacobians gives them): the
+    compiled counts (motion_kernel, numba) and the numpy path against motion_type(classify_twists(...)) of the same
+    spans in SI units: random spans of every dimension and rank, world-aligned ones off the origin (some with
+    a pitch), a helical screw beside a translation, pure translations, and the 3-RPS's free twists."""
+    import numpy as np
+
+    from pinmob.analysis.batch.batch_analysis import analyze_batch, motion_types
+    from pinmob.screw.classify import classify_twists, motion_type
+
+    rng = np.random.default_rng(6)
+    spans = [rng.normal(size=(6, k)) for k in range(7) for _ in range(10)]
+    for _ in range(80):  # rank-deficient
+        k = int(rng.integers(1, 6))
+        r = int(rng.integers(0, k + 1))
+        spans.append(rng.normal(size=(6, r)) @ rng.normal(size=(r, k)) if r else np.zeros((6, k)))
+    for _ in range(80):  # world-aligned about a point off the origin, some turned into screws of one pitch
+        cols = sorted(rng.choice(6, size=int(rng.integers(1, 6)), replace=False).tolist())
+        t = np.eye(6)[:, cols]
+        t[:3] += np.cross(rng.normal(size=3), t[3:].T).T
+        t[:3] += 0.02 * int(rng.integers(-1, 2)) * t[3:]
+        spans.append(t @ np.linalg.qr(rng.normal(size=(len(cols), len(cols))))[0])
+    helix = np.zeros((6, 2))
+    helix[5, 0], helix[2, 0], helix[0, 1] = 1.0, 0.01, 1.0
+    spherical = np.eye(6)[:, 3:]
+    spherical[:3] = np.cross([0.1, -0.2, 0.3], spherical[3:].T).T  # 3R about a point off the origin
+    spans += [helix, spherical, np.eye(6)[:, :3] @ rng.normal(size=(3, 2))]
+    length = 0.3
+    st = np.array([1 / length] * 3 + [1.0] * 3)[:, None]
+    free, dof, want = np.full((len(spans), 6, 6), np.nan), np.zeros(len(spans), np.int64), []
+    for i, t in enumerate(spans):
+        want.append(motion_type(classify_twists(t, length)))
+        if t.shape[1]:
+            u, s, _ = np.linalg.svd(st * t)
+            dof[i] = int(np.sum(s > 1e-6 * s[0])) if s[0] > 0 else 0
+            free[i, :, : dof[i]] = u[:, : dof[i]]
+    mech = pinmob.load("3-RPS")
+    spec = grid_spec(mech, "home", [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)])
+    qs = [pinmob.closed_configuration(mech, "home")]
+    for k in range(spec.size):
+        qs.append(assemble_target(mech, spec.target(k), qs[-1], tol=spec.closure_tol))
+    res = analyze_batch(mech, np.array(qs), twists=True)
+    rps_st = np.array([1 / mech.length_scale] * 3 + [1.0] * 3)[:, None]
+    rps = [motion_type(classify_twists(res.free_twists[i][:, : res.dof[i]] / rps_st, mech.length_scale))
+           for i in range(len(qs))]  # fmt: skip
+    for engine in ("numba", "numpy"):
+        assert motion_types(free, dof, length, 1e-6, engine) == want, engine
+        assert motion_types(res.free_twists, res.dof, mech.length_scale, 1e-6, engine) == rps, engine
+    assert {"rigid", "3T", "2T", "3R", "2T1R", "1T2R", "3T1R", "3T3R", "1T1H", "1H", "2H", "3H"} <= set(want)
+
+
 def test_the_secant_start_moves_on_along_the_line_the_short_way_round():
     """The predictor's start on a line (``lockstep.secant_starts``): the closed sample moved on by the last
     step, a revolute angle's part of it the short way round across the wrap at +-pi; the start is nearer the

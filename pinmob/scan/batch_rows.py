@@ -31,21 +31,38 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.batch.batch_analysis import analyze_jacobians
+from pinmob.analysis.batch.batch_analysis import analyze_jacobians, motion_types
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limbwise_obstacle
 from pinmob.analysis.singularity.result import NEAR_FACTOR, generic_locked_dof, ratio
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.unreachable import SV_COLUMNS
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.motion_label import motion_type_of_span
+from pinmob.screw.algebra import Array
 
 #: A sample is decided by the batch when each of its distances is at least this many near-singular bands.
 DECIDED_FACTOR = 2.0
 
 #: The scan engines: ``batch`` (this module, the default) and ``single`` (every sample on its own).
 ENGINES = ("batch", "single")
+
+#: The columns of a decided sample's row, in the single-sample row's order (:func:`pinmob.scan.sample.evaluate`).
+ROW_KEYS = (
+    *POSE_COORDS,
+    "reachable",
+    "dof",
+    "motion_type",
+    "constraint_rank",
+    "locked_dof",
+    "singularity",
+    "near_singular",
+    "closest",
+    "singular_limbs",
+    "dependent_limbs",
+    "uncontrolled",
+    "distance",
+    *SV_COLUMNS,
+)
 
 #: A sample's row and the distance of each question (:func:`pinmob.scan.sample.evaluate`'s numbers).
 Analysed = tuple[dict[str, Any], dict[str, float]]
@@ -60,19 +77,6 @@ def batchable(mech: Mechanism) -> bool:
         and not limbwise_obstacle(mech)
         and not any(limb.closures for limb in mech.limbs)
     )
-
-
-def _motion_type(span: Array, st: Array, length: float, rtol: float) -> str:
-    """The motion type of an orthonormal span (6, k) of dimensionless twists: :func:`classify_twists`'s label.
-
-    One closed form: ``kT`` when the rotation rows are below ``rtol``
-    (:func:`pinmob.screw.classify.principal_screws_of_span`'s test: no direction, all free; it answers k = 0 and
-    k = 6 itself); else the counts alone (:func:`pinmob.screw.motion_label.motion_type_of_span`).
-    """
-    w = span[3:]
-    if span.shape[1] and float(np.sqrt((w * w).sum())) <= rtol:
-        return f"{span.shape[1]}T"
-    return motion_type_of_span(span / st, length, rtol)
 
 
 def platform_kinematics(mech: Mechanism, qs: Array) -> tuple[Array, Array]:
@@ -114,27 +118,13 @@ def analyse(mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int) ->
         & (distance >= DECIDED_FACTOR * NEAR_FACTOR * rtol)
     )
     closest = np.argmax(distances <= (distance * (1 + 1e-6) + 1e-15)[:, None], axis=1)  # closest_all[0]
-    length = mech.length_scale
-    st = twist_scaling(length)[:, None]
+    which = np.flatnonzero(decided)
+    labels = motion_types(res.free_twists[which], res.dof[which], mech.length_scale, rtol, res.engine)
     pose_list, sv_list, asv_list, d_list = poses.tolist(), sv.tolist(), asv.tolist(), distances.tolist()
+    dof_list, distance_list, closest_list = res.dof.tolist(), distance.tolist(), closest.tolist()
     out: list[Analysed | None] = [None] * len(qs)
-    for i in np.flatnonzero(decided).tolist():
-        dof = int(res.dof[i])
-        row: dict[str, Any] = dict(zip(POSE_COORDS, pose_list[i]))
-        row.update(
-            reachable=True,
-            dof=dof,
-            motion_type=_motion_type(res.free_twists[i][:, :dof], st, length, rtol),
-            constraint_rank=g,
-            locked_dof=0,
-            singularity="none",
-            near_singular=False,
-            closest=names[closest[i]],
-            singular_limbs="",
-            dependent_limbs="",
-            uncontrolled="",
-            distance=float(distance[i]),
-        )
-        row.update(zip(SV_COLUMNS, sv_list[i] + asv_list[i]))
-        out[i] = (row, dict(zip(names, d_list[i])))
+    for i, motion in zip(which.tolist(), labels):
+        values = [*pose_list[i], True, dof_list[i], motion, g, 0, "none", False, names[closest_list[i]], "", "", ""]
+        values += [distance_list[i], *sv_list[i], *asv_list[i]]
+        out[i] = (dict(zip(ROW_KEYS, values)), dict(zip(names, d_list[i])))
     return out

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.screw.algebra import Array
+from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.classify import _orthonormal_span, screw_groups
 from pinmob.screw.rank import RTOL
 
@@ -28,13 +28,27 @@ def motion_type_of_span(twists: Array, length: float, rtol: float = RTOL) -> str
     t = np.asarray(twists, float).reshape(6, -1)
     v, w = t[:3] / length, t[3:]
     if v.shape[1] == 0:
-        return _label(0, 0, 0)
+        return label(0, 0, 0)
     span = _orthonormal_span(np.vstack([v, w]), rtol)
     if span.shape[1] == 0:
-        return _label(0, 0, 0)
+        return label(0, 0, 0)
     if span.shape[1] == 6:
-        return _label(3, 3, 0)
-    return _label(*_counts(span, rtol))
+        return label(3, 3, 0)
+    return label(*_counts(span, rtol))
+
+
+def motion_type_of_orthonormal(span: Array, length: float, rtol: float = RTOL) -> str:
+    """The label of an orthonormal span (6, k) of dimensionless twists ``[v / L; w]`` (a batch's free twists).
+
+    One closed form: ``kT`` when the rotation rows are below ``rtol``
+    (:func:`pinmob.screw.classify.principal_screws_of_span`'s test: no direction, all free; it answers k = 0 and
+    k = 6 itself); else :func:`motion_type_of_span` of the span in SI units.
+    :func:`pinmob.analysis.batch.motion_kernel.counts` is this function compiled.
+    """
+    w = span[3:]
+    if span.shape[1] and float(np.sqrt((w * w).sum())) <= rtol:
+        return f"{span.shape[1]}T"
+    return motion_type_of_span(span / twist_scaling(length)[:, None], length, rtol)
 
 
 def _counts(span: Array, rtol: float) -> tuple[int, int, int]:
@@ -46,7 +60,7 @@ def _counts(span: Array, rtol: float) -> tuple[int, int, int]:
     return trans.shape[1], rotations, screws
 
 
-def _label(translations: int, rotations: int, screws: int) -> str:
+def label(translations: int, rotations: int, screws: int) -> str:
     """:func:`pinmob.screw.classify.motion_type`'s label of the counts."""
     counts = [(translations, "T"), (rotations, "R"), (screws, "H")]
     return "".join(f"{n}{c}" for n, c in counts if n) or "rigid"

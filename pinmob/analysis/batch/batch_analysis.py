@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pinmob.analysis.batch.batch_numpy import numpy_engine
 from pinmob.analysis.batch.batch_result import BatchResult
@@ -39,6 +40,7 @@ from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array
+from pinmob.screw.motion_label import label, motion_type_of_orthonormal
 from pinmob.screw.rank import RTOL
 
 #: The engines of :func:`analyze_batch`.
@@ -162,6 +164,31 @@ def analyze_jacobians(
     if engine == "numba":
         return _numba(mech, full, origin, rtol, singular_values, twists)
     return numpy_engine(mech, full, origin, rtol, singular_values, twists)
+
+
+def motion_types(
+    free_twists: Array, dof: ArrayLike, length: float, rtol: float, engine: str | None = None
+) -> list[str]:
+    """The motion type of each of N spans ``free_twists[i][:, :dof[i]]`` (:attr:`BatchResult.free_twists`).
+
+    :func:`pinmob.screw.motion_label.motion_type_of_orthonormal` of each (``classify_twists``' label), or, with
+    the numba engine, the same decisions compiled (:func:`pinmob.analysis.batch.motion_kernel.counts`) for the
+    spans that its closed form (rotation rows below ``rtol``: ``kT``), taken here for all N at once, leaves.
+    """
+    dofs = np.asarray(dof, np.int64)
+    if check_engine(engine) != "numba":
+        return [motion_type_of_orthonormal(t[:, :k], length, rtol) for t, k in zip(free_twists, dofs.tolist())]
+    spans = np.ascontiguousarray(free_twists, float)
+    w = np.where(np.arange(6) < dofs[:, None, None], spans[:, 3:], 0.0)
+    translations = (dofs > 0) & (np.sqrt((w * w).sum(axis=(1, 2))) <= rtol)
+    labels = [f"{k}T" if pure else "" for k, pure in zip(dofs.tolist(), translations.tolist())]
+    rest = np.flatnonzero(~translations)
+    if rest.size:
+        from pinmob.analysis.batch.motion_kernel import counts
+
+        for i, c in zip(rest.tolist(), counts(spans[rest], dofs[rest], float(length), float(rtol)).tolist()):
+            labels[i] = label(*c)
+    return labels
 
 
 def _numba(

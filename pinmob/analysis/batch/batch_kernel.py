@@ -2,11 +2,21 @@
 
 Per configuration, the same matrices and the same rank rule as
 :func:`pinmob.analyze` (:func:`pinmob.screw.rank.rank_rule`: singular values above
-``rtol`` times the largest count), with the singular values and right singular
-vectors of each small matrix from a one-sided Jacobi SVD (:func:`span`)
-instead of LAPACK's: the same numbers to round-off (the tests compare them with
-the numpy path, which calls LAPACK). Importing this module imports numba; the
-compiled code is cached by :mod:`pinmob.jit_cache` (outside the installed package).
+``rtol`` times the largest count), with the singular values from one-sided Jacobi
+rotations instead of LAPACK's SVD (:mod:`pinmob.analysis.batch.jacobi`): the
+same numbers to round-off (the tests compare them with the numpy path, which calls
+LAPACK). A limb's screws and the stacked wrenches (at most six) are orthogonalised
+as columns (:func:`~pinmob.analysis.batch.jacobi.orthogonalize`, 6 long), the
+wrenches reciprocal to them (the complement of their span) by Householder reflections
+(:func:`~pinmob.analysis.batch.jacobi.complete`); more than six stacked wrenches are
+first reduced to six (the R of their QR factorisation:
+:func:`stack_columns`). Per limb, of the eleven
+SVDs a 3-PUU sample took before, only the one of the unit columns is left where it
+proves the limb's rank (:data:`CERTAIN`): then the screws and the unactuated screws
+have full column rank and their complements need no SVD; an actuated limb that is
+not proven continues its unactuated screws' rotations with the actuated ones added.
+Importing this module imports numba; the compiled code is cached by
+:mod:`pinmob.jit_cache` (outside the installed package).
 """
 
 from __future__ import annotations
@@ -14,114 +24,17 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
+from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize
 from pinmob.jit_cache import njit
 from pinmob.screw.algebra import Array
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]
 
-#: Columns count as orthogonal when ``|g_j . g_l| <= ORTHOGONAL * rows * |g_j| |g_l|`` (round-off of the dot product).
-ORTHOGONAL = 2.0**-52
-
-
-@njit
-def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
-    """Rank of ``g[:rows]`` (rows, p) by a one-sided Jacobi SVD, in place: singular values ``sv`` (p,), vectors ``v``.
-
-    Plane rotations of pairs of columns (Hestenes) until every pair is
-    orthogonal to round-off: ``g V = U diag(sv)``; ``sv`` sorted descending, the
-    columns of ``v`` (the right singular vectors) sorted alike: the first ``rank``
-    span the row space, the others its complement. Columns shorter than
-    round-off of the whole matrix are zero and left alone. ``g`` is overwritten.
-    The rank is :func:`pinmob.screw.rank.rank_rule`'s: the singular values above
-    ``rtol`` times the largest (0 when they are all zero).
-    """
-    p = g.shape[1]
-    for i in range(p):
-        for j in range(p):
-            v[i, j] = 1.0 if i == j else 0.0
-    total = 0.0
-    for i in range(rows):
-        for j in range(p):
-            total += g[i, j] * g[i, j]
-    negligible = (ORTHOGONAL * ORTHOGONAL) * total  # a column this short is zero to round-off: not rotated
-    for _ in range(60):
-        rotated = False
-        for j in range(p - 1):
-            for k in range(j + 1, p):
-                alpha = beta = gamma = 0.0
-                for i in range(rows):
-                    alpha += g[i, j] * g[i, j]
-                    beta += g[i, k] * g[i, k]
-                    gamma += g[i, j] * g[i, k]
-                if gamma == 0.0 or min(alpha, beta) <= negligible:
-                    continue
-                if abs(gamma) <= ORTHOGONAL * max(rows, 1) * np.sqrt(alpha * beta):
-                    continue
-                zeta = (beta - alpha) / (2.0 * gamma)
-                if abs(zeta) > 1e150:
-                    t = 0.5 / zeta
-                else:
-                    t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
-                c = 1.0 / np.sqrt(1.0 + t * t)
-                s = c * t
-                if s == 0.0:
-                    continue
-                rotated = True
-                for i in range(rows):
-                    a, b = g[i, j], g[i, k]
-                    g[i, j], g[i, k] = c * a - s * b, s * a + c * b
-                for i in range(p):
-                    a, b = v[i, j], v[i, k]
-                    v[i, j], v[i, k] = c * a - s * b, s * a + c * b
-        if not rotated:
-            break
-    for j in range(p):
-        norm = 0.0
-        for i in range(rows):
-            norm += g[i, j] * g[i, j]
-        sv[j] = np.sqrt(norm)
-    for j in range(1, p):  # insertion sort, descending, columns of v alike
-        k = j
-        while k > 0 and sv[k - 1] < sv[k]:
-            sv[k - 1], sv[k] = sv[k], sv[k - 1]
-            for i in range(p):
-                v[i, k - 1], v[i, k] = v[i, k], v[i, k - 1]
-            k -= 1
-    if rows == 0 or sv[0] <= 0.0:
-        return 0
-    rank = 0
-    for x in sv:
-        if x > rtol * sv[0]:
-            rank += 1
-    return rank
-
-
-@njit
-def complement(
-    a: Array, cols: Ints, unit: bool, rtol: float, g: Array, sv: Array, v: Array, out: Array, first: int
-) -> tuple[int, int]:
-    """The complement of the span of ``a[:, cols]`` (6, n) (its columns unit length when ``unit``), as rows of ``out``.
-
-    The null space of ``M = a[:, cols]^T`` (:func:`span`), written to ``out[first:]``: the wrenches reciprocal
-    to those screws.
-
-    Returns:
-        M's rank and the number of rows written (6 - rank).
-    """
-    n = cols.size
-    for r in range(n):
-        norm = 0.0
-        for i in range(6):
-            norm += a[i, cols[r]] * a[i, cols[r]]
-        scale = 1.0 / np.sqrt(norm) if unit and norm > 0.0 else 1.0
-        for i in range(6):
-            g[r, i] = a[i, cols[r]] * scale
-    rank = span(g, n, rtol, sv, v)
-    for k in range(rank, 6):
-        for i in range(6):
-            out[first + k - rank, i] = v[i, k]
-    return rank, 6 - rank
+#: A limb's screws have full column rank without their own SVD when their unit columns' ``sigma_n / sigma_1``,
+#: times their shortest over their longest column (a lower bound of their own ratio), exceeds this many ``rtol``:
+#: far beyond the round-off of either SVD, so the rank rule would count every column.
+CERTAIN = 1.01
 
 
 @njit
@@ -145,7 +58,7 @@ def ranks(
     its transposed screws (the limb's wrenches; with unit rows for an unactuated
     limb's locked wrenches and the limb ratios, as the singularity report does)
     and, for an actuated limb, of its unactuated screws; the stacked wrenches
-    and locked wrenches are ranked (:func:`span`, :func:`complement`).
+    and locked wrenches are ranked (module docstring).
 
     Args:
         full: (N, 6, nv) world Jacobians.
@@ -166,7 +79,7 @@ def ranks(
         (N, k) limb twist ranks, (N,) constraint ranks, (N,) locked ranks, (N, 6) singular values of the
         stacked wrenches and of the stacked locked wrenches, (N, k) limb ratios ``sigma_g / sigma_1``, and (N, 6, 6)
         an orthonormal basis of the null space of the stacked wrenches (the platform's free dimensionless twists)
-        in the first ``6 - rank`` columns, NaN in the others (its right singular vectors beyond the rank).
+        in the first ``6 - rank`` columns (the complement of the wrenches' span), NaN in the others.
     """
     n, k, m = full.shape[0], offsets.size - 1, columns.size
     limb_rank = np.zeros((n, k), np.int64)
@@ -176,14 +89,18 @@ def ranks(
     ratio = np.zeros((n, k))
     free_twists = np.full((n, 6, 6), np.nan)
     a = np.zeros((6, m))
-    rows = max(6 * k, max(m, 6))
-    g = np.zeros((rows, 6))
-    sv = np.zeros(6)
-    v = np.zeros((6, 6))
+    width = 6
+    for i in range(k):
+        width = max(width, offsets[i + 1] - offsets[i])
+    g = np.zeros((6, width))  # a limb's screws or the stacked wrenches, as columns
+    sv = np.zeros(width)
+    order = np.zeros(width, np.int64)
     wrenches = np.zeros((6 * k, 6))
     locked = np.zeros((6 * k, 6))
-    scratch = np.zeros((6, 6))
-    every = np.arange(m)
+    identity = np.arange(width)
+    is_free = np.zeros(m, np.bool_)
+    for f in free:
+        is_free[f] = True
     for s in range(n):
         px, py, pz = origin[s, 0], origin[s, 1], origin[s, 2]
         for c in range(m):
@@ -195,24 +112,106 @@ def ranks(
             a[3, c], a[4, c], a[5, c] = wx, wy, wz
         used = locked_used = 0
         for i in range(k):
-            cols = every[offsets[i] : offsets[i + 1]]
-            r, added = complement(a, cols, False, rtol, g, sv, v, wrenches, used)
-            limb_rank[s, i] = r
-            used += added
-            if actuated[i]:
-                kept = free[free_offsets[i] : free_offsets[i + 1]]
-                _, added = complement(a, kept, False, rtol, g, sv, v, locked, locked_used)
+            lo, hi = offsets[i], offsets[i + 1]
+            size = hi - lo
+            certain = False
+            unactuated = 0
+            for task in range(3):  # one call site each below: numba compiles what a site calls once more per site
+                if task == 0:  # the screws with unit columns: the limb ratio, an unactuated limb's locked wrenches
+                    if actuated[i] and not ratios:
+                        continue
+                    shortest, longest = np.inf, 0.0
+                    for c in range(lo, hi):
+                        norm = 0.0
+                        for e in range(6):
+                            norm += a[e, c] * a[e, c]
+                        norm = np.sqrt(norm)
+                        shortest, longest = min(shortest, norm), max(longest, norm)
+                        scale = 1.0 / norm if norm > 0.0 else 1.0
+                        for e in range(6):
+                            g[e, c - lo] = a[e, c] * scale
+                    begin, end = 0, size
+                elif task == 1:  # an actuated limb's unactuated screws: its locked wrenches
+                    if not actuated[i]:
+                        continue
+                    for c in range(lo, hi):
+                        if is_free[c]:
+                            g[:, unactuated] = a[:, c]
+                            unactuated += 1
+                    begin, end = 0, unactuated
+                else:  # the screws: the actuated ones added to the unactuated ones orthogonalised
+                    end = unactuated
+                    for c in range(lo, hi):
+                        if not (actuated[i] and is_free[c]):
+                            g[:, end] = a[:, c]
+                            end += 1
+                    begin = unactuated
+                if certain and task > 0:  # full column rank, as are its columns: the complement by Householder QR
+                    r, ordered = end, identity
+                else:
+                    orthogonalize(g, begin, end)
+                    r, ordered = column_rank(g, end, rtol, sv, order), order
+                if task == 0:
+                    if ratios:  # sigma_g / sigma_1
+                        ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
+                    # sigma_n / sigma_1 of the screws is at least the unit columns' times shortest / longest
+                    certain = size <= 6 and sv[0] > 0.0 and sv[size - 1] / sv[0] * (shortest / longest) > CERTAIN * rtol
+                    if actuated[i]:
+                        continue
+                target = wrenches if task == 2 else locked
+                written = complete(g, ordered, r, target, used if task == 2 else locked_used, True)
+                if task == 2:
+                    limb_rank[s, i] = r
+                    used += written
+                else:
+                    locked_used += written
+        for which in range(2):  # the stacked wrenches (and their null space), then the stacked locked wrenches
+            count = stack_columns(wrenches if which == 0 else locked, used if which == 0 else locked_used, g)
+            orthogonalize(g, 0, count)
+            r = column_rank(g, count, rtol, sv, order)
+            if which == 0:
+                rank[s], sv_out[s] = r, sv[:6]
+                complete(g, order, r, free_twists[s], 0, False)
             else:
-                _, added = complement(a, cols, True, rtol, g, sv, v, locked, locked_used)
-            locked_used += added
-            if ratios:  # sigma_g / sigma_1 of the limb's screws with unit rows
-                complement(a, cols, True, rtol, g, sv, v, scratch, 0)
-                ratio[s, i] = 1.0 if generic[i] <= 0 else (sv[generic[i] - 1] / sv[0] if sv[0] > 0.0 else 0.0)
-        rank[s] = span(wrenches, used, rtol, sv, v)  # the stacked wrenches (rebuilt for each configuration)
-        sv_out[s] = sv
-        for c in range(rank[s], 6):
-            for i in range(6):
-                free_twists[s, i, c - rank[s]] = v[i, c]
-        locked_rank[s] = span(locked, locked_used, rtol, sv, v)
-        asv_out[s] = sv
+                locked_rank[s], asv_out[s] = r, sv[:6]
     return limb_rank, rank, locked_rank, sv_out, asv_out, ratio, free_twists
+
+
+@njit
+def stack_columns(rows: Array, used: int, g: Array) -> int:
+    """The stacked wrenches ``rows[:used]`` (used, 6) as columns of ``g``: the same singular values and null space.
+
+    Up to six: the rows themselves. More: the rows of R of their QR factorisation (Householder reflections
+    of ``rows``, which is overwritten), six of them: ``rows = Q R`` has R's singular values and null space.
+
+    Returns:
+        the number of columns written (``min(used, 6)``).
+    """
+    if used > 6:
+        for c in range(6):
+            norm = 0.0
+            for i in range(c, used):
+                norm += rows[i, c] * rows[i, c]
+            norm = np.sqrt(norm)
+            if norm == 0.0:
+                continue
+            alpha = -norm if rows[c, c] >= 0.0 else norm  # the new diagonal entry
+            rows[c, c] -= alpha  # the reflector h = x - alpha e_c, stored in place of x
+            hh = 0.0
+            for i in range(c, used):
+                hh += rows[i, c] * rows[i, c]
+            for d in range(c + 1, 6):
+                dot = 0.0
+                for i in range(c, used):
+                    dot += rows[i, c] * rows[i, d]
+                dot *= 2.0 / hh
+                for i in range(c, used):
+                    rows[i, d] -= dot * rows[i, c]
+            rows[c, c] = alpha
+            for i in range(c + 1, used):
+                rows[i, c] = 0.0
+        used = 6
+    for c in range(used):
+        for i in range(6):
+            g[i, c] = rows[c, i]
+    return used

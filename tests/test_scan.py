@@ -20,8 +20,8 @@ import pinmob.scan.chunk as scan_module
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.cli import main
 from pinmob.scan import plot, plot_map
-from pinmob.scan.lockstep import Predictor
 from pinmob.scan.output import RowWriter, read_columns
+from pinmob.scan.predictor import Predictor
 from pinmob.scan.run import columns, scan
 from pinmob.scan.spec import STRIDE, ScanSpec, grid_spec, path_spec
 
@@ -64,7 +64,7 @@ def test_three_puu_rank_drops_at_the_workspace_boundary_only():
 
 def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     """Count the assemblies a scan asks for (the real solvers still run): single-sample solves and the targets
-    given to the batched predictor (pinmob.scan.lockstep.Predictor.close, on stacks)."""
+    given to the batched predictor (pinmob.scan.predictor.Predictor.close, on stacks)."""
     calls = {"n": 0}
     real, predict = scan_module.assemble_target, Predictor.close
 

@@ -124,3 +124,44 @@ def test_the_secant_starts_and_their_check_over_a_stack_follow_moves_made_by_han
     expected = longer & has  # no secant (row 4): never off it
     assert off_secants(problem, seeds, starts, qs).tolist() == expected.tolist()
     assert [off_secant(problem, s, t, q) for s, t, q in zip(seeds, starts, qs)] == expected.tolist()
+
+
+@pytest.mark.parametrize(("name", "at", "axes"), [
+    ("3-PUU", "generic", [("x", -0.06, 0.06, 4), ("y", -0.06, 0.06, 4)]),
+    ("3-RPS", "home", [("roll", -0.2, 0.2, 4), ("pitch", -0.2, 0.2, 4)]),
+])  # fmt: skip
+def test_the_predictors_kinematics_are_pinocchios_at_the_closed_configurations(name, at, axes):
+    """The analysis of a predicted sample reads the kinematics the predictor computed at its last iterate
+    (Predictor.close) instead of computing them again: they are Pinocchio's at the returned, angle-wrapped
+    configuration (computed here), and the batch rows made from them are the rows made without them."""
+    import pinocchio as pin
+
+    from pinmob.scan.batch_rows import analyse
+    from pinmob.scan.predictor import Predictor
+
+    mech = pinmob.load(name)
+    spec = grid_spec(mech, at, axes)
+    predictor = Predictor(mech, spec)
+    ks = list(range(spec.size))
+    seeds = np.array([spec.q_ref] * len(ks))
+    closed = predictor.close(spec.pose_targets(ks), seeds, spec.target_kind)
+    assert closed.converged.all()
+    data = mech.model.createData()
+    for q, jac, platform in zip(closed.q, closed.jacobians, closed.platform):
+        assert np.allclose(pin.computeJointJacobians(mech.model, data, q), jac, atol=1e-12)
+        assert np.allclose(pin.updateFramePlacement(mech.model, data, mech.platform_id).homogeneous, platform,
+                           atol=1e-12)  # fmt: skip
+    qs = list(closed.q)
+    known = list(zip(closed.jacobians, closed.platform))
+    fresh, read = (
+        analyse(mech, qs, spec.rtol, spec.generic_rank),
+        analyse(mech, qs, spec.rtol, spec.generic_rank, known),
+    )
+    assert all(a is not None for a in fresh) and len(read) == len(fresh)
+    for a, b in zip(fresh, read):
+        assert a is not None and b is not None and list(a[0]) == list(b[0])
+        for key, value in a[0].items():
+            if isinstance(value, float):
+                assert value == pytest.approx(b[0][key], abs=1e-12, nan_ok=True), key
+            else:
+                assert value == b[0][key], key

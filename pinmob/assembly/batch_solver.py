@@ -69,11 +69,18 @@ MAX_ITER, STALL_WINDOW = 40, 5
 
 @dataclass(frozen=True)
 class BatchSolution:
-    """Outcome of :func:`solve_poses`: per sample, the best configuration, its ``max |e|`` and whether it converged."""
+    """Outcome of :func:`solve_poses`: per sample, the best configuration, its ``max |e|`` and whether it converged.
+
+    ``jacobians`` (N, 6, nv) and ``frames`` (N, F, 4, 4): the kinematics at each best configuration
+    (:meth:`PoseProblem.kinematics`, computed there to measure its errors; a scan's analysis reads them instead
+    of computing them again).
+    """
 
     q: Array
     residual: Array
     converged: Mask
+    jacobians: Array
+    frames: Array
 
 
 def compiled_kernel() -> ModuleType | None:
@@ -145,6 +152,10 @@ class PoseProblem:
             for i, frame in enumerate(self.frames):
                 frames[b, i] = placement(model, data, frame).homogeneous
         return full, frames
+
+    def empty_kinematics(self, n: int) -> tuple[Array, Array]:
+        """(n, 6, nv) Jacobians and (n, F, 4, 4) placements of :meth:`kinematics`, NaN until computed."""
+        return np.full((n, 6, self.model.nv), np.nan), np.full((n, len(self.frames), 4, 4), np.nan)
 
     def residual_of(self, full: Array, frames: Array, poses: Array) -> tuple[Array, Array]:
         """(B, 6F) dimensionless errors and (B, 6F, nv + free) Jacobians per dimensionless rate, in numpy.
@@ -230,19 +241,23 @@ def _solve_compiled(
     n = len(q)
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
+    best_full, best_frames = problem.empty_kinematics(n)
     numbers = np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
     active, mask = np.arange(n), problem.mask[:, 0]
     for it in range(max_iter + 1):
         full, placements = problem.kinematics(q[active])
+        before = best[active]
         going, dz = kernel.iterate(full, placements, q, p, active, it, best, best_q, best_p, history, mask,
                                    problem.col, problem.free_array, problem.length, numbers, stall_window,
                                    it == max_iter, problem.vector_space)  # fmt: skip
+        better = best[active] < before  # the kernel's rule (batch_stopping.advance): strictly smaller
+        best_full[active[better]], best_frames[active[better]] = full[better], placements[better]
         if not going.size:
             break
         if not problem.vector_space:
             q[going], p[going] = problem.integrate(q[going], p[going], dz)
         active = going
-    return BatchSolution(best_q, best, best <= tol)
+    return BatchSolution(best_q, best, best <= tol, best_full, best_frames)
 
 
 def _solve(
@@ -253,6 +268,7 @@ def _solve(
     n, frames = len(q), len(problem.frames)
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
+    best_full, best_frames = problem.empty_kinematics(n)
     active = np.arange(n)
     for it in range(max_iter + 1):
         now_q, here = q[active], p[active]
@@ -262,6 +278,7 @@ def _solve(
         better, keep = plain_advance(now, active, it, best, history, tol, floor, stall_window, STALL_GAIN, POLISH_GAIN,
                                DIVERGED)  # fmt: skip
         best_q[active[better]], best_p[active[better]] = now_q[better], here[better]
+        best_full[active[better]], best_frames[active[better]] = full[better], placements[better]
         if not keep.any() or it == max_iter:
             break
         e, jac = e[keep], jac[keep]
@@ -272,4 +289,4 @@ def _solve(
         dz *= np.minimum(1.0, MAX_STEP / np.max(np.abs(dz), axis=1))[:, None]
         active = active[keep]
         q[active], p[active] = problem.integrate(now_q[keep], here[keep], dz)
-    return BatchSolution(best_q, best, best <= tol)
+    return BatchSolution(best_q, best, best <= tol, best_full, best_frames)

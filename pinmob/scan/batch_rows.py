@@ -79,22 +79,39 @@ def batchable(mech: Mechanism) -> bool:
     )
 
 
-def platform_kinematics(mech: Mechanism, qs: Array) -> tuple[Array, Array]:
-    """(N, 6, nv) world Jacobians and (N, 6) platform poses ``[x, y, z, roll, pitch, yaw]`` of N configurations."""
+#: Per configuration, its world joint Jacobians (6, nv) and platform placement (4, 4), when already computed.
+Kinematics = list[tuple[Array, Array] | None]
+
+
+def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = None) -> tuple[Array, Array]:
+    """(N, 6, nv) world Jacobians and (N, 6) platform poses ``[x, y, z, roll, pitch, yaw]`` of N configurations.
+
+    ``known``: those already computed (the predictor's, :mod:`pinmob.scan.lockstep`), read instead.
+    """
     model, pid = mech.model, mech.platform_id
     data = model.createData()
     full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
     for i, q in enumerate(qs):
-        full[i] = pin.computeJointJacobians(model, data, q)
-        poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
+        given = known[i] if known is not None else None
+        if given is None:
+            full[i] = pin.computeJointJacobians(model, data, q)
+            poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
+        else:
+            full[i] = given[0]
+            poses[i, :3], poses[i, 3:] = given[1][:3, 3], pin.rpy.matrixToRpy(given[1][:3, :3])
     return full, poses
 
 
-def analyse(mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int) -> list[Analysed | None]:
-    """Per closed configuration, its row and distances when the batch decides it, else None (module docstring)."""
+def analyse(
+    mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int, known: Kinematics | None = None
+) -> list[Analysed | None]:
+    """Per closed configuration, its row and distances when the batch decides it, else None (module docstring).
+
+    ``known``: per configuration, its kinematics when already computed (:func:`platform_kinematics`).
+    """
     if not qs or not batchable(mech):
         return [None] * len(qs)
-    full, poses = platform_kinematics(mech, np.asarray(qs, float))
+    full, poses = platform_kinematics(mech, np.asarray(qs, float), known)
     res = analyze_jacobians(mech, full, poses[:, :3], rtol=rtol, singular_values=True, twists=True)
     assert res.free_twists is not None  # asked for
     g, generic = int(generic_rank), np.array(generic_twist_ranks(mech))

@@ -53,13 +53,15 @@ REFINE_ITER = 100
 class _Sample:
     """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances.
 
-    Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave.
+    Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave,
+    ``kinematics`` the world joint Jacobians and platform placement at q when the predictor computed them.
     """
 
     row: dict[str, Any]
     q: Array | None
     distances: dict[str, float]
     known: dict[str, float] | None = None
+    kinematics: tuple[Array, Array] | None = None
 
     @property
     def distance(self) -> float:
@@ -157,8 +159,9 @@ class _Chunk:
         """The batch's rows of the assembled ``samples`` (None where it cannot decide; all None with ``single``)."""
         if self.spec.engine != "batch" or not self.spec.platform or self.spec.cad:  # cad: a tolerance per sample
             return [None] * len(samples)
-        closed = [s.q for s in samples if s.q is not None]
-        batch = iter(analyse(self.mech, closed, self.spec.rtol, self.spec.generic_rank))
+        closed = [s for s in samples if s.q is not None]
+        batch = iter(analyse(self.mech, [s.q for s in closed if s.q is not None], self.spec.rtol,
+                             self.spec.generic_rank, [s.kinematics for s in closed]))  # fmt: skip
         return [next(batch) if s.q is not None else None for s in samples]
 
     def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:

@@ -5,9 +5,9 @@ job. Step j assembles the j-th sample of every chunk of the group, each
 warm-started from the previous sample of its own chunk (the continuation of the
 single-sample path, so the same assembly branch), by the batched predictor
 (:func:`pinmob.assembly.batch_solver.solve_poses`: damped Newton steps over all
-those samples at once, each stopped within ``PREDICT_TOL``, not polished on: a
+those samples at once, each stopped within :data:`~pinmob.scan.predictor.PREDICT_TOL`, not polished on: a
 configuration that close to closure gives the same row to far below the 1e-7 the
-engines agree to). A sample it did not bring within ``PREDICT_TOL`` (out of
+engines agree to). A sample it did not bring within that tolerance (out of
 reach, a stall, a step that diverged) goes to the single-sample solver
 (:func:`pinmob.scan.chunk.assemble_target`) from its warm start, exactly as on
 the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
@@ -34,11 +34,11 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.batch_solver import PoseProblem, solve_poses
-from pinmob.assembly.reach import POSE_COORDS, pose_vector
+from pinmob.assembly.batch_solver import PoseProblem
 from pinmob.blas import one_blas_thread
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.predictor import Predictor
 from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.spec import ScanSpec
 from pinmob.screw.algebra import Array, Mask
@@ -48,82 +48,8 @@ from pinmob.screw.algebra import Array, Mask
 #: 42 with 16 (about a tenth of the 3-PUU's time).
 GROUP = 32
 
-#: A sample the predictor brought within this ``max |e|`` is closed (the predictor stops there: no polish).
-PREDICT_TOL = 1e-12
-
 #: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
 Job = tuple[int, int, Array]
-
-
-class Predictor:
-    """Starts for the single-sample solver from the batched predictor, for one scan (None: it does not apply)."""
-
-    def __init__(self, mech: Mechanism, spec: ScanSpec) -> None:
-        self.mech, self.spec = mech, spec
-        self.free = tuple(POSE_COORDS.index(c) for c in spec.following)
-        self.problem = PoseProblem(mech, self.free)
-
-    @staticmethod
-    def applies(mech: Mechanism, spec: ScanSpec) -> bool:
-        """A platform-pose scan of a mechanism whose closures are its limb tips (module docstring)."""
-        if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs:
-            return False
-        if mech.closures or any(limb.closures for limb in mech.limbs):  # loops besides the limb tips
-            return False
-        kind, value = spec.target(0)
-        return kind == "pose" or (kind == "coords" and not value[1])
-
-    def closed(
-        self, targets: list[tuple[str, Any]], seeds: list[Array], starts: list[Array] | None = None
-    ) -> list[Array | None]:
-        """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
-
-        Closed: :meth:`~pinmob.assembly.batch_solver.PoseProblem.finish` of a sample it converged; None where it did
-        not. ``starts``: where the Newton steps start (default: the seeds; the free coordinates start at the seed's).
-        """
-        if not targets:
-            return []
-        poses = np.full((len(targets), 6), np.nan)
-        for i, (kind, value) in enumerate(targets):
-            if kind == "pose":
-                poses[i] = pose_vector(value)
-            else:
-                poses[i, [POSE_COORDS.index(c) for c in value[0]]] = list(value[0].values())
-        seed_stack = np.array(seeds, float)
-        kinds = [kind for kind, _ in targets]
-        q, ok = self.close(poses, seed_stack, kinds, seed_stack if starts is None else np.array(starts, float))
-        return [q[i] if ok[i] else None for i in range(len(targets))]
-
-    def close(
-        self, poses: Array, seeds: Array, kinds: str | list[str], starts: Array | None = None
-    ) -> tuple[Array, Mask]:
-        """:meth:`closed` on stacks: (B, 6) target pose coordinates (NaN: following), (B, nq) seeds.
-
-        Returns the (B, nq) closed configurations (finished, :meth:`closed`; the rows not converged as the solver
-        left them) and the (B,) mask of those converged. ``kinds``: the targets' kind (``pose`` or ``coords``), one
-        for all or one each. The following coordinates start where each seed has them.
-        """
-        poses = self.seed_poses(poses, seeds)
-        sol = solve_poses(self.problem, seeds if starts is None else starts, poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
-        q = sol.q
-        for kind in {kinds} if isinstance(kinds, str) else set(kinds):
-            which = sol.converged if isinstance(kinds, str) else sol.converged & (np.array(kinds) == kind)
-            if which.any():
-                q[which] = self.problem.finish(self.mech, q[which], kind)
-        return q, sol.converged
-
-    def seed_poses(self, poses: Array, seeds: Array) -> Array:
-        """``poses`` with each following coordinate (NaN) at its value at the sample's seed (its platform pose)."""
-        missing = np.isnan(poses)
-        rows = np.flatnonzero(missing.any(axis=1))
-        if not rows.size:
-            return poses
-        at, model, data, pid = np.empty((len(poses), 6)), self.problem.model, self.problem.data, self.mech.platform_id
-        for i in rows:  # pose_vector of platform_pose's placement, without the other frames
-            pin.forwardKinematics(model, data, seeds[i])
-            placement = pin.updateFramePlacement(model, data, pid)
-            at[i, :3], at[i, 3:] = placement.translation, pin.rpy.matrixToRpy(placement.rotation)
-        return np.where(missing, at, poses)
 
 
 @one_blas_thread
@@ -188,7 +114,7 @@ class _Lockstep:
         """
         predictor, problem, kind = self.predictor, self.predictor.problem, self.kind
         tried = [i for i, (c, _, _) in enumerate(work) if c not in self.lost]
-        found: list[Array | None] = [None] * len(work)
+        found: list[tuple[Array, Array, Array] | None] = [None] * len(work)
         if tried:
             seeds = np.array([work[i][2] for i in tried], float)
             poses = self.poses[[self.row[work[i][1]] for i in tried]]  # NaN where following: close seeds them
@@ -197,21 +123,24 @@ class _Lockstep:
             if has.any():
                 starts, step = _secant(problem, np.array([seeds[j] if b is None else b for j, b in enumerate(behind)]),
                                        has, seeds)  # fmt: skip
-                q, ok = predictor.close(poses, seeds, kind, starts)
-                again = np.flatnonzero(ok & off_secants(problem, seeds, starts, q, step))
+                closed = predictor.close(poses, seeds, kind, starts)
+                again = np.flatnonzero(closed.converged & off_secants(problem, seeds, starts, closed.q, step))
                 if again.size:  # a secant start that needed a correction longer than its step: from the seed instead
-                    q[again], ok[again] = predictor.close(poses[again], seeds[again], kind)
+                    redone = predictor.close(poses[again], seeds[again], kind)
+                    for part, new in zip(closed, redone):
+                        part[again] = new
             else:
-                q, ok = predictor.close(poses, seeds, kind)
-            for j in np.flatnonzero(ok):
-                found[tried[j]] = q[j]
-        for (c, k, seed), q_c in zip(work, found):
+                closed = predictor.close(poses, seeds, kind)
+            for j in np.flatnonzero(closed.converged):
+                found[tried[j]] = (closed.q[j], closed.jacobians[j], closed.platform[j])
+        for (c, k, seed), got in zip(work, found):
             chunk, pending = self.chunks[c], self.pending[c]
-            sample = (
-                chunk.assemble(k, q_c, closed=q_c, params=self.params[k])
-                if q_c is not None
-                else chunk.assemble(k, seed, params=self.params[k])
-            )
+            if got is not None:
+                sample = chunk.assemble(k, got[0], closed=got[0], params=self.params[k])
+                if predictor.mech is chunk.mech:  # not on a model with CAD gaps held (spec.cad)
+                    sample.kinematics = got[1:]
+            else:
+                sample = chunk.assemble(k, seed, params=self.params[k])
             pending[k] = sample
             if secant:
                 previous = pending.get(k - 1)
@@ -219,7 +148,7 @@ class _Lockstep:
                     seed if sample.q is not None and previous is not None and previous.q is not None else None
                 )
             self.last[c] = _seed(sample, seed)
-            if q_c is not None:
+            if got is not None:
                 self.predicted.add((c, k))
             if sample.q is None:
                 self.lost.add(c)

@@ -50,7 +50,8 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
-from pinmob.scan.lockstep import GROUP, Job, Predictor, off_secant, run_group, secant_starts
+from pinmob.scan.lockstep import GROUP, Job, off_secant, run_group, secant_starts
+from pinmob.scan.predictor import Predictor
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS
 from pinmob.screw.algebra import Array

@@ -1,0 +1,106 @@
+"""The batched predictor of a scan: a stack of platform-pose targets closed from their seeds in lockstep.
+
+:class:`Predictor` wraps :func:`pinmob.assembly.batch_solver.solve_poses` for one scan: the targets as pose
+coordinates (NaN where a coordinate follows: it starts where the seed has it), each sample stopped within
+``PREDICT_TOL``, the converged ones finished as the single-sample assembly returns them, with the kinematics the
+solver computed at them (:class:`Closed`). :mod:`pinmob.scan.lockstep` runs a group's chunks on it, and the
+seeding walk (:func:`pinmob.scan.run.chunk_seeds`) its even steps.
+"""
+
+from __future__ import annotations
+
+from typing import Any, NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.assembly.batch_solver import PoseProblem, solve_poses
+from pinmob.assembly.reach import POSE_COORDS, pose_vector
+from pinmob.model.mechanism import Mechanism
+from pinmob.scan.spec import ScanSpec
+from pinmob.screw.algebra import Array, Mask
+
+#: A sample the predictor brought within this ``max |e|`` is closed (the predictor stops there: no polish).
+PREDICT_TOL = 1e-12
+
+
+class Closed(NamedTuple):
+    """What :meth:`Predictor.close` found for a stack of B targets."""
+
+    #: (B, nq) closed configurations (finished; the rows not converged as the solver left them).
+    q: Array
+    #: (B,) the predictor converged.
+    converged: Mask
+    #: (B, 6, nv) world joint Jacobians and (B, 4, 4) platform placements at ``q``: the kinematics the
+    #: predictor computed there (the analysis of the sample reads them, :func:`pinmob.scan.batch_rows.analyse`).
+    jacobians: Array
+    platform: Array
+
+
+class Predictor:
+    """Starts for the single-sample solver from the batched predictor, for one scan (None: it does not apply)."""
+
+    def __init__(self, mech: Mechanism, spec: ScanSpec) -> None:
+        self.mech, self.spec = mech, spec
+        self.free = tuple(POSE_COORDS.index(c) for c in spec.following)
+        self.problem = PoseProblem(mech, self.free)
+
+    @staticmethod
+    def applies(mech: Mechanism, spec: ScanSpec) -> bool:
+        """A platform-pose scan of a mechanism whose closures are its limb tips (module docstring)."""
+        if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs:
+            return False
+        if mech.closures or any(limb.closures for limb in mech.limbs):  # loops besides the limb tips
+            return False
+        kind, value = spec.target(0)
+        return kind == "pose" or (kind == "coords" and not value[1])
+
+    def closed(
+        self, targets: list[tuple[str, Any]], seeds: list[Array], starts: list[Array] | None = None
+    ) -> list[Array | None]:
+        """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
+
+        Closed: :meth:`~pinmob.assembly.batch_solver.PoseProblem.finish` of a sample it converged; None where it did
+        not. ``starts``: where the Newton steps start (default: the seeds; the free coordinates start at the seed's).
+        """
+        if not targets:
+            return []
+        poses = np.full((len(targets), 6), np.nan)
+        for i, (kind, value) in enumerate(targets):
+            if kind == "pose":
+                poses[i] = pose_vector(value)
+            else:
+                poses[i, [POSE_COORDS.index(c) for c in value[0]]] = list(value[0].values())
+        seed_stack = np.array(seeds, float)
+        kinds = [kind for kind, _ in targets]
+        q, ok, _, _ = self.close(poses, seed_stack, kinds, seed_stack if starts is None else np.array(starts, float))
+        return [q[i] if ok[i] else None for i in range(len(targets))]
+
+    def close(self, poses: Array, seeds: Array, kinds: str | list[str], starts: Array | None = None) -> Closed:
+        """:meth:`closed` on stacks: (B, 6) target pose coordinates (NaN: following), (B, nq) seeds.
+
+        Returns the closed configurations (finished, :meth:`closed`), which converged, and the kinematics there
+        (:class:`Closed`). ``kinds``: the targets' kind (``pose`` or ``coords``), one for all or one each. The
+        following coordinates start where each seed has them.
+        """
+        poses = self.seed_poses(poses, seeds)
+        sol = solve_poses(self.problem, seeds if starts is None else starts, poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
+        q = sol.q
+        for kind in {kinds} if isinstance(kinds, str) else set(kinds):
+            which = sol.converged if isinstance(kinds, str) else sol.converged & (np.array(kinds) == kind)
+            if which.any():
+                q[which] = self.problem.finish(self.mech, q[which], kind)  # angles wrapped: the same kinematics
+        return Closed(q, sol.converged, sol.jacobians, sol.frames[:, 0])  # frames[0]: the platform's
+
+    def seed_poses(self, poses: Array, seeds: Array) -> Array:
+        """``poses`` with each following coordinate (NaN) at its value at the sample's seed (its platform pose)."""
+        missing = np.isnan(poses)
+        rows = np.flatnonzero(missing.any(axis=1))
+        if not rows.size:
+            return poses
+        at, model, data, pid = np.empty((len(poses), 6)), self.problem.model, self.problem.data, self.mech.platform_id
+        for i in rows:  # pose_vector of platform_pose's placement, without the other frames
+            pin.forwardKinematics(model, data, seeds[i])
+            placement = pin.updateFramePlacement(model, data, pid)
+            at[i, :3], at[i, 3:] = placement.translation, pin.rpy.matrixToRpy(placement.rotation)
+        return np.where(missing, at, poses)

@@ -40,10 +40,11 @@ REFINE_EVALS, REFINE_XTOL = 60, 1e-12
 #: Bisections on whether the mechanism assembles that locate an edge of the reachable set to 1/64 of a sample
 #: before the distance is minimised there.
 EDGE_STEPS = 6
+#: Refined points closer than this [samples] are one (two questions' searches stop ~1e-6 apart at one point).
+SAME_POINT = 1e-4
 
 #: The columns a scan with ``finite_order`` adds: the platform's and the closed chain's finite DoF.
 FINITE_COLUMNS = ("finite_dof", "finite_mechanism_dof")
-
 
 #: Iterations per assembly while refining (the solver converges slowly next to a singularity).
 REFINE_ITER = 100
@@ -286,10 +287,10 @@ def _seed(sample: _Sample, fallback: Array) -> Array:
 
 
 def _distinct(points: list[_Sample]) -> list[_Sample]:
-    """Refined points, one per location (within 1e-6 sample): the one with the smallest distance."""
+    """Refined points, one per location (within ``SAME_POINT`` sample): the one with the smallest distance."""
     out: list[_Sample] = []
     for p in sorted(points, key=lambda s: s.distance):
-        if all(abs(p.row["_t"] - o.row["_t"]) > 1e-6 for o in out):
+        if all(abs(p.row["_t"] - o.row["_t"]) > SAME_POINT for o in out):
             out.append(p)
     return out
 

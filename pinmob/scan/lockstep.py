@@ -211,17 +211,20 @@ def _lengths(problem: PoseProblem, moves: Array) -> Array:
     return np.sqrt(np.einsum("ij,ij->i", x, x))
 
 
-def off_secant(problem: PoseProblem, seed: Array, start: Array, q: Array) -> bool:
-    """True when the Newton steps from a secant ``start`` went further than the secant's own step (joint metric).
+def off_secant(problem: PoseProblem, seed: Array, start: Array, q: Array, ratio: float = 1.0) -> bool:
+    """True when the Newton steps from a secant ``start`` went further than ``ratio`` x the secant's step (joint metric).
 
     Along a smooth line the correction is of second order in the step; a longer one means the steps left the
     continuation (on a coarse grid, the 3-UPU-wrist's U joints closed turned by pi), so the sample is closed again
     from ``seed``, as the single-sample engine's continuation does.
     """
-    return bool(off_secants(problem, np.asarray(seed)[None], np.asarray(start)[None], np.asarray(q)[None])[0])
+    return bool(off_secants(problem, np.asarray(seed)[None], np.asarray(start)[None], np.asarray(q)[None], None,
+                            ratio)[0])  # fmt: skip
 
 
-def off_secants(problem: PoseProblem, seeds: Array, starts: Array, qs: Array, step: Array | None = None) -> Mask:
+def off_secants(
+    problem: PoseProblem, seeds: Array, starts: Array, qs: Array, step: Array | None = None, ratio: float = 1.0
+) -> Mask:
     """:func:`off_secant` of each row of (B, nq) stacks; ``step``: the secant steps' lengths, when known (:func:`_secant`)."""
     step = _lengths(problem, short_moves(problem, seeds, starts)) if step is None else step
-    return (step > 0.0) & (step < _lengths(problem, short_moves(problem, starts, qs)))  # 0: the start was the seed
+    return (step > 0.0) & (ratio * step < _lengths(problem, short_moves(problem, starts, qs)))  # 0: start at seed

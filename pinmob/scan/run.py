@@ -73,12 +73,12 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     target's coordinates: the approach from the reference, a grid's first column, a path's every ``STRIDE``-th
     sample), both closed, is closed by the batched predictor from their secant
     (:func:`~pinmob.scan.lockstep.secant_starts`), as the chunks' samples are, and kept only when its Newton
-    correction was not longer than the secant's step (:func:`~pinmob.scan.lockstep.off_secant`). Every other
-    waypoint (the first, a line's turn, one the predictor did not close or closed off the secant) is closed
-    by the single-sample solver from the waypoint before: the walk's steps can be long, and the predictor from
-    a plain warm start could close them on other joint values (U joints turned by pi: the 3-UPU-wrist over yaw
-    and pitch) and so seed the chunks on another assembly branch. The walk advances only as far as the chunks
-    asked for so far need (chunks are produced lazily).
+    correction was at most ``WALK_SECANT`` of the secant's step (:func:`~pinmob.scan.lockstep.off_secant`).
+    Every other waypoint (the first, a line's turn, one the predictor did not close or closed off the secant)
+    is closed by the single-sample solver from the waypoint before: the walk's steps can be long, and the
+    predictor from a plain warm start could close them on other joint values (U joints turned by pi: the
+    3-UPU-wrist over yaw and pitch) and so seed the chunks on another assembly branch. The walk advances only
+    as far as the chunks asked for so far need (chunks are produced lazily).
     """
     stops = dict(spec.chunks())
     order = list(stops)
@@ -106,6 +106,12 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
             start = order.pop(0)
             yield start, stops[start], found.pop(start)
 
+
+#: A walk's waypoint closed by the predictor is kept when its Newton correction is at most this fraction of the
+#: secant's step (joint metric): the walk's steps can be long (a path's 8 samples, a 3-coordinate grid's turn of
+#: lines), where a correction of the order of the step closed a 3-RPS's spherical joint on its other Euler triple.
+#: Along the benchmark grids' first columns the correction is at most 0.17 of the step.
+WALK_SECANT = 0.25
 
 #: Where the walk is: a waypoint's sample index (None: on the approach) and its target's coordinate values.
 Walked = tuple[int | None, Array | None]
@@ -141,7 +147,7 @@ def _secant_waypoint(
         return None
     start = secant_starts(predictor.problem, [q1], [q2])[0]
     (closed,) = predictor.closed([target], [q2], [start])
-    return None if closed is None or off_secant(predictor.problem, q2, start, closed) else closed
+    return None if closed is None or off_secant(predictor.problem, q2, start, closed, WALK_SECANT) else closed
 
 
 def chunk_groups(mech: Mechanism, spec: ScanSpec, first_alone: bool = True) -> Iterator[list[Job]]:

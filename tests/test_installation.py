@@ -80,6 +80,7 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "jacobi.column_rank",  # the kernels' Jacobi SVDs
         "jacobi.complete",
         "jacobi.orthogonalize",
+        "jacobi.rotation",
         "jacobi.round_robin",
     ]
 

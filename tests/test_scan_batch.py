@@ -234,13 +234,26 @@ def test_the_compiled_steps_are_numpys_steps():
         np.testing.assert_allclose(steps, dz[which], atol=1e-12)
 
 
+def _rps_free_twists():
+    """The 3-RPS, its closed samples over a 3 x 3 roll x pitch grid (and home), and their batch analysis."""
+    import numpy as np
+
+    from pinmob.analysis.batch.batch_analysis import analyze_batch
+
+    mech = pinmob.load("3-RPS")
+    spec = grid_spec(mech, "home", [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)])
+    qs = [pinmob.closed_configuration(mech, "home")]
+    for k in range(spec.size):
+        qs.append(assemble_target(mech, spec.target(k), qs[-1], tol=spec.closure_tol))
+    return mech, qs, analyze_batch(mech, np.array(qs), twists=True)
+
+
 def test_the_motion_type_from_the_counts_is_classify_twists_label():
     """motion_type_of_span (the batch's label, counts only) against motion_type(classify_twists(...)) (the single
     analysis's): random spans of every dimension, world-aligned ones moved off the origin and mixed, a helical
     screw beside a translation, and the 3-RPS's free twists at closed samples of a roll x pitch grid."""
     import numpy as np
 
-    from pinmob.analysis.batch.batch_analysis import analyze_batch
     from pinmob.screw.classify import classify_twists, motion_type
     from pinmob.screw.motion_label import motion_type_of_span
 
@@ -253,12 +266,7 @@ def test_the_motion_type_from_the_counts_is_classify_twists_label():
     helix = np.zeros((6, 2))
     helix[5, 0], helix[2, 0], helix[0, 1] = 1.0, 0.01, 1.0
     spans.append(helix)
-    mech = pinmob.load("3-RPS")
-    spec = grid_spec(mech, "home", [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)])
-    qs = [pinmob.closed_configuration(mech, "home")]
-    for k in range(spec.size):
-        qs.append(assemble_target(mech, spec.target(k), qs[-1], tol=spec.closure_tol))
-    res = analyze_batch(mech, np.array(qs), twists=True)
+    mech, qs, res = _rps_free_twists()
     st = np.array([1 / mech.length_scale] * 3 + [1.0] * 3)[:, None]
     spans += [res.free_twists[i][:, : res.dof[i]] / st for i in range(len(qs))]
     labels = set()
@@ -276,7 +284,7 @@ def test_the_batchs_motion_types_are_classify_twists_labels_compiled_and_not():
     a pitch), a helical screw beside a translation, pure translations, and the 3-RPS's free twists."""
     import numpy as np
 
-    from pinmob.analysis.batch.batch_analysis import analyze_batch, motion_types
+    from pinmob.analysis.batch.batch_analysis import motion_types
     from pinmob.screw.classify import classify_twists, motion_type
 
     rng = np.random.default_rng(6)
@@ -305,12 +313,7 @@ def test_the_batchs_motion_types_are_classify_twists_labels_compiled_and_not():
             u, s, _ = np.linalg.svd(st * t)
             dof[i] = int(np.sum(s > 1e-6 * s[0])) if s[0] > 0 else 0
             free[i, :, : dof[i]] = u[:, : dof[i]]
-    mech = pinmob.load("3-RPS")
-    spec = grid_spec(mech, "home", [("roll", -0.2, 0.2, 3), ("pitch", -0.2, 0.2, 3)])
-    qs = [pinmob.closed_configuration(mech, "home")]
-    for k in range(spec.size):
-        qs.append(assemble_target(mech, spec.target(k), qs[-1], tol=spec.closure_tol))
-    res = analyze_batch(mech, np.array(qs), twists=True)
+    mech, qs, res = _rps_free_twists()
     rps_st = np.array([1 / mech.length_scale] * 3 + [1.0] * 3)[:, None]
     rps = [motion_type(classify_twists(res.free_twists[i][:, : res.dof[i]] / rps_st, mech.length_scale))
            for i in range(len(qs))]  # fmt: skip

@@ -27,6 +27,23 @@ ORTHOGONAL = 2.0**-52
 
 
 @njit
+def rotation(alpha: float, beta: float, gamma: float) -> tuple[float, float]:
+    """Cosine and sine of the Jacobi rotation that makes two columns orthogonal (a 2 x 2 symmetric matrix diagonal).
+
+    ``alpha``, ``beta``: their squared norms (the diagonal), ``gamma`` their dot product (off it);
+    ``t = sign(zeta) / (|zeta| + sqrt(1 + zeta^2))``, ``zeta = (beta - alpha) / (2 gamma)`` (the smaller of the two
+    angles; ``t = 1 / (2 zeta)`` where ``zeta^2`` would overflow); ``c = 1 / sqrt(1 + t^2)``, ``s = c t``.
+    """
+    zeta = (beta - alpha) / (2.0 * gamma)
+    if abs(zeta) > 1e150:
+        t = 0.5 / zeta
+    else:
+        t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
+    c = 1.0 / np.sqrt(1.0 + t * t)
+    return c, c * t
+
+
+@njit
 def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
     """Rank of ``g[:rows]`` (rows, p) by a one-sided Jacobi SVD, in place: singular values ``sv`` (p,), vectors ``v``.
 
@@ -60,13 +77,7 @@ def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
                     continue
                 if abs(gamma) <= ORTHOGONAL * max(rows, 1) * np.sqrt(alpha * beta):
                     continue
-                zeta = (beta - alpha) / (2.0 * gamma)
-                if abs(zeta) > 1e150:
-                    t = 0.5 / zeta
-                else:
-                    t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
-                c = 1.0 / np.sqrt(1.0 + t * t)
-                s = c * t
+                c, s = rotation(alpha, beta, gamma)
                 if s == 0.0:
                     continue
                 rotated = True
@@ -133,13 +144,7 @@ def orthogonalize(g: Array, start: int, stop: int) -> None:
                 continue
             if gamma * gamma <= (ORTHOGONAL * 6) ** 2 * (alpha * beta):  # span's test, squared
                 continue
-            zeta = (beta - alpha) / (2.0 * gamma)
-            if abs(zeta) > 1e150:
-                t = 0.5 / zeta
-            else:
-                t = (1.0 if zeta >= 0.0 else -1.0) / (abs(zeta) + np.sqrt(1.0 + zeta * zeta))
-            c = 1.0 / np.sqrt(1.0 + t * t)
-            s = c * t
+            c, s = rotation(alpha, beta, gamma)
             if s == 0.0:
                 continue
             rotated = True

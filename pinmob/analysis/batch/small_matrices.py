@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from pinmob.analysis.batch.jacobi import rotation
 from pinmob.jit_cache import njit
 from pinmob.screw.algebra import Array
 
@@ -107,13 +108,7 @@ def symmetric_eig(c: Array) -> tuple[Array, Array]:
                 if abs(apq) <= EPS * 0.5 * min(abs(a[p, p]), abs(a[q, q])):  # below round-off of both diagonals
                     a[p, q] = a[q, p] = 0.0
                     continue
-                theta = (a[q, q] - a[p, p]) / (2.0 * apq)
-                if abs(theta) > 1e150:
-                    t = 0.5 / theta
-                else:
-                    t = (1.0 if theta >= 0.0 else -1.0) / (abs(theta) + np.sqrt(1.0 + theta * theta))
-                cs = 1.0 / np.sqrt(1.0 + t * t)
-                sn = t * cs
+                cs, sn = rotation(a[p, p], a[q, q], apq)
                 for k in range(n):  # a <- a J (columns p, q)
                     akp, akq = a[k, p], a[k, q]
                     a[k, p], a[k, q] = cs * akp - sn * akq, sn * akp + cs * akq

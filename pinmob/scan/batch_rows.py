@@ -97,8 +97,7 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
             full[i] = pin.computeJointJacobians(model, data, q)
             poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
         else:
-            full[i] = given[0]
-            poses[i, :3], poses[i, 3:] = given[1][:3, 3], pin.rpy.matrixToRpy(given[1][:3, :3])
+            full[i], poses[i] = given[0], pose_vector(pin.SE3(given[1]))
     return full, poses
 
 

@@ -99,8 +99,7 @@ class Predictor:
         if not rows.size:
             return poses
         at, model, data, pid = np.empty((len(poses), 6)), self.problem.model, self.problem.data, self.mech.platform_id
-        for i in rows:  # pose_vector of platform_pose's placement, without the other frames
+        for i in rows:  # platform_pose's placement, without the other frames
             pin.forwardKinematics(model, data, seeds[i])
-            placement = pin.updateFramePlacement(model, data, pid)
-            at[i, :3], at[i, 3:] = placement.translation, pin.rpy.matrixToRpy(placement.rotation)
+            at[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
         return np.where(missing, at, poses)

@@ -59,9 +59,17 @@ CASES: dict[str, tuple[int, int]] = {
     # fingers 1 and 2 (on tendons over pulleys; flex3 follows flex2): 2 (tip_pull1, on a site, is not held;
     # MuJoCo's length of a site transmission without a reference site is 0: no constraint either)
     "tendons/cable_hand.xml": (5, 2),
+    # see the file: the slider-crank loop (1), the ball-jointed wrist (3), the puck pinned at its centre (3): 7;
+    # held: the slider-crank actuator holds the loop (its slider's length), the motor on the ball holds the
+    # wrist's rotation vector along its gear (2 left), the push on the puck's site (no reference site) has no
+    # length to hold (MuJoCo's is 0): 0 + 2 + 3 = 5
+    "tendons/transmissions.xml": (7, 5),
+    # see the file: a two-link arm (the dial follows the elbow): 2; its tip site held along x relative to the
+    # base's reference site (MuJoCo's length of a site transmission with a refsite): 1
+    "tendons/refsite.xml": (2, 1),
 }
-#: Fixtures with actuators the finite analysis does not hold (on sites): by name.
-UNHELD = {"tendons/cable_hand.xml": ("tip_pull1",)}
+#: Fixtures with actuators the finite analysis does not hold (on sites without a reference site): by name.
+UNHELD = {"tendons/cable_hand.xml": ("tip_pull1",), "tendons/transmissions.xml": ("push",)}
 
 #: Perturbation radius [rad or m] and directions the displacements must reach to count (over the radius).
 RADIUS = 1e-3
@@ -211,9 +219,11 @@ def test_a_coupling_over_a_pulley_is_decided_by_closed_samples_alone(capsys):
     assert all("f3_distal" not in line for line in decided)
     assert "coupling 'actuator flexor1' on tendon 'flex1'" in decided[1]
     assert "actuators held (f3_mcp, flexor1, flexor2): mechanism 2 DoF finite" in out
-    assert "actuator(s) tip_pull1 (on a site" in out
+    assert "actuator(s) tip_pull1 not held (on a site without a reference site" in out
     fin = pinmob.analyze(_load(DATA / "tendons" / "cable_hand.xml"), finite=True).finite
-    assert fin.to_dict()["conditions_not_written"] == ["coupling 'f3_follows_f2' on tendons 'flex3', 'flex2'"]
+    assert fin.to_dict()["conditions_not_written"] == [
+        "coupling 'f3_follows_f2' on tendons 'flex3', 'flex2' (wrapping geoms or over a pulley)"
+    ]
     assert all(m.verdict is Verdict.FINITE for m in fin.free.internal)
 
 
@@ -318,7 +328,15 @@ def _verdicts(path: Path) -> tuple[int | None, int | None, tuple[tuple[str, int]
     return fin.finite_mechanism_dof, fin.finite_dof_locked, tuple(verdicts)
 
 
-@pytest.mark.parametrize("name", ["couplings/site_tendons.xml", "tendons/gripper.xml", "tendons/cable_hand.xml"])
+@pytest.mark.parametrize(
+    "name",
+    [
+        "couplings/site_tendons.xml",
+        "tendons/gripper.xml",
+        "tendons/cable_hand.xml",
+        "tendons/refsite.xml",
+    ],
+)
 def test_finite_answers_do_not_depend_on_the_unit_of_length_or_placement(tmp_path, name):
     """The fixture in millimetres, in kilometres (its polynomial between lengths rescaled with them: the same
     mechanism), and moved 10 m away and turned: the same finite DoF and per-motion verdicts (a site path's rows

@@ -137,6 +137,43 @@ def test_held_rows_are_mujocos_on_pinocchios_rates(name):
             assert_allclose(np.array(mine[: len(lengths)]) @ v, (rates[1] - rates[0]) / (2 * eps), rtol=1e-6, atol=1e-9)
 
 
+@pytest.mark.parametrize("name", ["transmissions.xml", "refsite.xml"])
+def test_held_actuator_lengths_are_mujocos_and_their_rows_its_derivatives(name):
+    """An actuator on a slider-crank, a ball joint or a site with a reference site holds MuJoCo's
+    ``actuator_length``; the row of the held closure is its derivative along Pinocchio's joint rates (central
+    differences of MuJoCo's own length between the configurations ``pin.integrate`` reaches along ``-v`` and
+    ``+v``), at random configurations (the ball turned away from its zero, where MuJoCo's moment arms, ``gear``,
+    are not the length's derivative). Sites without a reference site and free joints have no length to hold."""
+    path = DATA / name
+    mech = _load(path)
+    model, data = mech.model, mech.model.createData()
+    m = mujoco.MjModel.from_xml_path(str(path))
+    d = mujoco.MjData(m)
+
+    def mujoco_lengths(q: np.ndarray) -> np.ndarray:
+        d.qpos[:] = q_to_qpos(model, q)
+        mujoco.mj_forward(m, d)
+        return d.actuator_length.copy()
+
+    held = {a.name: a.driven_tendon(model) for a in mech.actuated_tendons}
+    expected = {"transmissions.xml": {"engine", "wrist_twist"}, "refsite.xml": {"reach"}}[name]
+    assert {k for k, t in held.items() if t is not None} == expected
+    rng = np.random.default_rng(3)
+    eps = 1e-6
+    for _ in range(3):
+        q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+        pin.forwardKinematics(model, data, q)
+        for a in mech.actuated_tendons:
+            tendon = held[a.name]
+            if tendon is None:
+                continue
+            length, row = tendon.length(model, data)
+            assert length == pytest.approx(mujoco_lengths(q)[a.index], abs=1e-12)
+            v = rng.normal(size=model.nv)
+            ends = [mujoco_lengths(pin.integrate(model, q, s * eps * v))[a.index] for s in (-1, 1)]
+            assert row @ v == pytest.approx((ends[1] - ends[0]) / (2 * eps), rel=1e-6, abs=1e-9)
+
+
 def test_what_is_left_out_is_said_in_one_warning(capsys):
     """A tendon limit (even a narrow one: MuJoCo's one-sided constraint) and an adhesion actuator are named in
     one warning line each file; the others load without a word."""

@@ -48,8 +48,9 @@ from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.mjcf_assets import drop_unread_files
 from pinmob.io.mjcf_includes import check_xml_files
 from pinmob.io.mjcf_names import add_frame, check_labels, closure_frames, label, labels
-from pinmob.io.mjcf_tendons import MujocoKinematics, is_length, left_out, read_actuators, tendon_closure
+from pinmob.io.mjcf_tendons import is_length, left_out, read_actuators, tendon_closure
 from pinmob.io.mjcf_tree import Tree, build_tree, qpos_to_q, se3
+from pinmob.io.mujoco_kinematics import MujocoKinematics
 from pinmob.io.schema import errors_at, file_error
 from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupling
 from pinmob.model.geometry import Geometry

@@ -14,88 +14,23 @@ at the configuration (its row of ``actuator_moment``). One on a body (adhesion) 
 is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
 only at the range's ends, not equalities: left out. :func:`left_out` says both in one line.
 
-MuJoCo's rows are on its ``qvel``; Pinocchio's on ``v``. They are the same for hinges, slides and ball
-joints (a ball's rate is the angular velocity in the body frame in both); a free joint's linear rate is in
-the world frame in MuJoCo and in the body frame in Pinocchio (``qvel_lin = R v_lin``), so its row is
-turned by ``R^T`` (:meth:`MujocoKinematics.to_v`).
+MuJoCo is asked at each configuration through :class:`~pinmob.io.mujoco_kinematics.MujocoKinematics`.
 """
 
 from __future__ import annotations
 
-import threading
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, ClassVar
 
 import numpy as np
 import pinocchio as pin
 
 from pinmob.io.mjcf_names import label
-from pinmob.io.mjcf_tree import BALL, FREE, SLIDE, Tree, q_to_qpos
+from pinmob.io.mjcf_tree import BALL, FREE, SLIDE, Tree
+from pinmob.io.mujoco_kinematics import MujocoKinematics
 from pinmob.model.closure import Closure, make_tendon_coupling
 from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration
 from pinmob.screw.algebra import Array
-
-
-class MujocoKinematics:
-    """The compiled MuJoCo model asked for tendon lengths, tendon Jacobians and actuator moments at a q.
-
-    Each thread has its own ``MjData`` (made once), recomputed when q changes: ``mj_kinematics``,
-    ``mj_comPos``, ``mj_tendon`` and ``mj_transmission``. Pickles (a Dask worker's copy) with the model.
-    """
-
-    def __init__(self, m: Any, model: pin.Model) -> None:
-        self.m = m
-        self.model = model
-        self._init()
-
-    def _init(self) -> None:
-        m, model = self.m, self.model
-        self._local = threading.local()
-        self._perm = np.zeros(m.nv, int)  # MuJoCo dof -> Pinocchio velocity index
-        self._free: list[tuple[int, int]] = []  # (velocity index, q index of the quaternion) per free joint
-        for j in range(m.njnt):
-            joint = model.joints[j + 1]  # one Pinocchio joint per MuJoCo joint, in MuJoCo's order
-            adr = int(m.jnt_dofadr[j])
-            self._perm[adr : adr + joint.nv] = np.arange(joint.idx_v, joint.idx_v + joint.nv)
-            if int(m.jnt_type[j]) == FREE:
-                self._free.append((joint.idx_v, joint.idx_q + 3))
-
-    def __getstate__(self) -> dict[str, Any]:
-        return {"m": self.m, "model": self.model}
-
-    def __setstate__(self, state: dict[str, Any]) -> None:
-        self.m, self.model = state["m"], state["model"]
-        self._init()
-
-    def at(self, q: Array) -> Any:
-        """This thread's ``MjData`` with the positions, tendons and transmissions of q (Pinocchio's)."""
-        import mujoco
-
-        local = self._local
-        if getattr(local, "data", None) is None:
-            local.data, local.q = mujoco.MjData(self.m), None
-        d = local.data
-        if local.q is None or not np.array_equal(local.q, q):
-            d.qpos[:] = q_to_qpos(self.model, q)
-            for step in (mujoco.mj_kinematics, mujoco.mj_comPos, mujoco.mj_tendon, mujoco.mj_transmission):
-                step(self.m, d)
-            local.q = np.array(q, float)
-        return d
-
-    def to_v(self, row_qvel: Array, q: Array) -> Array:
-        """(nv,) a row on MuJoCo's ``qvel`` as a row on Pinocchio's ``v`` at q (see the module docstring)."""
-        row = np.zeros(self.model.nv)
-        row[self._perm] = row_qvel
-        for v, iq in self._free:
-            rot = pin.Quaternion(np.array(q[iq : iq + 4], float)).normalized().toRotationMatrix()  # (x, y, z, w)
-            row[v : v + 3] = rot.T @ row[v : v + 3]
-        return row
-
-    def sparse_row(self, values: Array, nnz: int, adr: int, colind: Array) -> Array:
-        """(nv,) a dense row on ``qvel`` from MuJoCo's compressed storage."""
-        out = np.zeros(self.m.nv)
-        out[np.asarray(colind[adr : adr + nnz], int)] = values[adr : adr + nnz]
-        return out
 
 
 @dataclass(frozen=True, eq=False)
@@ -143,7 +78,8 @@ class MomentActuator(Transmission):
         kind: what it drives: ``tendon``, ``site``, ``slider-crank`` or ``ball joint`` (a free joint too).
         index: its MuJoCo index.
         kinematics: the compiled model.
-        tendon: the spatial tendon it drives (None for a site, a slider-crank or a ball joint).
+        tendon: the spatial tendon or the :class:`ActuatorLength` it drives (None for a site without a reference
+            site and a free joint: MuJoCo gives them no length).
     """
 
     name: str
@@ -162,6 +98,78 @@ class MomentActuator(Transmission):
         d = kin.at(np.asarray(q, float))
         row = kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind)
         return kin.to_v(row, q)
+
+
+@dataclass(frozen=True, eq=False)
+class ActuatorLength(Tendon):
+    """What an actuator on a slider-crank, a ball joint or a site with a reference site drives, as a length.
+
+    MuJoCo gives such an actuator a length (``actuator_length``): the slider-crank's slider position, the
+    ball's rotation vector along ``gear`` (``gear . log(R)``), the site's pose in its reference site's frame
+    along ``gear``. Held, the actuator keeps it, a closure like a spatial tendon's, decided by closed samples
+    (no written higher derivatives). The row is MuJoCo's ``actuator_moment``, except on a ball joint, where
+    MuJoCo's moment is ``gear`` itself and the length's derivative is ``gear . Jlog3(R)`` (equal at R = I):
+    the held closure takes the exact derivative.
+
+    Attributes:
+        name: the actuator's name.
+        index: its MuJoCo index.
+        kinematics: the compiled model.
+        joints: indices of the Pinocchio joints that move it.
+        linear: its length is in metres (a slider-crank, a site with a translational gear).
+        ball: the ball joint's Pinocchio index and ``gear[:3]`` (None for the other kinds).
+    """
+
+    name: str
+    index: int
+    kinematics: MujocoKinematics = field(repr=False)
+    joints: frozenset[int] = frozenset()
+    linear: bool = True
+    ball: tuple[int, tuple[float, float, float]] | None = None
+    noun: ClassVar[str] = "actuator length"
+    unwritten_why: ClassVar[str] = "MuJoCo's length of a slider-crank, a ball joint or a site"
+
+    def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:
+        """MuJoCo's ``actuator_length`` and the row of its derivative (on Pinocchio's ``v``) at the last kinematics' q."""
+        q = joint_configuration(model, data)
+        kin, a = self.kinematics, self.index
+        d = kin.at(q)
+        row = kin.to_v(
+            kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind), q
+        )
+        if self.ball is not None:
+            joint, gear = model.joints[self.ball[0]], np.array(self.ball[1])
+            rot = pin.Quaternion(np.array(q[joint.idx_q : joint.idx_q + 4], float)).normalized().toRotationMatrix()
+            row[joint.idx_v : joint.idx_v + 3] = gear @ pin.Jlog3(rot)
+        return float(d.actuator_length[a]), row
+
+    def joint_ids(self, model: pin.Model) -> frozenset[int]:
+        """The joints supporting the bodies it acts between."""
+        return self.joints
+
+
+def actuator_length(m: Any, tree: Tree, a: int, name: str, kinematics: MujocoKinematics) -> ActuatorLength | None:
+    """The length actuator ``a`` drives (a slider-crank, a ball joint, a site with a reference site), else None.
+
+    None for a site without a reference site and for a free joint: MuJoCo's length is 0 there whatever the
+    configuration (a force or a torque at the site or body, with nothing to hold at finite amplitude).
+    """
+    import mujoco
+
+    trn, model = mujoco.mjtTrn, tree.model
+    kind, first, second = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0]), int(m.actuator_trnid[a, 1])
+    gear = np.asarray(m.actuator_gear[a], float)
+    ball = None
+    if kind == trn.mjTRN_SLIDERCRANK or (kind == trn.mjTRN_SITE and second >= 0):
+        bodies = [int(m.site_bodyid[first]), int(m.site_bodyid[second])]
+        linear = kind == trn.mjTRN_SLIDERCRANK or bool(np.any(gear[:3]))
+    elif kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[first]) == BALL:
+        bodies, linear = [int(m.jnt_bodyid[first])], False
+        ball = (model.getJointId(tree.joint_names[first]), (float(gear[0]), float(gear[1]), float(gear[2])))
+    else:
+        return None
+    joints = frozenset(int(j) for b in bodies for j in model.supports[tree.body_joint[b]] if j > 0)
+    return ActuatorLength(name, a, kinematics, joints, linear, ball)
 
 
 def _wraps(m: Any, t: int) -> range:
@@ -261,7 +269,11 @@ def read_actuators(
             adhesion.append(name)
         else:
             what = {trn.mjTRN_TENDON: "tendon", trn.mjTRN_SITE: "site", trn.mjTRN_SLIDERCRANK: "slider-crank"}
-            tendon = tendon_of(m, tree, target, kinematics) if kind == trn.mjTRN_TENDON else None
+            tendon: Tendon | None = (
+                tendon_of(m, tree, target, kinematics)
+                if kind == trn.mjTRN_TENDON
+                else actuator_length(m, tree, a, name, kinematics)
+            )
             held.append(MomentActuator(name, what.get(kind, "ball joint"), a, kinematics, tendon))
     return joints, held, adhesion
 

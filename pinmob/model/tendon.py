@@ -17,6 +17,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import pinocchio as pin
@@ -40,7 +41,7 @@ class Transmission(ABC):
         """(nv,) the actuator's moment arms at q: ``row . v`` is the rate of what it drives."""
 
     def driven_tendon(self, model: pin.Model) -> Tendon | None:
-        """The tendon whose length it drives (held: keeps), or None (a site, a slider-crank, a ball joint)."""
+        """The tendon or length it drives (held: keeps), or None (a site without a reference site, a free joint)."""
         return None
 
 
@@ -51,10 +52,14 @@ class Tendon(ABC):
         name: the tendon's name.
         linear: its length is in metres (a spatial tendon, or a fixed one over a slide); else it is a
             combination of angles.
+        noun, unwritten_why: what a report calls it, and why its higher derivatives are not written when
+            they are not (:func:`pinmob.analysis.finite.coupling_rows.unwritten`).
     """
 
     name: str
     linear: bool
+    noun: ClassVar[str] = "tendon"
+    unwritten_why: ClassVar[str] = "wrapping geoms or over a pulley"
 
     @abstractmethod
     def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:

@@ -138,19 +138,26 @@ def is_polynomial(closure: Closure) -> bool:
 
 
 def unwritten(closures: tuple[Closure, ...]) -> tuple[str, ...]:
-    """``coupling 'c' on tendon 't'`` for each coupling among ``closures`` whose rows are not written.
+    """``coupling 'c' on tendon 't' (why)`` for each coupling among ``closures`` whose rows are not written.
 
-    (The tendons named are those without a written series.)
+    (The tendons named are those without a written series, with :attr:`~pinmob.model.tendon.Tendon.noun` and
+    :attr:`~pinmob.model.tendon.Tendon.unwritten_why`.)
 
-    Such a coupling is on a tendon that wraps geoms or runs over a pulley: its residual and Jacobian are known
-    (MuJoCo's length and its row), its higher derivatives are not; the side it is on is decided from closed
-    samples alone (:mod:`pinmob.analysis.finite.sampled_side`).
+    Such a coupling is on a tendon that wraps geoms or runs over a pulley, or holds an actuator's length that
+    MuJoCo computes (a slider-crank, a ball joint, a site): its residual and Jacobian are known (MuJoCo's
+    length and its row), its higher derivatives are not; the side it is on is decided from closed samples
+    alone (:mod:`pinmob.analysis.finite.sampled_side`).
     """
     out = []
     for c in closures:
         if c.is_coupling and c.type is not ClosureType.JOINT and not is_polynomial(c):
-            names = ", ".join(repr(t.name) for t in c.tendons if not has_series(t))
-            out.append(f"coupling {c.name!r} on tendon{'s' if ',' in names else ''} {names}")
+            blind = [t for t in c.tendons if not has_series(t)]
+            parts = []
+            for kind in dict.fromkeys(type(t) for t in blind):
+                names = [repr(t.name) for t in blind if type(t) is kind]
+                plural = "s" if len(names) > 1 else ""
+                parts.append(f"{kind.noun}{plural} {', '.join(names)} ({kind.unwritten_why})")
+            out.append(f"coupling {c.name!r} on {' and '.join(parts)}")
     return tuple(out)
 
 
@@ -224,17 +231,18 @@ def coupling_rows(
 
 
 def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], tuple[Transmission, ...]]:
-    """``conf`` with its tendon actuators held as tendon equalities at their lengths at q.
+    """``conf`` with its tendon actuators (and MuJoCo's other actuators with a length) held as tendon equalities.
 
     An actuator on a tendon held keeps the tendon's length at its value: the tendon closure ``l - l(q) = 0``
     (one coordinate, ``polycoef = 0``), written on the closed chain's residual too, so that the tracing and the
     closed samples hold it as the conditions do. On a fixed tendon or one straight between sites it is a row
-    exact at every order; on a tendon that wraps geoms or runs over a pulley it has no written series
+    exact at every order; on a tendon that wraps geoms or runs over a pulley, and on an actuator's slider-crank,
+    ball-joint or site length (:class:`~pinmob.io.mjcf_tendons.ActuatorLength`), it has no written series
     (:func:`unwritten`), and the side with it is decided from closed samples alone.
 
     Returns:
         the configuration of the mechanism with those closures (``conf`` itself when there are none), the
-        names of the actuators held so, and the other transmissions (on a site, a slider-crank, a ball joint:
+        names of the actuators held so, and the other transmissions (on a site without a reference site, a free joint:
         not held).
     """
     mech = conf.mechanism

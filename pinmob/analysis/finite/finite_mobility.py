@@ -52,8 +52,9 @@ class FiniteMobility:
         free: the analysis of the mechanism as it is.
         locked: the analysis with the actuated joints held (None when no actuator is declared).
         platform: the platform frame's name ("" without one).
-        unheld: actuators on sites, slider-cranks and ball joints, not held by ``locked`` (it holds joints, and
-            tendons as tendon equalities: :func:`pinmob.analysis.finite.coupling_rows.hold_tendons`).
+        unheld: actuators on sites without a reference site and on free joints, not held by ``locked`` (MuJoCo
+            gives them no length; it holds joints, and tendons and the other actuators' lengths as tendon
+            equalities: :func:`pinmob.analysis.finite.coupling_rows.hold_tendons`).
     """
 
     mechanism: str
@@ -187,9 +188,9 @@ class FiniteMobility:
             lines += _evidence_lines(lk, self.order)
         if self.unheld:
             lines.append(
-                f"actuators held: actuator(s) {', '.join(self.unheld)} (on a site, a slider-crank or a ball joint) "
-                "not held (this analysis holds joints and tendons; name the "
-                "joints to hold with `actuated`)"
+                f"actuators held: actuator(s) {', '.join(self.unheld)} not held (on a site without a reference site "
+                "or on a free joint: MuJoCo gives such an actuator no length, a force or torque with nothing to "
+                "hold at finite amplitude)"
             )
         return "\n".join(lines)
 
@@ -209,7 +210,7 @@ def _evidence_lines(side: Side, order: int) -> list[str]:
     if side.unwritten:
         return [
             f"  decided by {side.evidence or 'nothing'} alone: the order conditions were not used "
-            f"({'; '.join(side.unwritten)}: wrapping geoms or over a pulley, no higher derivatives written)"
+            f"({'; '.join(side.unwritten)}: no higher derivatives written)"
         ]
     if not side.evidence:
         return []

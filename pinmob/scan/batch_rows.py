@@ -37,7 +37,7 @@ from pinmob.analysis.limbs import limbwise_obstacle
 from pinmob.analysis.singularity.result import NEAR_FACTOR, generic_locked_dof, ratio
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.unreachable import SV_COLUMNS
+from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw.algebra import Array
 
 #: A sample is decided by the batch when each of its distances is at least this many near-singular bands.
@@ -47,22 +47,7 @@ DECIDED_FACTOR = 2.0
 ENGINES = ("batch", "single")
 
 #: The columns of a decided sample's row, in the single-sample row's order (:func:`pinmob.scan.sample.evaluate`).
-ROW_KEYS = (
-    *POSE_COORDS,
-    "reachable",
-    "dof",
-    "motion_type",
-    "constraint_rank",
-    "locked_dof",
-    "singularity",
-    "near_singular",
-    "closest",
-    "singular_limbs",
-    "dependent_limbs",
-    "uncontrolled",
-    "distance",
-    *SV_COLUMNS,
-)
+ROW_KEYS = (*POSE_COORDS, *VERDICT_COLUMNS, *SV_COLUMNS)
 
 #: A sample's row and the distance of each question (:func:`pinmob.scan.sample.evaluate`'s numbers).
 Analysed = tuple[dict[str, Any], dict[str, float]]

@@ -24,6 +24,8 @@ from pinmob.signals import deferred_interrupts
 class RowWriter:
     """Stream rows to a CSV file and/or a JSON file (``{"scan": {...}, "samples": [...]}``) as they come.
 
+    A JSON row's keys come in the CSV's column order (reachable and unreachable rows alike).
+
     Use as a context manager; nothing is kept in memory but the current row. The
     rows go to temporary files in the targets' folders (:class:`~pinmob.output_files.Replacing`),
     renamed over the targets when the block ends normally: an error, Ctrl-C or a
@@ -35,6 +37,7 @@ class RowWriter:
         self, cols: list[str], meta: dict[str, Any], csv_path: str | None = None, json_path: str | None = None
     ):
         self.cols = cols
+        self._known = set(cols)
         self.meta = meta
         self.csv_path, self.json_path = csv_path, json_path
         self.count = 0
@@ -73,7 +76,8 @@ class RowWriter:
             with _naming(self.csv_path):
                 self._csv.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
         if self._json:
-            clean = {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in row.items()}
+            keys = [k for k in self.cols if k in row] + [k for k in row if k not in self._known]  # the CSV's order
+            clean = {k: (None if isinstance(row[k], float) and not np.isfinite(row[k]) else row[k]) for k in keys}
             with _naming(self.json_path):
                 self._json.write((",\n" if self.count else "\n") + json.dumps(clean, allow_nan=False))
         self.count += 1

@@ -53,7 +53,7 @@ from pinmob.scan.chunk import FINITE_COLUMNS
 from pinmob.scan.lockstep import GROUP, Job, off_secant, run_group, secant_starts
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.spec import POSE_COORDS, ScanSpec
-from pinmob.scan.unreachable import SV_COLUMNS
+from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw.algebra import Array
 
 #: The columns a scan with a raised closure tolerance (``spec.cad``) adds: each assembled sample's largest closure
@@ -271,6 +271,5 @@ def columns(spec: ScanSpec) -> list[str]:
     cad = list(CAD_COLUMNS) if spec.cad else []
     if not spec.platform:
         return ["index", *params, "refined", *value_columns(spec.values), *CHAIN_COLUMNS, *finite, *cad]
-    return ["index", *params, "refined", *POSE_COORDS, "reachable", "dof", "motion_type", "constraint_rank",
-            "locked_dof", "singularity", "near_singular", "closest", "singular_limbs", "dependent_limbs",
-            "uncontrolled", "distance", *SV_COLUMNS, *finite, "reason", *value_columns(spec.values), *cad]  # fmt: skip
+    return ["index", *params, "refined", *POSE_COORDS, *VERDICT_COLUMNS, *SV_COLUMNS, *finite, "reason",
+            *value_columns(spec.values), *cad]  # fmt: skip

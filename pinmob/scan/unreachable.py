@@ -1,4 +1,4 @@
-"""Rows of scan samples that did not assemble, and why (one line naming the largest misses)."""
+"""The verdict columns of a platform scan's rows, and the rows of samples that did not assemble, and why."""
 
 from __future__ import annotations
 
@@ -12,6 +12,15 @@ from pinmob.model.mechanism import Mechanism
 
 #: The singular-value columns of a platform scan's rows: the constraint's, then the actuation's.
 SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
+
+#: The verdict columns of a platform scan's rows, after the pose coordinates and before the singular values, in
+#: order (every engine writes them in this order: :func:`pinmob.scan.sample.evaluate`,
+#: :func:`pinmob.scan.batch_rows.analyse`, :func:`unreachable_row`).
+VERDICT_COLUMNS = ("reachable", "dof", "motion_type", "constraint_rank", "locked_dof", "singularity", "near_singular",
+                   "closest", "singular_limbs", "dependent_limbs", "uncontrolled", "distance")  # fmt: skip
+
+#: The verdict of a sample that did not assemble, column by column.
+UNREACHABLE = (False, -1, "unreachable", -1, -1, "", False, "", "", "", "", float("nan"))
 
 
 def unreachable_reason(exc: PinmobError, mech: Mechanism, tol: float = CLOSURE_TOL) -> str:
@@ -46,8 +55,7 @@ def unreachable_row(target: tuple[str, Any], reason: str) -> dict[str, Any]:
         row.update(zip(POSE_COORDS, pose_vector(value).tolist()))
     elif kind == "coords":
         row.update(value[0])
-    row.update(reachable=False, reason=reason, dof=-1, motion_type="unreachable", constraint_rank=-1, locked_dof=-1, singularity="",
-               near_singular=False, closest="", singular_limbs="", dependent_limbs="", uncontrolled="",
-               distance=float("nan"))  # fmt: skip
+    row.update(zip(VERDICT_COLUMNS, UNREACHABLE, strict=True))
+    row["reason"] = reason
     row.update(dict.fromkeys(SV_COLUMNS, float("nan")))
     return row

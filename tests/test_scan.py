@@ -460,3 +460,16 @@ def test_both_edges_of_the_five_bar_reach_are_refined_whatever_the_sampling(star
         rows = list(scan(mech, spec, progress=False))
         refined = sorted(r["q_mot1"] for r in rows if r["refined"])
         assert_allclose(refined, [theta, math.pi - theta], atol=1e-6, err_msg=f"{samples} samples")
+
+
+def test_json_rows_keep_the_csv_columns_in_order(tmp_path):
+    """Every JSON row, reachable or not, lists the CSV's columns in the CSV header's order (an unreachable row
+    had its reason second, a reachable one after the singular values)."""
+    c, j = tmp_path / "s.csv", tmp_path / "s.json"
+    argv = ["scan", "3-PUU", "--grid", "x:-0.3:0.3:3", "y:-0.3:0.3:3", "--at", "generic", "--no-progress"]
+    assert main([*argv, "--csv", str(c), "--json", str(j)]) == 0
+    with c.open() as fh:
+        header = next(csv.reader(fh))
+    samples = json.loads(j.read_text())["samples"]
+    assert {s["reachable"] for s in samples} == {True, False}
+    assert all(list(s) == header for s in samples)

@@ -142,8 +142,9 @@ def load_geometry(model: pin.Model, urdf: Path) -> Geometry:
     others are built by :func:`build_geometry` when first asked for.
     """
     kinds = []
+    absent = missing_meshes(urdf)
     for kind in (pin.GeometryType.VISUAL, pin.GeometryType.COLLISION):
-        missing = missing_meshes(urdf, kind.name.lower())
+        missing = absent[kind.name.lower()]
         if missing:
             warnings.warn(
                 f"{urdf.name}: {kind.name.lower()} geometry not loaded (Mesh {missing[0][:200]} could not be found.); "
@@ -184,26 +185,33 @@ def build_geometry(
     return geoms[0], geoms[1]
 
 
-def missing_meshes(urdf: Path, kind: str) -> list[str]:
-    """The mesh file names of the URDF's ``kind`` (``visual`` or ``collision``) elements that cannot be found.
+def missing_meshes(urdf: Path) -> dict[str, list[str]]:
+    """Per kind of element (``visual``, ``collision``), the mesh file names of the URDF's that cannot be found.
+
+    The file is read and parsed once for both kinds.
 
     Each is looked for as Pinocchio resolves it: ``package://`` (and ``model://``) paths
     in :func:`package_dirs` (``package:///x``, without a package name, as ``x`` there), ``file://`` paths as they are, relative paths in the same
     folders, absolute paths as they are; other schemes are not handled.
     """
+    kinds = ("visual", "collision")
     text = urdf.read_bytes()
     if b"<mesh" not in text:
-        return []
+        return {kind: [] for kind in kinds}
     import xml.etree.ElementTree as ET  # only for URDFs with meshes
 
-    names = [
-        mesh.get("filename", "")
-        for link in ET.fromstring(text).iter("link")
-        for element in link.findall(kind)
-        for mesh in element.iter("mesh")
-    ]
-    dirs = package_dirs(urdf) if names else []
-    return [name for name in dict.fromkeys(names) if not _found(name, dirs)]
+    links = list(ET.fromstring(text).iter("link"))
+    names = {
+        kind: [
+            mesh.get("filename", "")
+            for link in links
+            for element in link.findall(kind)
+            for mesh in element.iter("mesh")
+        ]
+        for kind in kinds
+    }
+    dirs = package_dirs(urdf) if any(names.values()) else []
+    return {kind: [name for name in dict.fromkeys(found) if not _found(name, dirs)] for kind, found in names.items()}
 
 
 def _found(name: str, dirs: list[str]) -> bool:

@@ -67,6 +67,9 @@ CASES: dict[str, tuple[int, int]] = {
     # see the file: a two-link arm (the dial follows the elbow): 2; its tip site held along x relative to the
     # base's reference site (MuJoCo's length of a site transmission with a refsite): 1
     "tendons/refsite.xml": (2, 1),
+    # see the file: rocker, shoulder, elbow, twist (the dial follows the elbow): 4; the tip held along a
+    # translational and a rotational gear relative to the rocker's turning reference site: 2
+    "tendons/refsite_turning.xml": (4, 2),
 }
 #: Fixtures with actuators the finite analysis does not hold (on sites without a reference site): by name.
 UNHELD = {"tendons/cable_hand.xml": ("tip_pull1",), "tendons/transmissions.xml": ("push",)}

@@ -137,13 +137,15 @@ def test_held_rows_are_mujocos_on_pinocchios_rates(name):
             assert_allclose(np.array(mine[: len(lengths)]) @ v, (rates[1] - rates[0]) / (2 * eps), rtol=1e-6, atol=1e-9)
 
 
-@pytest.mark.parametrize("name", ["transmissions.xml", "refsite.xml"])
+@pytest.mark.parametrize("name", ["transmissions.xml", "refsite.xml", "refsite_turning.xml"])
 def test_held_actuator_lengths_are_mujocos_and_their_rows_its_derivatives(name):
     """An actuator on a slider-crank, a ball joint or a site with a reference site holds MuJoCo's
     ``actuator_length``; the row of the held closure is its derivative along Pinocchio's joint rates (central
     differences of MuJoCo's own length between the configurations ``pin.integrate`` reaches along ``-v`` and
     ``+v``), at random configurations (the ball turned away from its zero, where MuJoCo's moment arms, ``gear``,
-    are not the length's derivative). Sites without a reference site and free joints have no length to hold."""
+    are not the length's derivative; the reference site turning and the sites' relative rotation away from the
+    identity, where MuJoCo's moment is not it either). Sites without a reference site and free joints have no
+    length to hold."""
     path = DATA / name
     mech = _load(path)
     model, data = mech.model, mech.model.createData()
@@ -156,7 +158,11 @@ def test_held_actuator_lengths_are_mujocos_and_their_rows_its_derivatives(name):
         return d.actuator_length.copy()
 
     held = {a.name: a.driven_tendon(model) for a in mech.actuated_tendons}
-    expected = {"transmissions.xml": {"engine", "wrist_twist"}, "refsite.xml": {"reach"}}[name]
+    expected = {
+        "transmissions.xml": {"engine", "wrist_twist"},
+        "refsite.xml": {"reach"},
+        "refsite_turning.xml": {"slide", "turn"},
+    }[name]
     assert {k for k, t in held.items() if t is not None} == expected
     rng = np.random.default_rng(3)
     eps = 1e-6

@@ -53,6 +53,8 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "tendons/transmissions.xml": (12, 4, 7, 4),
     # a two-link arm's tip driven along x relative to a reference site, a dial following the elbow
     "tendons/refsite.xml": (3, 1, 2, 1),
+    # two site transmissions with a turning reference site (one along a translational gear, one a rotational)
+    "tendons/refsite_turning.xml": (5, 2, 4, 2),
     # pinmob's own names fixture: a pinned free base (held), a parallelogram, a coupled follower, a free hinge
     "unnamed_parts.xml": (11, 0, 5, 2),
     # Cassie (menagerie, with its 10 motors; meshes not copied): 22 DoF as Pinocchio's copy; with the pelvis and

@@ -107,9 +107,11 @@ class ActuatorLength(Tendon):
     MuJoCo gives such an actuator a length (``actuator_length``): the slider-crank's slider position, the
     ball's rotation vector along ``gear`` (``gear . log(R)``), the site's pose in its reference site's frame
     along ``gear``. Held, the actuator keeps it, a closure like a spatial tendon's, decided by closed samples
-    (no written higher derivatives). The row is MuJoCo's ``actuator_moment``, except on a ball joint, where
-    MuJoCo's moment is ``gear`` itself and the length's derivative is ``gear . Jlog3(R)`` (equal at R = I):
-    the held closure takes the exact derivative.
+    (no written higher derivatives). The row is the length's exact derivative: MuJoCo's ``actuator_moment`` on a
+    slider-crank (its chain rule); on a ball joint ``gear . Jlog3(R)`` (MuJoCo's moment is ``gear`` itself, equal
+    at R = I); on a site with a reference site :func:`refsite_row` (MuJoCo's moment leaves out the reference
+    frame's turning and the expmap's Jacobian: equal only where the reference site does not turn and the
+    relative rotation is the identity).
 
     Attributes:
         name: the actuator's name.
@@ -118,6 +120,7 @@ class ActuatorLength(Tendon):
         joints: indices of the Pinocchio joints that move it.
         linear: its length is in metres (a slider-crank, a site with a translational gear).
         ball: the ball joint's Pinocchio index and ``gear[:3]`` (None for the other kinds).
+        refsite: MuJoCo's site and reference site indices and ``gear`` (None for the other kinds).
     """
 
     name: str
@@ -126,6 +129,7 @@ class ActuatorLength(Tendon):
     joints: frozenset[int] = frozenset()
     linear: bool = True
     ball: tuple[int, tuple[float, float, float]] | None = None
+    refsite: tuple[int, int, tuple[float, ...]] | None = None
     noun: ClassVar[str] = "actuator length"
     unwritten_why: ClassVar[str] = "MuJoCo's length of a slider-crank, a ball joint or a site"
 
@@ -141,11 +145,41 @@ class ActuatorLength(Tendon):
             joint, gear = model.joints[self.ball[0]], np.array(self.ball[1])
             rot = pin.Quaternion(np.array(q[joint.idx_q : joint.idx_q + 4], float)).normalized().toRotationMatrix()
             row[joint.idx_v : joint.idx_v + 3] = gear @ pin.Jlog3(rot)
+        elif self.refsite is not None:
+            row = kin.to_v(refsite_row(kin.m, d, *self.refsite), q)
         return float(d.actuator_length[a]), row
 
     def joint_ids(self, model: pin.Model) -> frozenset[int]:
         """The joints supporting the bodies it acts between."""
         return self.joints
+
+
+def refsite_row(m: Any, d: Any, site: int, ref: int, gear: tuple[float, ...]) -> Array:
+    """(nv,) on ``qvel``: the exact derivative of MuJoCo's length of a site transmission with a reference site.
+
+    MuJoCo's length (``mj_transmission``) is ``g . R_r^T (p_s - p_r) + g' . log(R_r^T R_s)``, with ``g``, ``g'``
+    the translational and rotational gear and ``p``, ``R`` the sites' positions and frames. Its derivative:
+    ``(R_r g) . (v_s - v_r - w_r x (p_s - p_r))`` (the site's velocity relative to the reference body's point at
+    the site) plus ``g' . Jlog3(R_r^T R_s) R_s^T (w_s - w_r)`` (the relative angular velocity in the site's frame,
+    through the expmap's Jacobian); MuJoCo's moment keeps ``(R_r g) . (v_s - v_r) + (R_r g') . (w_s - w_r)``.
+    """
+    import mujoco
+
+    nv, g = m.nv, np.asarray(gear, float)
+    jac_s, jac_r = (np.zeros((3, nv)), np.zeros((3, nv))), (np.zeros((3, nv)), np.zeros((3, nv)))
+    mujoco.mj_jacSite(m, d, jac_s[0], jac_s[1], site)
+    mujoco.mj_jacSite(m, d, jac_r[0], jac_r[1], ref)
+    row = np.zeros(nv)
+    if np.any(g[:3]):
+        offset = d.site_xpos[site] - d.site_xpos[ref]
+        turn = np.cross(offset[:, None], jac_r[1], axis=0)  # -(w_r x offset) = offset x w_r, per column
+        row += (d.site_xmat[ref].reshape(3, 3) @ g[:3]) @ (jac_s[0] - jac_r[0] + turn)
+    if np.any(g[3:]):
+        a, b = d.site_xmat[ref].reshape(3, 3), d.site_xmat[site].reshape(3, 3)
+        rates = b.T @ (jac_s[1] - jac_r[1])  # Q's rate in the site's frame: the relative angular velocity
+        rel = a.T @ b
+        row += g[3:] @ pin.Jlog3(rel) @ rates
+    return row
 
 
 def actuator_length(m: Any, tree: Tree, a: int, name: str, kinematics: MujocoKinematics) -> ActuatorLength | None:
@@ -159,17 +193,19 @@ def actuator_length(m: Any, tree: Tree, a: int, name: str, kinematics: MujocoKin
     trn, model = mujoco.mjtTrn, tree.model
     kind, first, second = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0]), int(m.actuator_trnid[a, 1])
     gear = np.asarray(m.actuator_gear[a], float)
-    ball = None
+    ball = refsite = None
     if kind == trn.mjTRN_SLIDERCRANK or (kind == trn.mjTRN_SITE and second >= 0):
         bodies = [int(m.site_bodyid[first]), int(m.site_bodyid[second])]
         linear = kind == trn.mjTRN_SLIDERCRANK or bool(np.any(gear[:3]))
+        if kind == trn.mjTRN_SITE:
+            refsite = (first, second, tuple(float(g) for g in gear))
     elif kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[first]) == BALL:
         bodies, linear = [int(m.jnt_bodyid[first])], False
         ball = (model.getJointId(tree.joint_names[first]), (float(gear[0]), float(gear[1]), float(gear[2])))
     else:
         return None
     joints = frozenset(int(j) for b in bodies for j in model.supports[tree.body_joint[b]] if j > 0)
-    return ActuatorLength(name, a, kinematics, joints, linear, ball)
+    return ActuatorLength(name, a, kinematics, joints, linear, ball, refsite)
 
 
 def _wraps(m: Any, t: int) -> range:

@@ -21,7 +21,7 @@ import pinocchio as pin
 import pytest
 from numpy.polynomial import Polynomial
 from test_mjcf_tendons import _scaled
-from test_third_party import mujoco_joint, mujoco_model
+from test_third_party import mujoco_joint, mujoco_model, outputs
 
 import pinmob
 from pinmob.analysis.finite.loop_screws import mechanism_loops
@@ -70,6 +70,9 @@ CASES: dict[str, tuple[int, int]] = {
     # see the file: rocker, shoulder, elbow, twist (the dial follows the elbow): 4; the tip held along a
     # translational and a rotational gear relative to the rocker's turning reference site: 2
     "tendons/refsite_turning.xml": (4, 2),
+    # see the file: two balls, the hinge pair, the cup's ball: 10; held: the orientation servos hold the wrist and
+    # the cup (3 each), the motor one axis of the second ball, the PID servo the hinge pair: 2
+    "tendons/orientation.xml": (10, 2),
 }
 #: Fixtures with actuators the finite analysis does not hold (on sites without a reference site): by name.
 UNHELD = {"tendons/cable_hand.xml": ("tip_pull1",), "tendons/transmissions.xml": ("push",)}
@@ -99,7 +102,7 @@ class MujocoClosure:
         d.qpos[:] = qpos
         mujoco.mj_forward(m, d)
         eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
-        moments = np.zeros((m.nu, m.nv))
+        moments = np.zeros((outputs(m), m.nv))
         mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
         return (
             d.efc_pos[eq].copy(),

@@ -10,7 +10,9 @@ tendon, fixed or spatial: ``l1 - l1_0 = sum_k polycoef_k (l2 - l2_0)^k`` with ``
 Actuators (MuJoCo's transmissions): one on a hinge or slide (``joint``, ``jointinparent``) actuates its
 joint; one on a fixed tendon is a :class:`~pinmob.model.tendon.TendonActuator`; one on a spatial tendon, a
 site, a slider-crank or a ball or free joint is a :class:`MomentActuator`, held as MuJoCo's moment arms
-at the configuration (its row of ``actuator_moment``). One on a body (adhesion) acts through contacts and
+at the configuration (its row of ``actuator_moment``). An orientation servo (MuJoCo 3.12's ``mjTRN_SO3``, three
+outputs) is three, ``name[0..2]``, one per component of its expmap; rows, lengths and gears are those of
+MuJoCo's outputs (:func:`outputs`), not of its controls (``nu``: a PID servo may have two). One on a body (adhesion) acts through contacts and
 is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
 only at the range's ends, not equalities: left out. :func:`left_out` says both in one line.
 
@@ -75,8 +77,9 @@ class MomentActuator(Transmission):
 
     Attributes:
         name: the actuator's name.
-        kind: what it drives: ``tendon``, ``site``, ``slider-crank`` or ``ball joint`` (a free joint too).
-        index: its MuJoCo index.
+        kind: what it drives: ``tendon``, ``site``, ``slider-crank``, ``ball joint`` (a free joint too) or
+            ``orientation`` (one of an orientation servo's outputs, named ``name[k]``).
+        index: its MuJoCo output (its row of ``actuator_length``, ``actuator_moment``: ``actuator_outadr``).
         kinematics: the compiled model.
         tendon: the spatial tendon or the :class:`ActuatorLength` it drives (None for a site without a reference
             site and a free joint: MuJoCo gives them no length).
@@ -115,7 +118,7 @@ class ActuatorLength(Tendon):
 
     Attributes:
         name: the actuator's name.
-        index: its MuJoCo index.
+        index: its MuJoCo output (its row of ``actuator_length``, ``actuator_moment``).
         kinematics: the compiled model.
         joints: indices of the Pinocchio joints that move it.
         linear: its length is in metres (a slider-crank, a site with a translational gear).
@@ -182,17 +185,21 @@ def refsite_row(m: Any, d: Any, site: int, ref: int, gear: tuple[float, ...]) ->
     return row
 
 
-def actuator_length(m: Any, tree: Tree, a: int, name: str, kinematics: MujocoKinematics) -> ActuatorLength | None:
-    """The length actuator ``a`` drives (a slider-crank, a ball joint, a site with a reference site), else None.
+def actuator_length(
+    m: Any, tree: Tree, a: int, out: int, name: str, kinematics: MujocoKinematics, gear: Array
+) -> ActuatorLength | None:
+    """The length output ``out`` of actuator ``a`` drives along ``gear``, or None.
 
-    None for a site without a reference site and for a free joint: MuJoCo's length is 0 there whatever the
+    A slider-crank's, a ball joint's, a site's with a reference site, or one component of an orientation
+    servo's expmap (``gear`` a unit axis). None for a site without a reference site and for a free joint: MuJoCo's length is 0 there whatever the
     configuration (a force or a torque at the site or body, with nothing to hold at finite amplitude).
     """
     import mujoco
 
     trn, model = mujoco.mjtTrn, tree.model
     kind, first, second = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0]), int(m.actuator_trnid[a, 1])
-    gear = np.asarray(m.actuator_gear[a], float)
+    if kind == so3(trn):  # the expmap of the ball's rotation or of the site's relative to the reference site
+        kind = trn.mjTRN_SITE if second >= 0 else trn.mjTRN_JOINT
     ball = refsite = None
     if kind == trn.mjTRN_SLIDERCRANK or (kind == trn.mjTRN_SITE and second >= 0):
         bodies = [int(m.site_bodyid[first]), int(m.site_bodyid[second])]
@@ -205,7 +212,7 @@ def actuator_length(m: Any, tree: Tree, a: int, name: str, kinematics: MujocoKin
     else:
         return None
     joints = frozenset(int(j) for b in bodies for j in model.supports[tree.body_joint[b]] if j > 0)
-    return ActuatorLength(name, a, kinematics, joints, linear, ball, refsite)
+    return ActuatorLength(name, out, kinematics, joints, linear, ball, refsite)
 
 
 def _wraps(m: Any, t: int) -> range:
@@ -277,6 +284,22 @@ def tendon_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKine
     return make_tendon_coupling(tree.model, name, tendons, tuple(m.eq_data[e, :5]), reference, (frames[0], frames[-1]))
 
 
+def so3(trn: Any) -> int:
+    """MuJoCo's orientation transmission (``mjTRN_SO3``, since MuJoCo 3.12; -1 before, where none has it)."""
+    return int(getattr(trn, "mjTRN_SO3", -1))
+
+
+def outputs(m: Any) -> list[tuple[int, int, int]]:
+    """``(actuator, its first output, its number of outputs)`` for each of MuJoCo's actuators.
+
+    Since MuJoCo 3.12 an actuator may have several controls and outputs (``nu``: controls, ``nactuator``:
+    actuators); its lengths, moment rows and gears are at its outputs (``actuator_outadr``, ``actuator_outnum``).
+    """
+    if not hasattr(m, "actuator_outadr"):
+        return [(a, a, 1) for a in range(m.nu)]
+    return [(a, int(m.actuator_outadr[a]), int(m.actuator_outnum[a])) for a in range(m.nactuator)]
+
+
 def read_actuators(
     m: Any, tree: Tree, kinematics: MujocoKinematics
 ) -> tuple[list[tuple[str, str]], list[Transmission], list[str]]:
@@ -291,7 +314,7 @@ def read_actuators(
     joints: list[tuple[str, str]] = []
     held: list[Transmission] = []
     adhesion: list[str] = []
-    for a in range(m.nu):
+    for a, out, count in outputs(m):
         kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
         name = label(m, "actuator", a)
         if kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[target]) not in (FREE, BALL):
@@ -303,14 +326,22 @@ def read_actuators(
             held.append(TendonActuator(name, tendon_name(m, target), names, coef))
         elif kind == trn.mjTRN_BODY:
             adhesion.append(name)
+        elif kind == so3(trn):  # an orientation servo: three outputs, the expmap's components
+            on_site = int(m.actuator_trnid[a, 1]) >= 0
+            for k in range(count):
+                axis = np.zeros(6)
+                axis[3 + k if on_site else k] = 1.0
+                part = f"{name}[{k}]"
+                length = actuator_length(m, tree, a, out + k, part, kinematics, axis)
+                held.append(MomentActuator(part, "orientation", out + k, kinematics, length))
         else:
             what = {trn.mjTRN_TENDON: "tendon", trn.mjTRN_SITE: "site", trn.mjTRN_SLIDERCRANK: "slider-crank"}
             tendon: Tendon | None = (
                 tendon_of(m, tree, target, kinematics)
                 if kind == trn.mjTRN_TENDON
-                else actuator_length(m, tree, a, name, kinematics)
+                else actuator_length(m, tree, a, out, name, kinematics, np.asarray(m.actuator_gear[out], float))
             )
-            held.append(MomentActuator(name, what.get(kind, "ball joint"), a, kinematics, tendon))
+            held.append(MomentActuator(name, what.get(kind, "ball joint"), out, kinematics, tendon))
     return joints, held, adhesion
 
 

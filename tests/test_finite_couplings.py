@@ -341,6 +341,8 @@ def _verdicts(path: Path) -> tuple[int | None, int | None, tuple[tuple[str, int]
         "tendons/gripper.xml",
         "tendons/cable_hand.xml",
         "tendons/refsite.xml",
+        "tendons/refsite_turning.xml",
+        "tendons/orientation.xml",
     ],
 )
 def test_finite_answers_do_not_depend_on_the_unit_of_length_or_placement(tmp_path, name):

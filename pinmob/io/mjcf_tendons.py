@@ -10,10 +10,11 @@ tendon, fixed or spatial: ``l1 - l1_0 = sum_k polycoef_k (l2 - l2_0)^k`` with ``
 Actuators (MuJoCo's transmissions): one on a hinge or slide (``joint``, ``jointinparent``) actuates its
 joint; one on a fixed tendon is a :class:`~pinmob.model.tendon.TendonActuator`; one on a spatial tendon, a
 site, a slider-crank or a ball or free joint is a :class:`MomentActuator`, held as MuJoCo's moment arms
-at the configuration (its row of ``actuator_moment``). An orientation servo (MuJoCo 3.12's ``mjTRN_SO3``, three
+at the configuration (its row of ``actuator_moment``); the finite analysis holds what it drives at its length
+(the tendon's, or :mod:`pinmob.io.actuator_lengths`). An orientation servo (MuJoCo 3.12's ``mjTRN_SO3``, three
 outputs) is three, ``name[0..2]``, one per component of its expmap; rows, lengths and gears are those of
-MuJoCo's outputs (:func:`outputs`), not of its controls (``nu``: a PID servo may have two). One on a body (adhesion) acts through contacts and
-is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
+MuJoCo's outputs (:func:`outputs`), not of its controls (``nu``: a PID servo may have two). One on a body
+(adhesion) acts through contacts and is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
 only at the range's ends, not equalities: left out. :func:`left_out` says both in one line.
 
 MuJoCo is asked at each configuration through :class:`~pinmob.io.mujoco_kinematics.MujocoKinematics`.
@@ -22,11 +23,12 @@ MuJoCo is asked at each configuration through :class:`~pinmob.io.mujoco_kinemati
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
+from pinmob.io.actuator_lengths import actuator_length, so3
 from pinmob.io.mjcf_names import label
 from pinmob.io.mjcf_tree import BALL, FREE, SLIDE, Tree
 from pinmob.io.mujoco_kinematics import MujocoKinematics
@@ -81,7 +83,7 @@ class MomentActuator(Transmission):
             ``orientation`` (one of an orientation servo's outputs, named ``name[k]``).
         index: its MuJoCo output (its row of ``actuator_length``, ``actuator_moment``: ``actuator_outadr``).
         kinematics: the compiled model.
-        tendon: the spatial tendon or the :class:`ActuatorLength` it drives (None for a site without a reference
+        tendon: the spatial tendon or the :class:`~pinmob.io.actuator_lengths.ActuatorLength` it drives (None for a site without a reference
             site and a free joint: MuJoCo gives them no length).
     """
 
@@ -101,118 +103,6 @@ class MomentActuator(Transmission):
         d = kin.at(np.asarray(q, float))
         row = kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind)
         return kin.to_v(row, q)
-
-
-@dataclass(frozen=True, eq=False)
-class ActuatorLength(Tendon):
-    """What an actuator on a slider-crank, a ball joint or a site with a reference site drives, as a length.
-
-    MuJoCo gives such an actuator a length (``actuator_length``): the slider-crank's slider position, the
-    ball's rotation vector along ``gear`` (``gear . log(R)``), the site's pose in its reference site's frame
-    along ``gear``. Held, the actuator keeps it, a closure like a spatial tendon's, decided by closed samples
-    (no written higher derivatives). The row is the length's exact derivative: MuJoCo's ``actuator_moment`` on a
-    slider-crank (its chain rule); on a ball joint ``gear . Jlog3(R)`` (MuJoCo's moment is ``gear`` itself, equal
-    at R = I); on a site with a reference site :func:`refsite_row` (MuJoCo's moment leaves out the reference
-    frame's turning and the expmap's Jacobian: equal only where the reference site does not turn and the
-    relative rotation is the identity).
-
-    Attributes:
-        name: the actuator's name.
-        index: its MuJoCo output (its row of ``actuator_length``, ``actuator_moment``).
-        kinematics: the compiled model.
-        joints: indices of the Pinocchio joints that move it.
-        linear: its length is in metres (a slider-crank, a site with a translational gear).
-        ball: the ball joint's Pinocchio index and ``gear[:3]`` (None for the other kinds).
-        refsite: MuJoCo's site and reference site indices and ``gear`` (None for the other kinds).
-    """
-
-    name: str
-    index: int
-    kinematics: MujocoKinematics = field(repr=False)
-    joints: frozenset[int] = frozenset()
-    linear: bool = True
-    ball: tuple[int, tuple[float, float, float]] | None = None
-    refsite: tuple[int, int, tuple[float, ...]] | None = None
-    noun: ClassVar[str] = "actuator length"
-    unwritten_why: ClassVar[str] = "MuJoCo's length of a slider-crank, a ball joint or a site"
-
-    def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:
-        """MuJoCo's ``actuator_length`` and the row of its derivative (on Pinocchio's ``v``) at the last kinematics' q."""
-        q = joint_configuration(model, data)
-        kin, a = self.kinematics, self.index
-        d = kin.at(q)
-        row = kin.to_v(
-            kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind), q
-        )
-        if self.ball is not None:
-            joint, gear = model.joints[self.ball[0]], np.array(self.ball[1])
-            rot = pin.Quaternion(np.array(q[joint.idx_q : joint.idx_q + 4], float)).normalized().toRotationMatrix()
-            row[joint.idx_v : joint.idx_v + 3] = gear @ pin.Jlog3(rot)
-        elif self.refsite is not None:
-            row = kin.to_v(refsite_row(kin.m, d, *self.refsite), q)
-        return float(d.actuator_length[a]), row
-
-    def joint_ids(self, model: pin.Model) -> frozenset[int]:
-        """The joints supporting the bodies it acts between."""
-        return self.joints
-
-
-def refsite_row(m: Any, d: Any, site: int, ref: int, gear: tuple[float, ...]) -> Array:
-    """(nv,) on ``qvel``: the exact derivative of MuJoCo's length of a site transmission with a reference site.
-
-    MuJoCo's length (``mj_transmission``) is ``g . R_r^T (p_s - p_r) + g' . log(R_r^T R_s)``, with ``g``, ``g'``
-    the translational and rotational gear and ``p``, ``R`` the sites' positions and frames. Its derivative:
-    ``(R_r g) . (v_s - v_r - w_r x (p_s - p_r))`` (the site's velocity relative to the reference body's point at
-    the site) plus ``g' . Jlog3(R_r^T R_s) R_s^T (w_s - w_r)`` (the relative angular velocity in the site's frame,
-    through the expmap's Jacobian); MuJoCo's moment keeps ``(R_r g) . (v_s - v_r) + (R_r g') . (w_s - w_r)``.
-    """
-    import mujoco
-
-    nv, g = m.nv, np.asarray(gear, float)
-    jac_s, jac_r = (np.zeros((3, nv)), np.zeros((3, nv))), (np.zeros((3, nv)), np.zeros((3, nv)))
-    mujoco.mj_jacSite(m, d, jac_s[0], jac_s[1], site)
-    mujoco.mj_jacSite(m, d, jac_r[0], jac_r[1], ref)
-    row = np.zeros(nv)
-    if np.any(g[:3]):
-        offset = d.site_xpos[site] - d.site_xpos[ref]
-        turn = np.cross(offset[:, None], jac_r[1], axis=0)  # -(w_r x offset) = offset x w_r, per column
-        row += (d.site_xmat[ref].reshape(3, 3) @ g[:3]) @ (jac_s[0] - jac_r[0] + turn)
-    if np.any(g[3:]):
-        a, b = d.site_xmat[ref].reshape(3, 3), d.site_xmat[site].reshape(3, 3)
-        rates = b.T @ (jac_s[1] - jac_r[1])  # Q's rate in the site's frame: the relative angular velocity
-        rel = a.T @ b
-        row += g[3:] @ pin.Jlog3(rel) @ rates
-    return row
-
-
-def actuator_length(
-    m: Any, tree: Tree, a: int, out: int, name: str, kinematics: MujocoKinematics, gear: Array
-) -> ActuatorLength | None:
-    """The length output ``out`` of actuator ``a`` drives along ``gear``, or None.
-
-    A slider-crank's, a ball joint's, a site's with a reference site, or one component of an orientation
-    servo's expmap (``gear`` a unit axis). None for a site without a reference site and for a free joint: MuJoCo's length is 0 there whatever the
-    configuration (a force or a torque at the site or body, with nothing to hold at finite amplitude).
-    """
-    import mujoco
-
-    trn, model = mujoco.mjtTrn, tree.model
-    kind, first, second = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0]), int(m.actuator_trnid[a, 1])
-    if kind == so3(trn):  # the expmap of the ball's rotation or of the site's relative to the reference site
-        kind = trn.mjTRN_SITE if second >= 0 else trn.mjTRN_JOINT
-    ball = refsite = None
-    if kind == trn.mjTRN_SLIDERCRANK or (kind == trn.mjTRN_SITE and second >= 0):
-        bodies = [int(m.site_bodyid[first]), int(m.site_bodyid[second])]
-        linear = kind == trn.mjTRN_SLIDERCRANK or bool(np.any(gear[:3]))
-        if kind == trn.mjTRN_SITE:
-            refsite = (first, second, tuple(float(g) for g in gear))
-    elif kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[first]) == BALL:
-        bodies, linear = [int(m.jnt_bodyid[first])], False
-        ball = (model.getJointId(tree.joint_names[first]), (float(gear[0]), float(gear[1]), float(gear[2])))
-    else:
-        return None
-    joints = frozenset(int(j) for b in bodies for j in model.supports[tree.body_joint[b]] if j > 0)
-    return ActuatorLength(name, out, kinematics, joints, linear, ball, refsite)
 
 
 def _wraps(m: Any, t: int) -> range:
@@ -282,11 +172,6 @@ def tendon_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKine
     frames = frames or [0]
     reference = tuple(float(m.tendon_length0[t]) for t in ids)
     return make_tendon_coupling(tree.model, name, tendons, tuple(m.eq_data[e, :5]), reference, (frames[0], frames[-1]))
-
-
-def so3(trn: Any) -> int:
-    """MuJoCo's orientation transmission (``mjTRN_SO3``, since MuJoCo 3.12; -1 before, where none has it)."""
-    return int(getattr(trn, "mjTRN_SO3", -1))
 
 
 def outputs(m: Any) -> list[tuple[int, int, int]]:

@@ -3,7 +3,9 @@
 Truth is sampled from MuJoCo alone, not from pinmob's finite analysis: starts ``q + r u`` (u a random unit
 vector of joint values) are projected onto MuJoCo's closed set by Gauss-Newton (minimum-norm steps on its
 equality residuals ``efc_pos`` and Jacobian ``efc_J`` after ``mj_forward``; with the actuators held, also
-on ``actuator_length - actuator_length(q)`` and ``actuator_moment``), and the local dimension is the number
+on ``actuator_length - actuator_length(q)`` and its central differences along each of MuJoCo's joint rates:
+``actuator_moment`` is the length's derivative only in part, not on a ball turned away from its zero or on a
+site whose reference site turns or sits turned from it), and the local dimension is the number
 of directions the projected displacements span (singular values of the displacements over the radius;
 the closed set's curvature, O(r), and a shaky direction's leftover, far below it, are no dimension). The
 counts by hand are in :data:`CASES`.
@@ -98,24 +100,25 @@ class MujocoClosure:
         self.lengths = self._forward(qpos)[2] if held else None
 
     def _forward(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(equality residuals, their rows on qvel, the actuators' lengths) at qpos."""
         m, d = self.m, self.d
         d.qpos[:] = qpos
         mujoco.mj_forward(m, d)
         eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
-        moments = np.zeros((outputs(m), m.nv))
-        mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
-        return (
-            d.efc_pos[eq].copy(),
-            d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq].copy(),
-            (d.actuator_length.copy(), moments),
-        )
+        return d.efc_pos[eq].copy(), d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq].copy(), d.actuator_length.copy()
 
     def residual(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(residual, Jacobian on MuJoCo's qvel) at qpos."""
-        r, jac, (lengths, moments) = self._forward(qpos)
-        if self.held:
-            r, jac = np.concatenate([r, lengths - self.lengths[0]]), np.vstack([jac, moments])
-        return r, jac
+        """(residual, Jacobian on MuJoCo's qvel) at qpos; held, the lengths' rows by central differences."""
+        if not self.held:
+            return self._forward(qpos)[:2]
+        rows = np.zeros((outputs(self.m), self.m.nv))
+        for k in range(self.m.nv):
+            step = np.zeros(self.m.nv)
+            step[k] = 1e-7
+            ends = [self._forward(self.step(qpos, s * step))[2] for s in (-1, 1)]
+            rows[:, k] = (ends[1] - ends[0]) / 2e-7
+        r, jac, lengths = self._forward(qpos)
+        return np.concatenate([r, lengths - self.lengths]), np.vstack([jac, rows])
 
     def project(self, qpos: np.ndarray, iterations: int = 200) -> np.ndarray | None:
         """Gauss-Newton with minimum-norm steps onto the zero set; None when it does not close."""

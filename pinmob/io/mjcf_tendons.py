@@ -94,7 +94,7 @@ class MomentActuator(Transmission):
     tendon: Tendon | None = field(default=None, repr=False)
 
     def driven_tendon(self, model: pin.Model) -> Tendon | None:
-        """The spatial tendon it drives, or None."""
+        """The spatial tendon or the actuator length it drives, or None (no length: see ``tendon``)."""
         return self.tendon
 
     def rate_row(self, model: pin.Model, q: Array) -> Array:

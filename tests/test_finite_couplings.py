@@ -3,7 +3,9 @@
 Truth is sampled from MuJoCo alone, not from pinmob's finite analysis: starts ``q + r u`` (u a random unit
 vector of joint values) are projected onto MuJoCo's closed set by Gauss-Newton (minimum-norm steps on its
 equality residuals ``efc_pos`` and Jacobian ``efc_J`` after ``mj_forward``; with the actuators held, also
-on ``actuator_length - actuator_length(q)`` and ``actuator_moment``), and the local dimension is the number
+on ``actuator_length - actuator_length(q)`` and its central differences along each of MuJoCo's joint rates:
+``actuator_moment`` is the length's derivative only in part, not on a ball turned away from its zero or on a
+site whose reference site turns or sits turned from it), and the local dimension is the number
 of directions the projected displacements span (singular values of the displacements over the radius;
 the closed set's curvature, O(r), and a shaky direction's leftover, far below it, are no dimension). The
 counts by hand are in :data:`CASES`.
@@ -21,7 +23,7 @@ import pinocchio as pin
 import pytest
 from numpy.polynomial import Polynomial
 from test_mjcf_tendons import _scaled
-from test_third_party import mujoco_joint, mujoco_model
+from test_third_party import mujoco_joint, mujoco_model, outputs
 
 import pinmob
 from pinmob.analysis.finite.loop_screws import mechanism_loops
@@ -67,6 +69,12 @@ CASES: dict[str, tuple[int, int]] = {
     # see the file: a two-link arm (the dial follows the elbow): 2; its tip site held along x relative to the
     # base's reference site (MuJoCo's length of a site transmission with a refsite): 1
     "tendons/refsite.xml": (2, 1),
+    # see the file: rocker, shoulder, elbow, twist (the dial follows the elbow): 4; the tip held along a
+    # translational and a rotational gear relative to the rocker's turning reference site: 2
+    "tendons/refsite_turning.xml": (4, 2),
+    # see the file: two balls, the hinge pair, the cup's ball: 10; held: the orientation servos hold the wrist and
+    # the cup (3 each), the motor one axis of the second ball, the PID servo the hinge pair: 2
+    "tendons/orientation.xml": (10, 2),
 }
 #: Fixtures with actuators the finite analysis does not hold (on sites without a reference site): by name.
 UNHELD = {"tendons/cable_hand.xml": ("tip_pull1",), "tendons/transmissions.xml": ("push",)}
@@ -92,24 +100,25 @@ class MujocoClosure:
         self.lengths = self._forward(qpos)[2] if held else None
 
     def _forward(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(equality residuals, their rows on qvel, the actuators' lengths) at qpos."""
         m, d = self.m, self.d
         d.qpos[:] = qpos
         mujoco.mj_forward(m, d)
         eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
-        moments = np.zeros((m.nu, m.nv))
-        mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
-        return (
-            d.efc_pos[eq].copy(),
-            d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq].copy(),
-            (d.actuator_length.copy(), moments),
-        )
+        return d.efc_pos[eq].copy(), d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq].copy(), d.actuator_length.copy()
 
     def residual(self, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(residual, Jacobian on MuJoCo's qvel) at qpos."""
-        r, jac, (lengths, moments) = self._forward(qpos)
-        if self.held:
-            r, jac = np.concatenate([r, lengths - self.lengths[0]]), np.vstack([jac, moments])
-        return r, jac
+        """(residual, Jacobian on MuJoCo's qvel) at qpos; held, the lengths' rows by central differences."""
+        if not self.held:
+            return self._forward(qpos)[:2]
+        rows = np.zeros((outputs(self.m), self.m.nv))
+        for k in range(self.m.nv):
+            step = np.zeros(self.m.nv)
+            step[k] = 1e-7
+            ends = [self._forward(self.step(qpos, s * step))[2] for s in (-1, 1)]
+            rows[:, k] = (ends[1] - ends[0]) / 2e-7
+        r, jac, lengths = self._forward(qpos)
+        return np.concatenate([r, lengths - self.lengths]), np.vstack([jac, rows])
 
     def project(self, qpos: np.ndarray, iterations: int = 200) -> np.ndarray | None:
         """Gauss-Newton with minimum-norm steps onto the zero set; None when it does not close."""
@@ -335,6 +344,8 @@ def _verdicts(path: Path) -> tuple[int | None, int | None, tuple[tuple[str, int]
         "tendons/gripper.xml",
         "tendons/cable_hand.xml",
         "tendons/refsite.xml",
+        "tendons/refsite_turning.xml",
+        "tendons/orientation.xml",
     ],
 )
 def test_finite_answers_do_not_depend_on_the_unit_of_length_or_placement(tmp_path, name):

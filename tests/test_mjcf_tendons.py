@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from numpy.testing import assert_allclose
-from test_third_party import mujoco_counts, mujoco_locked
+from test_third_party import mujoco_counts, mujoco_locked, outputs
 
 import pinmob
 from pinmob.io.mjcf_tendons import MomentActuator, SpatialTendon
@@ -90,7 +90,7 @@ def _mujoco_rows(path: Path, model: pin.Model, q: np.ndarray) -> tuple[np.ndarra
     mujoco.mj_forward(m, d)
     ten = np.zeros((m.ntendon, m.nv))
     mujoco.mju_sparse2dense(ten, d.ten_J, m.ten_J_rownnz, m.ten_J_rowadr, m.ten_J_colind)
-    moments = np.zeros((m.nu, m.nv))
+    moments = np.zeros((outputs(m), m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     return ten, moments, m, d
 
@@ -137,13 +137,17 @@ def test_held_rows_are_mujocos_on_pinocchios_rates(name):
             assert_allclose(np.array(mine[: len(lengths)]) @ v, (rates[1] - rates[0]) / (2 * eps), rtol=1e-6, atol=1e-9)
 
 
-@pytest.mark.parametrize("name", ["transmissions.xml", "refsite.xml"])
+@pytest.mark.parametrize("name", ["transmissions.xml", "refsite.xml", "refsite_turning.xml", "orientation.xml"])
 def test_held_actuator_lengths_are_mujocos_and_their_rows_its_derivatives(name):
     """An actuator on a slider-crank, a ball joint or a site with a reference site holds MuJoCo's
     ``actuator_length``; the row of the held closure is its derivative along Pinocchio's joint rates (central
     differences of MuJoCo's own length between the configurations ``pin.integrate`` reaches along ``-v`` and
     ``+v``), at random configurations (the ball turned away from its zero, where MuJoCo's moment arms, ``gear``,
-    are not the length's derivative). Sites without a reference site and free joints have no length to hold."""
+    are not the length's derivative; the reference site turning and the sites' relative rotation away from the
+    identity, where MuJoCo's moment is not it either). An orientation servo (MuJoCo 3.12's multi-output actuators)
+    holds its three expmap components, each at its own output (``actuator_outadr``), and the actuators after it
+    their own outputs' lengths and gears. Sites without a reference site and free joints have no length to hold.
+    On the old code the orientation file was not loaded (IndexError: pinmob read ``nu`` controls as actuators)."""
     path = DATA / name
     mech = _load(path)
     model, data = mech.model, mech.model.createData()
@@ -156,7 +160,12 @@ def test_held_actuator_lengths_are_mujocos_and_their_rows_its_derivatives(name):
         return d.actuator_length.copy()
 
     held = {a.name: a.driven_tendon(model) for a in mech.actuated_tendons}
-    expected = {"transmissions.xml": {"engine", "wrist_twist"}, "refsite.xml": {"reach"}}[name]
+    expected = {
+        "transmissions.xml": {"engine", "wrist_twist"},
+        "refsite.xml": {"reach"},
+        "refsite_turning.xml": {"slide", "turn"},
+        "orientation.xml": {f"{s}[{k}]" for s in ("wrist_servo", "cup_servo") for k in range(3)} | {"elbow_spin"},
+    }[name]
     assert {k for k, t in held.items() if t is not None} == expected
     rng = np.random.default_rng(3)
     eps = 1e-6
@@ -167,10 +176,12 @@ def test_held_actuator_lengths_are_mujocos_and_their_rows_its_derivatives(name):
             tendon = held[a.name]
             if tendon is None:
                 continue
+            base, _, part = a.name.partition("[")  # an orientation servo's k-th output: 'name[k]'
+            out = int(m.actuator_outadr[m.actuator(base).id]) + (int(part[:-1]) if part else 0)  # MuJoCo's row
             length, row = tendon.length(model, data)
-            assert length == pytest.approx(mujoco_lengths(q)[a.index], abs=1e-12)
+            assert length == pytest.approx(mujoco_lengths(q)[out], abs=1e-12)
             v = rng.normal(size=model.nv)
-            ends = [mujoco_lengths(pin.integrate(model, q, s * eps * v))[a.index] for s in (-1, 1)]
+            ends = [mujoco_lengths(pin.integrate(model, q, s * eps * v))[out] for s in (-1, 1)]
             assert row @ v == pytest.approx((ends[1] - ends[0]) / (2 * eps), rel=1e-6, abs=1e-9)
 
 

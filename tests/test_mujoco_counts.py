@@ -18,7 +18,7 @@ from typing import Any
 import mujoco
 import numpy as np
 import pytest
-from test_third_party import mujoco_at, mujoco_joint
+from test_third_party import mujoco_at, mujoco_joint, outputs
 
 import pinmob
 
@@ -53,6 +53,10 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "tendons/transmissions.xml": (12, 4, 7, 4),
     # a two-link arm's tip driven along x relative to a reference site, a dial following the elbow
     "tendons/refsite.xml": (3, 1, 2, 1),
+    # two site transmissions with a turning reference site (one along a translational gear, one a rotational)
+    "tendons/refsite_turning.xml": (5, 2, 4, 2),
+    # actuators with several controls or outputs: two orientation servos (3 outputs each), a PID (2 controls)
+    "tendons/orientation.xml": (11, 9, 10, 2),
     # pinmob's own names fixture: a pinned free base (held), a parallelogram, a coupled follower, a free hinge
     "unnamed_parts.xml": (11, 0, 5, 2),
     # Cassie (menagerie, with its 10 motors; meshes not copied): 22 DoF as Pinocchio's copy; with the pelvis and
@@ -139,7 +143,7 @@ def mujoco_truth(path: Path, joint_values: dict[str, Any], held_bases: list[str]
     """
     m, d, eq = mujoco_at(path, joint_values)
     jac = d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq]
-    moments = np.zeros((m.nu, m.nv))
+    moments = np.zeros((outputs(m), m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     held = np.zeros((6 * len(held_bases), m.nv))
     for k, name in enumerate(held_bases):
@@ -168,12 +172,21 @@ def test_counts_agree_with_mujoco(name):
     assert gap < 1e-9  # pinmob's configuration closes MuJoCo's own constraints
     assert (nv, nu, dof, left) == MUJOCO[name]
     m = mujoco_at(path, doc["joint_values"])[0]
-    on_bodies = int(np.count_nonzero(m.actuator_trntype[: m.nu] == mujoco.mjtTrn.mjTRN_BODY))  # adhesion: contacts
-    assert len(act["joint_actuators"]) + len(act["actuated_tendons"]) == nu - on_bodies  # every actuator named once
+    rows = actuator_rows(m)
+    on_bodies = sum(len(r) for a, r in rows if m.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_BODY)  # adhesion
+    assert len(act["joint_actuators"]) + len(act["actuated_tendons"]) == outputs(m) - on_bodies  # each output once
     on_joints = [int(m.actuator_trnid[a, 0]) for a in joint_actuators(m)]  # MuJoCo's joint of each, in order
     assert [mujoco_joint(m, j) for j in act["joint_actuators"].values()] == on_joints
     assert sorted(mujoco_joint(m, j) for j in act["actuated"]) == sorted(set(on_joints))  # each joint once
     assert (doc["mechanism_dof"], act["locked_dof"]) == (dof, left)
+
+
+def actuator_rows(m: Any) -> list[tuple[int, range]]:
+    """Each of MuJoCo's actuators and its rows of ``actuator_moment`` (since MuJoCo 3.12 an actuator may have several
+    outputs, ``actuator_outadr``, ``actuator_outnum``: an orientation servo three; before, one each)."""
+    if not hasattr(m, "actuator_outadr"):
+        return [(a, range(a, a + 1)) for a in range(m.nu)]
+    return [(a, range(m.actuator_outadr[a], m.actuator_outadr[a] + m.actuator_outnum[a])) for a in range(m.nactuator)]
 
 
 def joint_actuators(m: Any) -> list[int]:
@@ -182,23 +195,24 @@ def joint_actuators(m: Any) -> list[int]:
     kinds = {int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)}
     return [
         a
-        for a in range(m.nu)
+        for a, _ in actuator_rows(m)
         if int(m.actuator_trntype[a]) in on_joint and int(m.jnt_type[m.actuator_trnid[a, 0]]) in kinds
     ]
 
 
 def drives(m: Any) -> list[int]:
-    """One actuator per transmission (``actuator_trntype``, ``actuator_trnid``), those on bodies left out.
+    """The moment rows of one actuator per transmission (``actuator_trntype``, ``actuator_trnid``), those on bodies
+    left out.
 
     Actuators with one transmission move one thing (a position and a velocity servo on one joint): their
     forces add, and their moment rows are one row times their gears. They are one drive, not an actuator
     that over-determines the chain with the other.
     """
-    first: dict[tuple[int, int, int], int] = {}
-    for a in range(m.nu):
+    first: dict[tuple[int, int, int], range] = {}
+    for a, rows in actuator_rows(m):
         if int(m.actuator_trntype[a]) != int(mujoco.mjtTrn.mjTRN_BODY):  # adhesion: held by neither
-            first.setdefault((int(m.actuator_trntype[a]), *map(int, m.actuator_trnid[a])), a)
-    return sorted(first.values())
+            first.setdefault((int(m.actuator_trntype[a]), *map(int, m.actuator_trnid[a])), rows)
+    return sorted(r for rows in first.values() for r in rows)
 
 
 @pytest.mark.parametrize("name", sorted(MUJOCO))
@@ -212,7 +226,7 @@ def test_redundant_actuators_agree_with_mujoco(name):
     act = doc["actuation"]
     m, d, eq = mujoco_at(path, doc["joint_values"])
     jac = d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq]
-    moments = np.zeros((m.nu, m.nv))
+    moments = np.zeros((outputs(m), m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     moments = moments[drives(m)]
     held = np.zeros((6 * len(act["base_held"]), m.nv))

@@ -10,8 +10,11 @@ tendon, fixed or spatial: ``l1 - l1_0 = sum_k polycoef_k (l2 - l2_0)^k`` with ``
 Actuators (MuJoCo's transmissions): one on a hinge or slide (``joint``, ``jointinparent``) actuates its
 joint; one on a fixed tendon is a :class:`~pinmob.model.tendon.TendonActuator`; one on a spatial tendon, a
 site, a slider-crank or a ball or free joint is a :class:`MomentActuator`, held as MuJoCo's moment arms
-at the configuration (its row of ``actuator_moment``). One on a body (adhesion) acts through contacts and
-is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
+at the configuration (its row of ``actuator_moment``); the finite analysis holds what it drives at its length
+(the tendon's, or :mod:`pinmob.io.actuator_lengths`). An orientation servo (MuJoCo 3.12's ``mjTRN_SO3``, three
+outputs) is three, ``name[0..2]``, one per component of its expmap; rows, lengths and gears are those of
+MuJoCo's outputs (:func:`outputs`), not of its controls (``nu``: a PID servo may have two). One on a body
+(adhesion) acts through contacts and is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
 only at the range's ends, not equalities: left out. :func:`left_out` says both in one line.
 
 MuJoCo is asked at each configuration through :class:`~pinmob.io.mujoco_kinematics.MujocoKinematics`.
@@ -20,11 +23,12 @@ MuJoCo is asked at each configuration through :class:`~pinmob.io.mujoco_kinemati
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
+from pinmob.io.actuator_lengths import actuator_length, so3
 from pinmob.io.mjcf_names import label
 from pinmob.io.mjcf_tree import BALL, FREE, SLIDE, Tree
 from pinmob.io.mujoco_kinematics import MujocoKinematics
@@ -75,10 +79,11 @@ class MomentActuator(Transmission):
 
     Attributes:
         name: the actuator's name.
-        kind: what it drives: ``tendon``, ``site``, ``slider-crank`` or ``ball joint`` (a free joint too).
-        index: its MuJoCo index.
+        kind: what it drives: ``tendon``, ``site``, ``slider-crank``, ``ball joint`` (a free joint too) or
+            ``orientation`` (one of an orientation servo's outputs, named ``name[k]``).
+        index: its MuJoCo output (its row of ``actuator_length``, ``actuator_moment``: ``actuator_outadr``).
         kinematics: the compiled model.
-        tendon: the spatial tendon or the :class:`ActuatorLength` it drives (None for a site without a reference
+        tendon: the spatial tendon or the :class:`~pinmob.io.actuator_lengths.ActuatorLength` it drives (None for a site without a reference
             site and a free joint: MuJoCo gives them no length).
     """
 
@@ -89,7 +94,7 @@ class MomentActuator(Transmission):
     tendon: Tendon | None = field(default=None, repr=False)
 
     def driven_tendon(self, model: pin.Model) -> Tendon | None:
-        """The spatial tendon it drives, or None."""
+        """The spatial tendon or the actuator length it drives, or None (no length: see ``tendon``)."""
         return self.tendon
 
     def rate_row(self, model: pin.Model, q: Array) -> Array:
@@ -98,78 +103,6 @@ class MomentActuator(Transmission):
         d = kin.at(np.asarray(q, float))
         row = kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind)
         return kin.to_v(row, q)
-
-
-@dataclass(frozen=True, eq=False)
-class ActuatorLength(Tendon):
-    """What an actuator on a slider-crank, a ball joint or a site with a reference site drives, as a length.
-
-    MuJoCo gives such an actuator a length (``actuator_length``): the slider-crank's slider position, the
-    ball's rotation vector along ``gear`` (``gear . log(R)``), the site's pose in its reference site's frame
-    along ``gear``. Held, the actuator keeps it, a closure like a spatial tendon's, decided by closed samples
-    (no written higher derivatives). The row is MuJoCo's ``actuator_moment``, except on a ball joint, where
-    MuJoCo's moment is ``gear`` itself and the length's derivative is ``gear . Jlog3(R)`` (equal at R = I):
-    the held closure takes the exact derivative.
-
-    Attributes:
-        name: the actuator's name.
-        index: its MuJoCo index.
-        kinematics: the compiled model.
-        joints: indices of the Pinocchio joints that move it.
-        linear: its length is in metres (a slider-crank, a site with a translational gear).
-        ball: the ball joint's Pinocchio index and ``gear[:3]`` (None for the other kinds).
-    """
-
-    name: str
-    index: int
-    kinematics: MujocoKinematics = field(repr=False)
-    joints: frozenset[int] = frozenset()
-    linear: bool = True
-    ball: tuple[int, tuple[float, float, float]] | None = None
-    noun: ClassVar[str] = "actuator length"
-    unwritten_why: ClassVar[str] = "MuJoCo's length of a slider-crank, a ball joint or a site"
-
-    def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:
-        """MuJoCo's ``actuator_length`` and the row of its derivative (on Pinocchio's ``v``) at the last kinematics' q."""
-        q = joint_configuration(model, data)
-        kin, a = self.kinematics, self.index
-        d = kin.at(q)
-        row = kin.to_v(
-            kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind), q
-        )
-        if self.ball is not None:
-            joint, gear = model.joints[self.ball[0]], np.array(self.ball[1])
-            rot = pin.Quaternion(np.array(q[joint.idx_q : joint.idx_q + 4], float)).normalized().toRotationMatrix()
-            row[joint.idx_v : joint.idx_v + 3] = gear @ pin.Jlog3(rot)
-        return float(d.actuator_length[a]), row
-
-    def joint_ids(self, model: pin.Model) -> frozenset[int]:
-        """The joints supporting the bodies it acts between."""
-        return self.joints
-
-
-def actuator_length(m: Any, tree: Tree, a: int, name: str, kinematics: MujocoKinematics) -> ActuatorLength | None:
-    """The length actuator ``a`` drives (a slider-crank, a ball joint, a site with a reference site), else None.
-
-    None for a site without a reference site and for a free joint: MuJoCo's length is 0 there whatever the
-    configuration (a force or a torque at the site or body, with nothing to hold at finite amplitude).
-    """
-    import mujoco
-
-    trn, model = mujoco.mjtTrn, tree.model
-    kind, first, second = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0]), int(m.actuator_trnid[a, 1])
-    gear = np.asarray(m.actuator_gear[a], float)
-    ball = None
-    if kind == trn.mjTRN_SLIDERCRANK or (kind == trn.mjTRN_SITE and second >= 0):
-        bodies = [int(m.site_bodyid[first]), int(m.site_bodyid[second])]
-        linear = kind == trn.mjTRN_SLIDERCRANK or bool(np.any(gear[:3]))
-    elif kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[first]) == BALL:
-        bodies, linear = [int(m.jnt_bodyid[first])], False
-        ball = (model.getJointId(tree.joint_names[first]), (float(gear[0]), float(gear[1]), float(gear[2])))
-    else:
-        return None
-    joints = frozenset(int(j) for b in bodies for j in model.supports[tree.body_joint[b]] if j > 0)
-    return ActuatorLength(name, a, kinematics, joints, linear, ball)
 
 
 def _wraps(m: Any, t: int) -> range:
@@ -241,6 +174,17 @@ def tendon_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKine
     return make_tendon_coupling(tree.model, name, tendons, tuple(m.eq_data[e, :5]), reference, (frames[0], frames[-1]))
 
 
+def outputs(m: Any) -> list[tuple[int, int, int]]:
+    """``(actuator, its first output, its number of outputs)`` for each of MuJoCo's actuators.
+
+    Since MuJoCo 3.12 an actuator may have several controls and outputs (``nu``: controls, ``nactuator``:
+    actuators); its lengths, moment rows and gears are at its outputs (``actuator_outadr``, ``actuator_outnum``).
+    """
+    if not hasattr(m, "actuator_outadr"):
+        return [(a, a, 1) for a in range(m.nu)]
+    return [(a, int(m.actuator_outadr[a]), int(m.actuator_outnum[a])) for a in range(m.nactuator)]
+
+
 def read_actuators(
     m: Any, tree: Tree, kinematics: MujocoKinematics
 ) -> tuple[list[tuple[str, str]], list[Transmission], list[str]]:
@@ -255,7 +199,7 @@ def read_actuators(
     joints: list[tuple[str, str]] = []
     held: list[Transmission] = []
     adhesion: list[str] = []
-    for a in range(m.nu):
+    for a, out, count in outputs(m):
         kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
         name = label(m, "actuator", a)
         if kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[target]) not in (FREE, BALL):
@@ -267,14 +211,22 @@ def read_actuators(
             held.append(TendonActuator(name, tendon_name(m, target), names, coef))
         elif kind == trn.mjTRN_BODY:
             adhesion.append(name)
+        elif kind == so3(trn):  # an orientation servo: three outputs, the expmap's components
+            on_site = int(m.actuator_trnid[a, 1]) >= 0
+            for k in range(count):
+                axis = np.zeros(6)
+                axis[3 + k if on_site else k] = 1.0
+                part = f"{name}[{k}]"
+                length = actuator_length(m, tree, a, out + k, part, kinematics, axis)
+                held.append(MomentActuator(part, "orientation", out + k, kinematics, length))
         else:
             what = {trn.mjTRN_TENDON: "tendon", trn.mjTRN_SITE: "site", trn.mjTRN_SLIDERCRANK: "slider-crank"}
             tendon: Tendon | None = (
                 tendon_of(m, tree, target, kinematics)
                 if kind == trn.mjTRN_TENDON
-                else actuator_length(m, tree, a, name, kinematics)
+                else actuator_length(m, tree, a, out, name, kinematics, np.asarray(m.actuator_gear[out], float))
             )
-            held.append(MomentActuator(name, what.get(kind, "ball joint"), a, kinematics, tendon))
+            held.append(MomentActuator(name, what.get(kind, "ball joint"), out, kinematics, tendon))
     return joints, held, adhesion
 
 

@@ -364,3 +364,20 @@ def test_finite_answers_do_not_depend_on_the_unit_of_length_or_placement(tmp_pat
     answers.add(_verdicts(path))
     assert len(answers) == 1, answers
     assert answers.pop()[:2] == CASES[name]
+
+
+def test_actuators_held_at_their_lengths_are_named_together(capsys):
+    """transmissions.xml: the slider-crank and the ball motor have MuJoCo lengths (held, decided by closed samples
+    alone, named once with their reason), the push on a site without a reference site has none (named apart)."""
+    assert main(["analyze", str(DATA / "tendons" / "transmissions.xml"), "--finite"]) == 0
+    out = capsys.readouterr().out
+    decided = [line for line in out.splitlines() if "decided by closed samples near q" in line]
+    assert (
+        len(decided) == 1 and "actuators 'engine', 'wrist_twist' held at their lengths (MuJoCo's length" in decided[0]
+    )
+    assert "actuator(s) push not held (on a site without a reference site" in out
+    locked = pinmob.analyze(_load(DATA / "tendons" / "transmissions.xml"), finite=True).finite.to_dict()["locked"]
+    assert [s.split(" (")[0] for s in locked["conditions_not_written"]] == [
+        "actuator 'engine' held at its length",
+        "actuator 'wrist_twist' held at its length",
+    ]

@@ -53,7 +53,7 @@ class Tendon(ABC):
         linear: its length is in metres (a spatial tendon, or a fixed one over a slide); else it is a
             combination of angles.
         noun, unwritten_why: what a report calls it, and why its higher derivatives are not written when
-            they are not (:func:`pinmob.analysis.finite.coupling_rows.unwritten`).
+            they are not (:func:`pinmob.analysis.finite.sampled_side.unwritten`).
     """
 
     name: str

@@ -15,7 +15,7 @@ curve's derivatives at t = 0, ``f^(n+1) = (n + 1)! [t^(n+1)] f`` from the trunca
 composition: ``A x^(n+1) + R_n(x^(1..n))`` as for the loops' rows (:mod:`pinmob.screw.lie`).
 :class:`CoupledSystem` appends these rows to a :class:`~pinmob.screw.lie.LoopSystem`, so that
 :class:`pinmob.analysis.finite.higher_order.HigherOrder` treats them as it treats the loops. A tendon that wraps geoms
-or runs over a pulley has no such series here (:func:`unwritten`): a side with a coupling on one (or such a
+or runs over a pulley has no such series here (:func:`~pinmob.analysis.finite.sampled_side.unwritten`): a side with a coupling on one (or such a
 tendon's actuator held) is decided from closed samples alone and never reaches :func:`coupling_rows`.
 """
 
@@ -137,30 +137,6 @@ def is_polynomial(closure: Closure) -> bool:
     return closure.type is ClosureType.JOINT or all(has_series(t) for t in closure.tendons)
 
 
-def unwritten(closures: tuple[Closure, ...]) -> tuple[str, ...]:
-    """``coupling 'c' on tendon 't' (why)`` for each coupling among ``closures`` whose rows are not written.
-
-    (The tendons named are those without a written series, with :attr:`~pinmob.model.tendon.Tendon.noun` and
-    :attr:`~pinmob.model.tendon.Tendon.unwritten_why`.)
-
-    Such a coupling is on a tendon that wraps geoms or runs over a pulley, or holds an actuator's length that
-    MuJoCo computes (a slider-crank, a ball joint, a site): its residual and Jacobian are known (MuJoCo's
-    length and its row), its higher derivatives are not; the side it is on is decided from closed samples
-    alone (:mod:`pinmob.analysis.finite.sampled_side`).
-    """
-    out = []
-    for c in closures:
-        if c.is_coupling and c.type is not ClosureType.JOINT and not is_polynomial(c):
-            blind = [t for t in c.tendons if not has_series(t)]
-            parts = []
-            for kind in dict.fromkeys(type(t) for t in blind):
-                names = [repr(t.name) for t in blind if type(t) is kind]
-                plural = "s" if len(names) > 1 else ""
-                parts.append(f"{kind.noun}{plural} {', '.join(names)} ({kind.unwritten_why})")
-            out.append(f"coupling {c.name!r} on {' and '.join(parts)}")
-    return tuple(out)
-
-
 def _linear(
     model: pin.Model, q: Array, col: Array, n: int, joints: tuple[str, ...], coefs: tuple[float, ...]
 ) -> Coordinate:
@@ -238,7 +214,7 @@ def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], t
     closed samples hold it as the conditions do. On a fixed tendon or one straight between sites it is a row
     exact at every order; on a tendon that wraps geoms or runs over a pulley, and on an actuator's slider-crank,
     ball-joint or site length (:class:`~pinmob.io.actuator_lengths.ActuatorLength`), it has no written series
-    (:func:`unwritten`), and the side with it is decided from closed samples alone.
+    (:func:`~pinmob.analysis.finite.sampled_side.unwritten`), and the side with it is decided from closed samples alone.
 
     Returns:
         the configuration of the mechanism with those closures (``conf`` itself when there are none), the

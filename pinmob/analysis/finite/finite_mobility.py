@@ -30,10 +30,10 @@ from typing import Any
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.branch_names import branch_point_name
 from pinmob.analysis.finite.branches import branch_joints
-from pinmob.analysis.finite.coupling_rows import hold_tendons, unwritten
+from pinmob.analysis.finite.coupling_rows import hold_tendons
 from pinmob.analysis.finite.finite_side import Side, analyse_side
 from pinmob.analysis.finite.higher_order import ORDER, ORDER_TOL, check_order
-from pinmob.analysis.finite.sampled_side import sampled_side
+from pinmob.analysis.finite.sampled_side import sampled_side, unwritten, unwritten_words
 from pinmob.analysis.finite.verdicts import MotionVerdict
 from pinmob.analysis.motion import Motion
 from pinmob.assembly.assemble import joint_velocity_indices
@@ -120,7 +120,7 @@ class FiniteMobility:
             "samples": self.free.samples.to_dict(),
             "notes": list(self.free.notes),
             "evidence": self.free.evidence or None,
-            "conditions_not_written": list(self.free.unwritten),
+            "conditions_not_written": [str(u) for u in self.free.unwritten],
             "tendons_not_held": list(self.unheld),
         }
         if self.locked is not None:
@@ -139,7 +139,7 @@ class FiniteMobility:
                 "samples": lk.samples.to_dict(),
                 "notes": list(lk.notes),
                 "evidence": lk.evidence or None,
-                "conditions_not_written": list(lk.unwritten),
+                "conditions_not_written": [str(u) for u in lk.unwritten],
             }
         return out
 
@@ -210,7 +210,7 @@ def _evidence_lines(side: Side, order: int) -> list[str]:
     if side.unwritten:
         return [
             f"  decided by {side.evidence or 'nothing'} alone: the order conditions were not used "
-            f"({'; '.join(side.unwritten)}: no higher derivatives written)"
+            f"({unwritten_words(side.unwritten)}: no higher derivatives written)"
         ]
     if not side.evidence:
         return []

@@ -13,6 +13,7 @@ cannot either they are None and a note says why.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -31,6 +32,24 @@ from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict, judge, motio
 from pinmob.analysis.motion import Motion
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.rank import decide_rank
+
+
+class Unwritten(NamedTuple):
+    """A closure whose higher derivatives are not written (:func:`pinmob.analysis.finite.sampled_side.unwritten`).
+
+    Attributes:
+        what: ``coupling 'c' on tendons 't1', 't2'``, or the quoted name of an actuator held at its length.
+        why: why its derivatives are not written (:attr:`~pinmob.model.tendon.Tendon.unwritten_why`).
+        held: an actuator held at its length (MuJoCo's :class:`~pinmob.io.actuator_lengths.ActuatorLength`).
+    """
+
+    what: str
+    why: str
+    held: bool = False
+
+    def __str__(self) -> str:
+        """``coupling 'c' on tendon 't' (why)``, or ``actuator 'a' held at its length (why)``."""
+        return f"actuator {self.what} held at its length ({self.why})" if self.held else f"{self.what} ({self.why})"
 
 
 @dataclass(frozen=True)
@@ -52,7 +71,7 @@ class Side:
         tolerance: the absolute tolerance of the conditions (None where they were not written: ``unwritten``).
         evidence: what decided where the conditions up to the order bound did not ('' when they did;
             :mod:`pinmob.analysis.finite.sample_modes`).
-        unwritten: the couplings whose higher derivatives are not written (``coupling 'c' on tendon 't'``): the
+        unwritten: the closures whose higher derivatives are not written (:class:`Unwritten`): the
             order conditions were not used, the closed samples alone decided
             (:mod:`pinmob.analysis.finite.sampled_side`).
     """
@@ -70,7 +89,7 @@ class Side:
     notes: tuple[str, ...]
     tolerance: float | None
     evidence: str = ""
-    unwritten: tuple[str, ...] = ()
+    unwritten: tuple[Unwritten, ...] = ()
 
 
 def held_names(model: pin.Model, held: tuple[int, ...]) -> tuple[str, ...]:

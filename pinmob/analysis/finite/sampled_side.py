@@ -1,6 +1,6 @@
 """One side of the finite analysis decided by closed samples alone, where the order conditions are not written.
 
-A coupling on a tendon that wraps geoms or runs over a pulley (:func:`pinmob.analysis.finite.coupling_rows.unwritten`),
+A coupling on a tendon that wraps geoms or runs over a pulley (:func:`unwritten`),
 or such a tendon's actuator held, has a residual and a Jacobian (MuJoCo's length and its row) but no written
 higher derivatives: the conditions of :mod:`pinmob.analysis.finite.higher_order` cannot be written for the
 closure equations. :func:`sampled_side` decides the :class:`~pinmob.analysis.finite.finite_side.Side` from what
@@ -27,7 +27,8 @@ from pinmob.analysis.chain.closed_chain import closed_chain_columns, frame_rows
 from pinmob.analysis.chain.joint_rates import joint_rates
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.branches import BRANCH_STEP, Branch, branch_order, platform_motions
-from pinmob.analysis.finite.finite_side import Side, held_names, internal_motions
+from pinmob.analysis.finite.coupling_rows import has_series, is_polynomial
+from pinmob.analysis.finite.finite_side import Side, Unwritten, held_names, internal_motions
 from pinmob.analysis.finite.higher_order import OrderTest
 from pinmob.analysis.finite.local_dimension import LocalDimension
 from pinmob.analysis.finite.motion_tracing import trace_motion, trace_rates
@@ -36,8 +37,49 @@ from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict, motions_to_j
 from pinmob.analysis.follow.motion_path import follow_rates
 from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.analysis.motion import Motion
+from pinmob.model.closure import Closure, ClosureType
 from pinmob.screw.algebra import Array, twist_scaling
 from pinmob.screw.rank import decide_rank
+
+
+def unwritten(closures: tuple[Closure, ...]) -> tuple[Unwritten, ...]:
+    """Each coupling among ``closures`` whose rows are not written, per kind of tendon without a written series.
+
+    Such a coupling is on a tendon that wraps geoms or runs over a pulley (named with the tendons concerned,
+    :attr:`~pinmob.model.tendon.Tendon.noun`), or holds an actuator's length that MuJoCo computes (a
+    slider-crank, a ball joint, a site, held by :func:`~pinmob.analysis.finite.coupling_rows.hold_tendons`:
+    named by the actuator): its residual and Jacobian are known (MuJoCo's length and its row), its higher
+    derivatives are not; the side it is on is decided here, from closed samples alone.
+    """
+    out = []
+    for c in closures:
+        if c.is_coupling and c.type is not ClosureType.JOINT and not is_polynomial(c):
+            blind = [t for t in c.tendons if not has_series(t)]
+            for kind in dict.fromkeys(type(t) for t in blind):
+                names = [repr(t.name) for t in blind if type(t) is kind]
+                if kind.noun == "actuator length":  # an actuator held (hold_tendons): one length, named by it
+                    out.append(Unwritten(names[0], kind.unwritten_why, held=True))
+                    continue
+                what = f"coupling {c.name!r} on {kind.noun}{'s' if len(names) > 1 else ''} {', '.join(names)}"
+                out.append(Unwritten(what, kind.unwritten_why))
+    return tuple(out)
+
+
+def unwritten_words(items: tuple[Unwritten, ...]) -> str:
+    """The items in words, those with one reason together.
+
+    For example ``coupling 'c' on tendon 't'; actuators 'a', 'b' held at their lengths (why)``.
+    """
+    parts = []
+    for why in dict.fromkeys(u.why for u in items):
+        phrases = [u.what for u in items if u.why == why and not u.held]
+        held = [u.what for u in items if u.why == why and u.held]
+        if held:
+            many = len(held) > 1
+            lengths = "their lengths" if many else "its length"
+            phrases.append(f"actuator{'s' if many else ''} {', '.join(held)} held at {lengths}")
+        parts.append(f"{'; '.join(phrases)} ({why})")
+    return "; ".join(parts)
 
 
 def untested(rates: Array) -> OrderTest:
@@ -49,7 +91,7 @@ def sampled_side(
     conf: Configuration,
     rtol: float,
     held: tuple[int, ...],
-    unwritten: tuple[str, ...],
+    unwritten: tuple[Unwritten, ...],
     seed: int = 0,
     given: tuple[Motion, ...] | None = None,
 ) -> Side:

@@ -127,5 +127,5 @@ def analyse(
     for i, motion in zip(which.tolist(), labels):
         values = [*pose_list[i], True, dof_list[i], motion, g, 0, "none", False, names[closest_list[i]], "", "", ""]
         values += [distance_list[i], *sv_list[i], *asv_list[i]]
-        out[i] = (dict(zip(ROW_KEYS, values)), dict(zip(names, d_list[i])))
+        out[i] = (dict(zip(ROW_KEYS, values, strict=True)), dict(zip(names, d_list[i], strict=True)))
     return out

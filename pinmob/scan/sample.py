@@ -77,21 +77,21 @@ def _evaluate(
     rtol = conf.rank_rtol(rtol) if cad else rtol
     mob, sing = platform_mobility(conf, rtol), singularity(conf, rtol, g)
     row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(conf.frame_placement(mech.platform_id)).tolist()))
-    verdict = (
-        True,
-        mob.dof,
-        mob.motion_type,
-        mob.constraint_rank,
-        sing.locked_dof,
-        sing.label,
-        sing.near_singular,
-        sing.closest_all[0],  # the first of those tied within round-off: not decided by it
-        ";".join(sing.limbs),
-        ";".join(sing.dependent_limbs),
-        ";".join(m.label for m in sing.uncontrolled),
-        sing.distance,
+    verdict = dict(
+        reachable=True,
+        dof=mob.dof,
+        motion_type=mob.motion_type,
+        constraint_rank=mob.constraint_rank,
+        locked_dof=sing.locked_dof,
+        singularity=sing.label,
+        near_singular=sing.near_singular,
+        closest=sing.closest_all[0],  # the first of those tied within round-off: not decided by it
+        singular_limbs=";".join(sing.limbs),
+        dependent_limbs=";".join(sing.dependent_limbs),
+        uncontrolled=";".join(m.label for m in sing.uncontrolled),
+        distance=sing.distance,
     )
-    row.update(zip(VERDICT_COLUMNS, verdict, strict=True))
+    row.update((k, verdict[k]) for k in VERDICT_COLUMNS)  # in the columns' order, each named
     row.update(zip(SV_COLUMNS, [*sing.constraint_singular_values.tolist(), *sing.actuation_singular_values.tolist()]))
     if cad:
         row.update(residual=conf.residual, rank_rtol=rtol)

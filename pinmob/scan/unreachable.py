@@ -19,8 +19,10 @@ SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
 VERDICT_COLUMNS = ("reachable", "dof", "motion_type", "constraint_rank", "locked_dof", "singularity", "near_singular",
                    "closest", "singular_limbs", "dependent_limbs", "uncontrolled", "distance")  # fmt: skip
 
-#: The verdict of a sample that did not assemble, column by column.
-UNREACHABLE = (False, -1, "unreachable", -1, -1, "", False, "", "", "", "", float("nan"))
+#: The verdict of a sample that did not assemble, by column.
+UNREACHABLE_VERDICT = dict(reachable=False, dof=-1, motion_type="unreachable", constraint_rank=-1, locked_dof=-1,
+                           singularity="", near_singular=False, closest="", singular_limbs="", dependent_limbs="",
+                           uncontrolled="", distance=float("nan"))  # fmt: skip
 
 
 def unreachable_reason(exc: PinmobError, mech: Mechanism, tol: float = CLOSURE_TOL) -> str:
@@ -55,7 +57,7 @@ def unreachable_row(target: tuple[str, Any], reason: str) -> dict[str, Any]:
         row.update(zip(POSE_COORDS, pose_vector(value).tolist()))
     elif kind == "coords":
         row.update(value[0])
-    row.update(zip(VERDICT_COLUMNS, UNREACHABLE, strict=True))
+    row.update((k, UNREACHABLE_VERDICT[k]) for k in VERDICT_COLUMNS)
     row["reason"] = reason
     row.update(dict.fromkeys(SV_COLUMNS, float("nan")))
     return row

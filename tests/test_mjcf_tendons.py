@@ -20,7 +20,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 from numpy.testing import assert_allclose
-from test_third_party import mujoco_counts, mujoco_locked, outputs
+from test_third_party import mujoco_counts, mujoco_locked, nout
 
 import pinmob
 from pinmob.io.mjcf_tendons import MomentActuator, SpatialTendon
@@ -90,7 +90,7 @@ def _mujoco_rows(path: Path, model: pin.Model, q: np.ndarray) -> tuple[np.ndarra
     mujoco.mj_forward(m, d)
     ten = np.zeros((m.ntendon, m.nv))
     mujoco.mju_sparse2dense(ten, d.ten_J, m.ten_J_rownnz, m.ten_J_rowadr, m.ten_J_colind)
-    moments = np.zeros((outputs(m), m.nv))
+    moments = np.zeros((nout(m), m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     return ten, moments, m, d
 
@@ -144,7 +144,7 @@ def test_held_actuator_lengths_are_mujocos_and_their_rows_its_derivatives(name):
     differences of MuJoCo's own length between the configurations ``pin.integrate`` reaches along ``-v`` and
     ``+v``), at random configurations (the ball turned away from its zero, where MuJoCo's moment arms, ``gear``,
     are not the length's derivative; the reference site turning and the sites' relative rotation away from the
-    identity, where MuJoCo's moment is not it either). An orientation servo (MuJoCo 3.12's multi-output actuators)
+    identity, where MuJoCo's moment is not it either). An orientation servo (one of MuJoCo's multi-output actuators)
     holds its three expmap components, each at its own output (``actuator_outadr``), and the actuators after it
     their own outputs' lengths and gears. Sites without a reference site and free joints have no length to hold.
     On the old code the orientation file was not loaded (IndexError: pinmob read ``nu`` controls as actuators)."""

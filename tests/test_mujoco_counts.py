@@ -18,7 +18,7 @@ from typing import Any
 import mujoco
 import numpy as np
 import pytest
-from test_third_party import mujoco_at, mujoco_joint, outputs
+from test_third_party import mujoco_at, mujoco_joint, nout
 
 import pinmob
 
@@ -55,6 +55,8 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "tendons/refsite.xml": (3, 1, 2, 1),
     # two site transmissions with a turning reference site (one along a translational gear, one a rotational)
     "tendons/refsite_turning.xml": (5, 2, 4, 2),
+    # a site transmission whose moment arms MuJoCo gives as zero at q (its reference site on a rocker's pivot)
+    "tendons/rocker.xml": (3, 1, 2, 2),
     # actuators with several controls or outputs: two orientation servos (3 outputs each), a PID (2 controls)
     "tendons/orientation.xml": (11, 9, 10, 2),
     # pinmob's own names fixture: a pinned free base (held), a parallelogram, a coupled follower, a free hinge
@@ -143,7 +145,7 @@ def mujoco_truth(path: Path, joint_values: dict[str, Any], held_bases: list[str]
     """
     m, d, eq = mujoco_at(path, joint_values)
     jac = d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq]
-    moments = np.zeros((outputs(m), m.nv))
+    moments = np.zeros((nout(m), m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     held = np.zeros((6 * len(held_bases), m.nv))
     for k, name in enumerate(held_bases):
@@ -174,7 +176,7 @@ def test_counts_agree_with_mujoco(name):
     m = mujoco_at(path, doc["joint_values"])[0]
     rows = actuator_rows(m)
     on_bodies = sum(len(r) for a, r in rows if m.actuator_trntype[a] == mujoco.mjtTrn.mjTRN_BODY)  # adhesion
-    assert len(act["joint_actuators"]) + len(act["actuated_tendons"]) == outputs(m) - on_bodies  # each output once
+    assert len(act["joint_actuators"]) + len(act["actuated_tendons"]) == nout(m) - on_bodies  # each output once
     on_joints = [int(m.actuator_trnid[a, 0]) for a in joint_actuators(m)]  # MuJoCo's joint of each, in order
     assert [mujoco_joint(m, j) for j in act["joint_actuators"].values()] == on_joints
     assert sorted(mujoco_joint(m, j) for j in act["actuated"]) == sorted(set(on_joints))  # each joint once
@@ -182,10 +184,8 @@ def test_counts_agree_with_mujoco(name):
 
 
 def actuator_rows(m: Any) -> list[tuple[int, range]]:
-    """Each of MuJoCo's actuators and its rows of ``actuator_moment`` (since MuJoCo 3.12 an actuator may have several
-    outputs, ``actuator_outadr``, ``actuator_outnum``: an orientation servo three; before, one each)."""
-    if not hasattr(m, "actuator_outadr"):
-        return [(a, range(a, a + 1)) for a in range(m.nu)]
+    """Each of MuJoCo's actuators and its rows of ``actuator_moment`` (an actuator may have several outputs,
+    ``actuator_outadr``, ``actuator_outnum``: an orientation servo three)."""
     return [(a, range(m.actuator_outadr[a], m.actuator_outadr[a] + m.actuator_outnum[a])) for a in range(m.nactuator)]
 
 
@@ -226,7 +226,7 @@ def test_redundant_actuators_agree_with_mujoco(name):
     act = doc["actuation"]
     m, d, eq = mujoco_at(path, doc["joint_values"])
     jac = d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq]
-    moments = np.zeros((outputs(m), m.nv))
+    moments = np.zeros((nout(m), m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     moments = moments[drives(m)]
     held = np.zeros((6 * len(act["base_held"]), m.nv))

@@ -128,10 +128,9 @@ def test_counts_agree_with_mujoco_and_by_hand(name):
     assert doc["ambiguous_ranks"] == [] and doc["rank_tolerance_note"] is None
 
 
-def outputs(m: Any) -> int:
-    """MuJoCo's number of actuator outputs (``nout``, rows of ``actuator_moment``): ``nu`` before MuJoCo 3.12, where
-    each actuator had one control and one output."""
-    return int(getattr(m, "nout", m.nu))
+def nout(m: Any) -> int:
+    """MuJoCo's number of actuator outputs (``nout``, rows of ``actuator_moment``; ``nu`` counts controls)."""
+    return int(m.nout)
 
 
 def mujoco_locked(path: Path, joint_values: dict[str, float | list[float]]) -> tuple[int, int]:
@@ -141,7 +140,7 @@ def mujoco_locked(path: Path, joint_values: dict[str, float | list[float]]) -> t
     actuator on a tendon), at the given joint values.
     """
     m, d, eq = mujoco_at(path, joint_values)
-    moments = np.zeros((outputs(m), m.nv))
+    moments = np.zeros((nout(m), m.nv))
     mujoco.mju_sparse2dense(moments, d.actuator_moment, d.moment_rownnz, d.moment_rowadr, d.moment_colind)
     rows = np.vstack([d.efc_J.reshape(d.nefc, m.nv)[eq], moments])
     s = np.linalg.svd(rows, compute_uv=False)

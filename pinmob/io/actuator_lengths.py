@@ -2,7 +2,7 @@
 
 MuJoCo gives an actuator a length (``actuator_length``, ``mj_transmission``) on a slider-crank (the slider's
 position), a ball joint (its rotation vector along ``gear``), a site with a reference site (the site's pose in
-the reference site's frame along ``gear``) and, since MuJoCo 3.12, an orientation servo (the three components of
+the reference site's frame along ``gear``) and, since MuJoCo 3.11, an orientation servo (the three components of
 a ball's or a site's expmap, one per output). Held, such an actuator keeps its length: an
 :class:`ActuatorLength`, a :class:`~pinmob.model.tendon.Tendon` whose value is MuJoCo's and whose row is the
 value's exact derivative (:func:`refsite_row` on a site). A site without a reference site and a free joint have
@@ -21,11 +21,6 @@ from pinmob.io.mjcf_tree import BALL, Tree
 from pinmob.io.mujoco_kinematics import MujocoKinematics
 from pinmob.model.tendon import Tendon, joint_configuration
 from pinmob.screw.algebra import Array
-
-
-def so3(trn: Any) -> int:
-    """MuJoCo's orientation transmission (``mjTRN_SO3``, since MuJoCo 3.12; -1 before, where none has it)."""
-    return int(getattr(trn, "mjTRN_SO3", -1))
 
 
 @dataclass(frozen=True, eq=False)
@@ -62,19 +57,17 @@ class ActuatorLength(Tendon):
     unwritten_why: ClassVar[str] = "MuJoCo's length of a slider-crank, a ball joint or a site"
 
     def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:
-        """MuJoCo's ``actuator_length`` and the row of its derivative (on Pinocchio's ``v``) at the last kinematics' q."""
+        """MuJoCo's ``actuator_length`` and its derivative's row (on Pinocchio's ``v``) at the last kinematics' q."""
         q = joint_configuration(model, data)
         kin, a = self.kinematics, self.index
         d = kin.at(q)
-        row = kin.to_v(
-            kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind), q
-        )
+        if self.refsite is not None:
+            return float(d.actuator_length[a]), kin.to_v(refsite_row(kin.m, d, *self.refsite), q)
+        row = kin.moment_row(a, q)
         if self.ball is not None:
             joint, gear = model.joints[self.ball[0]], np.array(self.ball[1])
             rot = pin.Quaternion(np.array(q[joint.idx_q : joint.idx_q + 4], float)).normalized().toRotationMatrix()
             row[joint.idx_v : joint.idx_v + 3] = gear @ pin.Jlog3(rot)
-        elif self.refsite is not None:
-            row = kin.to_v(refsite_row(kin.m, d, *self.refsite), q)
         return float(d.actuator_length[a]), row
 
     def joint_ids(self, model: pin.Model) -> frozenset[int]:
@@ -116,14 +109,15 @@ def actuator_length(
     """The length output ``out`` of actuator ``a`` drives along ``gear``, or None.
 
     A slider-crank's, a ball joint's, a site's with a reference site, or one component of an orientation
-    servo's expmap (``gear`` a unit axis). None for a site without a reference site and for a free joint: MuJoCo's length is 0 there whatever the
-    configuration (a force or a torque at the site or body, with nothing to hold at finite amplitude).
+    servo's expmap (``gear`` a unit axis). None for a site without a reference site and for a free joint:
+    MuJoCo's length is 0 there whatever the configuration (a force or a torque at the site or body, with nothing
+    to hold at finite amplitude).
     """
     import mujoco
 
     trn, model = mujoco.mjtTrn, tree.model
     kind, first, second = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0]), int(m.actuator_trnid[a, 1])
-    if kind == so3(trn):  # the expmap of the ball's rotation or of the site's relative to the reference site
+    if kind == trn.mjTRN_SO3:  # the expmap of the ball's rotation or of the site's relative to the reference site
         kind = trn.mjTRN_SITE if second >= 0 else trn.mjTRN_JOINT
     ball = refsite = None
     if kind == trn.mjTRN_SLIDERCRANK or (kind == trn.mjTRN_SITE and second >= 0):

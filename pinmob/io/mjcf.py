@@ -248,7 +248,10 @@ def load_mjcf(path: str | Path) -> Mechanism:
             ]
         except ValueError as exc:  # a closure's frame name taken (pinmob.io.mjcf_names.add_frame)
             raise file_error(path, str(exc)) from None
-        joints, tendons, adhesion = read_actuators(m, tree, kinematics)
+        try:
+            joints, tendons, adhesion = read_actuators(m, tree, kinematics)
+        except ValueError as exc:  # an actuator of several outputs pinmob does not read
+            raise file_error(path, str(exc)) from None
         if note := left_out(m, adhesion):
             warnings.warn(f"{path.name}: {note}", stacklevel=2)
         if not closures:

@@ -11,11 +11,12 @@ Actuators (MuJoCo's transmissions): one on a hinge or slide (``joint``, ``jointi
 joint; one on a fixed tendon is a :class:`~pinmob.model.tendon.TendonActuator`; one on a spatial tendon, a
 site, a slider-crank or a ball or free joint is a :class:`MomentActuator`, held as MuJoCo's moment arms
 at the configuration (its row of ``actuator_moment``); the finite analysis holds what it drives at its length
-(the tendon's, or :mod:`pinmob.io.actuator_lengths`). An orientation servo (MuJoCo 3.12's ``mjTRN_SO3``, three
+(the tendon's, or :mod:`pinmob.io.actuator_lengths`). An orientation servo (MuJoCo's ``mjTRN_SO3``, three
 outputs) is three, ``name[0..2]``, one per component of its expmap; rows, lengths and gears are those of
 MuJoCo's outputs (:func:`outputs`), not of its controls (``nu``: a PID servo may have two). One on a body
-(adhesion) acts through contacts and is left out. Tendon limits (``limited``, even a narrow range) are MuJoCo's one-sided constraints, active
-only at the range's ends, not equalities: left out. :func:`left_out` says both in one line.
+(adhesion) acts through contacts and is left out. Tendon limits (``limited``, even a narrow range) are
+MuJoCo's one-sided constraints, active only at the range's ends, not equalities: left out. :func:`left_out`
+says both in one line.
 
 MuJoCo is asked at each configuration through :class:`~pinmob.io.mujoco_kinematics.MujocoKinematics`.
 """
@@ -28,7 +29,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.io.actuator_lengths import actuator_length, so3
+from pinmob.io.actuator_lengths import actuator_length
 from pinmob.io.mjcf_names import label
 from pinmob.io.mjcf_tree import BALL, FREE, SLIDE, Tree
 from pinmob.io.mujoco_kinematics import MujocoKinematics
@@ -83,8 +84,8 @@ class MomentActuator(Transmission):
             ``orientation`` (one of an orientation servo's outputs, named ``name[k]``).
         index: its MuJoCo output (its row of ``actuator_length``, ``actuator_moment``: ``actuator_outadr``).
         kinematics: the compiled model.
-        tendon: the spatial tendon or the :class:`~pinmob.io.actuator_lengths.ActuatorLength` it drives (None for a site without a reference
-            site and a free joint: MuJoCo gives them no length).
+        tendon: the spatial tendon or the :class:`~pinmob.io.actuator_lengths.ActuatorLength` it drives (None
+            for a site without a reference site and a free joint: MuJoCo gives them no length).
     """
 
     name: str
@@ -99,10 +100,7 @@ class MomentActuator(Transmission):
 
     def rate_row(self, model: pin.Model, q: Array) -> Array:
         """(nv,) MuJoCo's ``actuator_moment`` row at q, on Pinocchio's ``v``."""
-        kin, a = self.kinematics, self.index
-        d = kin.at(np.asarray(q, float))
-        row = kin.sparse_row(d.actuator_moment, int(d.moment_rownnz[a]), int(d.moment_rowadr[a]), d.moment_colind)
-        return kin.to_v(row, q)
+        return self.kinematics.moment_row(self.index, q)
 
 
 def _wraps(m: Any, t: int) -> range:
@@ -177,11 +175,9 @@ def tendon_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKine
 def outputs(m: Any) -> list[tuple[int, int, int]]:
     """``(actuator, its first output, its number of outputs)`` for each of MuJoCo's actuators.
 
-    Since MuJoCo 3.12 an actuator may have several controls and outputs (``nu``: controls, ``nactuator``:
-    actuators); its lengths, moment rows and gears are at its outputs (``actuator_outadr``, ``actuator_outnum``).
+    An actuator may have several controls and outputs (``nu``: controls, ``nactuator``: actuators); its
+    lengths, moment rows and gears are at its outputs (``actuator_outadr``, ``actuator_outnum``).
     """
-    if not hasattr(m, "actuator_outadr"):
-        return [(a, a, 1) for a in range(m.nu)]
     return [(a, int(m.actuator_outadr[a]), int(m.actuator_outnum[a])) for a in range(m.nactuator)]
 
 
@@ -190,8 +186,11 @@ def read_actuators(
 ) -> tuple[list[tuple[str, str]], list[Transmission], list[str]]:
     """``(actuator, joint)`` per actuator on a hinge or slide, the other held actuators, the ones left out by name.
 
-    See the module docstring. The joints actuated are those of the pairs, each once: two actuators on one joint (MuJoCo's position and
-    velocity servo pair) drive one coordinate, and hold it once.
+    See the module docstring. The joints actuated are those of the pairs, each once: two actuators on one joint
+    (MuJoCo's position and velocity servo pair) drive one coordinate, and hold it once.
+
+    Raises:
+        ValueError: an actuator with several outputs other than an orientation servo (named).
     """
     import mujoco
 
@@ -202,6 +201,11 @@ def read_actuators(
     for a, out, count in outputs(m):
         kind, target = int(m.actuator_trntype[a]), int(m.actuator_trnid[a, 0])
         name = label(m, "actuator", a)
+        if count != 1 and kind != trn.mjTRN_SO3:
+            raise ValueError(
+                f"actuator {name!r} has {count} outputs on a transmission pinmob reads with one (of MuJoCo's "
+                "transmissions, only an orientation servo has several): remove it or give it one output"
+            )
         if kind in (trn.mjTRN_JOINT, trn.mjTRN_JOINTINPARENT) and int(m.jnt_type[target]) not in (FREE, BALL):
             joints.append((name, tree.joint_names[target]))  # a hinge's or slide's own coordinate
         elif kind == trn.mjTRN_TENDON and is_fixed(m, target):
@@ -211,7 +215,7 @@ def read_actuators(
             held.append(TendonActuator(name, tendon_name(m, target), names, coef))
         elif kind == trn.mjTRN_BODY:
             adhesion.append(name)
-        elif kind == so3(trn):  # an orientation servo: three outputs, the expmap's components
+        elif kind == trn.mjTRN_SO3:  # an orientation servo: three outputs, the expmap's components
             on_site = int(m.actuator_trnid[a, 1]) >= 0
             for k in range(count):
                 axis = np.zeros(6)

@@ -78,3 +78,9 @@ class MujocoKinematics:
         out = np.zeros(self.m.nv)
         out[np.asarray(colind[adr : adr + nnz], int)] = values[adr : adr + nnz]
         return out
+
+    def moment_row(self, out: int, q: Array) -> Array:
+        """(nv,) MuJoCo's ``actuator_moment`` row of output ``out`` at q, on Pinocchio's ``v``."""
+        d = self.at(np.asarray(q, float))
+        row = self.sparse_row(d.actuator_moment, int(d.moment_rownnz[out]), int(d.moment_rowadr[out]), d.moment_colind)
+        return self.to_v(row, q)

@@ -30,7 +30,8 @@ class Transmission(ABC):
 
     Attributes:
         name: the actuator's name.
-        kind: what it drives: ``tendon``, ``site``, ``slider-crank`` or ``ball joint``.
+        kind: what it drives: ``tendon``, ``site``, ``slider-crank``, ``ball joint`` or ``orientation`` (one
+            component of an orientation servo).
     """
 
     name: str

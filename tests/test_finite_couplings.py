@@ -23,7 +23,7 @@ import pinocchio as pin
 import pytest
 from numpy.polynomial import Polynomial
 from test_mjcf_tendons import _scaled
-from test_third_party import mujoco_joint, mujoco_model, outputs
+from test_third_party import mujoco_joint, mujoco_model, nout
 
 import pinmob
 from pinmob.analysis.finite.loop_screws import mechanism_loops
@@ -72,6 +72,8 @@ CASES: dict[str, tuple[int, int]] = {
     # see the file: rocker, shoulder, elbow, twist (the dial follows the elbow): 4; the tip held along a
     # translational and a rotational gear relative to the rocker's turning reference site: 2
     "tendons/refsite_turning.xml": (4, 2),
+    # see the file: the rocker and the hinge pair: 2; the site's x in the rocker's frame held locks the rocker: 1
+    "tendons/rocker.xml": (2, 1),
     # see the file: two balls, the hinge pair, the cup's ball: 10; held: the orientation servos hold the wrist and
     # the cup (3 each), the motor one axis of the second ball, the PID servo the hinge pair: 2
     "tendons/orientation.xml": (10, 2),
@@ -111,7 +113,7 @@ class MujocoClosure:
         """(residual, Jacobian on MuJoCo's qvel) at qpos; held, the lengths' rows by central differences."""
         if not self.held:
             return self._forward(qpos)[:2]
-        rows = np.zeros((outputs(self.m), self.m.nv))
+        rows = np.zeros((nout(self.m), self.m.nv))
         for k in range(self.m.nv):
             step = np.zeros(self.m.nv)
             step[k] = 1e-7
@@ -381,3 +383,18 @@ def test_actuators_held_at_their_lengths_are_named_together(capsys):
         "actuator 'engine' held at its length",
         "actuator 'wrist_twist' held at its length",
     ]
+
+
+def test_moment_arms_off_the_length_are_said(capsys):
+    """rocker.xml: MuJoCo's moment arms of the site actuator are zero at q (the first-order actuation, as MuJoCo's
+    rank, leaves 2 motions) while its length moves with the rocker (held at its length, 1 DoF: MuJoCo's sampled
+    dimension above); the report says that the two rows differ. The actuators of gripper.xml (a fixed tendon) and
+    transmissions.xml at its reference (a slider-crank, a ball at its zero) hold their lengths' derivatives: no
+    such note."""
+    assert main(["analyze", str(DATA / "tendons" / "rocker.xml"), "--finite"]) == 0
+    out = capsys.readouterr().out
+    assert "locked, 2 motion(s) remain" in out and "actuators held (aim): mechanism 1 DoF finite" in out
+    assert "note: the moment arms MuJoCo gives actuator(s) aim at q" in out
+    for name in ("gripper.xml", "transmissions.xml"):
+        assert main(["analyze", str(DATA / "tendons" / name), "--finite"]) == 0
+        assert "moment arms MuJoCo gives" not in capsys.readouterr().out

@@ -127,7 +127,8 @@ def check_actuated(mech: Mechanism) -> tuple[str, ...]:
     """
     if not mech.actuated:
         tendons = [t.name for t in mech.actuated_tendons]
-        why = f" (its actuator(s) {', '.join(tendons)} drive tendons or sites, not joints)" if tendons else ""
+        kinds = ", ".join(sorted({t.kind for t in mech.actuated_tendons}))
+        why = f" (its actuator(s) {', '.join(tendons)} drive {kinds}, not joints)" if tendons else ""
         raise ConfigurationError(
             f"{mech.name!r} declares no actuated joint{why}, and a joint path interpolates the actuated joints: "
             "name them with `actuated=a,b,...` (pinmob.model.actuation.with_actuated in Python)"

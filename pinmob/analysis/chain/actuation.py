@@ -8,8 +8,8 @@ frame, no joint centre and no closure point
 
 A floating base (a free-flyer joint at the root of the tree carrying other joints: a legged robot's
 pelvis) moves in its own 6 DoF whatever the motors do; the actuation is judged with it held
-(:func:`held_indices`), and the verdict says so. An actuator on a tendon, a site or a slider-crank (MJCF)
-holds its moment arms at the configuration (:func:`~pinmob.model.tendon.tendon_rows`; a fixed tendon's
+(:func:`held_indices`), and the verdict says so. An actuator on a tendon, a site, a slider-crank, a ball joint or
+an orientation servo (MJCF) holds its moment arms at the configuration (:func:`~pinmob.model.tendon.tendon_rows`; a fixed tendon's
 combination of joint rates), counted with the joints.
 """
 

@@ -15,8 +15,9 @@ curve's derivatives at t = 0, ``f^(n+1) = (n + 1)! [t^(n+1)] f`` from the trunca
 composition: ``A x^(n+1) + R_n(x^(1..n))`` as for the loops' rows (:mod:`pinmob.screw.lie`).
 :class:`CoupledSystem` appends these rows to a :class:`~pinmob.screw.lie.LoopSystem`, so that
 :class:`pinmob.analysis.finite.higher_order.HigherOrder` treats them as it treats the loops. A tendon that wraps geoms
-or runs over a pulley has no such series here (:func:`~pinmob.analysis.finite.sampled_side.unwritten`): a side with a coupling on one (or such a
-tendon's actuator held) is decided from closed samples alone and never reaches :func:`coupling_rows`.
+or runs over a pulley has no such series here (:func:`~pinmob.analysis.finite.sampled_side.unwritten`), nor
+has an actuator's length that MuJoCo computes: a side with a coupling on one (or such an actuator held) is
+decided from closed samples alone and never reaches :func:`coupling_rows`.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from math import factorial
 import numpy as np
 import pinocchio as pin
 
+from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.coordinate_series import Coordinate, truncated_product
 from pinmob.exceptions import ConfigurationError
@@ -246,3 +248,35 @@ def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], t
         return conf, (), tuple(others)
     locked = replace(mech, closures=mech.closures + tuple(extra), actuated_tendons=tuple(others))
     return Configuration.from_checked(locked, conf.q, conf.closure_tol, name=conf.name), tuple(held), tuple(others)
+
+
+#: Sine of the angle above which an actuator's moment arms and its length's derivative are not one direction.
+ROW_SINE = 1e-6
+
+
+def moments_off_lengths(conf: Configuration) -> tuple[str, ...]:
+    """The held actuators whose moment arms at q are not along their length's derivative.
+
+    The moment arms (:meth:`~pinmob.model.tendon.Transmission.rate_row`, MuJoCo's ``actuator_moment``) are what
+    the first-order actuation holds; the length's derivative is what the finite analysis holds
+    (:func:`hold_tendons`). MuJoCo's moment arms leave out the expmap's Jacobian on a ball turned away from its
+    zero and the reference site's turning on a site transmission. Directions are compared on the dimensionless joint rates (sine above
+    :data:`ROW_SINE`, or one of the two rows zero and not the other).
+    """
+    mech = conf.mechanism
+    model, col = mech.model, closed_chain_columns(conf)
+    out = []
+    for t in mech.actuated_tendons:
+        tendon = t.driven_tendon(model)
+        if tendon is None:
+            continue
+        a, b = t.rate_row(model, conf.q) * col, tendon.length(model, conf.data)[1] * col
+        na, nb = float(np.linalg.norm(a)), float(np.linalg.norm(b))
+        if na == 0 or nb == 0:
+            off = na != nb
+        else:
+            a, b = a / na, b / nb
+            off = float(np.linalg.norm(b - (a @ b) * a)) > ROW_SINE
+        if off:
+            out.append(t.name)
+    return tuple(out)

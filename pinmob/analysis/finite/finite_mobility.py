@@ -30,7 +30,7 @@ from typing import Any
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.branch_names import branch_point_name
 from pinmob.analysis.finite.branches import branch_joints
-from pinmob.analysis.finite.coupling_rows import hold_tendons
+from pinmob.analysis.finite.coupling_rows import hold_tendons, moments_off_lengths
 from pinmob.analysis.finite.finite_side import Side, analyse_side
 from pinmob.analysis.finite.higher_order import ORDER, ORDER_TOL, check_order
 from pinmob.analysis.finite.sampled_side import sampled_side, unwritten, unwritten_words
@@ -274,6 +274,12 @@ def finite_mobility(
             held = tuple(int(i) for i in joint_velocity_indices(mech, list(mech.actuated)))
             locked = side(tendons, held, locked_motions)
             locked = replace(locked, held=locked.held + held_tendons)
+            if off := moments_off_lengths(conf):
+                note = (
+                    f"the moment arms MuJoCo gives actuator(s) {', '.join(off)} at q (which the first-order actuation "
+                    "holds) are not the derivatives of their lengths (held here): the first-order counts may differ"
+                )
+                locked = replace(locked, notes=(*locked.notes, note))
         unheld = tuple(t.name for t in others)
         return FiniteMobility(mech.name, conf.name, order, free.tolerance, free, locked, mech.platform, conf, unheld)
 

@@ -264,6 +264,8 @@ def moments_off_lengths(conf: Configuration) -> tuple[str, ...]:
     :data:`ROW_SINE`, or one of the two rows zero and not the other).
     """
     mech = conf.mechanism
+    if not mech.actuated_tendons:
+        return ()
     model, col = mech.model, closed_chain_columns(conf)
     out = []
     for t in mech.actuated_tendons:

@@ -1,7 +1,8 @@
 """One side of the finite analysis decided by closed samples alone, where the order conditions are not written.
 
 A coupling on a tendon that wraps geoms or runs over a pulley (:func:`unwritten`),
-or such a tendon's actuator held, has a residual and a Jacobian (MuJoCo's length and its row) but no written
+such a tendon's actuator held, or an actuator held at the length MuJoCo gives it (a slider-crank, a ball joint,
+a site with a reference site), has a residual and a Jacobian (MuJoCo's length and its row) but no written
 higher derivatives: the conditions of :mod:`pinmob.analysis.finite.higher_order` cannot be written for the
 closure equations. :func:`sampled_side` decides the :class:`~pinmob.analysis.finite.finite_side.Side` from what
 needs only the residual and its Jacobian:

@@ -156,13 +156,11 @@ class _Lockstep:
                 self.lost.discard(c)
 
 
-def short_move(problem: PoseProblem, a: Array, b: Array) -> Array:
-    """``b - a`` in the tangent space (Pinocchio's ``difference``), each revolute angle's part the short way round."""
-    return short_moves(problem, np.asarray(a)[None], np.asarray(b)[None])[0]
-
-
 def short_moves(problem: PoseProblem, a: Array, b: Array) -> Array:
-    """:func:`short_move` of each row of (B, nq) stacks: (B, nv)."""
+    """(B, nv) ``b - a`` of (B, nq) stacks, row by row, in the tangent space (Pinocchio's ``difference``).
+
+    Each revolute angle's part goes the short way round.
+    """
     if problem.vector_space:
         move = b - a
     else:
@@ -175,7 +173,7 @@ def secant_starts(problem: PoseProblem, before: list[Array | None], seeds: list[
     """Where the predictor starts each sample: ``seed`` moved on by ``seed - before`` (a line's secant), or ``seed``.
 
     ``before``: the closed sample before the one that gave ``seed`` on the same line (None: start at ``seed``).
-    The move is :func:`short_move` (the closed samples' angles are wrapped into (-pi, pi]). A start only: the
+    The move is :func:`short_moves` (the closed samples' angles are wrapped into (-pi, pi]). A start only: the
     sample's verdict and branch are the Newton steps' from it (checked by :func:`off_secant`), and a sample the
     predictor does not close goes to the single-sample solver from ``seed``, as before.
     """

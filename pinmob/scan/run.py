@@ -87,10 +87,13 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held
     predictor = Predictor(solver, spec) if Predictor.applies(mech, spec) else None
     # the last two waypoints and their closed configurations; a grid's walk starts at the reference's coordinates
-    here: Walked = (None, _target_values(spec.coordinates_target(dict(spec.start))) if spec.start else None)
+    here: Walked = (
+        None,
+        _target_values(spec.coordinates_target(dict(spec.start))) if predictor and spec.start else None,
+    )
     behind: list[tuple[Walked, Array | None]] = [((None, None), None), (here, q)]
     for target, k in spec.waypoints():
-        here = (k, _target_values(target))
+        here = (k, _target_values(target) if predictor else None)  # the moves compared only for the predictor
         closed = _secant_waypoint(predictor, target, here, behind)
         if closed is None:
             try:

@@ -1,8 +1,9 @@
-"""An installed pinmob writes nothing inside its own package: its numba cache goes to a per-user folder."""
+"""An installed pinmob writes nothing inside its own package (its numba cache goes to a per-user folder); its wheel builds cleanly."""
 
 from __future__ import annotations
 
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -133,3 +134,28 @@ def test_unwritable_cache_folder_means_no_disk_cache(package, tmp_path):
     blocker.write_text("")
     assert run_batch(package, blocker) == 0
     assert _files(package) == before and blocker.read_text() == ""
+
+
+def test_the_wheel_builds_without_warnings_and_ships_the_licence_and_the_panel(tmp_path):
+    """`pip install .` builds a wheel with no setuptools warning (a folder of data Python sees as a package, absent
+    from the packages list, used to warn), carrying LICENSE and the viewer panel's script and style."""
+    root = Path(__file__).resolve().parent.parent
+    source = tmp_path / "src"
+    for name in ("pinmob", "models"):
+        shutil.copytree(root / name, source / name, ignore=shutil.ignore_patterns("__pycache__"))
+    for name in ("pyproject.toml", "README.md", "LICENSE"):
+        shutil.copy(root / name, source / name)
+    run = subprocess.run(
+        [sys.executable, "-m", "pip", "wheel", "--no-deps", "-v", "-w", str(tmp_path / "dist"), str(source)],
+        capture_output=True, text=True, timeout=600,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr[-2000:]
+    warned = re.compile(r"\.py:\d+: \w*Warning: ")  # a Python warning of the build backend (setuptools)
+    warnings = [line.strip() for line in (run.stdout + run.stderr).splitlines() if warned.search(line)]
+    assert not warnings, "\n".join(warnings)
+    import zipfile
+
+    (wheel,) = (tmp_path / "dist").glob("pinmob-*.whl")
+    names = zipfile.ZipFile(wheel).namelist()
+    assert any(n.endswith("licenses/LICENSE") for n in names)
+    assert {"pinmob/viewer/static/panel.js", "pinmob/viewer/static/panel.css"} <= set(names)

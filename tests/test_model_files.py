@@ -355,3 +355,13 @@ def test_assert_mobility_through_and_bad_arguments():
         assert_mobility(mech, "generic", directions={"R": [[1, 0]]})
     with pytest.raises(ConfigurationError, match="method 'wrenches'; valid: limbs, mechanism"):
         assert_mobility(mech, "generic", method="wrenches")
+
+
+def test_expectations_name_no_file_of_the_test_suite() -> None:
+    """A report's "expected" line is read by pip users, who have no tests/ folder: a source names a derivation, a
+    publication or pinmob's test suite, never a path in it."""
+    from pinmob import builtin_models, load
+
+    sources = {(name, config): e.source for name in builtin_models() for config, e in load(name).expected.items()}
+    assert sources, "no built-in model has an expectation"
+    assert not {k: s for k, s in sources.items() if "tests/" in s or "test_" in s}

@@ -26,7 +26,7 @@ from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.joints import joint_names
 from pinmob.model.mechanism import Mechanism
-from pinmob.name_matching import choices
+from pinmob.name_matching import choices, did_you_mean
 from pinmob.screw.algebra import Array, wrench_scaling
 from pinmob.screw.rank import reciprocal_wrenches
 
@@ -41,7 +41,10 @@ def _direction(mech: Mechanism, approach: Array | Mapping[str, float]) -> Array:
         dv = np.zeros(model.nv)
         for name, value in approach.items():
             if not model.existJointName(name) or name == "universe":
-                raise ConfigurationError(f"approach names unknown joint {name!r}; valid: {choices(joint_names(model))}")
+                raise ConfigurationError(
+                    f"approach names unknown joint {name!r}{did_you_mean(name, joint_names(model))}; "
+                    f"valid: {choices(joint_names(model))}"
+                )
             joint = model.joints[model.getJointId(name)]
             if joint.nv != 1:
                 raise ConfigurationError(

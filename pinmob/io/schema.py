@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.exceptions import MechanismFileError, PinmobError
-from pinmob.name_matching import choices
+from pinmob.name_matching import choices, did_you_mean
 
 
 def file_error(path: Path, msg: str) -> MechanismFileError:
@@ -171,7 +171,10 @@ def joint_values(path: Path, where: str, table: Mapping[str, Any], joint_names: 
     out = {}
     for k, v in table.items():
         if k not in joint_names:
-            raise file_error(path, f"{where} names unknown joint {k!r}; valid joints: {choices(joint_names)}")
+            raise file_error(
+                path,
+                f"{where} names unknown joint {k!r}{did_you_mean(k, joint_names)}; valid joints: {choices(joint_names)}",
+            )
         if not finite_number(v):
             raise file_error(
                 path, f"{where}.{k} must be a finite number [m or rad], got {_toml_type(v)} {toml_text(v)}"

@@ -34,7 +34,7 @@ from pinmob.model.closure import Closure, make_closure
 from pinmob.model.geometry import Geometry
 from pinmob.model.joints import frame_id
 from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
-from pinmob.name_matching import choices
+from pinmob.name_matching import choices, did_you_mean
 
 
 def _frame(path: Path, where: str, model: pin.Model, name: str) -> None:
@@ -48,7 +48,10 @@ def _frame(path: Path, where: str, model: pin.Model, name: str) -> None:
 def _joints(path: Path, where: str, joint_names: set[str], names: list[str]) -> list[str]:
     for name in names:
         if name not in joint_names:
-            raise FrameError(f"{path}: {where} names unknown joint {name!r}; valid joints: {choices(joint_names)}")
+            raise FrameError(
+                f"{path}: {where} names unknown joint {name!r}{did_you_mean(name, joint_names)}; "
+                f"valid joints: {choices(joint_names)}"
+            )
     return names
 
 

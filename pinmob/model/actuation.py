@@ -8,7 +8,7 @@ from dataclasses import replace
 from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.model.joints import joint_names
 from pinmob.model.mechanism import Mechanism
-from pinmob.name_matching import choices
+from pinmob.name_matching import choices, did_you_mean
 
 
 def with_actuated(mech: Mechanism, names: Sequence[str]) -> Mechanism:
@@ -24,7 +24,9 @@ def with_actuated(mech: Mechanism, names: Sequence[str]) -> Mechanism:
     valid = joint_names(mech.model)
     for a in names:
         if a not in valid:
-            raise FrameError(f"actuated joint {a!r} does not exist in {mech.name!r}; valid: {choices(valid)}")
+            raise FrameError(
+                f"actuated joint {a!r} does not exist in {mech.name!r}{did_you_mean(a, valid)}; valid: {choices(valid)}"
+            )
     if len(set(names)) != len(names):
         raise ConfigurationError(f"actuated joints must be named once each, got {list(names)}")
     limbs = tuple(replace(b, actuated=tuple(a for a in names if a in b.joints)) for b in mech.limbs)

@@ -9,7 +9,7 @@ import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.model.joints import joint_names
-from pinmob.name_matching import choices
+from pinmob.name_matching import choices, did_you_mean
 from pinmob.screw.algebra import Array
 
 
@@ -25,7 +25,10 @@ def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, ow
     q = np.array(base, float)
     for jname, value in values.items():
         if not model.existJointName(jname):
-            raise FrameError(f"unknown joint {jname!r} in {owner!r}; valid: {choices(joint_names(model))}")
+            raise FrameError(
+                f"unknown joint {jname!r} in {owner!r}{did_you_mean(jname, joint_names(model))}; "
+                f"valid: {choices(joint_names(model))}"
+            )
         try:
             x = float(value)
         except (TypeError, ValueError):
@@ -81,7 +84,9 @@ def joint_value(model: pin.Model, q: Array, name: str, near: float | None = None
         ConfigurationError: a joint of several degrees (spherical, free, planar).
     """
     if not model.existJointName(name):
-        raise FrameError(f"unknown joint {name!r}; valid: {choices(joint_names(model))}")
+        raise FrameError(
+            f"unknown joint {name!r}{did_you_mean(name, joint_names(model))}; valid: {choices(joint_names(model))}"
+        )
     joint = model.joints[model.getJointId(name)]
     kind = _kind(joint)
     if kind not in ("value", "angle"):

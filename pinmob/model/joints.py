@@ -73,7 +73,10 @@ def one_degree_indices(model: pin.Model, names: Iterable[str], owner: str) -> Ar
     out = []
     for name in names:
         if not model.existJointName(name) or name == "universe":
-            raise FrameError(f"unknown joint {name!r} in {owner!r}; valid: {choices(joint_names(model))}")
+            raise FrameError(
+                f"unknown joint {name!r} in {owner!r}{did_you_mean(name, joint_names(model))}; "
+                f"valid: {choices(joint_names(model))}"
+            )
         joint = model.joints[model.getJointId(name)]
         if joint.nv != 1:
             raise ConfigurationError(

@@ -28,7 +28,7 @@ from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.model.names import check_names
 from pinmob.model.tendon import Transmission
-from pinmob.name_matching import choices, match_name
+from pinmob.name_matching import choices, did_you_mean, match_name
 from pinmob.screw.algebra import Array
 
 T = TypeVar("T")
@@ -127,7 +127,8 @@ class Mechanism:
         for a in extra:
             if not model.existJointName(a) or a == "universe":
                 raise FrameError(
-                    f"actuated joint {a!r} does not exist in {name!r}; valid: {choices(joint_names(model))}"
+                    f"actuated joint {a!r} does not exist in {name!r}{did_you_mean(a, joint_names(model))}; "
+                    f"valid: {choices(joint_names(model))}"
                 )
         names = [c.name for c in closures]
         if len(set(names)) != len(names):

@@ -178,9 +178,18 @@ def test_names_match_ignoring_case_where_unambiguous(capsys):
             "no configuration 'flt' in '3-PUU-flat' (did you mean 'flat'?); valid",
         ),
         (["analyze", "3-PUU", "--frame", "platfrm"], "no frame 'platfrm' in model '3-PUU' (did you mean 'platform'"),
-        (["analyze", "3-PUU", "--joints", "A_slidr=0.1"], "unknown joint 'A_slidr' in '3-PUU' (did you mean 'A_slider'"),
-        (["analyze", "3-PUU", "--actuated", "A_slidr"], "joint 'A_slidr' does not exist in '3-PUU' (did you mean 'A_slider'"),
-        (["show", "3-PUU", "--joints", "A_slidr=0.1", "--html", "x.html"], "joint 'A_slidr' in '3-PUU' (did you mean 'A_slider'"),
+        (
+            ["analyze", "3-PUU", "--joints", "A_slidr=0.1"],
+            "unknown joint 'A_slidr' in '3-PUU' (did you mean 'A_slider'",
+        ),
+        (
+            ["analyze", "3-PUU", "--actuated", "A_slidr"],
+            "joint 'A_slidr' does not exist in '3-PUU' (did you mean 'A_slider'",
+        ),
+        (
+            ["show", "3-PUU", "--joints", "A_slidr=0.1", "--html", "x.html"],
+            "joint 'A_slidr' in '3-PUU' (did you mean 'A_slider'",
+        ),
     ],
 )
 def test_unknown_names_get_a_did_you_mean(capsys, args, message):

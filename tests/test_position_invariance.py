@@ -72,6 +72,8 @@ def verdicts(d: dict[str, Any]) -> dict[str, Any]:
         "redundant_constraints": d["redundant_constraints"],
         "redundant_by_closure": d["redundant_by_closure"],
         "idle_dof": d["idle_dof"],
+        "grubler_by_own_rank": d["grubler_by_own_rank"],
+        "motion_subgroup": d["motion_subgroup"],
         "limbs": [(limb["name"], limb["twist_rank"], limb["serially_singular"]) for limb in d["limbs"]],
         "frames": [(f["frame"], f["dof"], f["motion_type"]) for f in d["frames"]],
         "classes": s["classes"],

@@ -295,6 +295,6 @@ class Report:
 #: keys of the whole-mechanism document added to the JSON of a limb-and-platform analysis
 MECHANISM_KEYS = (
     "nv", "closure_rows", "closure_rank", "mechanism_dof", "internal_dof", "idle_dof", "idle_joints",
-    "redundant_constraints", "redundant_by_closure", "redundant_by_closure_rule", "grubler", "actuation", "closures",
-    "end_frames", "frames",
+    "redundant_constraints", "redundant_by_closure", "redundant_by_closure_rule", "grubler", "grubler_by_own_rank",
+    "motion_subgroup", "actuation", "closures", "end_frames", "frames",
 )  # fmt: skip

@@ -13,7 +13,12 @@ With the dimensionless closure Jacobian ``K`` (rows, nv) of
   other both count theirs, so these add up to at least ``rows - rank K``;
 - Grubler-Kutzbach count ``sum f_joints - sum rows_closures = nv - rows``
   (``6 (n - 1 - j) + sum f`` with each closure as a joint of 6 - rows
-  freedoms); it equals ``m`` only when no equation is redundant;
+  freedoms); it equals ``m`` only when no equation is redundant. Where the
+  closures' own rows are dependent (``sum_c rank K_c < rows``), e.g. a planar
+  mechanism, whose joint screws span a motion subgroup of dimension 3
+  (:func:`pinmob.screw.subgroup.motion_subgroup`), where a weld's six spatial
+  equations hold three, the count by the closures' own ranks
+  ``nv - sum_c rank K_c`` is given beside the spatial one;
 - internal motions: closed-chain motions that leave the output frame still,
   ``m`` minus the output's DoF (one output only);
 - idle motions: the internal motions that move no actuated joint, no output
@@ -29,7 +34,7 @@ With the dimensionless closure Jacobian ``K`` (rows, nv) of
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any
 
 import numpy as np
@@ -47,9 +52,10 @@ from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.joints import frame_id, frame_name
 from pinmob.model.mechanism import Mechanism
 from pinmob.model.tendon import tendon_rows
-from pinmob.screw.algebra import Array
+from pinmob.screw.algebra import Array, shift_twists, twist_scaling
 from pinmob.screw.classify import motion_type
 from pinmob.screw.rank import RTOL, check_rtol, decide_rank
+from pinmob.screw.subgroup import MotionSubgroup, motion_subgroup
 
 
 @dataclass(frozen=True)
@@ -100,6 +106,12 @@ class MechanismMobility(ReadOnlyArrays):
     tolerance: float = 0.0
     length_scale: float = 1.0
     motions: Array = field(default_factory=lambda: np.zeros((0, 0)), repr=False)
+    subgroup: MotionSubgroup | None = None
+
+    @property
+    def grubler_by_own_rank(self) -> int:
+        """Grubler-Kutzbach with each closure counted by the rank of its own rows: ``nv - sum_c rank K_c``."""
+        return self.nv - sum(c.rank for c in self.closures)
 
     @property
     def redundant_constraints(self) -> int:
@@ -133,6 +145,8 @@ class MechanismMobility(ReadOnlyArrays):
             "redundant_constraints": self.redundant_constraints,
             "redundant_by_closure": self.redundant_by_closure,
             "grubler": self.grubler,
+            "grubler_by_own_rank": self.grubler_by_own_rank,
+            "motion_subgroup": None if self.subgroup is None else asdict(self.subgroup),
             "actuation": self.actuation.to_dict(),
             "redundant_by_closure_rule": REDUNDANCY_RULE,
             "closures": [c.to_dict() for c in self.closures],
@@ -151,6 +165,18 @@ class MechanismMobility(ReadOnlyArrays):
             f"{self.mechanism}{where}: mechanism DoF {self.mechanism_dof} (nv {self.nv} - closure rank {self.rank}), "
             f"Grubler-Kutzbach {self.grubler} (nv {self.nv} - {self.rows} closure equations)",
         ]
+        own = sum(c.rank for c in self.closures)
+        if own < self.rows:
+            group = self.subgroup
+            lines.append(
+                f"  the spatial count: the closures' own equations have rank {own} of {self.rows} here"
+                + (
+                    f" (every joint screw lies in a {group.name} motion subgroup of dimension {group.dimension})"
+                    if group is not None
+                    else ""
+                )
+                + f"; counted by those ranks, nv {self.nv} - {own} = {self.grubler_by_own_rank}"
+            )
         internal = self.internal_dof
         if internal:
             out = self.frames[0]
@@ -295,4 +321,17 @@ def mechanism_mobility(
         tolerance=dec.tolerance,
         length_scale=mech.length_scale,
         motions=chain.col[:, None] * null,
+        subgroup=joint_subgroup(conf, rtol),
     )
+
+
+def joint_subgroup(conf: Configuration, rtol: float) -> MotionSubgroup | None:
+    """The motion subgroup every joint screw of the tree lies in at ``conf`` (None: all of SE(3), or not a group).
+
+    The screws are taken at the centroid of the joints (so that where the mechanism stands does not matter) and made
+    dimensionless with its length scale.
+    """
+    mech = conf.mechanism
+    centre = np.mean([m.translation for m in conf.data.oMi[1:]], axis=0) if mech.model.njoints > 1 else np.zeros(3)
+    screws = shift_twists(conf.world_jacobian, centre)
+    return motion_subgroup(twist_scaling(mech.length_scale)[:, None] * screws, rtol)

@@ -446,14 +446,14 @@ def test_world_axes_and_grid_toggle(browser, flat, tmp_path):
 
 def test_mjcf_gripper_html_in_chromium(browser, tmp_path):
     """The Menagerie xArm7 gripper (MJCF, MuJoCo's meshes, no platform): the exported page draws its meshes
-    and animates the frame pinmob shows (``pinmob show``'s choice, its most mobile output frame)."""
-    from pinmob.cli.show import with_viewed_frame
-
+    and animates the frame pinmob shows (the viewer's choice, its most mobile output frame, which the panel names)."""
     mech = pinmob.load(Path(__file__).parent / "data" / "third_party" / "menagerie_xarm7_hand" / "hand.xml")
-    viewed, conf, note = with_viewed_frame(mech, "reference", 1e-6)
+    viewed, _, note = viewer.viewed_frame(mech, "reference")
     assert "names no platform" in note and viewed.visual_model is not None and viewed.visual_model.ngeoms == 7
-    scene = viewer.export_html(viewed, conf, tmp_path / "hand.html")
+    scene = viewer.export_html(mech, "reference", tmp_path / "hand.html")  # the viewer picks the same frame itself
+    assert scene.shown_frame == note and scene.mobility.platform == viewed.platform
     page = open_page(browser, (tmp_path / "hand.html").as_uri())
+    assert page.inner_text(".pinmob-answer").startswith(f"The output frame '{viewed.platform}' has ")
     visuals = ["meshcat", "pinmob", "mechanism", "visuals"]
     assert page.evaluate("(p) => viewer.scene_tree.find(p).object.children.length", visuals) == 7  # the meshes
     seek(page, 0.0)

@@ -463,3 +463,33 @@ def test_sigkill_of_show_stops_the_server_it_started():
                     os.kill(pid, signal.SIGKILL)
                 except ProcessLookupError:
                     pass
+
+
+def test_a_mechanism_without_platform_is_shown_by_its_output_frame_and_the_panel_says_so(tmp_path):
+    """MJCF four-bar without a platform: the viewer itself shows its output frame (the rocker: the leaf body that
+    turns with the one DoF) and every sentence of the panel names that frame, not "the platform" (issue 34)."""
+    mech = pinmob.load(Path(__file__).parent / "data" / "fourbar_weld.xml")
+    assert not mech.has_platform
+    scene = viewer.export_html(mech, "reference", tmp_path / "f.html", steps=2)
+    doc = scene.panel
+    assert scene.shown_frame.startswith("'fourbar-weld' names no platform: showing the motions of its output frame")
+    assert doc["subject"] == "the output frame 'rocker'" and doc["answer"]["dof"] == 1
+    text = repr({k: doc[k] for k in ("summary", "singularity", "mechanism", "legend")})
+    assert "platform" not in text.replace("names no platform", "")
+    assert "the output frame 'rocker'" in doc["mechanism"]
+    with_platform = viewer.export_html(pinmob.load("3-PUU"), "generic", tmp_path / "p.html", animate=False)
+    assert with_platform.panel["subject"] == "the platform" and with_platform.shown_frame == ""
+
+
+def test_viewer_options_are_declared_once_and_a_wrong_one_is_named(flat, tmp_path):
+    """Every viewer function takes the options of ViewOptions as keywords, with its defaults; a misspelt option is
+    one error naming it and the valid ones, before anything is computed."""
+    import inspect
+
+    for function in (viewer.show, viewer.export_html, viewer.scene_html, viewer.notebook):
+        signature = inspect.signature(function)
+        assert not set(viewer.VIEW_OPTIONS) & set(signature.parameters), function.__name__  # not declared again
+    with pytest.raises(pinmob.ArgumentError, match=r"unknown viewer option 'step' \(did you mean 'steps'\?\); valid: "):
+        viewer.export_html(flat, "flat", tmp_path / "x.html", step=3)
+    assert not (tmp_path / "x.html").exists()
+    assert viewer.ViewOptions().steps == 12 and viewer.ViewOptions().finite is True

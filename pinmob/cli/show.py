@@ -5,18 +5,12 @@ from __future__ import annotations
 import argparse
 import math
 import warnings
-from dataclasses import replace
-
-import pinocchio as pin
 
 from pinmob import viewer
-from pinmob.analysis.configuration import Configuration, as_configuration
-from pinmob.analysis.entry_point import analyze, asked_configuration
+from pinmob.analysis.entry_point import asked_configuration
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.cli.common import joint_values_of, load_for, signals_interrupt, with_elsewhere
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.joints import frame_id
-from pinmob.model.mechanism import Mechanism
 
 
 def run(args: argparse.Namespace) -> int:
@@ -36,10 +30,7 @@ def run(args: argparse.Namespace) -> int:
         )
     if state.name is None:
         state = state.with_name("found closed configuration")
-    mech, shown, note = with_viewed_frame(mech, state, state.closure_tol)
-    config = shown if isinstance(shown, str) else str(shown.name)
-    if note:
-        print(f"note: {note}")
+    config = str(state.name)
     if args.html is None and args.force:
         raise ConfigurationError("--force only applies to --html FILE")
     if args.html is not None and (args.zmq_url or args.port is not None or args.detach):
@@ -47,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     options = {"motion": args.motion, "wrenches": args.wrenches, "amplitude": args.amplitude, "steps": args.steps}
     if args.html is not None:
         with signals_interrupt():  # SIGTERM/SIGHUP as Ctrl-C: the temporary file is removed, the old file kept
-            scene = viewer.export_html(mech, shown, args.html, overwrite=args.force, **options)
+            scene = viewer.export_html(mech, state, args.html, overwrite=args.force, **options)
         print_scene(mech.name, config, scene)
         return 0
     # SIGTERM and SIGHUP act as Ctrl-C (KeyboardInterrupt) from before the server starts until it is stopped:
@@ -58,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
         server, serving = None, False
         try:
             scene = viewer.show(  # stops it if interrupted; tied: a SIGKILL of pinmob stops it too
-                mech, shown, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
+                mech, state, zmq_url=args.zmq_url, port=args.port, tied=not args.detach, **options
             )
             server = scene.server
             print_scene(mech.name, config, scene)
@@ -80,38 +71,11 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def with_viewed_frame(
-    mech: Mechanism, state: Configuration | str, closure_tol: float
-) -> tuple[Mechanism, Configuration | str, str]:
-    """The mechanism and state to show: a mechanism without a platform shows its output frame that moves most.
-
-    The outputs are those of the analysis (the tree's free leaf bodies), else every moving body; the
-    one with the most DoF (the deepest in the tree among equals) becomes the platform of a copy of the
-    mechanism, and the note says so.
-    """
-    if mech.has_platform:
-        return mech, state, ""
-    conf = as_configuration(mech, state, closure_tol=closure_tol)
-    frames = analyze(conf, closure_tol=closure_tol).mechanism_mobility.frames
-    if not frames:
-        bodies = [f.name for f in mech.model.frames if f.type == pin.FrameType.BODY and f.parentJoint > 0]
-        frames = analyze(conf, closure_tol=closure_tol, frames=bodies).mechanism_mobility.frames
-    if not frames:
-        raise ConfigurationError(f"{mech.name!r} has no platform and no moving body to show")
-    model = mech.model
-    best = max(frames, key=lambda f: (f.dof, model.frames[frame_id(model, f.frame)].parentJoint))
-    viewed = replace(mech, platform=best.frame)
-    conf = Configuration.from_checked(viewed, conf.q, closure_tol, name=conf.name or "found", source=conf.source)
-    note = (
-        f"{mech.name!r} names no platform: showing the motions of its output frame {best.frame!r} "
-        f"({best.dof} DoF of the mechanism's outputs)"
-    )
-    return viewed, conf, note
-
-
 def print_scene(name: str, config: str, scene: viewer.Scene) -> None:
     """The report of ``pinmob show``: the mobility, each clip's reach and measured displacement, the notes."""
     mob = scene.mobility
+    if scene.shown_frame:
+        print(f"note: {scene.shown_frame}")
     print(f"{name} at {config!r}: {mob.dof} DoF, {mob.motion_type}")
     for label in scene.clips:
         path = scene.paths[label]
@@ -124,7 +88,7 @@ def print_scene(name: str, config: str, scene: viewer.Scene) -> None:
             f"{sign}: {d.translation:.3g} m, {d.rotation:.2g} rad ({math.degrees(d.deviation):.2g} deg off the motion)"
             for sign, d in zip("+-", path.displacement, strict=True)
         )
-        print(f"    platform moved {moved}")
+        print(f"    {'output frame' if scene.shown_frame else 'platform'} moved {moved}")
         if path.verdict:
             only = "" if path.finite is not False else "; the motion exists only to first order"
             print(f"    finite analysis: {path.verdict}{only}")

@@ -51,6 +51,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+from typing import Any
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.mobility import Mobility
@@ -59,7 +60,8 @@ from pinmob.exceptions import ConfigurationError, ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.html import export_html, scene_html
 from pinmob.viewer.notebook import NotebookScene, notebook
-from pinmob.viewer.prepared import prepare
+from pinmob.viewer.options import VIEW_OPTIONS, ViewOptions, view_options
+from pinmob.viewer.prepared import prepare, viewed_frame
 from pinmob.viewer.scene import FPS, ROOT, Array, Scene, build, require_meshcat
 from pinmob.viewer.workspace import Workspace, workspace_cloud
 
@@ -67,12 +69,15 @@ __all__ = [
     "FPS",
     "ROOT",
     "NotebookScene",
+    "VIEW_OPTIONS",
     "Scene",
+    "ViewOptions",
     "Workspace",
     "export_html",
     "notebook",
     "scene_html",
     "show",
+    "viewed_frame",
     "workspace_cloud",
 ]
 
@@ -84,15 +89,10 @@ def show(
     *,
     zmq_url: str | None = None,
     port: int | None = None,
-    motion: str | None = None,
-    wrenches: bool = False,
-    amplitude: float | None = None,
-    steps: int = 12,
-    animate: bool = True,
     timeout: float = 20.0,
-    finite: bool = True,
     tied: bool = False,
     workspace: Workspace | None = None,
+    **options: Any,
 ) -> Scene:
     """Show the mechanism and its animated free motions in a meshcat server.
 
@@ -109,20 +109,17 @@ def show(
             ``scene.server.stop()`` or until killed, not with this process, unless ``tied``).
         port: web port of the server pinmob starts (default: first free from 7000).
         timeout: seconds to wait for the server to start or answer.
-        motion: the motion shown first, by label (default: the first).
-        wrenches: also draw the constraint wrenches.
-        amplitude: distance of each motion [m, or rad].
-        steps: continuation steps per direction.
-        animate: follow the motions (False: a still scene).
-        finite: tell each motion's finite verdict; a motion that exists only to first order is drawn
-            as such (grey glyph pulsing in its clip, its row in the panel says so).
         tied: the server pinmob starts stops when this process ends, however it ends (even by SIGKILL);
             ``pinmob show`` ties it unless ``--detach``.
         workspace: a scan's reachable set drawn beside the mechanism, with its legend in the panel
             (:func:`pinmob.viewer.workspace.workspace_cloud`; ``pinmob scan --show``).
+        **options: the scene's options (:class:`ViewOptions`: ``motion``, ``wrenches``, ``amplitude``, ``steps``,
+            ``animate``, ``finite``).
+
+    A mechanism without a platform shows its output frame that moves most (``scene.shown_frame`` says which).
 
     Raises:
-        ConfigurationError: a port outside 1-65535, both a port and a zmq URL, or an unknown ``motion``
+        ConfigurationError: a port outside 1-65535, both a port and a zmq URL, an unknown option or ``motion``
             (all checked before any server is started).
         ViewerError: meshcat missing, port in use, or no server answering.
         ClosureError: q does not close.
@@ -132,7 +129,7 @@ def show(
     check_port(port)
     if zmq_url is not None and port is not None:
         raise ConfigurationError("give either a port for a new server or the zmq URL of a running one, not both")
-    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
+    prep = prepare(mech, q, mobility, view_options(**options))
     require_meshcat()
     import zmq
     from meshcat.visualizer import Visualizer
@@ -147,7 +144,7 @@ def show(
             vis = Visualizer(zmq_url=zmq_url)
         vis.window.zmq_socket.setsockopt(zmq.RCVTIMEO, int(timeout * 1000))
         vis.window.zmq_socket.setsockopt(zmq.LINGER, 0)
-        scene = build(vis, mech, prep, wrenches=wrenches, workspace=workspace)
+        scene = build(vis, prep, workspace=workspace)
     except zmq.ZMQError as exc:
         if server is not None:
             server.stop()

@@ -18,6 +18,7 @@ from pinmob.analysis.report import Report
 from pinmob.exceptions import ConfigurationError, ViewerError
 from pinmob.model.mechanism import Mechanism
 from pinmob.output_files import Replacing, check_target
+from pinmob.viewer.options import view_options
 from pinmob.viewer.page import static_page
 from pinmob.viewer.prepared import prepare
 from pinmob.viewer.scene import Array, Scene, build, require_meshcat
@@ -43,23 +44,22 @@ def scene_html(
     q: Array | str | Configuration,
     mobility: Mobility | Report | None = None,
     *,
-    motion: str | None = None,
-    wrenches: bool = False,
-    amplitude: float | None = None,
-    steps: int = 12,
-    animate: bool = True,
-    finite: bool = True,
     workspace: Workspace | None = None,
+    **options: Any,
 ) -> tuple[str, Scene]:
     """The scene as a self-contained HTML page (no server, no file); see :func:`export_html`."""
-    prep = prepare(mech, q, mobility, amplitude, steps, animate, motion, finite)
+    prep = prepare(mech, q, mobility, view_options(**options))
     require_meshcat()
     from meshcat.visualizer import Visualizer
 
     recorder = _Recorder()
-    scene = build(Visualizer(window=recorder), mech, prep, wrenches=wrenches, workspace=workspace)
+    scene = build(Visualizer(window=recorder), prep, workspace=workspace)
     mob = prep.mobility
-    title = f"pinmob: {mech.name}" + (f" at {mob.configuration}" if mob.configuration else "") + f" ({mob.motion_type})"
+    title = (
+        f"pinmob: {prep.mechanism.name}"
+        + (f" at {mob.configuration}" if mob.configuration else "")
+        + f" ({mob.motion_type})"
+    )
     if workspace is not None:
         title += f", workspace of {len(workspace.positions)} samples"
     return static_page(recorder.commands, title), scene
@@ -72,13 +72,8 @@ def export_html(
     mobility: Mobility | Report | None = None,
     *,
     overwrite: bool = False,
-    motion: str | None = None,
-    wrenches: bool = False,
-    amplitude: float | None = None,
-    steps: int = 12,
-    animate: bool = True,
-    finite: bool = True,
     workspace: Workspace | None = None,
+    **options: Any,
 ) -> Scene:
     """Write the scene and its animations to a self-contained HTML file that opens without a server.
 
@@ -92,17 +87,13 @@ def export_html(
         path: the ``.html`` file to write.
         mobility: the platform mobility (or the Report) to show (default: ``analyze(mech, q)``).
         overwrite: replace an existing file; otherwise an existing file is an error.
-        motion: label of the motion visible on opening (default: the first).
-        wrenches: show the constraint wrenches (they are in the scene, hidden, otherwise).
-        amplitude: distance of each motion [m for T, rad for R/H]; default 0.2 L or 0.35 rad.
-        steps: continuation steps per direction.
-        animate: follow the motions; False shows them as static glyphs only.
-        finite: tell each motion's finite verdict (:mod:`pinmob.analysis.finite.finite_mobility`); a motion that exists
-            only to first order is drawn as such (grey glyph pulsing in its clip, the panel says so).
         workspace: a scan's reachable set drawn beside the mechanism, with its legend in the panel
             (:func:`pinmob.viewer.workspace.workspace_cloud`).
+        **options: the scene's options (:class:`~pinmob.viewer.options.ViewOptions`: ``motion``, ``wrenches``,
+            ``amplitude``, ``steps``, ``animate``, ``finite``).
 
     Raises:
+        ArgumentError: an unknown option (the message lists them).
         ViewerError: the file exists and ``overwrite`` is False, or cannot be written.
         ClosureError: q does not close.
     """
@@ -112,18 +103,7 @@ def export_html(
         )  # only a regular file or a new path, never a link
     except ConfigurationError as exc:
         raise ViewerError(str(exc)).naming(*exc.parameters) from None
-    page, scene = scene_html(
-        mech,
-        q,
-        mobility,
-        motion=motion,
-        wrenches=wrenches,
-        amplitude=amplitude,
-        steps=steps,
-        animate=animate,
-        finite=finite,
-        workspace=workspace,
-    )
+    page, scene = scene_html(mech, q, mobility, workspace=workspace, **options)
     try:
         with (replacing := Replacing(target)) as tmp:  # the old file stays until the page is complete
             tmp.write_text(page, encoding="utf-8")

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import html
 from dataclasses import dataclass, field
+from typing import Any
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.mobility import Mobility
@@ -59,12 +60,7 @@ def notebook(
     q: Array | str | Configuration | None = None,
     *,
     height: int = 480,
-    motion: str | None = None,
-    wrenches: bool = False,
-    amplitude: float | None = None,
-    steps: int = 12,
-    animate: bool = True,
-    finite: bool = True,
+    **options: Any,
 ) -> NotebookScene:
     """The mechanism and its animated free motions, for a notebook cell (the last expression of a cell shows it).
 
@@ -77,12 +73,8 @@ def notebook(
         q: with a mechanism: (nq,) closed configuration, the name of one of ``mech.configurations``, or a
             :class:`Configuration`; with a Report: leave it out.
         height: the cell's height [CSS pixels].
-        motion: label of the motion playing on opening (default: the first).
-        wrenches: show the constraint wrenches (they are in the scene, hidden, otherwise).
-        amplitude: distance of each motion [m for T, rad for R/H]; default 0.2 L or 0.35 rad.
-        steps: continuation steps per direction.
-        animate: follow the motions; False shows them as static glyphs only.
-        finite: tell each motion's finite verdict (a motion that exists only to first order is drawn as such).
+        **options: the scene's options (:class:`~pinmob.viewer.options.ViewOptions`: ``motion``, ``wrenches``,
+            ``amplitude``, ``steps``, ``animate``, ``finite``).
 
     Raises:
         ConfigurationError: a mechanism without ``q``, a Report with ``q``, or a height that is not a positive
@@ -107,15 +99,5 @@ def notebook(
         mech, state, mobility = shown, q, None
     else:
         raise ConfigurationError(f"notebook shows a Report or a Mechanism, not a {type(shown).__name__}")
-    page, scene = scene_html(
-        mech,
-        state,
-        mobility,
-        motion=motion,
-        wrenches=wrenches,
-        amplitude=amplitude,
-        steps=steps,
-        animate=animate,
-        finite=finite,
-    )
+    page, scene = scene_html(mech, state, mobility, **options)
     return NotebookScene(page, scene, height)

@@ -128,8 +128,8 @@ def answer(mob: Mobility) -> dict[str, Any]:
     return {"dof": mob.dof, "motion_type": mob.motion_type, "words": words or "it cannot move"}
 
 
-def singularity_text(sing: Singularity | None) -> str:
-    """The singularity class in words."""
+def singularity_text(sing: Singularity | None, subject: str = "the platform") -> str:
+    """The singularity class in words (``subject``: what moves, the platform or the output frame shown)."""
     if sing is None:
         return "not analysed (the limb-wise singularity classes do not apply to this mechanism)."
     closest = sing.closest_all
@@ -147,7 +147,7 @@ def singularity_text(sing: Singularity | None) -> str:
         )
     if sing.actuation:
         unc = ", ".join(m.label for m in sing.uncontrolled) or "-"
-        parts.append(f"actuation singularity (Type II): with the actuators locked the platform can still move ({unc})")
+        parts.append(f"actuation singularity (Type II): with the actuators locked {subject} can still move ({unc})")
     if sing.constraint:
         parts.append(
             f"constraint singularity: constraint rank {sing.constraint_rank} below its generic {sing.generic_rank} "
@@ -156,24 +156,29 @@ def singularity_text(sing: Singularity | None) -> str:
     return f"{sing.label.replace('+', ' + ')}: " + "; ".join(parts) + "."
 
 
-def mechanism_text(chain: MechanismMobility | None, mob: Mobility) -> str:
-    """The whole mechanism's DoF, and how it splits into the platform's and the internal motions."""
+def mechanism_text(chain: MechanismMobility | None, mob: Mobility, subject: str = "the platform") -> str:
+    """The whole mechanism's DoF, and how it splits into ``subject``'s (the platform's) and the internal motions."""
     if chain is None:
         return "not analysed."
     internal = chain.internal_dof
     if not internal:
-        return f"{chain.mechanism_dof} DoF: every motion of the mechanism moves the platform."
+        return f"{chain.mechanism_dof} DoF: every motion of the mechanism moves {subject}."
     return (
-        f"{chain.mechanism_dof} DoF = the platform's {mob.dof} + {internal} internal motion(s): joints moving while "
-        f"the platform stays still ({chain.idle_dof} of them idle: moving no actuated joint, joint centre or closure point)."
+        f"{chain.mechanism_dof} DoF = {subject}'s {mob.dof} + {internal} internal motion(s): joints moving while "
+        f"{subject} stays still ({chain.idle_dof} of them idle: moving no actuated joint, joint centre or closure point)."
     )
 
 
-def legend(mob: Mobility, world: WorldFrame, generated: bool, instantaneous: bool = False) -> list[dict[str, str]]:
-    """Every glyph shape and colour in the scene, in words (``instantaneous``: some motion is only first order)."""
+def legend(
+    mob: Mobility, world: WorldFrame, generated: bool, instantaneous: bool = False, subject: str = "the platform"
+) -> list[dict[str, str]]:
+    """Every glyph shape and colour in the scene, in words.
+
+    ``instantaneous``: some motion is only first order; ``subject``: what moves, the platform or the output frame.
+    """
     items = [
         {"icon": "→", "color": hex_color(TRANSLATION_COLOR), "text": "translation: blue arrow (a free vector: the "
-         "arrows start together beside the platform origin)"},
+         f"arrows start together beside the origin of {subject})"},
         {"icon": "⟳", "color": hex_color(ROTATION_COLOR), "text": "rotation: orange axis line through the axis "
          "point, ring arrow = positive sense (right hand)"},
     ]  # fmt: skip
@@ -190,7 +195,7 @@ def legend(mob: Mobility, world: WorldFrame, generated: bool, instantaneous: boo
          f"world origin; grey grid: {world.spacing:g} m squares in the plane z = 0"},
     ]  # fmt: skip
     if generated:
-        items.append({"icon": "●", "color": "#f29a1a", "text": "orange disc: the platform; grey bars: the base "
+        items.append({"icon": "●", "color": "#f29a1a", "text": f"orange disc: {subject}; grey bars: the base "
                       "(a stick figure: the URDF has no visuals)"})  # fmt: skip
     return items
 
@@ -224,6 +229,7 @@ def panel_document(
     generated: bool,
     verdicts: Mapping[str, str] | None = None,
     branch_point: str | None = None,
+    output_frame: str | None = None,
 ) -> dict[str, Any]:
     """The panel's document (plain JSON); see the module docstring.
 
@@ -242,17 +248,20 @@ def panel_document(
         generated: the mechanism is drawn as a generated stick figure.
         verdicts: a finite/instantaneous verdict per motion label, shown as a column when given.
         branch_point: the motion branches meeting at q, named (a line of the summary), or None.
+        output_frame: the output frame shown in place of a platform (None: the mechanism's platform); the panel
+            names what moves by it.
     """
+    subject = "the platform" if output_frame is None else f"the output frame {output_frame!r}"
     where = f" at '{mob.configuration}'" if mob.configuration else ""
     summary = ["Axis points are in world coordinates [m]; the world origin and axes are drawn in the scene."]
     centre = mob.rotation_centre
     if centre is not None:
         summary.append(
             f"The {mob.rotations} rotation axes meet at ({', '.join(f'{x:.4g}' for x in centre + 0.0)}) m: "
-            "the platform turns about that point."
+            f"{subject} turns about that point."
         )
     if branch_point:
-        summary.append(f"Motion branches meet here: {branch_point} (the platform's DoF and motion type on each).")
+        summary.append(f"Motion branches meet here: {branch_point} ({subject}'s DoF and motion type on each).")
     if generated:
         summary.append("The mechanism is drawn as a stick figure (its URDF has no visuals).")
     constraints = [
@@ -266,15 +275,16 @@ def panel_document(
         "answer": answer(mob),
         "summary": summary,
         "motions": motion_rows(mob, paths, verdicts),
-        "singularity": singularity_text(singularity),
-        "mechanism": mechanism_text(chain, mob),
+        "subject": subject,
+        "singularity": singularity_text(singularity, subject),
+        "mechanism": mechanism_text(chain, mob, subject),
         "constraints": constraints,
         "constraint_rank": mob.constraint_rank,
         "wrenches_drawn": bool(wrenches),
         "wrench_path": paths_of["wrenches"],
         "world": {"path": paths_of["world"], "visible": True, "spacing": world.spacing},
         "glyphs": glyph_labels(glyphs, world, paths_of["world"]),
-        "legend": legend(mob, world, generated, any(p.finite is False for p in paths.values())),
+        "legend": legend(mob, world, generated, any(p.finite is False for p in paths.values()), subject),
         "clips": clips,
         "visible": visible,
         "length_scale": float(mob.length_scale),

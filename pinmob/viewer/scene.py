@@ -24,7 +24,6 @@ import pinocchio as pin
 from pinmob.analysis.follow.motion_path import MotionPath
 from pinmob.analysis.mobility import Mobility
 from pinmob.exceptions import ViewerError
-from pinmob.model.mechanism import Mechanism
 from pinmob.viewer.commands import SetAnimation
 from pinmob.viewer.glyphs import (
     INSTANTANEOUS_COLOR,
@@ -74,6 +73,7 @@ class Scene:
         zmq_url: the server's command URL (``show``) or None.
         html: the written file (``export_html``) or None.
         server: the server pinmob started (``show`` without ``zmq_url``); ``server.stop()`` ends it.
+        shown_frame: for a mechanism without a platform, which output frame is shown and why ("" otherwise).
     """
 
     clips: tuple[str, ...]
@@ -90,6 +90,7 @@ class Scene:
     server: Any = field(default=None, repr=False)
     panel: dict[str, Any] = field(default_factory=dict, repr=False)
     panel_shown: bool = True
+    shown_frame: str = ""
 
     @property
     def verdicts(self) -> dict[str, str]:
@@ -175,15 +176,15 @@ def _place_lights(vis: Any, distance: float) -> None:
         light.set_property("distance", LIGHT_REACH * scale)
 
 
-def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool, workspace: Workspace | None = None) -> Scene:
-    """Send the whole scene to ``vis`` (a live or recording meshcat Visualizer); the panel last.
+def build(vis: Any, prep: Prepared, *, workspace: Workspace | None = None) -> Scene:
+    """Send the whole scene of ``prep`` to ``vis`` (a live or recording meshcat Visualizer); the panel last.
 
     ``workspace``: a scan's reachable set, drawn beside the mechanism (:mod:`pinmob.viewer.workspace`).
     """
     from meshcat.animation import Animation, AnimationClip, js_position, js_quaternion
     from pinocchio.visualize import MeshcatVisualizer
 
-    q, mob, paths = prep.q, prep.mobility, prep.paths
+    mech, q, mob, paths, wrenches = prep.mechanism, prep.q, prep.mobility, prep.paths, prep.options.wrenches
     labels = [m.label for m in mob.motions]
     visible = prep.motion or (labels[0] if labels else None)
     geometry, generated = visual_geometry(mech, q)
@@ -268,15 +269,16 @@ def build(vis: Any, mech: Mechanism, prep: Prepared, *, wrenches: bool, workspac
         paths_of={"world": ["meshcat", ROOT, "world"], "wrenches": ["meshcat", ROOT, "wrenches"]},
         clips=clips, visible=visible, wrenches=wrenches, generated=generated,
         verdicts={label: path.verdict for label, path in paths.items() if path.verdict},
-        branch_point=prep.branch_point,
+        branch_point=prep.branch_point, output_frame=prep.output_frame,
     )  # fmt: skip
     if workspace is not None:
         document["workspace"] = workspace.legend()
     panel_shown = send_panel(vis, PanelCommand(document))
     notes = tuple(n for p in paths.values() for n in p.notes)
     return Scene(
-        tuple(labels), visible, notes, generated, mob, paths, center, distance, panel=document, panel_shown=panel_shown
-    )
+        tuple(labels), visible, notes, generated, mob, paths, center, distance, panel=document,
+        panel_shown=panel_shown, shown_frame=prep.note,
+    )  # fmt: skip
 
 
 def send_panel(vis: Any, command: PanelCommand) -> bool:

@@ -104,7 +104,7 @@
     if (verdicts) head.push("finite?");
     const table = el("table", { class: "pinmob-motions" }, [el("tr", {}, head.map((h) => el("th", { text: h })))]);
     if (!doc.motions.length) {
-      table.appendChild(el("tr", {}, [el("td", { colspan: String(head.length), text: "none: the platform cannot move here (rigid)." })]));
+      table.appendChild(el("tr", {}, [el("td", { colspan: String(head.length), text: "none: " + doc.subject + " cannot move here (rigid)." })]));
     }
     for (const m of doc.motions) {
       const swatch = el("span", { class: "pinmob-swatch", style: "background:" + m.color });
@@ -180,7 +180,7 @@
   pinmob.show = function (viewer, doc) {
     for (const old of document.querySelectorAll("#pinmob-panel, #pinmob-labels")) old.remove();
     const answer = el("div", { class: "pinmob-answer" }, [
-      "The platform has ",
+      doc.subject.charAt(0).toUpperCase() + doc.subject.slice(1) + " has ",
       el("b", { class: "pinmob-dof", text: doc.answer.dof + " DoF" }),
       ": ",
       el("b", { class: "pinmob-type", text: doc.answer.motion_type }),
@@ -189,7 +189,7 @@
     const collapse = el("button", { type: "button", title: "hide or show the panel", text: "hide" });
     const wrenchBlock = el("div", { class: "pinmob-wrench-block" }, [
       el("h2", { text: "Constraint wrenches (rank " + doc.constraint_rank + "): what stops the other motions" }),
-      doc.constraints.length ? wrenchTable(doc) : el("div", { class: "pinmob-note", text: "none: the platform is free." }),
+      doc.constraints.length ? wrenchTable(doc) : el("div", { class: "pinmob-note", text: "none: " + doc.subject + " is free." }),
     ]);
     wrenchBlock.style.display = doc.wrenches_drawn ? "" : "none";
     const legend = el(

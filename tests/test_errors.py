@@ -13,6 +13,8 @@ import pytest
 import pinmob
 from pinmob.cli import main
 
+DATA = Path(__file__).parent / "data"
+
 MODELS = Path(pinmob.io.builtin_dir())
 FIVE_BAR = Path(__file__).parent / "data" / "example-parallel-robots" / "5bar_linkage" / "robot.yaml"
 
@@ -359,3 +361,42 @@ def test_closure_tol_applies_to_named_configurations(tmp_path: Path) -> None:
     for call in (pinmob.analyze, pinmob.paper_view):
         assert call(mech, "home", closure_tol=1e-3).configuration == "home"  # type: ignore[operator]
     assert pinmob.closure_jacobian_twists(mech, "home", closure_tol=1e-3).shape[0] == 6
+
+
+def far_four_bar(tmp_path: Path, limbs: bool) -> Path:
+    """tests/data/fourbar's URDF with the rocker's pivot 3 m away (its links are 0.1-0.3 m): no loop can close.
+    With ``limbs``: the coupler end is limb L's tip and the rocker end the platform (the tip's weld is the only
+    closure); otherwise a 6d closure B joins them and nothing names a platform."""
+    urdf = (DATA / "fourbar.urdf").read_text().replace('<origin xyz="0.3 0 0"', '<origin xyz="3.0 0 0"')
+    (tmp_path / "fourbar.urdf").write_text(urdf)
+    joined = (
+        'platform = "rocker_end"\n[[limbs]]\nname = "L"\ntip = "coupler_end"\nactuated = ["crank"]\n'
+        if limbs
+        else 'actuated = ["crank"]\n[[closures]]\nname = "B"\nframes = ["coupler_end", "rocker_end"]\ntype = "6d"\n'
+    )
+    path = tmp_path / "far.toml"
+    path.write_text(f'name = "far"\nurdf = "fourbar.urdf"\n{joined}')
+    return path
+
+
+@pytest.mark.parametrize("relax", [False, True])
+def test_an_unclosable_limb_is_named_and_relaxing_is_not_offered(tmp_path: Path, capsys, relax: bool) -> None:
+    """The limbs' tip welds define the platform: relaxing cannot help, and the message says why and names the
+    limb (it said "every closure is a point or joint coupling already", and --relax "0 random restarts")."""
+    assert main(["analyze", str(far_four_bar(tmp_path, limbs=True))] + ["--relax"] * relax) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "nor 20 random restarts" in err
+    assert "Relaxing cannot help: the limbs' tips (L) are welded to the platform by definition" in err
+    assert err.rstrip().endswith(", at L") and "0 random restarts" not in err.replace("20 random", "")
+
+
+def test_relaxing_that_cannot_close_says_what_it_relaxed(tmp_path: Path, capsys) -> None:
+    path = str(far_four_bar(tmp_path, limbs=False))
+    assert main(["analyze", path]) == 2
+    assert "Rerun with --relax (Python: relax=True)" in capsys.readouterr().err
+    assert main(["analyze", path, "--relax"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "could not be closed even with closures B relaxed to 3d" in err
+    assert "nor 20 random restarts; best attempt's residuals B: 2." in err and "0 random restarts" not in err.replace(
+        "20 random", ""
+    )

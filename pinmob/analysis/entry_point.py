@@ -11,8 +11,8 @@ from pinmob.analysis.configuration_choice import chosen_configuration
 from pinmob.analysis.finite.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Options, Report
-from pinmob.assembly.closure_miss import format_worst, tolerance_hint
-from pinmob.assembly.relaxation import find_closed_relaxed, unclosable
+from pinmob.assembly.closure_miss import format_worst, tolerance_hint, worst_first
+from pinmob.assembly.relaxation import find_closed_relaxed, relaxable, unclosable
 from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual
 from pinmob.assembly.seeds import find_closed
 from pinmob.bounds import check_bound
@@ -30,13 +30,15 @@ def found_configuration(
     by what CAD geometry explains, the error says which ``closure_tol`` would accept it
     (:mod:`pinmob.assembly.closure_miss`).
     """
-    if relax:
-        mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts, tol=closure_tol)
-    else:
-        try:
+    try:
+        if relax:  # raises as declared when nothing can be relaxed
+            mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts, tol=closure_tol)
+        else:
             found, relaxed = find_closed(mech, restarts=restarts, tol=closure_tol), ()
-        except ClosureError as exc:
-            raise not_closed(mech, restarts, closure_tol, exc.residuals) from None
+    except ClosureError as exc:
+        if relax and relaxable(mech):
+            raise  # find_closed_relaxed's refusal: what it relaxed, and how far that still misses
+        raise not_closed(mech, restarts, closure_tol, exc.residuals) from None
     return Configuration.from_checked(mech, found.q, closure_tol, source=found.method), relaxed
 
 
@@ -77,17 +79,31 @@ def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Re
         ).naming("closure_tol")
     bad = unclosable(mech, tol=closure_tol)
     found = f"closures that cannot close even on their own: {', '.join(bad)}. " if bad else ""
-    relaxable = [c.name for c in mech.closures if c.type != "3d" and not c.is_coupling]
-    advice = (
-        "Rerun with relax=True to turn the over-constraining closures into 3d (ball) closures. "
-        if relaxable
-        else "Relaxing cannot help (every closure is a point or joint coupling already). "
-    )
+    if relaxable(mech):
+        advice = "Rerun with relax=True to turn the over-constraining closures into 3d (ball) closures. "
+    else:
+        advice = f"Relaxing cannot help: {nothing_to_relax(mech)}. "
+    worst = worst_first(residuals, length)[0][0] if residuals else "-"
     return ClosureError(
         f"{start}. {found}{advice}Largest residual of the best attempt: "
-        f"{worst_residual(residuals, length):.2e} (m / L or rad)",
+        f"{worst_residual(residuals, length):.2e} (m / L or rad), at {worst}",
         residuals,
     ).naming("relax")
+
+
+def nothing_to_relax(mech: Mechanism) -> str:
+    """Why relaxing closures to ``3d`` cannot change ``mech``: what its closures are, each kind named."""
+    parts = []
+    if mech.has_platform and mech.limbs:
+        names = ", ".join(limb.name for limb in mech.limbs)
+        parts.append(f"the limbs' tips ({names}) are welded to the platform by definition: check that each reaches it")
+    points = [c.name for c in mech.closures if c.type == "3d"]
+    couplings = [c.name for c in mech.closures if c.is_coupling]
+    if points:
+        parts.append(f"closures {', '.join(points)} are 3d (point) closures already")
+    if couplings:
+        parts.append(f"{', '.join(couplings)} are joint or tendon couplings, which relaxing leaves as they are")
+    return "; ".join(parts) or "the mechanism has no closure"
 
 
 def analyze(

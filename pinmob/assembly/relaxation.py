@@ -12,6 +12,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from pinmob.assembly.assemble import Assembly
+from pinmob.assembly.closure_miss import format_worst
 from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
 from pinmob.assembly.seeds import find_closed
 from pinmob.exceptions import ClosureError, ConfigurationError
@@ -40,6 +41,11 @@ def unclosable(mech: Mechanism, restarts: int = 4, seed: int = 0, tol: float = C
                 out.append(c.name)
             bar.update()
     return tuple(out)
+
+
+def relaxable(mech: Mechanism) -> tuple[str, ...]:
+    """Names of the closures :func:`relax` can change: those between two frames that are not ``3d`` already."""
+    return tuple(c.name for c in mech.closures if c.type != ClosureType.BALL and not c.is_coupling)
 
 
 def relax(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Mechanism:
@@ -73,7 +79,8 @@ def find_closed_relaxed(
     try:
         return mech, find_closed(mech, restarts=restarts, seed=seed, tol=tol), ()
     except ClosureError:
-        pass
+        if not relaxable(mech):
+            raise  # nothing to relax: the failure as declared
     names = list(unclosable(mech, seed=seed, tol=tol))
     with step(f"relaxing closures of {mech.name} to 3d") as bar:
         while True:
@@ -82,9 +89,18 @@ def find_closed_relaxed(
             try:
                 return current, find_closed(current, restarts=relax_restarts, seed=seed, tol=tol), tuple(names)
             except ClosureError as exc:
-                left = {c.name for c in current.closures if c.type != "3d" and not c.is_coupling}
+                left = set(relaxable(current))
                 worst = [(worst_residual({n: r}, mech.length_scale), n) for n, r in exc.residuals.items() if n in left]
                 if not worst:
-                    raise
+                    break
                 names.append(max(worst)[1])
             bar.update()
+    try:  # every closure that could be relaxed is: the whole search once more before refusing
+        return current, find_closed(current, restarts=restarts, seed=seed, tol=tol), tuple(names)
+    except ClosureError as exc:
+        raise ClosureError(
+            f"{mech.name!r} could not be closed even with closures {', '.join(names)} relaxed to 3d, from the neutral "
+            f"configuration nor {restarts} random restarts; best attempt's residuals "
+            f"{format_worst(exc.residuals, mech.length_scale, tol)}",
+            exc.residuals,
+        ) from None

@@ -359,7 +359,7 @@ def test_assert_mobility_through_and_bad_arguments():
 
 def test_expectations_name_no_file_of_the_test_suite() -> None:
     """A report's "expected" line is read by pip users, who have no tests/ folder: a source names a derivation, a
-    publication or pinmob's test suite, never a path in it."""
+    publication or the pinmob test suite, never a path in it."""
     from pinmob import builtin_models, load
 
     sources = {(name, config): e.source for name in builtin_models() for config, e in load(name).expected.items()}

@@ -101,7 +101,7 @@ def _three_puu_flat() -> Definition:
         0.0,
     )
     tilt = {f"{x}_u1a": 1.0 for x in "ABC"} | {f"{x}_u2b": -1.0 for x in "ABC"}
-    hand = "derived by hand in pinmob's test suite (each limb twist rank 4 at beta = 0)"
+    hand = "derived by hand in the pinmob test suite (each limb twist rank 4 at beta = 0)"
     confs = {
         "flat": {
             "joints": _sliders(0.0),
@@ -128,7 +128,7 @@ def _three_puu_vertical() -> Definition:
         radius,
         link,
     )
-    hand = "derived by hand in pinmob's test suite (three parallel couples along z)"
+    hand = "derived by hand in the pinmob test suite (three parallel couples along z)"
     confs = {
         "vertical": {"joints": _sliders(0.0), "expected": {"dof": 5, "motion_type": "3T2R", "source": hand}},
         "generic": {

@@ -7,7 +7,7 @@ from typing import Any
 from ..builder import symmetric_angles
 
 PAPER = "Zhao et al., The free mobility of a parallel manipulator (seed paper)"
-HAND = "derived by hand in pinmob's test suite"
+HAND = "derived by hand in the pinmob test suite"
 TSAI = "L.-W. Tsai, Kinematics of a three-dof platform with three extensible limbs, Recent Advances in Robot Kinematics, 1996"
 ZBG = "Zlatanov, Bonev & Gosselin, Constraint singularities of parallel mechanisms, ICRA 2002"
 HUNT = "K. H. Hunt, Structural kinematics of in-parallel-actuated robot-arms, J. Mech. Trans. Autom. Des. 105, 1983"
@@ -26,7 +26,7 @@ CLAVEL = "R. Clavel, Delta, a fast robot with parallel geometry, 18th Int. Symp.
 FICHTER = (
     "Fichter (1986), A Stewart platform-based manipulator: general theory and practical construction, IJRR 5(2): "
     "the platform turned by +-90 deg about the vertical from the home pose is singular at every height; "
-    "checked by hand-coded Pluecker line geometry in pinmob's test suite"
+    "checked by hand-coded Pluecker line geometry in the pinmob test suite"
 )
 VIRTUAL_CHAIN = (
     "Campos, Guenther & Martins, Differential kinematics of serial manipulators using virtual chains, "

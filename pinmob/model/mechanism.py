@@ -9,7 +9,7 @@ the closed configuration and what is computed from it in
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable, Mapping
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
@@ -20,6 +20,7 @@ import pinocchio as pin
 from pinmob.exceptions import ConfigurationError, FrameError, unknown
 from pinmob.frozen import read_only
 from pinmob.model.closure import Closure, ClosureType, group_closures
+from pinmob.model.constraint_models import limb_welds, read_constraint_models, write_constraint_models
 from pinmob.model.geometry import Geometry
 from pinmob.model.joint_values import q_from_values
 from pinmob.model.joints import check_q, frame_id, joint_names, velocity_indices
@@ -191,6 +192,72 @@ class Mechanism:
             extra_actuated=extra,
         )
 
+    @classmethod
+    def from_pinocchio(
+        cls,
+        model: pin.Model,
+        constraint_models: Sequence[object],
+        *,
+        platform: str | None = None,
+        limbs: Mapping[str, str] | None = None,
+        actuated: Sequence[str] | Mapping[str, list[str]] = (),
+        hinges: bool = True,
+        **options: Any,
+    ) -> Mechanism:
+        """A mechanism from a Pinocchio model and its constraint models (either API; mimic joints allowed).
+
+        Each constraint becomes a closure (:mod:`pinmob.model.constraint_models.reading`: ``CONTACT_3D`` and
+        point anchors ``3d``, ``CONTACT_6D`` and frame anchors ``6d``, two point anchors on the same two
+        joints one ``revolute`` unless ``hinges=False``), each mimic joint a joint coupling. With ``limbs``
+        (``{limb: tip frame}``) and ``platform``, a ``6d`` constraint welding a limb's tip to the platform
+        is the limb's own closure and is not repeated. ``actuated`` names the actuated joints (or maps limb
+        names to them, as :meth:`from_model`); ``options`` go to :meth:`from_model` (``name``,
+        ``configurations``, ``length_scale``, ...).
+
+        Raises:
+            ConstraintModelError: a constraint pinmob cannot read (the message names it).
+            FrameError, ConfigurationError: as :meth:`from_model`.
+        """
+        model, closures = read_constraint_models(model, constraint_models, hinges=hinges)
+        tips = dict(limbs or {})
+        if tips and platform is None:
+            platform = next(iter(tips.values()))
+        welds = limb_welds(model, closures, platform or "", list(tips.values()))
+        if isinstance(actuated, Mapping):
+            by_limb = {k: list(v) for k, v in actuated.items()}
+        else:
+            by_limb = {}
+            for joint in actuated:
+                holder = next((n for n, t in tips.items() if _supports(model, t, joint)), "")
+                by_limb.setdefault(holder, []).append(joint)
+        return cls.from_model(
+            model,
+            tips,
+            platform=platform,
+            actuated=by_limb,
+            closures=[c for c in closures if c.name not in welds],
+            **options,
+        )
+
+    def to_pinocchio(self, api: str = "new", *, mimic: bool = False) -> tuple[pin.Model, Any]:
+        """The mechanism as a Pinocchio model and constraint models: every closure, the limbs' welds included.
+
+        Args:
+            api: ``"new"`` (``ConstraintModel`` holding point and frame anchors) or ``"legacy"``
+                (``RigidConstraintModel``, ``CONTACT_3D`` / ``CONTACT_6D``).
+            mimic: write linear joint couplings as mimic joints (Pinocchio's constrained algorithms refuse
+                them, so they are left out by default).
+
+        Returns:
+            ``(model, constraint_models)``: a copy of the model and a ``StdVec_ConstraintModel`` or
+            ``StdVec_RigidConstraintModel`` (:mod:`pinmob.model.constraint_models.writing`).
+
+        Warns:
+            PinocchioExportWarning: closures Pinocchio has no exact model for, each named with what was put
+                instead (a universal's point anchor, a cylindrical closure left out, ...).
+        """
+        return write_constraint_models(self.model, self.all_closures, length=self.length_scale, api=api, mimic=mimic)
+
     # ------------------------------------------------------------------ queries
 
     @property
@@ -299,3 +366,10 @@ class Mechanism:
     def check_q(self, q: object) -> Array:
         """Validate a configuration vector: shape (nq,), finite, normalised where needed (a float copy)."""
         return check_q(self.model, q, self.name)
+
+
+def _supports(model: pin.Model, tip: str, joint: str) -> bool:
+    """True when ``joint`` is in the chain supporting frame ``tip``."""
+    if not model.existJointName(joint):
+        return False
+    return model.getJointId(joint) in model.supports[model.frames[frame_id(model, tip)].parentJoint]

@@ -1,0 +1,107 @@
+"""pinmob closures written as Pinocchio constraint models (:meth:`pinmob.Mechanism.to_pinocchio`).
+
+``api="new"`` gives ``ConstraintModel`` objects holding ``PointAnchorConstraintModel`` /
+``FrameAnchorConstraintModel``, ``api="legacy"`` ``RigidConstraintModel`` objects (``CONTACT_3D`` /
+``CONTACT_6D``, rows in the ``LOCAL`` frame of joint 1's end), both in the vector type Pinocchio's algorithms
+take (``getConstraintsJacobian``, ``constraintDynamics``, ...). Which closure becomes what is said in
+:mod:`.anchors`; whatever is not exact is named in one :class:`PinocchioExportWarning`.
+
+Joint couplings: Pinocchio's constrained algorithms refuse mimic joints, so couplings are left out by
+default; with ``mimic=True`` each linear coupling of two joints, ``q1 - r1 = c0 + c1 (q2 - r2)``, becomes
+joint 1 mimicking joint 2 (``q1 = c1 q2 + (r1 + c0 - c1 r2)``) where Pinocchio accepts it.
+"""
+
+from __future__ import annotations
+
+import warnings
+from collections.abc import Sequence
+
+import pinocchio as pin
+
+from pinmob.exceptions import ArgumentError
+from pinmob.model.closure import Closure, ClosureType
+from pinmob.model.constraint_models.anchors import Anchor, closure_anchors
+from pinmob.model.constraint_models.errors import PinocchioExportWarning
+
+#: The two APIs: the new anchors in ``ConstraintModel``, the legacy ``RigidConstraintModel``.
+APIS = ("new", "legacy")
+
+#: The legacy contact type of each anchor kind.
+_LEGACY_KIND = {ClosureType.BALL: pin.ContactType.CONTACT_3D, ClosureType.WELD: pin.ContactType.CONTACT_6D}
+
+
+def _build(model: pin.Model, anchor: Anchor, api: str) -> object:
+    """One Pinocchio constraint model for ``anchor``."""
+    ends = (anchor.joint1, anchor.placement1, anchor.joint2, anchor.placement2)
+    if api == "legacy":
+        built = pin.RigidConstraintModel(_LEGACY_KIND[anchor.kind], model, *ends, pin.LOCAL)
+        built.name = anchor.name
+        return built
+    cls = pin.PointAnchorConstraintModel if anchor.kind == ClosureType.BALL else pin.FrameAnchorConstraintModel
+    inner = cls(model, *ends)
+    inner.name = anchor.name
+    wrapped = pin.ConstraintModel(inner)
+    wrapped.name = anchor.name
+    return wrapped
+
+
+def _mimic(model: pin.Model, closure: Closure) -> tuple[pin.Model | None, str]:
+    """``model`` with ``closure``'s joint 1 mimicking joint 2, or None and why not."""
+    coefficients = list(closure.polycoef)
+    while len(coefficients) > 2 and coefficients[-1] == 0.0:  # MuJoCo's polycoef has five entries
+        coefficients.pop()
+    if len(closure.joints) != 2 or len(coefficients) > 2:
+        return None, f"{closure.name!r} (joint coupling): left out (not a linear coupling of two joints)"
+    c0, c1 = (tuple(coefficients) + (0.0,))[:2]
+    r1, r2 = closure.reference
+    secondary, primary = (model.getJointId(j) for j in closure.joints)
+    try:
+        return pin.transformJointIntoMimic(model, primary, secondary, c1, r1 + c0 - c1 * r2), ""
+    except (RuntimeError, ValueError) as error:
+        return None, f"{closure.name!r} (joint coupling): left out (Pinocchio refuses it as a mimic joint: {error})"
+
+
+def write_constraint_models(
+    model: pin.Model, closures: Sequence[Closure], *, length: float, api: str = "new", mimic: bool = False
+) -> tuple[pin.Model, object]:
+    """A copy of ``model`` and the Pinocchio constraint models of ``closures`` (see the module docstring).
+
+    Args:
+        model: the mechanism's model.
+        closures: every closure (the limbs' welds included: :attr:`pinmob.Mechanism.all_closures`).
+        length: the length scale L [m] (a revolute closure's two anchors are L apart).
+        api: ``"new"`` or ``"legacy"``.
+        mimic: write linear joint couplings as mimic joints.
+
+    Returns:
+        the model and a ``StdVec_ConstraintModel`` (new) or ``StdVec_RigidConstraintModel`` (legacy).
+
+    Warns:
+        PinocchioExportWarning: one, naming each closure not written exactly and what was put instead.
+    """
+    if api not in APIS:
+        raise ArgumentError(f"api must be one of {', '.join(map(repr, APIS))}, got {api!r}", "api", api)
+    out = pin.Model(model)
+    anchors: list[Anchor] = []
+    notes: list[str] = []
+    for closure in closures:
+        if closure.type == ClosureType.JOINT and mimic:
+            mimicked, note = _mimic(out, closure)
+            out = mimicked if mimicked is not None else out
+        else:
+            found, note = closure_anchors(model, closure, length)
+            anchors.extend(found)
+        if note:
+            notes.append(note)
+    if notes:
+        couplings = any("coupling): left out" in n for n in notes) and not mimic
+        hint = " (`mimic=True` writes linear joint couplings as mimic joints)" if couplings else ""
+        warnings.warn(
+            f"{len(notes)} closure(s) have no exact Pinocchio constraint model: {'; '.join(notes)}{hint}",
+            PinocchioExportWarning,
+            stacklevel=3,
+        )
+    vector = pin.StdVec_RigidConstraintModel() if api == "legacy" else pin.StdVec_ConstraintModel()
+    for anchor in anchors:
+        vector.append(_build(out, anchor, api))
+    return out, vector

@@ -45,20 +45,50 @@ def _build(model: pin.Model, anchor: Anchor, api: str) -> object:
     return wrapped
 
 
-def _mimic(model: pin.Model, closure: Closure) -> tuple[pin.Model | None, str]:
-    """``model`` with ``closure``'s joint 1 mimicking joint 2, or None and why not."""
+def _linear(closure: Closure) -> tuple[float, float] | None:
+    """``(scaling, offset)`` of a linear coupling of two joints, ``q1 = scaling q2 + offset``, or None."""
     coefficients = list(closure.polycoef)
     while len(coefficients) > 2 and coefficients[-1] == 0.0:  # MuJoCo's polycoef has five entries
         coefficients.pop()
     if len(closure.joints) != 2 or len(coefficients) > 2:
-        return None, f"{closure.name!r} (joint coupling): left out (not a linear coupling of two joints)"
+        return None
     c0, c1 = (tuple(coefficients) + (0.0,))[:2]
     r1, r2 = closure.reference
-    secondary, primary = (model.getJointId(j) for j in closure.joints)
-    try:
-        return pin.transformJointIntoMimic(model, primary, secondary, c1, r1 + c0 - c1 * r2), ""
-    except (RuntimeError, ValueError) as error:
-        return None, f"{closure.name!r} (joint coupling): left out (Pinocchio refuses it as a mimic joint: {error})"
+    return c1, r1 + c0 - c1 * r2
+
+
+def _mimics(model: pin.Model, couplings: Sequence[Closure]) -> tuple[pin.Model, list[str]]:
+    """``model`` with each linear coupling's joint 1 mimicking joint 2, and a note per coupling left out.
+
+    A joint mimicking a joint that mimics another mimics the last one instead (Pinocchio's mimic joints
+    follow a joint with a coordinate): ``q1 = s1 (s2 q3 + o2) + o1``.
+    """
+    notes: list[str] = []
+    rule: dict[str, tuple[str, float, float, str]] = {}  # secondary -> (primary, scaling, offset, coupling)
+    for c in couplings:
+        linear = _linear(c)
+        if linear is None:
+            notes.append(f"{c.name!r} (joint coupling): left out (not a linear coupling of two joints)")
+        elif c.joints[0] in rule:
+            notes.append(f"{c.name!r} (joint coupling): left out (joint {c.joints[0]!r} is coupled already)")
+        else:
+            rule[c.joints[0]] = (c.joints[1], *linear, c.name)
+    out = model
+    for secondary, (primary, scaling, offset, name) in rule.items():
+        seen = {secondary}
+        while primary in rule and primary not in seen:  # follow the chain to a joint with a coordinate
+            seen.add(primary)
+            primary, s2, o2, _ = rule[primary]
+            scaling, offset = scaling * s2, scaling * o2 + offset
+        if primary in seen:
+            notes.append(f"{name!r} (joint coupling): left out (its joints couple in a cycle)")
+            continue
+        try:
+            out = pin.transformJointIntoMimic(out, out.getJointId(primary), out.getJointId(secondary), scaling, offset)
+        except (RuntimeError, ValueError) as error:
+            why = str(error).split("message:")[-1].strip().splitlines()[0]
+            notes.append(f"{name!r} (joint coupling): left out (Pinocchio refuses it as a mimic joint: {why})")
+    return out, notes
 
 
 def write_constraint_models(
@@ -81,18 +111,17 @@ def write_constraint_models(
     """
     if api not in APIS:
         raise ArgumentError(f"api must be one of {', '.join(map(repr, APIS))}, got {api!r}", "api", api)
-    out = pin.Model(model)
     anchors: list[Anchor] = []
     notes: list[str] = []
     for closure in closures:
-        if closure.type == ClosureType.JOINT and mimic:
-            mimicked, note = _mimic(out, closure)
-            out = mimicked if mimicked is not None else out
-        else:
+        if closure.type != ClosureType.JOINT or not mimic:
             found, note = closure_anchors(model, closure, length)
             anchors.extend(found)
-        if note:
-            notes.append(note)
+            notes += [note] if note else []
+    out = pin.Model(model)
+    if mimic:
+        out, mimic_notes = _mimics(out, [c for c in closures if c.type == ClosureType.JOINT])
+        notes += mimic_notes
     if notes:
         couplings = any("coupling): left out" in n for n in notes) and not mimic
         hint = " (`mimic=True` writes linear joint couplings as mimic joints)" if couplings else ""

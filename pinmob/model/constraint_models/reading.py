@@ -9,8 +9,11 @@ named after the constraint (``<name>_a``, ``<name>_b``). The legacy ``reference_
 Pinocchio writes the rows: it changes no allowed motion, so it is not kept.
 
 Two point anchors joining the same two joints at two different points allow exactly the rotation about the
-line through them: they are read as one ``revolute`` closure about that line (its 5 equations instead of the
-anchors' 6, whose sixth is always redundant), unless ``hinges=False``. Its frames (``<name>_a``, ``<name>_b``)
+line through them. :meth:`pinmob.Mechanism.to_pinocchio` writes a ``revolute`` closure so, naming them
+``<name>`` and ``<name>/axis``: such a pair is read back as the one ``revolute`` closure about that line (its
+5 equations instead of the anchors' 6, whose sixth is always redundant). ``hinges=True`` reads every such
+pair so, whatever its names; ``hinges=False`` none (two ``3d`` closures, their redundant row counted: what a
+constrained solver is given). Its frames (``<name>_a``, ``<name>_b``)
 sit at the first anchor's points with their z axis, the hinge axis, towards the second's.
 """
 
@@ -102,8 +105,11 @@ def _anchor(model: pin.Model, cm: object, index: int) -> _Anchor:
     return _Anchor(label, kind, j1, pin.SE3(cm.joint1_placement), j2, pin.SE3(cm.joint2_placement))
 
 
-def _hinges(anchors: list[_Anchor], scale: float) -> list[_Anchor | tuple[_Anchor, _Anchor]]:
-    """The anchors with each pair of point anchors on the same two joints at two points made one hinge."""
+def _hinges(anchors: list[_Anchor], scale: float, named: bool) -> list[_Anchor | tuple[_Anchor, _Anchor]]:
+    """The anchors with each pair of point anchors on the same two joints at two points made one hinge.
+
+    ``named``: only pairs named ``X`` and ``X/axis`` (as :mod:`.anchors` writes them).
+    """
     out: list[_Anchor | tuple[_Anchor, _Anchor]] = []
     used: set[int] = set()
     for i, a in enumerate(anchors):
@@ -112,7 +118,7 @@ def _hinges(anchors: list[_Anchor], scale: float) -> list[_Anchor | tuple[_Ancho
         if a.kind == ClosureType.BALL:
             for k in range(i + 1, len(anchors)):
                 b = anchors[k]
-                if k in used or b.kind != ClosureType.BALL:
+                if k in used or b.kind != ClosureType.BALL or (named and b.name != f"{a.name}/axis"):
                     continue
                 if b.joint1 == a.joint2 and b.joint2 == a.joint1:
                     b = _Anchor(b.name, b.kind, b.joint2, b.placement2, b.joint1, b.placement1)
@@ -144,7 +150,7 @@ def _on_axis(first: pin.SE3, second: pin.SE3) -> pin.SE3:
 
 
 def read_constraint_models(
-    model: pin.Model, constraint_models: Sequence[object], *, hinges: bool = True
+    model: pin.Model, constraint_models: Sequence[object], *, hinges: bool | None = None
 ) -> tuple[pin.Model, list[Closure]]:
     """A copy of ``model`` holding the closures' frames, and the closures the constraint models stand for.
 
@@ -154,7 +160,8 @@ def read_constraint_models(
     Args:
         model: the Pinocchio model (a tree; mimic joints allowed).
         constraint_models: Pinocchio constraint models (see the module docstring).
-        hinges: read two point anchors on the same two joints as one ``revolute`` closure.
+        hinges: read two point anchors on the same two joints as one ``revolute`` closure: None, those named
+            ``X`` and ``X/axis`` (a revolute closure written by pinmob); True, every such pair; False, none.
 
     Raises:
         ConstraintModelError: a constraint pinmob cannot read, named (its kind, joints or placements).
@@ -170,7 +177,7 @@ def read_constraint_models(
         raise ConstraintModelError(f"constraint names must be unique, got {doubled} more than once", doubled[0])
     scale = max(1.0, max((float(np.linalg.norm(p.translation)) for p in model.jointPlacements), default=1.0))
     closures: list[Closure] = []
-    for item in _hinges(anchors, scale) if hinges else anchors:
+    for item in _hinges(anchors, scale, named=hinges is None) if hinges is not False else anchors:
         if isinstance(item, tuple):
             a, b = item
             fa = constraint_frame(model, a.joint1, _on_axis(a.placement1, b.placement1), f"{a.name}_a")

@@ -58,33 +58,41 @@ def _linear(closure: Closure) -> tuple[float, float] | None:
 
 
 def _mimics(model: pin.Model, couplings: Sequence[Closure]) -> tuple[pin.Model, list[str]]:
-    """``model`` with each linear coupling's joint 1 mimicking joint 2, and a note per coupling left out.
+    """``model`` with a mimic joint for each linear coupling of two joints, and a note per coupling left out.
 
-    A joint mimicking a joint that mimics another mimics the last one instead (Pinocchio's mimic joints
-    follow a joint with a coordinate): ``q1 = s1 (s2 q3 + o2) + o1``.
+    Pinocchio's mimic joint comes after the joint it mimics, and mimics a joint with a coordinate: a coupling
+    ``q1 = s q2 + o`` whose joint 1 comes first is written ``q2 = q1 / s - o / s``, and a joint mimicking a
+    mimic joint mimics the latter's own primary (``q1 = s1 (s2 q3 + o2) + o1``).
     """
     notes: list[str] = []
-    rule: dict[str, tuple[str, float, float, str]] = {}  # secondary -> (primary, scaling, offset, coupling)
+    rule: dict[int, tuple[int, float, float, str]] = {}  # mimicking joint -> (mimicked, scaling, offset, coupling)
     for c in couplings:
         linear = _linear(c)
         if linear is None:
-            notes.append(f"{c.name!r} (joint coupling): left out (not a linear coupling of two joints)")
-        elif c.joints[0] in rule:
-            notes.append(f"{c.name!r} (joint coupling): left out (joint {c.joints[0]!r} is coupled already)")
-        else:
-            rule[c.joints[0]] = (c.joints[1], *linear, c.name)
+            what = "a joint held at a value" if len(c.joints) == 1 else "a polynomial coupling"
+            notes.append(f"{c.name!r} (joint coupling): left out ({what}: no Pinocchio model)")
+            continue
+        (i1, i2), (scaling, offset) = (model.getJointId(j) for j in c.joints), linear
+        if i1 < i2:
+            if scaling == 0.0:
+                notes.append(f"{c.name!r} (joint coupling): left out (a joint held at a value: no Pinocchio model)")
+                continue
+            i1, i2, scaling, offset = i2, i1, 1.0 / scaling, -offset / scaling
+        if i1 in rule:
+            notes.append(
+                f"{c.name!r} (joint coupling): left out (joint {model.names[i1]!r} mimics "
+                f"{model.names[rule[i1][0]]!r} already)"
+            )
+            continue
+        rule[i1] = (i2, scaling, offset, c.name)
     out = model
-    for secondary, (primary, scaling, offset, name) in rule.items():
-        seen = {secondary}
-        while primary in rule and primary not in seen:  # follow the chain to a joint with a coordinate
-            seen.add(primary)
+    for secondary in sorted(rule):
+        primary, scaling, offset, name = rule[secondary]
+        while primary in rule:  # a smaller index at each step: the chain ends
             primary, s2, o2, _ = rule[primary]
             scaling, offset = scaling * s2, scaling * o2 + offset
-        if primary in seen:
-            notes.append(f"{name!r} (joint coupling): left out (its joints couple in a cycle)")
-            continue
         try:
-            out = pin.transformJointIntoMimic(out, out.getJointId(primary), out.getJointId(secondary), scaling, offset)
+            out = pin.transformJointIntoMimic(out, primary, secondary, scaling, offset)
         except (RuntimeError, ValueError) as error:
             why = str(error).split("message:")[-1].strip().splitlines()[0]
             notes.append(f"{name!r} (joint coupling): left out (Pinocchio refuses it as a mimic joint: {why})")

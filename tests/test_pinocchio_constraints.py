@@ -397,6 +397,12 @@ def bad(model: pin.Model, kind: str) -> Any:
         c = pin.ConstraintModel(pin.PointAnchorConstraintModel(model, 1, m, 3, pin.SE3.Identity()))
     elif kind == "contact":
         c = pin.ConstraintModel(pin.PointContactConstraintModel(model, 1, pin.SE3.Identity(), 3, pin.SE3.Identity()))
+    elif kind == "offset":
+        c = pin.FrameAnchorConstraintModel(model, 1, pin.SE3.Identity(), 3, pin.SE3.Identity())
+        c.desired_constraint_offset = np.array([0.1, 0, 0, 0, 0, 0])
+    elif kind == "legacy offset":
+        c = pin.RigidConstraintModel(pin.ContactType.CONTACT_3D, model, 1, pin.SE3.Identity(), 3, pin.SE3.Identity())
+        c.desired_contact_placement = pin.SE3(np.eye(3), np.array([0, 0, 0.1]))
     elif kind == "joint limit":
         c = pin.ConstraintModel(pin.JointLimitConstraintModel(model, [1, 2]))
     else:
@@ -414,6 +420,8 @@ def bad(model: pin.Model, kind: str) -> Any:
         ("NaN placement", "joint1_placement is not finite"),
         ("contact", "PointContactConstraintModel is not a loop closure"),
         ("joint limit", "JointLimitConstraintModel is not a loop closure"),
+        ("offset", "holds its ends apart (desired_constraint_offset is not the identity)"),
+        ("legacy offset", "holds its ends apart (desired_contact_placement is not the identity)"),
         ("undefined contact", "CONTACT_UNDEFINED has no meaning as a loop closure"),
     ],
 )
@@ -432,6 +440,12 @@ def test_unnamed_constraint_is_named_by_its_index() -> None:
         ConstraintModelError, match=r"constraint 'constraint_models\[0\]' joins joint 'coupler' to itself"
     ):
         pinmob.Mechanism.from_pinocchio(model, [c])
+
+
+def test_one_constraint_is_not_a_list() -> None:
+    model, (c,) = hand_four_bar("CONTACT_3D")
+    with pytest.raises(ConstraintModelError, match="constraint_models must be a list .* got RigidConstraintModel"):
+        pinmob.Mechanism.from_pinocchio(model, c)
 
 
 def test_unknown_api_is_refused() -> None:
@@ -490,3 +504,24 @@ def test_slide_couplings_as_mimic_joints_move_as_in_mujoco(tmp_path: Path) -> No
     assert {c.name for c in back.closures} == {"mimic slide", "mimic flap"}
     mm = pinmob.analyze(back).mechanism_mobility
     assert (mm.mechanism_dof, mm.redundant_constraints) == (1, 0)
+
+
+@pytest.mark.parametrize(
+    ("source", "dropped"),
+    [
+        ("third_party/menagerie_agility_cassie/cassie.xml", 0),
+        ("third_party/menagerie_robotiq_2f85/2f85.xml", 1),  # Pinocchio's reader drops the <equality joint>
+    ],
+)
+def test_pinocchio_mjcf_reader_through_from_pinocchio(source: str, dropped: int) -> None:
+    """Pinocchio's own MJCF reader (its model and anchors, through from_pinocchio) against pinmob's (MuJoCo's).
+
+    Two parsers of the same file: the same joints, the same connects, the same closure rank; the joint
+    equality Pinocchio 4.1 leaves out frees one motion more.
+    """
+    model, points, frames = pin.buildModelAndConstraintsFromMJCF(str(DATA / source))
+    theirs = pinmob.Mechanism.from_pinocchio(model, [*points, *frames])
+    mine = load(source)
+    assert [c.type for c in theirs.closures] == [c.type for c in mine.closures if not c.is_coupling]
+    a, b = pinmob.analyze(mine).mechanism_mobility, pinmob.analyze(theirs).mechanism_mobility
+    assert (b.mechanism_dof, b.rank) == (a.mechanism_dof + dropped, a.rank - dropped)

@@ -102,6 +102,18 @@ def _anchor(model: pin.Model, cm: object, index: int) -> _Anchor:
             raise ConstraintModelError(
                 f"constraint {label!r}: {which} has no rotation matrix: {rotation.tolist()}", label
             )
+    offset = (
+        np.asarray(cm.desired_contact_placement.homogeneous) - np.eye(4)
+        if isinstance(cm, pin.RigidConstraintModel)
+        else np.asarray(cm.desired_constraint_offset)
+    )
+    if not (np.isfinite(offset).all() and np.abs(offset).max() <= 1e-12):
+        which = "desired_contact_placement" if isinstance(cm, pin.RigidConstraintModel) else "desired_constraint_offset"
+        raise ConstraintModelError(
+            f"constraint {label!r} holds its ends apart ({which} is not the identity): a closure is read as its "
+            "two ends meeting; move the offset into joint2_placement",
+            label,
+        )
     return _Anchor(label, kind, j1, pin.SE3(cm.joint1_placement), j2, pin.SE3(cm.joint2_placement))
 
 
@@ -168,6 +180,11 @@ def read_constraint_models(
     """
     if not isinstance(model, pin.Model):
         raise ConstraintModelError(f"model must be a pinocchio.Model, got {type(model).__name__}")
+    if not hasattr(constraint_models, "__iter__") or hasattr(constraint_models, "joint1_id"):
+        raise ConstraintModelError(
+            "constraint_models must be a list (or a Pinocchio StdVec) of constraint models, got "
+            f"{type(constraint_models).__name__}"
+        )
     model, mimics = unmimic(model)
     model = pin.Model(model)  # the closures' new frames go into a copy
     anchors = [_anchor(model, cm, i) for i, cm in enumerate(constraint_models)]

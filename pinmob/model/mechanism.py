@@ -20,7 +20,7 @@ import pinocchio as pin
 from pinmob.exceptions import ConfigurationError, FrameError, unknown
 from pinmob.frozen import read_only
 from pinmob.model.closure import Closure, ClosureType, group_closures
-from pinmob.model.constraint_models import limb_welds, read_constraint_models, write_constraint_models
+from pinmob.model.constraint_models import mechanism_parts, write_constraint_models
 from pinmob.model.geometry import Geometry
 from pinmob.model.joint_values import q_from_values
 from pinmob.model.joints import check_q, frame_id, joint_names, velocity_indices
@@ -219,26 +219,9 @@ class Mechanism:
             ConstraintModelError: a constraint pinmob cannot read (the message names it).
             FrameError, ConfigurationError: as :meth:`from_model`.
         """
-        model, closures = read_constraint_models(model, constraint_models, hinges=hinges)
         tips = dict(limbs or {})
-        if tips and platform is None:
-            platform = next(iter(tips.values()))
-        welds = limb_welds(model, closures, platform or "", list(tips.values()))
-        if isinstance(actuated, Mapping):
-            by_limb = {k: list(v) for k, v in actuated.items()}
-        else:
-            by_limb = {}
-            for joint in actuated:
-                holder = next((n for n, t in tips.items() if _supports(model, t, joint)), "")
-                by_limb.setdefault(holder, []).append(joint)
-        return cls.from_model(
-            model,
-            tips,
-            platform=platform,
-            actuated=by_limb,
-            closures=[c for c in closures if c.name not in welds],
-            **options,
-        )
+        model, closures, platform, by_limb = mechanism_parts(model, constraint_models, tips, platform, actuated, hinges)
+        return cls.from_model(model, tips, platform=platform, actuated=by_limb, closures=closures, **options)
 
     def to_pinocchio(self, api: str = "new", *, mimic: bool = False) -> tuple[pin.Model, Any]:
         """The mechanism as a Pinocchio model and constraint models: every closure, the limbs' welds included.
@@ -367,10 +350,3 @@ class Mechanism:
     def check_q(self, q: object) -> Array:
         """Validate a configuration vector: shape (nq,), finite, normalised where needed (a float copy)."""
         return check_q(self.model, q, self.name)
-
-
-def _supports(model: pin.Model, tip: str, joint: str) -> bool:
-    """True when ``joint`` is in the chain supporting frame ``tip``."""
-    if not model.existJointName(joint):
-        return False
-    return model.getJointId(joint) in model.supports[model.frames[frame_id(model, tip)].parentJoint]

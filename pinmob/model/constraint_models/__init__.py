@@ -6,7 +6,7 @@
 """
 
 from pinmob.model.constraint_models.errors import ConstraintModelError, PinocchioExportWarning
-from pinmob.model.constraint_models.reading import limb_welds, read_constraint_models
+from pinmob.model.constraint_models.reading import limb_welds, mechanism_parts, read_constraint_models
 from pinmob.model.constraint_models.writing import APIS, write_constraint_models
 
 __all__ = [
@@ -14,6 +14,7 @@ __all__ = [
     "ConstraintModelError",
     "PinocchioExportWarning",
     "limb_welds",
+    "mechanism_parts",
     "read_constraint_models",
     "write_constraint_models",
 ]

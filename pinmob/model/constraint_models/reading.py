@@ -19,7 +19,7 @@ sit at the first anchor's points with their z axis, the hinge axis, towards the 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -237,3 +237,37 @@ def limb_welds(model: pin.Model, closures: Sequence[Closure], platform: str, tip
         if any((same(a, p) and same(b, t)) or (same(b, p) and same(a, t)) for t in ends):
             found.add(c.name)
     return found
+
+
+def mechanism_parts(
+    model: pin.Model,
+    constraint_models: Sequence[object],
+    limbs: Mapping[str, str],
+    platform: str | None,
+    actuated: Sequence[str] | Mapping[str, list[str]],
+    hinges: bool | None,
+) -> tuple[pin.Model, list[Closure], str | None, dict[str, list[str]]]:
+    """What :meth:`pinmob.Mechanism.from_pinocchio` gives :meth:`~pinmob.Mechanism.from_model`.
+
+    The model and closures (:func:`read_constraint_models`) without the limbs' own welds to the platform
+    (:func:`limb_welds`; the platform defaults to the first limb's tip), and the actuated joints by limb
+    (``""``: joints in no limb), from a list of joint names or such a mapping.
+    """
+    model, closures = read_constraint_models(model, constraint_models, hinges=hinges)
+    if limbs and platform is None:
+        platform = next(iter(limbs.values()))
+    welds = limb_welds(model, closures, platform or "", list(limbs.values()))
+    if isinstance(actuated, Mapping):
+        return model, [c for c in closures if c.name not in welds], platform, {k: list(v) for k, v in actuated.items()}
+    by_limb: dict[str, list[str]] = {}
+    for joint in actuated:
+        holder = next((n for n, tip in limbs.items() if _supports(model, tip, joint)), "")
+        by_limb.setdefault(holder, []).append(joint)
+    return model, [c for c in closures if c.name not in welds], platform, by_limb
+
+
+def _supports(model: pin.Model, tip: str, joint: str) -> bool:
+    """True when ``joint`` is in the chain supporting frame ``tip``."""
+    if not model.existJointName(joint):
+        return False
+    return model.getJointId(joint) in model.supports[model.frames[frame_id(model, tip)].parentJoint]

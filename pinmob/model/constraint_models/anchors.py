@@ -9,7 +9,7 @@ anchor: 3 rows) or as a whole frame (``CONTACT_6D``, a frame anchor: 6 rows); ne
   ``<name>/axis``);
 - ``universal`` is one point anchor (its fourth equation, hinge axes perpendicular, has no Pinocchio model);
 - ``cylindrical``, ``planar``, ``tendon`` couplings and ``joint`` couplings have none and are left out (a
-  linear ``joint`` coupling can be a mimic joint instead, :mod:`.writing`).
+  linear ``joint`` coupling can be a mimic joint instead, :mod:`.writing`); so is any other closure type.
 
 Every closure not written exactly comes with a note saying what was put instead.
 """
@@ -64,4 +64,6 @@ def closure_anchors(model: pin.Model, closure: Closure, length: float) -> tuple[
         return [Anchor(name, ClosureType.BALL, ja, ma, jb, mb)], (
             f"{name!r} (universal): a point anchor (its fourth equation, hinge axes perpendicular, left out)"
         )
-    return [], f"{name!r} ({kind.value}): left out (no anchor allows its sliding)"
+    if kind in (ClosureType.CYLINDRICAL, ClosureType.PLANAR):
+        return [], f"{name!r} ({kind.value}): left out (no anchor allows its sliding)"
+    return [], f"{name!r} ({kind.value}): left out (no Pinocchio constraint model writes it)"

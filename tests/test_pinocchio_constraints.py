@@ -318,6 +318,7 @@ def test_hand_built_four_bar(kind: str, rows: int, dof: int, redundant: int) -> 
     ("names", "hinges", "rows"),
     [
         (("hinge", "hinge/axis"), None, 5),  # as to_pinocchio writes a revolute closure: one revolute again
+        (("hinge/axis", "hinge"), None, 5),
         (("hinge", "hinge/axis"), False, 6),
         (("top", "bottom"), None, 6),  # a user's two anchors: their redundant row is counted
         (("top", "bottom"), True, 5),
@@ -334,6 +335,8 @@ def test_two_point_anchors_on_a_hinge(names: tuple[str, str], hinges: bool | Non
     anchors[0].name, anchors[1].name = names
     mech = pinmob.Mechanism.from_pinocchio(model, anchors, hinges=hinges)
     assert [c.type for c in mech.closures] == (["revolute"] if rows == 5 else ["3d", "3d"])
+    if rows == 5:
+        assert mech.closures[0].name == min(names, key=len)
     mm = pinmob.analyze(mech, closed_angles()).mechanism_mobility
     assert (mm.mechanism_dof, mm.rows, mm.redundant_constraints) == (1, rows, rows - 2)
 

@@ -120,33 +120,44 @@ def _anchor(model: pin.Model, cm: object, index: int) -> _Anchor:
 def _hinges(anchors: list[_Anchor], scale: float, named: bool) -> list[_Anchor | tuple[_Anchor, _Anchor]]:
     """The anchors with each pair of point anchors on the same two joints at two points made one hinge.
 
-    ``named``: only pairs named ``X`` and ``X/axis`` (as :mod:`.anchors` writes them).
+    ``named``: only pairs named ``X`` and ``X/axis`` (as :mod:`.anchors` writes them), in either order.
     """
-    out: list[_Anchor | tuple[_Anchor, _Anchor]] = []
-    used: set[int] = set()
+    paired: dict[int, int] = {}  # first anchor -> second
+
+    def partner(i: int, a: _Anchor) -> int | None:
+        for k, b in enumerate(anchors):
+            if k == i or k in paired or k in paired.values() or b.kind != ClosureType.BALL:
+                continue
+            if named and b.name != f"{a.name}/axis":
+                continue
+            if b.joint1 == a.joint2 and b.joint2 == a.joint1:
+                b = _flipped(b)
+            elif (b.joint1, b.joint2) != (a.joint1, a.joint2):
+                continue
+            d1 = float(np.linalg.norm(b.placement1.translation - a.placement1.translation))
+            d2 = float(np.linalg.norm(b.placement2.translation - a.placement2.translation))
+            if min(d1, d2) > _SAME_POINT * scale and abs(d1 - d2) <= _SAME_POINT * scale:  # the same axis segment
+                return k
+        return None
+
     for i, a in enumerate(anchors):
-        if i in used:
-            continue
-        if a.kind == ClosureType.BALL:
-            for k in range(i + 1, len(anchors)):
-                b = anchors[k]
-                if k in used or b.kind != ClosureType.BALL or (named and b.name != f"{a.name}/axis"):
-                    continue
-                if b.joint1 == a.joint2 and b.joint2 == a.joint1:
-                    b = _Anchor(b.name, b.kind, b.joint2, b.placement2, b.joint1, b.placement1)
-                elif (b.joint1, b.joint2) != (a.joint1, a.joint2):
-                    continue
-                d1 = float(np.linalg.norm(b.placement1.translation - a.placement1.translation))
-                d2 = float(np.linalg.norm(b.placement2.translation - a.placement2.translation))
-                if min(d1, d2) > _SAME_POINT * scale and abs(d1 - d2) <= _SAME_POINT * scale:  # the same axis segment
-                    out.append((a, b))
-                    used.add(k)
-                    break
-            else:
-                out.append(a)
-            continue
-        out.append(a)
+        if a.kind == ClosureType.BALL and i not in paired.values() and not (named and a.name.endswith("/axis")):
+            k = partner(i, a)
+            if k is not None:
+                paired[i] = k
+    out: list[_Anchor | tuple[_Anchor, _Anchor]] = []
+    for i, a in enumerate(anchors):
+        if i in paired:
+            b = anchors[paired[i]]
+            out.append((a, b if b.joint1 == a.joint1 else _flipped(b)))
+        elif i not in paired.values():
+            out.append(a)
     return out
+
+
+def _flipped(b: _Anchor) -> _Anchor:
+    """The same anchor with its two ends swapped."""
+    return _Anchor(b.name, b.kind, b.joint2, b.placement2, b.joint1, b.placement1)
 
 
 _Z = np.array([0.0, 0.0, 1.0])

@@ -602,3 +602,11 @@ def test_pinocchio_mjcf_reader_through_from_pinocchio(source: str, dropped: int)
     first = pinmob.analyze(mine)
     a, b = first.mechanism_mobility, pinmob.analyze(theirs, first.state.q).mechanism_mobility
     assert (b.mechanism_dof, b.rank) == (a.mechanism_dof + dropped, a.rank - dropped)
+
+
+def test_mimic_hint_only_for_joint_couplings() -> None:
+    """The warning suggests ``mimic=True`` where a linear joint coupling was left out, and only there."""
+    for source, hinted in (("unnamed_parts.xml", True), ("tendons/gripper.xml", False)):
+        with pytest.warns(PinocchioExportWarning) as caught:
+            load(source).to_pinocchio()
+        assert ("`mimic=True`" in str(caught[0].message)) == hinted

@@ -131,8 +131,8 @@ def write_constraint_models(
         out, mimic_notes = _mimics(out, [c for c in closures if c.type == ClosureType.JOINT])
         notes += mimic_notes
     if notes:
-        couplings = any("coupling): left out" in n for n in notes) and not mimic
-        hint = " (`mimic=True` writes linear joint couplings as mimic joints)" if couplings else ""
+        linear = not mimic and any(c.type == ClosureType.JOINT and _linear(c) is not None for c in closures)
+        hint = " (`mimic=True` writes linear joint couplings as mimic joints)" if linear else ""
         warnings.warn(
             f"{len(notes)} closure(s) have no exact Pinocchio constraint model: {'; '.join(notes)}{hint}",
             PinocchioExportWarning,

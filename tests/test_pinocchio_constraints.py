@@ -610,3 +610,28 @@ def test_mimic_hint_only_for_joint_couplings() -> None:
         with pytest.warns(PinocchioExportWarning) as caught:
             load(source).to_pinocchio()
         assert ("`mimic=True`" in str(caught[0].message)) == hinted
+
+
+def test_pinocchio_constrained_algorithms_refuse_mimic_joints() -> None:
+    """Why couplings are left out by default: Pinocchio 4.1's constrained algorithms refuse a mimic joint.
+
+    Should a later Pinocchio accept them, ``mimic=True`` could become the default (this test then fails).
+    """
+    mech = load("third_party/menagerie_robotiq_2f85/2f85.xml")
+    model, constraints = exported(mech, "legacy", mimic=True)
+    data, datas = model.createData(), pin.StdVec_RigidConstraintData()
+    for c in constraints:
+        datas.append(c.createData())
+    zero = np.zeros(model.nv)
+    with pytest.raises(RuntimeError, match="does not support Joint Mimic"):
+        pin.initConstraintDynamics(model, data, constraints, datas)
+        pin.constraintDynamics(model, data, pin.neutral(model), zero, zero, constraints, datas)
+    model, constraints = exported(mech, "new", mimic=True)
+    data, new_datas = model.createData(), pin.StdVec_ConstraintData()
+    for c in constraints:
+        new_datas.append(c.createData())
+    pin.computeJointJacobians(model, data, pin.neutral(model))
+    with pytest.raises(RuntimeError, match="does not support Joint Mimic"):
+        for c, d in zip(constraints, new_datas):
+            c.calc(model, data, d)
+        pin.getConstraintsJacobian(model, data, constraints, new_datas)

@@ -14,7 +14,7 @@ from pinmob.analysis.report import Options, Report
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint, worst_first
 from pinmob.assembly.relaxation import find_closed_relaxed, relaxable, unclosable
 from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual
-from pinmob.assembly.seeds import find_closed
+from pinmob.assembly.seeds import RESTARTS, find_closed
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ArgumentError, ClosureError
 from pinmob.model.mechanism import Mechanism
@@ -121,7 +121,7 @@ def analyze(
     approach: ArrayLike | Mapping[str, float] | None = None,
     actuator_search: int | None = None,
     generic_rank: int | None = None,
-    restarts: int = 20,
+    restarts: int = RESTARTS,
     relax: bool = False,
     finite: bool = False,
     finite_order: int = ORDER,

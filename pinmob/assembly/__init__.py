@@ -25,6 +25,7 @@ from pinmob.assembly.named import closed_configuration
 from pinmob.assembly.relaxation import find_closed_relaxed, relax, unclosable
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
+    CLOSURE_TOL_MAX,
     Residuals,
     check_closed,
     check_closure_tol,
@@ -40,11 +41,13 @@ from pinmob.assembly.residual import (
     tip_residuals,
     worst_residual,
 )
-from pinmob.assembly.seeds import configuration_distance, find_closed, random_configuration
+from pinmob.assembly.seeds import RESTARTS, configuration_distance, find_closed, random_configuration
 from pinmob.assembly.solver import ResidualFn, SolverResult, solve
 
 __all__ = [
+    "RESTARTS",
     "CLOSURE_TOL",
+    "CLOSURE_TOL_MAX",
     "Assembly",
     "ResidualFn",
     "Residuals",

@@ -16,7 +16,7 @@ import pytest
 from scipy.optimize import least_squares
 
 import pinmob
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named_assembly import closed_configuration
 from pinmob.cli import main
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import grid_spec, scan

@@ -33,7 +33,7 @@ def joint_values_of(args: argparse.Namespace) -> dict[str, float] | None:
 def load_for(args: argparse.Namespace) -> Mechanism:
     """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
     from pinmob.io.loader import load
-    from pinmob.model.actuation import with_actuated
+    from pinmob.model.actuated_joints import with_actuated
 
     mech = load(args.mechanism)
     if args.actuated is not None:

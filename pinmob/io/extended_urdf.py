@@ -12,6 +12,8 @@ The convention of example-parallel-robots / toolbox-parallel-robots: beside
   joint frame's axis A, then about its axis B, one composite joint),
   ``CARDAN`` (= ``UJOINT_XY``), ``FIXED`` (locked at 0).
 
+The URDF's ``<mimic>`` joints are ``joint`` couplings (:mod:`pinmob.io.mimic`), on the rebuilt joints.
+
 The files are read as they are; missing meshes only cost the visuals (a
 warning). The mechanism is named after the YAML file, or its folder for
 ``robot.yaml`` (the repository's layout, ``<robot>/robot.yaml``, whose URDFs
@@ -28,6 +30,7 @@ from typing import Any
 import pinocchio as pin
 
 from pinmob.exceptions import MechanismFileError
+from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
@@ -151,6 +154,10 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             raise file_error(path, f"joint_type {jtype!r} of {jname!r} is not supported; valid: {choices(JOINT_TYPES)}")
     if joint_names:
         model = replace_joints(model, {n: str(t).upper() for n, t in zip(joint_names, joint_types)})
+    try:
+        couplings = mimic_couplings(urdf, model)
+    except MechanismFileError as exc:
+        raise file_error(path, str(exc)) from None
     geometry = load_geometry(model, urdf)
     with errors_at(path):
         closures = []
@@ -163,8 +170,9 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             [],
             name=path.absolute().parent.name if path.stem == "robot" else path.stem,  # robot.yaml: its folder's
             actuated={"": _names(path, doc, "name_mot")},
-            description=f"Extended URDF {urdf.name} + {path.name}",
+            description=f"Extended URDF {urdf.name} + {path.name}"
+            + (f" ({len(couplings)} mimic joint{'s' * (len(couplings) != 1)})" if couplings else ""),
             source=path,
             geometry=geometry,
-            closures=closures,
+            closures=unique(path, closures + couplings),
         )

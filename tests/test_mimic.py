@@ -16,8 +16,18 @@ import pytest
 import pinmob
 from pinmob.cli import main
 
+MUJOCO_NOTE = """MuJoCo (4) imports a URDF's ``<mimic>`` as an ``<equality joint>`` with ``polycoef = (offset, multiplier)``
+(and leaves out, with a warning, a mimic on a fixed joint): the truth of :func:`test_counts_agree_with_mujoco`."""
+
 DATA = Path(__file__).parent / "data" / "mimic"
 SCISSOR = DATA / "scissor_gripper.urdf"
+
+
+def robots() -> Path:
+    """example-robot-data's ``robots`` folder (a dependency of pinmob)."""
+    import example_robot_data
+
+    return Path(example_robot_data.getModelPath("panda_description/urdf/panda.urdf"))
 
 
 def panda_urdf() -> Path:
@@ -106,7 +116,7 @@ def test_mimic_couplings_in_a_toml_file_and_an_extended_urdf(tmp_path):
 @pytest.mark.parametrize(
     ("mimic", "said"),
     [
-        ('<mimic joint="nowhere"/>', "its driver 'nowhere' is not a moving joint"),
+        ('<mimic joint="nowhere"/>', "its driver 'nowhere' is not a joint of the URDF"),
         ('<mimic joint="jaw_a_joint" multiplier="lots"/>', "multiplier value (lots) is not a valid float"),  # urdfdom's
         ('<mimic joint="jaw_a_joint" offset="nan"/>', "offset value (nan) is not a valid float"),
         ('<mimic joint="jaw_b_joint"/>', "joint 'jaw_b_joint' mimics itself"),
@@ -143,5 +153,128 @@ def test_a_urdf_without_loop_or_mimic_is_still_refused(tmp_path):
         .replace('<mimic joint="jaw_a_joint" multiplier="-2" offset="0.1"/>', "")
         .replace('<mimic joint="jaw_a_joint" multiplier="0.05"/>', "")
     )
-    with pytest.raises(pinmob.MechanismFileError, match="without <mimic> joints has no loop closure"):
+    with pytest.raises(
+        pinmob.MechanismFileError, match="without a <mimic> joint between moving joints has no loop closure"
+    ):
         pinmob.load(urdf)
+
+
+#: URDF (under tests/data, or ``erd:`` under example-robot-data's robots) -> MuJoCo's (nv, equality rows, DoF) at
+#: pinmob's analysed configuration. An Extended URDF is given by its YAML sidecar: its loops are added to MuJoCo's
+#: import as site-to-site ``<connect>`` (``3d``) or ``<weld>`` (``6d``) equalities.
+MUJOCO: dict[str, tuple[int, int, int]] = {
+    "mimic/scissor_gripper.urdf": (3, 2, 1),
+    # ROS-Industrial's Robotiq 2F-85 (C2) visualisation URDF: 6 hinges, 5 mimics of the left knuckle
+    "mimic/robotiq_c2/robotiq_c2_model.urdf": (6, 5, 1),
+    # ROS-Industrial's Robotiq Hand-E: two slides, one mimic
+    "mimic/robotiq_hand_e/robotiq_hand_e.urdf": (2, 1, 1),
+    # example-parallel-robots' Talos with closed-loop ankle actuation: 2 ankle loops (3d) and 12 gripper mimics
+    "mimic/true_talos_2_legs/robot.yaml": (52, 18, 34),
+    "erd:panda_description/urdf/panda.urdf": (9, 1, 8),
+    "erd:panda_description/urdf/panda_collision.urdf": (9, 1, 8),
+    "erd:talos_data/robots/talos_full_v2.urdf": (44, 12, 32),
+    "erd:talos_data/robots/talos_full_v2_box.urdf": (44, 12, 32),
+    "erd:romeo_description/urdf/romeo.urdf": (55, 22, 33),
+    "erd:baxter_description/urdf/baxter.urdf": (19, 2, 17),
+    "erd:pr2_description/urdf/pr2.urdf": (30, 10, 20),
+    "erd:tiago_pro_description/robots/tiago_pro.urdf": (33, 10, 23),
+    # every mimic on a fixed gripper joint: MuJoCo and pinmob leave them out (the URDF is then refused by pinmob:
+    # nothing closes); the arm alone
+    "erd:talos_data/robots/talos_reduced.urdf": (32, 0, 32),
+}
+
+
+def located(name: str) -> Path:
+    """The file of a :data:`MUJOCO` key."""
+    return robots() / name[4:] if name.startswith("erd:") else Path(__file__).parent / "data" / name
+
+
+def test_every_mimic_urdf_in_tests_data_is_compared():
+    """Every URDF with a ``<mimic>`` under tests/data is in :data:`MUJOCO` (by itself or its YAML sidecar)."""
+    data = Path(__file__).parent / "data"
+    found = {p for p in data.rglob("*.urdf") if b"<mimic" in p.read_bytes()}
+    listed = set()
+    for name in MUJOCO:
+        path = located(name)
+        listed.add(path if path.suffix == ".urdf" else pinmob_urdf(path))
+    assert found <= listed
+
+
+def pinmob_urdf(sidecar: Path) -> Path:
+    """The URDF beside an Extended URDF sidecar (as pinmob finds it)."""
+    from pinmob.io.extended_urdf import find_urdf
+
+    return find_urdf(sidecar)
+
+
+def mujoco_import(path: Path):
+    """MuJoCo's compiled import of the URDF (of an Extended URDF's sidecar, with its loops as equalities).
+
+    Meshes are left out with the geoms that show them (they move nothing; the copies here lack them), fixed
+    links are kept as bodies (``fusestatic`` off: a loop's frame may be one), inertias balanced (some files
+    break the triangle inequality, which moves nothing either).
+    """
+    import xml.etree.ElementTree as ET
+
+    import mujoco
+    import yaml
+
+    urdf, loops = path, []
+    if path.suffix == ".yaml":
+        doc = yaml.safe_load(path.read_text())
+        urdf, loops = (
+            pinmob_urdf(path),
+            list(zip(doc["closed_loop"], doc.get("type") or ["6d"] * len(doc["closed_loop"]))),
+        )
+    spec = mujoco.MjSpec.from_file(str(urdf))
+    for geom in [g for g in spec.geoms if g.type == mujoco.mjtGeom.mjGEOM_MESH or g.meshname]:
+        spec.delete(geom)
+    for mesh in list(spec.meshes):
+        spec.delete(mesh)
+    spec.compiler.fusestatic = False
+    spec.compiler.balanceinertia = True
+    spec.compiler.boundmass = spec.compiler.boundmass or 1e-9
+    spec.compiler.boundinertia = spec.compiler.boundinertia or 1e-12
+    child = {j.get("name"): j.find("child").get("link") for j in ET.parse(urdf).getroot().findall("joint")}
+    for k, ((a, b), kind) in enumerate(loops):
+        sites = []
+        for side, frame in (("a", a), ("b", b)):
+            body = spec.body(child.get(frame, frame))  # a fixed joint's frame is its child link's origin
+            site = body.add_site()
+            site.name = f"loop{k}_{side}"
+            sites.append(site.name)
+        eq = spec.add_equality()
+        eq.type = mujoco.mjtEq.mjEQ_CONNECT if kind == "3d" else mujoco.mjtEq.mjEQ_WELD
+        eq.objtype = mujoco.mjtObj.mjOBJ_SITE
+        eq.name1, eq.name2 = sites
+    return spec.compile()
+
+
+@pytest.mark.parametrize("name", sorted(MUJOCO))
+def test_counts_agree_with_mujoco(name):
+    """pinmob's nv, closure rows and mechanism DoF are MuJoCo's (``nv - rank`` of its equality rows of
+    ``efc_J``) at pinmob's closed configuration, which closes MuJoCo's own equalities."""
+    import mujoco
+    from test_mujoco_counts import clear_rank
+
+    path = located(name)
+    m = mujoco_import(path)
+    d = mujoco.MjData(m)
+    if name == "erd:talos_data/robots/talos_reduced.urdf":
+        with (
+            pytest.warns(UserWarning, match="<mimic> of 6 joint.s. left out, the joint or its driver being fixed"),
+            pytest.raises(pinmob.MechanismFileError, match="without a <mimic> joint between moving joints"),
+        ):
+            pinmob.load(path)
+        doc = {"nv": m.nv, "closure_rows": 0, "mechanism_dof": m.nv, "joint_values": {}}
+    else:
+        doc = pinmob.analyze(pinmob.load(path)).to_dict()
+    for joint, value in doc["joint_values"].items():
+        d.joint(joint).qpos[:] = value
+    mujoco.mj_forward(m, d)
+    eq = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
+    jac = d.efc_J[: d.nefc * m.nv].reshape(d.nefc, m.nv)[eq]
+    assert np.abs(d.efc_pos[eq]).max(initial=0.0) < 1e-9  # pinmob's configuration closes MuJoCo's equalities
+    figures = (m.nv, eq.size, m.nv - clear_rank(jac))
+    assert figures == MUJOCO[name]
+    assert (doc["nv"], doc["closure_rows"], doc["mechanism_dof"]) == figures

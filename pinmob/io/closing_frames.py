@@ -45,7 +45,7 @@ def closing_pairs(path: Path, model: pin.Model, couplings: int = 0) -> dict[str,
     if not sides and not couplings:
         raise file_error(
             path,
-            "a plain URDF without <mimic> joints has no loop closure: add onshape-to-robot's closing frames (links closing_<name>_1 and "
+            "a plain URDF without a <mimic> joint between moving joints has no loop closure: add onshape-to-robot's closing frames (links closing_<name>_1 and "
             "closing_<name>_2 on the two bodies each loop joins), or describe the loops in a pinmob TOML file or an "
             "Extended URDF YAML sidecar beside it (see docs/closed-chains.md#formats)",
         )

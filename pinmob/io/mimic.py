@@ -15,6 +15,7 @@ onshape-to-robot's closing frames), an Extended URDF and the URDF a pinmob TOML 
 from __future__ import annotations
 
 import math
+import warnings
 from pathlib import Path
 
 import pinocchio as pin
@@ -40,7 +41,7 @@ def mimic_joints(urdf: Path) -> list[tuple[str, str, float, float]]:
     import xml.etree.ElementTree as ET  # only for URDFs that mention mimic (urdfdom parsed the file already)
 
     found = []
-    for joint in ET.fromstring(text).iter("joint"):
+    for joint in ET.fromstring(text).findall("joint"):  # the robot's joints (a <transmission> has <joint> too)
         mimic = joint.find("mimic")
         if mimic is None:
             continue
@@ -66,23 +67,32 @@ def mimic_couplings(urdf: Path, model: pin.Model) -> list[Closure]:
     """One ``joint`` coupling ``mimic_<j>``: ``q_j = multiplier * q_m + offset`` per mimic joint of ``urdf`` in ``model``.
 
     ``model`` is the URDF's model built without Pinocchio's mimic joints (its joints may have been rebuilt, as
-    an Extended URDF's ``joint_type`` does: a mimic must still name two one-degree joints of it).
+    an Extended URDF's ``joint_type`` does). A mimic on a fixed joint, or driven by one, couples no coordinate
+    (a fixed joint has none, and is not a joint of the model): it is left out, as MuJoCo's URDF importer
+    leaves it, with one warning naming every such mimic.
 
     Raises:
-        MechanismFileError: a mimic or driver that is not a joint of the model, or not a one-degree (revolute
-            or prismatic) joint: a continuous joint's coordinate is a point on a circle, a fixed joint has none.
+        MechanismFileError: a mimic or driver that is no joint of the URDF at all, or not a one-degree
+            (revolute or prismatic) joint (a continuous joint's coordinate is a point on a circle).
     """
-    out = []
+    out, fixed = [], []
     joints = list(model.names)[1:]
+    declared = None
     for joint, driver, multiplier, offset in mimic_joints(urdf):
         if joint == driver:
             raise MechanismFileError(f"{urdf}: joint {joint!r} mimics itself; name another joint as its driver")
-        for role, name in (("joint", joint), ("driver", driver)):
-            if name not in joints:
+        if joint not in joints or driver not in joints:
+            declared = urdf_joints(urdf) if declared is None else declared
+            missing = [(role, n) for role, n in (("joint", joint), ("driver", driver)) if n not in declared]
+            if missing:
+                role, name = missing[0]
                 raise MechanismFileError(
-                    f"{urdf}: mimic joint {joint!r}: its {role} {name!r} is not a moving joint of the model "
-                    f"(a fixed joint has no coordinate); joints: {choices(joints)}"
+                    f"{urdf}: mimic joint {joint!r}: its {role} {name!r} is not a joint of the URDF; "
+                    f"moving joints: {choices(joints)}"
                 )
+            fixed.append(joint)
+            continue
+        for role, name in (("joint", joint), ("driver", driver)):
             jm = model.joints[model.getJointId(name)]
             if jm.nq != 1 or jm.nv != 1:
                 raise MechanismFileError(
@@ -94,7 +104,20 @@ def mimic_couplings(urdf: Path, model: pin.Model) -> list[Closure]:
             out.append(make_coupling(model, PREFIX + joint, (joint, driver), (offset, multiplier), (0.0, 0.0)))
         except PinmobError as exc:
             raise MechanismFileError(f"{urdf}: mimic joint {joint!r}: {exc}") from None
+    if fixed:
+        warnings.warn(
+            f"{urdf.name}: <mimic> of {len(fixed)} joint(s) left out, the joint or its driver being fixed (no "
+            f"coordinate to couple): {', '.join(fixed)}",
+            stacklevel=4,
+        )
     return out
+
+
+def urdf_joints(urdf: Path) -> set[str]:
+    """The names of every ``<joint>`` of the URDF, fixed ones included."""
+    import xml.etree.ElementTree as ET
+
+    return {j.get("name", "") for j in ET.fromstring(urdf.read_bytes()).findall("joint")}
 
 
 def unique(path: Path, closures: list[Closure]) -> list[Closure]:

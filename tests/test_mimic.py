@@ -278,3 +278,23 @@ def test_counts_agree_with_mujoco(name):
     figures = (m.nv, eq.size, m.nv - clear_rank(jac))
     assert figures == MUJOCO[name]
     assert (doc["nv"], doc["closure_rows"], doc["mechanism_dof"]) == figures
+
+
+def test_the_viewer_moves_mimics_with_their_driver():
+    """The viewer's followed motions (pinmob.viewer.prepare) keep every mimic on its driver: the jaw and the
+    plunger follow jaw_a along the whole path, which moves."""
+    from pinmob.viewer import ViewOptions, prepare
+
+    mech = pinmob.load(SCISSOR)
+    prep = prepare(mech, pinmob.analyze(mech).state.q, None, ViewOptions(steps=4))
+    assert prep.paths
+    ids = {
+        name: mech.model.joints[mech.model.getJointId(name)].idx_q
+        for name in ("jaw_a_joint", "jaw_b_joint", "plunger_joint")
+    }
+    for path in prep.paths.values():
+        qs = np.array(path.forward + path.backward)
+        a = qs[:, ids["jaw_a_joint"]]
+        assert np.ptp(a) > 1e-3  # the gripper moves
+        np.testing.assert_allclose(qs[:, ids["jaw_b_joint"]], -2 * a + 0.1, atol=1e-9)
+        np.testing.assert_allclose(qs[:, ids["plunger_joint"]], 0.05 * a, atol=1e-9)

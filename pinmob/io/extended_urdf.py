@@ -107,6 +107,24 @@ def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
     return value
 
 
+def sidecar(urdf: Path) -> Path | None:
+    """The Extended URDF sidecar of ``urdf``: a same-named ``.yaml`` (or ``.yml``) beside it with a ``closed_loop`` key.
+
+    A same-named YAML file without that key (another tool's configuration) is no sidecar: None, as for none.
+    A YAML file that does not parse is no sidecar either (the URDF is then read as a plain URDF).
+    """
+    for suffix in (".yaml", ".yml"):
+        candidate = urdf.with_suffix(suffix)
+        if candidate.is_file():
+            try:
+                doc = _read_yaml(candidate)
+            except MechanismFileError:
+                continue
+            if "closed_loop" in doc:
+                return candidate
+    return None
+
+
 def find_urdf(path: Path) -> Path:
     """The URDF beside a YAML sidecar: same stem, else the only ``*.urdf`` in the folder."""
     same = path.with_suffix(".urdf")
@@ -122,8 +140,17 @@ def find_urdf(path: Path) -> Path:
 
 
 def load_extended_urdf(path: str | Path) -> Mechanism:
-    """Load an Extended URDF robot from its YAML sidecar (the URDF beside it)."""
+    """Load an Extended URDF robot from its YAML sidecar (the URDF beside it), or from the URDF beside its sidecar.
+
+    Given a ``.urdf`` file, its sidecar is the same-named YAML file (:func:`sidecar`); the mechanism's
+    description names both files either way.
+    """
     path = Path(path)
+    if path.suffix.lower() == ".urdf":
+        found = sidecar(path)
+        if found is None:
+            raise file_error(path, "no Extended URDF sidecar beside it (a same-named .yaml file with 'closed_loop')")
+        path = found
     doc = _read_yaml(path)
     if "closed_loop" not in doc:
         raise file_error(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")

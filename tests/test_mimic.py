@@ -316,3 +316,19 @@ def test_mimics_that_couple_limbs_of_a_toml_mechanism(tmp_path):
     assert (report.dof, report.motion_type) == (1, "1T")
     np.testing.assert_allclose(np.abs(report.motions[0].direction), [0, 0, 1], atol=1e-9)
     assert "closure 'mimic_B_slider' couples limbs A, B" in str(report)
+
+
+def test_a_scan_along_an_actuated_mimic_moves_its_driver(tmp_path, capsys):
+    """pinmob scan along jaw_b (a mimic, actuated): every sample closes the couplings (jaw_a = (0.1 - jaw_b) / 2,
+    plunger = 0.05 jaw_a), 1 DoF, the actuation valid."""
+    import json
+
+    out = tmp_path / "scan.json"
+    argv = ["scan", str(SCISSOR), "--from", "jaw_b_joint=-0.2", "--to", "jaw_b_joint=0.3", "--samples", "3"]
+    assert main([*argv, "--actuated", "jaw_b_joint", "--no-progress", "--json", str(out)]) == 0
+    samples = json.loads(out.read_text())["samples"]
+    assert [s["q_jaw_b_joint"] for s in samples] == pytest.approx([-0.2, 0.05, 0.3], abs=1e-12)
+    for s in samples:
+        assert s["q_jaw_a_joint"] == pytest.approx((0.1 - s["q_jaw_b_joint"]) / 2, abs=1e-9)
+        assert s["q_plunger_joint"] == pytest.approx(0.05 * s["q_jaw_a_joint"], abs=1e-9)
+        assert (s["dof"], s["actuation_valid"]) == (1, True)

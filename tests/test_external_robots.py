@@ -198,3 +198,12 @@ def test_a_yaml_without_closed_loop_is_no_sidecar(tmp_path):
         warnings.simplefilter("ignore")
         with pytest.raises(pinmob.MechanismFileError, match="a plain URDF without a <mimic> joint"):
             pinmob.load(urdf)
+
+
+def test_a_sidecar_that_does_not_parse_is_its_error(tmp_path):
+    """A same-named YAML naming closed_loop that does not parse was meant as the sidecar: its error, one line."""
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes((FOLDER / "5bar_linkage" / "robot.urdf").read_bytes())
+    (tmp_path / "robot.yaml").write_text("closed_loop: [['a', 'b']\n")
+    with pytest.raises(pinmob.MechanismFileError, match="robot.yaml: YAML syntax error"):
+        pinmob.load(urdf)

@@ -111,7 +111,11 @@ def sidecar(urdf: Path) -> Path | None:
     """The Extended URDF sidecar of ``urdf``: a same-named ``.yaml`` (or ``.yml``) beside it with a ``closed_loop`` key.
 
     A same-named YAML file without that key (another tool's configuration) is no sidecar: None, as for none.
-    A YAML file that does not parse is no sidecar either (the URDF is then read as a plain URDF).
+    One that does not parse is no sidecar either, unless its text names ``closed_loop``: then it was meant as
+    one, and its error is raised.
+
+    Raises:
+        MechanismFileError: a same-named YAML file naming ``closed_loop`` does not parse.
     """
     for suffix in (".yaml", ".yml"):
         candidate = urdf.with_suffix(suffix)
@@ -119,6 +123,9 @@ def sidecar(urdf: Path) -> Path | None:
             try:
                 doc = _read_yaml(candidate)
             except MechanismFileError:
+                with candidate.open("rb") as fh:  # its start: the file may be over the size bound
+                    if b"closed_loop" in fh.read(1_000_000):
+                        raise
                 continue
             if "closed_loop" in doc:
                 return candidate

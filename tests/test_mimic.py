@@ -278,6 +278,13 @@ def test_counts_agree_with_mujoco(name):
     figures = (m.nv, eq.size, m.nv - clear_rank(jac))
     assert figures == MUJOCO[name]
     assert (doc["nv"], doc["closure_rows"], doc["mechanism_dof"]) == figures
+    if "actuation" in doc:  # the actuated joints held (an Extended URDF's name_mot; a URDF has none)
+        act = doc["actuation"]
+        held = np.zeros((len(act["actuated"]), m.nv))
+        for k, joint in enumerate(act["actuated"]):
+            held[k, m.jnt_dofadr[mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_JOINT, joint)]] = 1.0
+        both = clear_rank(np.vstack([jac, held]))
+        assert (act["locked_dof"], act["redundant_actuators"]) == (m.nv - both, clear_rank(jac) + len(held) - both)
 
 
 def test_the_viewer_moves_mimics_with_their_driver():

@@ -19,9 +19,9 @@ from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
 from pinmob.scan.chain_scan import check_actuated
 from pinmob.scan.coordinates import coordinate_unit
 from pinmob.scan.output import RowWriter
-from pinmob.scan.plot_map import plot_map
 from pinmob.scan.scan_plot import plot_path, varied_joint
 from pinmob.scan.scan_spec import ScanSpec, parse_grid_axis
+from pinmob.scan.workspace_map import plot_map
 from pinmob.screw.rank import RTOL
 
 

@@ -8,7 +8,7 @@ lockstep, samples analysed in one batch), :mod:`~pinmob.scan.chain_scan` (a mech
 closed chain along a joint path),
 :mod:`~pinmob.scan.refine` (singular points between samples),
 :mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.scan_plot` and
-:mod:`~pinmob.scan.plot_map` (PNG plots).
+:mod:`~pinmob.scan.workspace_map` (PNG maps of grids).
 """
 
 from pinmob.assembly.reach import pose_vector

@@ -10,7 +10,7 @@
   near-singular band; the DoF. Singular samples, near-singular samples and
   refined singular points are marked, the latter labelled by class; samples
   that could not be assembled are shaded grey.
-* :func:`pinmob.scan.plot_map.plot_map`: a workspace slice as two maps.
+* :func:`pinmob.scan.workspace_map.plot_map`: a workspace slice as two maps.
 
 Every colour and mark has a legend entry. Only the columns drawn are read
 (:func:`pinmob.scan.output.read_columns`). Absent singular values (a stack with

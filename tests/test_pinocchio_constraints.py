@@ -43,10 +43,11 @@ NOT_CLOSED_OR_OPEN = {
     "third_party/mujoco_testdata/actuation/tendon_dampratio.xml",
     "third_party/mujoco_testdata/sleep/equality.xml",
 }
-#: every built-in model, and every TOML, MJCF, Extended URDF and onshape-to-robot file of tests/data but those above
+#: every built-in model, and every TOML, MJCF, Extended URDF, onshape-to-robot and mimic URDF file of tests/data
+#: but those above
 SOURCES = sorted(pinmob.builtin_models()) + sorted(
     name
-    for pattern in ("*.toml", "*.xml", "robot.yaml", "cad_gaps/*/robot.urdf")
+    for pattern in ("*.toml", "*.xml", "robot.yaml", "cad_gaps/*/robot.urdf", "mimic/**/*.urdf")
     for p in DATA.rglob(pattern)
     if (name := str(p.relative_to(DATA))) not in UNMODELLED.keys() | NOT_CLOSED_OR_OPEN
     and not name.startswith("third_party/menagerie_xarm7_hand/xarm7")  # hand.xml / scene.xml include it
@@ -124,27 +125,29 @@ def test_round_trip_keeps_every_answer(source: str, api: str) -> None:
     assert again.mechanism_mobility.rows == first.mechanism_mobility.rows
 
 
-def document(report: pinmob.Report, couplings: dict[str, str]) -> Any:
-    """``report.to_dict()`` with each coupling named by its joints and the closures in name order.
+def document(report: pinmob.Report, couplings: set[str]) -> Any:
+    """``report.to_dict()`` without the per-closure entries of the couplings, the closures in name order.
 
-    A coupling goes through Pinocchio as a mimic joint, which has no name of its own: it comes back as
-    ``mimic <joint>`` (after the other closures, and inverted where Pinocchio wants the mimic joint later).
+    A coupling goes through Pinocchio as a mimic joint, which has no name of its own, and Pinocchio wants a
+    mimic joint after the joint it mimics: the couplings come back as ``mimic_<joint>``, each joint of a group
+    coupled to the group's first joint (the same equations, written between other pairs). Their totals stay
+    in the document (rows, rank, redundancy, DoF); their entries by name are left out.
     """
 
-    def renamed(x: Any) -> Any:
+    def without(x: Any) -> Any:
         if isinstance(x, dict):
-            return {couplings.get(k, k): renamed(v) for k, v in x.items()}
+            return {k: without(v) for k, v in x.items() if k not in couplings}
         if isinstance(x, list):
-            return [renamed(v) for v in x]
-        return couplings.get(x, x) if isinstance(x, str) else x
+            return [without(v) for v in x if not (isinstance(v, dict) and v.get("name") in couplings)]
+        return x
 
-    doc = renamed(json.loads(json.dumps(report.to_dict(), default=str)))
+    doc = without(json.loads(json.dumps(report.to_dict(), default=str)))
     doc["closures"] = sorted(doc["closures"], key=lambda c: c["name"])
     return doc
 
 
-def coupling_names(mech: pinmob.Mechanism) -> dict[str, str]:
-    return {c.name: f"coupling {sorted(c.joints)}" for c in mech.closures if c.type == "joint"}
+def coupling_names(mech: pinmob.Mechanism) -> set[str]:
+    return {c.name for c in mech.closures if c.type == "joint"}
 
 
 def close(a: Any, b: Any, path: str = "") -> list[str]:
@@ -162,8 +165,8 @@ def close(a: Any, b: Any, path: str = "") -> list[str]:
 def test_round_trip_gives_the_same_report(source: str) -> None:
     """The whole report document (``pinmob analyze --json``) is the same after the round trip (new API).
 
-    Only what a Pinocchio model cannot hold differs: a coupling's name (a mimic joint has none) and the
-    order of the closures.
+    Only what a Pinocchio model cannot hold differs: the couplings' names and pairs (:func:`document`) and
+    the order of the closures.
     """
     mech, tol = load(source), CLOSURE_TOL.get(source, 1e-6)
     first = pinmob.analyze(mech, closure_tol=tol)
@@ -388,8 +391,8 @@ def test_mimic_joints_are_read_as_couplings() -> None:
     assert (mech.model.nq, model.nq) == (3, 1)
     couplings = {c.name: (c.joints, c.polycoef) for c in mech.closures}
     assert couplings == {
-        "mimic slide": (("slide", "drive"), (0.1, -0.5)),
-        "mimic skew": (("skew", "drive"), (-0.3, 2.0)),
+        "mimic_slide": (("slide", "drive"), (0.1, -0.5)),
+        "mimic_skew": (("skew", "drive"), (-0.3, 2.0)),
     }
     mm = pinmob.analyze(mech).mechanism_mobility
     assert (mm.mechanism_dof, mm.redundant_constraints) == (1, 0)
@@ -574,7 +577,7 @@ def test_slide_couplings_as_mimic_joints_move_as_in_mujoco(tmp_path: Path) -> No
             expected = mj_data.site_xpos[mujoco.mj_name2id(mj, mujoco.mjtObj.mjOBJ_SITE, site)]
             np.testing.assert_allclose(data.oMf[model.getFrameId(site)].translation, expected, atol=1e-12)
     back = reread(mech, model, constraints)
-    assert {c.name for c in back.closures} == {"mimic slide", "mimic flap"}
+    assert {c.name for c in back.closures} == {"mimic_slide", "mimic_flap"}
     mm = pinmob.analyze(back).mechanism_mobility
     assert (mm.mechanism_dof, mm.redundant_constraints) == (1, 0)
 

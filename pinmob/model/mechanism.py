@@ -206,7 +206,7 @@ class Mechanism:
     ) -> Mechanism:
         """A mechanism from a Pinocchio model and its constraint models (either API; mimic joints allowed).
 
-        Each constraint becomes a closure (:mod:`pinmob.model.constraint_models.reading`: ``CONTACT_3D`` and
+        Each constraint becomes a closure (:mod:`pinmob.model.constraint_models.constraint_reading`: ``CONTACT_3D`` and
         point anchors ``3d``, ``CONTACT_6D`` and frame anchors ``6d``; the two point anchors
         :meth:`to_pinocchio` writes for a revolute closure, ``X`` and ``X/axis``, one ``revolute`` again, and
         any two point anchors on the same two joints with ``hinges=True``), each mimic joint a joint coupling. With ``limbs``
@@ -234,7 +234,7 @@ class Mechanism:
 
         Returns:
             ``(model, constraint_models)``: a copy of the model and a ``StdVec_ConstraintModel`` or
-            ``StdVec_RigidConstraintModel`` (:mod:`pinmob.model.constraint_models.writing`).
+            ``StdVec_RigidConstraintModel`` (:mod:`pinmob.model.constraint_models.constraint_writing`).
 
         Warns:
             PinocchioExportWarning: closures Pinocchio has no exact model for, each named with what was put

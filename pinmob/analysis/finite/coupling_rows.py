@@ -215,7 +215,7 @@ def hold_tendons(conf: Configuration) -> tuple[Configuration, tuple[str, ...], t
     (one coordinate, ``polycoef = 0``), written on the closed chain's residual too, so that the tracing and the
     closed samples hold it as the conditions do. On a fixed tendon or one straight between sites it is a row
     exact at every order; on a tendon that wraps geoms or runs over a pulley, and on an actuator's slider-crank,
-    ball-joint or site length (:class:`~pinmob.io.actuator_lengths.ActuatorLength`), it has no written series
+    ball-joint or site length (:class:`~pinmob.io.mjcf.actuator_lengths.ActuatorLength`), it has no written series
     (:func:`~pinmob.analysis.finite.sampled_side.unwritten`), and the side with it is decided from closed samples alone.
 
     Returns:

@@ -5,9 +5,9 @@
 :class:`PinocchioExportWarning` for closures Pinocchio has no exact model for.
 """
 
-from pinmob.model.constraint_models.errors import ConstraintModelError, PinocchioExportWarning
-from pinmob.model.constraint_models.reading import limb_welds, mechanism_parts, read_constraint_models
-from pinmob.model.constraint_models.writing import APIS, write_constraint_models
+from pinmob.model.constraint_models.constraint_errors import ConstraintModelError, PinocchioExportWarning
+from pinmob.model.constraint_models.constraint_reading import limb_welds, mechanism_parts, read_constraint_models
+from pinmob.model.constraint_models.constraint_writing import APIS, write_constraint_models
 
 __all__ = [
     "APIS",

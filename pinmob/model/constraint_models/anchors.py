@@ -9,7 +9,7 @@ anchor: 3 rows) or as a whole frame (``CONTACT_6D``, a frame anchor: 6 rows); ne
   ``<name>/axis``);
 - ``universal`` is one point anchor (its fourth equation, hinge axes perpendicular, has no Pinocchio model);
 - ``cylindrical``, ``planar``, ``tendon`` couplings and ``joint`` couplings have none and are left out (a
-  linear ``joint`` coupling can be a mimic joint instead, :mod:`.writing`); so is any other closure type.
+  linear ``joint`` coupling can be a mimic joint instead, :mod:`.constraint_writing`); so is any other closure type.
 
 Every closure not written exactly comes with a note saying what was put instead.
 """

@@ -26,9 +26,9 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.model.closure import Closure, ClosureType, make_closure, make_coupling
-from pinmob.model.constraint_models.errors import ConstraintModelError
-from pinmob.model.constraint_models.frames import constraint_frame, same_placement
-from pinmob.model.constraint_models.mimic import unmimic
+from pinmob.model.constraint_models.constraint_errors import ConstraintModelError
+from pinmob.model.constraint_models.constraint_frames import constraint_frame, same_placement
+from pinmob.model.constraint_models.mimic_joints import unmimic
 from pinmob.model.joints import frame_id
 
 #: Two anchor points closer than this (relative to the model's size) are one point, not a hinge axis.
@@ -177,8 +177,8 @@ def read_constraint_models(
 ) -> tuple[pin.Model, list[Closure]]:
     """A copy of ``model`` holding the closures' frames, and the closures the constraint models stand for.
 
-    Mimic joints become joints of their own held by ``joint`` couplings (:mod:`.mimic`), named ``mimic
-    <joint>``.
+    Mimic joints become joints of their own held by ``joint`` couplings (:mod:`.mimic_joints`), named
+    ``mimic_<joint>`` as a URDF's mimic joints are (:mod:`pinmob.io.mimic`).
 
     Args:
         model: the Pinocchio model (a tree; mimic joints allowed).
@@ -219,7 +219,7 @@ def read_constraint_models(
         closures.append(make_closure(model, item.name, model.frames[fa].name, model.frames[fb].name, item.kind))
     for m in mimics:
         closures.append(
-            make_coupling(model, f"mimic {m.secondary}", (m.secondary, m.primary), (m.offset, m.scaling), (0.0, 0.0))
+            make_coupling(model, f"mimic_{m.secondary}", (m.secondary, m.primary), (m.offset, m.scaling), (0.0, 0.0))
         )
     return model, closures
 

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pinmob.model.constraint_models.errors import ConstraintModelError
+from pinmob.model.constraint_models.constraint_errors import ConstraintModelError
 
 
 @dataclass(frozen=True)

@@ -21,7 +21,7 @@ import pinocchio as pin
 from pinmob.exceptions import ArgumentError
 from pinmob.model.closure import Closure, ClosureType
 from pinmob.model.constraint_models.anchors import Anchor, closure_anchors
-from pinmob.model.constraint_models.errors import PinocchioExportWarning
+from pinmob.model.constraint_models.constraint_errors import PinocchioExportWarning
 
 #: The two APIs: the new anchors in ``ConstraintModel``, the legacy ``RigidConstraintModel``.
 APIS = ("new", "legacy")
@@ -60,42 +60,59 @@ def _linear(closure: Closure) -> tuple[float, float] | None:
 def _mimics(model: pin.Model, couplings: Sequence[Closure]) -> tuple[pin.Model, list[str]]:
     """``model`` with a mimic joint for each linear coupling of two joints, and a note per coupling left out.
 
-    Pinocchio's mimic joint comes after the joint it mimics, and mimics a joint with a coordinate: a coupling
-    ``q1 = s q2 + o`` whose joint 1 comes first is written ``q2 = q1 / s - o / s``, and a joint mimicking a
-    mimic joint mimics the latter's own primary (``q1 = s1 (s2 q3 + o2) + o1``).
+    Pinocchio's mimic joint comes after the joint it mimics, and mimics a joint with a coordinate. So the
+    couplings are taken as a graph on the joints: in each connected group, every joint mimics the group's
+    first joint in the model, its scaling and offset composed along the couplings that lead there
+    (``q1 = s q2 + o`` read backwards is ``q2 = q1 / s - o / s``). A coupling that closes a cycle in the
+    graph is left out (its joints are coupled already), as is one with a zero scaling (a joint held at a value).
     """
     notes: list[str] = []
-    rule: dict[int, tuple[int, float, float, str]] = {}  # mimicking joint -> (mimicked, scaling, offset, coupling)
+    edges: dict[int, list[tuple[int, float, float]]] = {}  # joint -> (other, s, o) with q_joint = s q_other + o
     for c in couplings:
         linear = _linear(c)
-        if linear is None:
-            what = "a joint held at a value" if len(c.joints) == 1 else "a polynomial coupling"
+        if linear is None or linear[0] == 0.0:
+            what = "a joint held at a value" if len(c.joints) == 1 or linear is not None else "a polynomial coupling"
             notes.append(f"{c.name!r} (joint coupling): left out ({what}: no Pinocchio model)")
             continue
         (i1, i2), (scaling, offset) = (model.getJointId(j) for j in c.joints), linear
-        if i1 < i2:
-            if scaling == 0.0:
-                notes.append(f"{c.name!r} (joint coupling): left out (a joint held at a value: no Pinocchio model)")
-                continue
-            i1, i2, scaling, offset = i2, i1, 1.0 / scaling, -offset / scaling
-        if i1 in rule:
-            notes.append(
-                f"{c.name!r} (joint coupling): left out (joint {model.names[i1]!r} mimics "
-                f"{model.names[rule[i1][0]]!r} already)"
-            )
+        edges.setdefault(i1, []).append((i2, scaling, offset))
+        edges.setdefault(i2, []).append((i1, 1.0 / scaling, -offset / scaling))
+    # each joint as (root, s, o): q_joint = s q_root + o, by a breadth-first walk from each group's first joint
+    found: dict[int, tuple[int, float, float]] = {}
+    cycles = 0
+    for root in sorted(edges):
+        if root in found:
             continue
-        rule[i1] = (i2, scaling, offset, c.name)
+        found[root] = (root, 1.0, 0.0)
+        queue = [root]
+        while queue:
+            joint = queue.pop(0)
+            _, s_j, o_j = found[joint]
+            for other, s, o in edges[joint]:  # q_joint = s q_other + o, so q_other = (q_joint - o) / s
+                if other in found:
+                    continue
+                found[other] = (root, s_j / s, (o_j - o) / s)
+                queue.append(other)
+    edge_count = sum(len(v) for v in edges.values()) // 2
+    cycles = edge_count - (len(found) - len({r for r, _, _ in found.values()}))
+    if cycles:
+        names = [c.name for c in couplings if (lin := _linear(c)) is not None and lin[0] != 0.0]
+        notes.append(
+            f"{cycles} of the joint couplings {names} left out (they close a cycle of couplings: Pinocchio's mimic "
+            "joints form a tree)"
+        )
     out = model
-    for secondary in sorted(rule):
-        primary, scaling, offset, name = rule[secondary]
-        while primary in rule:  # a smaller index at each step: the chain ends
-            primary, s2, o2, _ = rule[primary]
-            scaling, offset = scaling * s2, scaling * o2 + offset
+    for joint, (root, scaling, offset) in sorted(found.items()):
+        if joint == root:
+            continue
         try:
-            out = pin.transformJointIntoMimic(out, primary, secondary, scaling, offset)
+            out = pin.transformJointIntoMimic(out, root, joint, scaling, offset)
         except (RuntimeError, ValueError) as error:
             why = str(error).split("message:")[-1].strip().splitlines()[0]
-            notes.append(f"{name!r} (joint coupling): left out (Pinocchio refuses it as a mimic joint: {why})")
+            notes.append(
+                f"joint {model.names[joint]!r} (joint coupling): left out (Pinocchio refuses it as a mimic of "
+                f"{model.names[root]!r}: {why})"
+            )
     return out, notes
 
 

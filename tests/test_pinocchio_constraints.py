@@ -19,7 +19,7 @@ import pinocchio as pin
 import pytest
 
 import pinmob
-from pinmob.model.closure import make_closure
+from pinmob.model.closure import make_closure, make_coupling
 from pinmob.model.constraint_models import ConstraintModelError, PinocchioExportWarning
 
 DATA = Path(__file__).parent / "data"
@@ -638,3 +638,35 @@ def test_pinocchio_constrained_algorithms_refuse_mimic_joints() -> None:
         for c, d in zip(constraints, new_datas):
             c.calc(model, data, d)
         pin.getConstraintsJacobian(model, data, constraints, new_datas)
+
+
+def test_coupling_chains_and_cycles_as_mimic_joints() -> None:
+    """Couplings written as mimic joints of their group's first joint (composed along a chain, inverted where the
+    coupled joint comes first); a coupling that closes a cycle is left out and named."""
+    model = pin.Model()
+    a = model.addJoint(0, pin.JointModelRZ(), pin.SE3.Identity(), "a")
+    b = model.addJoint(a, pin.JointModelRZ(), pin.SE3(np.eye(3), np.array([0.5, 0, 0])), "b")
+    c = model.addJoint(b, pin.JointModelPrismaticUnaligned(np.array([0.0, -0.6, 0.8])), pin.SE3.Identity(), "c")
+    for j in (a, b, c):
+        model.appendBodyToJoint(j, pin.Inertia.FromSphere(1.0, 0.05), pin.SE3.Identity())
+    model.addFrame(pin.Frame("tip", c, 0, pin.SE3(np.eye(3), np.array([0.3, 0.1, 0.0])), pin.FrameType.OP_FRAME))
+    for j, name in ((a, "a"), (b, "b"), (c, "c")):
+        model.addFrame(pin.Frame(name, j, 0, pin.SE3.Identity(), pin.FrameType.JOINT))
+    couplings = [  # q_b = 2 q_a + 0.1 (written from b), q_a = 4 q_c - 0.2 (a comes first: inverted), q_c = q_b (a cycle)
+        make_coupling(model, "ba", ("b", "a"), (0.1, 2.0), (0.0, 0.0)),
+        make_coupling(model, "ac", ("a", "c"), (-0.2, 4.0), (0.0, 0.0)),
+        make_coupling(model, "cb", ("c", "b"), (0.0, 1.0), (0.0, 0.0)),
+    ]
+    mech = pinmob.Mechanism.from_model(model, {}, closures=couplings)
+    with pytest.warns(PinocchioExportWarning, match=r"'cb' \(joint coupling\): left out \(it closes a cycle"):
+        mimicked, constraints = mech.to_pinocchio(mimic=True)
+    assert len(constraints) == 0 and mimicked.nq == 1 and list(mimicked.mimicking_joints) == [b, c]
+    data, mimic_data = model.createData(), mimicked.createData()
+    for t in (-0.4, 0.0, 0.7):
+        pin.framesForwardKinematics(model, data, np.array([t, 2 * t + 0.1, (t + 0.2) / 4]))
+        pin.framesForwardKinematics(mimicked, mimic_data, np.array([t]))
+        np.testing.assert_allclose(
+            mimic_data.oMf[mimicked.getFrameId("tip")].homogeneous,
+            data.oMf[model.getFrameId("tip")].homogeneous,
+            atol=1e-12,
+        )

@@ -67,7 +67,7 @@ def _mimics(model: pin.Model, couplings: Sequence[Closure]) -> tuple[pin.Model, 
     graph is left out (its joints are coupled already), as is one with a zero scaling (a joint held at a value).
     """
     notes: list[str] = []
-    edges: dict[int, list[tuple[int, float, float]]] = {}  # joint -> (other, s, o) with q_joint = s q_other + o
+    edges: dict[int, list[tuple[int, float, float, str]]] = {}  # joint -> (other, s, o, coupling): q_j = s q_o + o
     for c in couplings:
         linear = _linear(c)
         if linear is None or linear[0] == 0.0:
@@ -75,11 +75,11 @@ def _mimics(model: pin.Model, couplings: Sequence[Closure]) -> tuple[pin.Model, 
             notes.append(f"{c.name!r} (joint coupling): left out ({what}: no Pinocchio model)")
             continue
         (i1, i2), (scaling, offset) = (model.getJointId(j) for j in c.joints), linear
-        edges.setdefault(i1, []).append((i2, scaling, offset))
-        edges.setdefault(i2, []).append((i1, 1.0 / scaling, -offset / scaling))
+        edges.setdefault(i1, []).append((i2, scaling, offset, c.name))
+        edges.setdefault(i2, []).append((i1, 1.0 / scaling, -offset / scaling, c.name))
     # each joint as (root, s, o): q_joint = s q_root + o, by a breadth-first walk from each group's first joint
     found: dict[int, tuple[int, float, float]] = {}
-    cycles = 0
+    used: set[str] = set()
     for root in sorted(edges):
         if root in found:
             continue
@@ -88,19 +88,17 @@ def _mimics(model: pin.Model, couplings: Sequence[Closure]) -> tuple[pin.Model, 
         while queue:
             joint = queue.pop(0)
             _, s_j, o_j = found[joint]
-            for other, s, o in edges[joint]:  # q_joint = s q_other + o, so q_other = (q_joint - o) / s
-                if other in found:
-                    continue
-                found[other] = (root, s_j / s, (o_j - o) / s)
-                queue.append(other)
-    edge_count = sum(len(v) for v in edges.values()) // 2
-    cycles = edge_count - (len(found) - len({r for r, _, _ in found.values()}))
-    if cycles:
-        names = [c.name for c in couplings if (lin := _linear(c)) is not None and lin[0] != 0.0]
-        notes.append(
-            f"{cycles} of the joint couplings {names} left out (they close a cycle of couplings: Pinocchio's mimic "
-            "joints form a tree)"
-        )
+            for other, s, o, name in edges[joint]:  # q_joint = s q_other + o, so q_other = (q_joint - o) / s
+                if other not in found:
+                    found[other] = (root, s_j / s, (o_j - o) / s)
+                    used.add(name)
+                    queue.append(other)
+    for c in couplings:
+        if c.name not in used and any(c.name == e[3] for es in edges.values() for e in es):
+            notes.append(
+                f"{c.name!r} (joint coupling): left out (it closes a cycle of couplings: Pinocchio's mimic joints "
+                "form a tree)"
+            )
     out = model
     for joint, (root, scaling, offset) in sorted(found.items()):
         if joint == root:

@@ -206,14 +206,15 @@ class Mechanism:
     ) -> Mechanism:
         """A mechanism from a Pinocchio model and its constraint models (either API; mimic joints allowed).
 
-        Each constraint becomes a closure (:mod:`pinmob.model.constraint_models.constraint_reading`: ``CONTACT_3D`` and
-        point anchors ``3d``, ``CONTACT_6D`` and frame anchors ``6d``; the two point anchors
-        :meth:`to_pinocchio` writes for a revolute closure, ``X`` and ``X/axis``, one ``revolute`` again, and
-        any two point anchors on the same two joints with ``hinges=True``), each mimic joint a joint coupling. With ``limbs``
-        (``{limb: tip frame}``) and ``platform``, a ``6d`` constraint welding a limb's tip to the platform
-        is the limb's own closure and is not repeated. ``actuated`` names the actuated joints (or maps limb
-        names to them, as :meth:`from_model`); ``options`` go to :meth:`from_model` (``name``,
-        ``configurations``, ``length_scale``, ...).
+        Each constraint becomes a closure (:mod:`pinmob.model.constraint_models.constraint_reading`):
+        ``CONTACT_3D`` and point anchors ``3d``, ``CONTACT_6D`` and frame anchors ``6d``; the two point anchors
+        :meth:`to_pinocchio` writes for a revolute closure, ``X`` and ``X/axis``, one ``revolute`` again (any two
+        point anchors on the same two joints with ``hinges=True``, none with ``hinges=False``). Each mimic
+        joint becomes a joint of its own and a coupling ``mimic_<joint>``. With ``limbs`` (``{limb: tip
+        frame}``) and ``platform``, a ``6d`` constraint welding a limb's tip to the platform is the limb's own
+        closure and is not repeated. ``actuated`` names the actuated joints (or maps limb names to them, as
+        :meth:`from_model`); ``options`` go to :meth:`from_model` (``name``, ``configurations``,
+        ``length_scale``, ...).
 
         Raises:
             ConstraintModelError: a constraint pinmob cannot read (the message names it).

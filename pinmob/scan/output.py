@@ -129,6 +129,9 @@ class RowWriter:
             raise
         finally:
             if failed:  # the files are dropped: a failing flush of another one must not hide what stopped the writing
+                if self._parquet:
+                    with contextlib.suppress(Exception):
+                        self._parquet.close()
                 with contextlib.suppress(OSError):
                     self._stack.close()
             else:
@@ -158,8 +161,11 @@ class ParquetRows:
         arrays = []
         for f in self.schema:
             data = table.data[f.name]
-            if data.dtype == object:
-                arrays.append(pa.array(table.column(f.name), f.type))
+            if data.dtype == object:  # values that fit no type: blank text (a closed chain's unreachable row) is null
+                values = table.column(f.name)
+                if f.type != pa.string():
+                    values = [None if isinstance(v, str) and not v else v for v in values]
+                arrays.append(pa.array(values, f.type))
             else:
                 arrays.append(pa.array(data, f.type, mask=table.missing(f.name)))
         self.writer.write_table(pa.Table.from_arrays(arrays, schema=self.schema))

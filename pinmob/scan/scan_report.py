@@ -151,13 +151,13 @@ class ScanReport:
     mechanism: str
     spec: ScanSpec
     what: str
-    summary: Summary
+    summary: Summary = field(repr=False)
     seconds: float
     where: str
     rank_rtol: float
     actuated: tuple[str, ...] = ()
     files: dict[str, str] = field(default_factory=dict)
-    table: ScanTable | None = None
+    table: ScanTable | None = field(default=None, repr=False)
 
     @property
     def band(self) -> float:

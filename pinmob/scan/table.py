@@ -176,29 +176,31 @@ class ScanTable:
                          {n: m[which] for n, m in self.absent.items()})  # fmt: skip
 
     def csv_text(self, header: bool = False) -> str:
-        """The rows as CSV lines (CR LF after each, :mod:`csv`'s excel dialect), with the header line first."""
+        """The rows as CSV lines (CR LF after each, :mod:`csv`'s excel dialect), with the header line first.
+
+        One ``%`` format per row: ``%.10g`` for a float column, ``%d`` for a whole-number one, ``%s`` for the
+        others and for the columns with missing values (formatted first, column by column).
+        """
         lines = [",".join(map(_quoted, self.names))] if header else []
         if len(self):
-            columns = [self._csv_column(n) for n in self.names]
-            lines += map(",".join, zip(*columns))
+            specs, columns = zip(*(self._csv_column(n) for n in self.names))
+            fmt = ",".join(specs) + "\r\n"
+            return "".join(line + "\r\n" for line in lines) + "".join(map(fmt.__mod__, zip(*columns)))
         return "".join(line + "\r\n" for line in lines)
 
-    def _csv_column(self, name: str) -> list[str]:
+    def _csv_column(self, name: str) -> tuple[str, list[Any]]:
+        """A column's ``%`` format and values for :meth:`csv_text`."""
         array = self.data[name]
         kind = array.dtype.kind
-        if kind == "f":
-            text = list(map("%.10g".__mod__, array.tolist()))
-        elif kind == "b":
-            text = np.where(array, "True", "False").tolist()
-        elif kind == "i":
-            text = list(map(str, array.tolist()))
-        else:
-            text = [_csv_value(v) for v in array.tolist()]
         mask = self.missing(name)
-        if mask is not None:
-            for i in np.flatnonzero(mask).tolist():
-                text[i] = ""
-        return text
+        if kind == "O":
+            return "%s", [_csv_value(v) for v in array.tolist()]
+        if mask is None:
+            return {"f": "%.10g", "i": "%d"}.get(kind, "%s"), array.tolist()
+        text = [_csv_value(v) for v in array.tolist()]
+        for i in np.flatnonzero(mask).tolist():
+            text[i] = ""
+        return "%s", text
 
     def json_lines(self) -> bytes:
         """The rows as JSON objects (orjson), one a line, separated by a comma and a line break."""

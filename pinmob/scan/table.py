@@ -16,6 +16,7 @@ from __future__ import annotations
 
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
+from operator import itemgetter
 from typing import Any
 
 import numpy as np
@@ -81,10 +82,14 @@ class ScanTable:
         """
         names = tuple(names)
         known = set(names)
-        for row in rows:
-            if not known.issuperset(row):
-                raise ValueError(f"row has keys that are not columns: {sorted(set(row) - known)}")
+        extra = [k for row in rows if not known.issuperset(row) for k in row if k not in known]
+        if extra:
+            raise ValueError(f"row has keys that are not columns: {sorted(set(extra))}")
         table = cls(names, {})
+        if len(names) > 1 and rows and all(len(row) == len(names) for row in rows):  # every row has every column
+            for name, values in zip(names, zip(*map(itemgetter(*names), rows))):
+                table._set(name, list(values))
+            return table
         for name in names:
             table._set(name, [row.get(name, _ABSENT) for row in rows])
         return table

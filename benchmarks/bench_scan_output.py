@@ -166,12 +166,12 @@ def main() -> None:
     print("microseconds per row (best of", args.repeat, "runs); before: one dict a row; after: a table a group")
     head = ("grid", "rows", "json before", "after", "csv before", "after", "parquet before", "after", "table",
             "files equal")  # fmt: skip
-    print("{:<30} {:>5} {:>11} {:>6} {:>10} {:>6} {:>14} {:>6} {:>6}  {}".format(*head))
+    print("{:<38} {:>5} {:>11} {:>6} {:>10} {:>6} {:>14} {:>6} {:>6}  {}".format(*head))
     with one_blas_thread, tempfile.TemporaryDirectory() as tmp:
         for name, at, axes in grids:
             r = bench(name, at, axes, args.repeat, Path(tmp))
             equal = "csv bytes {}, json {}, parquet {}".format(r["csv_equal"], r["json_equal"], r["parquet_equal"])
-            print(f"{r['grid']:<30} {r['rows']:>5} {r['json_before']:>11.1f} {r['json_after']:>6.1f} "
+            print(f"{r['grid']:<38} {r['rows']:>5} {r['json_before']:>11.1f} {r['json_after']:>6.1f} "
                   f"{r['csv_before']:>10.1f} {r['csv_after']:>6.1f} {r['parquet_before']:>14.1f} "
                   f"{r['parquet_after']:>6.1f} {r['table']:>6.1f}  {equal}")  # fmt: skip
 

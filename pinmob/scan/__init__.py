@@ -15,6 +15,7 @@ closed chain along a joint path),
 from pinmob.assembly.reach import pose_vector
 from pinmob.scan.chain import check_actuated
 from pinmob.scan.chunk import run_chunk
+from pinmob.scan.coordinates import coordinate_unit
 from pinmob.scan.run import ScanRun, chunk_seeds, columns, scan, scan_table, scan_tables
 from pinmob.scan.sample import evaluate
 from pinmob.scan.scan_report import ScanReport, describe
@@ -46,6 +47,7 @@ __all__ = [
     "check_actuated",
     "chunk_seeds",
     "columns",
+    "coordinate_unit",
     "describe",
     "evaluate",
     "grid_spec",

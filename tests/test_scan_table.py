@@ -150,3 +150,20 @@ def test_the_report_is_what_pinmob_scan_prints(tmp_path: Path, capsys: pytest.Ca
     singular = [r for r in report if r["singularity"] != "none" and r["reachable"]]
     assert d["singular"] == sum(not r["refined"] for r in singular)
     assert np.array_equal(report.table["index"], [r["index"] for r in report])
+
+
+def test_rows_reach_the_files_as_they_come(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """Each group of chunks is written before the next one is computed (with ``workers=2`` the first chunk runs
+    alone, to time it), and nothing is kept with ``keep_rows=False``: the summary is counted as the rows pass."""
+    import pinmob.scan.run as run
+
+    events: list[str] = []
+    group, write = run.run_group, RowWriter.write_table
+    monkeypatch.setattr(run, "run_group", lambda *a: events.append("computed") or group(*a))
+    monkeypatch.setattr(RowWriter, "write_table", lambda self, t: events.append(f"wrote {len(t)}") or write(self, t))
+    mech = pinmob.load("3-PUU")
+    report = scan(mech, path_spec(mech, "generic", "offset", 40), workers=2, progress=False,
+                  csv=str(tmp_path / "p.csv"), keep_rows=False)  # fmt: skip
+    assert events[:3] == ["computed", "wrote 32", "computed"] and events[-1].startswith("wrote")
+    assert report.table is None and sum(report.summary.counts.values()) == 40
+    assert len((tmp_path / "p.csv").read_text().splitlines()) == 1 + sum(int(e[6:]) for e in events if e[0] == "w")

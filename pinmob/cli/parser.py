@@ -191,6 +191,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--csv", help="write the samples to this CSV file")
     p.add_argument("--json", dest="json_out", help="write the samples to this JSON file")
+    p.add_argument("--parquet", help="write the samples to this Parquet file (a typed column per CSV column)")
     p.add_argument(
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
@@ -209,7 +210,9 @@ def build_parser() -> argparse.ArgumentParser:
         "at --from for a path)",
     )
     p.add_argument(
-        "--force", action="store_true", help="overwrite the --csv, --json, --plot and --html files if they exist"
+        "--force",
+        action="store_true",
+        help="overwrite the --csv, --json, --parquet, --plot and --html files if they exist",
     )
     p.add_argument(
         "--workers",

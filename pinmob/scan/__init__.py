@@ -7,14 +7,18 @@
 lockstep, samples analysed in one batch), :mod:`~pinmob.scan.chain_scan` (a mechanism without a platform: the whole
 closed chain along a joint path),
 :mod:`~pinmob.scan.refine` (singular points between samples),
-:mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.scan_plot` and
-:mod:`~pinmob.scan.workspace_map` (PNG maps of grids).
+:mod:`~pinmob.scan.table` (the rows as columns), :mod:`~pinmob.scan.output` (streamed CSV/JSON/Parquet),
+:mod:`~pinmob.scan.scan_report` (:class:`ScanReport`: what :func:`scan` returns), :mod:`~pinmob.scan.scan_plot` and
+:mod:`~pinmob.scan.workspace_map` (PNG plots).
 """
 
 from pinmob.assembly.reach import pose_vector
+from pinmob.scan.chain_scan import check_actuated
 from pinmob.scan.chunk import run_chunk
+from pinmob.scan.coordinates import coordinate_unit
 from pinmob.scan.sample import evaluate
-from pinmob.scan.scan_run import chunk_seeds, columns, scan
+from pinmob.scan.scan_report import ScanReport, describe
+from pinmob.scan.scan_run import ScanRun, chunk_seeds, columns, scan, scan_table, scan_tables
 from pinmob.scan.scan_spec import (
     CHUNK,
     KINDS,
@@ -22,23 +26,32 @@ from pinmob.scan.scan_spec import (
     STRIDE,
     ScanSpec,
     grid_spec,
+    parse_grid_axis,
     path_spec,
     platform_pose,
     pose_from_vector,
     resolve_pose,
     with_finite,
 )
+from pinmob.scan.table import ScanTable
 
 __all__ = [
     "CHUNK",
     "KINDS",
     "POSE_COORDS",
     "STRIDE",
+    "ScanReport",
+    "ScanRun",
     "ScanSpec",
+    "ScanTable",
+    "check_actuated",
     "chunk_seeds",
     "columns",
+    "coordinate_unit",
+    "describe",
     "evaluate",
     "grid_spec",
+    "parse_grid_axis",
     "path_spec",
     "platform_pose",
     "pose_from_vector",
@@ -46,5 +59,7 @@ __all__ = [
     "resolve_pose",
     "run_chunk",
     "scan",
+    "scan_table",
+    "scan_tables",
     "with_finite",
 ]

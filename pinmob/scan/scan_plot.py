@@ -32,6 +32,7 @@ from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.output import read_columns
 from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
+from pinmob.scan.table import ScanTable
 from pinmob.screw.rank import RTOL
 
 #: Log-scale floor for singular values and distances that are exactly zero.
@@ -158,7 +159,7 @@ def varied_joint(mech: Mechanism, spec: ScanSpec) -> tuple[str, str, float, floa
 
 
 def plot_path(
-    csv_path: str | Path,
+    csv_path: str | Path | ScanTable,
     png_path: str | Path,
     title: str = "",
     rtol: float = RTOL,

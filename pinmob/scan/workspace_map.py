@@ -18,6 +18,7 @@ from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
 from pinmob.scan.output import header, read_columns
 from pinmob.scan.scan_plot import FLOOR, MARKS, POSE_UNITS, sample_classes
+from pinmob.scan.table import ScanTable
 from pinmob.screw.rank import RTOL
 
 
@@ -33,7 +34,11 @@ MAP_COLUMNS = ["refined", "reachable", "singularity", "near_singular", "distance
 
 
 def plot_map(
-    csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL, units: dict[str, str] | None = None
+    csv_path: str | Path | ScanTable,
+    png_path: str | Path,
+    title: str = "",
+    rtol: float = RTOL,
+    units: dict[str, str] | None = None,
 ) -> Path:
     """A grid scan as two maps: motion type, and distance to singularity; returns the PNG path.
 

@@ -7,7 +7,7 @@ them):
 * ``before``: the row writer pinmob had before :class:`pinmob.scan.ScanTable` (:class:`DictRowWriter`, in this
   file: ``csv.DictWriter`` with floats as ``%.10g`` and one ``json.dumps`` per row dict), and for Parquet what a
   writer of dict rows does, ``pyarrow.Table.from_pylist`` of each group's dicts;
-* ``after``: :class:`pinmob.scan.output.RowWriter` ``write_table`` of each group's table (the columns written
+* ``after``: :class:`pinmob.scan.results.output.RowWriter` ``write_table`` of each group's table (the columns written
   vectorised; JSON by orjson);
 * ``table``: building the tables from the engine's row dicts (:meth:`ScanTable.from_rows`, what the scan adds
   before writing; paid once for all three files).
@@ -34,7 +34,7 @@ import pyarrow.parquet as pq
 import pinmob
 from pinmob.blas import one_blas_thread
 from pinmob.scan import ScanTable, columns, grid_spec, scan_tables
-from pinmob.scan.output import RowWriter
+from pinmob.scan.results.output import RowWriter
 
 GRIDS = [
     ("3-PUU", "generic", [("x", -0.06, 0.06, 41), ("y", -0.06, 0.06, 41)]),

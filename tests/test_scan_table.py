@@ -25,9 +25,9 @@ import pinmob
 from pinmob.cli import main
 from pinmob.scan import ScanReport, ScanTable, columns, grid_spec, path_spec, scan, with_finite
 from pinmob.scan.lockstep import run_group
-from pinmob.scan.output import RowWriter
+from pinmob.scan.results.output import RowWriter
+from pinmob.scan.results.table import column_type
 from pinmob.scan.scan_run import chunk_groups
-from pinmob.scan.table import column_type
 
 DATA = Path(__file__).parent / "data"
 

@@ -6,18 +6,18 @@
 :mod:`~pinmob.scan.batch_rows` (the batched engine: chunks assembled in
 lockstep, samples analysed in one batch), :mod:`~pinmob.scan.chain_scan` (a mechanism without a platform: the whole
 closed chain along a joint path),
-:mod:`~pinmob.scan.refine` (singular points between samples),
-:mod:`~pinmob.scan.table` (the rows as columns), :mod:`~pinmob.scan.output` (streamed CSV/JSON/Parquet),
-:mod:`~pinmob.scan.scan_report` (:class:`ScanReport`: what :func:`scan` returns), :mod:`~pinmob.scan.scan_plot` and
-:mod:`~pinmob.scan.workspace_map` (PNG plots).
+:mod:`~pinmob.scan.refine` (singular points between samples), and the subpackage :mod:`pinmob.scan.results`:
+the rows as columns (``table``), streamed CSV/JSON/Parquet (``output``), :class:`ScanReport` (what :func:`scan`
+returns, ``scan_report``), and PNG plots (``scan_plot``, ``workspace_map``).
 """
 
 from pinmob.assembly.reach import pose_vector
 from pinmob.scan.chain_scan import check_actuated
 from pinmob.scan.chunk import run_chunk
 from pinmob.scan.coordinates import coordinate_unit
+from pinmob.scan.results.scan_report import ScanReport, describe
+from pinmob.scan.results.table import ScanTable
 from pinmob.scan.sample import evaluate
-from pinmob.scan.scan_report import ScanReport, describe
 from pinmob.scan.scan_run import ScanRun, chunk_seeds, columns, scan, scan_table, scan_tables
 from pinmob.scan.scan_spec import (
     CHUNK,
@@ -33,7 +33,6 @@ from pinmob.scan.scan_spec import (
     resolve_pose,
     with_finite,
 )
-from pinmob.scan.table import ScanTable
 
 __all__ = [
     "CHUNK",

@@ -30,10 +30,10 @@ iterations) and the best point is reported as an extra row (``refined`` True,
 ``index`` the sample before it) when its distance is below the near-singular
 band ``NEAR_FACTOR * rtol``; it may then be singular or only near-singular.
 
-Rows come a group of chunks at a time, as a table (:class:`~pinmob.scan.table.ScanTable`: one array per
+Rows come a group of chunks at a time, as a table (:class:`~pinmob.scan.results.table.ScanTable`: one array per
 column), in order of the line parameter (memory flat in the number of samples: :meth:`ScanRun.tables`); targets
 that cannot be assembled give a row with ``reachable = False``. :func:`scan` writes them to the output files as
-they come and returns the :class:`~pinmob.scan.scan_report.ScanReport`.
+they come and returns the :class:`~pinmob.scan.results.scan_report.ScanReport`.
 """
 
 from __future__ import annotations
@@ -53,11 +53,11 @@ from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain_scan import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
 from pinmob.scan.lockstep import GROUP, Job, off_secant, run_group, secant_starts
-from pinmob.scan.output import RowWriter
 from pinmob.scan.predictor import Predictor
-from pinmob.scan.scan_report import ScanReport, Summary, describe, scan_meta
+from pinmob.scan.results.output import RowWriter
+from pinmob.scan.results.scan_report import ScanReport, Summary, describe, scan_meta
+from pinmob.scan.results.table import ScanTable
 from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
-from pinmob.scan.table import ScanTable
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw.algebra import Array
 
@@ -287,7 +287,7 @@ def scan(
         workers: worker processes of a Dask ``LocalCluster`` (1: this process); the rows do not depend on it.
         progress: show a tqdm bar on stderr (None: only for scans of 50 samples or more on a terminal).
         scheduler: address of an existing Dask cluster's scheduler to run the chunks on.
-        csv: a CSV file to write the rows to, a table at a time (:class:`~pinmob.scan.output.RowWriter`; an
+        csv: a CSV file to write the rows to, a table at a time (:class:`~pinmob.scan.results.output.RowWriter`; an
             interruption leaves the files as they were).
         json: a JSON file to write them to.
         parquet: a Parquet file to write them to.
@@ -296,7 +296,7 @@ def scan(
             dicts); False keeps memory flat in the number of samples (the summary needs no row kept).
 
     Returns:
-        the :class:`~pinmob.scan.scan_report.ScanReport`: ``str(report)`` is the summary ``pinmob scan`` prints.
+        the :class:`~pinmob.scan.results.scan_report.ScanReport`: ``str(report)`` is the summary ``pinmob scan`` prints.
 
     Raises:
         ConfigurationError: ``workers`` is not a positive whole number; an output file may not be written.

@@ -89,7 +89,7 @@ class ScanSpec:
         gaps: with a ``closure_tol`` above the default (:attr:`cad`), the frame placements that hold the
             reference configuration's CAD gaps (:mod:`pinmob.assembly.cad_gaps`): the samples are assembled on
             the mechanism so corrected (:meth:`assembly_mechanism`), and analysed on the file's.
-        ends: as given, a path's start and end, or a grid's ``at`` (what :func:`pinmob.scan.scan_report.describe`
+        ends: as given, a path's start and end, or a grid's ``at`` (what :func:`pinmob.scan.results.scan_report.describe`
             names).
     """
 

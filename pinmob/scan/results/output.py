@@ -18,7 +18,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.output_files import Replacing
-from pinmob.scan.table import TEXT_COLUMNS, ScanTable, column_type
+from pinmob.scan.results.table import TEXT_COLUMNS, ScanTable, column_type
 from pinmob.signals import deferred_interrupts
 
 
@@ -26,11 +26,11 @@ class RowWriter:
     """Stream a scan's rows to a CSV, a JSON and/or a Parquet file as they come, a table of rows at a time.
 
     The JSON file is ``{"scan": {...}, "samples": [...]}``, a row's keys in the CSV's column order (a key a row does
-    not have left out); the Parquet file has one typed column per CSV column (:func:`pinmob.scan.table.column_type`;
+    not have left out); the Parquet file has one typed column per CSV column (:func:`pinmob.scan.results.table.column_type`;
     null where a row has no value) and ``meta`` as JSON in its schema's metadata (key ``pinmob_scan``).
 
     Use as a context manager; nothing is kept in memory but the table being written
-    (:meth:`write_table`, each written column by column: :class:`~pinmob.scan.table.ScanTable`). The
+    (:meth:`write_table`, each written column by column: :class:`~pinmob.scan.results.table.ScanTable`). The
     rows go to temporary files in the targets' folders (:class:`~pinmob.output_files.Replacing`),
     renamed over the targets when the block ends normally: an error, Ctrl-C or a
     handled signal leaves the targets as they were (an old file is not truncated
@@ -141,7 +141,7 @@ class RowWriter:
 class ParquetRows:
     """A Parquet file of a scan's rows, written a table at a time (a row group each) to the open binary file ``fh``.
 
-    The schema comes from the column names (:func:`pinmob.scan.table.column_type`), so every table has it.
+    The schema comes from the column names (:func:`pinmob.scan.results.table.column_type`), so every table has it.
     """
 
     TYPES = {"int": "int64", "bool": "bool_", "text": "string", "float": "float64"}
@@ -186,7 +186,7 @@ def _naming(path: str | None) -> Iterator[None]:
         raise OSError(exc.errno, f"cannot write {path!r}: {exc.strerror or exc}") from None
 
 
-#: Columns read as text (:data:`pinmob.scan.table.TEXT_COLUMNS`); every other column is read as float (blank: NaN;
+#: Columns read as text (:data:`pinmob.scan.results.table.TEXT_COLUMNS`); every other column is read as float (blank: NaN;
 #: True/False: 1/0).
 
 

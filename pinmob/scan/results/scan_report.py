@@ -1,7 +1,7 @@
 """A scan's result: :class:`ScanReport`, the summary ``pinmob scan`` prints, its dict and HTML, and the rows.
 
 :func:`pinmob.scan.scan` returns it. The summary (:class:`Summary`) is gathered table by table as the rows come
-(:class:`~pinmob.scan.table.ScanTable`), so it needs no row kept: how many samples of each DoF and motion type
+(:class:`~pinmob.scan.results.table.ScanTable`), so it needs no row kept: how many samples of each DoF and motion type
 (a closed chain's: DoF, closure rank, idle motions, actuation verdict), the finite DoF with ``finite_order``, the
 singular, near-singular and refined counts, the first sample that did not assemble and why, and the first
 ``LISTED`` rows that are not regular, each on one line.
@@ -21,8 +21,8 @@ import numpy as np
 from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
+from pinmob.scan.results.table import ScanTable
 from pinmob.scan.scan_spec import ScanSpec
-from pinmob.scan.table import ScanTable
 
 #: Rows listed in the summary (singular, near-singular or refined), at most.
 LISTED = 20
@@ -145,7 +145,7 @@ class ScanReport:
         rank_rtol: the rank tolerance of its decisions (``spec.rtol``; raised for CAD gaps, ``spec.cad``).
         actuated: the mechanism's actuated joints (a refined point lists those not on the grid).
         files: the files written: ``csv``, ``json``, ``parquet`` -> path.
-        table: every row (:class:`~pinmob.scan.table.ScanTable`), when kept (``keep_rows``), else None.
+        table: every row (:class:`~pinmob.scan.results.table.ScanTable`), when kept (``keep_rows``), else None.
     """
 
     mechanism: str
@@ -181,15 +181,15 @@ class ScanReport:
     def plot(self, mech: Mechanism, png_path: str | Path) -> Path:
         """A PNG plot of the rows (kept); returns its path.
 
-        A grid over two coordinates as two maps (:func:`~pinmob.scan.workspace_map.plot_map`), a path as its singular
-        values, distance and DoF (:func:`~pinmob.scan.scan_plot.plot_path`).
+        A grid over two coordinates as two maps (:func:`~pinmob.scan.results.workspace_map.plot_map`), a path as its singular
+        values, distance and DoF (:func:`~pinmob.scan.results.scan_plot.plot_path`).
 
         Raises:
             ConfigurationError: a grid over one or three coordinates (a map needs two).
         """
         from pinmob.scan.coordinates import coordinate_unit
-        from pinmob.scan.scan_plot import plot_path, varied_joint
-        from pinmob.scan.workspace_map import plot_map
+        from pinmob.scan.results.scan_plot import plot_path, varied_joint
+        from pinmob.scan.results.workspace_map import plot_map
 
         spec, title = self.spec, f"{self.mechanism}: {self.what}"
         if spec.kind != "grid":

@@ -61,6 +61,9 @@ def assert_matches(model: pin.Model, engine: str | None = "compiled", count: int
         np.testing.assert_allclose(rot, t_rot, rtol=0, atol=1e-12)
         np.testing.assert_allclose(pos, t_pos, rtol=0, atol=1e-12 * max(1.0, np.abs(t_pos).max()))
         np.testing.assert_allclose(jac, t_jac, rtol=0, atol=1e-12 * max(1.0, np.abs(t_jac).max()))
+    out = tuple(np.empty_like(a) for a in (t_rot, t_pos, t_jac))
+    assert all(a is b for a, b in zip(kin.jacobians(qs, reference, out=out), out))  # filled in place
+    np.testing.assert_allclose(out[2], t_jac, rtol=0, atol=1e-12 * max(1.0, np.abs(t_jac).max()))
     rot, pos = kin.placements(qs[0])  # one configuration: no stack dimension
     np.testing.assert_allclose(rot, t_rot[0], rtol=0, atol=1e-12)
     np.testing.assert_allclose(pos, t_pos[0], rtol=0, atol=1e-12 * max(1.0, np.abs(t_pos).max()))
@@ -207,6 +210,8 @@ def test_bad_engine_and_reference():
         frame_kinematics(model, [0], "fast")
     with pytest.raises(ConfigurationError, match="unknown Jacobian reference"):
         frame_kinematics(model, [0]).jacobians(np.zeros(model.nq), reference="local")
+    with pytest.raises(ConfigurationError, match=r"out must be C-ordered float arrays of shapes \(2, 1, 3, 3\)"):
+        frame_kinematics(model, [0]).jacobians(np.zeros((2, model.nq)), out=(np.empty((2, 1, 3, 3)),) * 3)
 
 
 @needs_numba

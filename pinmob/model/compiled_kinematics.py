@@ -126,24 +126,39 @@ class FrameKinematics:
         rot, pos, _ = self._run(qs, None)
         return rot, pos
 
-    def jacobians(self, qs: Array, reference: Any = pin.LOCAL) -> tuple[Array, Array, Array]:
+    def jacobians(
+        self, qs: Array, reference: Any = pin.LOCAL, out: tuple[Array, Array, Array] | None = None
+    ) -> tuple[Array, Array, Array]:
         """:meth:`placements` and the frames' Jacobians (B, F, 6, nv) in ``reference`` (as ``pin.getFrameJacobian``).
 
-        ``reference``: ``pin.LOCAL``, ``pin.LOCAL_WORLD_ALIGNED`` or ``pin.WORLD``.
+        ``reference``: ``pin.LOCAL``, ``pin.LOCAL_WORLD_ALIGNED`` or ``pin.WORLD``. ``out``: arrays of those
+        shapes (C-ordered floats) to fill and return instead of new ones (a loop that calls it again and again
+        spares the allocation, which costs more than the kinematics for large stacks).
         """
         if reference not in REFERENCES:
             raise ConfigurationError(f"unknown Jacobian reference {reference!r}; valid: {list(REFERENCES)}")
-        rot, pos, jac = self._run(qs, reference)
+        rot, pos, jac = self._run(qs, reference, out)
         assert jac is not None
         return rot, pos, jac
 
-    def _run(self, qs: Array, reference: Any) -> tuple[Array, Array, Array | None]:
+    def _run(
+        self, qs: Array, reference: Any, out: tuple[Array, Array, Array] | None = None
+    ) -> tuple[Array, Array, Array | None]:
         q = np.ascontiguousarray(qs, dtype=float)
         single = q.ndim == 1
         q = q.reshape(-1, self.model.nq)
         b, f, nv = len(q), len(self.frames), self.model.nv
-        rot, pos = np.empty((b, f, 3, 3)), np.empty((b, f, 3))
-        jac = np.empty((b, f, 6, nv)) if reference is not None else None
+        jac: Array | None
+        if out is not None:
+            rot, pos, jac = out
+            shapes = [a.shape for a in out] == [(b, f, 3, 3), (b, f, 3), (b, f, 6, nv)]
+            if single or not shapes or not all(a.dtype == np.float64 and a.flags.c_contiguous for a in out):
+                raise ConfigurationError(
+                    f"out must be C-ordered float arrays of shapes {(b, f, 3, 3)}, {(b, f, 3)}, {(b, f, 6, nv)}"
+                )
+        else:
+            rot, pos = np.empty((b, f, 3, 3)), np.empty((b, f, 3))
+            jac = np.empty((b, f, 6, nv)) if reference is not None else None
         if self.engine == "compiled":
             from pinmob.model.kinematics_kernel import frames_kernel
 

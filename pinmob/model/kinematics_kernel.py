@@ -142,6 +142,8 @@ def frames_kernel(
                 p[i] = pj[i] + rj[i, 0] * pq[0] + rj[i, 1] * pq[1] + rj[i, 2] * pq[2]
                 for j in range(3):
                     r[i, j] = rj[i, 0] * rq[0, j] + rj[i, 1] * rq[1, j] + rj[i, 2] * rq[2, j]
+            if not with_jacobians:
+                continue
             # its columns of the world Jacobian (the motion subspace in the moved frame, seen from the world)
             v0 = iv[e]
             if k == REVOLUTE or k == REVOLUTE_UNBOUNDED:

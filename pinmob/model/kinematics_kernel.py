@@ -39,27 +39,35 @@ def _quaternion(x: float, y: float, z: float, w: float, out: Array) -> None:
 
 
 @njit
-def _axis_rotation(a: Array, c: float, s: float, out: Array) -> None:
-    """Rotation by the angle of cosine ``c`` and sine ``s`` about the unit axis ``a`` (Rodrigues) into ``out``."""
+def _axis_rotation(x: float, y: float, z: float, c: float, s: float, out: Array) -> None:
+    """Rotation by the angle of cosine ``c`` and sine ``s`` about the unit axis (x, y, z) (Rodrigues) into ``out``."""
     t = 1.0 - c
-    x, y, z = a[0], a[1], a[2]
     out[0, 0], out[0, 1], out[0, 2] = c + t * x * x, t * x * y - s * z, t * x * z + s * y
     out[1, 0], out[1, 1], out[1, 2] = t * x * y + s * z, c + t * y * y, t * y * z - s * x
     out[2, 0], out[2, 1], out[2, 2] = t * x * z - s * y, t * y * z + s * x, c + t * z * z
 
 
 @njit
-def _column(cols: Array, k: int, r: Array, p: Array, local: Array, angular: bool) -> None:
-    """World column ``k`` at the world origin of a joint at (r, p) whose local motion is ``local`` (unit rate)."""
-    u0 = r[0, 0] * local[0] + r[0, 1] * local[1] + r[0, 2] * local[2]
-    u1 = r[1, 0] * local[0] + r[1, 1] * local[1] + r[1, 2] * local[2]
-    u2 = r[2, 0] * local[0] + r[2, 1] * local[1] + r[2, 2] * local[2]
+def _column(cols: Array, k: int, r: Array, e: int, p: Array, x: float, y: float, z: float, angular: bool) -> None:
+    """World column ``k`` at the world origin of joint ``e`` at (r[e], p[e]), along or about the local (x, y, z)."""
+    u0 = r[e, 0, 0] * x + r[e, 0, 1] * y + r[e, 0, 2] * z
+    u1 = r[e, 1, 0] * x + r[e, 1, 1] * y + r[e, 1, 2] * z
+    u2 = r[e, 2, 0] * x + r[e, 2, 1] * y + r[e, 2, 2] * z
     if angular:  # a rotation about the axis through p: v = p x w at the world origin
-        cols[0, k], cols[1, k], cols[2, k] = p[1] * u2 - p[2] * u1, p[2] * u0 - p[0] * u2, p[0] * u1 - p[1] * u0
+        p0, p1, p2 = p[e, 0], p[e, 1], p[e, 2]
+        cols[0, k], cols[1, k], cols[2, k] = p1 * u2 - p2 * u1, p2 * u0 - p0 * u2, p0 * u1 - p1 * u0
         cols[3, k], cols[4, k], cols[5, k] = u0, u1, u2
     else:
         cols[0, k], cols[1, k], cols[2, k] = u0, u1, u2
         cols[3, k], cols[4, k], cols[5, k] = 0.0, 0.0, 0.0
+
+
+@njit
+def _unit_columns(cols: Array, r: Array, e: int, p: Array, v0: int, angular: bool) -> None:
+    """Columns ``v0``... of joint ``e`` along (or about) its three local axes, into ``cols``."""
+    for c in range(3):
+        _column(cols, v0 + c, r, e, p, 1.0 if c == 0 else 0.0, 1.0 if c == 1 else 0.0, 1.0 if c == 2 else 0.0,
+                angular)  # fmt: skip
 
 
 @njit
@@ -86,7 +94,8 @@ def frames_kernel(
     ``qs`` (B, nq); the tables: per elementary joint ``parent`` (-1: the world), ``kind``, unit ``axis`` (3,),
     first configuration and velocity index ``iq``, ``iv``, placement in the parent ``rot0``, ``pos0``; per frame
     its elementary joint ``f_parent`` (-1: the world) and placement ``f_rot``, ``f_pos``. ``reference``:
-    :data:`LOCAL`, :data:`LOCAL_WORLD_ALIGNED` or :data:`WORLD`.
+    :data:`LOCAL`, :data:`LOCAL_WORLD_ALIGNED` or :data:`WORLD`. Scalar indexing throughout (no array views:
+    each would count references).
     """
     ne, nf = parent.shape[0], f_parent.shape[0]
     nv = out_j.shape[3]
@@ -97,105 +106,102 @@ def frames_kernel(
     pj = np.empty(3)
     rq = np.empty((3, 3))
     pq = np.empty(3)
-    unit = np.empty(3)
     for b in range(qs.shape[0]):
-        q = qs[b]
         for e in range(ne):
             # the joint's frame before its motion: parent placement * placement in the parent
-            if parent[e] < 0:
-                rj[:, :] = rot0[e]
-                pj[:] = pos0[e]
-            else:
-                pr, pp = o_r[parent[e]], o_p[parent[e]]
+            g = parent[e]
+            if g < 0:
                 for i in range(3):
-                    pj[i] = pp[i] + pr[i, 0] * pos0[e, 0] + pr[i, 1] * pos0[e, 1] + pr[i, 2] * pos0[e, 2]
+                    pj[i] = pos0[e, i]
                     for j in range(3):
-                        rj[i, j] = pr[i, 0] * rot0[e, 0, j] + pr[i, 1] * rot0[e, 1, j] + pr[i, 2] * rot0[e, 2, j]
+                        rj[i, j] = rot0[e, i, j]
+            else:
+                for i in range(3):
+                    pj[i] = (
+                        o_p[g, i] + o_r[g, i, 0] * pos0[e, 0] + o_r[g, i, 1] * pos0[e, 1] + o_r[g, i, 2] * pos0[e, 2]
+                    )
+                    for j in range(3):
+                        rj[i, j] = (
+                            o_r[g, i, 0] * rot0[e, 0, j] + o_r[g, i, 1] * rot0[e, 1, j] + o_r[g, i, 2] * rot0[e, 2, j]
+                        )
             # its motion (rq, pq) in that frame
-            k, a, i0 = kind[e], axis[e], iq[e]
-            pq[:] = 0.0
+            k, i0 = kind[e], iq[e]
+            ax, ay, az = axis[e, 0], axis[e, 1], axis[e, 2]
+            pq[0], pq[1], pq[2] = 0.0, 0.0, 0.0
             if k == REVOLUTE:
-                _axis_rotation(a, np.cos(q[i0]), np.sin(q[i0]), rq)
+                angle = qs[b, i0]
+                _axis_rotation(ax, ay, az, np.cos(angle), np.sin(angle), rq)
             elif k == REVOLUTE_UNBOUNDED:
-                _axis_rotation(a, q[i0], q[i0 + 1], rq)
+                _axis_rotation(ax, ay, az, qs[b, i0], qs[b, i0 + 1], rq)
             elif k == PRISMATIC:
-                rq[:, :] = 0.0
-                for i in range(3):
-                    rq[i, i] = 1.0
-                    pq[i] = a[i] * q[i0]
+                _axis_rotation(ax, ay, az, 1.0, 0.0, rq)
+                pq[0], pq[1], pq[2] = ax * qs[b, i0], ay * qs[b, i0], az * qs[b, i0]
             elif k == SPHERICAL:
-                _quaternion(q[i0], q[i0 + 1], q[i0 + 2], q[i0 + 3], rq)
+                _quaternion(qs[b, i0], qs[b, i0 + 1], qs[b, i0 + 2], qs[b, i0 + 3], rq)
             elif k == FREE:
-                _quaternion(q[i0 + 3], q[i0 + 4], q[i0 + 5], q[i0 + 6], rq)
-                pq[0], pq[1], pq[2] = q[i0], q[i0 + 1], q[i0 + 2]
+                _quaternion(qs[b, i0 + 3], qs[b, i0 + 4], qs[b, i0 + 5], qs[b, i0 + 6], rq)
+                pq[0], pq[1], pq[2] = qs[b, i0], qs[b, i0 + 1], qs[b, i0 + 2]
             elif k == PLANAR:
-                unit[0], unit[1], unit[2] = 0.0, 0.0, 1.0
-                _axis_rotation(unit, q[i0 + 2], q[i0 + 3], rq)
-                pq[0], pq[1] = q[i0], q[i0 + 1]
+                _axis_rotation(0.0, 0.0, 1.0, qs[b, i0 + 2], qs[b, i0 + 3], rq)
+                pq[0], pq[1] = qs[b, i0], qs[b, i0 + 1]
             else:  # TRANSLATION
-                rq[:, :] = 0.0
-                for i in range(3):
-                    rq[i, i] = 1.0
-                    pq[i] = q[i0 + i]
-            r, p = o_r[e], o_p[e]
+                _axis_rotation(1.0, 0.0, 0.0, 1.0, 0.0, rq)
+                pq[0], pq[1], pq[2] = qs[b, i0], qs[b, i0 + 1], qs[b, i0 + 2]
             for i in range(3):
-                p[i] = pj[i] + rj[i, 0] * pq[0] + rj[i, 1] * pq[1] + rj[i, 2] * pq[2]
+                o_p[e, i] = pj[i] + rj[i, 0] * pq[0] + rj[i, 1] * pq[1] + rj[i, 2] * pq[2]
                 for j in range(3):
-                    r[i, j] = rj[i, 0] * rq[0, j] + rj[i, 1] * rq[1, j] + rj[i, 2] * rq[2, j]
+                    o_r[e, i, j] = rj[i, 0] * rq[0, j] + rj[i, 1] * rq[1, j] + rj[i, 2] * rq[2, j]
             if not with_jacobians:
                 continue
             # its columns of the world Jacobian (the motion subspace in the moved frame, seen from the world)
             v0 = iv[e]
             if k == REVOLUTE or k == REVOLUTE_UNBOUNDED:
-                _column(cols, v0, r, p, a, True)
+                _column(cols, v0, o_r, e, o_p, ax, ay, az, True)
             elif k == PRISMATIC:
-                _column(cols, v0, r, p, a, False)
-            else:
-                for c in range(3):
-                    unit[:] = 0.0
-                    unit[c] = 1.0
-                    if k == SPHERICAL:
-                        _column(cols, v0 + c, r, p, unit, True)
-                    elif k == FREE:
-                        _column(cols, v0 + c, r, p, unit, False)
-                        _column(cols, v0 + 3 + c, r, p, unit, True)
-                    elif k == TRANSLATION:
-                        _column(cols, v0 + c, r, p, unit, False)
-                    elif c < 2:  # PLANAR: x and y translations, then the rotation about z
-                        _column(cols, v0 + c, r, p, unit, False)
-                    else:
-                        _column(cols, v0 + 2, r, p, unit, True)
+                _column(cols, v0, o_r, e, o_p, ax, ay, az, False)
+            elif k == SPHERICAL:
+                _unit_columns(cols, o_r, e, o_p, v0, True)
+            elif k == FREE:
+                _unit_columns(cols, o_r, e, o_p, v0, False)
+                _unit_columns(cols, o_r, e, o_p, v0 + 3, True)
+            elif k == TRANSLATION:
+                _unit_columns(cols, o_r, e, o_p, v0, False)
+            else:  # PLANAR: x and y translations, then the rotation about z
+                _column(cols, v0, o_r, e, o_p, 1.0, 0.0, 0.0, False)
+                _column(cols, v0 + 1, o_r, e, o_p, 0.0, 1.0, 0.0, False)
+                _column(cols, v0 + 2, o_r, e, o_p, 0.0, 0.0, 1.0, True)
         for f in range(nf):
             e = f_parent[f]
-            fr, fp = out_r[b, f], out_p[b, f]
             if e < 0:
-                fr[:, :] = f_rot[f]
-                fp[:] = f_pos[f]
-            else:
-                r, p = o_r[e], o_p[e]
                 for i in range(3):
-                    fp[i] = p[i] + r[i, 0] * f_pos[f, 0] + r[i, 1] * f_pos[f, 1] + r[i, 2] * f_pos[f, 2]
+                    out_p[b, f, i] = f_pos[f, i]
                     for j in range(3):
-                        fr[i, j] = r[i, 0] * f_rot[f, 0, j] + r[i, 1] * f_rot[f, 1, j] + r[i, 2] * f_rot[f, 2, j]
+                        out_r[b, f, i, j] = f_rot[f, i, j]
+            else:
+                for i in range(3):
+                    out_p[b, f, i] = (o_p[e, i] + o_r[e, i, 0] * f_pos[f, 0] + o_r[e, i, 1] * f_pos[f, 1]
+                                      + o_r[e, i, 2] * f_pos[f, 2])  # fmt: skip
+                    for j in range(3):
+                        out_r[b, f, i, j] = (o_r[e, i, 0] * f_rot[f, 0, j] + o_r[e, i, 1] * f_rot[f, 1, j]
+                                             + o_r[e, i, 2] * f_rot[f, 2, j])  # fmt: skip
             if not with_jacobians:
                 continue
-            jac = out_j[b, f]
-            jac[:, :] = 0.0
+            for i in range(6):
+                for c in range(nv):
+                    out_j[b, f, i, c] = 0.0
+            fp0, fp1, fp2 = out_p[b, f, 0], out_p[b, f, 1], out_p[b, f, 2]
             while e >= 0:  # the joints supporting the frame: its joint and that joint's ancestors
                 for c in range(iv[e], iv[e] + KIND_NV[kind[e]]):
                     w0, w1, w2 = cols[3, c], cols[4, c], cols[5, c]
-                    v0_, v1, v2 = cols[0, c], cols[1, c], cols[2, c]
+                    u0, u1, u2 = cols[0, c], cols[1, c], cols[2, c]
                     if reference != WORLD:  # the velocity of the frame's origin: v - p x w
-                        v0_, v1, v2 = (
-                            v0_ - (fp[1] * w2 - fp[2] * w1),
-                            v1 - (fp[2] * w0 - fp[0] * w2),
-                            v2 - (fp[0] * w1 - fp[1] * w0),
-                        )
+                        u0, u1, u2 = u0 - (fp1 * w2 - fp2 * w1), u1 - (fp2 * w0 - fp0 * w2), u2 - (fp0 * w1 - fp1 * w0)
                     if reference == LOCAL:  # in the frame's axes
                         for i in range(3):
-                            jac[i, c] = fr[0, i] * v0_ + fr[1, i] * v1 + fr[2, i] * v2
-                            jac[3 + i, c] = fr[0, i] * w0 + fr[1, i] * w1 + fr[2, i] * w2
+                            out_j[b, f, i, c] = out_r[b, f, 0, i] * u0 + out_r[b, f, 1, i] * u1 + out_r[b, f, 2, i] * u2
+                            out_j[b, f, 3 + i, c] = (out_r[b, f, 0, i] * w0 + out_r[b, f, 1, i] * w1
+                                                     + out_r[b, f, 2, i] * w2)  # fmt: skip
                     else:
-                        jac[0, c], jac[1, c], jac[2, c] = v0_, v1, v2
-                        jac[3, c], jac[4, c], jac[5, c] = w0, w1, w2
+                        out_j[b, f, 0, c], out_j[b, f, 1, c], out_j[b, f, 2, c] = u0, u1, u2
+                        out_j[b, f, 3, c], out_j[b, f, 4, c], out_j[b, f, 5, c] = w0, w1, w2
                 e = parent[e]

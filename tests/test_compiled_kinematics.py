@@ -179,7 +179,8 @@ def test_pinocchio_engine(name):
     assert assert_matches(pinmob.load(name).model, engine="pinocchio").engine == "pinocchio"
 
 
-def test_unsupported_joint_falls_back_to_pinocchio():
+def test_unsupported_joint_falls_back_to_pinocchio(monkeypatch):
+    monkeypatch.delenv("PINMOB_KINEMATICS", raising=False)
     model = chain(
         pin.JointModelRX(),
         pin.JointModelSphericalZYX(),
@@ -196,6 +197,7 @@ def test_unsupported_joint_falls_back_to_pinocchio():
 
 def test_without_numba(monkeypatch):
     """numba absent (its import fails): Pinocchio computes, and asking for the compiled engine says why not."""
+    monkeypatch.delenv("PINMOB_KINEMATICS", raising=False)
     monkeypatch.setitem(sys.modules, "numba", None)
     assert not numba_installed()
     kin = assert_matches(pinmob.load("3-PUU").model, engine=None)
@@ -224,3 +226,36 @@ def test_compile_cache_outside_the_package():
     path = Path(cache._cache_path)
     assert path.is_relative_to(cache_dir())
     assert not path.is_relative_to(Path(kinematics_kernel.__file__).parent)
+
+
+@pytest.mark.parametrize("engine", ["compiled", "pinocchio"])
+@pytest.mark.parametrize("name", ["3-PUU", "6-UPS", "Bennett"])
+def test_world_joint_jacobians(name, engine):
+    """The whole world joint Jacobian, Pinocchio's data.J after computeJointJacobians, and the frames' placements."""
+    if engine == "compiled" and not numba_installed():
+        pytest.skip("numba (the fast extra) is not installed")
+    model = pinmob.load(name).model
+    frames = list(range(model.nframes))
+    qs = random_configurations(model, 4)
+    full, rot, pos = frame_kinematics(model, frames, engine).world_jacobians(qs)
+    t_rot, t_pos, _ = pinocchio_truth(model, qs, frames, pin.WORLD)
+    data = model.createData()
+    for b, q in enumerate(qs):
+        pin.computeJointJacobians(model, data, q)
+        np.testing.assert_allclose(full[b], data.J, rtol=0, atol=1e-12 * max(1.0, np.abs(data.J).max()))
+    np.testing.assert_allclose(rot, t_rot, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(pos, t_pos, rtol=0, atol=1e-12 * max(1.0, np.abs(t_pos).max()))
+
+
+def test_engine_from_the_environment(monkeypatch):
+    model = pinmob.load("3-PUU").model
+    monkeypatch.setenv("PINMOB_KINEMATICS", "pinocchio")
+    assert frame_kinematics(model, [0]).engine == "pinocchio"
+    monkeypatch.setenv("PINMOB_KINEMATICS", "fast")
+    with pytest.raises(
+        ConfigurationError, match="PINMOB_KINEMATICS='fast' is not a kinematics engine; valid: compiled"
+    ):
+        frame_kinematics(model, [0])
+    if numba_installed():
+        monkeypatch.setenv("PINMOB_KINEMATICS", "compiled")
+        assert frame_kinematics(model, [0]).engine == "compiled"

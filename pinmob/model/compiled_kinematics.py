@@ -16,6 +16,7 @@ Jacobians for B configurations in one call:
 
 from __future__ import annotations
 
+import os
 from collections.abc import Sequence
 from typing import Any
 
@@ -27,6 +28,8 @@ from pinmob.screw.algebra import Array
 
 #: The engines, and the references of a frame Jacobian by Pinocchio's name.
 ENGINES = ("compiled", "pinocchio")
+#: The environment variable that chooses the engine where the caller does not (tests run scans both ways with it).
+ENGINE_VARIABLE = "PINMOB_KINEMATICS"
 REFERENCES = {pin.LOCAL: 0, pin.LOCAL_WORLD_ALIGNED: 1, pin.WORLD: 2}
 
 # elementary joint kinds: the codes of pinmob.model.kinematics_kernel (not imported here: it imports numba)
@@ -141,6 +144,28 @@ class FrameKinematics:
         assert jac is not None
         return rot, pos, jac
 
+    def world_jacobians(self, qs: Array) -> tuple[Array, Array, Array]:
+        """World joint Jacobians (B, 6, nv) and the frames' rotations and translations at (B, nq) configurations.
+
+        The Jacobian is Pinocchio's ``data.J`` after ``computeJointJacobians``: every joint's twist at the world
+        origin, in world axes.
+        """
+        q = np.ascontiguousarray(qs, dtype=float).reshape(-1, self.model.nq)
+        b, f, nv = len(q), len(self.frames), self.model.nv
+        full, rot, pos = np.empty((b, 6, nv)), np.empty((b, f, 3, 3)), np.empty((b, f, 3))
+        if self.engine == "compiled":
+            from pinmob.model.kinematics_kernel import frames_kernel
+
+            frames_kernel(q, *self._tables, 0, False, rot, pos, np.empty((0, 0, 6, nv)), full)
+            return full, rot, pos
+        model, data = self.model, self._data
+        for k in range(b):
+            full[k] = pin.computeJointJacobians(model, data, q[k])
+            for i, fid in enumerate(self.frames):
+                placement = pin.updateFramePlacement(model, data, fid)
+                rot[k, i], pos[k, i] = placement.rotation, placement.translation
+        return full, rot, pos
+
     def _run(
         self, qs: Array, reference: Any, out: tuple[Array, Array, Array] | None = None
     ) -> tuple[Array, Array, Array | None]:
@@ -164,7 +189,7 @@ class FrameKinematics:
 
             out_j = jac if jac is not None else np.empty((0, 0, 6, nv))
             code = REFERENCES[reference] if reference is not None else 0
-            frames_kernel(q, *self._tables, code, jac is not None, rot, pos, out_j)
+            frames_kernel(q, *self._tables, code, jac is not None, rot, pos, out_j, np.empty((0, 6, nv)))
         else:
             model, data = self.model, self._data
             for k in range(b):
@@ -186,9 +211,16 @@ def frame_kinematics(model: pin.Model, frames: Sequence[int], engine: str | None
     """The kinematics of ``frames``: compiled when numba is installed and every joint is supported, else Pinocchio.
 
     ``engine``: ``compiled`` (a :class:`ConfigurationError` when numba is absent or a joint unsupported),
-    ``pinocchio``, or None (the compiled one when it can be).
+    ``pinocchio``, or None: the environment variable ``PINMOB_KINEMATICS`` (``compiled`` or ``pinocchio``) when
+    set, else the compiled one when it can be.
     """
-    if engine is not None and engine not in ENGINES:
+    if engine is None:
+        engine = os.environ.get(ENGINE_VARIABLE, "").strip() or None
+        if engine is not None and engine not in ENGINES:
+            raise ConfigurationError(
+                f"{ENGINE_VARIABLE}={engine!r} is not a kinematics engine; valid: {', '.join(ENGINES)}"
+            )
+    elif engine not in ENGINES:
         raise ConfigurationError(f"unknown kinematics engine {engine!r}; valid: {', '.join(ENGINES)}")
     if engine == "pinocchio":
         return FrameKinematics(model, frames, "pinocchio", "asked for")

@@ -88,8 +88,12 @@ def frames_kernel(
     out_r: Array,
     out_p: Array,
     out_j: Array,
+    out_world: Array,
 ) -> None:
     """Frame placements (``out_r`` (B, F, 3, 3), ``out_p`` (B, F, 3)) and Jacobians (``out_j`` (B, F, 6, nv)).
+
+    With ``out_world`` of B rows (else none), the world joint Jacobian into it (B, 6, nv): Pinocchio's ``data.J``
+    after ``computeJointJacobians``, every joint's twist at the world origin in world axes.
 
     ``qs`` (B, nq); the tables: per elementary joint ``parent`` (-1: the world), ``kind``, unit ``axis`` (3,),
     first configuration and velocity index ``iq``, ``iv``, placement in the parent ``rot0``, ``pos0``; per frame
@@ -99,6 +103,7 @@ def frames_kernel(
     """
     ne, nf = parent.shape[0], f_parent.shape[0]
     nv = out_j.shape[3]
+    world = out_world.shape[0] > 0
     o_r = np.empty((ne, 3, 3))
     o_p = np.empty((ne, 3))
     cols = np.zeros((6, nv))
@@ -151,7 +156,7 @@ def frames_kernel(
                 o_p[e, i] = pj[i] + rj[i, 0] * pq[0] + rj[i, 1] * pq[1] + rj[i, 2] * pq[2]
                 for j in range(3):
                     o_r[e, i, j] = rj[i, 0] * rq[0, j] + rj[i, 1] * rq[1, j] + rj[i, 2] * rq[2, j]
-            if not with_jacobians:
+            if not (with_jacobians or world):
                 continue
             # its columns of the world Jacobian (the motion subspace in the moved frame, seen from the world)
             v0 = iv[e]
@@ -170,6 +175,10 @@ def frames_kernel(
                 _column(cols, v0, o_r, e, o_p, 1.0, 0.0, 0.0, False)
                 _column(cols, v0 + 1, o_r, e, o_p, 0.0, 1.0, 0.0, False)
                 _column(cols, v0 + 2, o_r, e, o_p, 0.0, 0.0, 1.0, True)
+        if world:
+            for i in range(6):
+                for c in range(nv):
+                    out_world[b, i, c] = cols[i, c]
         for f in range(nf):
             e = f_parent[f]
             if e < 0:

@@ -416,8 +416,8 @@ def bench_grid(label: str, count: int, folder: Path) -> dict[str, Any]:
     small_args = ["--grid", *(f"{c}:{lo:g}:{hi:g}:2" for c, lo, hi, _ in spec.axes), "--at", at]
     cli_in_process(robot, small_args, folder)  # warm-up
     t_cli, _ = timed(lambda: cli_in_process(robot, grid_args, folder), repeats=REPEATS)
-    t_start = cli_seconds(robot, small_args, folder)  # a fresh process, 4 samples: the start-up
     json_bytes = (folder / "scan.json").stat().st_size
+    t_start = cli_seconds(robot, small_args, folder)  # a fresh process, 4 samples: the start-up
     samples = [r for r in rows if not r["refined"]]
     t_plain, (_, iters, closed) = timed(lambda: plain_scan(mech, spec), repeats=REPEATS)
     verdicts = plain_scan(mech, spec, motion_types=True)[0]

@@ -74,6 +74,7 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
+from pinmob.assembly.batch_solver import PoseProblem
 from pinmob.cli import main as cli_main
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.compiled_kinematics import frame_kinematics
@@ -454,6 +455,7 @@ def bench_grid(label: str, count: int, folder: Path) -> dict[str, Any]:
         "floor_us": t_floor * us,
         "compiled_floor_us": t_compiled * us,
         "compiled_engine": engine,
+        "predictor_kinematics": PoseProblem(mech).fast.engine,
         "plain_iterations": float(np.mean(iters)),
         "kinematics_per_sample": {"pinmob": calls_pinmob / n, "plain": calls_plain / n, "floor": float(np.mean(calls))},
         "split": split,
@@ -518,7 +520,8 @@ def main() -> None:
                   f"updateFramePlacements)   compiled floor {r['compiled_floor_us']:5.2f} (the same kinematics, "
                   f"{r['compiled_engine']} engine, {GROUP} configurations a call)")  # fmt: skip
             kinematics = r["floor_us"] * kin["pinmob"] / kin["floor"]  # the floor's cost per call, at pinmob's count
-            print(f"  computeJointJacobians calls per sample: pinmob {kin['pinmob']:.1f}, plain loop {kin['plain']:.1f}; "
+            print(f"  computeJointJacobians calls per sample: pinmob {kin['pinmob']:.1f} (its batched predictor's kinematics: "
+                  f"{r['predictor_kinematics']}), plain loop {kin['plain']:.1f}; "
                   "pinmob's time (cProfile): " + ", ".join(f"{k} {v:.0%}" for k, v in r["split"].items())
                   + f"; Pinocchio's kinematics at its calls ~{kinematics:.0f} us ({kinematics / r['pinmob_us']:.0%})")  # fmt: skip
     if args.sweep:

@@ -259,3 +259,37 @@ def test_engine_from_the_environment(monkeypatch):
     if numba_installed():
         monkeypatch.setenv("PINMOB_KINEMATICS", "compiled")
         assert frame_kinematics(model, [0]).engine == "compiled"
+
+
+@needs_numba
+@pytest.mark.parametrize(
+    "robot, at, axes",
+    [
+        ("3-PUU", "generic", [("x", -0.05, 0.05, 5), ("y", -0.05, 0.05, 5)]),
+        ("3-RPS", "home", [("roll", -0.2, 0.2, 4), ("pitch", -0.2, 0.2, 4)]),
+    ],
+)
+def test_scan_rows_both_ways(monkeypatch, robot, at, axes):
+    """A scan's batched predictor on the compiled kinematics and on Pinocchio's: the same rows (floats to 1e-9)."""
+    from pinmob.assembly.batch_solver import PoseProblem
+    from pinmob.scan.run import scan_in_process
+    from pinmob.scan.spec import grid_spec
+    from pinmob.testing import kinematics_calls
+
+    mech = pinmob.load(robot)
+    spec = grid_spec(mech, at, axes)
+    rows, calls = {}, {}
+    for engine in ("compiled", "pinocchio"):
+        monkeypatch.setenv("PINMOB_KINEMATICS", engine)
+        assert PoseProblem(mech).fast.engine == engine
+        rows[engine] = list(scan_in_process(mech, spec))
+        calls[engine] = kinematics_calls(lambda: list(scan_in_process(mech, spec)))
+    assert calls["compiled"] < calls["pinocchio"] / 2  # the predictor's kinematics left Pinocchio
+    assert len(rows["compiled"]) == len(rows["pinocchio"]) == spec.size
+    for a, b in zip(rows["compiled"], rows["pinocchio"]):
+        assert list(a) == list(b)
+        for key in a:
+            if isinstance(a[key], float):
+                assert a[key] == pytest.approx(b[key], rel=1e-9, abs=1e-9, nan_ok=True), key
+            else:
+                assert a[key] == b[key], key

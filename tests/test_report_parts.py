@@ -43,6 +43,8 @@ def toy() -> Iterator[ReportPart]:
             ),
             text=lambda report, t: f"joints per limb: {t} (asked for with `tally=True`)",
             brief=lambda report, t: f"joints: {sum(t.values())}",
+            terms=("joint tally",),
+            glossary="- **joint tally** (`tally`): each limb's number of joints.",
         )
     )  # fmt: skip
     yield part
@@ -124,3 +126,17 @@ def test_each_part_s_words_are_in_the_glossary() -> None:
         assert part.terms, f"{part.name}: no glossary term"
         for term in part.terms:
             assert glossary.lookup(term), term
+
+
+def test_a_toy_part_brings_its_glossary_entry(toy: ReportPart, capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["glossary", "joint tally"]) == 0
+    assert (
+        capsys.readouterr().out
+        == "Registered report parts:\n- **joint tally** (`tally`): each limb's number of joints.\n"
+    )
+    assert main(["glossary"]) == 0
+    whole = capsys.readouterr().out
+    assert whole.startswith(glossary.text().rstrip("\n")) and whole.endswith(
+        "(`tally`): each limb's number of joints.\n"
+    )
+    assert all(glossary.lookup(term, whole) for term in toy.terms)

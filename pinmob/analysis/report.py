@@ -340,6 +340,8 @@ class ReportPart:
             part.to_dict()}``, or the part itself when it has no ``to_dict``).
         brief: ``brief(report, part)``, its words in ``brief()``'s line, after a ``;`` (default: none).
         terms: the glossary terms its text uses (``pinmob glossary TERM`` finds each; tests check).
+        glossary: its own glossary entries (Markdown list items, ``- **term**: ...``) when its words are not in
+            ``docs/glossary.md``: ``pinmob glossary`` shows them under "Registered report parts".
         gap: a blank line before its section.
     """
 
@@ -351,6 +353,7 @@ class ReportPart:
     entries: Callable[[Report, Any], dict[str, Any]] | None = None
     brief: Callable[[Report, Any], str] | None = None
     terms: tuple[str, ...] = ()
+    glossary: str = ""
     gap: bool = True
 
     def document(self, report: Report, value: Any) -> dict[str, Any]:

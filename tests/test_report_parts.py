@@ -15,7 +15,8 @@ import pytest
 
 import pinmob
 from pinmob import glossary
-from pinmob.analysis.report import REPORT_PARTS, PartOption, Report, ReportPart, register_part, unregister_part
+from pinmob.analysis.report import Report
+from pinmob.analysis.report_parts import REPORT_PARTS, PartOption, ReportPart, register_part, unregister_part
 from pinmob.cli import main
 from pinmob.cli.parser import build_parser
 

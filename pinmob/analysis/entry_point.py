@@ -12,7 +12,8 @@ from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.configuration_choice import chosen_configuration
 from pinmob.analysis.finite.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
-from pinmob.analysis.report import Options, Report, part_keywords
+from pinmob.analysis.report import Report
+from pinmob.analysis.report_parts import Options, part_keywords
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint, worst_first
 from pinmob.assembly.relaxation import find_closed_relaxed, relaxable, unclosable
 from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual

@@ -8,30 +8,28 @@ computed at once; the other parts when first used (``to_dict`` and ``str`` use t
   frame motions);
 * ``singularity``: the singularity classes and distances (the first report of a mechanism also estimates
   its generic constraint rank, from random closed configurations, unless the file declares it);
-* the registered parts (:class:`ReportPart`, :data:`REPORT_PARTS`), each its section, its JSON entries, its
+* the registered parts (:mod:`pinmob.analysis.report_parts`), each its section, its JSON entries, its
   keywords of :func:`analyze` and its options of ``pinmob analyze`` from one registration
-  (:func:`register_part`): ``actuator_sets``, every valid set of K actuated joints, only when asked
+  (:func:`~pinmob.analysis.report_parts.register_part`): ``actuator_sets``, every valid set of K actuated joints, only when asked
   (``actuator_search=K``); ``paper``, the seed paper's view, only when asked (``paper=True``); ``finite``, finite
   versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
 from pinmob.analysis.ambiguity import AmbiguousRank, ambiguous_ranks, raised_note
 from pinmob.analysis.chain import FrameMobility, MechanismMobility
-from pinmob.analysis.chain.actuation import actuator_sets, default_end_frames
 from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
-from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report_html import Section, joined, report_html
+from pinmob.analysis.report_parts import REPORT_PARTS, Options
 from pinmob.analysis.singularity import Singularity, singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ArgumentError, ConfigurationError
@@ -40,29 +38,6 @@ from pinmob.name_matching import choices, did_you_mean
 
 if TYPE_CHECKING:
     from pinmob.analysis.finite.finite_mobility import FiniteMobility
-
-
-@dataclass(frozen=True)
-class Options:
-    """What the analysis was asked for besides the configuration (see :func:`analyze`).
-
-    ``asked``: the values of the registered parts' keywords (:class:`PartOption`), e.g. ``{"paper": True,
-    "finite": False, "finite_order": 4, ...}``; :meth:`value` reads one.
-    """
-
-    frames: tuple[str, ...] = ()
-    outputs: tuple[str, ...] | None = None
-    actuated: tuple[str, ...] | None = None
-    generic_rank: int | None = None
-    relaxed: tuple[str, ...] = ()
-    rtol_asked: float | None = None
-    asked: Mapping[str, Any] = field(default_factory=dict)
-
-    def value(self, keyword: str) -> Any:
-        """The value of a registered part's keyword of :func:`analyze` (its default when not given)."""
-        if keyword in self.asked:
-            return self.asked[keyword]
-        return next((o.default for p in REPORT_PARTS.values() for o in p.options if o.keyword == keyword), None)
 
 
 @dataclass(frozen=True, eq=False)
@@ -120,7 +95,7 @@ class Report:
         return singularity(self.state, self.rtol, g)
 
     def part(self, name: str) -> Any:
-        """The registered part ``name`` (:data:`REPORT_PARTS`), computed when first read; None when not asked for."""
+        """The registered part ``name`` (:data:`~pinmob.analysis.report_parts.REPORT_PARTS`), computed when first read; None when not asked for."""
         if name not in self._parts:
             if name not in REPORT_PARTS:
                 raise ArgumentError(
@@ -286,231 +261,3 @@ MECHANISM_KEYS = (
     "redundant_constraints", "redundant_by_closure", "redundant_by_closure_rule", "grubler", "grubler_by_own_rank",
     "motion_subgroup", "actuation", "closures", "end_frames", "frames",
 )  # fmt: skip
-
-
-# ---------------------------------------------------------------------- the report section protocol
-
-
-@dataclass(frozen=True)
-class PartOption:
-    """A keyword of :func:`analyze` that asks for a part, and its option of ``pinmob analyze``.
-
-    Attributes:
-        keyword: the keyword of :func:`analyze` (and the destination of the command line's option); the part's
-            ``compute`` reads its value with ``report.options.value(keyword)``.
-        option: the option's name without its leading dashes (``"paper-view"``); None: a keyword of Python only.
-        help: the option's help (``--help``).
-        metavar: None: the option is a switch (True when given); else it takes an integer, shown as ``metavar``.
-        default: the keyword's value when not given.
-        implies: the keyword of another switch this option also sets on the command line (``--finite-order K``
-            asks for the finite analysis).
-    """
-
-    keyword: str
-    option: str | None = None
-    help: str = ""
-    metavar: str | None = None
-    default: Any = None
-    implies: str | None = None
-
-
-def _text(report: Report, value: Any) -> str | None:
-    return str(value)
-
-
-@dataclass(frozen=True)
-class ReportPart:
-    """One optional part of a :class:`Report`: everything a new analysis adds to the report, declared once.
-
-    A part is its analysis module plus one :func:`register_part` call: the report computes it when first read
-    (``report.part(name)``), prints it as a section of ``str(report)`` (so the notebook's HTML shows it), adds
-    its entries to ``to_dict()`` and its word to ``brief()``; :func:`analyze` takes its keywords and
-    ``pinmob analyze`` its options (worded in reports and errors as the options, ``pinmob.cli.flags``).
-
-    Attributes:
-        name: the part's name (``report.part(name)``; the built-in ones are also attributes, ``report.paper``).
-        title: the title of its section (the notebook's heading).
-        compute: ``compute(report)``, the part (any value), or None when it is not asked for or does not apply;
-            it reads its keywords with ``report.options.value(keyword)``. Import heavy modules inside it: they
-            then load only when the part is asked for.
-        options: the keywords (and command-line options) that ask for it; none: computed for every report (it
-            returns None where it has nothing to say).
-        text: ``text(report, part)``, its section's text (default ``str(part)``; None: no section).
-        entries: ``entries(report, part)``, the entries it adds to ``to_dict()`` (default ``{name:
-            part.to_dict()}``, or the part itself when it has no ``to_dict``).
-        brief: ``brief(report, part)``, its words in ``brief()``'s line, after a ``;`` (default: none).
-        terms: the glossary terms its text uses (``pinmob glossary TERM`` finds each; tests check).
-        glossary: its own glossary entries (Markdown list items, ``- **term**: ...``) when its words are not in
-            ``docs/glossary.md``: ``pinmob glossary`` shows them under "Registered report parts".
-        gap: a blank line before its section.
-    """
-
-    name: str
-    title: str
-    compute: Callable[[Report], Any]
-    options: tuple[PartOption, ...] = ()
-    text: Callable[[Report, Any], str | None] = _text
-    entries: Callable[[Report, Any], dict[str, Any]] | None = None
-    brief: Callable[[Report, Any], str] | None = None
-    terms: tuple[str, ...] = ()
-    glossary: str = ""
-    gap: bool = True
-
-    def document(self, report: Report, value: Any) -> dict[str, Any]:
-        """The entries ``value`` (this part of ``report``) adds to ``report.to_dict()``."""
-        if self.entries is not None:
-            return self.entries(report, value)
-        return {self.name: value.to_dict() if hasattr(value, "to_dict") else value}
-
-
-#: the registered parts by name, in the order of their sections and entries
-REPORT_PARTS: dict[str, ReportPart] = {}
-
-
-def register_part(part: ReportPart) -> ReportPart:
-    """Add ``part`` to every report from now on (after the parts registered before it); returns it.
-
-    Raises:
-        ArgumentError: its name, or one of its keywords or options, is already another registered part's.
-    """
-    taken = {o.keyword for p in REPORT_PARTS.values() for o in p.options}
-    taken |= {o.option for p in REPORT_PARTS.values() for o in p.options if o.option}
-    clash = [w for o in part.options for w in (o.keyword, o.option) if w in taken]
-    if part.name in REPORT_PARTS or clash:
-        raise ArgumentError(
-            f"report part {part.name!r} is registered already, or its keywords are another part's: "
-            f"{', '.join(clash) or part.name}",
-            "part",
-            part.name,
-        )
-    REPORT_PARTS[part.name] = part
-    return part
-
-
-def unregister_part(name: str) -> None:
-    """Remove the part ``name`` from the reports made from now on (tests register and remove their own)."""
-    REPORT_PARTS.pop(name, None)
-
-
-def part_keywords() -> dict[str, PartOption]:
-    """Every registered part's keywords of :func:`analyze`, by keyword."""
-    return {o.keyword: o for p in REPORT_PARTS.values() for o in p.options}
-
-
-# ---------------------------------------------------------------------- the built-in parts
-
-
-def _actuator_sets(report: Report) -> tuple[tuple[str, ...], ...] | None:
-    if (k := report.options.value("actuator_search")) is None:
-        return None
-    outs = default_end_frames(report.state.mechanism)
-    return tuple(actuator_sets(report.state, None, k, outputs=outs, rtol=report.rtol))
-
-
-def _actuator_lines(report: Report, sets: tuple[tuple[str, ...], ...]) -> str:
-    lines = [f"valid sets of {report.options.value('actuator_search')} actuated joints: {len(sets)}"]
-    lines += ["  " + ", ".join(x) for x in sets[:50]]
-    if len(sets) > 50:
-        lines.append(f"  ... ({len(sets) - 50} more)")
-    return "\n".join(lines)
-
-
-def _paper(report: Report) -> Mobility | None:
-    if not report.options.value("paper"):
-        return None
-    from pinmob.analysis.paper import paper_mobility  # only on request
-
-    return paper_mobility(report.state, report.rtol, report.options.value("approach"))
-
-
-def _paper_text(report: Report, paper: Mobility) -> str | None:
-    if not report.has_limbs:
-        return None
-    mob, text = report._platform(), str(paper)
-    if (paper.dof, paper.motion_type) != (mob.dof, mob.motion_type):
-        text += (
-            f"\ndifference: the paper's view gives {paper.motion_type} ({paper.dof} DoF), the wrenches at the "
-            f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
-            f"{', '.join(mob.serially_singular_limbs) or 'none'}"
-        )
-    return text
-
-
-def _finite(report: Report) -> FiniteMobility | None:
-    if not report.options.value("finite"):
-        return None
-    platform = report.mobility if report.has_limbs else report.platform_frame
-    motions = None if platform is None else platform.motions
-    sing = report.singularity if report.state.mechanism.actuated else None
-    locked = sing.uncontrolled if sing is not None and sing.actuation is not None else None
-    from pinmob.analysis.finite.finite_mobility import finite_mobility  # its modules load when it is asked for
-
-    order = report.options.value("finite_order")
-    return finite_mobility(report.state, report.rtol, order, motions=motions, locked_motions=locked)
-
-
-register_part(
-    ReportPart(
-        "actuator_sets",
-        "actuator sets",
-        _actuator_sets,
-        options=(
-            PartOption(
-                "actuator_search",
-                "search-actuators",
-                "also list every valid set of K actuated joints (exhaustive)",
-                metavar="K",
-            ),
-        ),
-        text=_actuator_lines,
-        entries=lambda report, sets: {"valid_actuator_sets": [list(x) for x in sets]},
-        terms=("actuation valid",),
-        gap=False,
-    )
-)
-register_part(
-    ReportPart(
-        "paper",
-        "the seed paper's view",
-        _paper,
-        options=(
-            PartOption(
-                "paper",
-                "paper-view",
-                "also show the seed paper's view: generic limb wrenches carried to the configuration",
-                default=False,
-            ),
-            PartOption("approach"),
-        ),
-        text=_paper_text,
-        entries=lambda report, paper: {"paper_view": paper.to_dict()} if report.has_limbs else {},
-        terms=("seed paper",),
-    )
-)
-register_part(
-    ReportPart(
-        "finite",
-        "finite mobility",
-        _finite,
-        options=(
-            PartOption(
-                "finite",
-                "finite",
-                "also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
-                "(higher-order conditions, tracing, closed samples)",
-                default=False,
-            ),
-            PartOption(
-                "finite_order",
-                "finite-order",
-                "the highest order of the conditions the finite analysis checks (2..8, default 4)",
-                metavar="K",
-                default=ORDER,
-                implies="finite",
-            ),
-        ),
-        entries=lambda report, finite: finite.report_entries(),
-        brief=lambda report, finite: f"finite: {finite.brief()}",
-        terms=("finite",),
-    )
-)

@@ -8,7 +8,8 @@ import sys
 from typing import Any
 
 from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.report import REPORT_PARTS, Report
+from pinmob.analysis.report import Report
+from pinmob.analysis.report_parts import REPORT_PARTS
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.cli.common import joint_values_of, load_for, with_elsewhere
 from pinmob.cli.flags import worded_report

@@ -120,6 +120,8 @@ def test_the_built_in_parts_are_registered_in_their_order() -> None:
     assert list(REPORT_PARTS)[:3] == ["actuator_sets", "paper", "finite"]
     report = pinmob.analyze("3-PRS", "home")
     assert (report.paper, report.actuator_sets, report.finite) == (None, None, None)
+    with pytest.raises(pinmob.ArgumentError, match=r"no report part 'papr' \(did you mean 'paper'"):
+        report.part("papr")
 
 
 def test_each_part_s_words_are_in_the_glossary() -> None:

@@ -10,9 +10,11 @@ computed at once; the other parts when first used (``to_dict`` and ``str`` use t
   its generic constraint rank, from random closed configurations, unless the file declares it);
 * the registered parts (:mod:`pinmob.analysis.report_parts`), each its section, its JSON entries, its
   keywords of :func:`analyze` and its options of ``pinmob analyze`` from one registration
-  (:func:`~pinmob.analysis.report_parts.register_part`): ``actuator_sets``, every valid set of K actuated joints, only when asked
-  (``actuator_search=K``); ``paper``, the seed paper's view, only when asked (``paper=True``); ``finite``, finite
-  versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
+  (:func:`~pinmob.analysis.report_parts.register_part`), read as ``report.part(name)``: ``actuator_sets``,
+  every valid set of K actuated joints, only when asked (``actuator_search=K``); ``paper``, the seed paper's
+  view, only when asked (``paper=True``); ``finite``, finite versus instantaneous mobility, only when asked
+  (``finite=True``; :mod:`pinmob.analysis.finite`). Each of these three is also an attribute
+  (``report.paper``).
 """
 
 from __future__ import annotations
@@ -95,7 +97,11 @@ class Report:
         return singularity(self.state, self.rtol, g)
 
     def part(self, name: str) -> Any:
-        """The registered part ``name`` (:data:`~pinmob.analysis.report_parts.REPORT_PARTS`), computed when first read; None when not asked for."""
+        """The registered part ``name``, computed when first read; None when not asked for or not applicable.
+
+        Raises:
+            ArgumentError: no part of that name is registered (:data:`~pinmob.analysis.report_parts.REPORT_PARTS`).
+        """
         if name not in self._parts:
             if name not in REPORT_PARTS:
                 raise ArgumentError(

@@ -57,7 +57,7 @@ def test_a_toy_part_is_in_every_output_of_the_report(toy: ReportPart) -> None:
     assert report.part("tally") == {"A": 5, "B": 5, "C": 5}  # by hand: P + R + S(3)
     text = str(report)
     assert text.endswith("\n\njoints per limb: {'A': 5, 'B': 5, 'C': 5} (asked for with `tally=True`)")
-    assert report.to_dict()["tally"] == {"A": 5, "B": 5, "C": 5}
+    assert report.to_dict()["tally"] == {"A": 5, "B": 5, "C": 5} and list(report.to_dict())[-1] == "tally"
     assert report.brief().endswith("; joints: 15")
     page = report._repr_html_()
     assert "<strong>joint tally</strong>" in page and "joints per limb: {&#x27;A&#x27;: 5" in page
@@ -114,6 +114,13 @@ def test_registering_refuses_a_taken_name_or_keyword(toy: ReportPart) -> None:
 def test_analyze_refuses_a_keyword_no_part_has(toy: ReportPart) -> None:
     with pytest.raises(pinmob.ArgumentError, match=r"analyze has no keyword 'taly' \(did you mean 'tally'"):
         pinmob.analyze("3-PRS", "home", taly=True)
+
+
+def test_a_part_s_entries_go_where_it_says(toy: ReportPart) -> None:
+    """``json_before``: the seed paper's view stays before ``singularity`` in the document, as before the protocol."""
+    doc = pinmob.analyze("3-PUU-flat", "flat", paper=True, tally=True).to_dict()
+    keys = list(doc)
+    assert keys.index("paper_view") == keys.index("singularity") - 1 and keys[-1] == "tally"
 
 
 def test_the_built_in_parts_are_registered_in_their_order() -> None:

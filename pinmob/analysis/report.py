@@ -202,7 +202,7 @@ class Report:
         out["ambiguous_ranks"] = [a.to_dict() for a in self.ambiguous_ranks]
         for name, part in REPORT_PARTS.items():  # the registered parts' entries, in their order
             if (value := self.part(name)) is not None:
-                out.update(part.document(self, value))
+                out = inserted(out, part.document(self, value), part.json_before)
         return out
 
     def __str__(self) -> str:
@@ -259,6 +259,18 @@ class Report:
     def _rank_lines(self) -> list[str]:
         note = self._raised()
         return ([f"note: {note}"] if note else []) + [str(a) for a in self.ambiguous_ranks]
+
+
+def inserted(document: dict[str, Any], entries: dict[str, Any], before: str | None) -> dict[str, Any]:
+    """``document`` with ``entries`` added before its key ``before`` (at the end when None or absent)."""
+    if before is None or before not in document:
+        return {**document, **entries}
+    out: dict[str, Any] = {}
+    for key, value in document.items():
+        if key == before:
+            out.update(entries)
+        out[key] = value
+    return out
 
 
 #: keys of the whole-mechanism document added to the JSON of a limb-and-platform analysis

@@ -100,6 +100,7 @@ register_part(
         ),
         text=_paper_text,
         entries=lambda report, paper: {"paper_view": paper.to_dict()} if report.has_limbs else {},
+        json_before="singularity",
         terms=("seed paper",),
     )
 )

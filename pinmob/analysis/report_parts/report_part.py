@@ -128,6 +128,8 @@ class ReportPart:
             part.to_dict()}``, or the part itself when it has no ``to_dict``).
         brief: ``brief(report, part)``, its words in ``brief()``'s line, after a ``;`` (default: none).
         terms: the glossary terms its text uses (``pinmob glossary TERM`` finds each; tests check).
+        json_before: the key of ``to_dict()`` its entries go before (None: at the end; the seed paper's view is
+            before ``singularity``, as the document had it before the protocol).
         glossary: its own glossary entries (Markdown list items, ``- **term**: ...``) when its words are not in
             ``docs/glossary.md``: ``pinmob glossary`` shows them under "Registered report parts".
         gap: a blank line before its section.
@@ -141,6 +143,7 @@ class ReportPart:
     entries: Callable[[ReportLike, Any], dict[str, Any]] | None = None
     brief: Callable[[ReportLike, Any], str] | None = None
     terms: tuple[str, ...] = ()
+    json_before: str | None = None
     glossary: str = ""
     gap: bool = True
 

@@ -103,6 +103,27 @@ def test_a_part_without_an_option_is_computed_unasked() -> None:
         unregister_part("points")
 
 
+def test_a_part_option_of_another_type(capsys: pytest.CaptureFixture[str]) -> None:
+    """``type=float``: ``--scale 0.5`` reaches the part as 0.5 (three limbs: 1.5); a word is refused by argparse."""
+
+    def scaled(report: Report) -> float | None:
+        scale = report.options.value("scale")
+        return None if scale is None else scale * len(report.state.mechanism.limbs)
+
+    register_part(
+        ReportPart("scaled", "scaled", scaled, options=(PartOption("scale", "scale", "a scale", "S", float),))
+    )
+    try:
+        assert main(["analyze", "3-PRS", "--config", "home", "--scale", "0.5", "--json"]) == 0
+        assert json.loads(capsys.readouterr().out)["scaled"] == 1.5
+        with pytest.raises(SystemExit) as refused:
+            main(["analyze", "3-PRS", "--config", "home", "--scale", "half"])
+        assert refused.value.code == 2
+        assert "argument --scale: invalid float value: 'half'" in capsys.readouterr().err
+    finally:
+        unregister_part("scaled")
+
+
 def test_registering_refuses_a_taken_name_or_keyword(toy: ReportPart) -> None:
     with pytest.raises(pinmob.ArgumentError, match="'tally' is registered already"):
         register_part(ReportPart("tally", "again", joint_tally))

@@ -70,7 +70,7 @@ def add_part_options(p: argparse.ArgumentParser) -> None:
     """The options of the registered report parts (:class:`~pinmob.analysis.report.PartOption`), in their order.
 
     Each option's destination is its keyword of :func:`pinmob.analyze` (``--paper-view`` gives ``args.paper``); a
-    switch is True when given, an integer option None when not (the library's default then applies).
+    switch is True when given, an option with a value None when not (the library's default then applies).
     """
     for part in REPORT_PARTS.values():
         for o in part.options:
@@ -81,7 +81,7 @@ def add_part_options(p: argparse.ArgumentParser) -> None:
                 p.add_argument(f"--{o.option}", dest=o.keyword, action="store_true", help=o.help + implied)
             else:
                 p.add_argument(
-                    f"--{o.option}", dest=o.keyword, type=int, default=None, metavar=o.metavar, help=o.help + implied
+                    f"--{o.option}", dest=o.keyword, type=o.type, default=None, metavar=o.metavar, help=o.help + implied
                 )
 
 

@@ -88,7 +88,8 @@ class PartOption:
             ``compute`` reads its value with ``report.options.value(keyword)``.
         option: the option's name without its leading dashes (``"paper-view"``); None: a keyword of Python only.
         help: the option's help (``--help``).
-        metavar: None: the option is a switch (True when given); else it takes an integer, shown as ``metavar``.
+        metavar: None: the option is a switch (True when given); else it takes a value, shown as ``metavar``.
+        type: the value's type on the command line (``int``, ``float``, ``str``; with ``metavar``).
         default: the keyword's value when not given.
         implies: the keyword of another switch this option also sets on the command line (``--finite-order K``
             asks for the finite analysis).
@@ -98,6 +99,7 @@ class PartOption:
     option: str | None = None
     help: str = ""
     metavar: str | None = None
+    type: Callable[[str], Any] = int
     default: Any = None
     implies: str | None = None
 

@@ -7,6 +7,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from pinmob import __version__
+from pinmob.analysis.finite.higher_order import ORDER, ORDERS
 from pinmob.analysis.report_parts import REPORT_PARTS
 from pinmob.assembly import CLOSURE_TOL, CLOSURE_TOL_MAX, RESTARTS
 from pinmob.screw import RTOL
@@ -265,5 +266,6 @@ def _finite_options(p: argparse.ArgumentParser, what: str) -> None:
         type=int,
         default=None,
         metavar="K",
-        help="the highest order of the conditions the finite analysis checks (2..8, default 4); implies --finite",
+        help=f"the highest order of the conditions the finite analysis checks ({ORDERS[0]}..{ORDERS[-1]}, default {ORDER}); "
+        "implies --finite",
     )

@@ -8,7 +8,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from pinmob.analysis.chain.actuation import actuator_sets, default_end_frames
-from pinmob.analysis.finite.higher_order import ORDER
+from pinmob.analysis.finite.higher_order import ORDER, ORDERS
 from pinmob.analysis.report_parts.report_part import PartOption, ReportLike, ReportPart, register_part
 
 if TYPE_CHECKING:
@@ -120,7 +120,7 @@ register_part(
             PartOption(
                 "finite_order",
                 "finite-order",
-                "the highest order of the conditions the finite analysis checks (2..8, default 4)",
+                f"the highest order of the conditions the finite analysis checks ({ORDERS[0]}..{ORDERS[-1]}, default {ORDER})",
                 metavar="K",
                 default=ORDER,
                 implies="finite",

@@ -10,7 +10,9 @@ computed at once; the other parts when first used (``to_dict`` and ``str`` use t
   its generic constraint rank, from random closed configurations, unless the file declares it);
 * ``paper``: the seed paper's view, only when asked (``paper=True``);
 * ``actuator_sets``: every valid set of K actuated joints, only when asked (``actuator_search=K``);
-* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
+* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`);
+* ``minimal_closures``: per closure, the closure with exactly its independent equations, only where some closure
+  equation is redundant (:mod:`pinmob.analysis.minimal`).
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
 from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.generic import generic_constraint_rank
+from pinmob.analysis.minimal import MinimalClosures, minimal_closures
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report_html import Section, joined, report_html
 from pinmob.analysis.singularity import Singularity, singularity
@@ -141,6 +144,16 @@ class Report:
 
         return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions, locked_motions=locked)
 
+    @cached_property
+    def minimal_closures(self) -> MinimalClosures | None:
+        """Per closure, the closure with exactly its independent equations; None where none is redundant.
+
+        Computed only where ``mechanism_mobility.redundant_constraints > 0`` (:mod:`pinmob.analysis.minimal`).
+        """
+        if not self.mechanism_mobility.redundant_constraints:
+            return None
+        return minimal_closures(self.state, self.rtol)
+
     @property
     def platform_frame(self) -> FrameMobility | None:
         """The platform frame's motion on the whole closed chain (None without a platform)."""
@@ -215,6 +228,8 @@ class Report:
         mech = self.state.mechanism
         layout = mech.memo("joint layout", lambda: joint_layout(mech.model))
         out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz, layout)
+        minimal = self.minimal_closures
+        out["minimal_closures"] = None if minimal is None else minimal.to_dict()
         out["rank_tolerance_note"] = self._raised()
         out["ambiguous_ranks"] = [a.to_dict() for a in self.ambiguous_ranks]
         if sets is not None:
@@ -240,6 +255,8 @@ class Report:
             out = [Section("platform", str(mob)), Section("singularity", unseen if sing is None else str(sing))]
             out += [Section("expected", str(expected))] if expected is not None else []
             out.append(Section("mechanism", str(self.mechanism_mobility), gap=True))
+        if (minimal := self.minimal_closures) is not None:
+            out.append(Section("minimal closures", str(minimal)))
         notes = (("rank notes", self._rank_lines()), ("actuator sets", self._actuator_lines()))
         out += [Section(title, "\n".join(lines)) for title, lines in notes if lines]
         paper = self.paper if self.has_limbs else None

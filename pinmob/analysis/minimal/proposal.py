@@ -246,6 +246,12 @@ def _axes(conf: Configuration) -> Array:
     return np.array(out + list(np.eye(3)))
 
 
+def _snapped(a: Array) -> Array:
+    """A unit axis with its round-off components (below 1e-12) made 0: ``[0, 0, 1]``, not ``[-7e-30, 0, 1]``."""
+    b = np.where(np.abs(a) < 1e-12, 0.0, a)
+    return b / np.linalg.norm(b)
+
+
 def _unique(axes: list[Array]) -> list[Array]:
     out: list[Array] = []
     for a in axes:
@@ -261,7 +267,7 @@ def _candidates(conf: Configuration, c: Closure, need: int, world_axes: Array) -
     own = [np.asarray(c.axis, float)] if c.axis is not None else []
     if c.axis_b is not None:
         own.append(ra.T @ rb @ np.asarray(c.axis_b, float))
-    axes = _unique(own + [ra.T @ a for a in world_axes])
+    axes = _unique([_snapped(a) for a in own + [ra.T @ a for a in world_axes]])
     out = []
     for t in ORDER:
         if CLOSURE_ROWS[t] != need:

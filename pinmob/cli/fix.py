@@ -31,6 +31,7 @@ from pinmob.output_files import Replacing, check_target
 
 #: Output suffixes by input format.
 SUFFIXES = {"toml": (".toml",), "sidecar": (".yaml", ".yml"), "mjcf": (".xml", ".mjcf")}
+WORDS = {"toml": "a pinmob TOML file", "sidecar": "an Extended URDF sidecar", "mjcf": "an MJCF file"}
 
 
 def _format(mech: Mechanism) -> str:
@@ -62,8 +63,8 @@ def _check_output(mech: Mechanism, kind: str, output: str, force: bool) -> Path:
             )
     if target.suffix.lower() not in SUFFIXES[kind]:
         raise ConfigurationError(
-            f"--output {str(target)!r}: the input is {'an MJCF' if kind == 'mjcf' else 'a ' + kind} file, so the "
-            f"output needs the suffix {' or '.join(SUFFIXES[kind])}"
+            f"--output {str(target)!r}: the input is {WORDS[kind]}, so the output needs the suffix "
+            f"{' or '.join(SUFFIXES[kind])}"
         )
     return check_target("--output", target, force)
 

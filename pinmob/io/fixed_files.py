@@ -162,7 +162,10 @@ def fixed_mjcf(source: Path, connects: Mapping[str, int], anchors: Mapping[str, 
         if weld.get("site1") is None:
             weld.set("anchor", " ".join(f"{x:.15g}" for x in _vector(anchors[name])))
     ET.indent(tree)
+    original = source.read_text(encoding="utf-8")
+    start = original.find(f"<{root.tag}")
+    head = original[:start] if start > 0 else ""  # the comments before the root element (ElementTree drops them)
     text = ET.tostring(root, encoding="unicode")
     if not text.strip():
         raise MechanismFileError(f"{source}: nothing to write")
-    return text + "\n"
+    return head + text + "\n"

@@ -85,6 +85,9 @@ def test_fix_planar_3rrr_toml(capsys, tmp_path):
         assert (chain.rows, chain.rank, chain.redundant_constraints) == (6, 6, 0), name
         assert chain.mechanism_dof == 3 * (8 - 1) - 2 * 9, name
         assert report.platform_frame.motion_type == motion == fixed.expected[name].motion_type, name
+        before = pinmob.analyze(pinmob.load("3-RRR-planar"), name)
+        assert report.singularity.label == before.singularity.label, name  # limb A's loops lock B_r1, C_r1 too
+        assert report.length_scale == before.length_scale, name
 
 
 def test_fix_spherical_3rrr_toml(capsys, tmp_path):

@@ -4,7 +4,8 @@ Plain data in (the input file and the mechanism to write), text out; the caller 
 (:func:`pinmob.output_files.check_target`) and writes it through :class:`pinmob.output_files.Replacing`.
 
 - pinmob TOML: the input's document with ``[[limbs]]``, ``[[closures]]`` and ``actuated`` taken from the
-  mechanism, and ``urdf`` made relative to the output's folder (:func:`fixed_toml`); comments are not kept.
+  mechanism, ``urdf`` made relative to the output's folder and ``length_scale`` the input's L (other frames
+  would give another; :func:`fixed_toml`); comments are not kept.
 - Extended URDF: the YAML sidecar with its ``type`` per loop, and, for pinmob's own closure types beyond
   ``6d`` / ``3d``, ``axis`` / ``axis_b`` per loop (``null`` where a type has none) and ``urdf`` (the URDF beside
   the input): keys that pinmob reads and the LAAS tools do not (:func:`fixed_sidecar`).
@@ -87,6 +88,7 @@ def fixed_toml(source: Path, fixed: Mechanism, target: Path) -> str:
     doc: dict[str, Any] = dict(read_toml(source))
     urdf = (source.parent / doc["urdf"]).resolve()
     doc["urdf"] = os.path.relpath(urdf, target.resolve().parent)
+    doc.setdefault("length_scale", float(f"{fixed.length_scale:.15g}"))  # the same L: the same rank decisions
     doc.pop("limbs", None)
     doc.pop("closures", None)
     doc.pop("actuated", None)

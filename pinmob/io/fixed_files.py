@@ -88,7 +88,7 @@ def fixed_toml(source: Path, fixed: Mechanism, target: Path) -> str:
     doc: dict[str, Any] = dict(read_toml(source))
     urdf = (source.parent / doc["urdf"]).resolve()
     doc["urdf"] = os.path.relpath(urdf, target.resolve().parent)
-    doc.setdefault("length_scale", float(f"{fixed.length_scale:.15g}"))  # the same L: the same rank decisions
+    doc.setdefault("length_scale", float(fixed.length_scale))  # the same L (to the bit): the same rank decisions
     doc.pop("limbs", None)
     doc.pop("closures", None)
     doc.pop("actuated", None)

@@ -48,6 +48,9 @@ ORDER = (
     ClosureType.PERPENDICULAR,
 )
 
+#: The last line of the text: how to get the corrected mechanism (the command line words it as its command).
+FIX_HINT = "the corrected mechanism: `pinmob.fix_closures(mech)`"
+
 #: How the proposal is chosen, said in the JSON document.
 MINIMAL_RULE = (
     "closures in order (limb tips first); each keeps the rank it adds to those before it, with the first closure "
@@ -169,7 +172,7 @@ class MinimalClosures:
             + ("(full row rank)" if self.proposed_rows == self.rank else "(some redundancy remains)")
         ]
         lines += ["  " + c.text() for c in self.closures if c.changed or not c.found]
-        lines.append("  write the corrected file with: pinmob fix FILE --output OUT")
+        lines.append(f"  {FIX_HINT}")
         return "\n".join(lines)
 
 

@@ -194,3 +194,16 @@ def test_output_refusals(capsys, tmp_path):
     assert not (tmp_path / "no").exists()
     status, _, _ = fix(capsys, source, "--output", existing, "--force")
     assert status == 0 and "<connect" in existing.read_text()
+
+
+def test_viewer_panel_shows_the_minimal_closures(tmp_path):
+    """The panel's document has the report's lines under 'Minimal closures' (None where nothing is redundant)."""
+    from pinmob import viewer
+
+    scene = viewer.export_html(pinmob.load("3-RRR-spherical"), "generic", tmp_path / "s.html", steps=2)
+    lines = scene.panel["minimal_closures"]
+    assert lines[0] == "minimal closures: 12 closure equations of rank 6 -> 6 (full row rank)"
+    assert any("limb B: 6d (6 equations) -> orientation" in line for line in lines)
+    assert "Minimal closures" in (Path(viewer.__file__).parent / "static" / "panel.js").read_text()
+    rigid = viewer.export_html(pinmob.load("Delta"), "generic", tmp_path / "d.html", steps=2)
+    assert rigid.panel["minimal_closures"] is None

@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 import pinmob
+import pinmob.analysis.fixed_closures
 from pinmob.cli import main
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -207,3 +208,34 @@ def test_viewer_panel_shows_the_minimal_closures(tmp_path):
     assert "Minimal closures" in (Path(viewer.__file__).parent / "static" / "panel.js").read_text()
     rigid = viewer.export_html(pinmob.load("Delta"), "generic", tmp_path / "d.html", steps=2)
     assert rigid.panel["minimal_closures"] is None
+
+
+@pytest.mark.parametrize("name", sorted(pinmob.builtin_models()))
+def test_every_builtin_fix_keeps_the_answers(name):
+    """Where a built-in model has redundant equations at every named configuration, the fixed mechanism has the
+    same DoF, idle motions, output motion types and configurations at each (check_fixed), with full row rank
+    where the proposal was computed; where one configuration has none, there is nothing to fix."""
+    mech = pinmob.load(name)
+    config, minimal = pinmob.analysis.fixed_closures.chosen_proposal(mech)
+    if minimal is None:
+        assert pinmob.analyze(mech, config).mechanism_mobility.redundant_constraints == 0
+        assert pinmob.fix_closures(mech) is mech
+        return
+    assert minimal.complete and minimal.proposed_rows == minimal.rank
+    fixed = pinmob.fix_closures(mech, minimal)
+    check = pinmob.check_fixed(mech, fixed)
+    assert check.same, check.differences
+    assert check.rows[check.configurations.index(config)][2] == 0
+
+
+def test_redundancy_only_at_a_singular_configuration_is_not_fixed(capsys, tmp_path):
+    """The 3-PUU-vertical has 2 redundant equations at 'vertical' (5 DoF, singular) and none at 'generic': dropping
+    them would give 5 DoF at 'generic' too, so nothing is written, and the reason is said."""
+    mech = pinmob.load("3-PUU-vertical")
+    assert pinmob.analyze(mech, "vertical").mechanism_mobility.redundant_constraints == 2
+    status, out, _ = fix(capsys, "3-PUU-vertical", "--output", tmp_path / "v.toml")
+    assert status == 0 and not (tmp_path / "v.toml").exists()
+    assert out == (
+        f"3-PUU-vertical at 'generic': no closure equation is redundant (redundant ones only at 'vertical', singular "
+        f"there); nothing to fix, {tmp_path / 'v.toml'} not written\n"
+    )

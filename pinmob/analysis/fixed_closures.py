@@ -25,6 +25,7 @@ from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.closure import Closure
 from pinmob.model.mechanism import Mechanism
+from pinmob.model.named import NamedConfiguration
 from pinmob.screw.rank import RTOL
 
 #: Joint values [rad or m] within which a named configuration counts as the same after the fix.
@@ -48,22 +49,56 @@ def minimal_closures(
     return analyze(mech, q, rtol=rtol, closure_tol=closure_tol).minimal_closures
 
 
+def chosen_proposal(
+    mech: Mechanism, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
+) -> tuple[str | None, MinimalClosures | None]:
+    """The configuration whose proposal fixes the file, and that proposal (None: nothing to fix).
+
+    A proposal holds where it was computed; at a singular configuration more equations are dependent than
+    elsewhere (the 3-PUU-vertical's 'vertical'), and dropping them there would free motions at the others.
+    So: the named configuration where the closure rank is largest; where some named configuration has no
+    redundant equation at all, there is nothing to fix (the redundancy is that of singular configurations).
+    Without named configurations, the default one of :func:`pinmob.analyze`.
+    """
+    best: tuple[str | None, MinimalClosures | None] = (None, None)
+    names: list[str | None] = [*mech.configurations] or [None]
+    for name in names:
+        minimal = minimal_closures(mech, name, rtol=rtol, closure_tol=closure_tol)
+        if minimal is None:
+            return name, None
+        if best[1] is None or minimal.rank > best[1].rank:
+            best = (name, minimal)
+    return best
+
+
 def fix_closures(
-    mech: Mechanism, minimal: MinimalClosures | None = None, configuration: str | None = None
+    mech: Mechanism,
+    minimal: MinimalClosures | None = None,
+    configuration: str | None = None,
+    closure_tol: float = CLOSURE_TOL,
 ) -> Mechanism:
     """``mech`` with the minimal closures (see the module docstring); ``mech`` itself when nothing is redundant.
 
+    Each named configuration given by a platform pose gets the joint values ``mech`` assembles there as its
+    ``seed`` (joints of one coordinate), so that the solver finds the same configuration: the fewer equations
+    may also close elsewhere.
+
     Args:
         mech: the mechanism.
-        minimal: the proposal (default: computed at ``configuration``, else at the default configuration of
-            :func:`pinmob.analyze`).
+        minimal: the proposal (default: computed at ``configuration``, else at the configuration
+            :func:`chosen_proposal` chooses).
         configuration: where to compute it when not given.
+        closure_tol: the closure tolerance of the analyses (as :func:`pinmob.analyze`'s).
 
     Raises:
         ConfigurationError: a closure could not be reduced (none of the vocabulary has exactly its equations).
     """
     if minimal is None:
-        minimal = minimal_closures(mech, configuration)
+        minimal = (
+            minimal_closures(mech, configuration, closure_tol=closure_tol)
+            if configuration
+            else chosen_proposal(mech, closure_tol=closure_tol)[1]
+        )
     if minimal is None or not minimal.changes:
         return mech
     missing = [c.name for c in minimal.closures if not c.found]
@@ -98,7 +133,7 @@ def fix_closures(
         platform=mech.platform or None,
         actuated=actuated,
         length_scale=mech.length_scale,
-        configurations=mech.configurations,
+        configurations=_seeded(mech, closure_tol),
         expected=mech.expected,
         description=mech.description,
         source=mech.source,
@@ -112,6 +147,21 @@ def fix_closures(
         joint_actuators=mech.joint_actuators,
         quaternion_wxyz=mech.quaternion_wxyz,
     )
+
+
+def _seeded(mech: Mechanism, closure_tol: float) -> dict[str, NamedConfiguration]:
+    """``mech``'s named configurations, those given by a pose seeded with the joint values ``mech`` closes there."""
+    out = dict(mech.configurations)
+    model = mech.model
+    for name, conf in mech.configurations.items():
+        if conf.pose is None:
+            continue
+        q = analyze(mech, name, closure_tol=closure_tol).state.q
+        seed = {
+            model.names[j]: float(q[model.joints[j].idx_q]) for j in range(1, model.njoints) if model.joints[j].nq == 1
+        }
+        out[name] = replace(conf, seed=seed)
+    return out
 
 
 def _free_name(mech: Mechanism, name: str) -> str:
@@ -153,13 +203,15 @@ def _motion_types(report: Report) -> dict[str, str]:
     return {f.frame: f.motion_type for f in chain.frames if f.frame in chain.end_frames}
 
 
-def check_fixed(original: Mechanism, fixed: Mechanism, rtol: float = RTOL) -> FixCheck:
+def check_fixed(
+    original: Mechanism, fixed: Mechanism, rtol: float = RTOL, closure_tol: float = CLOSURE_TOL
+) -> FixCheck:
     """Analyse both at every named configuration (else the default one) and list what differs (:class:`FixCheck`)."""
     names: list[str | None] = list(original.configurations) or [None]
     rows, differences = [], []
     for name in names:
-        before = analyze(original, name, rtol=rtol)
-        after = analyze(fixed, name if name else before.state.q, rtol=rtol)  # unnamed: the same q
+        before = analyze(original, name, rtol=rtol, closure_tol=closure_tol)
+        after = analyze(fixed, name if name else before.state.q, rtol=rtol, closure_tol=closure_tol)  # unnamed: same q
         where = f"at {name!r}" if name else "at the default configuration"
         a, b = before.mechanism_mobility, after.mechanism_mobility
         rows.append((a.rows, b.rows, b.redundant_constraints))

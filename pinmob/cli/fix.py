@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.fixed_closures import check_fixed, fix_closures
+from pinmob.analysis.fixed_closures import check_fixed, chosen_proposal, fix_closures
 from pinmob.analysis.minimal import MinimalClosures
 from pinmob.analysis.minimal.proposal import describe
 from pinmob.assembly.residual import CLOSURE_TOL
@@ -89,17 +89,27 @@ def run(args: argparse.Namespace) -> int:
     target = _check_output(mech, kind, args.output, args.force)
     tol = CLOSURE_TOL if args.closure_tol is None else args.closure_tol
     with with_elsewhere(mech):
-        report = analyze(mech, args.config, closure_tol=tol)
+        if args.config is None:  # the most generic named configuration (chosen_proposal)
+            config, minimal = chosen_proposal(mech, closure_tol=tol)
+        else:
+            config = mech.configuration_name(args.config)
+            minimal = analyze(mech, config, closure_tol=tol).minimal_closures
+        report = analyze(mech, config, closure_tol=tol)
     where = f" at {report.configuration!r}" if report.configuration else ""
-    minimal = report.minimal_closures
     if minimal is None or not minimal.changes:
-        print(f"{mech.name}{where}: no closure equation is redundant; nothing to fix, {target} not written")
+        elsewhere = [
+            n
+            for n in mech.configurations
+            if n != config and analyze(mech, n, closure_tol=tol).mechanism_mobility.redundant_constraints
+        ]
+        others = f" (redundant ones only at {', '.join(map(repr, elsewhere))}, singular there)" if elsewhere else ""
+        print(f"{mech.name}{where}: no closure equation is redundant{others}; nothing to fix, {target} not written")
         return 0
     print(str(minimal).rsplit("\n", 1)[0])  # the proposal, without its hint to run this command
     if kind == "mjcf":
-        return _fix_mjcf(mech, minimal, report.state.q, target, args.config)
-    fixed = fix_closures(mech, minimal)
-    check = check_fixed(mech, fixed)
+        return _fix_mjcf(mech, minimal, report.state.q, target, tol)
+    fixed = fix_closures(mech, minimal, closure_tol=tol)
+    check = check_fixed(mech, fixed, closure_tol=tol)
     if not check.same:
         raise ConfigurationError(
             f"the minimal closures change the answers ({'; '.join(check.differences)}); {target} not written"
@@ -114,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
         urdf = _urdf_of(mech, kind)[0]
         text = fixed_sidecar(mech.source, fixed, urdf, target)  # type: ignore[arg-type]
     _write(target, text)
-    _report_written(mech, target, check.configurations)
+    _report_written(mech, target, check.configurations, tol)
     if kind == "sidecar" and any(str(c.type) not in ("6d", "3d") for c in fixed.closures):
         print(
             "note: the sidecar now uses pinmob's closure types beyond 6d/3d (with 'axis' per loop): pinmob reads "
@@ -130,14 +140,14 @@ def _write(target: Path, text: str) -> None:
         replacing.commit()
 
 
-def _report_written(original: Mechanism, target: Path, configurations: tuple[str | None, ...]) -> None:
+def _report_written(original: Mechanism, target: Path, configurations: tuple[str | None, ...], tol: float) -> None:
     """Read the written file back, analyse it where the check did, and print one line per configuration."""
     from pinmob.io.loader import load
 
     written = load(target)
     for name in configurations:
-        before = analyze(original, name)
-        after = analyze(written, name if name else before.state.q)
+        before = analyze(original, name, closure_tol=tol)
+        after = analyze(written, name if name else before.state.q, closure_tol=tol)
         a, b = before.mechanism_mobility, after.mechanism_mobility
         where = f"at {name!r}" if name else "at the default configuration"
         types = ", ".join(f"{f.frame} {f.motion_type}" for f in b.frames if f.frame in b.end_frames)
@@ -149,7 +159,7 @@ def _report_written(original: Mechanism, target: Path, configurations: tuple[str
     print(f"wrote {target}")
 
 
-def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: Path, config: str | None) -> int:
+def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: Path, tol: float) -> int:
     """Welds whose rotation rows are redundant become connects; the other proposals are said, not written."""
     import mujoco
 
@@ -159,7 +169,7 @@ def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: 
     if source is None:
         raise ConfigurationError(f"{mech.name!r} was read from no file")
     m = compile_mjcf(source, warn=False)
-    rank = analyze(mech, q).mechanism_mobility.rank
+    rank = analyze(mech, q, closure_tol=tol).mechanism_mobility.rank
     by_name = {c.name: c for c in mech.closures}
     connects: dict[str, int] = {}
     anchors: dict[str, list[float]] = {}
@@ -172,7 +182,7 @@ def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: 
             )
             continue
         trial = replace(mech, closures=tuple(replace(x, type=ClosureType.BALL) if x is c else x for x in mech.closures))
-        if analyze(trial, q).mechanism_mobility.rank != rank:
+        if analyze(trial, q, closure_tol=tol).mechanism_mobility.rank != rank:
             print(
                 f"{change.name}: weld -> the nearest MuJoCo equality, connect, would free a rotation it needs; its "
                 f"{change.needed} independent equation(s) ({proposed}) have no MuJoCo equality: left a weld"
@@ -202,7 +212,7 @@ def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: 
     new = compile_mjcf(target, warn=False)
     rows, rank_mj = mujoco_equality_rank(new)
     print(f"MuJoCo, {target} at qpos0: {rows} equality rows of rank {rank_mj}")
-    _report_written(mech, target, tuple(mech.configurations) or (None,))
+    _report_written(mech, target, tuple(mech.configurations) or (None,), tol)
     return 0
 
 

@@ -5,7 +5,8 @@ Plain data in (the input file and the mechanism to write), text out; the caller 
 
 - pinmob TOML: the input's document with ``[[limbs]]``, ``[[closures]]`` and ``actuated`` taken from the
   mechanism, ``urdf`` made relative to the output's folder and ``length_scale`` the input's L (other frames
-  would give another; :func:`fixed_toml`); comments are not kept.
+  would give another), each pose configuration seeded with the joint values the input closes there
+  (:func:`fixed_toml`); comments are not kept.
 - Extended URDF: the YAML sidecar with its ``type`` per loop, and, for pinmob's own closure types beyond
   ``6d`` / ``3d``, ``axis`` / ``axis_b`` per loop (``null`` where a type has none) and ``urdf`` (the URDF beside
   the input): keys that pinmob reads and the LAAS tools do not (:func:`fixed_sidecar`).
@@ -89,6 +90,13 @@ def fixed_toml(source: Path, fixed: Mechanism, target: Path) -> str:
     urdf = (source.parent / doc["urdf"]).resolve()
     doc["urdf"] = os.path.relpath(urdf, target.resolve().parent)
     doc.setdefault("length_scale", float(fixed.length_scale))  # the same L (to the bit): the same rank decisions
+    configurations = {k: dict(v) for k, v in doc.get("configurations", {}).items()}
+    for name, conf in configurations.items():
+        named = fixed.configurations.get(name)
+        if named is not None and named.seed and "pose" in conf:  # the assembly the input finds there
+            conf["seed"] = {k: float(v) for k, v in named.seed.items()}
+    if configurations:
+        doc["configurations"] = configurations
     doc.pop("limbs", None)
     doc.pop("closures", None)
     doc.pop("actuated", None)

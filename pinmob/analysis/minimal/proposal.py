@@ -11,7 +11,7 @@ The proposal keeps ``K``'s row space and drops its dependent rows, closure by cl
   frames, whose equations are among c's (its wrench rows lie in the span of c's, checked on the two frames
   alone) and whose rows ``J`` span the same space with R: ``rank [R; J] = rank R + n_c`` and
   ``rank [R; K_c; J] = rank [R; K_c]``. Axes tried: c's own, then every joint axis (in frame a), then frame
-  a's x, y, z.
+  a's x, y, z; a universal or perpendicular closure forbids the couple along each of them (``u x u_b``).
 
 The new closure Jacobian then has full row rank ``rank K`` and the same null space: the mechanism DoF, the
 idle motions and every frame's motions stay the same at this configuration (to first order: the fixed
@@ -87,7 +87,11 @@ class MinimalClosure:
         """One line: ``B: 6d (6 equations) -> planar_weld, axis [0, 0, 1] in frame 'a' (3)``."""
         head = f"{self.name}: {self.type} ({self.rows} equations)"
         if not self.changed:
-            return f"{head}: keep" + ("" if self.found else f" (no closure of the vocabulary has its {self.needed})")
+            if self.found:
+                return f"{head}: keep"
+            if self.type in ("joint", "tendon"):
+                return f"{head}: keep ({self.rows - self.needed} implied by the rest; a coupling is not changed)"
+            return f"{head}: keep (no closure of the vocabulary has exactly its {self.needed} independent equations)"
         if self.proposed is None:
             return f"{head} -> remove it (every equation is implied by the closures before it)"
         return f"{head} -> {describe(self.proposed)} ({self.needed})"
@@ -249,6 +253,13 @@ def _axes(conf: Configuration) -> Array:
     return np.array(out + list(np.eye(3)))
 
 
+def _perp(u: Array) -> Array:
+    """(2, 3) orthonormal rows normal to unit u (the first along a coordinate plane where possible)."""
+    e1 = np.cross(u, np.eye(3)[int(np.argmin(np.abs(u)))])
+    e1 = _snapped(e1 / np.linalg.norm(e1))
+    return np.vstack([e1, np.cross(u, e1)])
+
+
 def _snapped(a: Array) -> Array:
     """A unit axis with its round-off components (below 1e-12) made 0: ``[0, 0, 1]``, not ``[-7e-30, 0, 1]``."""
     b = np.where(np.abs(a) < 1e-12, 0.0, a)
@@ -267,6 +278,7 @@ def _candidates(conf: Configuration, c: Closure, need: int, world_axes: Array) -
     """The closures of :data:`ORDER` with ``need`` rows on c's frames, with every axis tried."""
     ra = np.array(conf.frame_placement(c.frame_a_id).rotation)
     rb = np.array(conf.frame_placement(c.frame_b_id).rotation)
+    ra_b = ra.T @ rb  # b's axes in frame a
     own = [np.asarray(c.axis, float)] if c.axis is not None else []
     if c.axis_b is not None:
         own.append(ra.T @ rb @ np.asarray(c.axis_b, float))
@@ -281,6 +293,9 @@ def _candidates(conf: Configuration, c: Closure, need: int, world_axes: Array) -
         elif t in (ClosureType.UNIVERSAL, ClosureType.PERPENDICULAR):
             if c.axis is not None and c.axis_b is not None:  # its own two axes (a universal's)
                 out.append(replace(base, axis=c.axis, axis_b=c.axis_b))
+            for w in axes:  # the couple along w forbidden: u normal to w, u_b = w x u (so u x u_b = w)
+                u = _perp(w)[0]
+                out.append(replace(base, axis=u, axis_b=_snapped(ra_b.T @ np.cross(w, u))))
         else:
             out.extend(replace(base, axis=a) for a in axes)
     return out

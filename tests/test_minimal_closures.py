@@ -239,3 +239,10 @@ def test_redundancy_only_at_a_singular_configuration_is_not_fixed(capsys, tmp_pa
         f"3-PUU-vertical at 'generic': no closure equation is redundant (redundant ones only at 'vertical', singular "
         f"there); nothing to fix, {tmp_path / 'v.toml'} not written\n"
     )
+
+
+def test_a_format_fix_does_not_write_is_refused(capsys, tmp_path):
+    """An onshape-to-robot URDF (closing frames) has no closure declarations to rewrite: one line, exit 2."""
+    status, out, err = fix(capsys, DATA / "cad_gaps" / "spherical_3rrr" / "robot.urdf", "--output", tmp_path / "x.toml")
+    assert status == 2 and out == "" and err.count("\n") == 1
+    assert "pinmob fix writes pinmob TOML, Extended URDF sidecars (.yaml) and MJCF (.xml)" in err

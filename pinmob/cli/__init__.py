@@ -62,7 +62,7 @@ def _fix(args: argparse.Namespace) -> int:
 
 
 def _glossary(args: argparse.Namespace) -> int:
-    from pinmob.cli import glossary
+    from pinmob.cli import glossary_command as glossary
 
     return glossary.run(args)
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import re
+import sys
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
@@ -33,9 +34,14 @@ def joint_values_of(args: argparse.Namespace) -> dict[str, float] | None:
 def load_for(args: argparse.Namespace) -> Mechanism:
     """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
     from pinmob.io.loader import load
-    from pinmob.model.actuation import with_actuated
+    from pinmob.model.actuated_joints import with_actuated
 
     mech = load(args.mechanism)
+    given = Path(str(args.mechanism)).expanduser()
+    if given.suffix.lower() == ".urdf" and mech.source is not None and mech.source.suffix.lower() in (".yaml", ".yml"):
+        print(
+            f"pinmob: read {given.name} with the Extended URDF sidecar beside it, {mech.source.name}", file=sys.stderr
+        )
     if args.actuated is not None:
         names = [n.strip() for n in args.actuated.split(",") if n.strip()]
         if not names:

@@ -4,7 +4,8 @@ onshape-to-robot (and placo, which reads its exports) marks each loop of a URDF 
 named ``closing_<name>_1`` and ``closing_<name>_2`` fixed on the two bodies the loop joins; the loop is
 closed when their origins meet (a point closure: what the exporter writes for MuJoCo, ``<connect
 site1 site2>``, and what placo solves). Each pair is a ``3d`` :class:`~pinmob.model.closure.Closure`
-named ``<name>``. A URDF says nothing of actuation: the actuated joints are given on the command line
+named ``<name>``. Each ``<mimic>`` joint is a ``joint`` coupling (:mod:`pinmob.io.mimic`): a URDF with
+mimic joints and no closing frame is a coupled mechanism. A URDF says nothing of actuation: the actuated joints are given on the command line
 (``--actuated a,b``) or with :meth:`pinmob.model.mechanism.Mechanism.with_actuated`. The mechanism's
 name is the file's ``<robot name>`` (the file's stem when it gives none).
 """
@@ -16,6 +17,7 @@ from pathlib import Path
 
 import pinocchio as pin
 
+from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.model.closure import make_closure
@@ -25,22 +27,25 @@ from pinmob.model.mechanism import Mechanism
 CLOSING = re.compile(r"^closing_(.+)_([12])$")
 
 
-def closing_pairs(path: Path, model: pin.Model) -> dict[str, tuple[str, str]]:
+def closing_pairs(path: Path, model: pin.Model, couplings: int = 0) -> dict[str, tuple[str, str]]:
     """``{loop name: (frame _1, frame _2)}`` of the URDF's closing frames (its links, BODY frames).
 
+    ``couplings`` is the number of the URDF's mimic couplings: with at least one, a URDF without closing
+    frames is a coupled mechanism (no pair).
+
     Raises:
-        MechanismFileError: a frame without its partner, or no closing frame at all (the message says
-            what to add).
+        MechanismFileError: a frame without its partner, or neither a closing frame nor a mimic joint (the
+            message says what to add).
     """
     sides: dict[str, dict[str, str]] = {}
     for frame in model.frames:
         match = CLOSING.match(frame.name)
         if match and frame.type == pin.FrameType.BODY:
             sides.setdefault(match.group(1), {})[match.group(2)] = frame.name
-    if not sides:
+    if not sides and not couplings:
         raise file_error(
             path,
-            "a plain URDF has no loop closure: add onshape-to-robot's closing frames (links closing_<name>_1 and "
+            "a plain URDF without a <mimic> joint between moving joints has no loop closure: add onshape-to-robot's closing frames (links closing_<name>_1 and "
             "closing_<name>_2 on the two bodies each loop joins), or describe the loops in a pinmob TOML file or an "
             "Extended URDF YAML sidecar beside it (see docs/closed-chains.md#formats)",
         )
@@ -51,18 +56,26 @@ def closing_pairs(path: Path, model: pin.Model) -> dict[str, tuple[str, str]]:
 
 
 def load_closing_urdf(path: str | Path) -> Mechanism:
-    """Load a URDF with onshape-to-robot closing frames (see the module docstring); no actuated joint."""
+    """Load a URDF with onshape-to-robot closing frames and mimic joints (see the module docstring); no actuated joint."""
     path = Path(path)
     model = read_urdf(path)
-    pairs = closing_pairs(path, model)
+    couplings = mimic_couplings(path, model)
+    pairs = closing_pairs(path, model, len(couplings))
     with errors_at(path):
         closures = [make_closure(model, name, a, b, "3d") for name, (a, b) in pairs.items()]
         return Mechanism.from_model(
             model,
             [],
             name=model.name or path.stem,
-            description=f"URDF {path.name} with onshape-to-robot closing frames",
+            description=f"URDF {path.name} with {described(len(pairs), len(couplings))}",
             source=path,
             geometry=load_geometry(model, path),
-            closures=closures,
+            closures=unique(path, closures + couplings),
         )
+
+
+def described(pairs: int, couplings: int) -> str:
+    """``onshape-to-robot closing frames`` and/or ``N mimic joint(s)``: what a URDF's closures come from."""
+    said = ["onshape-to-robot closing frames"] if pairs else []
+    said += [f"{couplings} mimic joint{'s' * (couplings != 1)}"] if couplings else []
+    return " and ".join(said)

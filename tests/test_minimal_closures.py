@@ -246,3 +246,17 @@ def test_a_format_fix_does_not_write_is_refused(capsys, tmp_path):
     status, out, err = fix(capsys, DATA / "cad_gaps" / "spherical_3rrr" / "robot.urdf", "--output", tmp_path / "x.toml")
     assert status == 2 and out == "" and err.count("\n") == 1
     assert "pinmob fix writes pinmob TOML, Extended URDF sidecars (.yaml) and MJCF (.xml)" in err
+
+
+@pytest.mark.parametrize(
+    ("name", "verdict"),
+    [("3-RRR-planar", "3 DoF finite, 2T1R"), ("3-RRR-spherical", "3 DoF finite, 3R"), ("3-PRRR", "3 DoF finite, 3T")],
+)
+def test_the_finite_verdict_of_the_fixed_mechanism(name, verdict):
+    """The fewer-row closures in the finite analysis (their cut chains): the same verdict as the file's (the
+    3-RRRs' 2T1R and 3R and the 3-PRRR's 3T are finite motions: planar, spherical, translational)."""
+    mech = pinmob.load(name)
+    fixed = pinmob.fix_closures(mech)
+    assert {str(c.type) for c in fixed.closures} & {"planar_weld", "orientation", "universal"}
+    for m in (mech, fixed):
+        assert pinmob.analyze(m, finite=True).brief().endswith(f"finite: platform {verdict}")

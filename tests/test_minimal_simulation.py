@@ -183,3 +183,21 @@ def test_constraint_dynamics_under_gravity_keeps_the_loop_closed(bennett):
         )
     assert worst[0] < RESIDUAL_BOUND and worst[1] < RESIDUAL_BOUND, worst  # the dropped rotation rows hold too
     assert np.abs(q - report.state.q).max() > 1e-2  # it moved under gravity (not stuck)
+
+
+@pytest.mark.parametrize("configuration", ["generic", "theta1-140deg"])
+def test_builtin_bennett_at_each_named_configuration(configuration):
+    """The built-in Bennett (limbs X and Y, Y's tip welded to the platform): pinmob's fix makes that weld a ball
+    (``limb_Y``, 3d); Pinocchio's CONTACT_3D on its frames has full row rank at each named configuration, with
+    the null space of pinmob's closed chain, where the CONTACT_6D of the weld has rank 3 of 6."""
+    mech = pinmob.load("Bennett")
+    fixed = pinmob.fix_closures(mech)
+    (closure,) = fixed.closures
+    assert (closure.name, str(closure.type)) == ("limb_Y", "3d")
+    q = pinmob.analyze(mech, configuration).state.q
+    model = pin.Model(mech.model)
+    ball = jacobian(model, q, [legacy(model, fixed, closure, pin.ContactType.CONTACT_3D)])
+    weld = jacobian(model, q, [legacy(model, fixed, closure, pin.ContactType.CONTACT_6D)])
+    assert rank(ball) == ball.shape[0] == 3 and rank(weld) == 3
+    motions = pinmob.analyze(fixed, q).mechanism_mobility.motions
+    assert motions.shape[1] == 1 and subspace_gap(null(ball), motions) < 1e-7

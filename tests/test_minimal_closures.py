@@ -260,3 +260,40 @@ def test_the_finite_verdict_of_the_fixed_mechanism(name, verdict):
     assert {str(c.type) for c in fixed.closures} & {"planar_weld", "orientation", "universal"}
     for m in (mech, fixed):
         assert pinmob.analyze(m, finite=True).brief().endswith(f"finite: platform {verdict}")
+
+
+def test_fix_mjcf_weld_between_sites_becomes_a_connect_between_them(capsys, tmp_path):
+    """The Bennett weld written between two sites (placed with MuJoCo at qpos0, where the weld holds): the connect
+    keeps the sites (MuJoCo joins their origins), 3 rows of rank 3 in MuJoCo, 1 DoF in pinmob."""
+    mujoco = pytest.importorskip("mujoco")
+    source = DATA / "bennett_weld.xml"
+    m = mujoco.MjModel.from_xml_path(str(source))
+    d = mujoco.MjData(m)
+    mujoco.mj_forward(m, d)
+    body = m.body("L4").id
+    point = np.array([0.03, 0.02, 0.01])  # the weld's anchor, in the world
+    rot = d.xmat[body].reshape(3, 3)
+    pos = rot.T @ (point - d.xpos[body])
+    quat = np.empty(4)
+    mujoco.mju_negQuat(quat, d.xquat[body])  # the world's orientation seen from L4
+    text = source.read_text()
+    text = text.replace(
+        '<geom type="capsule" fromto="0 0 0 -0.121841673465349 -0.0124340905241696 0" size="0.004" mass="0.05"/>',
+        '<geom type="capsule" fromto="0 0 0 -0.121841673465349 -0.0124340905241696 0" size="0.004" mass="0.05"/>'
+        f'<site name="s4" pos="{" ".join(f"{x:.17g}" for x in pos)}" quat="{" ".join(f"{x:.17g}" for x in quat)}"/>',
+    )
+    text = text.replace("<worldbody>", '<worldbody><site name="s0" pos="0.03 0.02 0.01"/>')
+    text = text.replace(
+        '<weld name="loop" body1="L4" body2="world" anchor="0.03 0.02 0.01"/>',
+        '<weld name="loop" site1="s4" site2="s0"/>',
+    )
+    sites = tmp_path / "bennett_sites.xml"
+    sites.write_text(text)
+    assert mujoco_rank(sites)[:2] == (6, 3)
+    target = tmp_path / "bennett_sites_connect.xml"
+    status, out, _ = fix(capsys, sites, "--output", target)
+    assert status == 0 and "loop: weld -> connect" in out
+    assert '<connect name="loop" site1="s4" site2="s0"' in target.read_text()
+    assert mujoco_rank(target)[:2] == (3, 3)
+    chain = pinmob.analyze(pinmob.load(target), "reference").mechanism_mobility
+    assert (chain.mechanism_dof, chain.redundant_constraints) == (1, 0)

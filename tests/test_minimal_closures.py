@@ -297,3 +297,13 @@ def test_fix_mjcf_weld_between_sites_becomes_a_connect_between_them(capsys, tmp_
     assert mujoco_rank(target)[:2] == (3, 3)
     chain = pinmob.analyze(pinmob.load(target), "reference").mechanism_mobility
     assert (chain.mechanism_dof, chain.redundant_constraints) == (1, 0)
+
+
+def test_fix_mjcf_unnamed_weld(capsys, tmp_path):
+    """An unnamed weld (pinmob's label equality#0) is found by its place among MuJoCo's equalities."""
+    unnamed = tmp_path / "bennett_unnamed.xml"
+    unnamed.write_text((DATA / "bennett_weld.xml").read_text().replace('<weld name="loop" ', "<weld "))
+    target = tmp_path / "out.xml"
+    status, out, _ = fix(capsys, unnamed, "--output", target)
+    assert status == 0 and "equality#0: weld -> connect" in out
+    assert '<connect body1="L4"' in target.read_text() and mujoco_rank(target)[:2] == (3, 3)

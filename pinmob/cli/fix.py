@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import re
 from dataclasses import replace
 from pathlib import Path
 
@@ -76,10 +77,9 @@ def _urdf_of(mech: Mechanism, kind: str) -> list[Path | None]:
         from pinmob.io.toml_file import read_toml
 
         return [mech.source.parent / str(read_toml(mech.source).get("urdf", ""))]
-    from pinmob.io.extended_urdf import _read_yaml, find_urdf
+    from pinmob.io.extended_urdf import sidecar_urdf
 
-    doc = _read_yaml(mech.source)
-    return [mech.source.parent / str(doc["urdf"]) if "urdf" in doc else find_urdf(mech.source)]
+    return [sidecar_urdf(mech.source)]
 
 
 def run(args: argparse.Namespace) -> int:
@@ -189,8 +189,11 @@ def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: 
             )
             continue
         e = mujoco.mj_name2id(m, mujoco.mjtObj.mjOBJ_EQUALITY, c.name)
+        unnamed = re.fullmatch(r"equality#(\d+)", c.name)
+        if e < 0 and unnamed is not None:  # pinmob's label of MuJoCo's equality k without a name
+            e = int(unnamed.group(1))
         if e < 0:
-            print(f"{change.name}: an unnamed weld; name it in the file to have it changed")
+            print(f"{change.name}: not found among MuJoCo's equalities; left as it is")
             continue
         connects[c.name] = e
         anchors[c.name] = [float(x) for x in m.eq_data[e, 3:6]]
@@ -208,6 +211,14 @@ def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: 
         return 0
     from pinmob.io.fixed_files import fixed_mjcf
 
+    trial = replace(
+        mech, closures=tuple(replace(x, type=ClosureType.BALL) if x.name in connects else x for x in mech.closures)
+    )
+    check = check_fixed(mech, trial, closure_tol=tol)  # every connect together, at every named configuration
+    if not check.same:
+        raise ConfigurationError(
+            f"the connects change the answers ({'; '.join(check.differences)}); {target} not written"
+        )
     _write(target, fixed_mjcf(source, connects, anchors))
     new = compile_mjcf(target, warn=False)
     rows, rank_mj = mujoco_equality_rank(new)

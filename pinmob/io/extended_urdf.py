@@ -149,6 +149,12 @@ def find_urdf(path: Path) -> Path:
     )
 
 
+def sidecar_urdf(path: Path, doc: Mapping[str, Any] | None = None) -> Path:
+    """The URDF of a sidecar: its ``urdf`` key (relative to it), else the one beside it (:func:`find_urdf`)."""
+    doc = _read_yaml(path) if doc is None else doc
+    return path.parent / str(doc["urdf"]) if "urdf" in doc else find_urdf(path)
+
+
 def load_extended_urdf(path: str | Path) -> Mechanism:
     """Load an Extended URDF robot from its YAML sidecar (the URDF beside it), or from the URDF beside its sidecar.
 
@@ -177,7 +183,7 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
         raise file_error(
             path, f"'joint_name' ({len(joint_names)}) and 'joint_type' ({len(joint_types)}) must have the same length"
         )
-    urdf = find_urdf(path) if "urdf" not in doc else path.parent / str(doc["urdf"])
+    urdf = sidecar_urdf(path, doc)
     axes = {k: doc.get(k) or [None] * len(loops) for k in ("axis", "axis_b")}
     for k, v in axes.items():
         if not isinstance(v, list) or len(v) != len(loops):

@@ -307,3 +307,12 @@ def test_fix_mjcf_unnamed_weld(capsys, tmp_path):
     status, out, _ = fix(capsys, unnamed, "--output", target)
     assert status == 0 and "equality#0: weld -> connect" in out
     assert '<connect body1="L4"' in target.read_text() and mujoco_rank(target)[:2] == (3, 3)
+
+
+def test_redundant_couplings_are_kept_and_said(capsys, tmp_path):
+    """tests/data/couplings/shaky_couplings.xml: a joint and a tendon coupling implied by the rest (rank 2 of 4);
+    pinmob changes no coupling: the proposal says so and nothing is written."""
+    status, out, _ = fix(capsys, DATA / "couplings" / "shaky_couplings.xml", "--output", tmp_path / "sc.xml")
+    assert status == 0 and not (tmp_path / "sc.xml").exists()
+    assert "a_down: joint (1 equation): keep (1 implied by the rest; a coupling is not changed)" in out
+    assert "nothing to fix" in out

@@ -101,7 +101,7 @@ def fix_closures(
         )
     if minimal is None or not minimal.changes:
         return mech
-    missing = [c.name for c in minimal.closures if not c.found]
+    missing = [c.name for c in minimal.closures if not c.found and c.type not in ("joint", "tendon")]  # couplings kept
     if missing:
         raise ConfigurationError(
             f"no closure of pinmob's vocabulary has exactly the independent equations of {', '.join(missing)}"

@@ -96,7 +96,11 @@ def run(args: argparse.Namespace) -> int:
             minimal = analyze(mech, config, closure_tol=tol).minimal_closures
         report = analyze(mech, config, closure_tol=tol)
     where = f" at {report.configuration!r}" if report.configuration else ""
-    if minimal is None or not minimal.changes:
+    if minimal is not None and not minimal.changes:
+        print(str(minimal).rsplit("\n", 1)[0])
+        print(f"none of them is changed (couplings are kept); nothing to fix, {target} not written")
+        return 0
+    if minimal is None:
         elsewhere = [
             n
             for n in mech.configurations

@@ -85,7 +85,7 @@ class MinimalClosure:
 
     def text(self) -> str:
         """One line: ``B: 6d (6 equations) -> planar_weld, axis [0, 0, 1] in frame 'a' (3)``."""
-        head = f"{self.name}: {self.type} ({self.rows} equations)"
+        head = f"{self.name}: {self.type} ({self.rows} equation{'s' if self.rows != 1 else ''})"
         if not self.changed:
             if self.found:
                 return f"{head}: keep"

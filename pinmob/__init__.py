@@ -27,7 +27,9 @@ from pinmob.analysis.chain.closure_jacobian_twists import closure_jacobian_twist
 from pinmob.analysis.chain.mechanism_mobility import ClosureRank, FrameMobility, MechanismMobility, frame_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.entry_point import analyze
+from pinmob.analysis.fixed_closures import FixCheck, check_fixed, fix_closures, minimal_closures
 from pinmob.analysis.limbs import LimbMobility
+from pinmob.analysis.minimal import MinimalClosure, MinimalClosures
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion import Constraint, Method, Motion, View
 from pinmob.analysis.report import Report
@@ -105,6 +107,7 @@ __all__ = [
     "Constraint",
     "ConstraintModelError",
     "Expectation",
+    "FixCheck",
     "FrameError",
     "FrameMobility",
     "Limb",
@@ -112,6 +115,8 @@ __all__ = [
     "Mechanism",
     "MechanismFileError",
     "MechanismMobility",
+    "MinimalClosure",
+    "MinimalClosures",
     "Method",
     "Mobility",
     "Motion",
@@ -132,12 +137,15 @@ __all__ = [
     "assembly_modes",
     "builtin_models",
     "check_closed",
+    "check_fixed",
     "closed_configuration",
     "closure_jacobian_twists",
     "find_closed",
+    "fix_closures",
     "frame_mobility",
     "load",
     "load_spec",
+    "minimal_closures",
     "paper_view",
     "project",
     "solve_actuated",

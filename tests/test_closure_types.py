@@ -13,6 +13,14 @@ normal to u), and rows = 6 - allowed:
 - revolute: rotation about u (1R); universal: rotations about u and u_b through the origin (2R);
 - cylindrical: rotation about and translation along u (1T1R, coaxial);
 - planar: translations along p1, p2 and rotation about u (2T1R).
+
+The fewer-row kinds (minimal closures of planar and spherical loops) allow, to first order:
+
+- planar_weld: translation along u, rotations about p1, p2; inline: translation along u, any rotation;
+- inplane: translations along p1, p2, any rotation; orientation: any translation;
+- parallel_axes: any translation, rotation about u; perpendicular: any translation, rotations about u and u_b.
+
+Their residual Jacobians are also checked against finite differences away from the closed pose.
 """
 
 from __future__ import annotations
@@ -22,7 +30,7 @@ import pinocchio as pin
 import pytest
 
 import pinmob
-from pinmob.assembly.residual import closure_error, compute_kinematics
+from pinmob.assembly.residual import closure_error, closure_value, compute_kinematics
 from pinmob.model.closure import make_closure
 from pinmob.screw.bases import subspace_gap
 
@@ -50,6 +58,16 @@ ALLOWED = {
 }
 
 
+FEWER_ROWS = {
+    "planar_weld": [twist(v=U), twist(w=P1), twist(w=P2)],
+    "inline": [twist(v=U)] + [twist(w=e) for e in np.eye(3)],
+    "inplane": [twist(v=P1), twist(v=P2)] + [twist(w=e) for e in np.eye(3)],
+    "orientation": [twist(v=e) for e in np.eye(3)],
+    "parallel_axes": [twist(v=e) for e in np.eye(3)] + [twist(w=U)],
+    "perpendicular": [twist(v=e) for e in np.eye(3)] + [twist(w=U), twist(w=P1)],
+}
+
+
 def finite(kind: str, s: float) -> pin.SE3:
     """A finite relative pose of b in a inside the closure's subgroup (parameter s)."""
     exp = pin.exp6
@@ -68,7 +86,8 @@ def free_body(kind: str) -> tuple[pinmob.Mechanism, pinmob.Closure]:
     body = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3.Identity(), "free")
     model.addFrame(pin.Frame("a", 0, A_POSE, pin.FrameType.OP_FRAME))
     model.addFrame(pin.Frame("b", body, B_OFFSET, pin.FrameType.OP_FRAME))
-    axes = {"axis": U, "axis_b": P1} if kind == "universal" else {"axis": U} if kind not in ("6d", "3d") else {}
+    two, none = ("universal", "perpendicular"), ("6d", "3d", "orientation")
+    axes = {"axis": U, "axis_b": P1} if kind in two else {"axis": U} if kind not in none else {}
     closure = make_closure(model, kind, "a", "b", kind, **axes)
     return pinmob.Mechanism.from_model(model, [], name=kind, closures=[closure], length_scale=0.3), closure
 
@@ -78,7 +97,7 @@ def at(relative: pin.SE3) -> np.ndarray:
     return pin.SE3ToXYZQUAT(A_POSE * relative * B_OFFSET.inverse())
 
 
-@pytest.mark.parametrize("kind", sorted(ALLOWED))
+@pytest.mark.parametrize("kind", sorted(ALLOWED | FEWER_ROWS))
 def test_closure_allows_exactly_its_motions(kind):
     mech, closure = free_body(kind)
     model, data = mech.model, mech.model.createData()
@@ -86,12 +105,13 @@ def test_closure_allows_exactly_its_motions(kind):
     compute_kinematics(model, data, q)
     e, jac, lin = closure_error(model, data, closure)
     assert np.max(np.abs(e)) < 1e-12
-    assert jac.shape == (closure.rows, 6) == (6 - len(ALLOWED[kind]), 6)
+    allowed = (ALLOWED | FEWER_ROWS)[kind]
+    assert jac.shape == (closure.rows, 6) == (6 - len(allowed), 6)
     _, s, vt = np.linalg.svd(jac)
     assert np.sum(s > 1e-9 * max(s, default=1.0)) == closure.rows  # independent rows
     null = vt[closure.rows :].T
     relative = pin.getFrameJacobian(model, data, model.getFrameId("b"), pin.LOCAL) @ null  # b in a = b in b here
-    expected = np.column_stack(ALLOWED[kind]) if ALLOWED[kind] else np.zeros((6, 0))
+    expected = np.column_stack(allowed) if allowed else np.zeros((6, 0))
     scale = np.array([1 / 0.3] * 3 + [1.0] * 3)[:, None]
     assert subspace_gap(scale * relative, scale * expected) < 1e-7  # its floor is sqrt(eps) ~ 1.5e-8
 
@@ -110,3 +130,24 @@ def test_residual_zero_inside_the_subgroup_and_not_outside(kind):
         compute_kinematics(model, data, at(off))
         e = closure_error(model, data, closure)[0]
         assert np.linalg.norm(e) > 1e-3, (kind, complement[:, k])
+
+
+@pytest.mark.parametrize("kind", sorted(FEWER_ROWS))
+def test_fewer_row_jacobians_match_finite_differences(kind):
+    """Away from the closed pose (residual not 0), J = de/dq by central differences (Pinocchio's integrate)."""
+    mech, closure = free_body(kind)
+    model, data = mech.model, mech.model.createData()
+    q = at(pin.exp6(0.2 * RNG.standard_normal(6)))
+    compute_kinematics(model, data, q)
+    e, jac, _ = closure_error(model, data, closure)
+    assert np.linalg.norm(e) > 1e-3
+    np.testing.assert_allclose(closure_value(model, data, closure)[0], e, atol=1e-14)  # the same residual
+    h, numeric = 1e-6, np.zeros_like(jac)
+    for k in range(model.nv):
+        dq = np.zeros(model.nv)
+        dq[k] = h
+        compute_kinematics(model, data, pin.integrate(model, q, dq))
+        plus = closure_error(model, data, closure)[0]
+        compute_kinematics(model, data, pin.integrate(model, q, -dq))
+        numeric[:, k] = (plus - closure_error(model, data, closure)[0]) / (2 * h)
+    np.testing.assert_allclose(jac, numeric, atol=1e-7)

@@ -211,7 +211,8 @@ def test_a_report_names_parameters_and_the_command_line_prints_options(capsys) -
     assert str(report).count("misses them: see `paper=True`.") == 1 and "--" not in str(report)
     assert main(["analyze", "3-PUU-flat", "--config", "flat"]) == 0
     assert capsys.readouterr().out == worded_report(str(report)) + "\n"
-    assert worded_report(str(report)) == str(report).replace("`paper=True`", "--paper-view")
+    fix = ("the corrected mechanism: `pinmob.fix_closures(mech)`", "the corrected file: pinmob fix FILE --output OUT")
+    assert worded_report(str(report)) == str(report).replace("`paper=True`", "--paper-view").replace(*fix)
     ambiguous = str(AmbiguousRank("closure rank", 3, 2e-7, 5e-8, 1e-7))
     assert ambiguous.endswith("(check the model's accuracy, or set `rtol` / `closure_tol`)")
     assert worded_report(ambiguous).endswith("(check the model's accuracy, or set --rtol / --closure-tol)")

@@ -143,7 +143,9 @@ def limb_twists(conf: Configuration, rtol: float, lock_actuated: bool = False) -
         out = []
         for limb, (start, stop), keep in zip(mech.limbs, bounds, kept):
             if limb.closures:
-                out.append(limb_screws(conf, limb, rtol, origin, limb.actuated if lock_actuated else (), world))
+                out.append(
+                    limb_screws(conf, limb, rtol, origin, mech.limb_actuators(limb) if lock_actuated else (), world)
+                )
             else:
                 out.append(every[:, keep] if lock_actuated else every[:, start:stop])
         return tuple(out)

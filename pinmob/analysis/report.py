@@ -15,6 +15,9 @@ computed at once; the other parts when first used (``to_dict`` and ``str`` use t
   view, only when asked (``paper=True``); ``finite``, finite versus instantaneous mobility, only when asked
   (``finite=True``; :mod:`pinmob.analysis.finite`). Each of these three is also an attribute
   (``report.paper``).
+* ``minimal_closures``: per closure, the closure with exactly its independent equations, only where some closure
+  equation is redundant (:mod:`pinmob.analysis.minimal`; shown before the registered parts, and ``null`` in the
+  JSON otherwise).
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
 from pinmob.analysis.generic import generic_constraint_rank
+from pinmob.analysis.minimal import MinimalClosures, minimal_closures
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report_html import Section, joined, report_html
 from pinmob.analysis.report_parts import REPORT_PARTS, Options
@@ -127,6 +131,16 @@ class Report:
         """Finite versus instantaneous mobility (only when asked for with ``finite=True``)."""
         return self.part("finite")
 
+    @cached_property
+    def minimal_closures(self) -> MinimalClosures | None:
+        """Per closure, the closure with exactly its independent equations; None where none is redundant.
+
+        Computed only where ``mechanism_mobility.redundant_constraints > 0`` (:mod:`pinmob.analysis.minimal`).
+        """
+        if not self.mechanism_mobility.redundant_constraints:
+            return None
+        return minimal_closures(self.state, self.rtol)
+
     @property
     def platform_frame(self) -> FrameMobility | None:
         """The platform frame's motion on the whole closed chain (None without a platform)."""
@@ -198,6 +212,8 @@ class Report:
         mech = self.state.mechanism
         layout = mech.memo("joint layout", lambda: joint_layout(mech.model))
         out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz, layout)
+        minimal = self.minimal_closures
+        out["minimal_closures"] = None if minimal is None else minimal.to_dict()
         out["rank_tolerance_note"] = self._raised()
         out["ambiguous_ranks"] = [a.to_dict() for a in self.ambiguous_ranks]
         for name, part in REPORT_PARTS.items():  # the registered parts' entries, in their order
@@ -222,6 +238,8 @@ class Report:
             out = [Section("platform", str(mob)), Section("singularity", unseen if sing is None else str(sing))]
             out += [Section("expected", str(expected))] if expected is not None else []
             out.append(Section("mechanism", str(self.mechanism_mobility), gap=True))
+        if (minimal := self.minimal_closures) is not None:
+            out.append(Section("minimal closures", str(minimal)))
         if lines := self._rank_lines():
             out.append(Section("rank notes", "\n".join(lines)))
         for name, part in REPORT_PARTS.items():  # the registered parts' sections, in their order

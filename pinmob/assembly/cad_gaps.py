@@ -12,10 +12,11 @@ its samples are assembled (and polished) on it, and analysed on the mechanism as
 closure tolerance (each keeps the gaps of ``q_ref``, exactly when they are a fixed offset of a frame).
 
 * a limb tip: its placement ``jM_tip`` becomes ``jM_tip G^-1``, ``G = oM_platform^-1 oM_tip`` at ``q_ref``;
-* a ``6d``, ``revolute``, ``cylindrical`` or ``planar`` closure: frame b's placement becomes ``jM_b G^-1``,
+* a ``6d``, ``revolute``, ``cylindrical``, ``planar``, ``planar_weld``, ``orientation``, ``parallel_axes`` or
+  ``perpendicular`` closure: frame b's placement becomes ``jM_b G^-1``,
   ``G = oM_a^-1 oM_b`` (b then coincides with a at ``q_ref``; a rotation about a hinge's axis is allowed
   anyway);
-* a ``3d`` or ``universal`` closure: frame b's origin moves onto frame a's at ``q_ref`` (a universal's
+* a ``3d``, ``universal``, ``inline`` or ``inplane`` closure: frame b's origin moves onto frame a's at ``q_ref`` (a universal's
   angle condition keeps its gap);
 * a coupling of joints or tendons has no frame to move: it keeps its gap.
 """
@@ -37,7 +38,17 @@ from pinmob.screw.algebra import Array
 Gaps = tuple[tuple[int, tuple[float, ...]], ...]
 
 #: Closure types whose gap is a relative pose (``log6``), and those whose gap is a distance between origins.
-_POSE_TYPES, _POINT_TYPES = ("6d", "revolute", "cylindrical", "planar"), ("3d", "universal")
+_POSE_TYPES = (
+    "6d",
+    "revolute",
+    "cylindrical",
+    "planar",
+    "planar_weld",
+    "orientation",
+    "parallel_axes",
+    "perpendicular",
+)
+_POINT_TYPES = ("3d", "universal", "inline", "inplane")
 
 
 def frame_gaps(mech: Mechanism, q: Array, closure_tol: float) -> Gaps:

@@ -89,9 +89,13 @@ def _perp(u: Array) -> Array:
 
 
 def _selection(c: Closure) -> tuple[Array, Mask]:
-    """Rows S (k, 6) of ``log6(aMb)`` forbidden by a revolute/cylindrical/planar closure, and their linear mask."""
+    """Rows S (k, 6) of ``log6(aMb)`` forbidden by a closure of :data:`_POSE_ROWS`, and their linear mask."""
+    if c.type == "orientation":
+        return np.hstack([np.zeros((3, 3)), np.eye(3)]), np.zeros(3, bool)
     u = np.asarray(c.axis, float)
     p, z = _perp(u), np.zeros((2, 3))
+    if c.type == "parallel_axes":
+        return np.hstack([z, p]), np.zeros(2, bool)
     lin = {
         "revolute": np.vstack([np.eye(3), np.zeros((3, 3))]).T,
         "cylindrical": np.hstack([p, z]),
@@ -103,25 +107,60 @@ def _selection(c: Closure) -> tuple[Array, Mask]:
 
 #: The rows of a ``6d``, ``3d`` and ``universal`` closure's residual that are lengths (read-only, shared).
 _WELD_LENGTHS, _BALL_LENGTHS, _UNIVERSAL_LENGTHS = np.arange(6) < 3, np.ones(3, bool), np.arange(4) < 3
-_WELD_LENGTHS.flags.writeable = _BALL_LENGTHS.flags.writeable = _UNIVERSAL_LENGTHS.flags.writeable = False
+_INLINE_LENGTHS, _INPLANE_LENGTHS, _PLANAR_WELD_LENGTHS = np.ones(2, bool), np.ones(1, bool), np.arange(3) < 2
+_ANGLE_LENGTHS = np.zeros(1, bool)
+for _mask in (_WELD_LENGTHS, _BALL_LENGTHS, _UNIVERSAL_LENGTHS, _INLINE_LENGTHS, _INPLANE_LENGTHS):
+    _mask.flags.writeable = False
+_PLANAR_WELD_LENGTHS.flags.writeable = _ANGLE_LENGTHS.flags.writeable = False
+
+
+#: Closure types whose rows are those of the relative pose's ``log6``, and those built from b's origin in frame a.
+_POSE_ROWS = ("revolute", "cylindrical", "planar", "orientation", "parallel_axes")
+_POINT_ROWS = ("3d", "universal", "inline", "inplane", "planar_weld", "perpendicular")
+
+
+def _point_rows(c: Closure, e: Array, jac: Array, turn: tuple[Array, Array] | None) -> tuple[Array, Array, Mask]:
+    """A point-based closure's rows from b's origin in frame a ``e`` (3,) with its Jacobian (3, nv).
+
+    ``turn``: the relative rotation's ``log3`` in frame a and its Jacobian (3, nv) (``planar_weld``), or for
+    ``universal`` and ``perpendicular`` the value ``u . (R_ab u_b)`` (as a (1,) array) and its rate row (1, nv).
+    """
+    if c.type == "3d":
+        return e, jac, _BALL_LENGTHS
+    u = np.asarray(c.axis, float)
+    if c.type == "inline":
+        p = _perp(u)
+        return p @ e, p @ jac, _INLINE_LENGTHS
+    if c.type == "inplane":
+        return np.array([u @ e]), (u @ jac)[None], _INPLANE_LENGTHS
+    value, rate = turn if turn is not None else (np.zeros(3), np.zeros((3, jac.shape[1])))
+    if c.type == "planar_weld":
+        p = _perp(u)
+        return np.append(p @ e, u @ value), np.vstack([p @ jac, u @ rate]), _PLANAR_WELD_LENGTHS
+    if c.type == "perpendicular":
+        return value, rate, _ANGLE_LENGTHS
+    return np.append(e, value), np.vstack([jac, rate]), _UNIVERSAL_LENGTHS  # universal
 
 
 def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Array, Mask]:
     """Residual of one closure, its Jacobian and which rows are lengths; kinematics must be computed.
 
-    With ``M = oM_a^-1 oM_b`` (pose of b in a):
+    With ``M = oM_a^-1 oM_b`` (pose of b in a), ``p = R_a^T (p_b - p_a)`` (b's origin in frame a) and
+    ``r = log3(R_a^T R_b)`` (the relative rotation in frame a):
 
     - ``6d``: ``e = log6(M)`` (:func:`relative_error`);
-    - ``3d``: ``e = R_a^T (p_b - p_a)``, ``de/dt = R_a^T (v_b - v_a) + e x w_a``
+    - ``3d``: ``e = p``, ``de/dt = R_a^T (v_b - v_a) + e x w_a``
       (origin velocities in world axes, w_a in frame a);
-    - ``revolute``, ``cylindrical``, ``planar``: ``e = S log6(M)``, the rows S
+    - ``revolute``, ``cylindrical``, ``planar``, ``orientation``, ``parallel_axes``: ``e = S log6(M)``, the rows S
       of the relative motion the closure forbids (zero exactly on the allowed
-      subgroup, for relative rotations below pi);
+      subgroup, for relative rotations below pi); ``orientation``: ``e = r``; ``parallel_axes``: ``e = P r``
+      (``P`` (2, 3) the rows normal to u);
+    - ``inline``: ``e = P p``; ``inplane``: ``e = u . p``; ``planar_weld``: ``e = [P p; u . r]``;
     - ``joint``: ``e = (q1 - r1) - sum_k c_k (q2 - r2)^k`` (:func:`coupling_error`);
     - ``tendon``: ``e = (l1 - r1) - sum_k c_k (l2 - r2)^k`` on tendon lengths (:func:`tendon_error`);
     - ``universal``: the 3d residual and ``u . (R_ab u_b)`` (hinge axes
       perpendicular), whose rate is ``(R_ab u_b x u) . w_rel`` (w_rel the
-      relative angular velocity in frame a).
+      relative angular velocity in frame a); ``perpendicular``: that last row alone.
 
     Returns:
         e (k,), J (k, nv) and a boolean mask (k,) of the rows in metres (the
@@ -135,7 +174,7 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     if c.type == "6d":
         e, jac = relative_error(model, data, a, b)
         return e, jac, _WELD_LENGTHS
-    if c.type in ("revolute", "cylindrical", "planar"):
+    if c.type in _POSE_ROWS:
         e, jac = relative_error(model, data, a, b)
         sel, lin = _selection(c)
         return sel @ e, sel @ jac, lin
@@ -146,14 +185,16 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     jb_w = frame_jacobian(model, data, b, pin.LOCAL_WORLD_ALIGNED)
     wa_local = ra.T @ ja_w[3:]
     jac = ra.T @ (jb_w[:3] - ja_w[:3]) + pin.skew(e) @ wa_local
-    if c.type == "3d":
-        return e, jac, _BALL_LENGTHS
-    # universal
-    u = np.asarray(c.axis, float)
-    w = ra.T @ omb.rotation @ np.asarray(c.axis_b, float)
-    w_rel = ra.T @ (jb_w[3:] - ja_w[3:])
-    row = np.cross(w, u) @ w_rel
-    return np.append(e, u @ w), np.vstack([jac, row]), _UNIVERSAL_LENGTHS
+    turn = None
+    if c.type == "planar_weld":
+        pose, pose_jac = relative_error(model, data, a, b)
+        turn = pose[3:], pose_jac[3:]
+    elif c.type in ("universal", "perpendicular"):
+        u = np.asarray(c.axis, float)
+        w = ra.T @ omb.rotation @ np.asarray(c.axis_b, float)
+        w_rel = ra.T @ (jb_w[3:] - ja_w[3:])
+        turn = np.array([u @ w]), (np.cross(w, u) @ w_rel)[None]
+    return _point_rows(c, e, jac, turn)
 
 
 def closure_value(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, Mask]:
@@ -161,12 +202,16 @@ def closure_value(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     if c.is_coupling:
         return (coupling_error if c.type == "joint" else tendon_error)(model, data, c)[::2]
     oma, omb = data.oMf[c.frame_a_id], data.oMf[c.frame_b_id]
-    if c.type in ("3d", "universal"):
+    if c.type in _POINT_ROWS:
         e = oma.rotation.T @ (omb.translation - oma.translation)
-        if c.type == "3d":
-            return e, _BALL_LENGTHS
-        w = oma.rotation.T @ omb.rotation @ np.asarray(c.axis_b, float)
-        return np.append(e, np.asarray(c.axis, float) @ w), _UNIVERSAL_LENGTHS
+        turn = None
+        if c.type == "planar_weld":
+            turn = pin.log6(oma.actInv(omb)).vector[3:], np.zeros((3, 0))  # closure_error's bits
+        elif c.type in ("universal", "perpendicular"):
+            w = oma.rotation.T @ omb.rotation @ np.asarray(c.axis_b, float)
+            turn = np.array([np.asarray(c.axis, float) @ w]), np.zeros((1, 0))
+        value, _, lin = _point_rows(c, e, np.zeros((3, 0)), turn)
+        return value, lin
     e = pin.log6(oma.actInv(omb)).vector
     if c.type == "6d":
         return e, _WELD_LENGTHS

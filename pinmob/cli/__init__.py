@@ -1,4 +1,4 @@
-"""Command line: ``pinmob models``, ``analyze``, ``show``, ``scan``, ``sweep`` and ``glossary``.
+"""Command line: ``pinmob models``, ``analyze``, ``show``, ``scan``, ``sweep``, ``glossary`` and ``fix``.
 
 The commands only parse, call the library and format. Errors are printed as
 one line on stderr (``pinmob: error: ...``) with exit status 2, never with a
@@ -55,6 +55,12 @@ def _sweep(args: argparse.Namespace) -> int:
     return sweep.run(args)
 
 
+def _fix(args: argparse.Namespace) -> int:
+    from pinmob.cli import fix
+
+    return fix.run(args)
+
+
 def _glossary(args: argparse.Namespace) -> int:
     from pinmob.cli import glossary_command as glossary
 
@@ -69,6 +75,7 @@ COMMANDS: dict[str, Callable[[argparse.Namespace], int]] = {
     "scan": _scan,
     "sweep": _sweep,
     "glossary": _glossary,
+    "fix": _fix,
 }
 
 

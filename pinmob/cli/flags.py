@@ -59,8 +59,19 @@ def worded_for_cli(exc: PinmobError) -> str:
     return worded(str(exc), exc.parameters)
 
 
+#: The report's phrases that name a Python call, and the command that does it on the command line
+REPORT_CALLS = {
+    "the corrected mechanism: `pinmob.fix_closures(mech)`": "the corrected file: pinmob fix FILE --output OUT"
+}
+
+
 def worded_report(text: str) -> str:
-    """A report's text (``str(report)``, its brief line) with the parameters it names in backticks as options."""
+    """A report's text (``str(report)``, its brief line) with the parameters it names in backticks as options.
+
+    The Python calls it names (:data:`REPORT_CALLS`) become their commands.
+    """
+    for call, command in REPORT_CALLS.items():
+        text = text.replace(call, command)
     return worded(text, (*REPORT_PARAMETERS, *part_keywords()), marked_only=True)
 
 

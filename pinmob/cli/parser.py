@@ -1,4 +1,4 @@
-"""The command line's arguments: ``pinmob models|analyze|show|scan|sweep|glossary`` and their options."""
+"""The command line's arguments: ``pinmob models|analyze|show|scan|sweep|glossary|fix`` and their options."""
 
 from __future__ import annotations
 
@@ -87,7 +87,7 @@ def add_part_options(p: argparse.ArgumentParser) -> None:
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The ``pinmob`` argument parser with its six commands."""
+    """The ``pinmob`` argument parser with its seven commands."""
     parser = Parser(
         prog="pinmob", description="Platform mobility of parallel and closed-chain robots.", epilog=GLOSSARY
     )
@@ -255,6 +255,20 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "term", nargs="?", help="print only the entries of the terms containing this (any case); default: all"
     )
+
+    p = sub.add_parser(
+        "fix",
+        help="write the mechanism file with minimal closures (no redundant closure equation), in its own format",
+        epilog=GLOSSARY,
+    )
+    p.add_argument(
+        "mechanism", help="built-in model name (any case) or path to a TOML, Extended URDF (.yaml) or MJCF file"
+    )
+    p.add_argument("--output", "-o", required=True, help="the file to write (a new file; never the input)")
+    p.add_argument("--force", action="store_true", help="overwrite --output if it exists (never the input)")
+    p.add_argument("--config", "-c", help="configuration where the proposal is computed (default: the first named one)")
+    p.set_defaults(actuated=None)  # the file's actuators are kept as they are
+    p.add_argument("--closure-tol", type=float, default=None, help="largest closure residual accepted (default 1e-6)")
     return parser
 
 

@@ -4,7 +4,10 @@ The convention of example-parallel-robots / toolbox-parallel-robots: beside
 ``robot.urdf``, a ``robot.yaml`` with
 
 - ``closed_loop``: pairs of frame names ``[frame_a, frame_b]`` joined when the loop is closed;
-- ``type``: per pair, ``6d`` (same pose) or ``3d`` (same origin); default ``6d``;
+- ``type``: per pair, ``6d`` (same pose) or ``3d`` (same origin); default ``6d``; pinmob also reads its own
+  closure types here (``revolute``, ``planar_weld``, ... as ``pinmob fix`` writes them), with ``axis`` and
+  ``axis_b`` (per pair, a 3-vector in the pair's first / second frame or ``null``) and ``urdf`` (the URDF's
+  path, relative to the sidecar), keys the LAAS tools do not read;
 - ``name_mot``: the actuated joints;
 - ``joint_name`` / ``joint_type`` (optional): joints rebuilt as another joint
   model: ``SPHERICAL`` (a ball joint, :class:`pin.JointModelSpherical`),
@@ -34,12 +37,12 @@ from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
-from pinmob.model.closure import make_closure
+from pinmob.model.closure import CLOSURE_TYPES, make_closure
 from pinmob.model.mechanism import Mechanism
 from pinmob.name_matching import choices
 
 JOINT_TYPES = ("SPHERICAL", "CARDAN", "FIXED") + tuple(f"UJOINT_{a}{b}" for a in "XYZ" for b in "XYZ" if a != b)
-YAML_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
+YAML_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "axis", "axis_b", "urdf")
 _AXIS = {"X": pin.JointModelRX, "Y": pin.JointModelRY, "Z": pin.JointModelRZ}
 
 
@@ -146,6 +149,12 @@ def find_urdf(path: Path) -> Path:
     )
 
 
+def sidecar_urdf(path: Path, doc: Mapping[str, Any] | None = None) -> Path:
+    """The URDF of a sidecar: its ``urdf`` key (relative to it), else the one beside it (:func:`find_urdf`)."""
+    doc = _read_yaml(path) if doc is None else doc
+    return path.parent / str(doc["urdf"]) if "urdf" in doc else find_urdf(path)
+
+
 def load_extended_urdf(path: str | Path) -> Mechanism:
     """Load an Extended URDF robot from its YAML sidecar (the URDF beside it), or from the URDF beside its sidecar.
 
@@ -174,7 +183,11 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
         raise file_error(
             path, f"'joint_name' ({len(joint_names)}) and 'joint_type' ({len(joint_types)}) must have the same length"
         )
-    urdf = find_urdf(path)
+    urdf = sidecar_urdf(path, doc)
+    axes = {k: doc.get(k) or [None] * len(loops) for k in ("axis", "axis_b")}
+    for k, v in axes.items():
+        if not isinstance(v, list) or len(v) != len(loops):
+            raise file_error(path, f"{k!r} must list a 3-vector or null per closed loop ({len(loops)}), got {shown(v)}")
     try:
         model = read_urdf(urdf)  # urdfdom's own messages go into the error or one warning, never raw to stderr
     except MechanismFileError as exc:
@@ -195,10 +208,14 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
     geometry = load_geometry(model, urdf)
     with errors_at(path):
         closures = []
-        for (a, b), t in zip(loops, types):
-            if str(t).lower() not in ("6d", "3d"):
-                raise file_error(path, f"closed loop [{a!r}, {b!r}] has type {t!r}; valid: '3d', '6d'")
-            closures.append(make_closure(model, f"{a}={b}", a, b, str(t).lower()))
+        for (a, b), t, u, ub in zip(loops, types, axes["axis"], axes["axis_b"]):
+            if str(t).lower() not in CLOSURE_TYPES:
+                raise file_error(
+                    path,
+                    f"closed loop [{a!r}, {b!r}] has type {t!r}; valid: '3d', '6d' (pinmob's own: "
+                    f"{choices(CLOSURE_TYPES[2:])})",
+                )
+            closures.append(make_closure(model, f"{a}={b}", a, b, str(t).lower(), u, ub))
         return Mechanism.from_model(
             model,
             [],

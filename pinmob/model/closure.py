@@ -28,6 +28,12 @@ class ClosureType(StrEnum):
     UNIVERSAL = "universal"
     CYLINDRICAL = "cylindrical"
     PLANAR = "planar"
+    PLANAR_WELD = "planar_weld"
+    INLINE = "inline"
+    INPLANE = "inplane"
+    ORIENTATION = "orientation"
+    PARALLEL_AXES = "parallel_axes"
+    PERPENDICULAR = "perpendicular"
     JOINT = "joint"
     TENDON = "tendon"
 
@@ -40,6 +46,12 @@ COUPLINGS = (ClosureType.JOINT, ClosureType.TENDON)
 
 #: Closure types a mechanism file may declare between two frames.
 CLOSURE_TYPES = tuple(t.value for t in ClosureType if t not in COUPLINGS)
+
+#: Closure types with an axis u in frame a, and those with a second axis u_b in frame b.
+AXIS_TYPES = (
+    "revolute", "universal", "cylindrical", "planar", "planar_weld", "inline", "inplane", "parallel_axes", "perpendicular"
+)  # fmt: skip
+AXIS_B_TYPES = ("universal", "perpendicular")
 
 
 @dataclass(frozen=True)
@@ -60,6 +72,14 @@ class Closure:
       ⊥ u and couples ⊥ u.
     - ``planar`` (3 rows): slide ⊥ u and turn about u (u the plane normal);
       transmits the force along u and couples ⊥ u.
+    - ``planar_weld`` (3 rows): a weld in the plane normal to u: forbids the slide ⊥ u of b's origin and the
+      turn about u; the independent equations of a weld in a planar loop (its other three are implied there).
+    - ``inline`` (2 rows): b's origin stays on the line through a's origin along u (slide ⊥ u forbidden);
+      a ball or hinge closure in a planar loop of normal u.
+    - ``inplane`` (1 row): b's origin stays in the plane through a's origin normal to u.
+    - ``orientation`` (3 rows): same orientation, any translation; a weld in a spherical loop.
+    - ``parallel_axes`` (2 rows): u and b's copy of it stay parallel (turns ⊥ u forbidden), any translation.
+    - ``perpendicular`` (1 row): u (in a) and u_b (in b) stay perpendicular: a universal's fourth row alone.
     - ``joint`` (1 row): MuJoCo's ``<equality joint>``, a coupling of two one-degree joints,
       ``q1 - r1 = sum_k c_k (q2 - r2)^k`` (``q1 - r1 = c_0`` without a second joint); its frames
       are the two joints' frames (the world for a missing second joint).
@@ -71,9 +91,9 @@ class Closure:
         name: closure name.
         frame_a, frame_b: frame names; ``frame_a_id``, ``frame_b_id`` their indices.
         type: one of :data:`CLOSURE_TYPES`.
-        axis: (3,) unit axis u in frame a (revolute, cylindrical, universal) or
-            the plane normal (planar); ``None`` for 6d and 3d.
-        axis_b: (3,) second hinge axis of a universal closure, in frame b.
+        axis: (3,) unit axis u in frame a (revolute, cylindrical, universal, inline, parallel_axes, perpendicular)
+            or the plane normal (planar, planar_weld, inplane); ``None`` for 6d, 3d and orientation.
+        axis_b: (3,) second hinge axis of a universal closure, the axis u_b of a perpendicular one, in frame b.
         joints: the coupled joints (``joint`` closures): ``(joint1,)`` or ``(joint1, joint2)``.
         polycoef: the coupling's polynomial coefficients ``c_0, c_1, ...`` (``joint`` closures).
         reference: the joints' reference values ``r1, r2`` [rad or m] (``joint`` closures), the tendons'
@@ -113,6 +133,12 @@ CLOSURE_ROWS = {
     ClosureType.UNIVERSAL: 4,
     ClosureType.CYLINDRICAL: 4,
     ClosureType.PLANAR: 3,
+    ClosureType.PLANAR_WELD: 3,
+    ClosureType.INLINE: 2,
+    ClosureType.INPLANE: 1,
+    ClosureType.ORIENTATION: 3,
+    ClosureType.PARALLEL_AXES: 2,
+    ClosureType.PERPENDICULAR: 1,
     ClosureType.JOINT: 1,
     ClosureType.TENDON: 1,
 }
@@ -223,8 +249,8 @@ def make_closure(
         a = a / np.abs(a).max()  # first to about 1: the norm of [1e308, 1e308, 0] overflows
         return a / np.linalg.norm(a)
 
-    u = unit(axis, "'axis' (in frame a)") if ctype in ("revolute", "universal", "cylindrical", "planar") else None
-    ub = unit(axis_b, "'axis_b' (second hinge axis, in frame b)") if ctype == "universal" else None
+    u = unit(axis, "'axis' (in frame a)") if ctype in AXIS_TYPES else None
+    ub = unit(axis_b, "'axis_b' (second axis, in frame b)") if ctype in AXIS_B_TYPES else None
     return Closure(name, frame_a, frame_b, ctype, u, ub, ida, idb)
 
 

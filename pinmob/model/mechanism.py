@@ -323,6 +323,10 @@ class Mechanism:
         """All actuated joint names, limb by limb, then those outside limbs."""
         return tuple(a for limb in self.limbs for a in limb.actuated) + self.extra_actuated
 
+    def limb_actuators(self, limb: Limb) -> tuple[str, ...]:
+        """The actuated joints that lock ``limb``: its own, then those outside limbs among its loop joints."""
+        return limb.actuated + tuple(a for a in self.extra_actuated if a in limb.loop_joints)
+
     def configuration_name(self, name: str) -> str:
         """The named configuration ``name`` stands for, matched ignoring case where that is unambiguous.
 

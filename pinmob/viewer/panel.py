@@ -20,6 +20,7 @@ import numpy as np
 
 from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.follow.motion_path import MotionPath
+from pinmob.analysis.minimal import MinimalClosures
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion import KIND_WORDS, vector
 from pinmob.analysis.singularity.result import Singularity
@@ -230,6 +231,7 @@ def panel_document(
     verdicts: Mapping[str, str] | None = None,
     branch_point: str | None = None,
     output_frame: str | None = None,
+    minimal: MinimalClosures | None = None,
 ) -> dict[str, Any]:
     """The panel's document (plain JSON); see the module docstring.
 
@@ -250,6 +252,8 @@ def panel_document(
         branch_point: the motion branches meeting at q, named (a line of the summary), or None.
         output_frame: the output frame shown in place of a platform (None: the mechanism's platform); the panel
             names what moves by it.
+        minimal: the minimal closures (:mod:`pinmob.analysis.minimal`), shown as lines under the whole
+            mechanism (``minimal_closures``: None where no closure equation is redundant).
     """
     subject = "the platform" if output_frame is None else f"the output frame {output_frame!r}"
     where = f" at '{mob.configuration}'" if mob.configuration else ""
@@ -278,6 +282,7 @@ def panel_document(
         "subject": subject,
         "singularity": singularity_text(singularity, subject),
         "mechanism": mechanism_text(chain, mob, subject),
+        "minimal_closures": None if minimal is None else str(minimal).splitlines(),
         "constraints": constraints,
         "constraint_rank": mob.constraint_rank,
         "wrenches_drawn": bool(wrenches),

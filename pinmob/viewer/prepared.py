@@ -22,6 +22,7 @@ from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.finite.branches import branch_point_name
 from pinmob.analysis.finite.finite_mobility import finite_mobility
 from pinmob.analysis.follow.motion_path import MotionPath, follow_motion
+from pinmob.analysis.minimal import MinimalClosures
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report import Report
 from pinmob.analysis.singularity.result import Singularity
@@ -54,6 +55,7 @@ class Prepared:
             (:func:`pinmob.analysis.finite.branches.branch_point_name`; None elsewhere, or without verdicts).
         output_frame: that output frame's name (None: the mechanism's own platform is shown).
         note: why that frame is shown ("" for a mechanism with a platform).
+        minimal: the minimal closures (None where no closure equation is redundant, or not computed).
     """
 
     mechanism: Mechanism
@@ -67,6 +69,7 @@ class Prepared:
     branch_point: str | None = None
     output_frame: str | None = None
     note: str = ""
+    minimal: MinimalClosures | None = None
 
 
 def viewed_frame(mech: Mechanism, state: Configuration | Array | str) -> tuple[Mechanism, Configuration, str]:
@@ -153,7 +156,8 @@ def prepare(
     try:  # the panel's words; a mechanism whose singularity classes cannot be estimated is still shown
         chain: MechanismMobility | None = report.mechanism_mobility
         sing = report.singularity
+        minimal = report.minimal_closures
     except PinmobError:
-        chain, sing = None, None
+        chain, sing, minimal = None, None, None
     output = None if not note else mech.platform
-    return Prepared(mech, options, conf.q, mob, paths, motion, sing, chain, branch_point, output, note)
+    return Prepared(mech, options, conf.q, mob, paths, motion, sing, chain, branch_point, output, note, minimal)

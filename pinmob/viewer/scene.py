@@ -269,7 +269,7 @@ def build(vis: Any, prep: Prepared, *, workspace: Workspace | None = None) -> Sc
         paths_of={"world": ["meshcat", ROOT, "world"], "wrenches": ["meshcat", ROOT, "wrenches"]},
         clips=clips, visible=visible, wrenches=wrenches, generated=generated,
         verdicts={label: path.verdict for label, path in paths.items() if path.verdict},
-        branch_point=prep.branch_point, output_frame=prep.output_frame,
+        branch_point=prep.branch_point, output_frame=prep.output_frame, minimal=prep.minimal,
     )  # fmt: skip
     if workspace is not None:
         document["workspace"] = workspace.legend()

@@ -104,17 +104,29 @@ def _cut_screws(conf: Configuration, c: Closure) -> list[Array]:
         return []
     if c.type is ClosureType.BALL:
         return [turn(e) for e in np.eye(3)]
+    if c.type is ClosureType.ORIENTATION:
+        return [slide(e) for e in np.eye(3)]
     u = rot @ np.asarray(c.axis, float)
     if c.type is ClosureType.REVOLUTE:
         return [turn(u)]
     if c.type is ClosureType.CYLINDRICAL:
         return [turn(u), slide(u)]
-    if c.type is ClosureType.UNIVERSAL:
+    if c.type in (ClosureType.UNIVERSAL, ClosureType.PERPENDICULAR):
         u_b = np.array(conf.frame_placement(c.frame_b_id).rotation) @ np.asarray(c.axis_b, float)
-        return [turn(u), turn(u_b)]
+        slides = [slide(e) for e in np.eye(3)] if c.type is ClosureType.PERPENDICULAR else []
+        return slides + [turn(u), turn(u_b)]
     e1 = np.cross(u, np.eye(3)[int(np.argmin(np.abs(u)))])
     e1 /= np.linalg.norm(e1)
-    return [slide(e1), slide(np.cross(u, e1)), turn(u)]  # planar
+    e2 = np.cross(u, e1)
+    if c.type is ClosureType.PLANAR_WELD:
+        return [slide(u), turn(e1), turn(e2)]
+    if c.type is ClosureType.INLINE:
+        return [slide(u)] + [turn(e) for e in np.eye(3)]
+    if c.type is ClosureType.INPLANE:
+        return [slide(e1), slide(e2)] + [turn(e) for e in np.eye(3)]
+    if c.type is ClosureType.PARALLEL_AXES:
+        return [slide(e) for e in np.eye(3)] + [turn(u)]
+    return [slide(e1), slide(e2), turn(u)]  # planar
 
 
 def check_joints(conf: Configuration) -> None:

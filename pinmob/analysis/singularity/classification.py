@@ -93,7 +93,7 @@ def singularity_from_twists(
                 else limb.joints + limb.loop_joints  # columns are loop-closing rate combinations, not joints
             )
     # actuated limbs: the wrenches reciprocal to the unactuated screws, and those outside the limb's constraint space
-    acting = [i for i, limb in enumerate(mech.limbs) if limb.actuated]
+    acting = [i for i, limb in enumerate(mech.limbs) if mech.limb_actuators(limb)]
     locked_decisions = decide_ranks([(st * locked_twists[i]).T for i in acting], rtol, n=6)
     locked_blocks = list(blocks)
     extras = []

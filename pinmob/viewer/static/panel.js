@@ -211,6 +211,8 @@
       el("div", { class: "pinmob-singularity", text: doc.singularity }),
       el("h2", { text: "Whole mechanism" }),
       el("div", { class: "pinmob-mechanism", text: doc.mechanism }),
+      doc.minimal_closures ? el("h2", { text: "Minimal closures" }) : "",
+      ...(doc.minimal_closures || []).map((line) => el("div", { class: "pinmob-minimal", text: line })),
       wrenchBlock,
       el("h2", { text: "Legend" }),
       legend,

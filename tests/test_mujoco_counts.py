@@ -37,6 +37,8 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     # a position and a velocity servo on the crank (MuJoCo's PD pair): two actuators, one coordinate held
     "fourbar_servo_pair.xml": (3, 2, 1, 0),
     "fourbar_weld.xml": (4, 1, 1, 0),
+    # test_keyframe_starts' four-bar: no keyframe (nor qpos0) closes; pinmob closes it from the keyframe 'wide'
+    "keyframes/fourbar_open_keys.xml": (3, 1, 1, 0),
     # test_mjcf_tendons' fixtures: a cable hand (spatial tendons over sites and pulleys, a site actuator, a spatial
     # tendon equality), a gripper whose four-bar fingers are coupled by tendon equalities, and a slider-crank, a
     # ball-joint motor, a free puck pushed at its edge and an adhesion actuator (on a body: not held by either)

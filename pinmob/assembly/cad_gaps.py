@@ -12,7 +12,7 @@ its samples are assembled (and polished) on it, and analysed on the mechanism as
 closure tolerance (each keeps the gaps of ``q_ref``, exactly when they are a fixed offset of a frame).
 
 * a limb tip: its placement ``jM_tip`` becomes ``jM_tip G^-1``, ``G = oM_platform^-1 oM_tip`` at ``q_ref``;
-* a ``6d``, ``revolute``, ``cylindrical`` or ``planar`` closure: frame b's placement becomes ``jM_b G^-1``,
+* a ``6d``, ``revolute``, ``cylindrical``, ``prismatic`` or ``planar`` closure: frame b's placement becomes ``jM_b G^-1``,
   ``G = oM_a^-1 oM_b`` (b then coincides with a at ``q_ref``; a rotation about a hinge's axis is allowed
   anyway);
 * a ``3d`` or ``universal`` closure: frame b's origin moves onto frame a's at ``q_ref`` (a universal's
@@ -37,7 +37,7 @@ from pinmob.screw.algebra import Array
 Gaps = tuple[tuple[int, tuple[float, ...]], ...]
 
 #: Closure types whose gap is a relative pose (``log6``), and those whose gap is a distance between origins.
-_POSE_TYPES, _POINT_TYPES = ("6d", "revolute", "cylindrical", "planar"), ("3d", "universal")
+_POSE_TYPES, _POINT_TYPES = ("6d", "revolute", "cylindrical", "prismatic", "planar"), ("3d", "universal")
 
 
 def frame_gaps(mech: Mechanism, q: Array, closure_tol: float) -> Gaps:

@@ -89,9 +89,11 @@ def _perp(u: Array) -> Array:
 
 
 def _selection(c: Closure) -> tuple[Array, Mask]:
-    """Rows S (k, 6) of ``log6(aMb)`` forbidden by a revolute/cylindrical/planar closure, and their linear mask."""
+    """Rows S (k, 6) of ``log6(aMb)`` forbidden by a revolute/cylindrical/prismatic/planar closure, and their linear mask."""
     u = np.asarray(c.axis, float)
     p, z = _perp(u), np.zeros((2, 3))
+    if c.type == "prismatic":  # the two translations normal to u and every rotation
+        return np.vstack([np.hstack([p, z]), np.hstack([np.zeros((3, 3)), np.eye(3)])]), np.arange(5) < 2
     lin = {
         "revolute": np.vstack([np.eye(3), np.zeros((3, 3))]).T,
         "cylindrical": np.hstack([p, z]),
@@ -114,7 +116,7 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     - ``6d``: ``e = log6(M)`` (:func:`relative_error`);
     - ``3d``: ``e = R_a^T (p_b - p_a)``, ``de/dt = R_a^T (v_b - v_a) + e x w_a``
       (origin velocities in world axes, w_a in frame a);
-    - ``revolute``, ``cylindrical``, ``planar``: ``e = S log6(M)``, the rows S
+    - ``revolute``, ``cylindrical``, ``prismatic``, ``planar``: ``e = S log6(M)``, the rows S
       of the relative motion the closure forbids (zero exactly on the allowed
       subgroup, for relative rotations below pi);
     - ``joint``: ``e = (q1 - r1) - sum_k c_k (q2 - r2)^k`` (:func:`coupling_error`);
@@ -135,7 +137,7 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     if c.type == "6d":
         e, jac = relative_error(model, data, a, b)
         return e, jac, _WELD_LENGTHS
-    if c.type in ("revolute", "cylindrical", "planar"):
+    if c.type in ("revolute", "cylindrical", "prismatic", "planar"):
         e, jac = relative_error(model, data, a, b)
         sel, lin = _selection(c)
         return sel @ e, sel @ jac, lin

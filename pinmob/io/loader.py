@@ -26,6 +26,13 @@ def load_mjcf(path: Path) -> Mechanism:
     return load_mjcf(path)
 
 
+def load_sdf(path: Path) -> Mechanism:
+    """:func:`pinmob.io.sdf.load_sdf` (its module imported when first used)."""
+    from pinmob.io.sdf import load_sdf
+
+    return load_sdf(path)
+
+
 def load_closing_urdf(path: Path) -> Mechanism:
     """:func:`pinmob.io.closing_frames.load_closing_urdf` (its module imported when first used)."""
     from pinmob.io.closing_frames import load_closing_urdf
@@ -41,6 +48,7 @@ LOADERS: dict[str, Callable[[Path], Mechanism]] = {
     ".xml": load_mjcf,
     ".mjcf": load_mjcf,
     ".urdf": load_closing_urdf,
+    ".sdf": load_sdf,
 }
 
 

@@ -27,6 +27,7 @@ class ClosureType(StrEnum):
     REVOLUTE = "revolute"
     UNIVERSAL = "universal"
     CYLINDRICAL = "cylindrical"
+    PRISMATIC = "prismatic"
     PLANAR = "planar"
     JOINT = "joint"
     TENDON = "tendon"
@@ -58,6 +59,8 @@ class Closure:
       transmits forces and the couple along ``u x u_b``.
     - ``cylindrical`` (4 rows): turn about and slide along u; transmits forces
       ⊥ u and couples ⊥ u.
+    - ``prismatic`` (5 rows): slide along u (an SDF loop joint of type prismatic); transmits
+      forces ⊥ u and every couple.
     - ``planar`` (3 rows): slide ⊥ u and turn about u (u the plane normal);
       transmits the force along u and couples ⊥ u.
     - ``joint`` (1 row): MuJoCo's ``<equality joint>``, a coupling of two one-degree joints,
@@ -71,7 +74,7 @@ class Closure:
         name: closure name.
         frame_a, frame_b: frame names; ``frame_a_id``, ``frame_b_id`` their indices.
         type: one of :data:`CLOSURE_TYPES`.
-        axis: (3,) unit axis u in frame a (revolute, cylindrical, universal) or
+        axis: (3,) unit axis u in frame a (revolute, cylindrical, prismatic, universal) or
             the plane normal (planar); ``None`` for 6d and 3d.
         axis_b: (3,) second hinge axis of a universal closure, in frame b.
         joints: the coupled joints (``joint`` closures): ``(joint1,)`` or ``(joint1, joint2)``.
@@ -112,6 +115,7 @@ CLOSURE_ROWS = {
     ClosureType.REVOLUTE: 5,
     ClosureType.UNIVERSAL: 4,
     ClosureType.CYLINDRICAL: 4,
+    ClosureType.PRISMATIC: 5,
     ClosureType.PLANAR: 3,
     ClosureType.JOINT: 1,
     ClosureType.TENDON: 1,
@@ -223,7 +227,11 @@ def make_closure(
         a = a / np.abs(a).max()  # first to about 1: the norm of [1e308, 1e308, 0] overflows
         return a / np.linalg.norm(a)
 
-    u = unit(axis, "'axis' (in frame a)") if ctype in ("revolute", "universal", "cylindrical", "planar") else None
+    u = (
+        unit(axis, "'axis' (in frame a)")
+        if ctype in ("revolute", "universal", "cylindrical", "prismatic", "planar")
+        else None
+    )
     ub = unit(axis_b, "'axis_b' (second hinge axis, in frame b)") if ctype == "universal" else None
     return Closure(name, frame_a, frame_b, ctype, u, ub, ida, idb)
 

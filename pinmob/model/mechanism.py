@@ -65,6 +65,9 @@ class Mechanism:
         joint_actuators: the file's actuators on joints, ``(actuator, joint)`` (MJCF names them apart from joints).
         quaternion_wxyz: joint values give quaternions ``(w, x, y, z)``, MuJoCo's ``qpos`` order (MJCF
             files), instead of Pinocchio's ``(x, y, z, w)``.
+        ignored: the file's loop and coupling elements pinmob does not read, one phrase each (a URDF
+            ``<constraint>``, an SDF ``<mimic>`` or included model, an MJCF equality it cannot use): the
+            loader warns once, and the mechanism DoF is printed as ignoring them.
     """
 
     name: str
@@ -83,6 +86,7 @@ class Mechanism:
     actuated_tendons: tuple[Transmission, ...] = ()
     joint_actuators: tuple[tuple[str, str], ...] = ()
     quaternion_wxyz: bool = False
+    ignored: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------ build
 

@@ -109,6 +109,8 @@ def _cut_screws(conf: Configuration, c: Closure) -> list[Array]:
         return [turn(u)]
     if c.type is ClosureType.CYLINDRICAL:
         return [turn(u), slide(u)]
+    if c.type is ClosureType.PRISMATIC:
+        return [slide(u)]
     if c.type is ClosureType.UNIVERSAL:
         u_b = np.array(conf.frame_placement(c.frame_b_id).rotation) @ np.asarray(c.axis_b, float)
         return [turn(u), turn(u_b)]

@@ -33,9 +33,11 @@ def joint_values_of(args: argparse.Namespace) -> dict[str, float] | None:
 def load_for(args: argparse.Namespace) -> Mechanism:
     """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
     from pinmob.io.loader import load
+    from pinmob.io.xacro_file import parse_xacro_args
     from pinmob.model.actuation import with_actuated
 
-    mech = load(args.mechanism)
+    xacro_args = parse_xacro_args(getattr(args, "xacro_arg", None) or [])
+    mech = load(args.mechanism, xacro_args=xacro_args, package_dirs=getattr(args, "package_path", None) or [])
     if args.actuated is not None:
         names = [n.strip() for n in args.actuated.split(",") if n.strip()]
         if not names:

@@ -12,10 +12,13 @@ name is the file's ``<robot name>`` (the file's stem when it gives none).
 from __future__ import annotations
 
 import re
+import warnings
 from pathlib import Path
 
 import pinocchio as pin
 
+from pinmob.bounds import bound
+from pinmob.io.gazebo_joints import urdf_loop_joints, urdf_text
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.model.closure import make_closure
@@ -25,23 +28,25 @@ from pinmob.model.mechanism import Mechanism
 CLOSING = re.compile(r"^closing_(.+)_([12])$")
 
 
-def closing_pairs(path: Path, model: pin.Model) -> dict[str, tuple[str, str]]:
+def closing_pairs(path: Path, model: pin.Model, required: bool = True) -> dict[str, tuple[str, str]]:
     """``{loop name: (frame _1, frame _2)}`` of the URDF's closing frames (its links, BODY frames).
 
     Raises:
-        MechanismFileError: a frame without its partner, or no closing frame at all (the message says
-            what to add).
+        MechanismFileError: a frame without its partner, or no closing frame at all when ``required`` (the
+            message says what to add).
     """
     sides: dict[str, dict[str, str]] = {}
     for frame in model.frames:
         match = CLOSING.match(frame.name)
         if match and frame.type == pin.FrameType.BODY:
             sides.setdefault(match.group(1), {})[match.group(2)] = frame.name
+    if not sides and not required:
+        return {}
     if not sides:
         raise file_error(
             path,
             "a plain URDF has no loop closure: add onshape-to-robot's closing frames (links closing_<name>_1 and "
-            "closing_<name>_2 on the two bodies each loop joins), or describe the loops in a pinmob TOML file or an "
+            "closing_<name>_2 on the two bodies each loop joins), a loop joint for Gazebo (<gazebo><joint>), or describe the loops in a pinmob TOML file or an "
             "Extended URDF YAML sidecar beside it (see docs/closed-chains.md#formats)",
         )
     lonely = sorted(f"closing_{n}_{'2' if '1' in s else '1'}" for n, s in sides.items() if len(s) < 2)
@@ -50,19 +55,28 @@ def closing_pairs(path: Path, model: pin.Model) -> dict[str, tuple[str, str]]:
     return {n: (s["1"], s["2"]) for n, s in sorted(sides.items())}
 
 
-def load_closing_urdf(path: str | Path) -> Mechanism:
-    """Load a URDF with onshape-to-robot closing frames (see the module docstring); no actuated joint."""
+def load_closing_urdf(path: str | Path, text: str | None = None) -> Mechanism:
+    """Load a URDF with onshape-to-robot closing frames (see the module docstring); no actuated joint.
+
+    ``text``: the URDF itself (expanded from the xacro file ``path``: no geometry is loaded).
+    """
     path = Path(path)
-    model = read_urdf(path)
-    pairs = closing_pairs(path, model)
+    model = read_urdf(path, text)
+    try:  # loop joints written for Gazebo, and the <constraint> elements pinmob does not read
+        loop_joints, ignored = urdf_loop_joints(model, text or urdf_text(path, bound("bytes")))
+    except ValueError as exc:
+        raise file_error(path, str(exc)) from None
+    pairs = closing_pairs(path, model, required=not loop_joints)
+    if ignored:
+        warnings.warn(f"{path.name}: not read: {'; '.join(ignored)}", stacklevel=3)
     with errors_at(path):
-        closures = [make_closure(model, name, a, b, "3d") for name, (a, b) in pairs.items()]
+        closures = [make_closure(model, name, a, b, "3d") for name, (a, b) in pairs.items()] + loop_joints
         return Mechanism.from_model(
             model,
             [],
             name=model.name or path.stem,
             description=f"URDF {path.name} with onshape-to-robot closing frames",
             source=path,
-            geometry=load_geometry(model, path),
+            geometry=load_geometry(model, path) if text is None else None,
             closures=closures,
-        )
+        ).with_ignored(ignored)

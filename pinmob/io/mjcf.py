@@ -280,6 +280,12 @@ def load_mjcf(path: str | Path) -> Mechanism:
             geometry=Geometry(Visuals(path, m)),
         )
     named = named_configurations(m, tree, mech.length_scale)
+    left = tuple(f"inactive equality {label(m, 'equality', e)!r}" for e in inactive)  # warned above
     return replace(
-        mech, configurations=named, quaternion_wxyz=True, actuated_tendons=tuple(tendons), joint_actuators=tuple(joints)
+        mech,
+        configurations=named,
+        quaternion_wxyz=True,
+        actuated_tendons=tuple(tendons),
+        joint_actuators=tuple(joints),
+        ignored=left,
     )

@@ -41,7 +41,7 @@ from __future__ import annotations
 
 import re
 import warnings
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -440,4 +440,4 @@ def load_sdf(path: str | Path) -> Mechanism:
         )
     if ignored:
         warnings.warn(f"{path.name}: not read: {'; '.join(ignored)}", stacklevel=2)
-    return replace(mech, ignored=tuple(ignored))
+    return mech.with_ignored(ignored)

@@ -9,7 +9,7 @@ the closed configuration and what is computed from it in
 
 from __future__ import annotations
 
-from collections.abc import Callable, Hashable, Mapping
+from collections.abc import Callable, Hashable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from pathlib import Path
@@ -288,6 +288,10 @@ class Mechanism:
         if name not in (found := {limb.name: limb for limb in self.limbs}):
             raise ConfigurationError(f"no limb {name!r} in {self.name!r}; valid: {choices(found)}")
         return found[name]
+
+    def with_ignored(self, ignored: Sequence[str]) -> Mechanism:
+        """This mechanism naming the file's elements pinmob does not read (:attr:`ignored`)."""
+        return replace(self, ignored=tuple(ignored)) if ignored else self
 
     def neutral(self) -> Array:
         """Pinocchio's neutral configuration, shape (nq,)."""

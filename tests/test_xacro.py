@@ -49,7 +49,7 @@ def test_a_xacro_argument_and_the_package_path_are_used():
     assert "<turnGravityOff>False</turnGravityOff>" in expand_xacro(CLOSED_LOOP, {}, [DATA])
     refused = pinmob_cli("analyze", str(CLOSED_LOOP))
     assert refused.returncode == 2 and refused.stderr.count("\n") == 1
-    assert "$(find closed_loop): no package 'closed_loop'" in refused.stderr and "--package-path" in refused.stderr
+    assert "$(find closed_loop): no package 'closed_loop'" in refused.stderr and "name the folder" in refused.stderr
     bad = pinmob_cli("analyze", str(CLOSED_LOOP), "--package-path", str(DATA), "--xacro-arg", "is_gravity=1")
     assert bad.returncode == 2 and "is not NAME:=VALUE" in bad.stderr
 
@@ -77,3 +77,30 @@ def test_a_xacro_without_a_loop_is_refused_as_a_plain_urdf(tmp_path):
     )
     with pytest.raises(MechanismFileError, match="a plain URDF has no loop closure"):
         pinmob.load(tmp_path / "t.urdf.xacro")
+
+
+ROBOTIQ = DATA / "robotiq" / "robotiq_2f_85_gripper_visualization" / "urdf" / "robotiq_arg2f_85_model.xacro"
+
+
+def test_robotiq_2f85_expands_with_its_mimic_joints():
+    """ros-industrial's Robotiq 2F-85 (BSD): two levels of $(find) includes and a macro with a prefix. By hand from
+    robotiq_arg2f_85_model_macro.xacro: six revolute joints, finger_joint driving five mimics, multipliers
+    1 (right_outer_knuckle), -1 (the two inner fingers), 1 (the two inner knuckles)."""
+    from xml.etree import ElementTree
+
+    root = ElementTree.fromstring(expand_xacro(ROBOTIQ, {}, [DATA / "robotiq"]))
+    joints = {j.get("name"): j for j in root.findall("joint")}  # not the <transmission>'s <joint>
+    moving = sorted(n for n, j in joints.items() if j.get("type") == "revolute")
+    assert moving == sorted(
+        ["finger_joint", "left_inner_finger_joint", "left_inner_knuckle_joint", "right_inner_knuckle_joint",
+         "right_outer_knuckle_joint", "right_inner_finger_joint"]
+    )  # fmt: skip
+    mimics = {n: float(j.find("mimic").get("multiplier")) for n, j in joints.items() if j.find("mimic") is not None}
+    assert mimics == {
+        "right_outer_knuckle_joint": 1.0,
+        "left_inner_finger_joint": -1.0,
+        "right_inner_finger_joint": -1.0,
+        "left_inner_knuckle_joint": 1.0,
+        "right_inner_knuckle_joint": 1.0,
+    }
+    assert all(j.find("mimic").get("joint") == "finger_joint" for j in joints.values() if j.find("mimic") is not None)

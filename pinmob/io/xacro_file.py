@@ -80,7 +80,9 @@ def find_package(name: str, folders: Sequence[Path]) -> Path:
         if folder.name == name:
             return folder
     where = ", ".join(map(str, folders)) or "none given"
-    raise ValueError(f"$(find {name}): no package {name!r} in the package folders ({where}); give --package-path")
+    raise ValueError(
+        f"$(find {name}): no package {name!r} in the package folders ({where}); name the folder holding it"
+    )
 
 
 def inside(path: Path, roots: Sequence[Path]) -> bool:
@@ -103,7 +105,7 @@ class Expansion:
         if not inside(path, self.roots):
             raise ValueError(
                 f"{what} {filename!r} is outside the folders pinmob reads ({', '.join(map(str, self.roots))}); "
-                "name its package folder with --package-path"
+                "name the package folder holding it"
             )
         check_regular(path, f"{what} {filename!r}", "xacro")
         return path
@@ -115,7 +117,7 @@ class Expansion:
         rest = rest.strip()
         if command == "arg":
             if rest not in self.args:
-                raise ValueError(f"$(arg {rest}): no argument {rest!r}; give --xacro-arg {rest}:=VALUE")
+                raise ValueError(f"$(arg {rest}): no argument {rest!r}; give it as {rest}:=VALUE")
             return self.args[rest]
         if command == "find":
             return str(find_package(rest, self.folders))

@@ -167,3 +167,15 @@ def test_a_mimic_is_named_as_ignored_once_and_in_the_dof_line(tmp_path):
     assert "ignoring what pinmob does not read: <mimic> of joint 'jb'" in text.stdout.splitlines()[1]
     with pytest.raises(MechanismFileError):
         pinmob.load(write(tmp_path, "<link name='a'/>", "empty.sdf"))
+
+
+def test_anchored_loop_counts_agree_with_a_planar_computation_without_pinmob():
+    """The loop's velocity equations written from the hand positions: the point J4 of link3, moved by the three
+    hinges about x through J1, J2, J3, must stay still (the loop hinge allows the turn about x): K = [x (J4 - Ji)]
+    in (y, z), shape (2, 3); DoF = 3 - rank K, as pinmob counts."""
+    hinge = {"J1": (0.0, 0.2), "J2": (-0.3, 0.6), "J3": (-0.8, 0.6)}
+    tip = np.array([-1.1, 0.2])
+    k = np.column_stack([[-(tip - np.array(j))[1], (tip - np.array(j))[0]] for j in hinge.values()])  # x cross r
+    rank = np.linalg.matrix_rank(k, tol=1e-9)
+    nv, rows, closure_rank, dof = counts(ANCHORED)
+    assert (nv - rank, rank) == (dof, closure_rank) == (1, 2)

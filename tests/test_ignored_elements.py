@@ -77,3 +77,23 @@ def test_a_file_with_nothing_ignored_says_nothing(tmp_path):
     doc = json.loads(pinmob_cli("analyze", str(DATA / "fourbar_connect.xml"), "--json").stdout)
     assert doc["ignored"] == []
     assert "ignoring" not in pinmob_cli("analyze", str(DATA / "fourbar_connect.xml")).stdout
+
+
+def test_an_extended_urdf_names_the_urdf_loops_its_sidecar_does_not_give(tmp_path):
+    """An Extended URDF reads its loops from the YAML sidecar: the URDF's <constraint> and <gazebo> loop joint are
+    named as not read (the four-bar's closure comes from the sidecar's 3d pair: DoF 1 by hand, as above)."""
+    urdf = URDF.replace('<link name="rocker"/>', '<link name="rocker"/><link name="a"/><link name="b"/>').replace(
+        "</robot>",
+        '<joint name="fa" type="fixed"><parent link="coupler"/><child link="a"/><origin xyz="0.3 0 0"/></joint>'
+        '<joint name="fb" type="fixed"><parent link="rocker"/><child link="b"/><origin xyz="0 0.1 0"/></joint></robot>',
+    )
+    (tmp_path / "robot.urdf").write_text(urdf)
+    (tmp_path / "robot.yaml").write_text("closed_loop: [['a', 'b']]\ntype: ['3d']\nname_mot: ['crank']\n")
+    with pytest.warns(UserWarning, match="not read \\(the YAML sidecar gives the loops\\)"):
+        mech = pinmob.load(tmp_path / "robot.yaml")
+    assert mech.ignored == ("<constraint> 'extra'", "<gazebo> loop joint 'tip'")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        report = pinmob.analyze(mech)
+    assert report.mechanism_mobility.mechanism_dof == 1
+    assert report.to_dict()["ignored"] == ["<constraint> 'extra'", "<gazebo> loop joint 'tip'"]

@@ -57,14 +57,12 @@ def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
     p.add_argument(
         "--xacro-arg",
         action="append",
-        default=[],
         metavar="NAME:=VALUE",
         help="an argument of a .xacro file (repeatable), as xacro's NAME:=VALUE",
     )
     p.add_argument(
         "--package-path",
         action="append",
-        default=[],
         metavar="FOLDER",
         help="a folder holding ROS packages, searched by a .xacro file's $(find pkg) (repeatable; then "
         "ROS_PACKAGE_PATH); includes and load_yaml read only there and beside the file",

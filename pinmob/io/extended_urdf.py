@@ -28,6 +28,7 @@ from typing import Any
 import pinocchio as pin
 
 from pinmob.exceptions import MechanismFileError
+from pinmob.io.gazebo_joints import unread_elements
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
@@ -167,4 +168,4 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             source=path,
             geometry=geometry,
             closures=closures,
-        )
+        ).with_ignored(unread_elements(urdf, "the YAML sidecar"))

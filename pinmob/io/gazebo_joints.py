@@ -15,12 +15,14 @@ A URDF ``<constraint>`` element (the loop closures proposed in ros/urdfdom#264) 
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 from xml.etree import ElementTree
 
 import numpy as np
 import pinocchio as pin
 
+from pinmob.bounds import bound
 from pinmob.io.sdf import LOOP_CLOSURES, parse_pose
 from pinmob.model.closure import Closure, make_closure
 
@@ -78,6 +80,30 @@ def urdf_loop_joints(model: pin.Model, text: str) -> tuple[list[Closure], list[s
         axis_b = _axis(el, name, "axis2", at) if kind == "universal" else None
         closures.append(make_closure(model, name, f"{name}#a", f"{name}#b", LOOP_CLOSURES[kind], axis, axis_b))
     return closures, ignored
+
+
+def unread_elements(urdf: Path, loader: str) -> list[str]:
+    """The URDF's loop elements a loader that reads the loops elsewhere (a YAML sidecar, a TOML file) leaves out.
+
+    ``<constraint>`` elements and ``<gazebo>`` loop joints, one phrase each, with one warning naming them.
+    """
+    text = urdf_text(urdf, bound("bytes"))
+    if "<constraint" not in text and "<gazebo" not in text:
+        return []
+    try:
+        root = ElementTree.fromstring(text)
+    except ElementTree.ParseError:  # Pinocchio read it: a prolog or entity expat refuses; nothing more to name
+        return []
+    out = [f"<constraint> {el.get('name', '')!r}" for el in root.iter("constraint")]
+    out += [
+        f"<gazebo> loop joint {j.get('name', '')!r}"
+        for g in root.findall("gazebo")
+        if not g.get("reference")
+        for j in g.findall("joint")
+    ]
+    if out:
+        warnings.warn(f"{urdf.name}: not read ({loader} gives the loops): {'; '.join(out)}", stacklevel=4)
+    return out
 
 
 def urdf_text(path: Path, limit: int) -> str:

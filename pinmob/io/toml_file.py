@@ -12,6 +12,7 @@ from typing import Any
 import pinocchio as pin
 
 from pinmob.exceptions import FrameError, MechanismFileError, PinmobError
+from pinmob.io.gazebo_joints import unread_elements
 from pinmob.io.schema import (
     CLOSURE_KEYS,
     CONFIG_KEYS,
@@ -126,7 +127,7 @@ def load_toml(path: str | Path) -> Mechanism:
             geometry=geometry,
             generic_rank=generic_rank,
             closures=closures,
-        )
+        ).with_ignored(unread_elements(path.parent / doc["urdf"], "the TOML file"))
 
 
 def _limbs(

@@ -49,6 +49,7 @@ LOADERS: dict[str, Callable[[Path], Mechanism]] = {
     ".mjcf": load_mjcf,
     ".urdf": load_closing_urdf,
     ".sdf": load_sdf,
+    ".world": load_sdf,
 }
 
 

@@ -204,11 +204,13 @@ def _patched(expansion: Expansion) -> Iterator[Any]:
     with _LOCK:
         for k, v in replacements.items():
             setattr(xacro, k, v)
+        xacro.all_includes = []  # the library lists every file it read here, across expansions
         try:
             yield xacro
         finally:
             for k, v in saved.items():
                 setattr(xacro, k, v)
+            xacro.all_includes = []
 
 
 def expand_xacro(

@@ -104,3 +104,19 @@ def test_robotiq_2f85_expands_with_its_mimic_joints():
         "right_inner_knuckle_joint": 1.0,
     }
     assert all(j.find("mimic").get("joint") == "finger_joint" for j in joints.values() if j.find("mimic") is not None)
+
+
+def test_a_toml_file_may_name_a_xacro_file(tmp_path):
+    """tests/data/fourbar (a planar four-bar of four hinges in the tree closed by a 6d weld: 6 rows of which the 3
+    in the plane count, DoF 4 - 3 = 1 by hand) with its URDF written as xacro: ${...} for two offsets."""
+    urdf = (DATA.parent / "fourbar.urdf").read_text()
+    urdf = urdf.replace('<robot name="', '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="', 1)
+    urdf = urdf.replace('xyz="0.3 0.1 0"', 'xyz="${3 * c} ${c} 0"').replace('xyz="0 0.2 0"', 'xyz="0 ${2 * c} 0"')
+    head = urdf.index(">", urdf.index("<robot")) + 1
+    urdf = urdf[:head] + '<xacro:property name="c" value="0.1"/>' + urdf[head:]
+    (tmp_path / "fourbar.urdf.xacro").write_text(urdf)
+    toml = (DATA.parent / "fourbar.toml").read_text().replace('urdf = "fourbar.urdf"', 'urdf = "fourbar.urdf.xacro"')
+    (tmp_path / "fourbar.toml").write_text(toml)
+    report = pinmob.analyze(pinmob.load(tmp_path / "fourbar.toml"), "home")
+    chain = report.mechanism_mobility
+    assert (chain.nv, chain.rows, chain.rank, chain.mechanism_dof) == (4, 6, 3, 1)

@@ -59,9 +59,15 @@ def _joints(path: Path, where: str, joint_names: set[str], names: list[str]) -> 
 def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry]:
     """Kinematic model of the URDF a mechanism file names (:func:`pinmob.io.urdf.read_urdf`) and its geometry.
 
-    The geometry's meshes are checked now and loaded when first drawn (:func:`pinmob.io.urdf.load_geometry`).
+    The geometry's meshes are checked now and loaded when first drawn (:func:`pinmob.io.urdf.load_geometry`). A
+    ``.xacro`` file is expanded first (:func:`pinmob.io.xacro_file.expand_xacro`, no arguments; ``$(find)`` in
+    ``ROS_PACKAGE_PATH``), and has no geometry.
     """
     try:
+        if urdf.suffix.lower() == ".xacro":
+            from pinmob.io.xacro_file import expand_xacro
+
+            return read_urdf(urdf, expand_xacro(urdf)), Geometry(None)
         model = read_urdf(urdf)
     except MechanismFileError as exc:
         raise file_error(path, str(exc)) from None

@@ -223,6 +223,12 @@ def expand_xacro(
     """
     path = Path(path)
     check_regular(path, f"xacro file {str(path)!r}", "xacro")
+    try:
+        import xacro  # noqa: F401  # a dependency of pinmob; an environment without it gets one line
+    except ImportError:
+        raise MechanismFileError(
+            f"{path}: reading a xacro file needs the xacro package (pip install 'xacro>=2.1.1,<2.2')"
+        ) from None
     expansion = Expansion(path, args or {}, package_folders(package_dirs))
     with _patched(expansion) as xacro:
         try:

@@ -19,7 +19,7 @@ Per mechanism (3-PUU, 6-UPS), at N fixed closed configurations (microseconds per
 * ``document_us``: building the Python objects of that report's JSON document alone, from its text
   (``json.loads``, in C): a reference for what the answer's objects cost without any analysis
   (``pickle.loads`` of the same objects takes about half);
-* ``scan_us``: one sample of a path scan with re-assembly (:func:`pinmob.scan.run.scan`, one worker:
+* ``scan_us``: one sample of a path scan with re-assembly (:func:`pinmob.scan.scan_run.scan`, one worker:
   3-PUU ``generic -> offset``, 6-UPS ``home -> type2``; wall time over the samples, refinements included).
 
 Per process (wall seconds, median of several fresh interpreters, run in turn):
@@ -63,8 +63,8 @@ import pinmob
 from pinmob.analysis.batch.batch_analysis import analyze_batch
 from pinmob.scan import pose_vector
 from pinmob.scan.output import RowWriter
-from pinmob.scan.run import columns, scan
-from pinmob.scan.spec import path_spec, platform_pose
+from pinmob.scan.scan_run import columns, scan
+from pinmob.scan.scan_spec import path_spec, platform_pose
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL
 

@@ -2,8 +2,8 @@
 
 Per robot and grid (microseconds per sample, single process):
 
-* ``pinmob_us``: what ``pinmob scan <robot> --grid ...`` runs (:func:`pinmob.scan.run.scan_in_process` on
-  :func:`pinmob.scan.spec.grid_spec`), the batched engine: samples of up to 16 chunks assembled in lockstep by
+* ``pinmob_us``: what ``pinmob scan <robot> --grid ...`` runs (:func:`pinmob.scan.scan_run.scan_in_process` on
+  :func:`pinmob.scan.scan_spec.grid_spec`), the batched engine: samples of up to 16 chunks assembled in lockstep by
   the batched predictor (:mod:`pinmob.scan.lockstep`), analysed in one batch (:mod:`pinmob.scan.batch_rows`),
   the single-sample path where the batch cannot decide, refinements included;
 * ``single_us``: the same scan on the single-sample engine (``ScanSpec.engine = "single"``, every sample
@@ -68,8 +68,8 @@ import pinocchio as pin
 import pinmob
 from pinmob.analysis.batch.batch_analysis import analyze_batch
 from pinmob.scan import pose_vector
-from pinmob.scan.run import scan_in_process
-from pinmob.scan.spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
+from pinmob.scan.scan_run import scan_in_process
+from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL
 from pinmob.testing import kinematics_calls

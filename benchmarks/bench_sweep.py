@@ -46,7 +46,7 @@ def main() -> None:
     import pinmob
     from pinmob.analysis.entry_point import analyze
     from pinmob.parallel.cluster import WORKER_SETUP
-    from pinmob.scan.run import scan_in_process
+    from pinmob.scan.scan_run import scan_in_process
     from pinmob.sweeps.designs import DesignSet
 
     spec = pinmob.load_spec(EXAMPLE)

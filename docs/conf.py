@@ -4,6 +4,7 @@ Built by ``.ci/run`` with warnings as errors: ``sphinx-build -W --keep-going -b 
 """
 
 import pinmob
+from sphinx.util.inspect import TypeAliasForwardRef
 
 project = "pinmob"
 author = "pinmob's developers"
@@ -28,3 +29,17 @@ napoleon_numpy_docstring = False
 
 html_theme = "furo"
 html_title = f"pinmob {release}"
+
+# signatures name numpy's type aliases instead of expanding them (ArrayLike is a dozen lines of numpy internals):
+# the modules annotate with strings (from __future__ import annotations), which autodoc maps by these names
+autodoc_type_aliases = {
+    "ArrayLike": "ArrayLike",
+    "NDArray": "NDArray",
+    "Array": "Array",
+    "Mask": "Mask",
+    "At": "ArrayLike | str | Configuration | None",  # the configuration argument of the shortcuts
+}
+
+
+# Sphinx 9 prints an alias inside a union or a tuple by its repr, "TypeAliasForwardRef('ArrayLike')": its name
+TypeAliasForwardRef.__repr__ = lambda self: self.name  # type: ignore[method-assign]

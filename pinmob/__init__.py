@@ -53,7 +53,16 @@ from pinmob.exceptions import (
     UnknownConfigurationError,
 )
 from pinmob.io import builtin_models, load
-from pinmob.model import Closure, ClosureType, Expectation, Limb, Mechanism, NamedConfiguration
+from pinmob.model import (
+    Closure,
+    ClosureType,
+    ConstraintModelError,
+    Expectation,
+    Limb,
+    Mechanism,
+    NamedConfiguration,
+    PinocchioExportWarning,
+)
 from pinmob.screw import RTOL, MotionKind, WrenchKind
 
 __version__ = "0.1.0"
@@ -94,6 +103,7 @@ __all__ = [
     "Configuration",
     "ConfigurationError",
     "Constraint",
+    "ConstraintModelError",
     "Expectation",
     "FrameError",
     "FrameMobility",
@@ -108,6 +118,7 @@ __all__ = [
     "MotionKind",
     "NamedConfiguration",
     "PinmobError",
+    "PinocchioExportWarning",
     "Report",
     "Singularity",
     "UnknownConfigurationError",

@@ -2,8 +2,8 @@
 
 :func:`pyplot` gives matplotlib's pyplot (imported when first called: ``import pinmob`` loads no
 matplotlib); :func:`save_figure` titles, lays out and writes a figure through a temporary file
-(:class:`~pinmob.output_files.Replacing`), for the scans' plots (:mod:`pinmob.scan.plot`) and the
-sweeps' (:mod:`pinmob.sweeps.plot`) alike.
+(:class:`~pinmob.output_files.Replacing`), for the scans' plots (:mod:`pinmob.scan.scan_plot`) and the
+sweeps' (:mod:`pinmob.sweeps.sweep_plot`) alike.
 """
 
 from __future__ import annotations

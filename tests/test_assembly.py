@@ -28,7 +28,7 @@ from pinmob.assembly.residual import worst_residual
 from pinmob.assembly.seeds import configuration_distance, random_configuration
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.joints import outside_limits, wrap_angles
-from pinmob.scan.spec import platform_pose
+from pinmob.scan.scan_spec import platform_pose
 
 DATA = Path(__file__).resolve().parent / "data"
 

@@ -20,14 +20,24 @@ USAGE = Path(__file__).resolve().parent.parent / "docs" / "usage.md"
 OPTION = re.compile(r"(?<![\w=.-])(--?[a-z][a-z-]*)")
 
 
-def synopsis() -> dict[str, str]:
-    """Per command (``""`` for ``pinmob`` itself), the text of its lines in the synopsis block of usage.md."""
+#: the synopsis's widest line: its lines of up to 115 columns were cut in the documentation site's code block at
+#: 1280 px; 88 columns fit there and in a terminal
+WIDTH = 88
+
+
+def synopsis_lines() -> list[str]:
+    """The lines of the synopsis block of usage.md."""
     text = USAGE.read_text(encoding="utf-8")
     block = re.search(r"^## Synopsis\n.*?^```text\n(.*?)^```$", text, re.MULTILINE | re.DOTALL)
     assert block, "docs/usage.md has no ## Synopsis with a ```text block"
+    return block.group(1).splitlines()
+
+
+def synopsis() -> dict[str, str]:
+    """Per command (``""`` for ``pinmob`` itself), the text of its lines in the synopsis block of usage.md."""
     found: dict[str, str] = {}
     command = None
-    for line in block.group(1).splitlines():
+    for line in synopsis_lines():
         if line.startswith("pinmob "):
             word = line.split()[1]
             command = "" if word.startswith("-") else word
@@ -48,6 +58,11 @@ def parsers() -> dict[str, argparse.ArgumentParser]:
 def options(parser: argparse.ArgumentParser) -> list[tuple[str, ...]]:
     """The spellings of each option of ``parser``, ``--help`` left out."""
     return [tuple(a.option_strings) for a in parser._actions if a.option_strings and a.dest != "help"]
+
+
+def test_the_synopsis_wraps():
+    wide = [line for line in synopsis_lines() if len(line) > WIDTH]
+    assert not wide, f"synopsis lines wider than {WIDTH} columns: {wide}"
 
 
 def test_every_command_is_in_the_synopsis():

@@ -22,13 +22,16 @@ The fresh folder holds links to the checkout's ``tests/`` and ``examples/`` (so 
 writes there and nothing in the checkout changes. Before a block's commands, every ```` ```python ````
 snippet above it on its page that writes into ``my_models/`` (the builder's examples) is run there, in
 order, with this Python: the commands then analyse the files the snippets wrote, as a reader following the
-page would. A command line with a pipe (``| python3 -c ...``, ``| grep ...``) runs through ``bash -c`` with
+page would; so is every ```` ```xml ```` or ```` ```toml ```` block above it whose first line is a comment
+naming a file under ``my_models/`` (``<!-- my_models/five_bar.urdf -->``): the file is written there with the
+block's text, as a reader copies it (the tutorial's URDF, TOML and MJCF). A command line with a pipe (``| python3 -c ...``, ``| grep ...``) runs through ``bash -c`` with
 ``set -o pipefail``, ``pinmob`` being the same entry point as for the other commands and this Python's
 folder first on ``PATH`` (so ``python3`` is this Python).
 """
 
 from __future__ import annotations
 
+import re
 import shlex
 import subprocess
 import sys
@@ -73,10 +76,21 @@ def documented_runs(page: Path) -> list[DocBlock]:
     for language, body, start, _ in blocks(text):
         if language == "python" and "my_models" in body:
             snippets.append(body)
+        written = FILE_BLOCK.match(body)
+        if language in ("xml", "toml") and written:  # a file the reader writes: the snippet writes it
+            path = written.group(1)
+            snippets.append(f"from pathlib import Path\nPath({path!r}).parent.mkdir(parents=True, exist_ok=True)\n"
+                            f"Path({path!r}).write_text({body!r})\n")  # fmt: skip
         if body.startswith("$ pinmob"):
             line = text.count("\n", 0, start) + 1
             found.append(DocBlock(page.name, line, language, tuple(snippets), tuple(commands(body))))
     return found
+
+
+#: an ```` ```xml ```` or ```` ```toml ```` block whose first line is a comment naming a file under ``my_models/``
+#: (``<!-- my_models/five_bar.urdf -->``, ``# my_models/five_bar.toml``): the file a reader following the page
+#: writes, written before the page's later commands run
+FILE_BLOCK = re.compile(r"(?:<!--|#) (my_models/[\w./-]+?)(?: -->)?\n")
 
 
 BLOCKS = [block for page in DOCS for block in documented_runs(page)]

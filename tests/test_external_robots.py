@@ -21,6 +21,7 @@ import pinmob
 from pinmob import analyze_mechanism
 from pinmob.assembly.relaxation import find_closed_relaxed
 from pinmob.assembly.seeds import find_closed
+from pinmob.cli import main
 from pinmob.exceptions import ClosureError
 
 ROBOTS = [
@@ -164,3 +165,45 @@ def test_planar_five_bars_have_two_dof(folder):
             mech = pinmob.load(folder / robot / "robot.yaml")
         mm = analyze_mechanism(mech, find_closed(mech).q)
         assert mm.mechanism_dof - mm.idle_dof == 2 and mm.idle_dof == idle and mm.actuation.valid, robot
+
+
+@pytest.mark.parametrize("robot", ROBOTS)
+def test_robot_urdf_is_read_with_its_sidecar(folder, robot):
+    """``robot.urdf`` given alone is read as the Extended URDF of the ``robot.yaml`` beside it (issue 31, item 2):
+    the same loops, actuated joints and name as from the sidecar, and a description naming both files."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # missing meshes
+        by_urdf, by_yaml = pinmob.load(folder / robot / "robot.urdf"), pinmob.load(folder / robot / "robot.yaml")
+    assert [(c.name, c.type) for c in by_urdf.closures] == [(c.name, c.type) for c in by_yaml.closures]
+    assert (by_urdf.name, by_urdf.actuated, by_urdf.model.nv) == (robot, by_yaml.actuated, by_yaml.model.nv)
+    assert by_urdf.description == "Extended URDF robot.urdf + robot.yaml"
+    assert by_urdf.source == folder / robot / "robot.yaml"
+
+
+def test_the_cli_says_it_read_the_sidecar(folder, capsys):
+    """``pinmob analyze robot.urdf`` names the sidecar it read and prints the Extended URDF's counts (the
+    five-bar: nv 6, 3 DoF)."""
+    assert main(["analyze", str(folder / "5bar_linkage" / "robot.urdf")]) == 0
+    out, err = capsys.readouterr()
+    assert "pinmob: read robot.urdf with the Extended URDF sidecar beside it, robot.yaml" in err
+    assert "5bar_linkage: mechanism DoF 3 (nv 6 - closure rank 3)" in out
+
+
+def test_a_yaml_without_closed_loop_is_no_sidecar(tmp_path):
+    """A same-named YAML file of another tool (no ``closed_loop``) leaves the URDF a plain URDF."""
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes((FOLDER / "5bar_linkage" / "robot.urdf").read_bytes())
+    (tmp_path / "robot.yaml").write_text("controller_joints: [a, b]\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(pinmob.MechanismFileError, match="a plain URDF without a <mimic> joint"):
+            pinmob.load(urdf)
+
+
+def test_a_sidecar_that_does_not_parse_is_its_error(tmp_path):
+    """A same-named YAML naming closed_loop that does not parse was meant as the sidecar: its error, one line."""
+    urdf = tmp_path / "robot.urdf"
+    urdf.write_bytes((FOLDER / "5bar_linkage" / "robot.urdf").read_bytes())
+    (tmp_path / "robot.yaml").write_text("closed_loop: [['a', 'b']\n")
+    with pytest.raises(pinmob.MechanismFileError, match="robot.yaml: YAML syntax error"):
+        pinmob.load(urdf)

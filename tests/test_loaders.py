@@ -206,3 +206,22 @@ def test_loader_errors_name_the_file_and_the_problem(case, tmp_path, capsys):
     out = capsys.readouterr().err
     lines = [line for line in out.splitlines() if not line.startswith("pinmob: warning:")]
     assert len(lines) == 1 and lines[0].startswith("pinmob: error:") and message in lines[0], out
+
+
+def test_analyze_takes_a_name_or_a_path_as_the_cli_does():
+    """``pinmob.analyze("3-PUU", "generic")`` is ``pinmob.analyze(pinmob.load("3-PUU"), "generic")`` (issue 31 item 6:
+    it raised AttributeError), the name in any case, and a path as a str or a Path."""
+    expected = pinmob.analyze(pinmob.load("3-PUU"), "generic").to_dict()
+    assert pinmob.analyze("3-PUU", "generic").to_dict() == expected
+    assert pinmob.analyze("3-puu", configuration="generic", q="generic").to_dict()["mechanism"] == "3-PUU"
+    urdf = Path(__file__).parent / "data" / "mimic" / "scissor_gripper.urdf"
+    for given in (urdf, str(urdf)):
+        assert pinmob.analyze(given).to_dict()["mechanism_dof"] == 1
+
+
+def test_analyze_refuses_what_is_no_mechanism():
+    """An unknown name lists the built-in models (pinmob.load's message); another type is an ArgumentError."""
+    with pytest.raises(pinmob.MechanismFileError, match="neither a built-in model nor an existing file.*'3-PUU'"):
+        pinmob.analyze("3-PUX")
+    with pytest.raises(pinmob.ArgumentError, match="a built-in model's name or a file's path, got int"):
+        pinmob.analyze(3)  # type: ignore[arg-type]

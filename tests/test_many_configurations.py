@@ -14,7 +14,7 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-import pinmob.assembly.named as named
+import pinmob.assembly.named_assembly as named
 from pinmob.io.builtin import builtin_models
 
 N = 3000

@@ -23,8 +23,7 @@ from numpy.testing import assert_allclose
 from test_third_party import mujoco_counts, mujoco_locked, nout
 
 import pinmob
-from pinmob.io.mjcf_tendons import MomentActuator, SpatialTendon
-from pinmob.io.mjcf_tree import q_to_qpos
+from pinmob.io.mjcf import MomentActuator, SpatialTendon, q_to_qpos
 
 DATA = Path(__file__).parent / "data" / "tendons"
 

@@ -285,7 +285,7 @@ def test_scan_checks_each_argument_once_in_the_library(monkeypatch, capsys, shap
     On the old code: the CLI checked --rtol (the library not at all), --closure-tol (then path_spec passed it on
     unchecked; grid_spec ignored it) and --workers (then scan() twice more: 3 checks)."""
     import pinmob.cli.scan  # noqa: F401
-    import pinmob.scan.run  # noqa: F401
+    import pinmob.scan.scan_run  # noqa: F401
 
     calls = count_checks(monkeypatch)
     argv = ["scan", "3-PRS", *shape, "--rtol", "1e-7", "--closure-tol", "1e-5", "--no-progress"]
@@ -313,7 +313,7 @@ def test_a_grid_scan_closes_its_samples_within_closure_tol(capsys) -> None:
 def test_sweep_checks_workers_once_in_the_library(monkeypatch, capsys, tmp_path) -> None:
     """``pinmob sweep --workers 1``: workers checked once (the Engine), not by the CLI (3 checks before)."""
     import pinmob.cli.sweep  # noqa: F401
-    import pinmob.sweeps.run  # noqa: F401
+    import pinmob.sweeps.sweep_run  # noqa: F401
 
     spec = tmp_path / "s.toml"
     spec.write_text(SWEEP)

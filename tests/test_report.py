@@ -143,7 +143,7 @@ def test_a_named_configuration_is_closed_once(monkeypatch: pytest.MonkeyPatch) -
         calls["n"] += 1
         return real(*args, **kwargs)  # type: ignore[arg-type]
 
-    monkeypatch.setattr("pinmob.assembly.named.assemble_pose", counted)
+    monkeypatch.setattr("pinmob.assembly.named_assembly.assemble_pose", counted)
     report = pinmob.analyze(mech, "tilted-x", paper=True)
     report.to_dict()
     str(report)

@@ -19,11 +19,12 @@ import pinmob
 import pinmob.scan.chunk as scan_module
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.cli import main
-from pinmob.scan import plot, plot_map
+from pinmob.scan import scan_plot as plot
+from pinmob.scan import workspace_map as plot_map
 from pinmob.scan.output import RowWriter, read_columns
 from pinmob.scan.predictor import Predictor
-from pinmob.scan.run import columns, scan
-from pinmob.scan.spec import STRIDE, ScanSpec, grid_spec, path_spec
+from pinmob.scan.scan_run import columns, scan
+from pinmob.scan.scan_spec import STRIDE, ScanSpec, grid_spec, path_spec
 
 YAW_120 = f"0,0,0.4,0,0,{2 * math.pi / 3!r}"
 

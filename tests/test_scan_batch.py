@@ -25,7 +25,7 @@ from pinmob.io.loader import builtin_models
 from pinmob.scan import grid_spec, path_spec
 from pinmob.scan.batch_rows import analyse, batchable
 from pinmob.scan.chunk import assemble_target
-from pinmob.scan.run import scan_in_process
+from pinmob.scan.scan_run import scan_in_process
 
 #: Pose grids of the platform models, over coordinates that move: (model, at, axes).
 POSE_GRIDS = [
@@ -148,7 +148,7 @@ from pinmob.analysis.batch.batch_analysis import numba_available
 from pinmob.scan import grid_spec
 from pinmob.scan.batch_rows import analyse, batchable
 from pinmob.scan.chunk import assemble_target
-from pinmob.scan.run import scan_in_process
+from pinmob.scan.scan_run import scan_in_process
 assert not numba_available()
 for name, at, axes in {grids!r}:
     mech = pinmob.load(name)
@@ -368,7 +368,7 @@ def test_the_rows_joint_values_and_limits_column_wise_are_the_per_sample_ones():
     import pinocchio as pin
 
     from pinmob.model.joints import outside_limits
-    from pinmob.scan.chain import joint_row, value_joints
+    from pinmob.scan.chain_scan import joint_row, value_joints
     from pinmob.scan.row_columns import joint_rows, limits_of
 
     rng = np.random.default_rng(5)

@@ -26,7 +26,7 @@ import pytest
 import pinmob
 from pinmob.assembly.cad_gaps import frame_gaps
 from pinmob.exceptions import ArgumentError
-from pinmob.model.actuation import with_actuated
+from pinmob.model.actuated_joints import with_actuated
 from pinmob.scan import grid_spec, path_spec, scan
 from pinmob.viewer.workspace import sample_configuration
 

@@ -32,7 +32,7 @@ from test_third_party import mujoco_counts
 
 import pinmob
 from pinmob.cli import main
-from pinmob.model.actuation import with_actuated
+from pinmob.model.actuated_joints import with_actuated
 from pinmob.scan import columns, path_spec, scan
 
 D, L1, L2 = 0.1, 0.1, 0.08

@@ -16,7 +16,7 @@ import pytest
 from scipy.optimize import least_squares
 
 import pinmob
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named_assembly import closed_configuration
 from pinmob.cli import main
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import grid_spec, scan
@@ -346,7 +346,7 @@ def test_an_unreachable_coordinate_target_names_the_coordinates_it_missed():
 def test_a_joint_grid_map_labels_its_axes_with_the_joints_and_their_units(tmp_path, capsys):
     from pinmob.scan.coordinates import coordinate_unit
     from pinmob.scan.output import header, read_columns
-    from pinmob.scan.plot_map import MAP_COLUMNS, map_figure
+    from pinmob.scan.workspace_map import MAP_COLUMNS, map_figure
 
     out = tmp_path / "g.csv"
     args = ["scan", "3-RPS", "--grid", "A_leg:-0.02:0.02:3", "B_leg:-0.02:0.02:3", "--no-progress"]

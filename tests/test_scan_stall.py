@@ -23,8 +23,8 @@ import pinmob
 import pinmob.scan.chunk as chunk
 from pinmob.assembly import solver
 from pinmob.exceptions import PinmobError
-from pinmob.scan.run import scan_in_process
-from pinmob.scan.spec import POSE_COORDS, grid_spec
+from pinmob.scan.scan_run import scan_in_process
+from pinmob.scan.scan_spec import POSE_COORDS, grid_spec
 from pinmob.testing import kinematics_calls
 
 #: Coordinate pairs tried in turn: the first a mechanism's first configuration lets vary independently.

@@ -21,9 +21,9 @@ import pinmob
 from pinmob.cli import main
 from pinmob.exceptions import ConfigurationError
 from pinmob.sweeps.designs import DesignSet, latin_hypercube
-from pinmob.sweeps.plot import pareto_front, written_by
 from pinmob.sweeps.reading import journal_records
 from pinmob.sweeps.store import sweep_metadata
+from pinmob.sweeps.sweep_plot import pareto_front, written_by
 
 PINMOB = [sys.executable, "-m", "pinmob"]
 ROOT = Path(__file__).parent.parent

@@ -282,7 +282,7 @@ def test_the_code_digest_is_the_same_installed_and_in_the_checkout(tmp_path):
     still changes when a source file does."""
     import shutil
 
-    from pinmob.sweeps.spec import package_digest
+    from pinmob.sweeps.sweep_spec import package_digest
 
     checkout = tmp_path / "checkout" / "pinmob"
     shutil.copytree(Path(pinmob.__file__).resolve().parent, checkout, ignore=shutil.ignore_patterns("models"))
@@ -292,5 +292,7 @@ def test_the_code_digest_is_the_same_installed_and_in_the_checkout(tmp_path):
     (installed / "models" / "__init__.py").write_text('"""The built-in models."""\n')
     (installed / "models" / "3puu.toml").write_text('name = "3-PUU"\n')
     assert package_digest(installed) == package_digest(checkout)
-    (checkout / "sweeps" / "spec.py").write_text((checkout / "sweeps" / "spec.py").read_text() + "\n# changed\n")
+    (checkout / "sweeps" / "sweep_spec.py").write_text(
+        (checkout / "sweeps" / "sweep_spec.py").read_text() + "\n# changed\n"
+    )
     assert package_digest(installed) != package_digest(checkout)

@@ -22,7 +22,7 @@ from numpy.testing import assert_allclose
 import pinmob
 from pinmob.assembly.residual import closure_error, compute_kinematics
 from pinmob.cli import main
-from pinmob.io.mjcf_tree import qpos_to_q
+from pinmob.io.mjcf import qpos_to_q
 
 DATA = Path(__file__).parent / "data" / "third_party"
 

@@ -75,7 +75,7 @@ def test_a_xacro_without_a_loop_is_refused_as_a_plain_urdf(tmp_path):
     (tmp_path / "t.urdf.xacro").write_text(
         '<robot xmlns:xacro="http://www.ros.org/wiki/xacro" name="t"><link name="a"/></robot>'
     )
-    with pytest.raises(MechanismFileError, match="a plain URDF has no loop closure"):
+    with pytest.raises(MechanismFileError, match="has no loop closure"):
         pinmob.load(tmp_path / "t.urdf.xacro")
 
 
@@ -120,3 +120,17 @@ def test_a_toml_file_may_name_a_xacro_file(tmp_path):
     report = pinmob.analyze(pinmob.load(tmp_path / "fourbar.toml"), "home")
     chain = report.mechanism_mobility
     assert (chain.nv, chain.rows, chain.rank, chain.mechanism_dof) == (4, 6, 3, 1)
+
+
+def test_robotiq_2f85_xacro_is_analysed_with_its_mimic_couplings():
+    """The expanded 2F-85: six hinges, five mimic rows (each q_j = k q_finger_joint, independent: each names its own
+    joint), DoF 6 - 5 = 1 by hand; a mimic is a joint coupling named mimic_<joint>."""
+    done = pinmob_cli("analyze", str(ROBOTIQ), "--package-path", str(DATA / "robotiq"), "--json")
+    assert done.returncode == 0, done.stderr
+    doc = json.loads(done.stdout)
+    assert (doc["nv"], doc["closure_rows"], doc["closure_rank"], doc["mechanism_dof"]) == (6, 5, 5, 1)
+    mech = pinmob.load(ROBOTIQ, package_dirs=[DATA / "robotiq"])
+    assert sorted(c.name for c in mech.closures) == sorted(
+        f"mimic_{j}" for j in ("right_outer_knuckle_joint", "left_inner_finger_joint", "right_inner_finger_joint",
+                               "left_inner_knuckle_joint", "right_inner_knuckle_joint")
+    )  # fmt: skip

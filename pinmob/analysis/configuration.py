@@ -21,7 +21,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from pinmob.assembly.named import named_vector
+from pinmob.assembly.named_assembly import named_vector
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
     Residuals,

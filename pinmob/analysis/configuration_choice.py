@@ -9,7 +9,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.named import close_joint_values, named_vector
+from pinmob.assembly.named_assembly import close_joint_values, named_vector
 from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol
 from pinmob.model.mechanism import Mechanism
 
@@ -26,7 +26,7 @@ def joint_configuration(
 
     The other joints start from ``base`` (a name of ``mech.configurations``; default: the mechanism's first
     named configuration, else Pinocchio's neutral); when the values given do not close the loops as they are,
-    the other joints are solved with the given ones held (:func:`~pinmob.assembly.named.close_joint_values`).
+    the other joints are solved with the given ones held (:func:`~pinmob.assembly.named_assembly.close_joint_values`).
 
     Args:
         mech: the mechanism.

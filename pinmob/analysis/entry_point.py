@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from pathlib import Path
 
 from numpy.typing import ArrayLike
 
@@ -13,12 +14,13 @@ from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Options, Report
 from pinmob.assembly.assemble import project
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint, worst_first
-from pinmob.assembly.named import named_vector
+from pinmob.assembly.named_assembly import named_vector
 from pinmob.assembly.relaxation import find_closed_relaxed, relaxable, unclosable
 from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual
-from pinmob.assembly.seeds import find_closed
+from pinmob.assembly.seeds import RESTARTS, find_closed
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ArgumentError, ClosureError, ConfigurationError
+from pinmob.io import load
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.rank import RTOL, check_rtol
 
@@ -160,7 +162,7 @@ def nothing_to_relax(mech: Mechanism) -> str:
 
 
 def analyze(
-    mech: Mechanism | Configuration,
+    mech: Mechanism | Configuration | str | Path,
     q: ArrayLike | str | Configuration | None = None,
     *,
     configuration: str | None = None,
@@ -174,7 +176,7 @@ def analyze(
     approach: ArrayLike | Mapping[str, float] | None = None,
     actuator_search: int | None = None,
     generic_rank: int | None = None,
-    restarts: int = 20,
+    restarts: int = RESTARTS,
     relax: bool = False,
     finite: bool = False,
     finite_order: int = ORDER,
@@ -182,7 +184,9 @@ def analyze(
     """Everything pinmob answers at a closed configuration, as one :class:`Report`.
 
     Args:
-        mech: the mechanism, or a :class:`~pinmob.analysis.configuration.Configuration`.
+        mech: the mechanism, a :class:`~pinmob.analysis.configuration.Configuration`, or what
+            :func:`pinmob.io.load` reads, as ``pinmob analyze`` does: a built-in model's name (any case) or a
+            mechanism file's path.
         q: configuration (nq,), the name of one of ``mech.configurations``, or a
             Configuration. None: the mechanism's first named configuration, else a
             closed configuration found by projection from the neutral one and
@@ -217,6 +221,15 @@ def analyze(
         ConfigurationError: another bad argument (shape, NaN, a Configuration of another mechanism).
         ClosureError: q does not close, or no closed configuration could be found.
     """
+    if isinstance(mech, (str, Path)):
+        mech = load(mech)
+    elif not isinstance(mech, (Mechanism, Configuration)):
+        raise ArgumentError(
+            f"analyze takes a Mechanism, a Configuration, a built-in model's name or a file's path, got "
+            f"{type(mech).__name__}",
+            "mech",
+            mech,
+        )
     rtol = check_rtol(rtol)
     finite_order = check_order(finite_order)
     if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:

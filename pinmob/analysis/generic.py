@@ -28,7 +28,7 @@ import pinocchio as pin
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, rate_scale, wrench_blocks
 from pinmob.assembly.assemble import assemble_joints, project
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named_assembly import closed_configuration
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.assembly.seeds import random_configuration
 from pinmob.exceptions import ClosureError, PinmobError

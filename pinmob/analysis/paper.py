@@ -21,7 +21,7 @@ from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limb_twists, limb_wrenches, rate_scale
 from pinmob.analysis.mobility import Mobility, mobility_from_wrenches
 from pinmob.analysis.motion import View
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named_assembly import closed_configuration
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.joints import joint_names

@@ -9,7 +9,7 @@
   :func:`assemble_pose` (inverse kinematics from a platform pose);
 - :mod:`~pinmob.assembly.seeds`: :func:`find_closed` (neutral, then seeded random restarts);
 - :mod:`~pinmob.assembly.relaxation`: over-constraining closures relaxed to ``3d``;
-- :mod:`~pinmob.assembly.named`: the named configurations of a mechanism file, closed.
+- :mod:`~pinmob.assembly.named_assembly`: the named configurations of a mechanism file, closed.
 """
 
 from pinmob.assembly.assemble import (
@@ -21,10 +21,11 @@ from pinmob.assembly.assemble import (
     solve_actuated,
     warn_outside_limits,
 )
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named_assembly import closed_configuration
 from pinmob.assembly.relaxation import find_closed_relaxed, relax, unclosable
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
+    CLOSURE_TOL_MAX,
     Residuals,
     check_closed,
     check_closure_tol,
@@ -40,11 +41,13 @@ from pinmob.assembly.residual import (
     tip_residuals,
     worst_residual,
 )
-from pinmob.assembly.seeds import configuration_distance, find_closed, random_configuration
+from pinmob.assembly.seeds import RESTARTS, configuration_distance, find_closed, random_configuration
 from pinmob.assembly.solver import ResidualFn, SolverResult, solve
 
 __all__ = [
+    "RESTARTS",
     "CLOSURE_TOL",
+    "CLOSURE_TOL_MAX",
     "Assembly",
     "ResidualFn",
     "Residuals",

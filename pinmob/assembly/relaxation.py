@@ -14,7 +14,7 @@ from dataclasses import replace
 from pinmob.assembly.assemble import Assembly
 from pinmob.assembly.closure_miss import format_worst
 from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
-from pinmob.assembly.seeds import find_closed
+from pinmob.assembly.seeds import RESTARTS, find_closed
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import ClosureType
 from pinmob.model.mechanism import Mechanism
@@ -66,7 +66,7 @@ def relax(mech: Mechanism, names: tuple[str, ...] | list[str]) -> Mechanism:
 
 
 def find_closed_relaxed(
-    mech: Mechanism, restarts: int = 20, seed: int = 0, relax_restarts: int = 0, tol: float = CLOSURE_TOL
+    mech: Mechanism, restarts: int = RESTARTS, seed: int = 0, relax_restarts: int = 0, tol: float = CLOSURE_TOL
 ) -> tuple[Mechanism, Assembly, tuple[str, ...]]:
     """Close ``mech``, relaxing over-constraining closures to ``3d`` only where it cannot be closed as declared.
 

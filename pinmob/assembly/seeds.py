@@ -20,6 +20,9 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.progress import step
 from pinmob.screw.algebra import Array
 
+RESTARTS = 20
+"""Random restarts of a search for a closed configuration, by default (the command line's default too)."""
+
 
 def random_configuration(mech: Mechanism, rng: np.random.Generator, spread: float = np.pi) -> Array:
     """A seed: neutral moved by uniform random joint velocities in [-spread, spread] (lengths times L / pi)."""
@@ -29,7 +32,7 @@ def random_configuration(mech: Mechanism, rng: np.random.Generator, spread: floa
 
 
 def find_closed(
-    mech: Mechanism, q0: Array | None = None, restarts: int = 20, seed: int = 0, tol: float = CLOSURE_TOL
+    mech: Mechanism, q0: Array | None = None, restarts: int = RESTARTS, seed: int = 0, tol: float = CLOSURE_TOL
 ) -> Assembly:
     """A closed configuration: projection from q0 (default neutral), then from seeded random restarts.
 

@@ -32,8 +32,8 @@ its meshes) are added by :meth:`MechanismBuilder.urdf_limb`; free chains (not
 limbs) by :meth:`MechanismBuilder.chain`.
 """
 
-from .chain import JOINT_TYPES, ChainBuilder, ClosureSpec, FrameSpec, JointSpec, LimbBuilder
-from .configuration import closed_joints, joint_values
+from .chain_builder import JOINT_TYPES, ChainBuilder, ClosureSpec, FrameSpec, JointSpec, LimbBuilder
+from .closed_joints import closed_joints, joint_values
 from .layout import azimuth, check_rotation, polar, radial, rotation, rpy, symmetric_angles
 from .mechanism_builder import MechanismBuilder
 from .text import ZERO_RTOL, toml_value

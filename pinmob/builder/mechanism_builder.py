@@ -13,8 +13,8 @@ from pinmob.exceptions import ConfigurationError
 from pinmob.model.length_scale import NO_LENGTH, SHORTEST
 from pinmob.name_matching import choices
 
-from .chain import ChainBuilder, ClosureSpec, LimbBuilder
-from .configuration import canonical_joints, closed_joints, write_files
+from .chain_builder import ChainBuilder, ClosureSpec, LimbBuilder
+from .closed_joints import canonical_joints, closed_joints, write_files
 from .layout import check_rotation, point
 from .text import MARKER, check_name, toml_key, toml_value, xml_attribute
 from .urdf_limb import UrdfLimb
@@ -238,7 +238,7 @@ class MechanismBuilder:
         """Pinmob mechanism file text referring to ``urdf`` (a path relative to the file).
 
         Revolute angles of the configurations' ``joints`` and ``seed`` tables are written in (-pi, pi]
-        (:func:`pinmob.builder.configuration.canonical_joints`), so the same configuration gives the same
+        (:func:`pinmob.builder.closed_joints.canonical_joints`), so the same configuration gives the same
         text whichever multiple of 2 pi it was computed with.
         """
         out = [f"# {MARKER}; edit the builder, not this file", f"name = {toml_value(self.name)}"]
@@ -310,7 +310,7 @@ class MechanismBuilder:
     ) -> dict[str, float]:
         """Joint values [rad or m] of a closed configuration, for a ``joints`` table of :meth:`write`.
 
-        See :func:`pinmob.builder.configuration.closed_joints` (``fixed`` joints held, or the
+        See :func:`pinmob.builder.closed_joints.closed_joints` (``fixed`` joints held, or the
         platform put at ``pose = (xyz [m], rotation (3, 3))``; ``seed`` selects the assembly mode).
         """
         return closed_joints(self.mechanism(), fixed, pose, seed)
@@ -325,7 +325,7 @@ class MechanismBuilder:
     ) -> Path:
         """Write ``{stem}.urdf`` and ``{stem}.toml`` into ``directory``; returns the TOML path.
 
-        With ``check`` every named configuration must close first (:func:`pinmob.builder.configuration.write_files`);
+        With ``check`` every named configuration must close first (:func:`pinmob.builder.closed_joints.write_files`);
         files of that name are replaced only if the builder wrote them.
 
         Raises:

@@ -5,7 +5,7 @@ a component ``x`` of a vector ``xs`` is written as 0 when
 ``|x| <= ZERO_RTOL * max(1, max |xs|)`` (in the file's units, m or rad), so that
 values that are zero by construction but come out as 1e-17 on one machine and
 -7e-18 on another are written identically everywhere. Angles are written in
-(-pi, pi]: revolute joint values (:func:`pinmob.builder.configuration.canonical_joints`)
+(-pi, pi]: revolute joint values (:func:`pinmob.builder.closed_joints.canonical_joints`)
 and URDF roll and yaw (:func:`pinmob.builder.layout.rpy`). The last digits can
 still differ between machines (solver and BLAS round-off);
 :mod:`pinmob.catalog.freshness` compares files accordingly.

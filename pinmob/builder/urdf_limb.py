@@ -10,7 +10,7 @@ import numpy as np
 
 from pinmob.exceptions import ConfigurationError
 
-from .chain import FrameSpec, frame_lines
+from .chain_builder import FrameSpec, frame_lines
 from .layout import rpy
 from .text import vector
 

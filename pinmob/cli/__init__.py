@@ -56,7 +56,7 @@ def _sweep(args: argparse.Namespace) -> int:
 
 
 def _glossary(args: argparse.Namespace) -> int:
-    from pinmob.cli import glossary
+    from pinmob.cli import glossary_command as glossary
 
     return glossary.run(args)
 

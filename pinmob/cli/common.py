@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import re
+import sys
 import tomllib
 from collections.abc import Iterator
 from pathlib import Path
@@ -34,10 +35,15 @@ def load_for(args: argparse.Namespace) -> Mechanism:
     """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
     from pinmob.io.loader import load
     from pinmob.io.xacro_file import parse_xacro_args
-    from pinmob.model.actuation import with_actuated
+    from pinmob.model.actuated_joints import with_actuated
 
     xacro_args = parse_xacro_args(getattr(args, "xacro_arg", None) or [])
     mech = load(args.mechanism, xacro_args=xacro_args, package_dirs=getattr(args, "package_path", None) or [])
+    given = Path(str(args.mechanism)).expanduser()
+    if given.suffix.lower() == ".urdf" and mech.source is not None and mech.source.suffix.lower() in (".yaml", ".yml"):
+        print(
+            f"pinmob: read {given.name} with the Extended URDF sidecar beside it, {mech.source.name}", file=sys.stderr
+        )
     if args.actuated is not None:
         names = [n.strip() for n in args.actuated.split(",") if n.strip()]
         if not names:

@@ -7,6 +7,8 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from pinmob import __version__
+from pinmob.assembly import CLOSURE_TOL, CLOSURE_TOL_MAX, RESTARTS
+from pinmob.screw import RTOL
 
 #: where every term the reports use is explained (shown by every ``--help``)
 GLOSSARY = (
@@ -71,7 +73,7 @@ def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
         "--closure-tol",
         type=float,
         default=None,
-        help="largest closure residual accepted, position / L and rotation [rad] (default 1e-6, at most 1e-3; a "
+        help=f"largest closure residual accepted, position / L and rotation [rad] (default {CLOSURE_TOL:.0e}, at most {CLOSURE_TOL_MAX:.0e}; a "
         "refusal of loops that close to CAD accuracy names the value that accepts them)",
     )
 
@@ -102,7 +104,9 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="also show the seed paper's view: generic limb wrenches carried to the configuration",
     )
-    p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    p.add_argument(
+        "--rtol", type=float, default=None, help=f"relative tolerance of rank decisions (default {RTOL:.0e})"
+    )
     p.add_argument(
         "--check",
         action="store_true",
@@ -121,7 +125,10 @@ def build_parser() -> argparse.ArgumentParser:
         help="if the loops cannot be closed as declared, relax the over-constraining closures to 3d and say which",
     )
     p.add_argument(
-        "--restarts", type=int, default=20, help="random restarts when searching a closed configuration (default 20)"
+        "--restarts",
+        type=int,
+        default=RESTARTS,
+        help="random restarts when searching a closed configuration (default %(default)s)",
     )
     p.add_argument(
         "--search-actuators",
@@ -226,7 +233,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--scheduler", metavar="ADDRESS", help="run the scan's chunks on the Dask cluster at this address")
     p.add_argument("--no-progress", action="store_true", help="no progress bar (none either when not a terminal)")
-    p.add_argument("--rtol", type=float, default=None, help="relative tolerance of rank decisions (default 1e-6)")
+    p.add_argument(
+        "--rtol", type=float, default=None, help=f"relative tolerance of rank decisions (default {RTOL:.0e})"
+    )
     _finite_options(
         p,
         "also give each sample's finite DoF (platform and mechanism; the finite analysis per sample, "

@@ -16,12 +16,12 @@ from pinmob.cli.common import check_outputs, load_for, signals_interrupt
 from pinmob.cli.scan_view import check_view_options, view
 from pinmob.exceptions import ConfigurationError
 from pinmob.scan import columns, grid_spec, path_spec, scan, with_finite
-from pinmob.scan.chain import check_actuated
+from pinmob.scan.chain_scan import check_actuated
 from pinmob.scan.coordinates import coordinate_unit
 from pinmob.scan.output import RowWriter
-from pinmob.scan.plot import plot_path, varied_joint
-from pinmob.scan.plot_map import plot_map
-from pinmob.scan.spec import ScanSpec, parse_grid_axis
+from pinmob.scan.scan_plot import plot_path, varied_joint
+from pinmob.scan.scan_spec import ScanSpec, parse_grid_axis
+from pinmob.scan.workspace_map import plot_map
 from pinmob.screw.rank import RTOL
 
 

@@ -11,7 +11,7 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.coordinates import coordinate_unit
-from pinmob.scan.spec import ScanSpec
+from pinmob.scan.scan_spec import ScanSpec
 from pinmob.viewer.workspace import sample_configuration, workspace_cloud
 
 

@@ -9,6 +9,7 @@ import warnings
 from pinmob import viewer
 from pinmob.analysis.entry_point import asked_configuration
 from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.assembly.seeds import RESTARTS
 from pinmob.cli.common import joint_values_of, load_for, signals_interrupt, with_elsewhere
 from pinmob.exceptions import ConfigurationError
 
@@ -24,7 +25,7 @@ def run(args: argparse.Namespace) -> int:
             args.config,
             joint_values_of(args),
             closure_tol=CLOSURE_TOL if args.closure_tol is None else args.closure_tol,
-            restarts=20,
+            restarts=RESTARTS,
             relax=False,
             name=named,
         )

@@ -12,6 +12,8 @@ The convention of example-parallel-robots / toolbox-parallel-robots: beside
   joint frame's axis A, then about its axis B, one composite joint),
   ``CARDAN`` (= ``UJOINT_XY``), ``FIXED`` (locked at 0).
 
+The URDF's ``<mimic>`` joints are ``joint`` couplings (:mod:`pinmob.io.mimic`), on the rebuilt joints.
+
 The files are read as they are; missing meshes only cost the visuals (a
 warning). The mechanism is named after the YAML file, or its folder for
 ``robot.yaml`` (the repository's layout, ``<robot>/robot.yaml``, whose URDFs
@@ -29,6 +31,7 @@ import pinocchio as pin
 
 from pinmob.exceptions import MechanismFileError
 from pinmob.io.gazebo_joints import unread_elements
+from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
@@ -105,6 +108,31 @@ def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
     return value
 
 
+def sidecar(urdf: Path) -> Path | None:
+    """The Extended URDF sidecar of ``urdf``: a same-named ``.yaml`` (or ``.yml``) beside it with a ``closed_loop`` key.
+
+    A same-named YAML file without that key (another tool's configuration) is no sidecar: None, as for none.
+    One that does not parse is no sidecar either, unless its text names ``closed_loop``: then it was meant as
+    one, and its error is raised.
+
+    Raises:
+        MechanismFileError: a same-named YAML file naming ``closed_loop`` does not parse.
+    """
+    for suffix in (".yaml", ".yml"):
+        candidate = urdf.with_suffix(suffix)
+        if candidate.is_file():
+            try:
+                doc = _read_yaml(candidate)
+            except MechanismFileError:
+                with candidate.open("rb") as fh:  # its start: the file may be over the size bound
+                    if b"closed_loop" in fh.read(1_000_000):
+                        raise
+                continue
+            if "closed_loop" in doc:
+                return candidate
+    return None
+
+
 def find_urdf(path: Path) -> Path:
     """The URDF beside a YAML sidecar: same stem, else the only ``*.urdf`` in the folder."""
     same = path.with_suffix(".urdf")
@@ -120,8 +148,17 @@ def find_urdf(path: Path) -> Path:
 
 
 def load_extended_urdf(path: str | Path) -> Mechanism:
-    """Load an Extended URDF robot from its YAML sidecar (the URDF beside it)."""
+    """Load an Extended URDF robot from its YAML sidecar (the URDF beside it), or from the URDF beside its sidecar.
+
+    Given a ``.urdf`` file, its sidecar is the same-named YAML file (:func:`sidecar`); the mechanism's
+    description names both files either way.
+    """
     path = Path(path)
+    if path.suffix.lower() == ".urdf":
+        found = sidecar(path)
+        if found is None:
+            raise file_error(path, "no Extended URDF sidecar beside it (a same-named .yaml file with 'closed_loop')")
+        path = found
     doc = _read_yaml(path)
     if "closed_loop" not in doc:
         raise file_error(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")
@@ -152,6 +189,10 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             raise file_error(path, f"joint_type {jtype!r} of {jname!r} is not supported; valid: {choices(JOINT_TYPES)}")
     if joint_names:
         model = replace_joints(model, {n: str(t).upper() for n, t in zip(joint_names, joint_types)})
+    try:
+        couplings = mimic_couplings(urdf, model)
+    except MechanismFileError as exc:
+        raise file_error(path, str(exc)) from None
     geometry = load_geometry(model, urdf)
     with errors_at(path):
         closures = []
@@ -164,8 +205,9 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             [],
             name=path.absolute().parent.name if path.stem == "robot" else path.stem,  # robot.yaml: its folder's
             actuated={"": _names(path, doc, "name_mot")},
-            description=f"Extended URDF {urdf.name} + {path.name}",
+            description=f"Extended URDF {urdf.name} + {path.name}"
+            + (f" ({len(couplings)} mimic joint{'s' * (len(couplings) != 1)})" if couplings else ""),
             source=path,
             geometry=geometry,
-            closures=closures,
+            closures=unique(path, closures + couplings),
         ).with_ignored(unread_elements(urdf, "the YAML sidecar"))

@@ -33,8 +33,18 @@ def load_sdf(path: Path) -> Mechanism:
     return load_sdf(path)
 
 
-def load_closing_urdf(path: Path) -> Mechanism:
-    """:func:`pinmob.io.closing_frames.load_closing_urdf` (its module imported when first used)."""
+def load_urdf(path: Path) -> Mechanism:
+    """A URDF: the Extended URDF of its same-named YAML sidecar, else a plain URDF.
+
+    The sidecar is :func:`pinmob.io.extended_urdf.sidecar`'s; a plain URDF is read by
+    :func:`pinmob.io.closing_frames.load_closing_urdf` (closing frames and mimic joints).
+    """
+    from pinmob.io.extended_urdf import sidecar
+
+    if sidecar(path) is not None:
+        from pinmob.io.extended_urdf import load_extended_urdf
+
+        return load_extended_urdf(path)
     from pinmob.io.closing_frames import load_closing_urdf
 
     return load_closing_urdf(path)
@@ -47,7 +57,7 @@ LOADERS: dict[str, Callable[[Path], Mechanism]] = {
     ".yml": load_extended_urdf,
     ".xml": load_mjcf,
     ".mjcf": load_mjcf,
-    ".urdf": load_closing_urdf,
+    ".urdf": load_urdf,
     ".sdf": load_sdf,
     ".world": load_sdf,
 }

@@ -13,6 +13,7 @@ import pinocchio as pin
 
 from pinmob.exceptions import FrameError, MechanismFileError, PinmobError
 from pinmob.io.gazebo_joints import unread_elements
+from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import (
     CLOSURE_KEYS,
     CONFIG_KEYS,
@@ -56,22 +57,26 @@ def _joints(path: Path, where: str, joint_names: set[str], names: list[str]) -> 
     return names
 
 
-def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry]:
-    """Kinematic model of the URDF a mechanism file names (:func:`pinmob.io.urdf.read_urdf`) and its geometry.
+def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry, list[Closure]]:
+    """Kinematic model of the URDF a mechanism file names (:func:`pinmob.io.urdf.read_urdf`), its geometry, its mimic couplings.
 
-    The geometry's meshes are checked now and loaded when first drawn (:func:`pinmob.io.urdf.load_geometry`). A
-    ``.xacro`` file is expanded first (:func:`pinmob.io.xacro_file.expand_xacro`, no arguments; ``$(find)`` in
-    ``ROS_PACKAGE_PATH``), and has no geometry.
+    The geometry's meshes are checked now and loaded when first drawn (:func:`pinmob.io.urdf.load_geometry`);
+    each ``<mimic>`` joint is a ``joint`` coupling (:func:`pinmob.io.mimic.mimic_couplings`). A ``.xacro`` file is
+    expanded first (:func:`pinmob.io.xacro_file.expand_xacro`, no arguments; ``$(find)`` in ``ROS_PACKAGE_PATH``),
+    and has no geometry.
     """
     try:
         if urdf.suffix.lower() == ".xacro":
             from pinmob.io.xacro_file import expand_xacro
 
-            return read_urdf(urdf, expand_xacro(urdf)), Geometry(None)
+            text = expand_xacro(urdf)
+            model = read_urdf(urdf, text)
+            return model, Geometry(None), mimic_couplings(urdf, model, text)
         model = read_urdf(urdf)
+        couplings = mimic_couplings(urdf, model)
     except MechanismFileError as exc:
         raise file_error(path, str(exc)) from None
-    return model, load_geometry(model, urdf)
+    return model, load_geometry(model, urdf), couplings
 
 
 def read_toml(path: Path) -> dict[str, Any]:
@@ -99,10 +104,10 @@ def load_toml(path: str | Path) -> Mechanism:
     for key in ("name", "urdf"):
         if not doc.get(key):
             raise file_error(path, f"required key {key!r} must be a non-empty string")
-    model, geometry = load_urdf(path, path.parent / doc["urdf"])
+    model, geometry, couplings = load_urdf(path, path.parent / doc["urdf"])
     joint_names = set(list(model.names)[1:])
 
-    closures = _closures(path, doc.get("closures", []), model)
+    closures = unique(path, _closures(path, doc.get("closures", []), model) + couplings)
     limbs, actuated = _limbs(path, doc.get("limbs", []), model, joint_names)
     if not (limbs or closures):
         raise file_error(path, "needs at least one [[limbs]] table with 'name' and 'tip', or one [[closures]] table")

@@ -1,6 +1,7 @@
 """The mechanism as plain data: a Pinocchio tree, its limbs, loop closures, platform and actuation."""
 
 from pinmob.model.closure import CLOSURE_ROWS, CLOSURE_TYPES, Closure, ClosureGroups, ClosureType, make_closure
+from pinmob.model.constraint_models import ConstraintModelError, PinocchioExportWarning
 from pinmob.model.limb import Limb
 from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
 
@@ -10,9 +11,11 @@ __all__ = [
     "Closure",
     "ClosureGroups",
     "ClosureType",
+    "ConstraintModelError",
     "Expectation",
     "Limb",
     "Mechanism",
     "NamedConfiguration",
+    "PinocchioExportWarning",
     "make_closure",
 ]

@@ -20,6 +20,7 @@ import pinocchio as pin
 from pinmob.exceptions import ConfigurationError, FrameError, unknown
 from pinmob.frozen import read_only
 from pinmob.model.closure import Closure, ClosureType, group_closures
+from pinmob.model.constraint_models import mechanism_parts, write_constraint_models
 from pinmob.model.geometry import Geometry
 from pinmob.model.joint_values import q_from_values
 from pinmob.model.joints import check_q, frame_id, joint_names, velocity_indices
@@ -194,6 +195,57 @@ class Mechanism:
             closures=tuple(closures),
             extra_actuated=extra,
         )
+
+    @classmethod
+    def from_pinocchio(
+        cls,
+        model: pin.Model,
+        constraint_models: Sequence[object],
+        *,
+        platform: str | None = None,
+        limbs: Mapping[str, str] | None = None,
+        actuated: Sequence[str] | Mapping[str, list[str]] = (),
+        hinges: bool | None = None,
+        **options: Any,
+    ) -> Mechanism:
+        """A mechanism from a Pinocchio model and its constraint models (either API; mimic joints allowed).
+
+        Each constraint becomes a closure (:mod:`pinmob.model.constraint_models.constraint_reading`):
+        ``CONTACT_3D`` and point anchors ``3d``, ``CONTACT_6D`` and frame anchors ``6d``; the two point anchors
+        :meth:`to_pinocchio` writes for a revolute closure, ``X`` and ``X/axis``, one ``revolute`` again (any two
+        point anchors on the same two joints with ``hinges=True``, none with ``hinges=False``). Each mimic
+        joint becomes a joint of its own and a coupling ``mimic_<joint>``. With ``limbs`` (``{limb: tip
+        frame}``) and ``platform``, a ``6d`` constraint welding a limb's tip to the platform is the limb's own
+        closure and is not repeated. ``actuated`` names the actuated joints (or maps limb names to them, as
+        :meth:`from_model`); ``options`` go to :meth:`from_model` (``name``, ``configurations``,
+        ``length_scale``, ...).
+
+        Raises:
+            ConstraintModelError: a constraint pinmob cannot read (the message names it).
+            FrameError, ConfigurationError: as :meth:`from_model`.
+        """
+        tips = dict(limbs or {})
+        model, closures, platform, by_limb = mechanism_parts(model, constraint_models, tips, platform, actuated, hinges)
+        return cls.from_model(model, tips, platform=platform, actuated=by_limb, closures=closures, **options)
+
+    def to_pinocchio(self, api: str = "new", *, mimic: bool = False) -> tuple[pin.Model, Any]:
+        """The mechanism as a Pinocchio model and constraint models: every closure, the limbs' welds included.
+
+        Args:
+            api: ``"new"`` (``ConstraintModel`` holding point and frame anchors) or ``"legacy"``
+                (``RigidConstraintModel``, ``CONTACT_3D`` / ``CONTACT_6D``).
+            mimic: write linear joint couplings as mimic joints (Pinocchio's constrained algorithms refuse
+                them, so they are left out by default).
+
+        Returns:
+            ``(model, constraint_models)``: a copy of the model and a ``StdVec_ConstraintModel`` or
+            ``StdVec_RigidConstraintModel`` (:mod:`pinmob.model.constraint_models.constraint_writing`).
+
+        Warns:
+            PinocchioExportWarning: closures Pinocchio has no exact model for, each named with what was put
+                instead (a universal's point anchor, a cylindrical closure left out, ...).
+        """
+        return write_constraint_models(self.model, self.all_closures, length=self.length_scale, api=api, mimic=mimic)
 
     # ------------------------------------------------------------------ queries
 

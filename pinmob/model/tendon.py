@@ -3,7 +3,7 @@
 A tendon has a length ``l(q)`` and a row ``dl/dq`` on the joint rates (``dl/dt = row . v``). A fixed tendon
 (``<tendon><fixed>``) is a linear combination of joint values, ``l = sum_j c_j q_j``, computed here; a
 spatial one (routed over sites and wrapping geoms) is MuJoCo's (``ten_length``, ``ten_J``; see
-:mod:`pinmob.io.mjcf_tendons`). A tendon equality is a closure between tendon lengths
+:mod:`pinmob.io.mjcf.mjcf_tendons`). A tendon equality is a closure between tendon lengths
 (:func:`pinmob.model.closure.make_tendon_coupling`).
 
 An actuator held with the actuated joints is a :class:`Transmission`: locked, it holds ``row . v = 0`` where

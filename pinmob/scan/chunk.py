@@ -1,6 +1,6 @@
 """One chunk of a scan: its samples assembled warm-started along a line, analysed, and refined.
 
-See :mod:`pinmob.scan.run` for the order of the samples and the refinement rule. :meth:`_Chunk.run` is the
+See :mod:`pinmob.scan.scan_run` for the order of the samples and the refinement rule. :meth:`_Chunk.run` is the
 single-sample path (each sample assembled by :func:`assemble_target` and analysed by :func:`evaluate`, or by
 the batch of :mod:`pinmob.scan.batch_rows`); :mod:`pinmob.scan.lockstep` runs many chunks' assemblies
 together and completes each chunk with :meth:`_Chunk.complete` (refinements on the single-sample path). With the spec's
@@ -24,14 +24,14 @@ from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.batch_rows import Analysed, analyse
-from pinmob.scan.chain import evaluate_chain, joint_row, unreachable_chain, value_columns
+from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, vertex_below
 from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.sample import MAX_ITER, _evaluate
 from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
 from pinmob.scan.sample import assemble_target as assemble_target
 from pinmob.scan.sample import evaluate as evaluate
-from pinmob.scan.spec import ScanSpec
+from pinmob.scan.scan_spec import ScanSpec
 from pinmob.scan.unreachable import unreachable_reason, unreachable_row
 from pinmob.screw.algebra import Array
 
@@ -103,7 +103,7 @@ class _Chunk:
             row.update({k: v for k, v in zip(value_columns(list(known)), known.values()) if k in row})
             return row
 
-        if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain)
+        if not self.spec.platform:  # the whole closed chain (pinmob.scan.chain_scan)
             head.update(values())
         try:
             q = (
@@ -138,7 +138,7 @@ class _Chunk:
                limits: tuple[str, ...] | None = None) -> _Sample:  # fmt: skip
         """The row of an assembled sample (:meth:`assemble`), from ``analysed`` (the batch's) or on its own.
 
-        ``values``, ``limits``: its :func:`~pinmob.scan.chain.joint_row` and
+        ``values``, ``limits``: its :func:`~pinmob.scan.chain_scan.joint_row` and
         :func:`~pinmob.model.joints.outside_limits`, already computed (None: computed here).
         """
         head, q, known = pending.row, pending.q, pending.known

@@ -46,7 +46,7 @@ from pinmob.model.joint_values import joint_value
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
 from pinmob.name_matching import choices
-from pinmob.scan.chain import value_joints
+from pinmob.scan.chain_scan import value_joints
 from pinmob.scan.references import platform_pose
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL

@@ -1,6 +1,6 @@
 """Chunks of a scan run together: their samples assembled in lockstep and analysed in one batch.
 
-A group of up to ``GROUP`` chunks (:func:`pinmob.scan.run.chunk_groups`) runs as one
+A group of up to ``GROUP`` chunks (:func:`pinmob.scan.scan_run.chunk_groups`) runs as one
 job. Step j assembles the j-th sample of every chunk of the group, each
 warm-started from the previous sample of its own chunk (the continuation of the
 single-sample path, so the same assembly branch), by the batched predictor
@@ -12,7 +12,7 @@ reach, a stall, a step that diverged) goes to the single-sample solver
 (:func:`pinmob.scan.chunk.assemble_target`) from its warm start, exactly as on
 the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
 its samples: their targets are rows of pose-coordinate vectors built for the whole group at once
-(:meth:`pinmob.scan.spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
+(:meth:`pinmob.scan.scan_spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
 (:func:`secant_stack`, :func:`off_secants`). Joint targets (forward kinematics), targets that hold
 joints, mechanisms without a platform or with closures besides the limb tips are
 assembled by that solver alone.
@@ -40,7 +40,7 @@ from pinmob.model.mechanism import Mechanism
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.row_columns import values_and_limits
-from pinmob.scan.spec import ScanSpec
+from pinmob.scan.scan_spec import ScanSpec
 from pinmob.screw.algebra import Array, Mask
 
 #: Chunks per group (samples assembled in lockstep: up to GROUP per step), the unit of work sent to a Dask worker.
@@ -48,7 +48,7 @@ from pinmob.screw.algebra import Array, Mask
 #: 42 with 16 (about a tenth of the 3-PUU's time).
 GROUP = 32
 
-#: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.run.chunk_seeds`).
+#: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.scan_run.chunk_seeds`).
 Job = tuple[int, int, Array]
 
 

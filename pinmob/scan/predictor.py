@@ -4,7 +4,7 @@
 coordinates (NaN where a coordinate follows: it starts where the seed has it), each sample stopped within
 ``PREDICT_TOL``, the converged ones finished as the single-sample assembly returns them, with the kinematics the
 solver computed at them (:class:`Closed`). :mod:`pinmob.scan.lockstep` runs a group's chunks on it, and the
-seeding walk (:func:`pinmob.scan.run.chunk_seeds`) its even steps.
+seeding walk (:func:`pinmob.scan.scan_run.chunk_seeds`) its even steps.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import pinocchio as pin
 from pinmob.assembly.batch_solver import PoseProblem, solve_poses
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.spec import ScanSpec
+from pinmob.scan.scan_spec import ScanSpec
 from pinmob.screw.algebra import Array, Mask
 
 #: A sample the predictor brought within this ``max |e|`` is closed (the predictor stops there: no polish).

@@ -13,7 +13,7 @@ import pinocchio as pin
 
 from pinmob.assembly.assemble import assemble_pose
 from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
-from pinmob.assembly.named import closed_configuration
+from pinmob.assembly.named_assembly import closed_configuration
 from pinmob.assembly.partial_pose import pose_from_vector
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.model.closure import CLOSURE_TOL

@@ -1,6 +1,6 @@
 """A scan's rows column-wise: the joint values and the joints outside their limits of many samples at once.
 
-What :func:`pinmob.scan.chain.joint_row` and :func:`pinmob.model.joints.outside_limits` give per configuration, for
+What :func:`pinmob.scan.chain_scan.joint_row` and :func:`pinmob.model.joints.outside_limits` give per configuration, for
 the samples a batch assembled (:meth:`pinmob.scan.chunk._Chunk.complete`), with numpy over the whole stack: the same
 values and tuples.
 """
@@ -14,14 +14,14 @@ import pinocchio as pin
 
 from pinmob.model.joints import outside_limits
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain import joint_coordinates, joint_row
+from pinmob.scan.chain_scan import joint_coordinates, joint_row
 from pinmob.screw.algebra import Array
 
 
 def joint_rows(
     mech: Mechanism, joints: tuple[str, ...], qs: list[Array | None], targets: list[dict[str, float] | None]
 ) -> list[dict[str, float] | None]:
-    """:func:`~pinmob.scan.chain.joint_row` of each configuration of ``qs`` with its ``targets`` (None: q None).
+    """:func:`~pinmob.scan.chain_scan.joint_row` of each configuration of ``qs`` with its ``targets`` (None: q None).
 
     Read column-wise, at once, when each joint has one coordinate.
     """

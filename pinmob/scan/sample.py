@@ -17,7 +17,7 @@ from pinmob.assembly.partial_pose import assemble_coordinates
 from pinmob.assembly.reach import pose_vector
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.spec import POSE_COORDS
+from pinmob.scan.scan_spec import POSE_COORDS
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL

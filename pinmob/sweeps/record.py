@@ -22,9 +22,9 @@ from pinmob.analysis.finite.finite_mobility import FiniteMobility
 from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict
 from pinmob.exceptions import ConfigurationError, PinmobError
-from pinmob.scan.run import scan_in_process
+from pinmob.scan.scan_run import scan_in_process
 from pinmob.sweeps.fields import MIN_AT
-from pinmob.sweeps.spec import DesignJob
+from pinmob.sweeps.sweep_spec import DesignJob
 
 
 def empty_record(job: DesignJob, index: int, values: dict[str, float]) -> dict[str, Any]:

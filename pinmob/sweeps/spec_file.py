@@ -53,12 +53,12 @@ from pinmob.catalog.families import family
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.name_matching import choices
 from pinmob.scan.coordinates import check_coordinates
-from pinmob.scan.spec import POSE_COORDS, parse_grid_axis
+from pinmob.scan.scan_spec import POSE_COORDS, parse_grid_axis
 from pinmob.screw.rank import check_rtol
 from pinmob.sweeps.designs import MAX_DESIGNS, METHODS, DesignSet, check_count, latin_hypercube
 from pinmob.sweeps.fields import TYPES
 from pinmob.sweeps.source import Source, template_source
-from pinmob.sweeps.spec import ScanSettings, SweepSpec
+from pinmob.sweeps.sweep_spec import ScanSettings, SweepSpec
 
 TOP = (
     "title",

@@ -16,7 +16,7 @@ first design leaves the target as it was (or absent). Memory is flat in the numb
 designs: records stream through batches; a byte per design says which are written.
 
 The file's schema metadata ``pinmob.sweep`` (JSON) holds the sweep's identity
-(:meth:`~pinmob.sweeps.spec.SweepSpec.identity`: the spec and pinmob's code), the
+(:meth:`~pinmob.sweeps.sweep_spec.SweepSpec.identity`: the spec and pinmob's code), the
 spec's own digest, pinmob's version, the number of designs, how many are written
 and whether it is complete. The rule for an existing target:
 
@@ -56,7 +56,7 @@ from pinmob.sweeps.reading import (
     records_of,
     unique,
 )
-from pinmob.sweeps.spec import SweepSpec, pinmob_version
+from pinmob.sweeps.sweep_spec import SweepSpec, pinmob_version
 
 #: Journal batches every so many records or seconds.
 BATCH_RECORDS, BATCH_SECONDS = 256, 5.0

@@ -19,7 +19,7 @@ import pinocchio as pin
 from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.finite.branch_names import branch_point_name
+from pinmob.analysis.finite.branches import branch_point_name
 from pinmob.analysis.finite.finite_mobility import finite_mobility
 from pinmob.analysis.follow.motion_path import MotionPath, follow_motion
 from pinmob.analysis.mobility import Mobility
@@ -51,7 +51,7 @@ class Prepared:
         singularity: the singularity report (None where it does not apply).
         chain: the whole mechanism's mobility (None when it could not be computed).
         branch_point: where motion branches meet at q, their DoF and the platform's motion type on each
-            (:func:`pinmob.analysis.finite.branch_names.branch_point_name`; None elsewhere, or without verdicts).
+            (:func:`pinmob.analysis.finite.branches.branch_point_name`; None elsewhere, or without verdicts).
         output_frame: that output frame's name (None: the mechanism's own platform is shown).
         note: why that frame is shown ("" for a mechanism with a platform).
     """

@@ -31,7 +31,7 @@ from pinmob.exceptions import ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joint_values import q_from_values
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain import value_joints
+from pinmob.scan.chain_scan import value_joints
 from pinmob.screw.algebra import Array
 from pinmob.screw.rank import RTOL
 from pinmob.viewer.panel import hex_color

@@ -463,7 +463,7 @@ def spherical_fivebar() -> None:
     import pinocchio as pin
 
     import pinmob
-    from pinmob.builder.configuration import closed_joints
+    from pinmob.builder.closed_joints import closed_joints
 
     def unit(*v: float) -> np.ndarray:
         return np.array(v) / np.linalg.norm(v)

@@ -28,8 +28,7 @@ from dataclasses import dataclass, replace
 from typing import Any
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.finite.branch_names import branch_point_name
-from pinmob.analysis.finite.branches import branch_joints
+from pinmob.analysis.finite.branches import branch_joints, branch_point_name
 from pinmob.analysis.finite.coupling_rows import hold_tendons, moments_off_lengths
 from pinmob.analysis.finite.finite_side import Side, analyse_side
 from pinmob.analysis.finite.higher_order import ORDER, ORDER_TOL, check_order

@@ -40,7 +40,7 @@ class Unwritten(NamedTuple):
     Attributes:
         what: ``coupling 'c' on tendons 't1', 't2'``, or the quoted name of an actuator held at its length.
         why: why its derivatives are not written (:attr:`~pinmob.model.tendon.Tendon.unwritten_why`).
-        held: an actuator held at its length (MuJoCo's :class:`~pinmob.io.actuator_lengths.ActuatorLength`).
+        held: an actuator held at its length (MuJoCo's :class:`~pinmob.io.mjcf.actuator_lengths.ActuatorLength`).
     """
 
     what: str

@@ -38,6 +38,7 @@ from pinmob.assembly.residual import closure_residual, compute_kinematics
 from pinmob.assembly.solver import solve
 from pinmob.model.joints import short_difference
 from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.screw.rank import RTOL
 
 #: Size of the perturbations [rad, or m / L].
 RADIUS = 0.02
@@ -152,7 +153,7 @@ def local_dimension(
     branches: Sequence[Array],
     held: tuple[int, ...] = (),
     *,
-    rtol: float = 1e-6,
+    rtol: float = RTOL,
     tries: int | None = None,
     radius: float = RADIUS,
     seed: int = 0,

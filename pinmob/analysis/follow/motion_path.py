@@ -57,6 +57,7 @@ from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.classify import MotionKind
+from pinmob.screw.rank import RTOL
 
 Array = np.ndarray
 
@@ -142,7 +143,7 @@ def follow_motion(
     *,
     amplitude: float | None = None,
     steps: int = 12,
-    rtol: float = 1e-6,
+    rtol: float = RTOL,
     closure_tol: float = CLOSURE_TOL,
     max_deviation: float = MAX_DEVIATION,
     halvings: int = MAX_HALVINGS,
@@ -207,7 +208,7 @@ def follow_rates(
     amplitude: float = 0.05,
     steps: int = 2,
     held: tuple[int, ...] = (),
-    rtol: float = 1e-6,
+    rtol: float = RTOL,
     closure_tol: float = CLOSURE_TOL,
     max_deviation: float = MAX_DEVIATION,
     halvings: int = MAX_HALVINGS,

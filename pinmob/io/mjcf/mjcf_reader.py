@@ -3,7 +3,7 @@
 MuJoCo (the ``mujoco`` package, imported when an MJCF file is loaded) is the reference compiler of
 its format: it resolves includes, defaults (a joint ``pos`` given in a ``<default>`` class),
 ``ref`` and ``qpos0``, sites, compiler settings and the data of each equality. pinmob builds its
-Pinocchio model from the compiled model (:mod:`pinmob.io.mjcf_tree`), so that Pinocchio's ``q``
+Pinocchio model from the compiled model (:mod:`pinmob.io.mjcf.mjcf_tree`), so that Pinocchio's ``q``
 of a hinge or slide is MuJoCo's ``qpos`` and every anchor, axis and closure point is MuJoCo's.
 
 Closures, from the compiled ``eq_data`` (MuJoCo's ``mj_instantiateEquality``):
@@ -17,12 +17,12 @@ Closures, from the compiled ``eq_data`` (MuJoCo's ``mj_instantiateEquality``):
 - ``joint``: a ``joint`` coupling, ``qpos1 - qpos0_1 = sum_k c_k (qpos2 - qpos0_2)^k``
   (``polycoef``; ``qpos1 - qpos0_1 = c_0`` without joint2).
 - ``tendon``: a ``tendon`` coupling, ``l1 - l1_0 = sum_k c_k (l2 - l2_0)^k`` between tendon lengths,
-  fixed or spatial (:mod:`pinmob.io.mjcf_tendons`).
+  fixed or spatial (:mod:`pinmob.io.mjcf.mjcf_tendons`).
 - ``flex`` and any other kind are refused (one line naming them); an equality that is
   inactive at the start (``active="false"``) is left out, with a warning.
 
 Actuated joints are those of actuators on a hinge or slide (``joint``, ``jointinparent``); every other
-actuator MuJoCo moves is held as its moment arms at the configuration (:mod:`pinmob.io.mjcf_tendons`: a
+actuator MuJoCo moves is held as its moment arms at the configuration (:mod:`pinmob.io.mjcf.mjcf_tendons`: a
 fixed tendon's coefficients, MuJoCo's ``actuator_moment`` row for a spatial tendon, a site, a slider-crank
 or a ball joint). One warning names what is left out: actuators on bodies (adhesion) and tendon limits
 (one-sided). Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
@@ -30,9 +30,9 @@ default) when the equalities hold there (MuJoCo's test models close only once si
 it, the analysis finds a closed configuration) and one per ``<keyframe><key>`` (its ``qpos``); those
 that do not close are starts (:attr:`pinmob.model.named.NamedConfiguration.start`), from which the
 analysis searches for a closed configuration. The
-visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf_geometry`), built when first drawn. Objects
+visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf.mjcf_geometry`), built when first drawn. Objects
 are shown by their names in the file, unnamed ones by labels with their MuJoCo id (``#k`` for joint
-k, ``equality#k`` for the closure of equality k: :mod:`pinmob.io.mjcf_names`).
+k, ``equality#k`` for the closure of equality k: :mod:`pinmob.io.mjcf.mjcf_names`).
 """
 
 from __future__ import annotations
@@ -47,12 +47,12 @@ import pinocchio as pin
 
 from pinmob.bounds import check_bound
 from pinmob.io.mesh_files import confine, mesh_roots
-from pinmob.io.mjcf_assets import drop_unread_files
-from pinmob.io.mjcf_includes import check_xml_files
-from pinmob.io.mjcf_names import add_frame, check_labels, closure_frames, label, labels
-from pinmob.io.mjcf_tendons import is_length, left_out, read_actuators, tendon_closure
-from pinmob.io.mjcf_tree import Tree, build_tree, qpos_to_q, se3
-from pinmob.io.mujoco_kinematics import MujocoKinematics
+from pinmob.io.mjcf.mjcf_assets import drop_unread_files
+from pinmob.io.mjcf.mjcf_includes import check_xml_files
+from pinmob.io.mjcf.mjcf_names import add_frame, check_labels, closure_frames, label, labels
+from pinmob.io.mjcf.mjcf_tendons import is_length, left_out, read_actuators, tendon_closure
+from pinmob.io.mjcf.mjcf_tree import Tree, build_tree, qpos_to_q, se3
+from pinmob.io.mjcf.mujoco_kinematics import MujocoKinematics
 from pinmob.io.schema import errors_at, file_error
 from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupling
 from pinmob.model.geometry import Geometry
@@ -71,8 +71,8 @@ def compile_mjcf(path: Path, warn: bool = True) -> Any:
     Kinematics needs no mass: a moving body without mass or inertia (which MuJoCo refuses to simulate) is
     given a tiny one (the compiler's ``boundmass`` and ``boundinertia``, when the file sets none). Mesh and
     texture files that are missing or outside the model's folders are left out, with a warning (``warn``)
-    (:func:`pinmob.io.mjcf_assets.drop_unread_files`); a model or include file that is not a regular file, is
-    too large or (an include) lies outside those folders is refused (:mod:`pinmob.io.mjcf_includes`).
+    (:func:`pinmob.io.mjcf.mjcf_assets.drop_unread_files`); a model or include file that is not a regular file, is
+    too large or (an include) lies outside those folders is refused (:mod:`pinmob.io.mjcf.mjcf_includes`).
     """
     import mujoco
 
@@ -194,7 +194,7 @@ def named_configurations(m: Any, tree: Tree, length: float) -> dict[str, NamedCo
 
 
 class Visuals:
-    """The :class:`Geometry` loader of an MJCF: its visual geometry (:func:`pinmob.io.mjcf_geometry.visual_geometry`).
+    """The :class:`Geometry` loader of an MJCF: its visual geometry (:func:`pinmob.io.mjcf.mjcf_geometry.visual_geometry`).
 
     It builds from the model :func:`load_mjcf` compiled, held until the first draw (then dropped: the
     :class:`Geometry` keeps what it built), so drawing compiles nothing again. It pickles as its path (a
@@ -206,7 +206,7 @@ class Visuals:
 
     def __call__(self, model: pin.Model) -> tuple[pin.GeometryModel | None, None]:
         """``(visual, None)`` for ``model`` (None when the file has no geom to draw)."""
-        from pinmob.io.mjcf_geometry import visual_geometry
+        from pinmob.io.mjcf.mjcf_geometry import visual_geometry
 
         m, self._compiled = self._compiled, None
         if m is None:
@@ -259,7 +259,7 @@ def load_mjcf(path: str | Path) -> Mechanism:
             closures += [
                 equality_closure(m, tree, e, equalities[e], kinematics) for e in range(m.neq) if m.eq_active0[e]
             ]
-        except ValueError as exc:  # a closure's frame name taken (pinmob.io.mjcf_names.add_frame)
+        except ValueError as exc:  # a closure's frame name taken (pinmob.io.mjcf.mjcf_names.add_frame)
             raise file_error(path, str(exc)) from None
         try:
             joints, tendons, adhesion = read_actuators(m, tree, kinematics)

@@ -1,6 +1,6 @@
 """Scans: mobility and singularities along a path or over a workspace slice.
 
-What is scanned, in which order, is a :class:`pinmob.scan.spec.ScanSpec`. Each
+What is scanned, in which order, is a :class:`pinmob.scan.scan_spec.ScanSpec`. Each
 target is assembled warm-started (the previous sample's configuration seeds
 the closure solver of the next). One coarse walk (:func:`chunk_seeds`, in this
 process) goes from the reference configuration through every ``STRIDE``-th
@@ -48,11 +48,11 @@ from pinmob.assembly.reach import pose_vector
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
 from pinmob.parallel import Engine, Lost
-from pinmob.scan.chain import CHAIN_COLUMNS, value_columns
+from pinmob.scan.chain_scan import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
 from pinmob.scan.lockstep import GROUP, Job, off_secant, run_group, secant_starts
 from pinmob.scan.predictor import Predictor
-from pinmob.scan.spec import POSE_COORDS, ScanSpec
+from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw.algebra import Array
 
@@ -252,7 +252,7 @@ def scan(
 
     Args:
         mech: the mechanism.
-        spec: what to scan (:mod:`pinmob.scan.spec`).
+        spec: what to scan (:mod:`pinmob.scan.scan_spec`).
         workers: worker processes of a Dask ``LocalCluster`` (1: this process); the rows do not depend on it.
         progress: show a tqdm bar on stderr (None: only for scans of 50 samples or more on a terminal).
         scheduler: address of an existing Dask cluster's scheduler to run the chunks on.

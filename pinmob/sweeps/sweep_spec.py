@@ -18,7 +18,7 @@ from pathlib import Path
 from typing import Any
 
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.spec import ScanSpec, grid_spec, path_spec
+from pinmob.scan.scan_spec import ScanSpec, grid_spec, path_spec
 from pinmob.screw.rank import RTOL
 from pinmob.sweeps.designs import DesignSet, check_count
 from pinmob.sweeps.fields import UNITS, record_fields
@@ -64,7 +64,7 @@ class ScanSettings:
 
     Attributes:
         axes: a grid's one to three axes ``(coordinate, low, high, count)`` (a pose coordinate or a joint,
-            :func:`pinmob.scan.spec.grid_spec`); empty for a path.
+            :func:`pinmob.scan.scan_spec.grid_spec`); empty for a path.
         at: the grid's reference (a configuration name or a pose ``x,y,z,roll,pitch,yaw``); None: the first one.
         start: a path's start (name, pose, or joint values ``name=value,...``); None: the first configuration.
         end: a path's end; None: the second configuration.

@@ -20,7 +20,7 @@ import numpy as np
 
 from pinmob.figures import pyplot, save_figure
 from pinmob.sweeps.fields import TYPES
-from pinmob.sweeps.spec import SweepSpec
+from pinmob.sweeps.sweep_spec import SweepSpec
 
 
 def _label(spec: SweepSpec, name: str) -> str:

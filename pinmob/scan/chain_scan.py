@@ -2,7 +2,7 @@
 
 A *joint path* runs from a start to an end configuration, each a named
 configuration or joint values ``name=value,...`` (the others solved to close the
-loops, :func:`pinmob.assembly.named.close_joint_values`). The actuated joints
+loops, :func:`pinmob.assembly.named_assembly.close_joint_values`). The actuated joints
 are interpolated, ``a(s) = (1 - s) a_A + s a_B``, and the other joints re-closed
 at each sample from the previous one (forward kinematics,
 :func:`pinmob.assembly.assemble.assemble_joints`), as for a platform
@@ -44,7 +44,7 @@ from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_configurations, generic_constraint_rank
 from pinmob.analysis.singularity.result import NEAR_FACTOR, distance_of, padded
-from pinmob.assembly.named import close_joint_values, closed_configuration, named_vector
+from pinmob.assembly.named_assembly import close_joint_values, closed_configuration, named_vector
 from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joint_values import joint_value, parse_joint_values
@@ -131,7 +131,7 @@ def check_actuated(mech: Mechanism) -> tuple[str, ...]:
         why = f" (its actuator(s) {', '.join(tendons)} drive {kinds}, not joints)" if tendons else ""
         raise ConfigurationError(
             f"{mech.name!r} declares no actuated joint{why}, and a joint path interpolates the actuated joints: "
-            "name them with `actuated=a,b,...` (pinmob.model.actuation.with_actuated in Python)"
+            "name them with `actuated=a,b,...` (pinmob.model.actuated_joints.with_actuated in Python)"
         ).naming("actuated")
     return mech.actuated
 

@@ -123,7 +123,7 @@ def write_files(name: str, directory: Path, texts: Mapping[str, str], toml: str,
     Raises:
         ConfigurationError: a foreign file in the way, or a configuration that does not close.
     """
-    from pinmob.assembly.named import closed_configuration
+    from pinmob.assembly.named_assembly import closed_configuration
     from pinmob.io.toml_file import load_toml
 
     for fname in texts:

@@ -17,8 +17,8 @@ from typing import Any, ClassVar
 import numpy as np
 import pinocchio as pin
 
-from pinmob.io.mjcf_tree import BALL, Tree
-from pinmob.io.mujoco_kinematics import MujocoKinematics
+from pinmob.io.mjcf.mjcf_tree import BALL, Tree
+from pinmob.io.mjcf.mujoco_kinematics import MujocoKinematics
 from pinmob.model.tendon import Tendon, joint_configuration
 from pinmob.screw.algebra import Array
 

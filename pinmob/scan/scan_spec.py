@@ -8,7 +8,7 @@
   by forward kinematics (:func:`pinmob.assembly.assemble.assemble_joints`); its
   ends are configuration names or joint values ``name=value,...``. A mechanism
   without a platform is scanned this way only, each row the whole closed
-  chain's answer (:mod:`pinmob.scan.chain`);
+  chain's answer (:mod:`pinmob.scan.chain_scan`);
 * ``grid``: one to three coordinates on a grid, each a platform pose coordinate
   (x, y, z [m], roll, pitch, yaw [rad]) or a one-degree joint [rad or m]; of the
   other coordinates, those that can still move at the reference configuration
@@ -48,7 +48,7 @@ from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.joint_values import parse_joint_values
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain import end_values, joint_path_ends, value_joints
+from pinmob.scan.chain_scan import end_values, joint_path_ends, value_joints
 from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_coordinates
 from pinmob.scan.references import platform_pose as platform_pose  # re-exported: its home before references.py
 from pinmob.scan.references import reference, resolve_pose
@@ -80,10 +80,10 @@ class ScanSpec:
         generic_rank: the mechanism's generic constraint rank.
         finite_order: with a value, each row adds the finite DoF at its configuration (the finite-mobility
             analysis with this order bound, :func:`pinmob.analysis.finite.finite_mobility.finite_mobility`); None: not.
-        platform: rows about the platform (else about the whole closed chain, :mod:`pinmob.scan.chain`; then
+        platform: rows about the platform (else about the whole closed chain, :mod:`pinmob.scan.chain_scan`; then
             ``generic_rank`` is the generic closure rank).
         closure_tol: largest closure residual of an assembled sample (position / L, rotation [rad]).
-        values: the joints whose values the rows give (:func:`pinmob.scan.chain.value_joints`).
+        values: the joints whose values the rows give (:func:`pinmob.scan.chain_scan.value_joints`).
         engine: ``batch`` (a chunk's samples analysed together, :mod:`pinmob.scan.batch_rows`) or ``single``
             (each sample on its own); the same rows, the figures to round-off.
         gaps: with a ``closure_tol`` above the default (:attr:`cad`), the frame placements that hold the
@@ -333,7 +333,7 @@ def path_spec(
 
     A coordinate path (:func:`coordinate_path_spec`) when an end's values name a pose coordinate; a joint path
     (the actuated joints interpolated) when ``joints`` is set, when an end is joint values, or when the mechanism
-    has no platform (then each row is the whole closed chain's answer, :mod:`pinmob.scan.chain`); else a path in
+    has no platform (then each row is the whole closed chain's answer, :mod:`pinmob.scan.chain_scan`); else a path in
     platform poses.
 
     Raises:

@@ -16,7 +16,7 @@ their quaternions are stored ``(x, y, z, w)`` by Pinocchio and ``(w, x, y, z)`` 
 ``BODY`` frames named as in the file, sites ``OP_FRAME`` frames (``site:<name>`` when a body or a
 joint has the name already; MuJoCo keeps their names apart), each joint has a ``JOINT`` frame of its
 name; unnamed elements are labelled by their MuJoCo id, ``#k`` for joint k, ``body#k``, ``site#k``
-(:mod:`pinmob.io.mjcf_names`).
+(:mod:`pinmob.io.mjcf.mjcf_names`).
 """
 
 from __future__ import annotations
@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.io.mjcf_names import RESERVED, add_frame, labels, site_frame
-from pinmob.io.mjcf_names import name_of as name_of  # where the MJCF modules import it from
+from pinmob.io.mjcf.mjcf_names import RESERVED, add_frame, labels, site_frame
+from pinmob.io.mjcf.mjcf_names import name_of as name_of  # where the MJCF modules import it from
 from pinmob.screw.algebra import Array
 
 #: MuJoCo's joint types (``mjtJoint``): free, ball, slide, hinge.
@@ -85,7 +85,7 @@ def build_tree(m: Any, name: str) -> Tree:
     Raises:
         ValueError: a free joint below another body (MuJoCo allows it only at the top of the tree
             and the message says so), a free joint sharing its body, or a name of the file that is
-            pinmob's label of another object (:mod:`pinmob.io.mjcf_names`).
+            pinmob's label of another object (:mod:`pinmob.io.mjcf.mjcf_names`).
     """
     model = pin.Model()
     model.name = name

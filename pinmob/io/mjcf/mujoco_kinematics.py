@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.io.mjcf_tree import FREE, q_to_qpos
+from pinmob.io.mjcf.mjcf_tree import FREE, q_to_qpos
 from pinmob.screw.algebra import Array
 
 

@@ -19,7 +19,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from pinmob.io.mjcf_tree import Tree, name_of, se3, unique
+from pinmob.io.mjcf.mjcf_tree import Tree, name_of, se3, unique
 
 #: MuJoCo's geom types (``mjtGeom``) pinmob draws.
 SPHERE, CAPSULE, ELLIPSOID, CYLINDER, BOX, MESH = 2, 3, 4, 5, 6, 7

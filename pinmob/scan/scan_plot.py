@@ -10,7 +10,7 @@
   near-singular band; the DoF. Singular samples, near-singular samples and
   refined singular points are marked, the latter labelled by class; samples
   that could not be assembled are shaded grey.
-* :func:`pinmob.scan.plot_map.plot_map`: a workspace slice as two maps.
+* :func:`pinmob.scan.workspace_map.plot_map`: a workspace slice as two maps.
 
 Every colour and mark has a legend entry. Only the columns drawn are read
 (:func:`pinmob.scan.output.read_columns`). Absent singular values (a stack with
@@ -31,7 +31,7 @@ from pinmob.figures import pyplot, save_figure
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
 from pinmob.scan.output import read_columns
-from pinmob.scan.spec import POSE_COORDS, ScanSpec
+from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
 from pinmob.screw.rank import RTOL
 
 #: Log-scale floor for singular values and distances that are exactly zero.
@@ -73,7 +73,7 @@ def _relative(c: dict[str, np.ndarray], prefix: str) -> np.ndarray:
 
 PATH_COLUMNS = ["s", "refined", "reachable", "singularity", "singular_limbs", "near_singular", "distance", "dof",
                 *POSE_COORDS] + [f"{p}{i}" for p in ("sv", "av") for i in range(1, 7)]  # fmt: skip
-#: The columns of a joint path of a mechanism without a platform (:mod:`pinmob.scan.chain`).
+#: The columns of a joint path of a mechanism without a platform (:mod:`pinmob.scan.chain_scan`).
 CHAIN_PATH_COLUMNS = [c for c in PATH_COLUMNS if c != "singular_limbs" and c not in POSE_COORDS]
 #: Panel titles (actuation, constraint) and the DoF axis of a platform's path plot, and of a closed chain's.
 PANELS = {
@@ -168,7 +168,7 @@ def plot_path(
 ) -> Path:
     """Singular values, distance and DoF along a path scan; returns the PNG path (see :func:`path_abscissa`).
 
-    ``platform`` False: a closed chain's joint path (:mod:`pinmob.scan.chain`): its panels and mechanism DoF.
+    ``platform`` False: a closed chain's joint path (:mod:`pinmob.scan.chain_scan`): its panels and mechanism DoF.
     """
     plt = pyplot()
     c = read_columns(csv_path, PATH_COLUMNS if platform else CHAIN_PATH_COLUMNS)

@@ -4,7 +4,7 @@
 [rad]: the motion type, and the distance to singularity (log scale). Singular
 samples are crossed, near-singular ones circled, refined points starred; cells
 that were not assembled are left blank, and the legend says so. The shared
-helpers are in :mod:`pinmob.scan.plot`.
+helpers are in :mod:`pinmob.scan.scan_plot`.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ import numpy as np
 from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
 from pinmob.scan.output import header, read_columns
-from pinmob.scan.plot import FLOOR, MARKS, POSE_UNITS, sample_classes
+from pinmob.scan.scan_plot import FLOOR, MARKS, POSE_UNITS, sample_classes
 from pinmob.screw.rank import RTOL
 
 

@@ -11,14 +11,14 @@ Actuators (MuJoCo's transmissions): one on a hinge or slide (``joint``, ``jointi
 joint; one on a fixed tendon is a :class:`~pinmob.model.tendon.TendonActuator`; one on a spatial tendon, a
 site, a slider-crank or a ball or free joint is a :class:`MomentActuator`, held as MuJoCo's moment arms
 at the configuration (its row of ``actuator_moment``); the finite analysis holds what it drives at its length
-(the tendon's, or :mod:`pinmob.io.actuator_lengths`). An orientation servo (MuJoCo's ``mjTRN_SO3``, three
+(the tendon's, or :mod:`pinmob.io.mjcf.actuator_lengths`). An orientation servo (MuJoCo's ``mjTRN_SO3``, three
 outputs) is three, ``name[0..2]``, one per component of its expmap; rows, lengths and gears are those of
 MuJoCo's outputs (:func:`outputs`), not of its controls (``nu``: a PID servo may have two). One on a body
 (adhesion) acts through contacts and is left out. Tendon limits (``limited``, even a narrow range) are
 MuJoCo's one-sided constraints, active only at the range's ends, not equalities: left out. :func:`left_out`
 says both in one line.
 
-MuJoCo is asked at each configuration through :class:`~pinmob.io.mujoco_kinematics.MujocoKinematics`.
+MuJoCo is asked at each configuration through :class:`~pinmob.io.mjcf.mujoco_kinematics.MujocoKinematics`.
 """
 
 from __future__ import annotations
@@ -29,10 +29,10 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.io.actuator_lengths import actuator_length
-from pinmob.io.mjcf_names import label
-from pinmob.io.mjcf_tree import BALL, FREE, SLIDE, Tree
-from pinmob.io.mujoco_kinematics import MujocoKinematics
+from pinmob.io.mjcf.actuator_lengths import actuator_length
+from pinmob.io.mjcf.mjcf_names import label
+from pinmob.io.mjcf.mjcf_tree import BALL, FREE, SLIDE, Tree
+from pinmob.io.mjcf.mujoco_kinematics import MujocoKinematics
 from pinmob.model.closure import Closure, make_tendon_coupling
 from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration
 from pinmob.screw.algebra import Array
@@ -84,7 +84,7 @@ class MomentActuator(Transmission):
             ``orientation`` (one of an orientation servo's outputs, named ``name[k]``).
         index: its MuJoCo output (its row of ``actuator_length``, ``actuator_moment``: ``actuator_outadr``).
         kinematics: the compiled model.
-        tendon: the spatial tendon or the :class:`~pinmob.io.actuator_lengths.ActuatorLength` it drives (None
+        tendon: the spatial tendon or the :class:`~pinmob.io.mjcf.actuator_lengths.ActuatorLength` it drives (None
             for a site without a reference site and a free joint: MuJoCo gives them no length).
     """
 
@@ -120,7 +120,7 @@ def is_length(m: Any, t: int) -> bool:
 
 
 def tendon_name(m: Any, t: int) -> str:
-    """The tendon's name, or ``tendon#<t>`` (:func:`pinmob.io.mjcf_names.label`)."""
+    """The tendon's name, or ``tendon#<t>`` (:func:`pinmob.io.mjcf.mjcf_names.label`)."""
     return label(m, "tendon", t)
 
 

@@ -12,15 +12,15 @@ import numpy as np
 from pinmob.exceptions import ConfigurationError
 from pinmob.parallel import Engine, Lost
 from pinmob.sweeps.record import empty_record, evaluate_design, failed
-from pinmob.sweeps.spec import SweepSpec
 from pinmob.sweeps.spec_file import load_spec
+from pinmob.sweeps.sweep_spec import SweepSpec
 
 
 class SweepRun:
     """The records of a sweep, one per design in design order (iterate over it).
 
     Each Dask task carries its design's index and values; what every design needs (the
-    :class:`~pinmob.sweeps.spec.DesignJob`: the source, the scan, the fields) goes to the
+    :class:`~pinmob.sweeps.sweep_spec.DesignJob`: the source, the scan, the fields) goes to the
     cluster once per run, not the design table.
 
     Attributes:
@@ -96,7 +96,7 @@ def sweep(
     """The records of a design-space sweep, one per design, in design order.
 
     Args:
-        spec: a :class:`~pinmob.sweeps.spec.SweepSpec` or the path of a sweep spec file
+        spec: a :class:`~pinmob.sweeps.sweep_spec.SweepSpec` or the path of a sweep spec file
             (:func:`~pinmob.sweeps.spec_file.load_spec`).
         workers: worker processes of a Dask ``LocalCluster`` (1: this process); the records do not depend on it.
         scheduler: address of an existing Dask cluster's scheduler to compute the designs on.

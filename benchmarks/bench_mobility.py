@@ -62,8 +62,7 @@ import pinocchio as pin
 import pinmob
 from pinmob.analysis.batch.batch_analysis import analyze_batch
 from pinmob.scan import pose_vector
-from pinmob.scan.output import RowWriter
-from pinmob.scan.scan_run import columns, scan
+from pinmob.scan.scan_run import scan
 from pinmob.scan.scan_spec import path_spec, platform_pose
 from pinmob.screw.algebra import twist_scaling
 from pinmob.screw.rank import RTOL
@@ -201,9 +200,8 @@ def scan_peak_kib(name: str, start: str, end: str, samples: int, out: Path) -> f
     mech = pinmob.load(name)
     spec = path_spec(mech, start, end, samples)
     tracemalloc.start()
-    with RowWriter(columns(spec), {"samples": samples}, str(out / "s.csv"), str(out / "s.json")) as writer:
-        for row in scan(mech, spec, progress=False):
-            writer.write(row)
+    scan(mech, spec, progress=False, csv=str(out / "s.csv"), json=str(out / "s.json"), overwrite=True,
+         keep_rows=False)  # fmt: skip
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     return peak / 1024

@@ -1,61 +1,69 @@
-"""Per-sample cost of a grid scan, beside the loop a Pinocchio user would write and the Pinocchio floor, in one run.
+"""Per-sample cost of a grid scan, beside the loop a Pinocchio user would write and the floors, in one run.
 
-Per robot and grid (microseconds per sample, single process):
+Per robot and grid (microseconds per sample):
 
-* ``pinmob_us``: what ``pinmob scan <robot> --grid ...`` runs (:func:`pinmob.scan.scan_run.scan_in_process` on
-  :func:`pinmob.scan.scan_spec.grid_spec`), the batched engine: samples of up to 16 chunks assembled in lockstep by
-  the batched predictor (:mod:`pinmob.scan.lockstep`), analysed in one batch (:mod:`pinmob.scan.batch_rows`),
-  the single-sample path where the batch cannot decide, refinements included;
-* ``single_us``: the same scan on the single-sample engine (``ScanSpec.engine = "single"``, every sample
-  assembled and analysed on its own: pinmob before the batched engine); both engines' rows are compared
-  (verdicts equal, figures to 1e-7: ``rows_equal``);
-* ``naive_us``: the loop a Pinocchio user writes for the same grid (:func:`naive_scan`, in this file): damped
-  Gauss-Newton on the limb tips' pose errors (``log6`` of the target pose against each limb tip, from
-  ``pin.computeJointJacobians`` / ``pin.getFrameJacobian``), warm-started from the previous sample of the
-  line (the first sample of a line from the first of the previous line), the platform's following (parasitic)
-  coordinates among the unknowns (the 3-RPS's x, y and yaw over a roll x pitch grid), then an SVD DoF count of
-  the platform's free motions (the platform twists of the closed chain's null space). It must give pinmob's
-  reachable / DoF verdict on each sample: the agreement is counted and printed;
-* ``floor_us``: the Pinocchio calls the job cannot avoid: ``computeJointJacobians`` and
-  ``updateFramePlacements`` once per solver step of the naive loop at each sample and once more (the closure
-  checked, the kinematics the analysis needs), at the naive loop's configurations and iteration counts;
-* ``batched_us``: a batched prototype of the engine issue 23 asks for (:func:`batched_scan`, in this file):
-  the first sample of each line one after the other, then all lines' samples in lockstep, each warm-started
-  from its line's previous sample (the continuation of pinmob's lines), Newton steps batched over the lines
-  (Pinocchio's kinematics per sample in a Python loop, the errors, Jacobians and damped least-squares solves
-  as numpy stacks, a sample stopping at 1e-12, when a step no longer halves a residual below 1e-6, or when it
-  gained less than 0.1% over 5 iterations), then
-  :func:`pinmob.analysis.batch.batch_analysis.analyze_batch` for the DoF; its verdicts are counted against pinmob's too;
-* the ``computeJointJacobians`` calls per sample of each (counted by :func:`pinmob.testing.kinematics_calls` in a
-  separate, untimed run);
-* the split of the engine's time (fractions of one cProfile run, so not the load of the machine): the batched
-  predictor (:func:`pinmob.assembly.batch_solver.solve_poses`: the samples and the chunks' seeding walk), the
-  single-sample solver (samples the predictor did not converge, their polish near singular points, the
-  refinements), the batch analysis, the single-sample analysis (:func:`pinmob.scan.sample.evaluate`: samples
-  the batch does not decide, refinements) and the rest (rows: joint values, limits, targets); and
-  Pinocchio's kinematics alone (the floor's cost per call at the engine's count of calls).
+* ``cli_us``: ``pinmob scan <robot> --grid ... --at ... --json FILE`` by the console script's function
+  (:func:`pinmob.cli.main`) in this process: the model loaded, the scan, its summary and the JSON file
+  (``json_bytes``); and ``cli_start_s``: a fresh process's CPU time (user + system of the child) for a 2 x 2
+  grid, what a run pays once on top (interpreter, imports, model);
+* ``pinmob_us``: the same scan in process (:func:`pinmob.scan.scan_run.scan_in_process` on
+  :func:`pinmob.scan.scan_spec.grid_spec`, no file): the batched engine, refinements included;
+* ``plain_us``: the plain loop a Pinocchio user writes (:func:`plain_scan`, in this file): the samples in
+  serpentine order, each warm-started from the last closed one; damped Gauss-Newton with
+  ``computeJointJacobians`` + ``updateFramePlacements``, the tips' ``log6`` errors and
+  ``Jlog6 @ getFrameJacobian(LOCAL)`` rows, the normal equations solved until the largest error is below
+  1e-12; assembled iff within the closure tolerance; then each limb's wrenches by an SVD of its scaled
+  Jacobian and the platform's DoF by an SVD of the stacked wrenches (the motion type of the free twists in a
+  second, untimed run, for the comparison of verdicts). For a
+  grid with following (parasitic) coordinates (the 3-RPS's x, y and yaw over roll x pitch) the same loop with
+  those coordinates among the unknowns (the leanest general loop: their columns only when there are some);
+  pinmob's (reachable, DoF, motion type) verdict on every sample is compared with it (``agree``, and the
+  first differences printed);
+* ``old_us``: the old general loop (:func:`naive_scan`, the "naive loop" of issue 23: its RPY columns built,
+  stacked and a generator's max at every iteration, lines warm-started from their first sample, stopped at
+  1e-6, a null-space DoF count); its (reachable, DoF) verdicts are counted against pinmob's too;
+* ``floor_us``: the Pinocchio floor, the calls the job cannot avoid: ``computeJointJacobians`` and
+  ``updateFramePlacements`` at the plain loop's configurations, as many times as its iterations plus one (the
+  closure checked; the analysis reads that kinematics);
+* ``compiled_floor_us``: the same kinematics by :mod:`pinmob.model.compiled_kinematics` (numba; the tips'
+  placements and LOCAL Jacobians), ``GROUP`` configurations per call into reused arrays;
+* the ``computeJointJacobians`` calls per sample of pinmob and of the plain loop (counted by
+  :func:`pinmob.testing.kinematics_calls` in a separate, untimed run), and the split of pinmob's time
+  (fractions of one cProfile run): the batched predictor (:func:`pinmob.assembly.batch_solver.solve_poses`),
+  the single-sample solver, the batch analysis, the single-sample analysis and the rest (rows: joint values,
+  limits, targets), with Pinocchio's kinematics alone (the floor's cost per call at pinmob's count of calls).
+
+First, the compiled kinematics' first call in a fresh process with an empty numba cache (a temporary
+``NUMBA_CACHE_DIR``: what a new installation pays once) and in a second process with the cache it wrote.
 
 Robots: the 3-PUU over x x y (a full-pose grid: its rotations cannot change), the 6-UPS over x x y, the
 3-RPS over roll x pitch (z held, x, y and yaw following), and the 3-PUU over x x y five times wider (most
-samples out of reach: what an unreachable sample costs, and the refinements at the edges).
-
-Then the per-design cost of the example sweep (``examples/3puu_sweep.toml``, a 9 x 9 scan per design) in this
+samples out of reach: what an unreachable sample costs, and the refinements at the edges). With ``--sweep``,
+the per-design cost of the example sweep (``examples/3puu_sweep.toml``, a 9 x 9 scan per design) in this
 process and on a Dask ``LocalCluster`` of 2 workers (cluster start-up not timed).
 
-The per-sample figures are CPU time of this process (``time.process_time``: the load of other jobs on a
+The in-process figures are CPU time of this process (``time.process_time``: the load of other jobs on a
 shared machine inflates them less than wall-clock time; it still does, through the shared caches), each the
 fastest of ``REPEATS`` runs, pinmob's and its references' alike; the sweep's are wall-clock time. Compare
-the ratios printed in one run. The target of issue 23 is
-``pinmob_us <= 0.2 naive_us`` on the 3-PUU grid.
+the ratios printed in one run. Issue 33's target: ``cli_us <= 0.1 plain_us`` on the first three grids and
+0.2 on the wide one.
 
-Usage: ``python benchmarks/bench_scan.py [--quick]``; the last line printed is one JSON object.
+Usage: ``python benchmarks/bench_scan.py [--quick | --count N] [--sweep]`` (21 x 21 grids by default, 9 x 9 with
+``--quick``); the last line printed is one JSON object.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import json
 import logging
+import os
+import resource
+import subprocess
+import sys
+import tempfile
 import time
 from collections.abc import Callable
 from dataclasses import replace
@@ -66,11 +74,15 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
-from pinmob.analysis.batch.batch_analysis import analyze_batch
+from pinmob.assembly.batch_solver import PoseProblem
+from pinmob.cli import main as cli_main
+from pinmob.model.closure import CLOSURE_TOL
+from pinmob.model.compiled_kinematics import frame_kinematics
 from pinmob.scan import pose_vector
 from pinmob.scan.scan_run import scan_in_process
 from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec, grid_spec, pose_from_vector
 from pinmob.screw.algebra import twist_scaling
+from pinmob.screw.motion_label import motion_type_of_orthonormal
 from pinmob.screw.rank import RTOL
 from pinmob.testing import kinematics_calls
 
@@ -85,8 +97,10 @@ GRIDS = {
 }
 #: Solver iterations per sample of the naive loop, and its damping (of J J^T, dimensionless).
 MAX_ITER, DAMPING, TOL = 40, 1e-10, 1e-6
-#: The batched prototype stops a sample whose residual gained less than 0.1% over this many iterations.
-STALL = 5
+#: The plain loop's iterations per sample at most and its damping of the normal equations (dimensionless).
+PLAIN_MAX_ITER, PLAIN_DAMPING = 30, 1e-12
+#: Configurations per call of the compiled floor.
+GROUP = 64
 
 
 #: Runs of each timed loop of a grid; the fastest is reported (timeit's convention: the run least disturbed by
@@ -106,7 +120,152 @@ def timed(fn: Callable[[], Any], clock: Callable[[], float] = time.process_time,
     return best, out
 
 
-# --- the naive loop, as a Pinocchio user writes it -------------------------------------------------------------
+# --- the plain loop, as a Pinocchio user writes it ----------------------------------------------------------------
+
+
+def serpentine(shape: tuple[int, ...]) -> list[int]:
+    """pinmob's sample indices (last axis fastest) in serpentine order: every other line walked backwards."""
+    lines, n = int(np.prod(shape[:-1])), shape[-1]
+    return [r * n + (j if r % 2 == 0 else n - 1 - j) for r in range(lines) for j in range(n)]
+
+
+def plain_scan(
+    mech: pinmob.Mechanism, spec: ScanSpec, motion_types: bool = False
+) -> tuple[list[tuple[bool, int, str]], list[int], list[np.ndarray]]:
+    """(reachable, DoF, motion type) per sample in pinmob's order, iterations per sample, configurations.
+
+    The samples in serpentine order, each warm-started from the last closed one; damped Gauss-Newton on the
+    limb tips' ``log6`` errors against the target pose, rows ``Jlog6 @ getFrameJacobian(LOCAL)`` (and, for the
+    coordinates that follow, ``-Jlog6 @ Ad(m^-1)`` times the target's own local twist per unit coordinate),
+    the normal equations solved until the largest dimensionless error is below 1e-12 (``PLAIN_MAX_ITER``
+    iterations at most); closed iff each tip is within ``CLOSURE_TOL`` (position / L, rotation [rad]). Then
+    each limb's wrenches from an SVD of its scaled platform Jacobian (its joints' columns), the platform's DoF
+    from an SVD of the stacked wrenches; with ``motion_types`` (for the comparison of verdicts, not timed: the
+    loop the issue times stops at the DoF) the motion type of the free twists
+    (:func:`pinmob.screw.motion_label.motion_type_of_orthonormal`, the label of a span; "" otherwise).
+    """
+    model, data, nv, length = mech.model, mech.model.createData(), mech.model.nv, mech.length_scale
+    assert not mech.closures, "limbs only"
+    tips = [limb.tip_id for limb in mech.limbs]
+    columns = [limb.screw_v_indices for limb in mech.limbs]
+    free = [POSE_COORDS.index(c) for c in spec.following]
+    scale = np.tile(twist_scaling(length), len(tips))
+    st = twist_scaling(length)[:, None]
+    shape = tuple(a[3] for a in spec.axes)
+    grids = [np.linspace(lo, hi, n) for _, lo, hi, n in spec.axes]
+    base = pose_vector(pinmob.scan.platform_pose(mech, spec.q_ref))
+    for c, v in spec.held:
+        base[POSE_COORDS.index(c)] = v
+    axes = [POSE_COORDS.index(a[0]) for a in spec.axes]
+    rows, unknowns = 6 * len(tips), nv + len(free)
+    e, jac = np.empty(rows), np.zeros((rows, unknowns))
+    verdicts: list[tuple[bool, int, str]] = [(False, -1, "")] * spec.size
+    iters, closed = [0] * spec.size, [spec.q_ref] * spec.size
+    q, p = spec.q_ref.copy(), base.copy()
+    for k in serpentine(shape):
+        t = p.copy()
+        for a, g, i in zip(axes, grids, np.unravel_index(k, shape)):
+            t[a] = g[i]
+        qk = q
+        target = pose_from_vector(t)
+        for it in range(PLAIN_MAX_ITER + 1):
+            pin.computeJointJacobians(model, data, qk)
+            pin.updateFramePlacements(model, data)
+            if free and it:
+                target = pose_from_vector(t)
+            if free:
+                cols = _free_columns(target, free)
+            for i, tip in enumerate(tips):
+                m = target.actInv(data.oMf[tip])
+                jlog = pin.Jlog6(m)
+                e[6 * i : 6 * i + 6] = pin.log6(m).vector
+                jac[6 * i : 6 * i + 6, :nv] = jlog @ pin.getFrameJacobian(model, data, tip, pin.LOCAL)
+                if free:
+                    jac[6 * i : 6 * i + 6, nv:] = -jlog @ m.inverse().action @ cols
+            es = e * scale
+            if np.max(np.abs(es)) < 1e-12 or it == PLAIN_MAX_ITER:
+                break
+            js = jac * scale[:, None]
+            step = np.linalg.solve(js.T @ js + PLAIN_DAMPING * np.eye(unknowns), -js.T @ es)
+            qk = pin.integrate(model, qk, step[:nv])
+            t[free] += step[nv:]
+        iters[k] = it
+        parts = es.reshape(-1, 2, 3)
+        if np.max(np.linalg.norm(parts, axis=2)) > CLOSURE_TOL:
+            continue
+        q, p, closed[k] = qk, t, qk
+        wrenches = []
+        for tip, cols_v in zip(tips, columns):
+            limb = st * pin.getFrameJacobian(model, data, tip, pin.LOCAL_WORLD_ALIGNED)[:, cols_v]
+            u, s, _ = np.linalg.svd(limb)
+            wrenches.append(u[:, int(np.sum(s > RTOL * s[0])) :].T)
+        stacked = np.vstack(wrenches)
+        if stacked.shape[0]:
+            _, s, vt = np.linalg.svd(stacked)
+            rank = int(np.sum(s > RTOL * s[0])) if s[0] > 0 else 0
+        else:
+            rank, vt = 0, np.eye(6)
+        verdicts[k] = (True, 6 - rank, motion_type_of_orthonormal(vt[rank:].T, length) if motion_types else "")
+    return verdicts, iters, closed
+
+
+def compiled_floor(mech: pinmob.Mechanism, qs: list[np.ndarray], calls: list[int]) -> tuple[float, str]:
+    """CPU seconds of the tips' placements and LOCAL Jacobians by the compiled kinematics, ``calls[i]`` times at
+    each configuration, in calls of ``GROUP`` configurations into the same arrays (a lockstep group's stack; the
+    stack built before the clock starts), and the engine that ran."""
+    kin = frame_kinematics(mech.model, [limb.tip_id for limb in mech.limbs])
+    stack = np.repeat(np.array(qs), calls, axis=0)
+    groups = [stack[i : i + GROUP] for i in range(0, len(stack), GROUP)]
+    outs = {len(g): kin.jacobians(g) for g in groups}  # compiled, or loaded from the cache; the arrays reused
+
+    def run() -> None:
+        for g in groups:
+            kin.jacobians(g, pin.LOCAL, out=outs[len(g)])
+
+    seconds, _ = timed(run, repeats=REPEATS)
+    return seconds, kin.engine
+
+
+FIRST_COMPILE = """
+import time, numpy as np, pinmob
+from pinmob.model.compiled_kinematics import frame_kinematics
+mech = pinmob.load("6-UPS")
+kin = frame_kinematics(mech.model, [limb.tip_id for limb in mech.limbs], "compiled")
+t0 = time.perf_counter()
+kin.jacobians(mech.neutral()[None])
+print(time.perf_counter() - t0)
+"""
+
+
+def first_compile() -> tuple[float, float]:
+    """Seconds of the compiled kinematics' first call with an empty numba cache (a temporary folder), then in
+    a second process with that cache (both in fresh interpreters; the user's cache is not touched)."""
+    with tempfile.TemporaryDirectory() as cache:
+        env = {**os.environ, "NUMBA_CACHE_DIR": cache}
+        out = [float(subprocess.run([sys.executable, "-c", FIRST_COMPILE], env=env, capture_output=True, text=True,
+                                    check=True).stdout.split()[-1]) for _ in range(2)]  # fmt: skip
+    return out[0], out[1]
+
+
+def cli_seconds(robot: str, grid_args: list[str], folder: Path) -> float:
+    """CPU seconds (user + system, of the child) of ``pinmob scan ... --json`` in a fresh process."""
+    out = folder / "scan.json"
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    subprocess.run([sys.executable, "-m", "pinmob", "scan", robot, *grid_args, "--json", str(out), "--force",
+                    "--no-progress"], check=True, capture_output=True)  # fmt: skip
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
+
+
+def cli_in_process(robot: str, grid_args: list[str], folder: Path) -> None:
+    """``pinmob scan ... --json FILE`` by the console script's own function (:func:`pinmob.cli.main`), in this
+    process: the model loaded, the scan, its summary (to a string) and the JSON file written."""
+    with contextlib.redirect_stdout(io.StringIO()):
+        status = cli_main(["scan", robot, *grid_args, "--json", str(folder / "scan.json"), "--force", "--no-progress"])
+    assert status == 0, status
+
+
+# --- the old general loop (the naive loop of issue 23) -----------------------------------------------------------
 
 
 def _free_columns(pose: pin.SE3, free: list[int]) -> np.ndarray:
@@ -213,180 +372,7 @@ def floor_loop(mech: pinmob.Mechanism, qs: list[np.ndarray], calls: list[int]) -
             pin.updateFramePlacements(model, data)
 
 
-# --- a batched prototype: the engine issue 23 asks for, as a reference figure -----------------------------------
-
-
-def _rpy_matrices(rpy: np.ndarray) -> np.ndarray:
-    """(B, 3, 3) ``Rz(yaw) Ry(pitch) Rx(roll)`` (Pinocchio's rpy) of (B, 3) angles."""
-    (cr, cp, cy), (sr, sp, sy) = np.cos(rpy).T, np.sin(rpy).T
-    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
-                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
-                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)  # fmt: skip
-
-
-def _rpy_rates(rpy: np.ndarray) -> np.ndarray:
-    """(B, 3, 3) world angular velocity per rpy rate (Pinocchio's ``computeRpyJacobian(rpy, WORLD)``)."""
-    _, cp, cy = np.cos(rpy).T
-    _, sp, sy = np.sin(rpy).T
-    z, o = np.zeros_like(cp), np.ones_like(cp)
-    return np.stack([np.stack([cy * cp, -sy, z], -1), np.stack([sy * cp, cy, z], -1), np.stack([-sp, z, o], -1)], -2)
-
-
-def _log3(r: np.ndarray) -> np.ndarray:
-    """(B, 3) rotation vectors of (B, 3, 3) rotations (angles below pi)."""
-    theta = np.arccos(np.clip((np.trace(r, axis1=1, axis2=2) - 1) / 2, -1.0, 1.0))
-    vee = 0.5 * np.stack([r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0], r[:, 1, 0] - r[:, 0, 1]], -1)
-    small = theta < 1e-6
-    factor = np.where(small, 1 + theta**2 / 6, theta / np.where(small, 1.0, np.sin(theta)))
-    return vee * factor[:, None]
-
-
-def _skew(v: np.ndarray) -> np.ndarray:
-    z = np.zeros(len(v))
-    x, y, w = v.T
-    return np.stack([np.stack([z, -w, y], -1), np.stack([w, z, -x], -1), np.stack([-y, x, z], -1)], -2)
-
-
-class BatchedNewton:
-    """Every limb tip at a target pose, for B samples at once; the pose coordinates ``free`` unknowns too.
-
-    Pinocchio's kinematics per sample (a Python loop), the rest batched: position errors and rotation vectors
-    in world axes, their Jacobians from the world joint Jacobian (no ``Jlog``: quasi-Newton, quadratic near the
-    solution anyway), damped least squares on dimensionless rates, solved with ``np.linalg.solve`` over the stack.
-    A sample stops at a residual below 1e-12, when a step no longer halves a residual below 1e-6, or when it
-    gained less than 0.1% over ``STALL`` iterations (then it is not closed unless below 1e-6).
-    """
-
-    def __init__(self, mech: pinmob.Mechanism, free: list[int]) -> None:
-        model = self.model = mech.model
-        assert model.nq == model.nv, "one-degree joints only (q moves by addition)"
-        self.data, self.length, self.free = model.createData(), mech.length_scale, free
-        self.tips = [limb.tip_id for limb in mech.limbs]
-        self.masks = []
-        for tip in self.tips:
-            mask = np.zeros(model.nv)
-            for j in model.supports[model.frames[tip].parentJoint].tolist()[1:]:
-                mask[model.joints[j].idx_v : model.joints[j].idx_v + model.joints[j].nv] = 1.0
-            self.masks.append(mask)
-        linear = np.array([model.joints[j].shortname().startswith("JointModelP") for j in range(1, model.njoints)])
-        self.col = np.concatenate([np.where(linear, self.length, 1.0), [self.length if f < 3 else 1.0 for f in free]])
-
-    def residual(self, q: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """(B, 6k) dimensionless residuals and (B, 6k, nv + len(free)) Jacobians per dimensionless rate."""
-        model, data, n = self.model, self.data, len(q)
-        jw, tips = np.empty((n, 6, model.nv)), np.empty((n, len(self.tips), 4, 4))
-        for b in range(n):
-            jw[b] = pin.computeJointJacobians(model, data, q[b])
-            pin.updateFramePlacements(model, data)
-            for i, tip in enumerate(self.tips):
-                tips[b, i] = data.oMf[tip].homogeneous
-        rt = _rpy_matrices(p[:, 3:])
-        rates = _rpy_rates(p[:, 3:])
-        errors, rows = [], []
-        for i, mask in enumerate(self.masks):
-            pos, rot = tips[:, i, :3, 3], tips[:, i, :3, :3]
-            jac = jw * mask
-            lin = jac[:, :3] - _skew(pos) @ jac[:, 3:]
-            extra = np.zeros((n, 6, len(self.free)))
-            for c, f in enumerate(self.free):
-                if f < 3:
-                    extra[:, f, c] = -1.0
-                else:
-                    extra[:, 3:, c] = -rates[:, :, f - 3]
-            errors.append(np.concatenate([(pos - p[:, :3]) / self.length, _log3(rot @ rt.transpose(0, 2, 1))], 1))
-            rows.append(np.concatenate([np.concatenate([lin / self.length, jac[:, 3:]], 1), extra], 2))
-        scale = np.array([1 / self.length] * 3 + [1.0] * 3)
-        for r in rows:
-            r[:, :3, self.model.nv :] *= scale[:3, None]
-        return np.concatenate(errors, 1), np.concatenate(rows, 1) * self.col
-
-    def solve(
-        self, q: np.ndarray, p: np.ndarray, max_iter: int = MAX_ITER
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Closed configurations, poses and whether each sample closed to 1e-6 (B rows each)."""
-        q, p = q.copy(), p.copy()
-        nv, k = self.model.nv, len(self.tips)
-        history = np.full((len(q), max_iter + 1), np.inf)
-        last = np.full(len(q), np.inf)  # the residual at the configuration returned
-        active = np.arange(len(q))
-        for it in range(max_iter + 1):
-            e, jac = self.residual(q[active], p[active])
-            parts = e.reshape(len(active), k, 2, 3)
-            now = history[active, it] = last[active] = np.max(np.linalg.norm(parts, axis=3), axis=(1, 2))
-            before = np.min(history[active, : max(it - STALL + 1, 0)], axis=1, initial=np.inf)
-            best = np.min(history[active, max(it - STALL + 1, 0) : it + 1], axis=1)
-            stalled = best > (1 - 1e-3) * before  # less than 0.1% gained over the last STALL iterations
-            polished = (now <= TOL) & (now > 0.5 * np.min(history[active, :it], axis=1, initial=np.inf))
-            keep = (now > 1e-12) & ~stalled & ~polished
-            active, e, jac = active[keep], e[keep], jac[keep]
-            if not active.size:
-                break
-            jjt = jac @ jac.transpose(0, 2, 1)
-            lam = 1e-12 * np.trace(jjt, axis1=1, axis2=2)[:, None, None] * np.eye(jjt.shape[1])
-            dz = -(jac.transpose(0, 2, 1) @ np.linalg.solve(jjt + lam, e[..., None]))[..., 0]
-            dz *= np.minimum(1.0, 1.0 / np.max(np.abs(dz), axis=1))[:, None]
-            step = dz * self.col
-            q[active] += step[:, :nv]
-            p[np.ix_(active, self.free)] += step[:, nv:]
-        return q, p, last <= TOL
-
-
-def batched_scan(mech: pinmob.Mechanism, spec: ScanSpec) -> list[tuple[bool, int]]:
-    """(reachable, DoF) per sample: the first sample of each line one after the other (each from the previous
-    line's first), then every line's samples in lockstep (each from its line's previous sample), then
-    :func:`pinmob.analysis.batch.batch_analysis.analyze_batch` on all closed samples."""
-    names = [a[0] for a in spec.axes]
-    grids = [np.linspace(lo, hi, n) for _, lo, hi, n in spec.axes]
-    free = [POSE_COORDS.index(c) for c in spec.following]
-    newton = BatchedNewton(mech, free)
-    n_line = spec.axes[-1][3]
-    lines = spec.size // n_line
-    base = pose_vector(pinmob.scan.platform_pose(mech, spec.q_ref))
-    for c, v in dict(spec.held).items():
-        base[POSE_COORDS.index(c)] = v
-    targets = np.tile(base, (spec.size, 1))
-    for k, idx in enumerate(np.ndindex(*[a[3] for a in spec.axes])):
-        for c, g, i in zip(names, grids, idx):
-            targets[k, POSE_COORDS.index(c)] = g[i]
-    targets = targets.reshape(lines, n_line, 6)
-    qs = np.empty((lines, n_line, mech.model.nq))
-    ok = np.zeros((lines, n_line), bool)
-    q, p = spec.q_ref[None], base[None]
-    for r in range(lines):
-        target = targets[r, :1].copy()
-        target[:, free] = p[:, free]
-        sol, p_sol, closed = newton.solve(q, target)
-        qs[r, 0], ok[r, 0] = sol[0], closed[0]
-        if closed[0]:
-            q, p = sol, p_sol
-    q, p = qs[:, 0], targets[:, 0].copy()
-    for j in range(1, n_line):
-        target = targets[:, j].copy()
-        target[:, free] = p[:, free]
-        sol, p_sol, closed = newton.solve(q, target)
-        qs[:, j], ok[:, j] = sol, closed
-        q = np.where(closed[:, None], sol, q)
-        p = np.where(closed[:, None], p_sol, p)
-    ok, qs = ok.reshape(-1), qs.reshape(-1, mech.model.nq)
-    dof = np.full(spec.size, -1)
-    dof[ok] = analyze_batch(mech, qs[ok], rtol=spec.rtol).dof
-    return [(bool(a), int(d)) for a, d in zip(ok, dof)]
-
-
 # --- pinmob -----------------------------------------------------------------------------------------------------
-
-
-def rows_equal(single: list[dict[str, Any]], batch: list[dict[str, Any]]) -> bool:
-    """The two engines' rows: the same columns, equal values but floats, floats to 1e-7 (NaN equal to NaN)."""
-
-    def same(a: Any, b: Any) -> bool:
-        if isinstance(a, float) and isinstance(b, float):
-            return (np.isnan(a) and np.isnan(b)) or abs(a - b) <= 1e-7 * max(1.0, abs(a), abs(b))
-        return bool(a == b)
-
-    return len(single) == len(batch) and all(
-        list(s) == list(b) and all(same(s[k], b[k]) for k in s) for s, b in zip(single, batch)
-    )
 
 
 #: The parts of the engine's time, by the functions cProfile charges (cumulative; the last entry takes the rest).
@@ -419,53 +405,59 @@ def profile_split(mech: pinmob.Mechanism, spec: ScanSpec) -> dict[str, float]:
     return out
 
 
-def bench_grid(label: str, count: int) -> dict[str, Any]:
+def bench_grid(label: str, count: int, folder: Path) -> dict[str, Any]:
     robot, at, axes = GRIDS[label]
     mech = pinmob.load(robot)
     spec = grid_spec(mech, at, [(c, lo, hi, count) for c, lo, hi in axes])
     n = spec.size
     small = replace(spec, axes=tuple((c, lo, hi, 3) for c, lo, hi, _ in spec.axes))
-    list(scan_in_process(mech, small))  # warm-up
-    analyze_batch(mech, np.array([spec.q_ref] * 2), rtol=spec.rtol, singular_values=True)  # numba's cache loaded
+    list(scan_in_process(mech, small))  # warm-up: numba's caches loaded
     t_pinmob, rows = timed(lambda: [r for r in scan_in_process(mech, spec)], repeats=REPEATS)
-    single_spec = replace(spec, engine="single")
-    t_single, single_rows = timed(lambda: [r for r in scan_in_process(mech, single_spec)], repeats=REPEATS)
+    grid_args = ["--grid", *(f"{c}:{lo:g}:{hi:g}:{k}" for c, lo, hi, k in spec.axes), "--at", at]
+    small_args = ["--grid", *(f"{c}:{lo:g}:{hi:g}:2" for c, lo, hi, _ in spec.axes), "--at", at]
+    cli_in_process(robot, small_args, folder)  # warm-up
+    t_cli, _ = timed(lambda: cli_in_process(robot, grid_args, folder), repeats=REPEATS)
+    json_bytes = (folder / "scan.json").stat().st_size
+    t_start = cli_seconds(robot, small_args, folder)  # a fresh process, 4 samples: the start-up
     samples = [r for r in rows if not r["refined"]]
-    t_naive, (verdicts, iters, closed) = timed(lambda: naive_scan(mech, spec), repeats=REPEATS)
-    ours = [(bool(r["reachable"]), int(r["dof"]) if r["reachable"] else -1) for r in samples]
+    t_plain, (_, iters, closed) = timed(lambda: plain_scan(mech, spec), repeats=REPEATS)
+    verdicts = plain_scan(mech, spec, motion_types=True)[0]
+    ours = [(bool(r["reachable"]), int(r["dof"]) if r["reachable"] else -1, r["motion_type"] if r["reachable"] else "")
+            for r in samples]  # fmt: skip
     agree = sum(a == b for a, b in zip(ours, verdicts))
-    reach = [v[0] for v in verdicts]
+    differ = [(k, a, b) for k, (a, b) in enumerate(zip(ours, verdicts)) if a != b][:3]
+    t_old, (old_verdicts, _, _) = timed(lambda: naive_scan(mech, spec), repeats=REPEATS)
+    old_agree = sum(a[:2] == b for a, b in zip(ours, old_verdicts))
     calls = [it + 1 for it in iters]  # the last one (the closure checked) serves the analysis too
     t_floor, _ = timed(lambda: floor_loop(mech, closed, calls), repeats=REPEATS)
-    t_batched, batched = timed(lambda: batched_scan(mech, spec), repeats=REPEATS)
-    agree_batched = sum(a == b for a, b in zip(ours, batched))
+    t_compiled, engine = compiled_floor(mech, closed, calls)
     split = profile_split(mech, spec)
     us = 1e6 / n
     calls_pinmob = kinematics_calls(lambda: list(scan_in_process(mech, spec)))
-    calls_single = kinematics_calls(lambda: list(scan_in_process(mech, single_spec)))
-    calls_naive = kinematics_calls(lambda: naive_scan(mech, spec))
+    calls_plain = kinematics_calls(lambda: plain_scan(mech, spec))
     return {
-        "grid": " ".join(f"{c}:{lo:g}:{hi:g}:{k}" for c, lo, hi, k in spec.axes),
+        "grid": " ".join(grid_args[1:-2]),
         "at": at,
         "following": list(spec.following),
         "samples": n,
-        "reachable": int(sum(reach)),
+        "reachable": int(sum(v[0] for v in verdicts)),
+        "pinmob_reachable": int(sum(v[0] for v in ours)),
         "refined": len(rows) - len(samples),
         "agree": agree,
+        "differ": [f"sample {k}: pinmob {a}, plain loop {b}" for k, a, b in differ],
+        "old_agree": old_agree,
         "pinmob_us": t_pinmob * us,
-        "single_us": t_single * us,
-        "rows_equal": rows_equal(single_rows, rows),
-        "naive_us": t_naive * us,
+        "cli_us": t_cli * us,
+        "cli_start_s": t_start,
+        "json_bytes": json_bytes,
+        "plain_us": t_plain * us,
+        "old_us": t_old * us,
         "floor_us": t_floor * us,
-        "batched_us": t_batched * us,
-        "batched_agree": agree_batched,
-        "naive_iterations": float(np.mean(iters)),
-        "kinematics_per_sample": {
-            "pinmob": calls_pinmob / n,
-            "single": calls_single / n,
-            "naive": calls_naive / n,
-            "floor": float(np.mean(calls)),
-        },  # fmt: skip
+        "compiled_floor_us": t_compiled * us,
+        "compiled_engine": engine,
+        "predictor_kinematics": PoseProblem(mech).fast.engine,
+        "plain_iterations": float(np.mean(iters)),
+        "kinematics_per_sample": {"pinmob": calls_pinmob / n, "plain": calls_plain / n, "floor": float(np.mean(calls))},
         "split": split,
     }
 
@@ -496,36 +488,47 @@ def bench_sweep(designs: int) -> dict[str, float]:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("--quick", action="store_true", help="9 x 9 grids, 4 designs")
+    parser.add_argument("--quick", action="store_true", help="9 x 9 grids (the same as --count 9)")
+    parser.add_argument("--count", type=int, default=21, help="samples per grid axis (default 21)")
+    parser.add_argument("--sweep", action="store_true", help="the example sweep too (in process and on 2 workers)")
     args = parser.parse_args()
-    count, designs = (9, 4) if args.quick else (21, 16)
+    count = 9 if args.quick else args.count
     out: dict[str, Any] = {}
-    print(f"per sample [us of CPU time, fastest of {REPEATS} runs], one process (compare the ratios of one run)")
-    for name in GRIDS:
-        r = out[name] = bench_grid(name, count)
-        robot = GRIDS[name][0]
-        follow = f", {' '.join(r['following'])} following" if r["following"] else ""
-        print(f"{robot} --grid {r['grid']} --at {r['at']}{follow}: {r['reachable']}/{r['samples']} reachable, "
-              f"{r['refined']} refined points; verdicts (reachable, DoF) agree on {r['agree']}/{r['samples']}")  # fmt: skip
-        ratio = r["pinmob_us"] / r["naive_us"]
-        print(f"  pinmob {r['pinmob_us']:6.0f}   naive loop {r['naive_us']:6.0f} ({r['naive_iterations']:.1f} "
-              f"iterations)   floor {r['floor_us']:5.1f}   pinmob/naive {ratio:.2f}x "
-              f"(target 0.2x: {'met' if ratio <= 0.2 else 'not met'})   pinmob/floor {r['pinmob_us'] / r['floor_us']:.0f}x")  # fmt: skip
-        print(f"  single-sample engine {r['single_us']:.0f} ({r['single_us'] / r['naive_us']:.2f}x the naive loop; "
-              f"batched/single {r['pinmob_us'] / r['single_us']:.2f}); rows of the two engines equal: {r['rows_equal']}")  # fmt: skip
-        kin = r["kinematics_per_sample"]
-        print(f"  batched prototype (in this file) {r['batched_us']:.0f}, {r['batched_us'] / r['naive_us']:.2f}x the naive "
-              f"loop; its verdicts agree with pinmob's on {r['batched_agree']}/{r['samples']}")  # fmt: skip
-        print(f"  computeJointJacobians calls per sample: pinmob {kin['pinmob']:.1f} (single-sample engine "
-              f"{kin['single']:.1f}), naive loop {kin['naive']:.1f}, floor {kin['floor']:.1f}")  # fmt: skip
-        kinematics = r["floor_us"] * kin["pinmob"] / kin["floor"]  # the floor's cost per call, at pinmob's count
-        print("  the engine's time (cProfile): " + ", ".join(f"{k} {v:.0%}" for k, v in r["split"].items())
-              + f"; Pinocchio's kinematics at its {kin['pinmob']:.1f} calls per sample ~{kinematics:.0f} us "
-              f"({kinematics / r['pinmob_us']:.0%})")  # fmt: skip
-    s = out["sweep"] = bench_sweep(designs)
-    print(f"example sweep ({EXAMPLE.name}, 9 x 9 scan per design, {s['designs']} designs): "
-          f"{s['in_process_s'] * 1e3:.0f} ms per design in process, {s['dask2_s'] * 1e3:.0f} ms per design on "
-          f"2 Dask workers")  # fmt: skip
+    cold, warm = out["first_compile_s"] = first_compile()
+    print(f"compiled kinematics, first call in a fresh process: {cold:.1f} s with an empty numba cache (compiling), "
+          f"{warm:.2f} s with the cache it wrote")  # fmt: skip
+    print(f"per sample [us of CPU time, fastest of {REPEATS} runs] (compare the ratios of one run)")  # fmt: skip
+    with tempfile.TemporaryDirectory() as folder:
+        for name in GRIDS:
+            r = out[name] = bench_grid(name, count, Path(folder))
+            robot = GRIDS[name][0]
+            follow = f", {' '.join(r['following'])} following" if r["following"] else ""
+            plain = r["plain_us"]
+            print(f"{robot} --grid {r['grid']} --at {r['at']}{follow}: {r['pinmob_reachable']}/{r['samples']} reachable "
+                  f"(plain loop {r['reachable']}), {r['refined']} refined points; verdicts (reachable, DoF, motion "
+                  f"type) of pinmob and the plain loop agree on {r['agree']}/{r['samples']}")  # fmt: skip
+            for line in r["differ"]:
+                print(f"  differ: {line}")
+            print(f"  pinmob CLI --json {r['cli_us']:6.0f} ({r['cli_us'] / plain:.2f}x, {r['json_bytes'] / 1e6:.2f} MB)"
+                  f"   in process {r['pinmob_us']:6.0f} ({r['pinmob_us'] / plain:.2f}x)   a fresh process's "
+                  f"start-up {r['cli_start_s']:.2f} s (a 2 x 2 grid, CPU)")  # fmt: skip
+            print(f"  plain loop {plain:6.0f} ({r['plain_iterations']:.1f} iterations)   old general loop "
+                  f"{r['old_us']:6.0f} ({r['old_us'] / plain:.2f}x; its verdicts (reachable, DoF) agree on "
+                  f"{r['old_agree']}/{r['samples']})")  # fmt: skip
+            kin = r["kinematics_per_sample"]
+            print(f"  Pinocchio floor {r['floor_us']:5.1f} ({kin['floor']:.1f} x computeJointJacobians + "
+                  f"updateFramePlacements)   compiled floor {r['compiled_floor_us']:5.2f} (the same kinematics, "
+                  f"{r['compiled_engine']} engine, {GROUP} configurations a call)")  # fmt: skip
+            kinematics = r["floor_us"] * kin["pinmob"] / kin["floor"]  # the floor's cost per call, at pinmob's count
+            print(f"  computeJointJacobians calls per sample: pinmob {kin['pinmob']:.1f} (its batched predictor's kinematics: "
+                  f"{r['predictor_kinematics']}), plain loop {kin['plain']:.1f}; "
+                  "pinmob's time (cProfile): " + ", ".join(f"{k} {v:.0%}" for k, v in r["split"].items())
+                  + f"; Pinocchio's kinematics at its calls ~{kinematics:.0f} us ({kinematics / r['pinmob_us']:.0%})")  # fmt: skip
+    if args.sweep:
+        s = out["sweep"] = bench_sweep(4 if args.quick else 16)
+        print(f"example sweep ({EXAMPLE.name}, 9 x 9 scan per design, {s['designs']} designs): "
+              f"{s['in_process_s'] * 1e3:.0f} ms per design in process, {s['dask2_s'] * 1e3:.0f} ms per design on "
+              f"2 Dask workers")  # fmt: skip
     print(json.dumps(out))
 
 

@@ -2,7 +2,7 @@
 
 :func:`pyplot` gives matplotlib's pyplot (imported when first called: ``import pinmob`` loads no
 matplotlib); :func:`save_figure` titles, lays out and writes a figure through a temporary file
-(:class:`~pinmob.output_files.Replacing`), for the scans' plots (:mod:`pinmob.scan.scan_plot`) and the
+(:class:`~pinmob.output_files.Replacing`), for the scans' plots (:mod:`pinmob.scan.results.scan_plot`) and the
 sweeps' (:mod:`pinmob.sweeps.sweep_plot`) alike.
 """
 

@@ -322,3 +322,37 @@ def test_sweep_checks_workers_once_in_the_library(monkeypatch, capsys, tmp_path)
     assert "2 designs" in capsys.readouterr().out
     assert calls["check_workers"] == 1 and calls["check_workers in the CLI"] == 0
     assert calls["check_rtol in the CLI"] == calls["check_closure_tol in the CLI"] == 0
+
+
+def test_scan_is_one_door(monkeypatch, capsys, tmp_path) -> None:
+    """``pinmob scan`` parses, calls :func:`pinmob.scan.scan` once and prints its report: the summary is the
+    library's (``str(report)``), cli/scan.py reads no row (``row["..."]``) and imports nothing from inside
+    pinmob.scan, only its face.
+
+    On the old code: cli/scan.py aggregated and formatted the rows itself (19 ``row["..."]`` reads) and imported 7
+    scan internals; a Python user could not get the summary it printed."""
+    import pinmob.cli.scan as cli_scan
+
+    tree = ast.parse(Path(cli_scan.__file__).read_text(encoding="utf-8"))
+    reads = [n.lineno for n in ast.walk(tree)
+             if isinstance(n, ast.Subscript) and isinstance(n.value, ast.Name) and n.value.id in ("row", "r")]  # fmt: skip
+    deep = [
+        n.module
+        for n in ast.walk(tree)
+        if isinstance(n, ast.ImportFrom) and (n.module or "").startswith("pinmob.scan.")
+    ]
+    assert reads == [] and deep == []
+    reports: list[Any] = []
+    library = cli_scan.scan
+
+    def recorded(*args: Any, **kwargs: Any) -> Any:
+        reports.append(library(*args, **kwargs))
+        return reports[-1]
+
+    monkeypatch.setattr(cli_scan, "scan", recorded)
+    j = tmp_path / "g.json"
+    argv = ["scan", "3-PUU", "--grid", "x:-0.02:0.02:2", "y:-0.02:0.02:2", "--at", "generic", "--json", str(j)]
+    assert main([*argv, "--no-progress"]) == 0, capsys.readouterr().err
+    (report,) = reports
+    assert capsys.readouterr().out == str(report) + "\n"
+    assert str(report).endswith(f"json: {j}") and report.table is None  # nothing kept: no plot, no 3D view

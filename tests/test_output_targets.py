@@ -182,7 +182,7 @@ def test_a_signal_while_the_scan_files_are_created_leaves_no_temporary(tmp_path,
     import tempfile
 
     from pinmob.cli.common import signals_interrupt
-    from pinmob.scan.output import RowWriter
+    from pinmob.scan.results.output import RowWriter
 
     real = tempfile.mkstemp
     calls = {"n": 0}

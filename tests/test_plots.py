@@ -10,9 +10,9 @@ import pytest
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.scan import scan_plot as plot
-from pinmob.scan import workspace_map as plot_map
-from pinmob.scan.output import RowWriter, read_columns
+from pinmob.scan.results import scan_plot as plot
+from pinmob.scan.results import workspace_map as plot_map
+from pinmob.scan.results.output import RowWriter, read_columns
 from pinmob.scan.scan_run import columns, scan
 from pinmob.scan.scan_spec import grid_spec, path_spec
 

@@ -19,10 +19,10 @@ import pinmob
 import pinmob.scan.chunk as scan_module
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.cli import main
-from pinmob.scan import scan_plot as plot
-from pinmob.scan import workspace_map as plot_map
-from pinmob.scan.output import RowWriter, read_columns
 from pinmob.scan.predictor import Predictor
+from pinmob.scan.results import scan_plot as plot
+from pinmob.scan.results import workspace_map as plot_map
+from pinmob.scan.results.output import RowWriter, read_columns
 from pinmob.scan.scan_run import columns, scan
 from pinmob.scan.scan_spec import STRIDE, ScanSpec, grid_spec, path_spec
 

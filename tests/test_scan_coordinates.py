@@ -345,8 +345,8 @@ def test_an_unreachable_coordinate_target_names_the_coordinates_it_missed():
 
 def test_a_joint_grid_map_labels_its_axes_with_the_joints_and_their_units(tmp_path, capsys):
     from pinmob.scan.coordinates import coordinate_unit
-    from pinmob.scan.output import header, read_columns
-    from pinmob.scan.workspace_map import MAP_COLUMNS, map_figure
+    from pinmob.scan.results.output import header, read_columns
+    from pinmob.scan.results.workspace_map import MAP_COLUMNS, map_figure
 
     out = tmp_path / "g.csv"
     args = ["scan", "3-RPS", "--grid", "A_leg:-0.02:0.02:3", "B_leg:-0.02:0.02:3", "--no-progress"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 from numpy.typing import ArrayLike
 
@@ -11,7 +12,8 @@ from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.configuration_choice import chosen_configuration
 from pinmob.analysis.finite.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
-from pinmob.analysis.report import Options, Report
+from pinmob.analysis.report import Report
+from pinmob.analysis.report_parts import Options, part_keywords
 from pinmob.assembly.assemble import project
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint, worst_first
 from pinmob.assembly.named_assembly import named_vector
@@ -22,6 +24,7 @@ from pinmob.bounds import check_bound
 from pinmob.exceptions import ArgumentError, ClosureError, ConfigurationError
 from pinmob.io import load
 from pinmob.model.mechanism import Mechanism
+from pinmob.name_matching import choices, did_you_mean
 from pinmob.screw.rank import RTOL, check_rtol
 
 
@@ -180,6 +183,7 @@ def analyze(
     relax: bool = False,
     finite: bool = False,
     finite_order: int = ORDER,
+    **parts: Any,
 ) -> Report:
     """Everything pinmob answers at a closed configuration, as one :class:`Report`.
 
@@ -212,11 +216,16 @@ def analyze(
         finite: also compute finite versus instantaneous mobility (:mod:`pinmob.analysis.finite.finite_mobility`):
             ``report.finite``.
         finite_order: the highest order of the conditions the finite analysis checks (2..8).
+        **parts: the keywords of the other registered report parts (:func:`~pinmob.analysis.report.register_part`),
+            e.g. ``toy=True`` for a part registered with ``PartOption("toy")``: ``report.part("toy")``. The keywords
+            above (``paper``, ``approach``, ``actuator_search``, ``finite``, ``finite_order``) are those of the
+            built-in parts, named for their types and documentation.
 
     Each argument is checked once, here or where it is first used (``closure_tol`` by the Configuration built).
 
     Raises:
-        ArgumentError: rtol, closure_tol, finite_order or restarts out of range, or joints without a mechanism.
+        ArgumentError: rtol, closure_tol, finite_order or restarts out of range, joints without a mechanism, or a
+            keyword that no registered report part has.
         UnknownConfigurationError: q (or the base of ``joints``) names no configuration of the mechanism.
         ConfigurationError: another bad argument (shape, NaN, a Configuration of another mechanism).
         ClosureError: q does not close, or no closed configuration could be found.
@@ -231,6 +240,15 @@ def analyze(
             mech,
         )
     rtol = check_rtol(rtol)
+    keywords = part_keywords()
+    for keyword in parts:
+        if keyword not in keywords:
+            raise ArgumentError(
+                f"analyze has no keyword {keyword!r}{did_you_mean(keyword, keywords)}; the report parts' "
+                f"keywords: {choices(keywords)}",
+                keyword,
+                parts[keyword],
+            )
     finite_order = check_order(finite_order)
     if isinstance(restarts, bool) or not isinstance(restarts, int) or restarts < 0:
         raise ArgumentError(
@@ -257,14 +275,17 @@ def analyze(
         frames=tuple(frames or ()),
         outputs=None if outputs is None else tuple(outputs),
         actuated=None if actuated is None else tuple(actuated),
-        paper=paper,
-        approach=approach,
-        actuator_search=actuator_search,
         generic_rank=generic_rank,
         relaxed=relaxed,
-        finite=finite,
-        finite_order=finite_order,
         rtol_asked=asked,
+        asked={
+            "paper": paper,
+            "approach": approach,
+            "actuator_search": actuator_search,
+            "finite": finite,
+            "finite_order": finite_order,
+            **parts,
+        },
     )
     mobility = platform_mobility(conf, rtol) if conf.mechanism.has_platform else None
     return Report(conf, rtol, mobility, options)

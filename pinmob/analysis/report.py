@@ -8,54 +8,38 @@ computed at once; the other parts when first used (``to_dict`` and ``str`` use t
   frame motions);
 * ``singularity``: the singularity classes and distances (the first report of a mechanism also estimates
   its generic constraint rank, from random closed configurations, unless the file declares it);
-* ``paper``: the seed paper's view, only when asked (``paper=True``);
-* ``actuator_sets``: every valid set of K actuated joints, only when asked (``actuator_search=K``);
-* ``finite``: finite versus instantaneous mobility, only when asked (``finite=True``; :mod:`pinmob.analysis.finite`).
+* the registered parts (:mod:`pinmob.analysis.report_parts`), each its section, its JSON entries, its
+  keywords of :func:`analyze` and its options of ``pinmob analyze`` from one registration
+  (:func:`~pinmob.analysis.report_parts.register_part`), read as ``report.part(name)``: ``actuator_sets``,
+  every valid set of K actuated joints, only when asked (``actuator_search=K``); ``paper``, the seed paper's
+  view, only when asked (``paper=True``); ``finite``, finite versus instantaneous mobility, only when asked
+  (``finite=True``; :mod:`pinmob.analysis.finite`). Each of these three is also an attribute
+  (``report.paper``).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import TYPE_CHECKING, Any
 
-from numpy.typing import ArrayLike
-
 from pinmob.analysis.ambiguity import AmbiguousRank, ambiguous_ranks, raised_note
 from pinmob.analysis.chain import FrameMobility, MechanismMobility
-from pinmob.analysis.chain.actuation import actuator_sets, default_end_frames
 from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
-from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.generic import generic_constraint_rank
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report_html import Section, joined, report_html
+from pinmob.analysis.report_parts import REPORT_PARTS, Options
 from pinmob.analysis.singularity import Singularity, singularity
 from pinmob.analysis.summary import summary_line
-from pinmob.exceptions import ConfigurationError
+from pinmob.exceptions import ArgumentError, ConfigurationError
 from pinmob.model.joint_values import joint_layout, values_by_name
+from pinmob.name_matching import choices, did_you_mean
 
 if TYPE_CHECKING:
     from pinmob.analysis.finite.finite_mobility import FiniteMobility
-
-
-@dataclass(frozen=True)
-class Options:
-    """What the analysis was asked for besides the configuration (see :func:`analyze`)."""
-
-    frames: tuple[str, ...] = ()
-    outputs: tuple[str, ...] | None = None
-    actuated: tuple[str, ...] | None = None
-    paper: bool = False
-    approach: ArrayLike | Mapping[str, float] | None = None
-    actuator_search: int | None = None
-    generic_rank: int | None = None
-    relaxed: tuple[str, ...] = ()
-    finite: bool = False
-    finite_order: int = ORDER
-    rtol_asked: float | None = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -77,6 +61,7 @@ class Report:
     rtol: float
     mobility: Mobility | None
     options: Options = field(default_factory=Options, repr=False)
+    _parts: dict[str, Any] = field(default_factory=dict, init=False, repr=False, compare=False)
 
     # ------------------------------------------------------------------ parts
 
@@ -111,35 +96,36 @@ class Report:
             g = generic_constraint_rank(self.state.mechanism, rtol=asked)  # the generic samples close exactly
         return singularity(self.state, self.rtol, g)
 
-    @cached_property
+    def part(self, name: str) -> Any:
+        """The registered part ``name``, computed when first read; None when not asked for or not applicable.
+
+        Raises:
+            ArgumentError: no part of that name is registered (:data:`~pinmob.analysis.report_parts.REPORT_PARTS`).
+        """
+        if name not in self._parts:
+            if name not in REPORT_PARTS:
+                raise ArgumentError(
+                    f"no report part {name!r}{did_you_mean(name, REPORT_PARTS)}; parts: {choices(REPORT_PARTS)}",
+                    "name",
+                    name,
+                )
+            self._parts[name] = REPORT_PARTS[name].compute(self)
+        return self._parts[name]
+
+    @property
     def paper(self) -> Mobility | None:
         """The seed paper's view (only when asked for with ``paper=True``)."""
-        if not self.options.paper:
-            return None
-        from pinmob.analysis.paper import paper_mobility  # only on request
+        return self.part("paper")
 
-        return paper_mobility(self.state, self.rtol, self.options.approach)  # type: ignore[arg-type]
-
-    @cached_property
+    @property
     def actuator_sets(self) -> tuple[tuple[str, ...], ...] | None:
         """Every valid set of K actuated joints (only when asked for with ``actuator_search=K``)."""
-        if (k := self.options.actuator_search) is None:
-            return None
-        outs = default_end_frames(self.state.mechanism)
-        return tuple(actuator_sets(self.state, None, k, outputs=outs, rtol=self.rtol))
+        return self.part("actuator_sets")
 
-    @cached_property
+    @property
     def finite(self) -> FiniteMobility | None:
         """Finite versus instantaneous mobility (only when asked for with ``finite=True``)."""
-        if not self.options.finite:
-            return None
-        platform = self.mobility if self.has_limbs else self.platform_frame
-        motions = None if platform is None else platform.motions
-        sing = self.singularity if self.state.mechanism.actuated else None
-        locked = sing.uncontrolled if sing is not None and sing.actuation is not None else None
-        from pinmob.analysis.finite.finite_mobility import finite_mobility  # its modules load when it is asked for
-
-        return finite_mobility(self.state, self.rtol, self.options.finite_order, motions=motions, locked_motions=locked)
+        return self.part("finite")
 
     @property
     def platform_frame(self) -> FrameMobility | None:
@@ -188,7 +174,6 @@ class Report:
 
     def to_dict(self) -> dict[str, Any]:
         """The document ``pinmob analyze --json`` prints (plain JSON, never NaN)."""
-        sets = self.actuator_sets
         if not self.has_limbs:
             out = self.mechanism_mobility.to_dict()
             out["closed_configuration"] = {
@@ -208,8 +193,6 @@ class Report:
             exp = self.expectation
             if exp is not None:
                 out["expected"] = exp.to_dict()
-            if self.paper is not None:
-                out["paper_view"] = self.paper.to_dict()
             sing = self.singularity
             out["singularity"] = sing.to_dict() if sing is not None else None
         mech = self.state.mechanism
@@ -217,10 +200,9 @@ class Report:
         out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz, layout)
         out["rank_tolerance_note"] = self._raised()
         out["ambiguous_ranks"] = [a.to_dict() for a in self.ambiguous_ranks]
-        if sets is not None:
-            out["valid_actuator_sets"] = [list(x) for x in sets]
-        if self.finite is not None:
-            out.update(self.finite.report_entries())
+        for name, part in REPORT_PARTS.items():  # the registered parts' entries, in their order
+            if (value := self.part(name)) is not None:
+                out = inserted(out, part.document(self, value), part.json_before)
         return out
 
     def __str__(self) -> str:
@@ -240,19 +222,12 @@ class Report:
             out = [Section("platform", str(mob)), Section("singularity", unseen if sing is None else str(sing))]
             out += [Section("expected", str(expected))] if expected is not None else []
             out.append(Section("mechanism", str(self.mechanism_mobility), gap=True))
-        notes = (("rank notes", self._rank_lines()), ("actuator sets", self._actuator_lines()))
-        out += [Section(title, "\n".join(lines)) for title, lines in notes if lines]
-        paper = self.paper if self.has_limbs else None
-        if paper is not None:
-            mob, text = self._platform(), str(paper)
-            if (paper.dof, paper.motion_type) != (mob.dof, mob.motion_type):
-                text += (
-                    f"\ndifference: the paper's view gives {paper.motion_type} ({paper.dof} DoF), the wrenches at the "
-                    f"configuration give {mob.motion_type} ({mob.dof} DoF); serially singular limbs: "
-                    f"{', '.join(mob.serially_singular_limbs) or 'none'}"
-                )
-            out.append(Section("the seed paper's view", text, gap=True))
-        return out + ([Section("finite mobility", str(self.finite), gap=True)] if self.finite else [])
+        if lines := self._rank_lines():
+            out.append(Section("rank notes", "\n".join(lines)))
+        for name, part in REPORT_PARTS.items():  # the registered parts' sections, in their order
+            if (value := self.part(name)) is not None and (text := part.text(self, value)) is not None:
+                out.append(Section(part.title, text, gap=part.gap))
+        return out
 
     def _repr_pretty_(self, p: Any, cycle: bool) -> None:  # IPython's text display: str(report), not the dataclass repr
         p.text(str(self))
@@ -262,14 +237,17 @@ class Report:
         return report_html(self.mechanism, self.configuration, self.mobility, self.singularity, chain, sections)
 
     def brief(self) -> str:
-        """``pinmob analyze --brief``'s line (:func:`~pinmob.analysis.summary.summary_line`), ambiguous ranks, finite verdict."""
+        """``pinmob analyze --brief``'s line (:func:`~pinmob.analysis.summary.summary_line`), ambiguous ranks, the parts' words."""
         chain = self.mechanism_mobility if self.mobility is None else None
         line = summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
         if self.state.mechanism.ignored:  # never a DoF without the elements it leaves out
             line += f"; ignoring what pinmob does not read: {'; '.join(self.state.mechanism.ignored)}"
         for a in self.ambiguous_ranks:  # never a confident count where the gap is not clear (the full text's note)
             line += f"; ambiguous {a.decision}: {a.rank} as counted, {' or '.join(map(str, a.alternatives))} possible"
-        return line if self.finite is None else f"{line}; finite: {self.finite.brief()}"
+        for name, part in REPORT_PARTS.items():  # the registered parts that have a word in it
+            if part.brief is not None and (value := self.part(name)) is not None:
+                line += f"; {part.brief(self, value)}"
+        return line
 
     @cached_property
     def ambiguous_ranks(self) -> tuple[AmbiguousRank, ...]:
@@ -284,14 +262,17 @@ class Report:
         note = self._raised()
         return ([f"note: {note}"] if note else []) + [str(a) for a in self.ambiguous_ranks]
 
-    def _actuator_lines(self) -> list[str]:
-        if (sets := self.actuator_sets) is None:
-            return []
-        lines = [f"valid sets of {self.options.actuator_search} actuated joints: {len(sets)}"]
-        lines += ["  " + ", ".join(x) for x in sets[:50]]
-        if len(sets) > 50:
-            lines.append(f"  ... ({len(sets) - 50} more)")
-        return lines
+
+def inserted(document: dict[str, Any], entries: dict[str, Any], before: str | None) -> dict[str, Any]:
+    """``document`` with ``entries`` added before its key ``before`` (at the end when None or absent)."""
+    if before is None or before not in document:
+        return {**document, **entries}
+    out: dict[str, Any] = {}
+    for key, value in document.items():
+        if key == before:
+            out.update(entries)
+        out[key] = value
+    return out
 
 
 #: keys of the whole-mechanism document added to the JSON of a limb-and-platform analysis

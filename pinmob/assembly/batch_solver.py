@@ -8,14 +8,15 @@ and in world axes,
 
     e_f = [ (p_f - p*) / L ;  log3(R_f R*^T) ],
 
-with the Jacobian per joint rate taken from Pinocchio's world joint Jacobian
-(``data.J``, one ``computeJointJacobians`` per sample and iteration) on the
-frame's supporting joints, ``[(J_v - [p_f]x J_w) / L ; J_w]``, and, per free
+with the Jacobian per joint rate taken from the world joint Jacobian
+(Pinocchio's ``data.J``: one call of the compiled kinematics per iteration over
+the stack, :mod:`pinmob.model.compiled_kinematics`, where numba is installed and
+the joints are of the types it compiles, else one ``computeJointJacobians`` per
+sample and iteration) on the frame's supporting joints, ``[(J_v - [p_f]x J_w) / L ; J_w]``, and, per free
 coordinate, ``-[e_k / L ; 0]`` (x, y, z) or ``-[0 ; E(rpy) e_k]`` (angles,
 ``E`` the world angular velocity per rpy rate). The rotation rows take the
 angular velocity for the rate of ``log3`` (no ``Jlog3``): exact at a solution,
-so the steps converge quadratically near one. Pinocchio computes the
-kinematics one sample at a time (it has no batched kinematics); the errors,
+so the steps converge quadratically near one. The errors,
 Jacobians and steps are computed by a compiled loop over the samples still
 running when numba is installed (:mod:`pinmob.assembly.batch_newton_kernel`), else
 as numpy stacks (the same iterates to round-off).
@@ -50,6 +51,7 @@ from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.assembly.rotation_stacks import log3_stack, rpy_matrices, rpy_rates, skew_stack
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
+from pinmob.model.compiled_kinematics import frame_kinematics
 from pinmob.model.joints import angle_mask, linear_velocity_mask, wrap_angles
 from pinmob.model.mechanism import Mechanism
 from pinmob.screw.algebra import Array, Mask
@@ -114,6 +116,8 @@ class PoseProblem:
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
         self.vector_space = all(joint.shortname() in VECTOR_JOINTS for joint in joints[1:])
         self.data = model.createData()
+        #: The frames' kinematics for a stack: compiled (numba) when it can be, else Pinocchio's calls.
+        self.fast = frame_kinematics(model, self.frames)
         self.kernel = compiled_kernel()
         self.angles = np.flatnonzero(angle_mask(model))
         #: The revolute angles' velocity indices (a joint with an angle has one coordinate per velocity).
@@ -143,8 +147,17 @@ class PoseProblem:
         return out
 
     def kinematics(self, qs: Array) -> tuple[Array, Array]:
-        """(B, 6, nv) world Jacobians and (B, F, 4, 4) frame placements at (B, nq): Pinocchio, one sample at a time."""
+        """(B, 6, nv) world Jacobians and (B, F, 4, 4) frame placements at (B, nq).
+
+        The compiled kinematics in one call (:mod:`pinmob.model.compiled_kinematics`), else Pinocchio one sample
+        at a time.
+        """
         model, data = self.model, self.data
+        if self.fast.engine == "compiled":
+            full, rot, pos = self.fast.world_jacobians(qs)
+            frames = np.zeros((len(qs), len(self.frames), 4, 4))
+            frames[:, :, :3, :3], frames[:, :, :3, 3], frames[:, :, 3, 3] = rot, pos, 1.0
+            return full, frames
         full, frames = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), len(self.frames), 4, 4))
         jacobians, placement = pin.computeJointJacobians, pin.updateFramePlacement
         for b, q in enumerate(qs):

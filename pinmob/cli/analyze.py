@@ -5,10 +5,11 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from typing import Any
 
 from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.report import Report
+from pinmob.analysis.report_parts import REPORT_PARTS
 from pinmob.assembly.residual import CLOSURE_TOL
 from pinmob.cli.common import joint_values_of, load_for, with_elsewhere
 from pinmob.cli.flags import worded_report
@@ -38,12 +39,9 @@ def run(args: argparse.Namespace) -> int:
             rtol=RTOL if args.rtol is None else args.rtol,
             closure_tol=CLOSURE_TOL if args.closure_tol is None else args.closure_tol,
             frames=args.frame,
-            paper=args.paper_view,
-            actuator_search=args.search_actuators,
             restarts=args.restarts,
             relax=args.relax,
-            finite=args.finite or args.finite_order is not None,  # --finite-order K implies --finite
-            finite_order=ORDER if args.finite_order is None else args.finite_order,
+            **part_arguments(args),
         )
     if args.check and report.expectation is None:
         raise ConfigurationError(
@@ -55,6 +53,23 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(worded_report(report.brief() if args.brief else str(report)))  # the parameters it names as options
     return check_status(args, report)
+
+
+def part_arguments(args: argparse.Namespace) -> dict[str, Any]:
+    """The keywords of :func:`pinmob.analyze` the registered report parts' options give (those given only).
+
+    An option given also sets the switch it implies (``--finite-order K``: ``finite=True``).
+    """
+    given: dict[str, Any] = {}
+    for part in REPORT_PARTS.values():
+        for o in part.options:
+            value = getattr(args, o.keyword, None) if o.option is not None else None
+            if value is None or value is False:
+                continue
+            given[o.keyword] = value
+            if o.implies is not None:
+                given[o.implies] = True
+    return given
 
 
 def check_status(args: argparse.Namespace, report: Report) -> int:

@@ -9,7 +9,7 @@ parentheses becomes ``--flag``. A parameter in backticks is advice rather than t
 
 Reports are library output too (``str(report)`` in Python): their texts name parameters in backticks only
 (``set `rtol` / `closure_tol```, ``see `paper=True```), and :func:`worded_report` words the parameters of
-:data:`REPORT_PARAMETERS` as options where the command line prints a report.
+:data:`REPORT_PARAMETERS` and the report parts' keywords as options where the command line prints a report.
 """
 
 from __future__ import annotations
@@ -18,18 +18,15 @@ import re
 from collections.abc import Iterable
 from functools import partial
 
+from pinmob.analysis.report_parts import part_keywords
 from pinmob.exceptions import PinmobError
 
-#: Python parameter -> the option of the command line that gives it
+#: Python parameter -> the option of the command line that gives it (the report parts' keywords: :func:`flag`)
 FLAGS = {
     "rtol": "--rtol",
     "closure_tol": "--closure-tol",
     "restarts": "--restarts",
     "relax": "--relax",
-    "paper": "--paper-view",
-    "finite": "--finite",
-    "finite_order": "--finite-order",
-    "actuator_search": "--search-actuators",
     "actuated": "--actuated",
     "frames": "--frame",
     "joints": "--joints",
@@ -44,8 +41,17 @@ FLAGS = {
     "index": "--sample",  # the scan's sample drawn in 3D (pinmob.viewer.workspace.sample_configuration)
 }
 
-#: The parameters a report's text may name (in backticks), worded as options by :func:`worded_report`
-REPORT_PARAMETERS = ("rtol", "closure_tol", "paper", "actuated", "finite")
+#: The parameters a report's text may name (in backticks), worded as options by :func:`worded_report`, besides the
+#: registered report parts' keywords (:data:`pinmob.analysis.report.REPORT_PARTS`)
+REPORT_PARAMETERS = ("rtol", "closure_tol", "actuated")
+
+
+def flag(parameter: str) -> str | None:
+    """The option of the command line that gives the Python ``parameter`` (a registered part's from its registration)."""
+    if parameter in FLAGS:
+        return FLAGS[parameter]
+    option = part_keywords().get(parameter)
+    return None if option is None or option.option is None else f"--{option.option}"
 
 
 def worded_for_cli(exc: PinmobError) -> str:
@@ -55,15 +61,15 @@ def worded_for_cli(exc: PinmobError) -> str:
 
 def worded_report(text: str) -> str:
     """A report's text (``str(report)``, its brief line) with the parameters it names in backticks as options."""
-    return worded(text, REPORT_PARAMETERS, marked_only=True)
+    return worded(text, (*REPORT_PARAMETERS, *part_keywords()), marked_only=True)
 
 
 def worded(text: str, parameters: Iterable[str], marked_only: bool = False) -> str:
     """``text`` with each of ``parameters`` that it names worded as its option (only in backticks: ``marked_only``)."""
     for parameter in parameters:
-        flag = FLAGS.get(parameter)
-        if flag is not None:
-            text = _mention(parameter, marked_only).sub(partial(_worded, flag=flag), text)
+        option = flag(parameter)
+        if option is not None:
+            text = _mention(parameter, marked_only).sub(partial(_worded, flag=option), text)
     return text
 
 

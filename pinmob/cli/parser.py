@@ -7,6 +7,8 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from pinmob import __version__
+from pinmob.analysis.finite.higher_order import ORDER, ORDERS
+from pinmob.analysis.report_parts import REPORT_PARTS
 from pinmob.assembly import CLOSURE_TOL, CLOSURE_TOL_MAX, RESTARTS
 from pinmob.screw import RTOL
 
@@ -78,6 +80,25 @@ def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
     )
 
 
+def add_part_options(p: argparse.ArgumentParser) -> None:
+    """The options of the registered report parts (:class:`~pinmob.analysis.report.PartOption`), in their order.
+
+    Each option's destination is its keyword of :func:`pinmob.analyze` (``--paper-view`` gives ``args.paper``); a
+    switch is True when given, an option with a value None when not (the library's default then applies).
+    """
+    for part in REPORT_PARTS.values():
+        for o in part.options:
+            if o.option is None:
+                continue
+            implied = next((f"; implies --{i.option}" for i in part.options if i.keyword == o.implies), "")
+            if o.metavar is None:
+                p.add_argument(f"--{o.option}", dest=o.keyword, action="store_true", help=o.help + implied)
+            else:
+                p.add_argument(
+                    f"--{o.option}", dest=o.keyword, type=o.type, default=None, metavar=o.metavar, help=o.help + implied
+                )
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The ``pinmob`` argument parser with its six commands."""
     parser = Parser(
@@ -98,11 +119,6 @@ def build_parser() -> argparse.ArgumentParser:
         "--brief",
         action="store_true",
         help="print only the one-line answer (DoF, type, motions, singularity; with --finite, the finite DoF)",
-    )
-    p.add_argument(
-        "--paper-view",
-        action="store_true",
-        help="also show the seed paper's view: generic limb wrenches carried to the configuration",
     )
     p.add_argument(
         "--rtol", type=float, default=None, help=f"relative tolerance of rank decisions (default {RTOL:.0e})"
@@ -130,18 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=RESTARTS,
         help="random restarts when searching a closed configuration (default %(default)s)",
     )
-    p.add_argument(
-        "--search-actuators",
-        type=int,
-        default=None,
-        metavar="K",
-        help="also list every valid set of K actuated joints (exhaustive)",
-    )
-    _finite_options(
-        p,
-        "also tell finite from instantaneous mobility: which free motions exist at finite amplitude "
-        "(higher-order conditions, tracing, closed samples)",
-    )
+    add_part_options(p)
     add_model_options(p)
 
     p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat", epilog=GLOSSARY)
@@ -204,6 +209,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--csv", help="write the samples to this CSV file")
     p.add_argument("--json", dest="json_out", help="write the samples to this JSON file")
+    p.add_argument("--parquet", help="write the samples to this Parquet file (a typed column per CSV column)")
     p.add_argument(
         "--plot", help="write a PNG plot here (path: singular values; grid: maps of motion type and distance)"
     )
@@ -222,7 +228,9 @@ def build_parser() -> argparse.ArgumentParser:
         "at --from for a path)",
     )
     p.add_argument(
-        "--force", action="store_true", help="overwrite the --csv, --json, --plot and --html files if they exist"
+        "--force",
+        action="store_true",
+        help="overwrite the --csv, --json, --parquet, --plot and --html files if they exist",
     )
     p.add_argument(
         "--workers",
@@ -271,5 +279,6 @@ def _finite_options(p: argparse.ArgumentParser, what: str) -> None:
         type=int,
         default=None,
         metavar="K",
-        help="the highest order of the conditions the finite analysis checks (2..8, default 4); implies --finite",
+        help=f"the highest order of the conditions the finite analysis checks ({ORDERS[0]}..{ORDERS[-1]}, default {ORDER}); "
+        "implies --finite",
     )

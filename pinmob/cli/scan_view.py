@@ -10,8 +10,7 @@ from pinmob import viewer
 from pinmob.analysis.configuration import Configuration
 from pinmob.exceptions import ConfigurationError
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.coordinates import coordinate_unit
-from pinmob.scan.scan_spec import ScanSpec
+from pinmob.scan import ScanSpec, coordinate_unit
 from pinmob.viewer.workspace import sample_configuration, workspace_cloud
 
 

@@ -6,15 +6,19 @@
 :mod:`~pinmob.scan.batch_rows` (the batched engine: chunks assembled in
 lockstep, samples analysed in one batch), :mod:`~pinmob.scan.chain_scan` (a mechanism without a platform: the whole
 closed chain along a joint path),
-:mod:`~pinmob.scan.refine` (singular points between samples),
-:mod:`~pinmob.scan.output` (streamed CSV/JSON), :mod:`~pinmob.scan.scan_plot` and
-:mod:`~pinmob.scan.workspace_map` (PNG maps of grids).
+:mod:`~pinmob.scan.refine` (singular points between samples), and the subpackage :mod:`pinmob.scan.results`:
+the rows as columns (``table``), streamed CSV/JSON/Parquet (``output``), :class:`ScanReport` (what :func:`scan`
+returns, ``scan_report``), and PNG plots (``scan_plot``, ``workspace_map``).
 """
 
 from pinmob.assembly.reach import pose_vector
+from pinmob.scan.chain_scan import check_actuated
 from pinmob.scan.chunk import run_chunk
+from pinmob.scan.coordinates import coordinate_unit
+from pinmob.scan.results.scan_report import ScanReport, describe
+from pinmob.scan.results.table import ScanTable
 from pinmob.scan.sample import evaluate
-from pinmob.scan.scan_run import chunk_seeds, columns, scan
+from pinmob.scan.scan_run import ScanRun, chunk_seeds, columns, scan, scan_table, scan_tables
 from pinmob.scan.scan_spec import (
     CHUNK,
     KINDS,
@@ -22,6 +26,7 @@ from pinmob.scan.scan_spec import (
     STRIDE,
     ScanSpec,
     grid_spec,
+    parse_grid_axis,
     path_spec,
     platform_pose,
     pose_from_vector,
@@ -34,11 +39,18 @@ __all__ = [
     "KINDS",
     "POSE_COORDS",
     "STRIDE",
+    "ScanReport",
+    "ScanRun",
     "ScanSpec",
+    "ScanTable",
+    "check_actuated",
     "chunk_seeds",
     "columns",
+    "coordinate_unit",
+    "describe",
     "evaluate",
     "grid_spec",
+    "parse_grid_axis",
     "path_spec",
     "platform_pose",
     "pose_from_vector",
@@ -46,5 +58,7 @@ __all__ = [
     "resolve_pose",
     "run_chunk",
     "scan",
+    "scan_table",
+    "scan_tables",
     "with_finite",
 ]

@@ -30,9 +30,10 @@ iterations) and the best point is reported as an extra row (``refined`` True,
 ``index`` the sample before it) when its distance is below the near-singular
 band ``NEAR_FACTOR * rtol``; it may then be singular or only near-singular.
 
-Rows are yielded one at a time, in order of the line parameter (memory flat in
-the number of samples); targets that cannot be assembled give a row with
-``reachable = False``.
+Rows come a group of chunks at a time, as a table (:class:`~pinmob.scan.results.table.ScanTable`: one array per
+column), in order of the line parameter (memory flat in the number of samples: :meth:`ScanRun.tables`); targets
+that cannot be assembled give a row with ``reachable = False``. :func:`scan` writes them to the output files as
+they come and returns the :class:`~pinmob.scan.results.scan_report.ScanReport`.
 """
 
 from __future__ import annotations
@@ -47,11 +48,15 @@ import pinmob.scan.chunk as chunk
 from pinmob.assembly.reach import pose_vector
 from pinmob.exceptions import EngineError, PinmobError
 from pinmob.model.mechanism import Mechanism
+from pinmob.output_files import check_target
 from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain_scan import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
 from pinmob.scan.lockstep import GROUP, Job, off_secant, run_group, secant_starts
 from pinmob.scan.predictor import Predictor
+from pinmob.scan.results.output import RowWriter
+from pinmob.scan.results.scan_report import ScanReport, Summary, describe, scan_meta
+from pinmob.scan.results.table import ScanTable
 from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw.algebra import Array
@@ -169,15 +174,27 @@ def chunk_groups(mech: Mechanism, spec: ScanSpec, first_alone: bool = True) -> I
         yield group
 
 
-def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]:
-    """The scan's rows computed in this process, group after group (what :func:`scan` does with one worker)."""
+def scan_tables(mech: Mechanism, spec: ScanSpec) -> Iterator[ScanTable]:
+    """The scan's rows computed in this process, a table per group (what :func:`scan` does with one worker)."""
+    names = columns(spec)
     for group in chunk_groups(mech, spec, first_alone=False):
-        yield from run_group(mech, spec, group)
+        yield ScanTable.from_rows(names, run_group(mech, spec, group))
 
 
-def _group_task(shared: tuple[Mechanism, ScanSpec], group: list[Job]) -> list[dict[str, Any]]:
-    """One group of chunks on a worker (:meth:`pinmob.parallel.cluster.Engine.map`)."""
-    return run_group(shared[0], shared[1], group)
+def scan_table(mech: Mechanism, spec: ScanSpec) -> ScanTable:
+    """Every row of the scan computed in this process, as one table."""
+    return ScanTable.concat(scan_tables(mech, spec), columns(spec))
+
+
+def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]:
+    """The scan's rows computed in this process, as dicts, one at a time (:func:`scan_tables`' rows)."""
+    for table in scan_tables(mech, spec):
+        yield from table.rows()
+
+
+def _group_task(shared: tuple[Mechanism, ScanSpec], group: list[Job]) -> ScanTable:
+    """One group of chunks on a worker (:meth:`pinmob.parallel.cluster.Engine.map`), as a table."""
+    return ScanTable.from_rows(columns(shared[1]), run_group(shared[0], shared[1], group))
 
 
 def _samples(group: list[Job]) -> int:
@@ -185,7 +202,9 @@ def _samples(group: list[Job]) -> int:
 
 
 class ScanRun:
-    """The rows of a scan, one at a time (iterate over it); :attr:`where` says where the chunks ran.
+    """The rows of a scan, a table at a time (:meth:`tables`; or iterate over its rows).
+
+    :attr:`where` says where the chunks ran.
 
     The first group of chunks runs in this process (with ``workers > 1`` or a ``scheduler``, the first chunk
     alone, to time it). With ``workers > 1`` the others go to a
@@ -203,9 +222,15 @@ class ScanRun:
         self.where = "1 worker (this process)"
 
     def __iter__(self) -> Iterator[dict[str, Any]]:
+        for table in self.tables():
+            yield from table.rows()
+
+    def tables(self) -> Iterator[ScanTable]:
+        """The rows, a group of chunks at a time (in order of the line parameter)."""
         from tqdm import tqdm
 
         spec = self.spec
+        names = columns(spec)
         disable = (None if spec.size >= 50 else True) if self.progress is None else not self.progress
         bar = tqdm(total=spec.size, disable=disable, unit="sample", desc=f"scan {self.mech.name}", leave=False)
         groups = chunk_groups(self.mech, spec, first_alone=not self.engine.in_process)  # in process: no pace needed
@@ -214,27 +239,27 @@ class ScanRun:
             if first is None:
                 return
             t0 = time.perf_counter()
-            rows = run_group(self.mech, spec, first)
+            table = ScanTable.from_rows(names, run_group(self.mech, spec, first))
             pace = (time.perf_counter() - t0) / max(1, _samples(first))
             bar.update(_samples(first))
-            yield from rows
+            yield table
             left = spec.size - _samples(first)
             engine = self.engine
             if engine.in_process or (engine.scheduler is None and pace * left < CLUSTER_MIN_SECONDS):
                 if not engine.in_process:
                     self.where = f"1 worker (this process: too small to pay for {engine.workers} workers)"
                 for group in groups:
-                    rows = run_group(self.mech, spec, group)
+                    table = ScanTable.from_rows(names, run_group(self.mech, spec, group))
                     bar.update(_samples(group))
-                    yield from rows
+                    yield table
                 return
             with engine:
                 self.where = engine.describe()
                 for result in engine.map(_group_task, (self.mech, spec), groups):
                     if isinstance(result, Lost):
                         raise EngineError(f"a scan chunk could not be computed: {result.reason}; the scan stopped")
-                    bar.update(sum(not r["refined"] for r in result))
-                    yield from result
+                    bar.update(int((~result["refined"]).sum()))
+                    yield result
                 if engine.lost_workers:
                     self.where += f"; {engine.lost_workers} worker(s) lost and replaced, their chunks computed again"
         finally:
@@ -247,8 +272,14 @@ def scan(
     workers: int = 1,
     progress: bool | None = None,
     scheduler: str | None = None,
-) -> ScanRun:
-    """Rows of the scan (samples and refined points), in order of the line parameter, one at a time.
+    *,
+    csv: str | None = None,
+    json: str | None = None,
+    parquet: str | None = None,
+    overwrite: bool = False,
+    keep_rows: bool = True,
+) -> ScanReport:
+    """Scan ``mech``: its rows (samples and refined points) written to the files as they come, and its report.
 
     Args:
         mech: the mechanism.
@@ -256,15 +287,40 @@ def scan(
         workers: worker processes of a Dask ``LocalCluster`` (1: this process); the rows do not depend on it.
         progress: show a tqdm bar on stderr (None: only for scans of 50 samples or more on a terminal).
         scheduler: address of an existing Dask cluster's scheduler to run the chunks on.
+        csv: a CSV file to write the rows to, a table at a time (:class:`~pinmob.scan.results.output.RowWriter`; an
+            interruption leaves the files as they were).
+        json: a JSON file to write them to.
+        parquet: a Parquet file to write them to.
+        overwrite: replace files that exist.
+        keep_rows: keep every row in the report (``report.table``; iterate over the report for the rows as
+            dicts); False keeps memory flat in the number of samples (the summary needs no row kept).
 
     Returns:
-        an iterable :class:`ScanRun` (its ``where`` tells, once iterated, where the chunks ran).
+        the :class:`~pinmob.scan.results.scan_report.ScanReport`: ``str(report)`` is the summary ``pinmob scan`` prints.
 
     Raises:
-        ConfigurationError: ``workers`` is not a positive whole number.
+        ConfigurationError: ``workers`` is not a positive whole number; an output file may not be written.
         EngineError: the cluster cannot be used, loses every worker, or a chunk kills its workers each time.
     """
-    return ScanRun(mech, spec, workers, progress, scheduler)
+    files = {k: str(check_target(f"`{k}`", p, overwrite, "overwrite")) for k, p in
+             (("csv", csv), ("json", json), ("parquet", parquet)) if p is not None}  # fmt: skip
+    run = ScanRun(mech, spec, workers, progress, scheduler)
+    rank_rtol = spec.reference_rtol(mech)
+    what = describe(spec, rank_rtol)
+    summary = Summary(spec.platform, spec.finite_order is not None)
+    kept: list[ScanTable] = []
+    t0 = time.perf_counter()
+    with RowWriter(columns(spec), scan_meta(mech, spec, what, rank_rtol), files.get("csv"), files.get("json"),
+                   files.get("parquet")) as writer:  # fmt: skip
+        for table in run.tables():
+            writer.write_table(table)
+            summary.add(table)
+            if keep_rows:
+                kept.append(table)
+    seconds = time.perf_counter() - t0
+    rows = ScanTable.concat(kept, columns(spec)) if keep_rows else None
+    return ScanReport(mech.name, spec, what, summary, seconds, run.where, rank_rtol, tuple(mech.actuated), files,
+                      rows)  # fmt: skip
 
 
 def columns(spec: ScanSpec) -> list[str]:

@@ -89,6 +89,8 @@ class ScanSpec:
         gaps: with a ``closure_tol`` above the default (:attr:`cad`), the frame placements that hold the
             reference configuration's CAD gaps (:mod:`pinmob.assembly.cad_gaps`): the samples are assembled on
             the mechanism so corrected (:meth:`assembly_mechanism`), and analysed on the file's.
+        ends: as given, a path's start and end, or a grid's ``at`` (what :func:`pinmob.scan.results.scan_report.describe`
+            names).
     """
 
     kind: str
@@ -109,6 +111,7 @@ class ScanSpec:
     values: tuple[str, ...] = ()
     engine: str = "batch"
     gaps: Gaps = ()
+    ends: tuple[str, ...] = ()
 
     @property
     def cad(self) -> bool:
@@ -340,6 +343,12 @@ def path_spec(
         PinmobError: fewer than 2 samples, no actuated joint for a joint path, an unknown end or joint, an open end,
             ``closure_tol`` out of range (:func:`~pinmob.assembly.residual.check_closure_tol`).
     """
+    return replace(_path_spec(mech, start, end, samples, joints, rtol, closure_tol), ends=(str(start), str(end)))
+
+
+def _path_spec(
+    mech: Mechanism, start: str, end: str, samples: int, joints: bool, rtol: float, closure_tol: float
+) -> ScanSpec:
     rtol, closure_tol = check_rtol(rtol), check_closure_tol(closure_tol)
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
@@ -437,7 +446,7 @@ def grid_spec(
     g = generic_constraint_rank(mech, rtol=rtol)
     return ScanSpec("grid", q, axes=tuple(out), rtol=rtol, generic_rank=g, closure_tol=closure_tol,
                     held=tuple((c, values[c]) for c in held), start=tuple((c, values[c]) for c in names),
-                    values=value_joints(mech), gaps=gaps)  # fmt: skip
+                    values=value_joints(mech), gaps=gaps, ends=(str(at),))  # fmt: skip
 
 
 def with_finite(mech: Mechanism, spec: ScanSpec, order: int | None = None) -> ScanSpec:

@@ -17,12 +17,14 @@ import warnings
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.finite.finite_mobility import FiniteMobility
 from pinmob.analysis.finite.higher_order import ORDER
 from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict
 from pinmob.exceptions import ConfigurationError, PinmobError
-from pinmob.scan.scan_run import scan_in_process
+from pinmob.scan import ScanTable, scan_table
 from pinmob.sweeps.fields import MIN_AT
 from pinmob.sweeps.sweep_spec import DesignJob
 
@@ -72,31 +74,21 @@ def _evaluate(job: DesignJob, record: dict[str, Any], values: dict[str, float], 
         redundant_constraints=whole.redundant_constraints,
         actuation_valid=whole.actuation.valid,
     )
-    samples = reachable = free = refined = 0
-    types: set[str] = set()
-    best: dict[str, Any] | None = None
-    params = job.scan.parameters()
-    for row in scan_in_process(mech, scan):
-        if row["reachable"] and (best is None or row["distance"] < best["distance"]):
-            best = row
-        if row["refined"]:
-            refined += bool(row["reachable"])
-            continue
-        samples += 1
-        if row["reachable"]:
-            reachable += 1
-            free += row["singularity"] == "none"
-            types.add(row["motion_type"])
+    table = scan_table(mech, scan)
+    refined, reachable = table["refined"], table["reachable"]
+    samples = int((~refined).sum())
+    assembled = reachable & ~refined
     record.update(
         samples=samples,
-        assembled=reachable / samples if samples else None,
-        singularity_free=free / reachable if reachable else None,
-        refined_points=refined,
-        motion_types=";".join(sorted(types)),
+        assembled=int(assembled.sum()) / samples if samples else None,
+        singularity_free=float(np.mean(table["singularity"][assembled] == "none")) if assembled.any() else None,
+        refined_points=int((refined & reachable).sum()),
+        motion_types=";".join(sorted(set(table["motion_type"][assembled].tolist()))),
     )
-    if best is not None and math.isfinite(best["distance"]):
-        record.update(min_distance=float(best["distance"]), min_distance_class=best["closest"])
-        record.update({MIN_AT + p: float(best[p]) for p in params})
+    best = closest_row(table)
+    if best is not None:
+        record.update(min_distance=float(table["distance"][best]), min_distance_class=table["closest"][best])
+        record.update({MIN_AT + p: float(table[p][best]) for p in job.scan.parameters()})
     if finite:
         try:
             fm = report.finite
@@ -106,6 +98,18 @@ def _evaluate(job: DesignJob, record: dict[str, Any], values: dict[str, float], 
             assert fm is not None  # asked for
             record.update(finite_fields(fm))
     return record
+
+
+def closest_row(table: ScanTable) -> int | None:
+    """The row of the smallest finite distance to singularity among the assembled rows (the first of equals).
+
+    None when no row assembled, when the first assembled row's distance is NaN, or when no distance is finite.
+    """
+    reach = np.flatnonzero(table["reachable"])
+    if not len(reach) or np.isnan(table["distance"][reach[0]]):
+        return None
+    best = int(reach[np.nanargmin(table["distance"][reach])])
+    return best if math.isfinite(table["distance"][best]) else None
 
 
 def finite_fields(fm: FiniteMobility) -> dict[str, Any]:

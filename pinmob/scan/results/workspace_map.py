@@ -4,7 +4,7 @@
 [rad]: the motion type, and the distance to singularity (log scale). Singular
 samples are crossed, near-singular ones circled, refined points starred; cells
 that were not assembled are left blank, and the legend says so. The shared
-helpers are in :mod:`pinmob.scan.scan_plot`.
+helpers are in :mod:`pinmob.scan.results.scan_plot`.
 """
 
 from __future__ import annotations
@@ -16,8 +16,9 @@ import numpy as np
 
 from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
-from pinmob.scan.output import header, read_columns
-from pinmob.scan.scan_plot import FLOOR, MARKS, POSE_UNITS, sample_classes
+from pinmob.scan.results.output import header, read_columns
+from pinmob.scan.results.scan_plot import FLOOR, MARKS, POSE_UNITS, sample_classes
+from pinmob.scan.results.table import ScanTable
 from pinmob.screw.rank import RTOL
 
 
@@ -33,7 +34,11 @@ MAP_COLUMNS = ["refined", "reachable", "singularity", "near_singular", "distance
 
 
 def plot_map(
-    csv_path: str | Path, png_path: str | Path, title: str = "", rtol: float = RTOL, units: dict[str, str] | None = None
+    csv_path: str | Path | ScanTable,
+    png_path: str | Path,
+    title: str = "",
+    rtol: float = RTOL,
+    units: dict[str, str] | None = None,
 ) -> Path:
     """A grid scan as two maps: motion type, and distance to singularity; returns the PNG path.
 

@@ -10,10 +10,10 @@
   near-singular band; the DoF. Singular samples, near-singular samples and
   refined singular points are marked, the latter labelled by class; samples
   that could not be assembled are shaded grey.
-* :func:`pinmob.scan.workspace_map.plot_map`: a workspace slice as two maps.
+* :func:`pinmob.scan.results.workspace_map.plot_map`: a workspace slice as two maps.
 
 Every colour and mark has a legend entry. Only the columns drawn are read
-(:func:`pinmob.scan.output.read_columns`). Absent singular values (a stack with
+(:func:`pinmob.scan.results.output.read_columns`). Absent singular values (a stack with
 fewer than six columns) are NaN and not drawn; singular values that are exactly
 zero are drawn at ``FLOOR``.
 """
@@ -30,7 +30,8 @@ from pinmob.analysis.singularity.result import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.model.mechanism import Mechanism
-from pinmob.scan.output import read_columns
+from pinmob.scan.results.output import read_columns
+from pinmob.scan.results.table import ScanTable
 from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
 from pinmob.screw.rank import RTOL
 
@@ -158,7 +159,7 @@ def varied_joint(mech: Mechanism, spec: ScanSpec) -> tuple[str, str, float, floa
 
 
 def plot_path(
-    csv_path: str | Path,
+    csv_path: str | Path | ScanTable,
     png_path: str | Path,
     title: str = "",
     rtol: float = RTOL,

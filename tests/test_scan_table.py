@@ -1,0 +1,169 @@
+"""Scan rows kept as columns (:class:`pinmob.scan.ScanTable`) and written column by column: the files of the
+row-by-row writers, byte for byte (CSV) or as data (JSON, and the new Parquet file); the scan's report.
+
+The reference writers below are the row writers pinmob used before the table (one ``csv.DictWriter`` row and one
+``json.dumps`` per row dict), kept here only as the independent truth; the rows they write are the engine's own
+dicts (:func:`pinmob.scan.lockstep.run_group`), before any table.
+"""
+
+from __future__ import annotations
+
+import csv
+import html
+import io
+import json
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+import pinmob
+from pinmob.cli import main
+from pinmob.scan import ScanReport, ScanTable, columns, grid_spec, path_spec, scan, with_finite
+from pinmob.scan.lockstep import run_group
+from pinmob.scan.results.output import RowWriter
+from pinmob.scan.results.table import column_type
+from pinmob.scan.scan_run import chunk_groups
+
+DATA = Path(__file__).parent / "data"
+
+
+def reference_csv(cols: list[str], rows: list[dict[str, Any]]) -> bytes:
+    """The CSV the row writer wrote: floats as ``%.10g``, the rest as :mod:`csv` writes them."""
+    out = io.StringIO(newline="")
+    writer = csv.DictWriter(out, cols)
+    writer.writeheader()
+    for row in rows:
+        writer.writerow({k: (f"{v:.10g}" if isinstance(v, float) else v) for k, v in row.items()})
+    return out.getvalue().encode()
+
+
+def reference_json(cols: list[str], meta: dict[str, Any], rows: list[dict[str, Any]]) -> Any:
+    """The JSON data the row writer wrote: each row's keys in the CSV's order, non-finite floats null."""
+    known = set(cols)
+    samples = []
+    for row in rows:
+        keys = [k for k in cols if k in row] + [k for k in row if k not in known]
+        samples.append({k: (None if isinstance(row[k], float) and not math.isfinite(row[k]) else row[k]) for k in keys})
+    return json.loads(json.dumps({"scan": meta, "samples": samples}, allow_nan=False))
+
+
+def engine_rows(mech: pinmob.Mechanism, spec: pinmob.scan.ScanSpec) -> list[dict[str, Any]]:
+    """The engine's row dicts, group after group (no table involved)."""
+    return [row for group in chunk_groups(mech, spec, first_alone=False) for row in run_group(mech, spec, group)]
+
+
+def same(a: Any, b: Any) -> bool:
+    """Equal, NaN equal to NaN."""
+    if isinstance(a, float) and isinstance(b, float):
+        return a == b or (math.isnan(a) and math.isnan(b))
+    return a == b and type(a) is type(b)
+
+
+def scans() -> list[tuple[str, Any]]:
+    """Scans whose rows hold every kind of value: refined points, unreachable rows (reasons with commas), a closed
+    chain's None verdicts, finite DoF, the CAD columns."""
+    puu, fivebar = pinmob.load("3-PUU"), pinmob.load(DATA / "fivebar" / "robot.yaml")
+    prs = pinmob.load("3-PRS")
+    return [
+        ("3-PUU x-y grid with singular rows", lambda: (puu, grid_spec(puu, "generic", [("x", -0.1, -0.1, 1), ("y", -0.02, 0.02, 5)]))),
+        ("3-PUU grid with unreachable rows", lambda: (puu, grid_spec(puu, "generic", [("x", -0.3, 0.3, 4), ("y", -0.3, 0.3, 3)]))),
+        ("3-PRS roll x z grid", lambda: (prs, grid_spec(prs, "home", [("roll", -3.0, 3.0, 4), ("z", 0.0, 0.4, 3)]))),
+        ("five-bar joint path through its edges", lambda: (fivebar, path_spec(fivebar, "mot1=0,mot2=0", "mot1=3,mot2=-3", 9))),
+        ("3-PUU-flat path with finite DoF", lambda: (pinmob.load("3-PUU-flat"), with_finite(pinmob.load("3-PUU-flat"), path_spec(pinmob.load("3-PUU-flat"), "flat", "flat-raised", 4)))),
+    ]  # fmt: skip
+
+
+@pytest.mark.parametrize("case", range(5))
+def test_files_are_the_row_writers_files(tmp_path: Path, case: int) -> None:
+    """CSV byte for byte, JSON and Parquet equal as data to the row writers' files of the engine's rows."""
+    name, make = scans()[case]
+    mech, spec = make()
+    rows = engine_rows(mech, spec)
+    cols = columns(spec)
+    paths = {k: tmp_path / f"s.{k}" for k in ("csv", "json", "parquet")}
+    report = scan(mech, spec, progress=False, **{k: str(p) for k, p in paths.items()})
+    assert paths["csv"].read_bytes() == reference_csv(cols, rows), name
+    written = json.loads(paths["json"].read_bytes())
+    meta = written["scan"]
+    assert written == reference_json(cols, meta, rows), name
+    assert meta["mechanism"] == mech.name and meta["scan"] == report.what
+    table = pq.read_table(paths["parquet"])
+    assert table.column_names == cols
+    assert json.loads(table.schema.metadata[b"pinmob_scan"]) == meta
+    for k, row in enumerate(table.to_pylist()):  # blank text in a typed column (a chain's unreachable row): null
+        expected = {c: None if rows[k].get(c) == "" and column_type(c) != "text" else rows[k].get(c) for c in cols}
+        assert all(same(row[c], expected[c]) for c in cols), (name, k)
+    assert all(all(same(a[c], b[c]) for c in b) and a.keys() == b.keys() for a, b in zip(report, rows))
+
+
+def test_a_table_writes_every_kind_of_value_as_the_csv_module_does(tmp_path: Path) -> None:
+    """Text that needs quoting, None in whole-number and boolean columns, a key a row lacks, a whole number in a
+    float column, non-finite floats: the CSV of :mod:`csv`, the JSON of :mod:`json`, streamed a table at a time."""
+    cols = ["index", "x", "reachable", "dof", "reason", "actuation_valid", "finite_dof", "sv1"]
+    rows: list[dict[str, Any]] = [
+        dict(index=0, x=0.1, reachable=True, dof=3, reason="", actuation_valid=True, finite_dof=None, sv1=float("nan")),
+        dict(index=1, x=1e-17, reachable=False, dof=-1, reason='limb A open, by "2e-3 m"\nand\r B', actuation_valid=None),
+        dict(index=2, x=5, reachable=True, dof=2, reason="über, ünïcode", actuation_valid=False, finite_dof=2,
+             sv1=float("inf")),
+        dict(index=3, x=-0.0, reachable=True, dof=2, reason=" lead space", actuation_valid=False, finite_dof=1,
+             sv1=123456789012.5),
+    ]  # fmt: skip
+    meta = {"mechanism": "toy", "rtol": 1e-6}
+    c, j, p = tmp_path / "t.csv", tmp_path / "t.json", tmp_path / "t.parquet"
+    with RowWriter(cols, meta, str(c), str(j), str(p)) as writer:
+        writer.write_table(ScanTable.from_rows(cols, rows[:1]))
+        writer.write_table(ScanTable.from_rows(cols, []))
+        writer.write_table(ScanTable.from_rows(cols, rows[1:]))
+    assert c.read_bytes() == reference_csv(cols, rows)
+    assert json.loads(j.read_bytes()) == reference_json(cols, meta, rows)
+    back = pq.read_table(p).to_pylist()
+    assert back[1]["finite_dof"] is None and back[1]["sv1"] is None and back[1]["actuation_valid"] is None
+    assert back[2]["x"] == 5.0 and back[1]["reason"] == rows[1]["reason"]
+    table = ScanTable.from_rows(cols, rows)
+    assert table.kinds()["dof"] == "int" and table.kinds()["x"] == "object"  # 5 is not a float: written as it was
+    assert [list(r) for r in table.rows()][1] == [k for k in cols if k in rows[1]]  # the keys it had, in order
+    with pytest.raises(ValueError, match="not columns"):
+        ScanTable.from_rows(cols[:2], rows)
+
+
+def test_the_report_is_what_pinmob_scan_prints(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    """``str(report)`` of the Python call is the summary the command prints (the timing aside), and its dict and
+    HTML carry the same counts."""
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", [("x", -0.1, -0.1, 1), ("y", -0.02, 0.02, 5)])
+    csv_path = tmp_path / "g.csv"
+    report = scan(mech, spec, progress=False, csv=str(csv_path))
+    assert isinstance(report, ScanReport) and len(report) == len(list(report))
+    argv = ["scan", "3-PUU", "--grid", "x:-0.1:-0.1:1", "y:-0.02:0.02:5", "--at", "generic", "--no-progress"]
+    assert main([*argv, "--csv", str(csv_path), "--force"]) == 0
+    timing = re.compile(r"in [0-9.]+ s \([0-9.]+ samples/s")
+    assert timing.sub("", capsys.readouterr().out) == timing.sub("", str(report)) + "\n"
+    d = report.to_dict()
+    assert d["counts"] == dict(report.summary.counts) and d["singular"] >= 1 and d["files"] == {"csv": str(csv_path)}
+    assert json.loads(json.dumps(d, allow_nan=False)) == d
+    assert html.escape(str(report).splitlines()[0]) in report._repr_html_()
+    singular = [r for r in report if r["singularity"] != "none" and r["reachable"]]
+    assert d["singular"] == sum(not r["refined"] for r in singular)
+    assert np.array_equal(report.table["index"], [r["index"] for r in report])
+
+
+def test_rows_reach_the_files_as_they_come(monkeypatch: pytest.MonkeyPatch, tmp_path: Path) -> None:
+    """Each group of chunks is written before the next one is computed (with ``workers=2`` the first chunk runs
+    alone, to time it), and nothing is kept with ``keep_rows=False``: the summary is counted as the rows pass."""
+    import pinmob.scan.scan_run as run
+
+    events: list[str] = []
+    group, write = run.run_group, RowWriter.write_table
+    monkeypatch.setattr(run, "run_group", lambda *a: events.append("computed") or group(*a))
+    monkeypatch.setattr(RowWriter, "write_table", lambda self, t: events.append(f"wrote {len(t)}") or write(self, t))
+    mech = pinmob.load("3-PUU")
+    report = scan(mech, path_spec(mech, "generic", "offset", 40), workers=2, progress=False,
+                  csv=str(tmp_path / "p.csv"), keep_rows=False)  # fmt: skip
+    assert events[:3] == ["computed", "wrote 32", "computed"] and events[-1].startswith("wrote")
+    assert report.table is None and sum(report.summary.counts.values()) == 40
+    assert len((tmp_path / "p.csv").read_text().splitlines()) == 1 + sum(int(e[6:]) for e in events if e[0] == "w")

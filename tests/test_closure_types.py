@@ -12,6 +12,7 @@ normal to u), and rows = 6 - allowed:
 - 6d: none; 3d: any rotation about the common origin (3R);
 - revolute: rotation about u (1R); universal: rotations about u and u_b through the origin (2R);
 - cylindrical: rotation about and translation along u (1T1R, coaxial);
+- prismatic: translation along u (1T);
 - planar: translations along p1, p2 and rotation about u (2T1R).
 
 The fewer-row kinds (minimal closures of planar and spherical loops) allow, to first order:
@@ -54,6 +55,7 @@ ALLOWED = {
     "revolute": [twist(w=U)],
     "universal": [twist(w=U), twist(w=P1)],  # u_b = P1 (in b, = in a at the closed pose): perpendicular to u
     "cylindrical": [twist(v=U), twist(w=U)],
+    "prismatic": [twist(v=U)],
     "planar": [twist(v=P1), twist(v=P2), twist(w=U)],
 }
 
@@ -77,6 +79,7 @@ def finite(kind: str, s: float) -> pin.SE3:
         "revolute": exp(twist(w=s * U)),
         "universal": exp(twist(w=s * U)) * exp(twist(w=-0.7 * s * P1)),  # about u (in a), then u_b (in b)
         "cylindrical": exp(twist(v=0.2 * s * U, w=s * U)),
+        "prismatic": exp(twist(v=0.2 * s * U)),
         "planar": exp(twist(v=0.1 * s * P1 - 0.3 * s * P2, w=s * U)),
     }[kind]
 

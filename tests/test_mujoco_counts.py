@@ -37,6 +37,8 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     # a position and a velocity servo on the crank (MuJoCo's PD pair): two actuators, one coordinate held
     "fourbar_servo_pair.xml": (3, 2, 1, 0),
     "fourbar_weld.xml": (4, 1, 1, 0),
+    # test_keyframe_starts' four-bar: no keyframe (nor qpos0) closes; pinmob closes it from the keyframe 'wide'
+    "keyframes/fourbar_open_keys.xml": (3, 1, 1, 0),
     # test_mjcf_tendons' fixtures: a cable hand (spatial tendons over sites and pulleys, a site actuator, a spatial
     # tendon equality), a gripper whose four-bar fingers are coupled by tendon equalities, and a slider-crank, a
     # ball-joint motor, a free puck pushed at its edge and an adhesion actuator (on a body: not held by either)
@@ -59,6 +61,9 @@ MUJOCO: dict[str, tuple[int, int, int, int]] = {
     "tendons/rocker.xml": (3, 1, 2, 2),
     # actuators with several controls or outputs: two orientation servos (3 outputs each), a PID (2 controls)
     "tendons/orientation.xml": (11, 9, 10, 2),
+    # a Bennett linkage closed by a weld (written for tests/test_minimal_closures.py): 1 DoF (Bennett, 1914), the
+    # weld's rotation rows implied; the crank's motor holds it
+    "bennett_weld.xml": (4, 1, 1, 0),
     # pinmob's own names fixture: a pinned free base (held), a parallelogram, a coupled follower, a free hinge
     "unnamed_parts.xml": (11, 0, 5, 2),
     # Cassie (menagerie, with its 10 motors; meshes not copied): 22 DoF as Pinocchio's copy; with the pelvis and

@@ -51,6 +51,7 @@ SOURCES = sorted(pinmob.builtin_models()) + sorted(
     for p in DATA.rglob(pattern)
     if (name := str(p.relative_to(DATA))) not in UNMODELLED.keys() | NOT_CLOSED_OR_OPEN
     and not name.startswith("third_party/menagerie_xarm7_hand/xarm7")  # hand.xml / scene.xml include it
+    and p.name != "package.xml"  # a ROS package's manifest beside a xacro description
 )
 
 
@@ -143,6 +144,7 @@ def document(report: pinmob.Report, couplings: set[str]) -> Any:
 
     doc = without(json.loads(json.dumps(report.to_dict(), default=str)))
     doc["closures"] = sorted(doc["closures"], key=lambda c: c["name"])
+    doc.pop("ignored", None)  # what the file held and pinmob does not read: never in a model it wrote
     for closure in (doc.get("minimal_closures") or {}).get("closures", []):
         # the proposal's two frames: Pinocchio keeps a constraint's joints and placements, not its frames'
         # names; the import names each end by a frame at that placement (another one of the same place)

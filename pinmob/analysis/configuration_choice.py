@@ -61,8 +61,9 @@ def chosen_configuration(
     """The configuration asked for by name or by joint values: what ``pinmob analyze`` and ``pinmob show`` analyse.
 
     With ``joints``: :func:`joint_configuration` (the other joints start from ``config``); else the named
-    configuration ``config`` (matched ignoring case where that is unambiguous), else the mechanism's first.
-    None when the mechanism names none and no joint values are given (a closed one is to be found).
+    configuration ``config`` (matched ignoring case where that is unambiguous), else the mechanism's first that
+    is not only a start (:attr:`~pinmob.model.named.NamedConfiguration.start`). None when the mechanism names
+    none and no joint values are given (a closed one is to be found, from its starts first).
 
     Raises:
         UnknownConfigurationError: ``config`` names no configuration of ``mech``.
@@ -72,8 +73,8 @@ def chosen_configuration(
     if joints is not None:
         return joint_configuration(mech, joints, config, closure_tol=closure_tol, name=name)
     if config is None:
-        if not mech.configurations:
+        config = next((n for n, c in mech.configurations.items() if not c.start), None)
+        if config is None:
             return None
-        config = next(iter(mech.configurations))
     conf = Configuration(mech, config, closure_tol=closure_tol)
     return conf if name is None else conf.with_name(name)

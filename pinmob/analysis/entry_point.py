@@ -14,27 +14,62 @@ from pinmob.analysis.finite.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Report
 from pinmob.analysis.report_parts import Options, part_keywords
+from pinmob.assembly.assemble import project
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint, worst_first
+from pinmob.assembly.named_assembly import named_vector
 from pinmob.assembly.relaxation import find_closed_relaxed, relaxable, unclosable
 from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual
 from pinmob.assembly.seeds import RESTARTS, find_closed
 from pinmob.bounds import check_bound
-from pinmob.exceptions import ArgumentError, ClosureError
+from pinmob.exceptions import ArgumentError, ClosureError, ConfigurationError
 from pinmob.io import load
 from pinmob.model.mechanism import Mechanism
 from pinmob.name_matching import choices, did_you_mean
 from pinmob.screw.rank import RTOL, check_rtol
 
 
+def from_starts(mech: Mechanism, closure_tol: float) -> tuple[Configuration | None, str, Residuals]:
+    """A closed configuration projected from the mechanism's starts (MJCF keyframes that do not close), in order.
+
+    Returns it (None when no start closes), a sentence on the starts that did not close, and the residuals of
+    the best failed start (smallest worst residual; empty when every start closed or there is none).
+    """
+    failed: list[str] = []
+    best: Residuals = {}
+    length = mech.length_scale
+    for name, named in mech.configurations.items():
+        if not named.start:
+            continue
+        try:
+            found = project(mech, named_vector(mech, name, closure_tol)[0], tol=closure_tol)
+        except (ClosureError, ConfigurationError) as exc:
+            failed.append(repr(name))
+            residuals = getattr(exc, "residuals", None) or {}
+            if residuals and (not best or worst_residual(residuals, length) < worst_residual(best, length)):
+                best = residuals
+            continue
+        before = f" ({', '.join(failed)} did not close from there)" if failed else ""
+        source = f"projection from {name!r}, a start that does not close as given{before}"
+        return Configuration.from_checked(mech, found.q, closure_tol, source=source), "", {}
+    return None, (f"nor from its starts that do not close as given ({', '.join(failed)})" if failed else ""), best
+
+
 def found_configuration(
     mech: Mechanism, restarts: int, relax: bool, closure_tol: float
 ) -> tuple[Configuration, tuple[str, ...]]:
-    """A closed configuration of a mechanism that names none: projection from neutral, then random restarts.
+    """A closed configuration of a mechanism that names none that closes: from its starts, then from neutral.
 
-    Every attempt is accepted within ``closure_tol`` (checked by the caller). When none is, and the best misses
-    by what CAD geometry explains, the error says which ``closure_tol`` would accept it
-    (:mod:`pinmob.assembly.closure_miss`).
+    Projection from each start of the mechanism (an MJCF keyframe or ``qpos0`` that does not close as given:
+    the first that closes, and the report says which), then from neutral and random restarts. Every attempt is
+    accepted within ``closure_tol`` (checked by the caller). When none is, and the best misses by what CAD
+    geometry explains, the error says which ``closure_tol`` would accept it (:mod:`pinmob.assembly.closure_miss`).
     """
+    if not relax:
+        found_start, missed, start_residuals = from_starts(mech, closure_tol)
+        if found_start is not None:
+            return found_start, ()
+    else:
+        missed, start_residuals = "", {}
     try:
         if relax:  # raises as declared when nothing can be relaxed
             mech, found, relaxed = find_closed_relaxed(mech, restarts=restarts, tol=closure_tol)
@@ -43,8 +78,9 @@ def found_configuration(
     except ClosureError as exc:
         if relax and relaxable(mech):
             raise  # find_closed_relaxed's refusal: what it relaxed, and how far that still misses
-        raise not_closed(mech, restarts, closure_tol, exc.residuals) from None
-    return Configuration.from_checked(mech, found.q, closure_tol, source=found.method), relaxed
+        raise not_closed(mech, restarts, closure_tol, exc.residuals, missed, start_residuals) from None
+    source = found.method + (f" (none of {mech.name!r}'s keyframes closed: searched from them first)" if missed else "")
+    return Configuration.from_checked(mech, found.q, closure_tol, source=source), relaxed
 
 
 def asked_configuration(
@@ -69,11 +105,28 @@ def asked_configuration(
     return found_configuration(mech, restarts, relax, check_closure_tol(closure_tol))  # names none: find one
 
 
-def not_closed(mech: Mechanism, restarts: int, closure_tol: float, residuals: Residuals) -> ClosureError:
-    """The error of :func:`found_configuration` when nothing closed; ``residuals``: those of the best attempt."""
+def not_closed(
+    mech: Mechanism,
+    restarts: int,
+    closure_tol: float,
+    residuals: Residuals,
+    missed: str = "",
+    start_residuals: Residuals | None = None,
+) -> ClosureError:
+    """The error of :func:`found_configuration` when nothing closed; ``residuals``: those of the best attempt.
+
+    ``missed`` names the starts tried first (:func:`from_starts`), ``start_residuals`` the best of them: the
+    best attempt is the better of the two.
+    """
     length = mech.length_scale
+    if start_residuals and (
+        not residuals or worst_residual(start_residuals, length) < worst_residual(residuals, length)
+    ):
+        residuals = start_residuals
+    tried = f", {missed}" if missed else ""
     start = (
-        f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random restarts"
+        f"{mech.name!r} (as declared) could not be closed from the neutral configuration nor {restarts} random "
+        f"restarts{tried}"
     )
     hint = tolerance_hint(residuals, length)
     if hint:  # a CAD gap: a looser tolerance, not relaxing, is the answer

@@ -258,6 +258,8 @@ class Report:
         """``pinmob analyze --brief``'s line (:func:`~pinmob.analysis.summary.summary_line`), ambiguous ranks, the parts' words."""
         chain = self.mechanism_mobility if self.mobility is None else None
         line = summary_line(self.mechanism, self.configuration, self.mobility, self.singularity, chain)
+        if self.state.mechanism.ignored:  # never a DoF without the elements it leaves out
+            line += f"; ignoring what pinmob does not read: {'; '.join(self.state.mechanism.ignored)}"
         for a in self.ambiguous_ranks:  # never a confident count where the gap is not clear (the full text's note)
             line += f"; ambiguous {a.decision}: {a.rank} as counted, {' or '.join(map(str, a.alternatives))} possible"
         for name, part in REPORT_PARTS.items():  # the registered parts that have a word in it
@@ -295,5 +297,5 @@ def inserted(document: dict[str, Any], entries: dict[str, Any], before: str | No
 MECHANISM_KEYS = (
     "nv", "closure_rows", "closure_rank", "mechanism_dof", "internal_dof", "idle_dof", "idle_joints",
     "redundant_constraints", "redundant_by_closure", "redundant_by_closure_rule", "grubler", "grubler_by_own_rank",
-    "motion_subgroup", "actuation", "closures", "end_frames", "frames",
+    "motion_subgroup", "actuation", "closures", "end_frames", "frames", "ignored",
 )  # fmt: skip

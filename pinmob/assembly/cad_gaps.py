@@ -12,8 +12,8 @@ its samples are assembled (and polished) on it, and analysed on the mechanism as
 closure tolerance (each keeps the gaps of ``q_ref``, exactly when they are a fixed offset of a frame).
 
 * a limb tip: its placement ``jM_tip`` becomes ``jM_tip G^-1``, ``G = oM_platform^-1 oM_tip`` at ``q_ref``;
-* a ``6d``, ``revolute``, ``cylindrical``, ``planar``, ``planar_weld``, ``orientation``, ``parallel_axes`` or
-  ``perpendicular`` closure: frame b's placement becomes ``jM_b G^-1``,
+* a ``6d``, ``revolute``, ``cylindrical``, ``prismatic``, ``planar``, ``planar_weld``, ``orientation``,
+  ``parallel_axes`` or ``perpendicular`` closure: frame b's placement becomes ``jM_b G^-1``,
   ``G = oM_a^-1 oM_b`` (b then coincides with a at ``q_ref``; a rotation about a hinge's axis is allowed
   anyway);
 * a ``3d``, ``universal``, ``inline`` or ``inplane`` closure: frame b's origin moves onto frame a's at ``q_ref`` (a universal's
@@ -42,6 +42,7 @@ _POSE_TYPES = (
     "6d",
     "revolute",
     "cylindrical",
+    "prismatic",
     "planar",
     "planar_weld",
     "orientation",

@@ -94,6 +94,8 @@ def _selection(c: Closure) -> tuple[Array, Mask]:
         return np.hstack([np.zeros((3, 3)), np.eye(3)]), np.zeros(3, bool)
     u = np.asarray(c.axis, float)
     p, z = _perp(u), np.zeros((2, 3))
+    if c.type == "prismatic":  # the two translations normal to u and every rotation
+        return np.vstack([np.hstack([p, z]), np.hstack([np.zeros((3, 3)), np.eye(3)])]), np.arange(5) < 2
     if c.type == "parallel_axes":
         return np.hstack([z, p]), np.zeros(2, bool)
     lin = {
@@ -115,7 +117,7 @@ _PLANAR_WELD_LENGTHS.flags.writeable = _ANGLE_LENGTHS.flags.writeable = False
 
 
 #: Closure types whose rows are those of the relative pose's ``log6``, and those built from b's origin in frame a.
-_POSE_ROWS = ("revolute", "cylindrical", "planar", "orientation", "parallel_axes")
+_POSE_ROWS = ("revolute", "cylindrical", "prismatic", "planar", "orientation", "parallel_axes")
 _POINT_ROWS = ("3d", "universal", "inline", "inplane", "planar_weld", "perpendicular")
 
 
@@ -151,7 +153,7 @@ def closure_error(model: pin.Model, data: pin.Data, c: Closure) -> tuple[Array, 
     - ``6d``: ``e = log6(M)`` (:func:`relative_error`);
     - ``3d``: ``e = p``, ``de/dt = R_a^T (v_b - v_a) + e x w_a``
       (origin velocities in world axes, w_a in frame a);
-    - ``revolute``, ``cylindrical``, ``planar``, ``orientation``, ``parallel_axes``: ``e = S log6(M)``, the rows S
+    - ``revolute``, ``cylindrical``, ``prismatic``, ``planar``, ``orientation``, ``parallel_axes``: ``e = S log6(M)``, the rows S
       of the relative motion the closure forbids (zero exactly on the allowed
       subgroup, for relative rotations below pi); ``orientation``: ``e = r``; ``parallel_axes``: ``e = P r``
       (``P`` (2, 3) the rows normal to u);

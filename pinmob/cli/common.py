@@ -34,9 +34,11 @@ def joint_values_of(args: argparse.Namespace) -> dict[str, float] | None:
 def load_for(args: argparse.Namespace) -> Mechanism:
     """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
     from pinmob.io.loader import load
+    from pinmob.io.xacro_file import parse_xacro_args
     from pinmob.model.actuated_joints import with_actuated
 
-    mech = load(args.mechanism)
+    xacro_args = parse_xacro_args(getattr(args, "xacro_arg", None) or [])
+    mech = load(args.mechanism, xacro_args=xacro_args, package_dirs=getattr(args, "package_path", None) or [])
     given = Path(str(args.mechanism)).expanduser()
     if given.suffix.lower() == ".urdf" and mech.source is not None and mech.source.suffix.lower() in (".yaml", ".yml"):
         print(

@@ -59,6 +59,19 @@ def add_model_options(p: argparse.ArgumentParser, joints: bool = True) -> None:
         "--actuated", metavar="A,B,...", help="the actuated joints (replacing the file's actuators, tendon ones too)"
     )
     p.add_argument(
+        "--xacro-arg",
+        action="append",
+        metavar="NAME:=VALUE",
+        help="an argument of a .xacro file (repeatable), as xacro's NAME:=VALUE",
+    )
+    p.add_argument(
+        "--package-path",
+        action="append",
+        metavar="FOLDER",
+        help="a folder holding ROS packages, searched by a .xacro file's $(find pkg) (repeatable; then "
+        "ROS_PACKAGE_PATH); includes and load_yaml read only there and beside the file",
+    )
+    p.add_argument(
         "--closure-tol",
         type=float,
         default=None,

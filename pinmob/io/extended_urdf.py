@@ -33,6 +33,7 @@ from typing import Any
 import pinocchio as pin
 
 from pinmob.exceptions import MechanismFileError
+from pinmob.io.gazebo_joints import unread_elements
 from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
@@ -226,4 +227,4 @@ def load_extended_urdf(path: str | Path) -> Mechanism:
             source=path,
             geometry=geometry,
             closures=unique(path, closures + couplings),
-        )
+        ).with_ignored(unread_elements(urdf, "the YAML sidecar"))

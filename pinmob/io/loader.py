@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 
 from pinmob.exceptions import MechanismFileError
@@ -24,6 +24,13 @@ def load_mjcf(path: Path) -> Mechanism:
     from pinmob.io.mjcf import load_mjcf
 
     return load_mjcf(path)
+
+
+def load_sdf(path: Path) -> Mechanism:
+    """:func:`pinmob.io.sdf.load_sdf` (its module imported when first used)."""
+    from pinmob.io.sdf import load_sdf
+
+    return load_sdf(path)
 
 
 def load_urdf(path: Path) -> Mechanism:
@@ -51,11 +58,31 @@ LOADERS: dict[str, Callable[[Path], Mechanism]] = {
     ".xml": load_mjcf,
     ".mjcf": load_mjcf,
     ".urdf": load_urdf,
+    ".sdf": load_sdf,
+    ".world": load_sdf,
 }
 
 
-def load(name_or_path: str | Path) -> Mechanism:
+def load_xacro(
+    path: Path, xacro_args: Mapping[str, str] | None = None, package_dirs: Sequence[str | Path] = ()
+) -> Mechanism:
+    """A xacro file expanded (:func:`pinmob.io.xacro_file.expand_xacro`), read as a plain URDF."""
+    from pinmob.io.closing_frames import load_closing_urdf
+    from pinmob.io.xacro_file import expand_xacro
+
+    return load_closing_urdf(path, text=expand_xacro(path, xacro_args, package_dirs))
+
+
+def load(
+    name_or_path: str | Path,
+    *,
+    xacro_args: Mapping[str, str] | None = None,
+    package_dirs: Sequence[str | Path] = (),
+) -> Mechanism:
     """Load a mechanism: a built-in model name (matched ignoring case where unambiguous), or a path to a mechanism file.
+
+    A ``.xacro`` file is expanded first, with its arguments ``xacro_args`` (``{"prefix": "left_"}``) and the
+    folders ``$(find pkg)`` searches (``package_dirs``, then ``ROS_PACKAGE_PATH``): :mod:`pinmob.io.xacro_file`.
 
     Raises:
         MechanismFileError: the file is missing, does not parse, or is invalid;
@@ -73,6 +100,10 @@ def load(name_or_path: str | Path) -> Mechanism:
             f"built-in models: {choices(builtins)}"
         )
     suffix = path.suffix.lower()
+    if suffix == ".xacro":
+        return load_xacro(path, xacro_args, package_dirs)
     if suffix in LOADERS:
         return LOADERS[suffix](path)
-    raise MechanismFileError(f"{text!r}: unknown mechanism file type {suffix!r}; valid: {choices(LOADERS)}")
+    raise MechanismFileError(
+        f"{text!r}: unknown mechanism file type {suffix!r}; valid: {choices([*LOADERS, '.xacro'])}"
+    )

@@ -28,14 +28,14 @@ from pinmob.name_matching import choices
 PREFIX = "mimic_"
 
 
-def mimic_joints(urdf: Path) -> list[tuple[str, str, float, float]]:
+def mimic_joints(urdf: Path, source: str | None = None) -> list[tuple[str, str, float, float]]:
     """``(joint, driver, multiplier, offset)`` of each ``<joint>`` of the URDF with a ``<mimic>`` element, in file order.
 
     Raises:
         MechanismFileError: a mimic without a ``joint`` attribute, or a multiplier or offset that is not a finite
             number (naming the file and the joint).
     """
-    text = urdf.read_bytes()
+    text = urdf.read_bytes() if source is None else source.encode()  # source: the URDF a xacro file expanded to
     if b"mimic" not in text:
         return []
     import xml.etree.ElementTree as ET  # only for URDFs that mention mimic (urdfdom parsed the file already)
@@ -63,7 +63,7 @@ def mimic_joints(urdf: Path) -> list[tuple[str, str, float, float]]:
     return found
 
 
-def mimic_couplings(urdf: Path, model: pin.Model) -> list[Closure]:
+def mimic_couplings(urdf: Path, model: pin.Model, source: str | None = None) -> list[Closure]:
     """One ``joint`` coupling ``mimic_<j>``: ``q_j = multiplier * q_m + offset`` per mimic joint of ``urdf`` in ``model``.
 
     ``model`` is the URDF's model built without Pinocchio's mimic joints (its joints may have been rebuilt, as
@@ -78,11 +78,11 @@ def mimic_couplings(urdf: Path, model: pin.Model) -> list[Closure]:
     out, fixed = [], []
     joints = list(model.names)[1:]
     declared = None
-    for joint, driver, multiplier, offset in mimic_joints(urdf):
+    for joint, driver, multiplier, offset in mimic_joints(urdf, source):
         if joint == driver:
             raise MechanismFileError(f"{urdf}: joint {joint!r} mimics itself; name another joint as its driver")
         if joint not in joints or driver not in joints:
-            declared = urdf_joints(urdf) if declared is None else declared
+            declared = urdf_joints(urdf, source) if declared is None else declared
             missing = [(role, n) for role, n in (("joint", joint), ("driver", driver)) if n not in declared]
             if missing:
                 role, name = missing[0]
@@ -113,11 +113,12 @@ def mimic_couplings(urdf: Path, model: pin.Model) -> list[Closure]:
     return out
 
 
-def urdf_joints(urdf: Path) -> set[str]:
-    """The names of every ``<joint>`` of the URDF, fixed ones included."""
+def urdf_joints(urdf: Path, source: str | None = None) -> set[str]:
+    """The names of every ``<joint>`` of the URDF (or of its text ``source``), fixed ones included."""
     import xml.etree.ElementTree as ET
 
-    return {j.get("name", "") for j in ET.fromstring(urdf.read_bytes()).findall("joint")}
+    text = urdf.read_bytes() if source is None else source.encode()
+    return {j.get("name", "") for j in ET.fromstring(text).findall("joint")}
 
 
 def unique(path: Path, closures: list[Closure]) -> list[Closure]:

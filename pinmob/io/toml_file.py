@@ -12,6 +12,7 @@ from typing import Any
 import pinocchio as pin
 
 from pinmob.exceptions import FrameError, MechanismFileError, PinmobError
+from pinmob.io.gazebo_joints import unread_elements
 from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import (
     CLOSURE_KEYS,
@@ -60,9 +61,17 @@ def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry, list[Closure
     """Kinematic model of the URDF a mechanism file names (:func:`pinmob.io.urdf.read_urdf`), its geometry, its mimic couplings.
 
     The geometry's meshes are checked now and loaded when first drawn (:func:`pinmob.io.urdf.load_geometry`);
-    each ``<mimic>`` joint is a ``joint`` coupling (:func:`pinmob.io.mimic.mimic_couplings`).
+    each ``<mimic>`` joint is a ``joint`` coupling (:func:`pinmob.io.mimic.mimic_couplings`). A ``.xacro`` file is
+    expanded first (:func:`pinmob.io.xacro_file.expand_xacro`, no arguments; ``$(find)`` in ``ROS_PACKAGE_PATH``),
+    and has no geometry.
     """
     try:
+        if urdf.suffix.lower() == ".xacro":
+            from pinmob.io.xacro_file import expand_xacro
+
+            text = expand_xacro(urdf)
+            model = read_urdf(urdf, text)
+            return model, Geometry(None), mimic_couplings(urdf, model, text)
         model = read_urdf(urdf)
         couplings = mimic_couplings(urdf, model)
     except MechanismFileError as exc:
@@ -129,7 +138,7 @@ def load_toml(path: str | Path) -> Mechanism:
             geometry=geometry,
             generic_rank=generic_rank,
             closures=closures,
-        )
+        ).with_ignored(unread_elements(path.parent / doc["urdf"], "the TOML file"))
 
 
 def _limbs(

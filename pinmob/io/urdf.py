@@ -80,8 +80,8 @@ def native_messages(lines: list[str]) -> str:
     return "; ".join(t for t in texts if t and not t.startswith("at line "))
 
 
-def read_urdf(urdf: Path) -> pin.Model:
-    """Kinematic model of a URDF (``pin.buildModelFromUrdf``).
+def read_urdf(urdf: Path, text: str | None = None) -> pin.Model:
+    """Kinematic model of a URDF (``pin.buildModelFromUrdf``), or of URDF ``text`` (a xacro file ``urdf`` expanded).
 
     What the parser prints on stderr goes into the error message, or into a
     warning when the file parses, never straight to the terminal.
@@ -90,10 +90,11 @@ def read_urdf(urdf: Path) -> pin.Model:
         MechanismFileError: the file is missing, a folder, not a regular file, over the file bound, or does not
             parse (with the parser's messages).
     """
-    check_regular(urdf, f"urdf file {str(urdf)!r}", "URDF")  # a pipe would block Pinocchio's reader
+    if text is None:
+        check_regular(urdf, f"urdf file {str(urdf)!r}", "URDF")  # a pipe would block Pinocchio's reader
     try:
         with native_stderr() as printed:
-            model = pin.buildModelFromUrdf(str(urdf))
+            model = pin.buildModelFromUrdf(str(urdf)) if text is None else pin.buildModelFromXML(text)
     except Exception as exc:  # pinocchio raises RuntimeError/ValueError with a generic text
         said = native_messages(printed)
         raise MechanismFileError(

@@ -27,6 +27,7 @@ class ClosureType(StrEnum):
     REVOLUTE = "revolute"
     UNIVERSAL = "universal"
     CYLINDRICAL = "cylindrical"
+    PRISMATIC = "prismatic"
     PLANAR = "planar"
     PLANAR_WELD = "planar_weld"
     INLINE = "inline"
@@ -49,7 +50,7 @@ CLOSURE_TYPES = tuple(t.value for t in ClosureType if t not in COUPLINGS)
 
 #: Closure types with an axis u in frame a, and those with a second axis u_b in frame b.
 AXIS_TYPES = (
-    "revolute", "universal", "cylindrical", "planar", "planar_weld", "inline", "inplane", "parallel_axes", "perpendicular"
+    "revolute", "universal", "cylindrical", "prismatic", "planar", "planar_weld", "inline", "inplane", "parallel_axes", "perpendicular"
 )  # fmt: skip
 AXIS_B_TYPES = ("universal", "perpendicular")
 
@@ -70,6 +71,8 @@ class Closure:
       transmits forces and the couple along ``u x u_b``.
     - ``cylindrical`` (4 rows): turn about and slide along u; transmits forces
       ⊥ u and couples ⊥ u.
+    - ``prismatic`` (5 rows): slide along u (an SDF loop joint of type prismatic); transmits
+      forces ⊥ u and every couple.
     - ``planar`` (3 rows): slide ⊥ u and turn about u (u the plane normal);
       transmits the force along u and couples ⊥ u.
     - ``planar_weld`` (3 rows): a weld in the plane normal to u: forbids the slide ⊥ u of b's origin and the
@@ -91,7 +94,7 @@ class Closure:
         name: closure name.
         frame_a, frame_b: frame names; ``frame_a_id``, ``frame_b_id`` their indices.
         type: one of :data:`CLOSURE_TYPES`.
-        axis: (3,) unit axis u in frame a (revolute, cylindrical, universal, inline, parallel_axes, perpendicular)
+        axis: (3,) unit axis u in frame a (revolute, cylindrical, prismatic, universal, inline, parallel_axes, perpendicular)
             or the plane normal (planar, planar_weld, inplane); ``None`` for 6d, 3d and orientation.
         axis_b: (3,) second hinge axis of a universal closure, the axis u_b of a perpendicular one, in frame b.
         joints: the coupled joints (``joint`` closures): ``(joint1,)`` or ``(joint1, joint2)``.
@@ -132,6 +135,7 @@ CLOSURE_ROWS = {
     ClosureType.REVOLUTE: 5,
     ClosureType.UNIVERSAL: 4,
     ClosureType.CYLINDRICAL: 4,
+    ClosureType.PRISMATIC: 5,
     ClosureType.PLANAR: 3,
     ClosureType.PLANAR_WELD: 3,
     ClosureType.INLINE: 2,

@@ -66,6 +66,9 @@ class Mechanism:
         joint_actuators: the file's actuators on joints, ``(actuator, joint)`` (MJCF names them apart from joints).
         quaternion_wxyz: joint values give quaternions ``(w, x, y, z)``, MuJoCo's ``qpos`` order (MJCF
             files), instead of Pinocchio's ``(x, y, z, w)``.
+        ignored: the file's loop and coupling elements pinmob does not read, one phrase each (a URDF
+            ``<constraint>``, an SDF ``<mimic>`` or included model, an MJCF equality it cannot use): the
+            loader warns once, and the mechanism DoF is printed as ignoring them.
     """
 
     name: str
@@ -84,6 +87,7 @@ class Mechanism:
     actuated_tendons: tuple[Transmission, ...] = ()
     joint_actuators: tuple[tuple[str, str], ...] = ()
     quaternion_wxyz: bool = False
+    ignored: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------ build
 
@@ -340,6 +344,10 @@ class Mechanism:
         if name not in (found := {limb.name: limb for limb in self.limbs}):
             raise ConfigurationError(f"no limb {name!r} in {self.name!r}; valid: {choices(found)}")
         return found[name]
+
+    def with_ignored(self, ignored: Sequence[str]) -> Mechanism:
+        """This mechanism naming the file's elements pinmob does not read (:attr:`ignored`)."""
+        return replace(self, ignored=tuple(ignored)) if ignored else self
 
     def neutral(self) -> Array:
         """Pinocchio's neutral configuration, shape (nq,)."""

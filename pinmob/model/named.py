@@ -21,6 +21,9 @@ class NamedConfiguration:
             (:func:`pinmob.paper_view`); empty when not declared.
         vector: the whole configuration vector (nq,) the joint values start from (e.g. an MJCF
             keyframe, with its free and ball joints), or ``None`` for Pinocchio's neutral.
+        start: a starting point only (an MJCF keyframe, or MuJoCo's ``qpos0``, that does not close as
+            given): when no configuration is asked for, the analysis searches for a closed configuration
+            from each start in turn instead of refusing the first.
     """
 
     name: str
@@ -29,6 +32,7 @@ class NamedConfiguration:
     seed: Mapping[str, float] = field(default_factory=dict)
     approach: Mapping[str, float] = field(default_factory=dict)
     vector: tuple[float, ...] | None = None
+    start: bool = False
 
 
 @dataclass(frozen=True)

@@ -107,6 +107,7 @@ class MechanismMobility(ReadOnlyArrays):
     length_scale: float = 1.0
     motions: Array = field(default_factory=lambda: np.zeros((0, 0)), repr=False)
     subgroup: MotionSubgroup | None = None
+    ignored: tuple[str, ...] = ()
 
     @property
     def grubler_by_own_rank(self) -> int:
@@ -155,6 +156,7 @@ class MechanismMobility(ReadOnlyArrays):
             "singular_values": self.singular_values.tolist(),
             "tolerance": self.tolerance,
             "length_scale": self.length_scale,
+            "ignored": list(self.ignored),
         }
 
     def __str__(self) -> str:
@@ -163,7 +165,8 @@ class MechanismMobility(ReadOnlyArrays):
         act = self.actuation
         lines = [
             f"{self.mechanism}{where}: mechanism DoF {self.mechanism_dof} (nv {self.nv} - closure rank {self.rank}), "
-            f"Grubler-Kutzbach {self.grubler} (nv {self.nv} - {self.rows} closure equations)",
+            f"Grubler-Kutzbach {self.grubler} (nv {self.nv} - {self.rows} closure equations)"
+            + (f", ignoring what pinmob does not read: {'; '.join(self.ignored)}" if self.ignored else ""),
         ]
         own = sum(c.rank for c in self.closures)
         if own < self.rows:
@@ -322,6 +325,7 @@ def mechanism_mobility(
         length_scale=mech.length_scale,
         motions=chain.col[:, None] * null,
         subgroup=joint_subgroup(conf, rtol),
+        ignored=mech.ignored,
     )
 
 

@@ -111,6 +111,8 @@ def _cut_screws(conf: Configuration, c: Closure) -> list[Array]:
         return [turn(u)]
     if c.type is ClosureType.CYLINDRICAL:
         return [turn(u), slide(u)]
+    if c.type is ClosureType.PRISMATIC:
+        return [slide(u)]
     if c.type in (ClosureType.UNIVERSAL, ClosureType.PERPENDICULAR):
         u_b = np.array(conf.frame_placement(c.frame_b_id).rotation) @ np.asarray(c.axis_b, float)
         slides = [slide(e) for e in np.eye(3)] if c.type is ClosureType.PERPENDICULAR else []

@@ -27,7 +27,9 @@ fixed tendon's coefficients, MuJoCo's ``actuator_moment`` row for a spatial tend
 or a ball joint). One warning names what is left out: actuators on bodies (adhesion) and tendon limits
 (one-sided). Named configurations: ``reference`` (MuJoCo's ``qpos0``, the
 default) when the equalities hold there (MuJoCo's test models close only once simulated: without
-it, the analysis finds a closed configuration) and one per ``<keyframe><key>`` (its ``qpos``). The
+it, the analysis finds a closed configuration) and one per ``<keyframe><key>`` (its ``qpos``); those
+that do not close are starts (:attr:`pinmob.model.named.NamedConfiguration.start`), from which the
+analysis searches for a closed configuration. The
 visual geometry is MuJoCo's geoms (:mod:`pinmob.io.mjcf.mjcf_geometry`), built when first drawn. Objects
 are shown by their names in the file, unnamed ones by labels with their MuJoCo id (``#k`` for joint
 k, ``equality#k`` for the closure of equality k: :mod:`pinmob.io.mjcf.mjcf_names`).
@@ -136,15 +138,18 @@ def equality_closure(m: Any, tree: Tree, e: int, name: str, kinematics: MujocoKi
     return make_closure(model, name, model.frames[fa].name, model.frames[fb].name, closure_kind)
 
 
-def reference_closes(m: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
-    """True when MuJoCo's equality residuals (``efc_pos``) at ``qpos0`` are within ``tol`` (lengths / L).
+def closes_at(m: Any, qpos: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
+    """True when MuJoCo's equality residuals (``efc_pos``) at ``qpos`` are within ``tol`` (lengths / L).
 
     A weld's rotation rows are ``torquescale * sin(angle / 2) * axis``; a joint row is a length when
-    joint1 slides, a tendon row when tendon1's length is one.
+    joint1 slides, a tendon row when tendon1's length is one. A ``qpos`` that is not finite does not close.
     """
     import mujoco
 
+    if not np.isfinite(qpos).all():
+        return False
     d = mujoco.MjData(m)
+    d.qpos[:] = qpos
     mujoco.mj_forward(m, d)
     rows = np.flatnonzero(d.efc_type[: d.nefc] == mujoco.mjtConstraint.mjCNSTR_EQUALITY)
     for e in range(m.neq):
@@ -164,20 +169,28 @@ def reference_closes(m: Any, length: float, tol: float = CLOSURE_TOL) -> bool:
 
 
 def named_configurations(m: Any, tree: Tree, length: float) -> dict[str, NamedConfiguration]:
-    """``reference`` (MuJoCo's ``qpos0``, when it closes) and each keyframe (its ``qpos``), as whole vectors.
+    """``reference`` (MuJoCo's ``qpos0``) and each keyframe (its ``qpos``), as whole vectors; those that close first.
 
     A keyframe keeps its name (``key#k`` when unnamed); ``reference`` is ``#reference`` when a keyframe has
-    that name.
+    that name. A keyframe that does not close as given is a start (``NamedConfiguration.start``): the analysis
+    searches for a closed configuration from it; so is ``qpos0`` when it does not close and the file has
+    keyframes (without keyframes the search starts from Pinocchio's neutral, MuJoCo's ``qpos0`` but for
+    ``ref``).
     """
     model = tree.model
     keys = labels(m, "key", m.nkey)
-    out = {}
-    if reference_closes(m, length):
-        name = "#reference" if "reference" in keys else "reference"
-        out[name] = NamedConfiguration(name, vector=tuple(qpos_to_q(model, m.qpos0)))
-    for k, name in enumerate(keys):
-        out[name] = NamedConfiguration(name, vector=tuple(qpos_to_q(model, m.key_qpos[k])))
-    return out
+    ref_name = "#reference" if "reference" in keys else "reference"
+    vectors = [(name, m.key_qpos[k]) for k, name in enumerate(keys)] + [(ref_name, m.qpos0)]
+    closed, starts = {}, {}
+    for name, qpos in vectors[-1:] + vectors[:-1]:  # reference first among those that close, last among starts
+        vector = tuple(qpos_to_q(model, qpos))
+        if closes_at(m, qpos, length):
+            closed[name] = NamedConfiguration(name, vector=vector)
+        elif keys:
+            starts[name] = NamedConfiguration(name, vector=vector, start=True)
+    if ref_name in starts:
+        starts[ref_name] = starts.pop(ref_name)  # the keyframes first: the file's author chose them
+    return closed | starts
 
 
 class Visuals:
@@ -267,6 +280,12 @@ def load_mjcf(path: str | Path) -> Mechanism:
             geometry=Geometry(Visuals(path, m)),
         )
     named = named_configurations(m, tree, mech.length_scale)
+    left = tuple(f"inactive equality {label(m, 'equality', e)!r}" for e in inactive)  # warned above
     return replace(
-        mech, configurations=named, quaternion_wxyz=True, actuated_tendons=tuple(tendons), joint_actuators=tuple(joints)
+        mech,
+        configurations=named,
+        quaternion_wxyz=True,
+        actuated_tendons=tuple(tendons),
+        joint_actuators=tuple(joints),
+        ignored=left,
     )

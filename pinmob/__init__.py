@@ -22,19 +22,34 @@ The package is layered; imports only go down:
 
 from typing import TYPE_CHECKING, Any
 
-from pinmob.analysis.chain.actuation import Actuation, actuator_sets
-from pinmob.analysis.chain.closure_jacobian_twists import closure_jacobian_twists
-from pinmob.analysis.chain.mechanism_mobility import ClosureRank, FrameMobility, MechanismMobility, frame_mobility
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.fixed_closures import FixCheck, check_fixed, fix_closures, minimal_closures
-from pinmob.analysis.limbs import LimbMobility
-from pinmob.analysis.minimal import MinimalClosure, MinimalClosures
-from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.motion import Constraint, Method, Motion, View
-from pinmob.analysis.report import Report
-from pinmob.analysis.shortcuts import analyze_mechanism, analyze_singularity, paper_view
-from pinmob.analysis.singularity.result import Singularity
+from pinmob.analysis import (
+    Actuation,
+    ClosureRank,
+    Configuration,
+    Constraint,
+    FixCheck,
+    FrameMobility,
+    LimbMobility,
+    MechanismMobility,
+    Method,
+    MinimalClosure,
+    MinimalClosures,
+    Mobility,
+    Motion,
+    Report,
+    Singularity,
+    View,
+    actuator_sets,
+    analyze,
+    analyze_mechanism,
+    analyze_singularity,
+    check_fixed,
+    closure_jacobian_twists,
+    fix_closures,
+    frame_mobility,
+    minimal_closures,
+    paper_view,
+)
 from pinmob.assembly import (
     CLOSURE_TOL,
     Assembly,
@@ -70,7 +85,7 @@ from pinmob.screw import RTOL, MotionKind, WrenchKind
 __version__ = "0.1.0"
 
 if TYPE_CHECKING:
-    from pinmob.analysis.modes import assembly_modes
+    from pinmob.analysis import assembly_modes
     from pinmob.sweeps import SweepSpec, load_spec, sweep
 
 
@@ -81,7 +96,7 @@ def __getattr__(name: str) -> Any:
     package brings the model builder, the catalog and the Dask engine).
     """
     if name == "assembly_modes":
-        from pinmob.analysis.modes import assembly_modes
+        from pinmob.analysis import assembly_modes
 
         return assembly_modes
     if name in ("sweep", "SweepSpec", "load_spec"):

@@ -30,14 +30,10 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from pinmob.analysis.chain.mechanism_mobility import FrameMobility
-from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.mobility import Mobility
+from pinmob.analysis import FrameMobility, Mobility, analyze
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
-from pinmob.screw.bases import subspace_gap
-from pinmob.screw.rank import RTOL
+from pinmob.model import Mechanism
+from pinmob.screw import RTOL, Array, subspace_gap
 
 KINDS = ("T", "R", "H")
 METHODS = ("limbs", "mechanism")

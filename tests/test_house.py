@@ -115,7 +115,7 @@ def test_the_checker_sees_function_level_and_type_only_imports(tmp_path: Path) -
     """The cycle test above can fail: both kinds of import are edges of the graph."""
     source = MODULES["pinmob.model.closure"].read_text(encoding="utf-8")
     assert "TYPE_CHECKING" in source and any(t == "pinmob.model.limb" for t, _ in imports("pinmob.model.closure"))
-    assert any(t == "pinmob.assembly.named_assembly" for t, _ in imports("pinmob.builder.closed_joints"))
+    assert any(t == "pinmob.assembly" for t, _ in imports("pinmob.builder.closed_joints"))
 
 
 def test_imports_only_go_down() -> None:
@@ -172,3 +172,51 @@ def test_module_file_names_are_unique() -> None:
             seen.setdefault(p.name, []).append(str(p.relative_to(PACKAGE.parent)))
     twice = {name: paths for name, paths in seen.items() if len(paths) > 1}
     assert not twice, f"file names used twice (name each module for what it defines): {twice}"
+
+
+#: imports of another package's inner module that its face cannot replace: the function ``singularity`` has
+#: the name of its own subpackage, so ``pinmob.analysis`` cannot export it (it would hide the subpackage); it
+#: comes from that subpackage's face
+THROUGH_SUBPACKAGE_FACES = {("pinmob/scan/sample.py", "pinmob.analysis.singularity")}
+
+
+def deep_imports() -> list[tuple[str, int, str]]:
+    """Imports (function-level too) that reach into another package's inner module instead of its ``__init__``."""
+    packages = {p.name for p in PACKAGE.iterdir() if (p / "__init__.py").exists()}
+    found = []
+    for path in PACKAGE.rglob("*.py"):
+        rel = path.relative_to(PACKAGE).parts
+        own = rel[0] if len(rel) > 1 else None
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = list(rel[:-1])[: len(rel) - node.level]
+                    module = ".".join(["pinmob", *base] + ([node.module] if node.module else []))
+                else:
+                    module = node.module or ""
+                targets = [module] + [f"{module}.{a.name}" for a in node.names if len(module.split(".")) == 2]
+            elif isinstance(node, ast.Import):
+                targets = [a.name for a in node.names]
+            else:
+                continue
+            for target in targets:
+                parts = target.split(".")
+                if parts[0] != "pinmob" or len(parts) < 3 or parts[1] not in packages or parts[1] == own:
+                    continue
+                if len(parts) == 3 and target != module:  # from pinmob.P import X: deep only when X is a module
+                    sub = PACKAGE / parts[1] / parts[2]
+                    if not (sub.with_suffix(".py").exists() or (sub / "__init__.py").exists()):
+                        continue
+                where = str(path.relative_to(PACKAGE.parent))
+                if (where, target) not in THROUGH_SUBPACKAGE_FACES:
+                    found.append((where, node.lineno, target))
+    return found
+
+
+def test_packages_are_used_through_their_faces() -> None:
+    """Each package's ``__init__`` is its face: other packages import from it, never from its inner modules
+    (issue 34: 448 such imports; a package's inner modules can then change without touching the others)."""
+    deep = deep_imports()
+    assert not deep, f"{len(deep)} imports bypass a package's face, e.g. " + "; ".join(
+        f"{w}:{n}: {t}" for w, n, t in deep[:10]
+    )

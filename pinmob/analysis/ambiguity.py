@@ -18,8 +18,7 @@ from typing import Any
 from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.configuration import RESIDUAL_FACTOR
 from pinmob.analysis.mobility import Mobility
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import AMBIGUOUS_MARGIN, ambiguity
+from pinmob.screw import AMBIGUOUS_MARGIN, Array, ambiguity
 
 
 @dataclass(frozen=True)

@@ -21,20 +21,19 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import ArrayLike
 
-from pinmob.assembly.named_assembly import named_vector
-from pinmob.assembly.residual import (
+from pinmob.assembly import (
     CLOSURE_TOL,
     Residuals,
     check_closed,
     check_closure_tol,
     compute_kinematics,
     frame_jacobian,
+    named_vector,
     worst_residual,
 )
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.data_pool import acquire, release_with
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
+from pinmob.model import Mechanism, acquire, release_with
+from pinmob.screw import Array
 
 T = TypeVar("T")
 

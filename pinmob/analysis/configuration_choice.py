@@ -9,9 +9,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.named_assembly import close_joint_values, named_vector
-from pinmob.assembly.residual import CLOSURE_TOL, check_closure_tol
-from pinmob.model.mechanism import Mechanism
+from pinmob.assembly import CLOSURE_TOL, check_closure_tol, close_joint_values, named_vector
+from pinmob.model import Mechanism
 
 
 def joint_configuration(

@@ -14,18 +14,28 @@ from pinmob.analysis.finite.higher_order import ORDER, check_order
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.report import Report
 from pinmob.analysis.report_parts import Options, part_keywords
-from pinmob.assembly.assemble import project
-from pinmob.assembly.closure_miss import format_worst, tolerance_hint, worst_first
-from pinmob.assembly.named_assembly import named_vector
-from pinmob.assembly.relaxation import find_closed_relaxed, relaxable, unclosable
-from pinmob.assembly.residual import CLOSURE_TOL, Residuals, check_closure_tol, worst_residual
-from pinmob.assembly.seeds import RESTARTS, find_closed
+from pinmob.assembly import (
+    CLOSURE_TOL,
+    RESTARTS,
+    Residuals,
+    check_closure_tol,
+    find_closed,
+    find_closed_relaxed,
+    format_worst,
+    named_vector,
+    project,
+    relaxable,
+    tolerance_hint,
+    unclosable,
+    worst_first,
+    worst_residual,
+)
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ArgumentError, ClosureError, ConfigurationError
 from pinmob.io import load
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.name_matching import choices, did_you_mean
-from pinmob.screw.rank import RTOL, check_rtol
+from pinmob.screw import RTOL, check_rtol
 
 
 def from_starts(mech: Mechanism, closure_tol: float) -> tuple[Configuration | None, str, Residuals]:

@@ -7,7 +7,7 @@ from typing import Any
 
 from pinmob.analysis.chain.mechanism_mobility import FrameMobility
 from pinmob.analysis.mobility import Mobility
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 
 
 @dataclass(frozen=True)

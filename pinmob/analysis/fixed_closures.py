@@ -21,12 +21,10 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.entry_point import analyze
 from pinmob.analysis.minimal import MinimalClosures
 from pinmob.analysis.report import Report
-from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.assembly import CLOSURE_TOL
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.closure import Closure
-from pinmob.model.mechanism import Mechanism
-from pinmob.model.named import NamedConfiguration
-from pinmob.screw.rank import RTOL
+from pinmob.model import Closure, Mechanism, NamedConfiguration
+from pinmob.screw import RTOL
 
 #: Joint values [rad or m] within which a named configuration counts as the same after the fix.
 SAME_Q = 1e-6

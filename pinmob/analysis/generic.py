@@ -27,15 +27,11 @@ import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, rate_scale, wrench_blocks
-from pinmob.assembly.assemble import assemble_joints, project
-from pinmob.assembly.named_assembly import closed_configuration
-from pinmob.assembly.residual import CLOSURE_TOL
-from pinmob.assembly.seeds import random_configuration
+from pinmob.assembly import CLOSURE_TOL, assemble_joints, closed_configuration, project, random_configuration
 from pinmob.exceptions import ClosureError, PinmobError
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.progress import step
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import RTOL, decide_rank
+from pinmob.screw import RTOL, Array, decide_rank, twist_scaling
 
 #: Largest limb set whose generic rank is estimated (a minimal deficient set has at most 6 limbs).
 MAX_SET = 6

@@ -25,13 +25,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.residual import stacked_error
+from pinmob.assembly import stacked_error
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.joints import linear_velocity_mask
-from pinmob.model.limb import Limb
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
-from pinmob.screw.rank import RankDecision, decide_rank, decide_ranks
+from pinmob.model import Limb, Mechanism, linear_velocity_mask
+from pinmob.screw import Array, RankDecision, decide_rank, decide_ranks, twist_scaling, wrench_scaling
 
 #: Integer index array.
 Indices = NDArray[np.intp]

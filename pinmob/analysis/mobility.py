@@ -42,10 +42,16 @@ from pinmob.analysis.motion import (
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array, wrench_scaling
-from pinmob.screw.bases import clean
-from pinmob.screw.classify import MotionKind, classify_wrenches, motion_type
-from pinmob.screw.rank import reciprocal_twists, reciprocal_wrenches
+from pinmob.screw import (
+    Array,
+    MotionKind,
+    classify_wrenches,
+    clean,
+    motion_type,
+    reciprocal_twists,
+    reciprocal_wrenches,
+    wrench_scaling,
+)
 
 
 @dataclass(frozen=True)

@@ -19,17 +19,13 @@ import pinocchio as pin
 from pinmob.analysis.chain.actuation import default_end_frames
 from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.assemble import Assembly, joint_velocity_indices, project, solve_actuated
-from pinmob.assembly.residual import CLOSURE_TOL
-from pinmob.assembly.seeds import random_configuration
+from pinmob.assembly import CLOSURE_TOL, Assembly, joint_velocity_indices, project, random_configuration, solve_actuated
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ClosureError, ConfigurationError
-from pinmob.model.joints import frame_id, linear_velocity_mask
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, frame_id, linear_velocity_mask
 from pinmob.name_matching import choices
 from pinmob.progress import step
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL, Array
 
 
 @dataclass(frozen=True)

@@ -10,9 +10,7 @@ import numpy as np
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.bases import axis_label, clean
-from pinmob.screw.classify import MotionKind, ScrewSystem, WrenchKind, classify_twists
+from pinmob.screw import Array, MotionKind, ScrewSystem, WrenchKind, axis_label, classify_twists, clean, twist_scaling
 
 #: Two orthonormal bases span the same space when each column of one is the other's within this (dimensionless).
 SAME_SPAN = 1e-12

@@ -21,14 +21,12 @@ from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limb_twists, limb_wrenches, rate_scale
 from pinmob.analysis.mobility import Mobility, mobility_from_wrenches
 from pinmob.analysis.motion import View
-from pinmob.assembly.named_assembly import closed_configuration
+from pinmob.assembly import closed_configuration
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.joints import joint_names
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, joint_names
 from pinmob.name_matching import choices, did_you_mean
-from pinmob.screw.algebra import Array, wrench_scaling
-from pinmob.screw.rank import reciprocal_wrenches
+from pinmob.screw import Array, reciprocal_wrenches, wrench_scaling
 
 #: name of the configuration the paper view comes from when none is declared
 GENERIC = "generic"

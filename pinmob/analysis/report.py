@@ -39,7 +39,7 @@ from pinmob.analysis.report_parts import REPORT_PARTS, Options
 from pinmob.analysis.singularity import Singularity, singularity
 from pinmob.analysis.summary import summary_line
 from pinmob.exceptions import ArgumentError, ConfigurationError
-from pinmob.model.joint_values import joint_layout, values_by_name
+from pinmob.model import joint_layout, values_by_name
 from pinmob.name_matching import choices, did_you_mean
 
 if TYPE_CHECKING:

@@ -22,9 +22,9 @@ from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.singularity.classification import singularity
 from pinmob.analysis.singularity.result import Singularity
-from pinmob.assembly.residual import CLOSURE_TOL
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.rank import RTOL, check_rtol
+from pinmob.assembly import CLOSURE_TOL
+from pinmob.model import Mechanism
+from pinmob.screw import RTOL, check_rtol
 
 Where = Mechanism | Configuration
 At = ArrayLike | str | Configuration | None

@@ -8,8 +8,7 @@ from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.motion import KIND_WORDS, Motion, numbers
 from pinmob.analysis.singularity.result import Singularity
-from pinmob.screw.algebra import Array
-from pinmob.screw.classify import MotionKind
+from pinmob.screw import Array, MotionKind
 
 
 def _vector(a: Array, digits: int) -> str:

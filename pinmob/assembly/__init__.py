@@ -21,8 +21,18 @@ from pinmob.assembly.assemble import (
     solve_actuated,
     warn_outside_limits,
 )
-from pinmob.assembly.named_assembly import closed_configuration
-from pinmob.assembly.relaxation import find_closed_relaxed, relax, unclosable
+from pinmob.assembly.batch_solver import PoseProblem, solve_poses
+from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
+from pinmob.assembly.closure_miss import SHOWN, format_worst, tolerance_hint, worst_first
+from pinmob.assembly.named_assembly import close_joint_values, closed_configuration, named_vector
+from pinmob.assembly.partial_pose import (
+    POSE_COORDS,
+    assemble_coordinates,
+    pose_coordinate_jacobian,
+    pose_from_vector,
+    pose_vector,
+)
+from pinmob.assembly.relaxation import find_closed_relaxed, relax, relaxable, unclosable
 from pinmob.assembly.residual import (
     CLOSURE_TOL,
     CLOSURE_TOL_MAX,
@@ -30,9 +40,11 @@ from pinmob.assembly.residual import (
     check_closed,
     check_closure_tol,
     closure_error,
+    closure_residual,
     closure_residuals,
     compute_kinematics,
     format_residuals,
+    frame_jacobian,
     is_within,
     mechanism_residuals,
     pose_error,
@@ -42,41 +54,61 @@ from pinmob.assembly.residual import (
     worst_residual,
 )
 from pinmob.assembly.seeds import RESTARTS, configuration_distance, find_closed, random_configuration
-from pinmob.assembly.solver import ResidualFn, SolverResult, solve
+from pinmob.assembly.solver import STALL_WINDOW, ResidualFn, SolverResult, solve
 
 __all__ = [
-    "RESTARTS",
+    "Assembly",
     "CLOSURE_TOL",
     "CLOSURE_TOL_MAX",
-    "Assembly",
+    "Gaps",
+    "POSE_COORDS",
+    "PoseProblem",
+    "RESTARTS",
     "ResidualFn",
     "Residuals",
+    "SHOWN",
+    "STALL_WINDOW",
     "SolverResult",
+    "assemble_coordinates",
     "assemble_joints",
     "assemble_pose",
     "check_closed",
     "check_closure_tol",
+    "close_joint_values",
     "closed_configuration",
     "closure_error",
+    "closure_residual",
     "closure_residuals",
     "compute_kinematics",
     "configuration_distance",
     "find_closed",
     "find_closed_relaxed",
     "format_residuals",
+    "format_worst",
+    "frame_gaps",
+    "frame_jacobian",
+    "gaps_closed",
     "is_within",
     "joint_velocity_indices",
     "mechanism_residuals",
+    "named_vector",
+    "pose_coordinate_jacobian",
     "pose_error",
+    "pose_from_vector",
+    "pose_vector",
     "project",
     "random_configuration",
     "relative_error",
     "relax",
+    "relaxable",
     "solve",
     "solve_actuated",
+    "solve_poses",
     "stacked_error",
     "tip_residuals",
+    "tolerance_hint",
     "unclosable",
     "warn_outside_limits",
+    "worst_first",
     "worst_residual",
 ]

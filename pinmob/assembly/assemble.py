@@ -42,10 +42,8 @@ from pinmob.assembly.residual import (
 from pinmob.assembly.solver import STALL_WINDOW, SolverResult, solve
 from pinmob.exceptions import ClosureError, ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.data_pool import borrowed
-from pinmob.model.joints import linear_velocity_mask, one_degree_indices, outside_limits
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.model import Mechanism, borrowed, linear_velocity_mask, one_degree_indices, outside_limits
+from pinmob.screw import Array, twist_scaling
 
 
 @dataclass(frozen=True)

@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.jit_cache import njit
-from pinmob.screw.algebra import Array, Mask
+from pinmob.screw import Array, Mask
 
 #: :func:`pinmob.assembly.batch_stopping.advance`, compiled.
 advance = njit(plain_advance)

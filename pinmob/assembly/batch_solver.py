@@ -51,10 +51,8 @@ from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.assembly.rotation_stacks import log3_stack, rpy_matrices, rpy_rates, skew_stack
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
-from pinmob.model.compiled_kinematics import frame_kinematics
-from pinmob.model.joints import angle_mask, linear_velocity_mask, wrap_angles
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, Mask
+from pinmob.model import Mechanism, angle_mask, frame_kinematics, linear_velocity_mask, wrap_angles
+from pinmob.screw import Array, Mask
 
 #: Pinocchio joints whose ``integrate`` is ``q + v`` (one coordinate per velocity, no rotation group).
 VECTOR_JOINTS = frozenset(
@@ -91,7 +89,7 @@ def compiled_kernel() -> ModuleType | None:
         import numba  # noqa: F401
     except ImportError:
         return None
-    from pinmob.assembly import batch_newton_kernel
+    import pinmob.assembly.batch_newton_kernel as batch_newton_kernel
 
     return batch_newton_kernel
 

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.screw.algebra import Array, Mask
+from pinmob.screw import Array, Mask
 
 
 def advance(

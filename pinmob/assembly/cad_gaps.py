@@ -29,9 +29,8 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.assembly.residual import check_closed
-from pinmob.model.data_pool import borrowed
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
+from pinmob.model import Mechanism, borrowed
+from pinmob.screw import Array
 
 #: Frame placements that hold a configuration's gaps: (frame index, its 12 numbers: rotation row by row,
 #: then translation), hashable (a key of the mechanism's cache, and picklable with a scan's spec).

@@ -13,7 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-from pinmob.model.closure import CLOSURE_TOL
+from pinmob.model import CLOSURE_TOL
 
 #: Residuals per name: (position [m], rotation [rad]), as :data:`pinmob.assembly.residual.Residuals`.
 Residuals = Mapping[str, tuple[float, float]]

@@ -7,9 +7,8 @@ import pinocchio as pin
 
 from pinmob.assembly.residual import closure_residual
 from pinmob.assembly.solver import SolverResult, solve
-from pinmob.model.joints import linear_velocity_mask
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
+from pinmob.model import Mechanism, linear_velocity_mask
+from pinmob.screw import Array
 
 #: Continuation: first step (fraction of the way) and the smallest before giving up.
 HOMOTOPY_STEP, HOMOTOPY_MIN_STEP = 0.25, 1.0 / 64

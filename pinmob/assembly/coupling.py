@@ -10,8 +10,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from pinmob.model.closure import Closure
-from pinmob.screw.algebra import Array, Mask
+from pinmob.model import Closure
+from pinmob.screw import Array, Mask
 
 
 def polynomial_and_slope(coefficients: tuple[float, ...], x: float) -> tuple[float, float]:

@@ -9,8 +9,8 @@ import numpy as np
 from pinmob.assembly.assemble import assemble_pose, solve_actuated
 from pinmob.assembly.residual import CLOSURE_TOL, check_closed
 from pinmob.exceptions import ClosureError, ConfigurationError
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
+from pinmob.model import Mechanism
+from pinmob.screw import Array
 
 
 def closed_configuration(mech: Mechanism, name: str, tol: float = CLOSURE_TOL) -> Array:

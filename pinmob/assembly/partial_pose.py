@@ -45,11 +45,9 @@ from pinmob.assembly.residual import (
 )
 from pinmob.assembly.solver import STALL_WINDOW, solve
 from pinmob.exceptions import ClosureError, ConfigurationError
-from pinmob.model.data_pool import borrowed
-from pinmob.model.joints import linear_velocity_mask
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, borrowed, linear_velocity_mask
 from pinmob.name_matching import choices
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: Largest step of the given joints [rad, or L for a prismatic joint] per predicted forward-kinematics step.
 JOINT_STEP = 0.2

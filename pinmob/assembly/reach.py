@@ -23,9 +23,8 @@ from pinmob.assembly.residual import (
     worst_residual,
 )
 from pinmob.assembly.solver import solve
-from pinmob.model.data_pool import borrowed
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.model import Mechanism, borrowed
+from pinmob.screw import Array, twist_scaling
 
 #: Weight of the closures against the platform's pose error in the search for the nearest closed configuration.
 WEIGHT = 1e3

@@ -16,8 +16,7 @@ from pinmob.assembly.closure_miss import format_worst
 from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
 from pinmob.assembly.seeds import RESTARTS, find_closed
 from pinmob.exceptions import ClosureError, ConfigurationError
-from pinmob.model.closure import ClosureType
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import ClosureType, Mechanism
 from pinmob.name_matching import choices
 from pinmob.progress import step
 

@@ -21,10 +21,8 @@ from pinmob.assembly.closure_miss import CAD_GAP_MAX, format_worst, tolerance_hi
 from pinmob.assembly.coupling import coupling_error, tendon_error
 from pinmob.assembly.solver import ResidualFn
 from pinmob.exceptions import ArgumentError, ClosureError
-from pinmob.model.closure import CLOSURE_TOL, Closure
-from pinmob.model.data_pool import acquire, borrowed, release_with
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, Mask
+from pinmob.model import CLOSURE_TOL, Closure, Mechanism, acquire, borrowed, release_with
+from pinmob.screw import Array, Mask
 
 #: Valid range of a closure tolerance (dimensionless): below, round-off decides; above, nothing is closed.
 #: The closure tolerance's range: round-off of one link at the bottom, a CAD gap at the top (beyond, loops that

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 
 def rpy_matrices(rpy: Array) -> Array:

@@ -15,10 +15,9 @@ import pinocchio as pin
 from pinmob.assembly.assemble import Assembly, project
 from pinmob.assembly.residual import CLOSURE_TOL, worst_residual
 from pinmob.exceptions import ArgumentError, ClosureError
-from pinmob.model.joints import linear_velocity_mask
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, linear_velocity_mask
 from pinmob.progress import step
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 RESTARTS = 20
 """Random restarts of a search for a closed configuration, by default (the command line's default too)."""

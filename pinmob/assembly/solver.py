@@ -49,9 +49,8 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from pinmob.blas import one_blas_thread
-from pinmob.model.joints import linear_velocity_mask, wrap_angles
-from pinmob.screw.algebra import Array, Mask
-from pinmob.screw.rank import svd
+from pinmob.model import linear_velocity_mask, wrap_angles
+from pinmob.screw import Array, Mask, svd
 
 #: Integer index array.
 IndexArray = NDArray[np.intp]

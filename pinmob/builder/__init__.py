@@ -32,6 +32,8 @@ its meshes) are added by :meth:`MechanismBuilder.urdf_limb`; free chains (not
 limbs) by :meth:`MechanismBuilder.chain`.
 """
 
+from pinmob.builder.text import is_generated
+
 from .chain_builder import JOINT_TYPES, ChainBuilder, ClosureSpec, FrameSpec, JointSpec, LimbBuilder
 from .closed_joints import closed_joints, joint_values
 from .layout import azimuth, check_rotation, polar, radial, rotation, rpy, symmetric_angles
@@ -43,18 +45,19 @@ from .urdf_limb import UrdfLimb
 _rpy = rpy
 
 __all__ = [
-    "JOINT_TYPES",
-    "ZERO_RTOL",
     "ChainBuilder",
     "ClosureSpec",
     "FrameSpec",
+    "JOINT_TYPES",
     "JointSpec",
     "LimbBuilder",
     "MechanismBuilder",
     "UrdfLimb",
+    "ZERO_RTOL",
     "azimuth",
     "check_rotation",
     "closed_joints",
+    "is_generated",
     "joint_values",
     "polar",
     "radial",

@@ -19,8 +19,8 @@ from .text import is_generated
 if TYPE_CHECKING:
     import pinocchio as pin
 
-    from pinmob.model.mechanism import Mechanism
-    from pinmob.screw.algebra import Array
+    from pinmob.model import Mechanism
+    from pinmob.screw import Array
 
 
 def canonical_angle(x: float) -> float:
@@ -35,7 +35,7 @@ def joint_values(mech: Mechanism, q: Array) -> dict[str, float]:
     exclude that value, the representative inside them closest to 0). A continuous joint's value is
     ``atan2(sin, cos)`` of its two coordinates, in (-pi, pi].
     """
-    from pinmob.model.joints import wrap_angles
+    from pinmob.model import wrap_angles
 
     model = mech.model
     q = wrap_angles(model, np.asarray(q, float))
@@ -62,7 +62,7 @@ def canonical_joints(model: pin.Model, values: Mapping[str, Any]) -> dict[str, A
     unknown names and values that are not numbers are left as they are (loading the file reports those).
     So a configuration is written the same way whatever branch of ``atan2`` round-off picked.
     """
-    from pinmob.model.joints import angle_mask, wrap_angles
+    from pinmob.model import angle_mask, wrap_angles
 
     mask = angle_mask(model)
     out = dict(values)
@@ -101,7 +101,7 @@ def closed_joints(
     """
     import pinocchio as pin
 
-    from pinmob.assembly.assemble import assemble_pose, solve_actuated
+    from pinmob.assembly import assemble_pose, solve_actuated
 
     start = mech.q_from_joints(seed or {})
     if pose is not None:
@@ -123,8 +123,8 @@ def write_files(name: str, directory: Path, texts: Mapping[str, str], toml: str,
     Raises:
         ConfigurationError: a foreign file in the way, or a configuration that does not close.
     """
-    from pinmob.assembly.named_assembly import closed_configuration
-    from pinmob.io.toml_file import load_toml
+    from pinmob.assembly import closed_configuration
+    from pinmob.io import load_toml
 
     for fname in texts:
         if (directory / fname).exists() and not is_generated(directory / fname):

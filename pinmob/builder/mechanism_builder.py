@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.length_scale import NO_LENGTH, SHORTEST
+from pinmob.model import NO_LENGTH, SHORTEST
 from pinmob.name_matching import choices
 
 from .chain_builder import ChainBuilder, ClosureSpec, LimbBuilder
@@ -22,7 +22,7 @@ from .urdf_limb import UrdfLimb
 if TYPE_CHECKING:
     import pinocchio as pin
 
-    from pinmob.model.mechanism import Mechanism
+    from pinmob.model import Mechanism
 
 #: limb tips placed by the builder must coincide at the reference within this fraction of the model's size
 COINCIDENCE_RTOL = 1e-9
@@ -136,7 +136,7 @@ class MechanismBuilder:
 
         Frames are checked when the mechanism is built (:meth:`mechanism`, :meth:`write`).
         """
-        from pinmob.model.closure import CLOSURE_TYPES
+        from pinmob.model import CLOSURE_TYPES
 
         check_name("closure name", name)
         if any(c.name == name for c in self.closures):
@@ -285,8 +285,7 @@ class MechanismBuilder:
             mech = b.mechanism()
             pinmob.analyze(mech, mech.neutral())  # the reference configuration
         """
-        from pinmob.model.closure import make_closure
-        from pinmob.model.mechanism import Mechanism
+        from pinmob.model import Mechanism, make_closure
 
         model = self._model()
         closures = [make_closure(model, c.name, c.frame_a, c.frame_b, c.type, c.axis, c.axis_b) for c in self.closures]

@@ -20,8 +20,8 @@ from .registry import CATALOG, Definition, check_target, checkout_models, main, 
 
 __all__ = [
     "CATALOG",
-    "FAMILIES",
     "Definition",
+    "FAMILIES",
     "Family",
     "bennett_frames",
     "bennett_theta2",

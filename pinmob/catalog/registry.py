@@ -10,10 +10,10 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
+from pinmob.builder import is_generated
 from pinmob.exceptions import PinmobError
 
 from ..builder import MechanismBuilder
-from ..builder.text import is_generated
 from .freshness import KEPT, RULE, file_difference
 
 Definition = tuple[MechanismBuilder, dict[str, dict[str, Any]], float | None]

@@ -7,15 +7,13 @@ import json
 import sys
 from typing import Any
 
-from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.report import Report
-from pinmob.analysis.report_parts import REPORT_PARTS
-from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.analysis import REPORT_PARTS, Report, analyze
+from pinmob.assembly import CLOSURE_TOL
 from pinmob.cli.common import joint_values_of, load_for, with_elsewhere
 from pinmob.cli.flags import worded_report
 from pinmob.exceptions import ConfigurationError
 from pinmob.name_matching import choices
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL
 
 
 def run(args: argparse.Namespace) -> int:

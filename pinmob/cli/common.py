@@ -11,9 +11,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from pinmob.exceptions import ConfigurationError, UnknownConfigurationError
-from pinmob.io.builtin import builtin_models
-from pinmob.model.joint_values import parse_joint_values
-from pinmob.model.mechanism import Mechanism
+from pinmob.io import builtin_models
+from pinmob.model import Mechanism, parse_joint_values
 from pinmob.name_matching import choices
 
 
@@ -33,9 +32,8 @@ def joint_values_of(args: argparse.Namespace) -> dict[str, float] | None:
 
 def load_for(args: argparse.Namespace) -> Mechanism:
     """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
-    from pinmob.io.loader import load
-    from pinmob.io.xacro_file import parse_xacro_args
-    from pinmob.model.actuated_joints import with_actuated
+    from pinmob.io import load, parse_xacro_args
+    from pinmob.model import with_actuated
 
     xacro_args = parse_xacro_args(getattr(args, "xacro_arg", None) or [])
     mech = load(args.mechanism, xacro_args=xacro_args, package_dirs=getattr(args, "package_path", None) or [])

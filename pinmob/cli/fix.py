@@ -19,15 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.fixed_closures import check_fixed, chosen_proposal, fix_closures
-from pinmob.analysis.minimal import MinimalClosures
-from pinmob.analysis.minimal.proposal import describe
-from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.analysis import MinimalClosures, analyze, check_fixed, chosen_proposal, describe, fix_closures
+from pinmob.assembly import CLOSURE_TOL
 from pinmob.cli.common import load_for, with_elsewhere
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.closure import ClosureType
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import ClosureType, Mechanism
 from pinmob.output_files import Replacing, check_target
 
 #: Output suffixes by input format.
@@ -74,10 +70,10 @@ def _urdf_of(mech: Mechanism, kind: str) -> list[Path | None]:
     if mech.source is None:
         return []
     if kind == "toml":
-        from pinmob.io.toml_file import read_toml
+        from pinmob.io import read_toml
 
         return [mech.source.parent / str(read_toml(mech.source).get("urdf", ""))]
-    from pinmob.io.extended_urdf import sidecar_urdf
+    from pinmob.io import sidecar_urdf
 
     return [sidecar_urdf(mech.source)]
 
@@ -119,11 +115,11 @@ def run(args: argparse.Namespace) -> int:
             f"the minimal closures change the answers ({'; '.join(check.differences)}); {target} not written"
         )
     if kind == "toml":
-        from pinmob.io.fixed_files import fixed_toml
+        from pinmob.io import fixed_toml
 
         text = fixed_toml(mech.source, fixed, target)  # type: ignore[arg-type]
     else:
-        from pinmob.io.fixed_files import fixed_sidecar
+        from pinmob.io import fixed_sidecar
 
         urdf = _urdf_of(mech, kind)[0]
         text = fixed_sidecar(mech.source, fixed, urdf, target)  # type: ignore[arg-type]
@@ -146,7 +142,7 @@ def _write(target: Path, text: str) -> None:
 
 def _report_written(original: Mechanism, target: Path, configurations: tuple[str | None, ...], tol: float) -> None:
     """Read the written file back, analyse it where the check did, and print one line per configuration."""
-    from pinmob.io.loader import load
+    from pinmob.io import load
 
     written = load(target)
     for name in configurations:
@@ -167,7 +163,7 @@ def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: 
     """Welds whose rotation rows are redundant become connects; the other proposals are said, not written."""
     import mujoco
 
-    from pinmob.io.mjcf import compile_mjcf
+    from pinmob.io import compile_mjcf
 
     source = mech.source
     if source is None:
@@ -213,7 +209,7 @@ def _fix_mjcf(mech: Mechanism, minimal: MinimalClosures, q: np.ndarray, target: 
     if not connects:
         print(f"nothing MuJoCo can express changes; {target} not written")
         return 0
-    from pinmob.io.fixed_files import fixed_mjcf
+    from pinmob.io import fixed_mjcf
 
     trial = replace(
         mech, closures=tuple(replace(x, type=ClosureType.BALL) if x.name in connects else x for x in mech.closures)

@@ -18,7 +18,7 @@ import re
 from collections.abc import Iterable
 from functools import partial
 
-from pinmob.analysis.report_parts import part_keywords
+from pinmob.analysis import part_keywords
 from pinmob.exceptions import PinmobError
 
 #: Python parameter -> the option of the command line that gives it (the report parts' keywords: :func:`flag`)

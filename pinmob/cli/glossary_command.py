@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from pinmob import glossary
-from pinmob.analysis.report_parts import REPORT_PARTS
+from pinmob.analysis import REPORT_PARTS
 
 
 def page() -> str:

@@ -6,8 +6,7 @@ import argparse
 import json
 from typing import Any
 
-from pinmob.io.builtin import builtin_models
-from pinmob.io.loader import load
+from pinmob.io import builtin_models, load
 from pinmob.progress import Bar, step
 
 

@@ -7,8 +7,7 @@ from collections.abc import Sequence
 from typing import NoReturn
 
 from pinmob import __version__
-from pinmob.analysis.finite.higher_order import ORDER, ORDERS
-from pinmob.analysis.report_parts import REPORT_PARTS
+from pinmob.analysis import ORDER, ORDERS, REPORT_PARTS
 from pinmob.assembly import CLOSURE_TOL, CLOSURE_TOL_MAX, RESTARTS
 from pinmob.screw import RTOL
 

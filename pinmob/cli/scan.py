@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pinmob.analysis.singularity.classification import require_platform
+from pinmob.analysis import require_platform
 from pinmob.cli.common import check_outputs, load_for, signals_interrupt
 from pinmob.cli.scan_view import check_view_options, view
 from pinmob.exceptions import ConfigurationError

@@ -7,11 +7,11 @@ import warnings
 from typing import Any
 
 from pinmob import viewer
-from pinmob.analysis.configuration import Configuration
+from pinmob.analysis import Configuration
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.scan import ScanSpec, coordinate_unit
-from pinmob.viewer.workspace import sample_configuration, workspace_cloud
+from pinmob.viewer import sample_configuration, workspace_cloud
 
 
 def check_view_options(args: argparse.Namespace, mech: Mechanism) -> None:

@@ -7,9 +7,8 @@ import math
 import warnings
 
 from pinmob import viewer
-from pinmob.analysis.entry_point import asked_configuration
-from pinmob.assembly.residual import CLOSURE_TOL
-from pinmob.assembly.seeds import RESTARTS
+from pinmob.analysis import asked_configuration
+from pinmob.assembly import CLOSURE_TOL, RESTARTS
 from pinmob.cli.common import joint_values_of, load_for, signals_interrupt, with_elsewhere
 from pinmob.exceptions import ConfigurationError
 

@@ -13,11 +13,7 @@ from typing import Any
 from pinmob.cli.common import check_distinct, signals_interrupt
 from pinmob.exceptions import ConfigurationError
 from pinmob.output_files import Replacing, check_target
-from pinmob.sweeps.spec_file import load_spec
-from pinmob.sweeps.store import Store, read_records
-from pinmob.sweeps.sweep_plot import plot_atlas, plot_pareto, written_by
-from pinmob.sweeps.sweep_run import sweep
-from pinmob.sweeps.sweep_spec import SweepSpec
+from pinmob.sweeps import Store, SweepSpec, load_spec, plot_atlas, plot_pareto, read_records, sweep, written_by
 
 
 def run(args: argparse.Namespace) -> int:

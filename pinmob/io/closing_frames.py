@@ -23,8 +23,7 @@ from pinmob.io.gazebo_joints import urdf_loop_joints, urdf_text
 from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.urdf import load_geometry, read_urdf
-from pinmob.model.closure import make_closure
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, make_closure
 
 #: A closing frame's name: ``closing_<name>_1`` or ``closing_<name>_2``.
 CLOSING = re.compile(r"^closing_(.+)_([12])$")

@@ -38,8 +38,7 @@ from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
-from pinmob.model.closure import CLOSURE_TYPES, make_closure
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import CLOSURE_TYPES, Mechanism, make_closure
 from pinmob.name_matching import choices
 
 JOINT_TYPES = ("SPHERICAL", "CARDAN", "FIXED") + tuple(f"UJOINT_{a}{b}" for a in "XYZ" for b in "XYZ" if a != b)

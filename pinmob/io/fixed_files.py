@@ -26,8 +26,7 @@ import numpy as np
 
 from pinmob.exceptions import MechanismFileError
 from pinmob.io.schema import file_error
-from pinmob.model.closure import Closure
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Closure, Mechanism
 
 
 def _vector(v: Any) -> list[float]:

@@ -24,7 +24,7 @@ import pinocchio as pin
 
 from pinmob.bounds import bound
 from pinmob.io.sdf import LOOP_CLOSURES, parse_pose
-from pinmob.model.closure import Closure, make_closure
+from pinmob.model import Closure, make_closure
 
 
 def _axis(el: ElementTree.Element, joint: str, tag: str, joint_world: pin.SE3) -> np.ndarray:

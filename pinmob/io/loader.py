@@ -8,7 +8,7 @@ from pathlib import Path
 from pinmob.exceptions import MechanismFileError
 from pinmob.io.builtin import builtin_models
 from pinmob.io.toml_file import load_toml
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.name_matching import choices, did_you_mean
 
 

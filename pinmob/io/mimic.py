@@ -21,7 +21,7 @@ from pathlib import Path
 import pinocchio as pin
 
 from pinmob.exceptions import MechanismFileError, PinmobError
-from pinmob.model.closure import Closure, make_coupling
+from pinmob.model import Closure, make_coupling
 from pinmob.name_matching import choices
 
 #: The name of the coupling of mimic joint ``j``: ``mimic_<j>``.

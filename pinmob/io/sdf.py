@@ -51,10 +51,8 @@ import pinocchio as pin
 from pinmob.bounds import check_bound
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text
-from pinmob.model.closure import Closure, make_closure
-from pinmob.model.mechanism import Mechanism
-from pinmob.model.named import NamedConfiguration
-from pinmob.screw.algebra import Array
+from pinmob.model import Closure, Mechanism, NamedConfiguration, make_closure
+from pinmob.screw import Array
 
 #: Joint types pinmob reads, and the closure type a loop joint of each becomes.
 LOOP_CLOSURES = {

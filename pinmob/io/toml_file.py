@@ -32,10 +32,7 @@ from pinmob.io.schema import (
 from pinmob.io.text_file import parsing, read_text
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.io.urdf import package_dirs as package_dirs
-from pinmob.model.closure import Closure, make_closure
-from pinmob.model.geometry import Geometry
-from pinmob.model.joints import frame_id
-from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
+from pinmob.model import Closure, Expectation, Geometry, Mechanism, NamedConfiguration, frame_id, make_closure
 from pinmob.name_matching import choices, did_you_mean
 
 

@@ -23,7 +23,7 @@ from pinmob.bounds import check_bound
 from pinmob.exceptions import MechanismFileError
 from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.text_file import check_regular
-from pinmob.model.geometry import Geometry
+from pinmob.model import Geometry
 
 
 def package_dirs(urdf: Path) -> list[str]:

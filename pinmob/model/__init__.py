@@ -1,24 +1,83 @@
 """The mechanism as plain data: a Pinocchio tree, its limbs, loop closures, platform and actuation."""
 
-from pinmob.model.closure import CLOSURE_ROWS, CLOSURE_TYPES, Closure, ClosureGroups, ClosureType, make_closure
+from pinmob.model.actuated_joints import with_actuated
+from pinmob.model.closure import (
+    CLOSURE_ROWS,
+    CLOSURE_TOL,
+    CLOSURE_TYPES,
+    Closure,
+    ClosureGroups,
+    ClosureType,
+    make_closure,
+    make_coupling,
+    make_tendon_coupling,
+)
 from pinmob.model.compiled_kinematics import FrameKinematics, frame_kinematics
 from pinmob.model.constraint_models import ConstraintModelError, PinocchioExportWarning
+from pinmob.model.data_pool import acquire, borrowed, release_with
+from pinmob.model.geometry import Geometry
+from pinmob.model.joint_values import joint_layout, joint_value, parse_joint_values, q_from_values, values_by_name
+from pinmob.model.joints import (
+    angle_mask,
+    frame_id,
+    frame_name,
+    joint_names,
+    linear_velocity_mask,
+    one_degree_indices,
+    outside_limits,
+    short_difference,
+    velocity_spans,
+    wrap_angles,
+)
+from pinmob.model.length_scale import NO_LENGTH, SHORTEST
 from pinmob.model.limb import Limb
 from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
+from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration, tendon_rows
 
 __all__ = [
     "CLOSURE_ROWS",
+    "CLOSURE_TOL",
     "CLOSURE_TYPES",
     "Closure",
     "ClosureGroups",
     "ClosureType",
     "ConstraintModelError",
     "Expectation",
+    "FixedTendon",
     "FrameKinematics",
+    "Geometry",
     "Limb",
     "Mechanism",
+    "NO_LENGTH",
     "NamedConfiguration",
     "PinocchioExportWarning",
+    "SHORTEST",
+    "Tendon",
+    "TendonActuator",
+    "Transmission",
+    "acquire",
+    "angle_mask",
+    "borrowed",
+    "frame_id",
     "frame_kinematics",
+    "frame_name",
+    "joint_configuration",
+    "joint_layout",
+    "joint_names",
+    "joint_value",
+    "linear_velocity_mask",
     "make_closure",
+    "make_coupling",
+    "make_tendon_coupling",
+    "one_degree_indices",
+    "outside_limits",
+    "parse_joint_values",
+    "q_from_values",
+    "release_with",
+    "short_difference",
+    "tendon_rows",
+    "values_by_name",
+    "velocity_spans",
+    "with_actuated",
+    "wrap_angles",
 ]

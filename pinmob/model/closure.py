@@ -13,7 +13,7 @@ from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.model.joints import frame_id
 from pinmob.model.tendon import Tendon
 from pinmob.name_matching import choices
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 if TYPE_CHECKING:
     from pinmob.model.limb import Limb

@@ -24,7 +24,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: The engines, and the references of a frame Jacobian by Pinocchio's name.
 ENGINES = ("compiled", "pinocchio")

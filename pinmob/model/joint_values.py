@@ -10,7 +10,7 @@ import pinocchio as pin
 from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.model.joints import joint_names
 from pinmob.name_matching import choices, did_you_mean
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 
 def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, owner: str) -> Array:

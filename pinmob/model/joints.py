@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from pinmob.exceptions import ConfigurationError, FrameError
 from pinmob.name_matching import choices, did_you_mean
-from pinmob.screw.algebra import Array, Mask
+from pinmob.screw import Array, Mask
 
 #: Integer index array.
 IndexArray = NDArray[np.intp]

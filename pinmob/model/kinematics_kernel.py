@@ -16,7 +16,7 @@ from __future__ import annotations
 import numpy as np
 
 from pinmob.jit_cache import njit
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: Elementary joint kinds (the codes of the ``kind`` table).
 REVOLUTE, PRISMATIC, REVOLUTE_UNBOUNDED, SPHERICAL, FREE, PLANAR, TRANSLATION = range(7)

@@ -6,7 +6,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 
 @dataclass(frozen=True)

@@ -30,7 +30,7 @@ from pinmob.model.named import Expectation, NamedConfiguration
 from pinmob.model.names import check_names
 from pinmob.model.tendon import Transmission
 from pinmob.name_matching import choices, did_you_mean, match_name
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 T = TypeVar("T")
 

@@ -22,7 +22,7 @@ from typing import ClassVar
 import numpy as np
 import pinocchio as pin
 
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 
 class Transmission(ABC):

@@ -11,10 +11,10 @@ the rows as columns (``table``), streamed CSV/JSON/Parquet (``output``), :class:
 returns, ``scan_report``), and PNG plots (``scan_plot``, ``workspace_map``).
 """
 
-from pinmob.assembly.reach import pose_vector
-from pinmob.scan.chain_scan import check_actuated
+from pinmob.assembly import pose_vector
+from pinmob.scan.chain_scan import check_actuated, value_joints
 from pinmob.scan.chunk import run_chunk
-from pinmob.scan.coordinates import coordinate_unit
+from pinmob.scan.coordinates import check_coordinates, coordinate_unit
 from pinmob.scan.results.scan_report import ScanReport, describe
 from pinmob.scan.results.table import ScanTable
 from pinmob.scan.sample import evaluate
@@ -44,6 +44,7 @@ __all__ = [
     "ScanSpec",
     "ScanTable",
     "check_actuated",
+    "check_coordinates",
     "chunk_seeds",
     "columns",
     "coordinate_unit",
@@ -60,5 +61,6 @@ __all__ = [
     "scan",
     "scan_table",
     "scan_tables",
+    "value_joints",
     "with_finite",
 ]

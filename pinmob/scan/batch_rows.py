@@ -31,14 +31,19 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.batch.batch_analysis import analyze_jacobians, motion_types
-from pinmob.analysis.generic import generic_twist_ranks
-from pinmob.analysis.limbs import limbwise_obstacle
-from pinmob.analysis.singularity.result import NEAR_FACTOR, generic_locked_dof, ratio
-from pinmob.assembly.reach import POSE_COORDS, pose_vector
-from pinmob.model.mechanism import Mechanism
+from pinmob.analysis import (
+    NEAR_FACTOR,
+    analyze_jacobians,
+    generic_locked_dof,
+    generic_twist_ranks,
+    limbwise_obstacle,
+    motion_types,
+    ratio,
+)
+from pinmob.assembly import POSE_COORDS, pose_vector
+from pinmob.model import Mechanism
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: A sample is decided by the batch when each of its distances is at least this many near-singular bands.
 DECIDED_FACTOR = 2.0

@@ -39,19 +39,21 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.chain.closed_chain import closed_chain
-from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.generic import generic_configurations, generic_constraint_rank
-from pinmob.analysis.singularity.result import NEAR_FACTOR, distance_of, padded
-from pinmob.assembly.named_assembly import close_joint_values, closed_configuration, named_vector
+from pinmob.analysis import (
+    NEAR_FACTOR,
+    Configuration,
+    closed_chain,
+    distance_of,
+    generic_configurations,
+    generic_constraint_rank,
+    mechanism_mobility,
+    padded,
+)
+from pinmob.assembly import close_joint_values, closed_configuration, named_vector
 from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError
-from pinmob.model.closure import CLOSURE_TOL
-from pinmob.model.joint_values import joint_value, parse_joint_values
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import CLOSURE_TOL, Mechanism, joint_value, parse_joint_values
 from pinmob.name_matching import choices
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL, Array
 
 SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]
 #: The whole-mechanism columns of a joint path's rows, after ``index``, ``s``, ``refined`` and the joint values.

@@ -14,15 +14,11 @@ import math
 from dataclasses import dataclass
 from typing import Any
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.finite.finite_mobility import finite_mobility
-from pinmob.analysis.singularity.result import NEAR_FACTOR
-from pinmob.assembly.closure_miss import format_worst
-from pinmob.assembly.residual import check_closed
-from pinmob.assembly.solver import STALL_WINDOW as SOLVER_STALL
+from pinmob.analysis import NEAR_FACTOR, Configuration, finite_mobility
+from pinmob.assembly import STALL_WINDOW as SOLVER_STALL
+from pinmob.assembly import check_closed, format_worst
 from pinmob.exceptions import ClosureError, PinmobError
-from pinmob.model.joints import outside_limits
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, outside_limits
 from pinmob.scan.batch_rows import Analysed, analyse
 from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, vertex_below
@@ -33,7 +29,7 @@ from pinmob.scan.sample import assemble_target as assemble_target
 from pinmob.scan.sample import evaluate as evaluate
 from pinmob.scan.scan_spec import ScanSpec
 from pinmob.scan.unreachable import unreachable_reason, unreachable_row
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: Evaluations per refinement, and bracket width (in samples) at which it stops.
 REFINE_EVALS, REFINE_XTOL = 60, 1e-12

@@ -37,19 +37,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.analysis.chain.closed_chain import closed_chain, frame_rows
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.generic import generic_configurations
-from pinmob.assembly.partial_pose import POSE_COORDS, pose_coordinate_jacobian, pose_vector
+from pinmob.analysis import Configuration, closed_chain, frame_rows, generic_configurations
+from pinmob.assembly import POSE_COORDS, pose_coordinate_jacobian, pose_vector
 from pinmob.exceptions import ConfigurationError, PinmobError
-from pinmob.model.joint_values import joint_value
-from pinmob.model.joints import linear_velocity_mask
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, joint_value, linear_velocity_mask
 from pinmob.name_matching import choices
 from pinmob.scan.chain_scan import value_joints
 from pinmob.scan.references import platform_pose
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL, Array
 
 #: Ties between candidates' components within this relative amount go to the first in order.
 TIE = 1e-9

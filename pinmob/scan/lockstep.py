@@ -34,14 +34,14 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.batch_solver import PoseProblem
+from pinmob.assembly import PoseProblem
 from pinmob.blas import one_blas_thread
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.scan_spec import ScanSpec
-from pinmob.screw.algebra import Array, Mask
+from pinmob.screw import Array, Mask
 
 #: Chunks per group (samples assembled in lockstep: up to GROUP per step), the unit of work sent to a Dask worker.
 #: Each step has a cost of its own (its Python and compiled calls): a 21 x 21 grid in process runs 21 steps with 32,

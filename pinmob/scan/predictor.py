@@ -14,11 +14,10 @@ from typing import Any, NamedTuple
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.batch_solver import PoseProblem, solve_poses
-from pinmob.assembly.reach import POSE_COORDS, pose_vector
-from pinmob.model.mechanism import Mechanism
+from pinmob.assembly import POSE_COORDS, PoseProblem, pose_vector, solve_poses
+from pinmob.model import Mechanism
 from pinmob.scan.scan_spec import ScanSpec
-from pinmob.screw.algebra import Array, Mask
+from pinmob.screw import Array, Mask
 
 #: A sample the predictor brought within this ``max |e|`` is closed (the predictor stops there: no polish).
 PREDICT_TOL = 1e-12

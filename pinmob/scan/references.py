@@ -11,15 +11,11 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.assemble import assemble_pose
-from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
-from pinmob.assembly.named_assembly import closed_configuration
-from pinmob.assembly.partial_pose import pose_from_vector
+from pinmob.assembly import Gaps, assemble_pose, closed_configuration, frame_gaps, gaps_closed, pose_from_vector
 from pinmob.exceptions import ConfigurationError, PinmobError
-from pinmob.model.closure import CLOSURE_TOL
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import CLOSURE_TOL, Mechanism
 from pinmob.name_matching import choices
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 
 def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pin.SE3:

@@ -12,10 +12,9 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.model.joints import outside_limits
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, outside_limits
 from pinmob.scan.chain_scan import joint_coordinates, joint_row
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 
 def joint_rows(

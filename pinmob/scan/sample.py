@@ -8,19 +8,13 @@ from __future__ import annotations
 
 from typing import Any
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.mobility import platform_mobility
-from pinmob.analysis.singularity.classification import singularity
-from pinmob.assembly.assemble import assemble_joints, assemble_pose
-from pinmob.assembly.partial_pose import assemble_coordinates
-from pinmob.assembly.reach import pose_vector
-from pinmob.model.closure import CLOSURE_TOL
-from pinmob.model.mechanism import Mechanism
+from pinmob.analysis import Configuration, generic_constraint_rank, platform_mobility
+from pinmob.analysis.singularity import singularity  # its subpackage's face: pinmob.analysis cannot export it
+from pinmob.assembly import assemble_coordinates, assemble_joints, assemble_pose, pose_vector
+from pinmob.model import CLOSURE_TOL, Mechanism
 from pinmob.scan.scan_spec import POSE_COORDS
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL, Array
 
 #: Iterations of the closure solver per sample (warm starts converge in a few; unreachable targets fail fast).
 MAX_ITER = 40

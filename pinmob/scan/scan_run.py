@@ -45,9 +45,9 @@ from typing import Any
 import numpy as np
 
 import pinmob.scan.chunk as chunk
-from pinmob.assembly.reach import pose_vector
+from pinmob.assembly import pose_vector
 from pinmob.exceptions import EngineError, PinmobError
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.output_files import check_target
 from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain_scan import CHAIN_COLUMNS, value_columns
@@ -59,7 +59,7 @@ from pinmob.scan.results.scan_report import ScanReport, Summary, describe, scan_
 from pinmob.scan.results.table import ScanTable
 from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: The columns a scan with a raised closure tolerance (``spec.cad``) adds: each assembled sample's largest closure
 #: residual on the file's mechanism (position / L, rotation [rad]) and the rank tolerance of its decisions.

@@ -33,27 +33,26 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.finite.higher_order import ORDER, check_order
-from pinmob.analysis.finite.loop_screws import check_joints
-from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.singularity.classification import require_platform
-from pinmob.assembly.assemble import assemble_pose
-from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
-from pinmob.assembly.partial_pose import POSE_COORDS, assemble_coordinates, pose_from_vector
-from pinmob.assembly.reach import pose_vector
-from pinmob.assembly.residual import check_closure_tol
+from pinmob.analysis import ORDER, Configuration, check_joints, check_order, generic_constraint_rank, require_platform
+from pinmob.assembly import (
+    POSE_COORDS,
+    Gaps,
+    assemble_coordinates,
+    assemble_pose,
+    check_closure_tol,
+    frame_gaps,
+    gaps_closed,
+    pose_from_vector,
+    pose_vector,
+)
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ClosureError, ConfigurationError
-from pinmob.model.closure import CLOSURE_TOL
-from pinmob.model.joint_values import parse_joint_values
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import CLOSURE_TOL, Mechanism, parse_joint_values
 from pinmob.scan.chain_scan import end_values, joint_path_ends, value_joints
 from pinmob.scan.coordinates import check_coordinates, coordinate_values, held_coordinates
 from pinmob.scan.references import platform_pose as platform_pose  # re-exported: its home before references.py
 from pinmob.scan.references import reference, resolve_pose
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL, check_rtol
+from pinmob.screw import RTOL, Array, check_rtol
 
 KINDS = ("pose", "joints", "coords", "grid")
 

@@ -4,11 +4,9 @@ from __future__ import annotations
 
 from typing import Any
 
-from pinmob.assembly.closure_miss import SHOWN, worst_first
-from pinmob.assembly.partial_pose import POSE_COORDS, pose_vector
+from pinmob.assembly import POSE_COORDS, SHOWN, pose_vector, worst_first
 from pinmob.exceptions import ClosureError, PinmobError
-from pinmob.model.closure import CLOSURE_TOL
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import CLOSURE_TOL, Mechanism
 
 #: The singular-value columns of a platform scan's rows: the constraint's, then the actuation's.
 SV_COLUMNS = [f"sv{i}" for i in range(1, 7)] + [f"av{i}" for i in range(1, 7)]

@@ -20,7 +20,7 @@ from pinmob.screw.algebra import (
     twist_to_paper,
     wrench_scaling,
 )
-from pinmob.screw.bases import AXIS_NAMES, axis_label, canonical_directions, clean, subspace_gap
+from pinmob.screw.bases import AXIS_NAMES, axis_label, canonical_basis, canonical_directions, clean, subspace_gap
 from pinmob.screw.classify import (
     MotionKind,
     Screw,
@@ -31,27 +31,42 @@ from pinmob.screw.classify import (
     motion_type,
     principal_screws,
 )
+from pinmob.screw.lie import LoopSystem
+from pinmob.screw.motion_label import label, motion_type_of_orthonormal
 from pinmob.screw.rank import (
+    AMBIGUOUS_MARGIN,
     RTOL,
     RankDecision,
+    ambiguity,
     check_rtol,
     decide_rank,
+    decide_ranks,
+    decision,
+    rank_rule,
+    rank_rule_rows,
     reciprocal_twists,
     reciprocal_wrenches,
+    singular_values,
     svd,
 )
+from pinmob.screw.subgroup import MotionSubgroup, motion_subgroup
 
 __all__ = [
+    "AMBIGUOUS_MARGIN",
     "AXIS_NAMES",
-    "RTOL",
     "Array",
+    "LoopSystem",
     "Mask",
     "MotionKind",
+    "MotionSubgroup",
+    "RTOL",
     "RankDecision",
     "Screw",
     "ScrewSystem",
     "WrenchKind",
+    "ambiguity",
     "axis_label",
+    "canonical_basis",
     "canonical_directions",
     "check_rtol",
     "classify_twists",
@@ -59,14 +74,22 @@ __all__ = [
     "clean",
     "cross_columns",
     "decide_rank",
+    "decide_ranks",
+    "decision",
+    "label",
+    "motion_subgroup",
     "motion_type",
+    "motion_type_of_orthonormal",
     "principal_screws",
+    "rank_rule",
+    "rank_rule_rows",
     "reciprocal_product",
     "reciprocal_twists",
     "reciprocal_wrenches",
     "rotate",
     "shift_twists",
     "shift_wrenches",
+    "singular_values",
     "subspace_gap",
     "svd",
     "twist_from_paper",

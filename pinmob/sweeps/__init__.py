@@ -13,7 +13,20 @@ atlas and the Pareto front. Dask and pyarrow are imported only when used.
 """
 
 from pinmob.sweeps.spec_file import load_spec
+from pinmob.sweeps.store import Store, read_records
+from pinmob.sweeps.sweep_plot import plot_atlas, plot_pareto, written_by
 from pinmob.sweeps.sweep_run import SweepRun, sweep
 from pinmob.sweeps.sweep_spec import ScanSettings, SweepSpec
 
-__all__ = ["ScanSettings", "SweepRun", "SweepSpec", "load_spec", "sweep"]
+__all__ = [
+    "ScanSettings",
+    "Store",
+    "SweepRun",
+    "SweepSpec",
+    "load_spec",
+    "plot_atlas",
+    "plot_pareto",
+    "read_records",
+    "sweep",
+    "written_by",
+]

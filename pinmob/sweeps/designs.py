@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pinmob.exceptions import ConfigurationError
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: The design methods, in the order listed in error messages.
 METHODS = ("grid", "random", "latin-hypercube", "table")

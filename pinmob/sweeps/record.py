@@ -19,10 +19,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.finite.finite_mobility import FiniteMobility
-from pinmob.analysis.finite.higher_order import ORDER
-from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict
+from pinmob.analysis import ORDER, FiniteMobility, MotionVerdict, Verdict, analyze
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.scan import ScanTable, scan_table
 from pinmob.sweeps.fields import MIN_AT

@@ -11,10 +11,10 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from pinmob.catalog.families import family
+from pinmob.catalog import family
 from pinmob.exceptions import ConfigurationError, MechanismFileError
-from pinmob.io.toml_file import load_toml
-from pinmob.model.mechanism import Mechanism
+from pinmob.io import load_toml
+from pinmob.model import Mechanism
 from pinmob.sweeps.template import fill, names_used, placeholders
 
 #: File names of a family member in the scratch folder.

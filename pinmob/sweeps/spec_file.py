@@ -48,13 +48,12 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.finite.higher_order import ORDER, check_order
-from pinmob.catalog.families import family
+from pinmob.analysis import ORDER, check_order
+from pinmob.catalog import family
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.name_matching import choices
-from pinmob.scan.coordinates import check_coordinates
-from pinmob.scan.scan_spec import POSE_COORDS, parse_grid_axis
-from pinmob.screw.rank import check_rtol
+from pinmob.scan import POSE_COORDS, check_coordinates, parse_grid_axis
+from pinmob.screw import check_rtol
 from pinmob.sweeps.designs import MAX_DESIGNS, METHODS, DesignSet, check_count, latin_hypercube
 from pinmob.sweeps.fields import TYPES
 from pinmob.sweeps.source import Source, template_source

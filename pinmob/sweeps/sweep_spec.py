@@ -17,9 +17,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pinmob.model.mechanism import Mechanism
-from pinmob.scan.scan_spec import ScanSpec, grid_spec, path_spec
-from pinmob.screw.rank import RTOL
+from pinmob.model import Mechanism
+from pinmob.scan import ScanSpec, grid_spec, path_spec
+from pinmob.screw import RTOL
 from pinmob.sweeps.designs import DesignSet, check_count
 from pinmob.sweeps.fields import UNITS, record_fields
 from pinmob.sweeps.source import Source

@@ -53,33 +53,15 @@ import contextlib
 import io
 from typing import Any
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.report import Report
+from pinmob.analysis import Configuration, Mobility, Report
 from pinmob.exceptions import ConfigurationError, ViewerError
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.viewer.html import export_html, scene_html
 from pinmob.viewer.notebook import NotebookScene, notebook
 from pinmob.viewer.options import VIEW_OPTIONS, ViewOptions, view_options
 from pinmob.viewer.prepared import prepare, viewed_frame
 from pinmob.viewer.scene import FPS, ROOT, Array, Scene, build, require_meshcat
-from pinmob.viewer.workspace import Workspace, workspace_cloud
-
-__all__ = [
-    "FPS",
-    "ROOT",
-    "NotebookScene",
-    "VIEW_OPTIONS",
-    "Scene",
-    "ViewOptions",
-    "Workspace",
-    "export_html",
-    "notebook",
-    "scene_html",
-    "show",
-    "viewed_frame",
-    "workspace_cloud",
-]
+from pinmob.viewer.workspace import Workspace, sample_configuration, workspace_cloud
 
 
 def show(
@@ -156,3 +138,21 @@ def show(
     scene.url, scene.zmq_url, scene.server = vis.url(), zmq_url, server
     vis.window.zmq_socket.close(0)
     return scene
+
+
+__all__ = [
+    "FPS",
+    "NotebookScene",
+    "ROOT",
+    "Scene",
+    "VIEW_OPTIONS",
+    "ViewOptions",
+    "Workspace",
+    "export_html",
+    "notebook",
+    "sample_configuration",
+    "scene_html",
+    "show",
+    "viewed_frame",
+    "workspace_cloud",
+]

@@ -34,8 +34,8 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from pinmob.analysis.mobility import Constraint, Motion
-from pinmob.screw.classify import MotionKind, WrenchKind
+from pinmob.analysis import Constraint, Motion
+from pinmob.screw import MotionKind, WrenchKind
 
 Array = np.ndarray
 

@@ -12,11 +12,9 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.report import Report
+from pinmob.analysis import Configuration, Mobility, Report
 from pinmob.exceptions import ConfigurationError, ViewerError
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.output_files import Replacing, check_target
 from pinmob.viewer.options import view_options
 from pinmob.viewer.page import static_page

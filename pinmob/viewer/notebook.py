@@ -19,11 +19,9 @@ import html
 from dataclasses import dataclass, field
 from typing import Any
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.report import Report
+from pinmob.analysis import Configuration, Mobility, Report
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.viewer.html import scene_html
 from pinmob.viewer.scene import Array, Scene
 

@@ -18,13 +18,8 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
-from pinmob.analysis.follow.motion_path import MotionPath
-from pinmob.analysis.minimal import MinimalClosures
-from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.motion import KIND_WORDS, vector
-from pinmob.analysis.singularity.result import Singularity
-from pinmob.screw.classify import MotionKind
+from pinmob.analysis import KIND_WORDS, MechanismMobility, MinimalClosures, Mobility, MotionPath, Singularity, vector
+from pinmob.screw import MotionKind
 from pinmob.viewer.glyphs import (
     COUPLE_COLOR,
     FORCE_COLOR,

@@ -16,22 +16,25 @@ from dataclasses import dataclass, replace
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.chain.mechanism_mobility import MechanismMobility
-from pinmob.analysis.configuration import Configuration, as_configuration
-from pinmob.analysis.entry_point import analyze
-from pinmob.analysis.finite.branches import branch_point_name
-from pinmob.analysis.finite.finite_mobility import finite_mobility
-from pinmob.analysis.follow.motion_path import MotionPath, follow_motion
-from pinmob.analysis.minimal import MinimalClosures
-from pinmob.analysis.mobility import Mobility
-from pinmob.analysis.report import Report
-from pinmob.analysis.singularity.result import Singularity
+from pinmob.analysis import (
+    Configuration,
+    MechanismMobility,
+    MinimalClosures,
+    Mobility,
+    MotionPath,
+    Report,
+    Singularity,
+    analyze,
+    as_configuration,
+    branch_point_name,
+    finite_mobility,
+    follow_motion,
+)
 from pinmob.exceptions import ConfigurationError, PinmobError, ViewerError
-from pinmob.model.joints import frame_id
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, frame_id
 from pinmob.name_matching import match_name
 from pinmob.progress import step
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL
 from pinmob.viewer.options import ViewOptions
 
 Array = np.ndarray

@@ -21,8 +21,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.follow.motion_path import MotionPath
-from pinmob.analysis.mobility import Mobility
+from pinmob.analysis import Mobility, MotionPath
 from pinmob.exceptions import ViewerError
 from pinmob.viewer.commands import SetAnimation
 from pinmob.viewer.glyphs import (

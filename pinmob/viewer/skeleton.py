@@ -24,8 +24,8 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
+from pinmob.model import Mechanism
+from pinmob.screw import Array
 
 #: RGBA colours: limbs cycle through LIMB_COLORS.
 LIMB_COLORS = (

@@ -24,16 +24,12 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.assemble import assemble_pose
-from pinmob.assembly.partial_pose import POSE_COORDS, pose_from_vector
+from pinmob.analysis import Configuration
+from pinmob.assembly import POSE_COORDS, assemble_pose, pose_from_vector
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.closure import CLOSURE_TOL
-from pinmob.model.joint_values import q_from_values
-from pinmob.model.mechanism import Mechanism
-from pinmob.scan.chain_scan import value_joints
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.model import CLOSURE_TOL, Mechanism, q_from_values
+from pinmob.scan import value_joints
+from pinmob.screw import RTOL, Array
 from pinmob.viewer.panel import hex_color
 
 #: the colour scale of the distance, from small (singular side) to large: viridis (as the 2D maps) at nine stops

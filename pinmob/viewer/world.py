@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: world axis length, as a fraction of L
 AXIS_LENGTH = 0.6

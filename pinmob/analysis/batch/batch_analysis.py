@@ -38,10 +38,8 @@ from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity.classification import require_platform, singularity_from_twists
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
-from pinmob.screw.motion_label import label, motion_type_of_orthonormal
-from pinmob.screw.rank import RTOL
+from pinmob.model import Mechanism
+from pinmob.screw import RTOL, Array, label, motion_type_of_orthonormal
 
 #: The engines of :func:`analyze_batch`.
 ENGINES = ("numba", "numpy")

@@ -26,7 +26,7 @@ from numpy.typing import NDArray
 
 from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize
 from pinmob.jit_cache import njit
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]

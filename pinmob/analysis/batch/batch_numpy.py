@@ -14,9 +14,8 @@ from pinmob.analysis.batch.batch_result import BatchResult, Ints
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import column_joints, limb_screws_at, unit_columns
 from pinmob.analysis.singularity.result import ratio
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
-from pinmob.screw.rank import rank_rule_rows, svd
+from pinmob.model import Mechanism
+from pinmob.screw import Array, rank_rule_rows, svd, twist_scaling, wrench_scaling
 
 
 def limb_jacobians(mech: Mechanism, full: Array, origin: Array) -> list[Array]:

@@ -8,7 +8,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]

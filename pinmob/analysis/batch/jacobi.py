@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from pinmob.jit_cache import njit
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: Integer array (column orders).
 Ints = NDArray[np.int64]

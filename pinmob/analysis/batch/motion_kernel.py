@@ -21,7 +21,7 @@ from numpy.typing import NDArray
 from pinmob.analysis.batch.jacobi import span
 from pinmob.analysis.batch.small_matrices import EPS, cholesky, cols, mm, solve, symmetric_eig, tr
 from pinmob.jit_cache import njit
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: The orthonormality test of :func:`pinmob.screw.classify._orthonormal_span` (``m^T m = c I`` to this).
 GRAM_TOL = 1e-12

@@ -11,7 +11,7 @@ import numpy as np
 
 from pinmob.analysis.batch.jacobi import rotation
 from pinmob.jit_cache import njit
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: The unit round-off of a double (an off-diagonal entry below it times both diagonals cannot change them).
 EPS = 2.0**-52

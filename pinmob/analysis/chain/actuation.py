@@ -29,15 +29,12 @@ from pinmob.analysis.chain.closed_chain import ClosedChain, closed_chain, frame_
 from pinmob.analysis.chain.joint_rates import canonical_rates, joint_rates
 from pinmob.analysis.chain.locking import Locked, lock
 from pinmob.analysis.configuration import Configuration, as_configuration
-from pinmob.assembly.assemble import joint_velocity_indices
-from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.assembly import CLOSURE_TOL, joint_velocity_indices
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.mechanism import Mechanism
-from pinmob.model.tendon import Transmission
+from pinmob.model import Mechanism, Transmission
 from pinmob.progress import step
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL, check_rtol, decide_rank
+from pinmob.screw import RTOL, Array, check_rtol, decide_rank
 
 #: Largest number of actuator sets :func:`actuator_sets` tries (C(n, k) above it is refused).
 SEARCH_LIMIT = 50_000

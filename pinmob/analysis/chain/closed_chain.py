@@ -24,11 +24,9 @@ from numpy.typing import NDArray
 from pinmob.analysis.chain.joint_centres import joint_centres
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.limbs import rate_scale
-from pinmob.assembly.residual import stacked_error
-from pinmob.model.joints import frame_id, velocity_spans
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, Mask, twist_scaling
-from pinmob.screw.rank import RankDecision, decide_rank, decision, svd
+from pinmob.assembly import stacked_error
+from pinmob.model import Mechanism, frame_id, velocity_spans
+from pinmob.screw import Array, Mask, RankDecision, decide_rank, decision, svd, twist_scaling
 
 
 @dataclass(frozen=True)

@@ -11,11 +11,10 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.analysis.configuration import Configuration, as_configuration
-from pinmob.assembly.residual import CLOSURE_TOL, stacked_error
+from pinmob.assembly import CLOSURE_TOL, stacked_error
 from pinmob.blas import one_blas_thread
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, shift_twists, twist_scaling
-from pinmob.screw.rank import RTOL, check_rtol, decide_rank
+from pinmob.model import Mechanism
+from pinmob.screw import RTOL, Array, check_rtol, decide_rank, shift_twists, twist_scaling
 
 
 @one_blas_thread

@@ -24,8 +24,8 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from pinmob.analysis.configuration import Configuration
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
+from pinmob.model import Mechanism
+from pinmob.screw import Array
 
 #: ``sin^2`` of the angle below which two axes are parallel (no single meeting point).
 PARALLEL = 1e-6

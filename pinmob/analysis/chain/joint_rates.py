@@ -9,9 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
-from pinmob.screw.bases import canonical_basis
+from pinmob.model import Mechanism
+from pinmob.screw import Array, canonical_basis
 
 #: Dimensionless joint rates closer than this are ties in their canonical basis (:func:`canonical_rates`: the
 #: earlier joint in model order wins, as for the printed rates, which have six decimals: round-off near a singularity

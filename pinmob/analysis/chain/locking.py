@@ -18,8 +18,7 @@ import numpy as np
 
 from pinmob.analysis.chain.closed_chain import output_motions
 from pinmob.analysis.configuration import Configuration
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank
+from pinmob.screw import Array, decide_rank
 
 
 @dataclass(frozen=True)

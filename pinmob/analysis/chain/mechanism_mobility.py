@@ -46,16 +46,21 @@ from pinmob.analysis.chain.locking import lock_motions
 from pinmob.analysis.chain.redundancy import REDUNDANCY_RULE, ClosureRank, closure_ranks
 from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.motion import Motion, classified_motions, columns
-from pinmob.assembly.residual import CLOSURE_TOL
+from pinmob.assembly import CLOSURE_TOL
 from pinmob.blas import one_blas_thread
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.joints import frame_id, frame_name
-from pinmob.model.mechanism import Mechanism
-from pinmob.model.tendon import tendon_rows
-from pinmob.screw.algebra import Array, shift_twists, twist_scaling
-from pinmob.screw.classify import motion_type
-from pinmob.screw.rank import RTOL, check_rtol, decide_rank
-from pinmob.screw.subgroup import MotionSubgroup, motion_subgroup
+from pinmob.model import Mechanism, frame_id, frame_name, tendon_rows
+from pinmob.screw import (
+    RTOL,
+    Array,
+    MotionSubgroup,
+    check_rtol,
+    decide_rank,
+    motion_subgroup,
+    motion_type,
+    shift_twists,
+    twist_scaling,
+)
 
 
 @dataclass(frozen=True)

@@ -14,9 +14,8 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank, rank_rule, singular_values
+from pinmob.model import Mechanism
+from pinmob.screw import Array, decide_rank, rank_rule, singular_values
 
 #: How the per-closure redundancy is computed, said in the JSON document.
 REDUNDANCY_RULE = (

@@ -31,10 +31,7 @@ from pinmob.analysis.finite.tangent_cone import ConeComponent, cone
 from pinmob.analysis.follow.motion_path import follow_rates
 from pinmob.analysis.motion import Motion, motions_of
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.bases import subspace_gap
-from pinmob.screw.classify import classify_twists, motion_type
-from pinmob.screw.rank import decide_rank
+from pinmob.screw import Array, classify_twists, decide_rank, motion_type, subspace_gap, twist_scaling
 
 #: How far a branch is followed to reach a generic point and confirm it [rad, or m / L].
 BRANCH_STEP = 0.03

@@ -31,10 +31,8 @@ import pinocchio as pin
 from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.closure import Closure, ClosureType, make_tendon_coupling
-from pinmob.model.tendon import FixedTendon, Tendon, Transmission
-from pinmob.screw.algebra import Array
-from pinmob.screw.lie import LoopSystem
+from pinmob.model import Closure, ClosureType, FixedTendon, Tendon, Transmission, make_tendon_coupling
+from pinmob.screw import Array, LoopSystem
 
 
 @dataclass(frozen=True)

@@ -35,7 +35,7 @@ from pinmob.analysis.finite.higher_order import ORDER, ORDER_TOL, check_order
 from pinmob.analysis.finite.sampled_side import sampled_side, unwritten, unwritten_words
 from pinmob.analysis.finite.verdicts import MotionVerdict
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.assemble import joint_velocity_indices
+from pinmob.assembly import joint_velocity_indices
 
 
 @dataclass(frozen=True)

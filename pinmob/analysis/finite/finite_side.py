@@ -30,8 +30,7 @@ from pinmob.analysis.finite.sample_modes import decide_by_samples
 from pinmob.analysis.finite.tangent_cone import cone
 from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict, judge, motions_to_judge, orthonormal, settle_side
 from pinmob.analysis.motion import Motion
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import decide_rank
+from pinmob.screw import Array, decide_rank, twist_scaling
 
 
 class Unwritten(NamedTuple):

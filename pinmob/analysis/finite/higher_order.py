@@ -32,8 +32,7 @@ import numpy as np
 from pinmob.analysis.finite.loop_screws import MechanismLoops
 from pinmob.exceptions import ArgumentError
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank, decision, svd
+from pinmob.screw import Array, decide_rank, decision, svd
 
 #: Default bound on the order of the conditions checked.
 ORDER = 4

@@ -34,11 +34,9 @@ from pinmob.analysis.chain.closed_chain import closed_chain_columns, frame_rows
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.follow.displacement import displacement
 from pinmob.analysis.follow.path_follower import closed_rates
-from pinmob.assembly.residual import closure_residual, compute_kinematics
-from pinmob.assembly.solver import solve
-from pinmob.model.joints import short_difference
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import RTOL
+from pinmob.assembly import closure_residual, compute_kinematics, solve
+from pinmob.model import short_difference
+from pinmob.screw import RTOL, Array, twist_scaling
 
 #: Size of the perturbations [rad, or m / L].
 RADIUS = 0.02

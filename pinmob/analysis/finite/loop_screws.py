@@ -36,10 +36,9 @@ from pinmob.analysis.chain.closed_chain import closed_chain_columns
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.finite.coupling_rows import CoupledSystem, CouplingRow, coupling_rows
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.closure import Closure, ClosureType
+from pinmob.model import Closure, ClosureType
 from pinmob.name_matching import choices
-from pinmob.screw.algebra import Array, shift_twists, twist_scaling
-from pinmob.screw.lie import LoopSystem
+from pinmob.screw import Array, LoopSystem, shift_twists, twist_scaling
 
 #: Pinocchio joints whose motion subspace is constant in the child frame (``dS/dt = [V_child, S]`` holds).
 SUPPORTED_JOINTS = (

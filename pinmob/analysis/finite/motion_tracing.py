@@ -17,9 +17,8 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.follow.displacement import displacement
 from pinmob.analysis.follow.motion_path import follow_motion, follow_rates
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.residual import compute_kinematics
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.classify import MotionKind
+from pinmob.assembly import compute_kinematics
+from pinmob.screw import Array, MotionKind, twist_scaling
 
 #: Distance each motion is traced: a fraction of L for translations, radians otherwise, joint metric for joints.
 TRACE = 0.05

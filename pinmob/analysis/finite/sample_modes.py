@@ -39,9 +39,8 @@ from pinmob.analysis.finite.tangent_cone import cone_point
 from pinmob.analysis.finite.verdicts import sine_to
 from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.residual import closure_residual
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank
+from pinmob.assembly import closure_residual
+from pinmob.screw import Array, decide_rank
 
 #: Distance of the samples from q (dimensionless joint metric: rad, or m / L).
 RADIUS = 0.03

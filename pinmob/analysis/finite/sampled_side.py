@@ -38,9 +38,8 @@ from pinmob.analysis.finite.verdicts import MotionVerdict, Verdict, motions_to_j
 from pinmob.analysis.follow.motion_path import follow_rates
 from pinmob.analysis.follow.path_follower import closed_rates
 from pinmob.analysis.motion import Motion
-from pinmob.model.closure import Closure, ClosureType
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import decide_rank
+from pinmob.model import Closure, ClosureType
+from pinmob.screw import Array, decide_rank, twist_scaling
 
 
 def unwritten(closures: tuple[Closure, ...]) -> tuple[Unwritten, ...]:

@@ -28,8 +28,7 @@ import numpy as np
 
 from pinmob.analysis.finite.higher_order import MARGIN, ORDER, HigherOrder, OrderTest
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank
+from pinmob.screw import Array, decide_rank
 
 #: Random starts per dimension of the reduced cone in each round of sampling.
 CONE_STARTS = 4

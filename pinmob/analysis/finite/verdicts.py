@@ -33,8 +33,7 @@ from pinmob.analysis.finite.branches import Branch
 from pinmob.analysis.finite.higher_order import MARGIN, OrderTest
 from pinmob.analysis.motion import Motion
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.screw.algebra import Array, twist_scaling
-from pinmob.screw.rank import decide_rank
+from pinmob.screw import Array, decide_rank, twist_scaling
 
 #: A motion lies in a span when the sine of its angle to it is at most this.
 MEMBER_SIN = 1e-4

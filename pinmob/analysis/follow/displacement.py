@@ -7,8 +7,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pinmob.assembly.residual import CLOSURE_TOL
-from pinmob.screw.algebra import Array, twist_scaling
+from pinmob.assembly import CLOSURE_TOL
+from pinmob.screw import Array, twist_scaling
 
 
 @dataclass(frozen=True)

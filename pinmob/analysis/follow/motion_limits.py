@@ -29,8 +29,8 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.generic import generic_twist_ranks
 from pinmob.analysis.limbs import limb_decisions, limb_twists, limbwise_obstacle
 from pinmob.analysis.singularity.result import distance_of
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
+from pinmob.model import Mechanism
+from pinmob.screw import Array
 
 
 @dataclass(frozen=True)

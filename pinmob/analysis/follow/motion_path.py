@@ -51,13 +51,12 @@ from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.follow.displacement import Displacement, measure_displacement
 from pinmob.analysis.follow.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.residual import CLOSURE_TOL, check_closed, check_closure_tol
+from pinmob.assembly import CLOSURE_TOL, check_closed, check_closure_tol
 from pinmob.bounds import check_bound
 from pinmob.exceptions import ConfigurationError
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.classify import MotionKind
-from pinmob.screw.rank import RTOL
+from pinmob.model import Mechanism
+from pinmob.screw import RTOL, MotionKind
 
 Array = np.ndarray
 

@@ -28,16 +28,11 @@ from pinmob.analysis.follow.displacement import angle_between, displacement
 from pinmob.analysis.follow.motion_limits import describe, limiting_limbs
 from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.motion import Motion
-from pinmob.assembly.assemble import assemble_pose as _assemble_pose
-from pinmob.assembly.assemble import project
-from pinmob.assembly.residual import closure_residual, compute_kinematics, frame_jacobian, stacked_error
-from pinmob.assembly.solver import solve
+from pinmob.assembly import assemble_pose as _assemble_pose
+from pinmob.assembly import closure_residual, compute_kinematics, frame_jacobian, project, solve, stacked_error
 from pinmob.exceptions import ClosureError
-from pinmob.model.joints import short_difference
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, shift_twists, twist_scaling
-from pinmob.screw.classify import MotionKind
-from pinmob.screw.rank import decide_rank
+from pinmob.model import Mechanism, short_difference
+from pinmob.screw import Array, MotionKind, decide_rank, shift_twists, twist_scaling
 
 #: a step is halved at most this many times before the motion is declared stopped
 MAX_HALVINGS = 4

@@ -28,10 +28,9 @@ import pinocchio as pin
 
 from pinmob.analysis.chain.closed_chain import closed_chain, closed_chain_columns
 from pinmob.analysis.configuration import Configuration
-from pinmob.assembly.residual import closure_error, compute_kinematics
-from pinmob.model.closure import CLOSURE_ROWS, Closure, ClosureType
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import decide_rank
+from pinmob.assembly import closure_error, compute_kinematics
+from pinmob.model import CLOSURE_ROWS, Closure, ClosureType
+from pinmob.screw import Array, decide_rank
 
 #: The vocabulary tried, in this order (the first that fits is proposed).
 ORDER = (

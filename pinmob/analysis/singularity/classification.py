@@ -11,10 +11,17 @@ from pinmob.analysis.motion import Motion, columns, motions_of
 from pinmob.analysis.singularity.result import Singularity, distance_of, generic_locked_dof, padded
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array, twist_scaling, wrench_scaling
-from pinmob.screw.classify import classify_twists
-from pinmob.screw.rank import RTOL, RankDecision, decide_rank, decide_ranks
+from pinmob.model import Mechanism
+from pinmob.screw import (
+    RTOL,
+    Array,
+    RankDecision,
+    classify_twists,
+    decide_rank,
+    decide_ranks,
+    twist_scaling,
+    wrench_scaling,
+)
 
 
 def require_platform(

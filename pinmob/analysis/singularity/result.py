@@ -46,9 +46,8 @@ from numpy.typing import ArrayLike, NDArray
 
 from pinmob.analysis.motion import Motion
 from pinmob.frozen import ReadOnlyArrays
-from pinmob.model.mechanism import Mechanism
-from pinmob.screw.algebra import Array
-from pinmob.screw.rank import RTOL
+from pinmob.model import Mechanism
+from pinmob.screw import RTOL, Array
 
 #: Near-singular band: no class present but ``distance < NEAR_FACTOR * rtol``.
 NEAR_FACTOR = 1e3

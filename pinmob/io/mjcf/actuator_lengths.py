@@ -19,8 +19,8 @@ import pinocchio as pin
 
 from pinmob.io.mjcf.mjcf_tree import BALL, Tree
 from pinmob.io.mjcf.mujoco_kinematics import MujocoKinematics
-from pinmob.model.tendon import Tendon, joint_configuration
-from pinmob.screw.algebra import Array
+from pinmob.model import Tendon, joint_configuration
+from pinmob.screw import Array
 
 
 @dataclass(frozen=True, eq=False)

@@ -54,10 +54,7 @@ from pinmob.io.mjcf.mjcf_tendons import is_length, left_out, read_actuators, ten
 from pinmob.io.mjcf.mjcf_tree import Tree, build_tree, qpos_to_q, se3
 from pinmob.io.mjcf.mujoco_kinematics import MujocoKinematics
 from pinmob.io.schema import errors_at, file_error
-from pinmob.model.closure import CLOSURE_TOL, Closure, make_closure, make_coupling
-from pinmob.model.geometry import Geometry
-from pinmob.model.mechanism import Mechanism
-from pinmob.model.named import NamedConfiguration
+from pinmob.model import CLOSURE_TOL, Closure, Geometry, Mechanism, NamedConfiguration, make_closure, make_coupling
 
 #: The equality kinds pinmob reads as closures.
 SUPPORTED = ("connect", "weld", "joint", "tendon")

@@ -33,9 +33,16 @@ from pinmob.io.mjcf.actuator_lengths import actuator_length
 from pinmob.io.mjcf.mjcf_names import label
 from pinmob.io.mjcf.mjcf_tree import BALL, FREE, SLIDE, Tree
 from pinmob.io.mjcf.mujoco_kinematics import MujocoKinematics
-from pinmob.model.closure import Closure, make_tendon_coupling
-from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration
-from pinmob.screw.algebra import Array
+from pinmob.model import (
+    Closure,
+    FixedTendon,
+    Tendon,
+    TendonActuator,
+    Transmission,
+    joint_configuration,
+    make_tendon_coupling,
+)
+from pinmob.screw import Array
 
 
 @dataclass(frozen=True, eq=False)

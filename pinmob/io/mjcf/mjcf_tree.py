@@ -29,7 +29,7 @@ import pinocchio as pin
 
 from pinmob.io.mjcf.mjcf_names import RESERVED, add_frame, labels, site_frame
 from pinmob.io.mjcf.mjcf_names import name_of as name_of  # where the MJCF modules import it from
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 #: MuJoCo's joint types (``mjtJoint``): free, ball, slide, hinge.
 FREE, BALL, SLIDE, HINGE = 0, 1, 2, 3

@@ -15,7 +15,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.io.mjcf.mjcf_tree import FREE, q_to_qpos
-from pinmob.screw.algebra import Array
+from pinmob.screw import Array
 
 
 class MujocoKinematics:

@@ -26,14 +26,13 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.singularity.result import NEAR_FACTOR
+from pinmob.analysis import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
-from pinmob.model.joints import linear_velocity_mask
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism, linear_velocity_mask
 from pinmob.scan.results.output import read_columns
 from pinmob.scan.results.table import ScanTable
 from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL
 
 #: Log-scale floor for singular values and distances that are exactly zero.
 FLOOR = 1e-17

@@ -18,9 +18,9 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.singularity.result import NEAR_FACTOR
+from pinmob.analysis import NEAR_FACTOR
 from pinmob.exceptions import ConfigurationError
-from pinmob.model.mechanism import Mechanism
+from pinmob.model import Mechanism
 from pinmob.scan.results.table import ScanTable
 from pinmob.scan.scan_spec import ScanSpec
 

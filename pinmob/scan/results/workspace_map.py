@@ -14,12 +14,12 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.analysis.singularity.result import NEAR_FACTOR
+from pinmob.analysis import NEAR_FACTOR
 from pinmob.figures import pyplot, save_figure
 from pinmob.scan.results.output import header, read_columns
 from pinmob.scan.results.scan_plot import FLOOR, MARKS, POSE_UNITS, sample_classes
 from pinmob.scan.results.table import ScanTable
-from pinmob.screw.rank import RTOL
+from pinmob.screw import RTOL
 
 
 def _edges(centres: np.ndarray, fallback: float) -> np.ndarray:

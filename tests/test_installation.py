@@ -159,3 +159,7 @@ def test_the_wheel_builds_without_warnings_and_ships_the_licence_and_the_panel(t
     names = zipfile.ZipFile(wheel).namelist()
     assert any(n.endswith("licenses/LICENSE") for n in names)
     assert {"pinmob/viewer/static/panel.js", "pinmob/viewer/static/panel.css"} <= set(names)
+    # every module is shipped: a subpackage missing from pyproject's packages list is left out of the wheel
+    # (five were, and a regular install could not import pinmob)
+    modules = {p.relative_to(root).as_posix() for p in (root / "pinmob").rglob("*.py") if "__pycache__" not in p.parts}
+    assert not sorted(modules - set(names)), f"modules left out of the wheel: {sorted(modules - set(names))}"

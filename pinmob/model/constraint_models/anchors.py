@@ -26,7 +26,7 @@ from pinmob.model.closure import Closure, ClosureType
 
 @dataclass(frozen=True)
 class Anchor:
-    """One Pinocchio constraint to build: ``kind`` ``3d`` (a point) or ``6d`` (a frame) between two joint ends."""
+    """One Pinocchio constraint, built or read: ``kind`` ``3d`` (a point) or ``6d`` (a frame) between two joint ends."""
 
     name: str
     kind: ClosureType

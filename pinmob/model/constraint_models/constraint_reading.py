@@ -20,12 +20,12 @@ sit at the first anchor's points with their z axis, the hinge axis, towards the 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
 from pinmob.model.closure import Closure, ClosureType, make_closure, make_coupling
+from pinmob.model.constraint_models.anchors import Anchor
 from pinmob.model.constraint_models.constraint_errors import ConstraintModelError
 from pinmob.model.constraint_models.constraint_frames import constraint_frame, same_placement
 from pinmob.model.constraint_models.mimic_joints import unmimic
@@ -35,24 +35,12 @@ from pinmob.model.joints import frame_id
 _SAME_POINT = 1e-9
 
 
-@dataclass(frozen=True)
-class _Anchor:
-    """One constraint as read: its name, kind (``3d`` or ``6d``) and its two (joint, placement) ends."""
-
-    name: str
-    kind: ClosureType
-    joint1: int
-    placement1: pin.SE3
-    joint2: int
-    placement2: pin.SE3
-
-
 def _label(cm: object, index: int) -> str:
     name = str(getattr(cm, "name", "") or "")
     return name or f"constraint_models[{index}]"
 
 
-def _anchor(model: pin.Model, cm: object, index: int) -> _Anchor:
+def _anchor(model: pin.Model, cm: object, index: int) -> Anchor:
     """One constraint model checked and read (:class:`ConstraintModelError` naming it otherwise)."""
     label = _label(cm, index)
     if isinstance(cm, pin.ConstraintModel):
@@ -114,17 +102,17 @@ def _anchor(model: pin.Model, cm: object, index: int) -> _Anchor:
             "two ends meeting; move the offset into joint2_placement",
             label,
         )
-    return _Anchor(label, kind, j1, pin.SE3(cm.joint1_placement), j2, pin.SE3(cm.joint2_placement))
+    return Anchor(label, kind, j1, pin.SE3(cm.joint1_placement), j2, pin.SE3(cm.joint2_placement))
 
 
-def _hinges(anchors: list[_Anchor], scale: float, named: bool) -> list[_Anchor | tuple[_Anchor, _Anchor]]:
+def _hinges(anchors: list[Anchor], scale: float, named: bool) -> list[Anchor | tuple[Anchor, Anchor]]:
     """The anchors with each pair of point anchors on the same two joints at two points made one hinge.
 
     ``named``: only pairs named ``X`` and ``X/axis`` (as :mod:`.anchors` writes them), in either order.
     """
     paired: dict[int, int] = {}  # first anchor -> second
 
-    def partner(i: int, a: _Anchor) -> int | None:
+    def partner(i: int, a: Anchor) -> int | None:
         for k, b in enumerate(anchors):
             if k == i or k in paired or k in paired.values() or b.kind != ClosureType.BALL:
                 continue
@@ -145,7 +133,7 @@ def _hinges(anchors: list[_Anchor], scale: float, named: bool) -> list[_Anchor |
             k = partner(i, a)
             if k is not None:
                 paired[i] = k
-    out: list[_Anchor | tuple[_Anchor, _Anchor]] = []
+    out: list[Anchor | tuple[Anchor, Anchor]] = []
     for i, a in enumerate(anchors):
         if i in paired:
             b = anchors[paired[i]]
@@ -155,9 +143,9 @@ def _hinges(anchors: list[_Anchor], scale: float, named: bool) -> list[_Anchor |
     return out
 
 
-def _flipped(b: _Anchor) -> _Anchor:
+def _flipped(b: Anchor) -> Anchor:
     """The same anchor with its two ends swapped."""
-    return _Anchor(b.name, b.kind, b.joint2, b.placement2, b.joint1, b.placement1)
+    return Anchor(b.name, b.kind, b.joint2, b.placement2, b.joint1, b.placement1)
 
 
 _Z = np.array([0.0, 0.0, 1.0])

@@ -83,6 +83,11 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "jacobi.orthogonalize",
         "jacobi.rotation",
         "jacobi.round_robin",
+        "kinematics_kernel._axis_rotation",  # the predictor's compiled frame kinematics (model/compiled_kinematics)
+        "kinematics_kernel._column",
+        "kinematics_kernel._quaternion",
+        "kinematics_kernel._unit_columns",
+        "kinematics_kernel.frames_kernel",
     ]
 
 

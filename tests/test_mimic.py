@@ -15,6 +15,7 @@ import pytest
 
 import pinmob
 from pinmob.cli import main
+from pinmob.io import builtin_dir
 
 MUJOCO_NOTE = """MuJoCo (4) imports a URDF's ``<mimic>`` as an ``<equality joint>`` with ``polycoef = (offset, multiplier)``
 (and leaves out, with a warning, a mimic on a fixed joint): the truth of :func:`test_counts_agree_with_mujoco`."""
@@ -311,14 +312,13 @@ def test_mimics_that_couple_limbs_of_a_toml_mechanism(tmp_path):
     """The 3-PUU (3T, three sliders) with B's and C's sliders mimicking A's: the couplings join the limbs (the
     limb-wise method does not apply, the report says so) and the platform keeps one motion: the sliders moving
     together, along the 3-fold symmetry axis z by symmetry (a 3T platform whose three sliders stay equal)."""
-    models = Path(pinmob.__file__).resolve().parent.parent / "models"
-    text = (models / "3puu.urdf").read_text()
+    text = (builtin_dir() / "3puu.urdf").read_text()  # the built-in model's folder, installed or not
     for joint in ("B_slider", "C_slider"):
         start = text.index(f'<joint name="{joint}"')
         end = text.index("</joint>", start)
         text = text[:end] + '<mimic joint="A_slider"/>' + text[end:]
     (tmp_path / "3puu.urdf").write_text(text)
-    (tmp_path / "3puu.toml").write_text((models / "3puu.toml").read_text())
+    (tmp_path / "3puu.toml").write_text((builtin_dir() / "3puu.toml").read_text())
     report = pinmob.analyze(tmp_path / "3puu.toml", "generic")
     assert (report.dof, report.motion_type) == (1, "1T")
     np.testing.assert_allclose(np.abs(report.motions[0].direction), [0, 0, 1], atol=1e-9)

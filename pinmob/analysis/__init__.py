@@ -39,7 +39,7 @@ from pinmob.analysis.fixed_closures import FixCheck, check_fixed, chosen_proposa
 from pinmob.analysis.generic import generic_configurations, generic_constraint_rank, generic_twist_ranks
 from pinmob.analysis.limbs import LimbMobility, limbwise_obstacle
 from pinmob.analysis.minimal import MinimalClosure, MinimalClosures
-from pinmob.analysis.minimal.proposal import describe
+from pinmob.analysis.minimal.proposal import FIX_HINT, describe
 from pinmob.analysis.mobility import Constraint, Mobility, Motion, platform_mobility
 from pinmob.analysis.modes import assembly_modes
 from pinmob.analysis.motion import KIND_WORDS, Method, View, vector
@@ -78,6 +78,7 @@ def __getattr__(name: str) -> Any:
 
 
 __all__ = [
+    "FIX_HINT",
     "Actuation",
     "ClosureRank",
     "Configuration",

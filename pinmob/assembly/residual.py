@@ -78,7 +78,7 @@ def pose_error(model: pin.Model, data: pin.Data, frame: int, target: pin.SE3) ->
     return pin.log6(m).vector, pin.Jlog6(m) @ frame_jacobian(model, data, frame, pin.LOCAL)
 
 
-def _perp(u: Array) -> Array:
+def normal_rows(u: Array) -> Array:
     """(2, 3) orthonormal rows spanning the plane normal to unit u."""
     a = np.eye(3)[int(np.argmin(np.abs(u)))]
     e1 = np.cross(u, a)
@@ -91,7 +91,7 @@ def _selection(c: Closure) -> tuple[Array, Mask]:
     if c.type == "orientation":
         return np.hstack([np.zeros((3, 3)), np.eye(3)]), np.zeros(3, bool)
     u = np.asarray(c.axis, float)
-    p, z = _perp(u), np.zeros((2, 3))
+    p, z = normal_rows(u), np.zeros((2, 3))
     if c.type == "prismatic":  # the two translations normal to u and every rotation
         return np.vstack([np.hstack([p, z]), np.hstack([np.zeros((3, 3)), np.eye(3)])]), np.arange(5) < 2
     if c.type == "parallel_axes":
@@ -129,13 +129,13 @@ def _point_rows(c: Closure, e: Array, jac: Array, turn: tuple[Array, Array] | No
         return e, jac, _BALL_LENGTHS
     u = np.asarray(c.axis, float)
     if c.type == "inline":
-        p = _perp(u)
+        p = normal_rows(u)
         return p @ e, p @ jac, _INLINE_LENGTHS
     if c.type == "inplane":
         return np.array([u @ e]), (u @ jac)[None], _INPLANE_LENGTHS
     value, rate = turn if turn is not None else (np.zeros(3), np.zeros((3, jac.shape[1])))
     if c.type == "planar_weld":
-        p = _perp(u)
+        p = normal_rows(u)
         return np.append(p @ e, u @ value), np.vstack([p @ jac, u @ rate]), _PLANAR_WELD_LENGTHS
     if c.type == "perpendicular":
         return value, rate, _ANGLE_LENGTHS

@@ -54,10 +54,6 @@ def _check_output(mech: Mechanism, kind: str, output: str, force: bool) -> Path:
                 f"--output {str(target)!r} is the input file {str(p)!r} (or a link to it); pinmob fix never "
                 "overwrites its input: give a new file name"
             )
-        if target.is_symlink() and Path(os.path.realpath(target)) == Path(p).resolve():
-            raise ConfigurationError(
-                f"--output {str(target)!r} is a link to the input file {str(p)!r}; give a new file name"
-            )
     if target.suffix.lower() not in SUFFIXES[kind]:
         raise ConfigurationError(
             f"--output {str(target)!r}: the input is {WORDS[kind]}, so the output needs the suffix "
@@ -93,7 +89,7 @@ def run(args: argparse.Namespace) -> int:
         report = analyze(mech, config, closure_tol=tol)
     where = f" at {report.configuration!r}" if report.configuration else ""
     if minimal is not None and not minimal.changes:
-        print(str(minimal).rsplit("\n", 1)[0])
+        print("\n".join(minimal.lines()))
         print(f"none of them is changed (couplings are kept); nothing to fix, {target} not written")
         return 0
     if minimal is None:
@@ -105,7 +101,7 @@ def run(args: argparse.Namespace) -> int:
         others = f" (redundant ones only at {', '.join(map(repr, elsewhere))}, singular there)" if elsewhere else ""
         print(f"{mech.name}{where}: no closure equation is redundant{others}; nothing to fix, {target} not written")
         return 0
-    print(str(minimal).rsplit("\n", 1)[0])  # the proposal, without its hint to run this command
+    print("\n".join(minimal.lines()))  # the proposal, without its hint to run this command
     if kind == "mjcf":
         return _fix_mjcf(mech, minimal, report.state.q, target, tol)
     fixed = fix_closures(mech, minimal, closure_tol=tol)

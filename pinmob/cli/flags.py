@@ -18,7 +18,7 @@ import re
 from collections.abc import Iterable
 from functools import partial
 
-from pinmob.analysis import part_keywords
+from pinmob.analysis import FIX_HINT, part_keywords
 from pinmob.exceptions import PinmobError
 
 #: Python parameter -> the option of the command line that gives it (the report parts' keywords: :func:`flag`)
@@ -60,9 +60,7 @@ def worded_for_cli(exc: PinmobError) -> str:
 
 
 #: The report's phrases that name a Python call, and the command that does it on the command line
-REPORT_CALLS = {
-    "the corrected mechanism: `pinmob.fix_closures(mech)`": "the corrected file: pinmob fix FILE --output OUT"
-}
+REPORT_CALLS = {FIX_HINT: "the corrected file: pinmob fix FILE --output OUT"}
 
 
 def worded_report(text: str) -> str:

@@ -15,7 +15,7 @@ The proposal keeps ``K``'s row space and drops its dependent rows, closure by cl
 
 The new closure Jacobian then has full row rank ``rank K`` and the same null space: the mechanism DoF, the
 idle motions and every frame's motions stay the same at this configuration (to first order: the fixed
-mechanism is re-analysed at each named configuration by :func:`~pinmob.analysis.minimal.fixed.check_fixed`).
+mechanism is re-analysed at each named configuration by :func:`~pinmob.analysis.fixed_closures.check_fixed`).
 """
 
 from __future__ import annotations
@@ -28,9 +28,9 @@ import pinocchio as pin
 
 from pinmob.analysis.chain.closed_chain import closed_chain, closed_chain_columns
 from pinmob.analysis.configuration import Configuration
-from pinmob.assembly import closure_error, compute_kinematics
+from pinmob.assembly import closure_error, compute_kinematics, normal_rows
 from pinmob.model import CLOSURE_ROWS, Closure, ClosureType
-from pinmob.screw import Array, decide_rank
+from pinmob.screw import Array, clean, decide_rank
 
 #: The vocabulary tried, in this order (the first that fits is proposed).
 ORDER = (
@@ -169,14 +169,16 @@ class MinimalClosures:
             "closures": [c.to_dict() for c in self.closures],
         }
 
-    def __str__(self) -> str:
+    def lines(self) -> list[str]:
+        """The proposal in words, a line each, without the last line's hint (``pinmob fix`` prints these)."""
         lines = [
             f"minimal closures: {self.rows} closure equations of rank {self.rank} -> {self.proposed_rows} "
             + ("(full row rank)" if self.proposed_rows == self.rank else "(some redundancy remains)")
         ]
-        lines += ["  " + c.text() for c in self.closures if c.changed or not c.found]
-        lines.append(f"  {FIX_HINT}")
-        return "\n".join(lines)
+        return lines + ["  " + c.text() for c in self.closures if c.changed or not c.found]
+
+    def __str__(self) -> str:
+        return "\n".join([*self.lines(), f"  {FIX_HINT}"])
 
 
 def minimal_closures(conf: Configuration, rtol: float) -> MinimalClosures | None:
@@ -208,35 +210,33 @@ def _compute(conf: Configuration, rtol: float) -> MinimalClosures | None:
     axes = _axes(conf)
     kept = np.zeros((0, model.nv))
     out = []
-    start = 0
+    start = before = 0
     for c in mech.all_closures:
         own = chain.k_hat[start : start + c.rows]
         start += c.rows
-        before = rank_of(kept)
-        need = rank_of(np.vstack([kept, own])) - before
+        need = rank_of(np.vstack([kept, own])) - before  # before: the rank of kept, carried below
         if need == c.rows or c.is_coupling:
             out.append(MinimalClosure(c.name, str(c.type), c.rows, need, c, found=need == c.rows))
-            kept = np.vstack([kept, own])
+            kept, before = np.vstack([kept, own]), before + need
             continue
         if need == 0:
             out.append(MinimalClosure(c.name, str(c.type), c.rows, 0, None))
             continue
-        span = rank_of(np.vstack([kept, own]))
+        span = before + need  # the rank of kept and c's own rows
         wrench = _wrench_rows(conf, c)
-        found = None
+        own_rank = _wrench_rank(wrench)
+        found, found_rows = None, own
         for cand in _candidates(conf, c, need, axes):
-            if _wrench_rank(conf, np.vstack([wrench, _wrench_rows(conf, cand)])) > _wrench_rank(conf, wrench):
+            if _wrench_rank(np.vstack([wrench, _wrench_rows(conf, cand)])) > own_rank:
                 continue  # not among c's equations
             rows_j = k_rows(cand)
-            if rank_of(np.vstack([kept, rows_j])) == before + need and rank_of(np.vstack([kept, own, rows_j])) == span:
-                found = cand
+            if rank_of(np.vstack([kept, rows_j])) == span and rank_of(np.vstack([kept, own, rows_j])) == span:
+                found, found_rows = cand, rows_j
                 break
-        if found is None:
-            out.append(MinimalClosure(c.name, str(c.type), c.rows, need, c, found=False))
-            kept = np.vstack([kept, own])
-        else:
-            out.append(MinimalClosure(c.name, str(c.type), c.rows, need, found))
-            kept = np.vstack([kept, k_rows(found)])
+        out.append(
+            MinimalClosure(c.name, str(c.type), c.rows, need, c if found is None else found, found=found is not None)
+        )
+        kept, before = np.vstack([kept, found_rows]), span
     return MinimalClosures(tuple(out), rows, rank)
 
 
@@ -252,16 +252,9 @@ def _axes(conf: Configuration) -> Array:
     return np.array(out + list(np.eye(3)))
 
 
-def _perp(u: Array) -> Array:
-    """(2, 3) orthonormal rows normal to unit u (the first along a coordinate plane where possible)."""
-    e1 = np.cross(u, np.eye(3)[int(np.argmin(np.abs(u)))])
-    e1 = _snapped(e1 / np.linalg.norm(e1))
-    return np.vstack([e1, np.cross(u, e1)])
-
-
 def _snapped(a: Array) -> Array:
     """A unit axis with its round-off components (below 1e-12) made 0: ``[0, 0, 1]``, not ``[-7e-30, 0, 1]``."""
-    b = np.where(np.abs(a) < 1e-12, 0.0, a)
+    b = clean(a, tol=1e-12)
     return b / np.linalg.norm(b)
 
 
@@ -293,7 +286,7 @@ def _candidates(conf: Configuration, c: Closure, need: int, world_axes: Array) -
             if c.axis is not None and c.axis_b is not None:  # its own two axes (a universal's)
                 out.append(replace(base, axis=c.axis, axis_b=c.axis_b))
             for w in axes:  # the couple along w forbidden: u normal to w, u_b = w x u (so u x u_b = w)
-                u = _perp(w)[0]
+                u = _snapped(normal_rows(w)[0])
                 out.append(replace(base, axis=u, axis_b=_snapped(ra_b.T @ np.cross(w, u))))
         else:
             out.extend(replace(base, axis=a) for a in axes)
@@ -316,5 +309,5 @@ def _wrench_rows(conf: Configuration, c: Closure) -> Array:
     return np.where(lin, 1.0 / conf.mechanism.length_scale, 1.0)[:, None] * jac
 
 
-def _wrench_rank(conf: Configuration, rows: Array) -> int:
+def _wrench_rank(rows: Array) -> int:
     return decide_rank(rows, 1e-9, at_least=1.0).rank

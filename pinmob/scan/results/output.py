@@ -186,10 +186,6 @@ def _naming(path: str | None) -> Iterator[None]:
         raise OSError(exc.errno, f"cannot write {path!r}: {exc.strerror or exc}") from None
 
 
-#: Columns read as text (:data:`pinmob.scan.results.table.TEXT_COLUMNS`); every other column is read as float (blank: NaN;
-#: True/False: 1/0).
-
-
 def header(csv_path: str | Path | ScanTable) -> list[str]:
     """The column names of a scan CSV (or of a table of rows)."""
     if isinstance(csv_path, ScanTable):

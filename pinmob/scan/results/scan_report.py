@@ -103,11 +103,12 @@ class Summary:
         )
         kept = ~refined
         self.counts["unreachable"] += int((kept & ~reachable).sum())
-        self.counts.update(self._count_keys(table.take(kept & reachable)))
+        assembled = table.take(kept & reachable)
+        self.counts.update(self._count_keys(assembled))
         if not self.counts["unreachable"]:
             del self.counts["unreachable"]
         if self.finite:
-            dof = table.take(kept & reachable).column("finite_dof" if self.platform else "finite_mechanism_dof")
+            dof = assembled.column("finite_dof" if self.platform else "finite_mechanism_dof")
             self.finite_dof.update("cannot decide" if d is None else f"{d} DoF" for d in dof)
         listed = np.flatnonzero(refined | singular | near)
         self.listed_total += len(listed)

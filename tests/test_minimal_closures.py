@@ -13,6 +13,7 @@ Independent truths used:
 
 from __future__ import annotations
 
+import dataclasses
 import os
 import shutil
 import warnings
@@ -24,6 +25,7 @@ import pytest
 import pinmob
 import pinmob.analysis.fixed_closures
 from pinmob.cli import main
+from pinmob.model import ClosureType
 
 DATA = Path(__file__).resolve().parent / "data"
 ROBOTS = DATA / "example-parallel-robots"
@@ -107,6 +109,21 @@ def test_fix_checks_every_named_configuration():
     check = pinmob.check_fixed(mech, fixed)
     assert check.same and check.configurations == ("generic", "limb-A-stretched")
     assert check.rows == ((12, 6, 0), (12, 6, 0)) and not check.redundant_left
+
+
+def test_fix_check_sees_a_wrong_fix():
+    """check_fixed is the comparator the fix tests rely on: a proposal that frees motions is reported. The
+    3-RRR-planar's first closure, a planar weld about z (3 equations), swapped for an orientation closure (its
+    turns only): the point is free to slide in the plane, 2 more mechanism DoF (3 -> 5), by hand."""
+    mech = pinmob.load("3-RRR-planar")
+    fixed = pinmob.fix_closures(mech)
+    first = fixed.closures[0]
+    wrong = dataclasses.replace(
+        fixed, closures=(dataclasses.replace(first, type=ClosureType.ORIENTATION, axis=None), *fixed.closures[1:])
+    )
+    check = pinmob.check_fixed(mech, wrong)
+    assert not check.same
+    assert any("mechanism DoF 3 before, 5 after" in d for d in check.differences), check.differences
 
 
 def test_fix_mjcf_bennett_weld_becomes_connect(capsys, tmp_path):

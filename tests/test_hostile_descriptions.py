@@ -34,6 +34,12 @@ ATTACKS = {
     "eval extension": "<link name=\"$(eval __import__('os').system('touch {marker}'))\"/>",
     "power": '<link name="${9**9**9}"/>',
     "string": '<xacro:property name="s" value="${\'ab\' * 10**8}"/><link name="${s}"/>',
+    "factorial": '<link name="${factorial(10**8)}"/>',  # hours of arithmetic, no large value until the end
+    "nested list": '<link name="${[[0] * 100000] * 100000}"/>',  # each list bounded, their product not
+    # properties the library joins from pieces: 2^40 characters from 40 lines
+    "joined": '<xacro:property name="p0" value="aaaaaaaaaa"/>'
+    + "".join(f'<xacro:property name="p{k}" value="${{p{k - 1}}}${{p{k - 1}}}"/>' for k in range(1, 40))
+    + '<link name="${p39}"/>',
 }
 SAID = {
     "lambda": "not allowed",
@@ -46,6 +52,9 @@ SAID = {
     "eval extension": "$(eval ...) is not allowed",
     "power": "an exponent over 1000",
     "string": "a result over 100000 items",
+    "factorial": "factorial",
+    "nested list": "over 100000 items (nested)",
+    "joined": "a result of",
 }
 
 
@@ -88,7 +97,28 @@ def test_macro_laughs_are_bounded(tmp_path):
     )
     path = tmp_path / "macros.urdf.xacro"
     path.write_text(HEAD + macros + '<xacro:m9 p="x"/></robot>')
-    assert "macro calls: the expansion is refused" in refused(path)
+    line = refused(path)
+    assert "macro calls" in line and "the expansion is refused" in line, line
+
+
+def test_includes_and_blocks_that_double_are_bounded(tmp_path):
+    """Thirty files each including the next twice (2^30 parses), and thirty macros each inserting their block
+    twice into the next (2^30 elements): refused at the bound, in seconds."""
+    for k in range(30):
+        inner = "" if k == 29 else f'<xacro:include filename="f{k + 1}.xacro"/>' * 2
+        (tmp_path / f"f{k}.xacro").write_text(HEAD + f'<link name="l{k}"/>' + inner + "</robot>")
+    path = tmp_path / "includes.urdf.xacro"
+    path.write_text(HEAD + '<xacro:include filename="f0.xacro"/></robot>')
+    done = pinmob_cli("analyze", str(path))  # the line names the included file being read when refused
+    assert done.returncode == 2 and done.stderr.count("\n") == 1 and "the expansion is refused" in done.stderr
+    blocks = '<xacro:macro name="b0" params="*x"><xacro:insert_block name="x"/></xacro:macro>' + "".join(
+        f'<xacro:macro name="b{k}" params="*x"><xacro:b{k - 1}><g><xacro:insert_block name="x"/>'
+        f'<xacro:insert_block name="x"/></g></xacro:b{k - 1}></xacro:macro>'
+        for k in range(1, 30)
+    )
+    path = tmp_path / "blocks.urdf.xacro"
+    path.write_text(HEAD + blocks + '<xacro:b29><link name="x"/></xacro:b29></robot>')
+    assert "the expansion is refused" in refused(path)
 
 
 def test_deep_recursion_is_one_line(tmp_path):

@@ -28,9 +28,12 @@ import operator
 from collections.abc import Callable, Mapping
 from typing import Any
 
+#: math's functions whose cost grows with the value of their arguments, not its size: left out.
+UNBOUNDED = ("factorial", "comb", "perm")
 #: Functions an expression may call by name (and as ``math.<name>``).
 FUNCTIONS: dict[str, Callable[..., Any]] = {
-    **{k: v for k, v in math.__dict__.items() if callable(v) and not k.startswith("_")},
+    # math's functions but those whose time grows with their argument's value (factorial(10**8) runs for hours)
+    **{k: v for k, v in math.__dict__.items() if callable(v) and not k.startswith("_") and k not in UNBOUNDED},
     "abs": abs,
     "min": min,
     "max": max,
@@ -115,7 +118,7 @@ class Evaluator:
             raise self.refuse(f"unknown name {name!r}") from None
         if not isinstance(value, VALUES) and not _is_namespace(value):
             raise self.refuse(f"{name!r} is not a value")
-        return value
+        return self.bounded(value)  # a property the library joined from pieces ("${a}${a}") is checked here
 
     def bounded(self, value: Any) -> Any:
         """``value``, refused when a string or list is over :data:`MAX_LENGTH`."""
@@ -296,7 +299,23 @@ def evaluate(
     if depth > MAX_DEPTH:
         raise ExpressionError(f"xacro expression {text[:80]!r} is nested {depth} levels deep (over {MAX_DEPTH})")
     _check(tree, text)
-    return Evaluator(symbols, text, load_yaml, args or {}).eval(tree)
+    evaluator = Evaluator(symbols, text, load_yaml, args or {})
+    value = evaluator.eval(tree)
+    if _items(value) > MAX_LENGTH:  # lists of lists: each bounded, their product not
+        raise evaluator.refuse(f"a result of over {MAX_LENGTH} items (nested)")
+    return value
+
+
+def _items(value: Any, limit: int = MAX_LENGTH) -> int:
+    """How many items ``value`` holds, nested lists, tuples and dicts counted through (stops past ``limit``)."""
+    if not isinstance(value, list | tuple | dict):
+        return 1
+    count = 0
+    for item in value.values() if isinstance(value, dict) else value:
+        count += _items(item, limit - count)
+        if count > limit:
+            break
+    return count
 
 
 def _depth(tree: ast.AST) -> int:

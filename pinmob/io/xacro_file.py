@@ -34,8 +34,9 @@ from pinmob.exceptions import MechanismFileError
 from pinmob.io.text_file import check_regular
 from pinmob.io.xacro_expressions import ExpressionError, evaluate
 
-#: Macro calls one expansion may make (a macro "billion laughs" is refused long before it costs memory).
-MAX_MACRO_CALLS = 20_000
+#: Macro calls, included files and evaluated elements one expansion may make, together (a "billion laughs" of
+#: macros, of includes or of inserted blocks is refused long before it costs memory or time).
+MAX_MACRO_CALLS = 100_000
 #: ``$(...)`` commands pinmob resolves; the others are refused.
 COMMANDS = ("arg", "find", "dirname")
 _LOCK = threading.Lock()
@@ -153,9 +154,8 @@ def _patched(expansion: Expansion) -> Iterator[Any]:
     """The ``xacro`` module with pinmob's evaluation, extensions, includes and bounds (restored after)."""
     import xacro
 
-    saved = {
-        k: getattr(xacro, k) for k in ("safe_eval", "eval_extension", "get_include_files", "handle_macro_call", "parse")
-    }
+    names = ("safe_eval", "eval_extension", "get_include_files", "handle_macro_call", "parse", "eval_all")
+    saved = {k: getattr(xacro, k) for k in names}
 
     def safe_eval(expr: str, symbols: Any, locals: Any = None) -> Any:
         current = xacro.filestack[-1] if xacro.filestack else str(expansion.path)
@@ -168,8 +168,18 @@ def _patched(expansion: Expansion) -> Iterator[Any]:
         except ValueError as exc:
             raise xacro.XacroException(str(exc)) from None
 
+    def count(what: str) -> None:
+        expansion.calls += 1  # macro calls, includes and elements: all that can multiply
+        if expansion.calls > MAX_MACRO_CALLS:
+            raise xacro.XacroException(f"over {MAX_MACRO_CALLS} {what}: the expansion is refused")
+
+    def eval_all(node: Any, macros: Any, symbols: Any) -> Any:
+        count("macro calls, includes and elements")
+        return saved["eval_all"](node, macros, symbols)
+
     def get_include_files(spec: str, symbols: Any) -> Iterator[str]:
         for filename in saved["get_include_files"](spec, symbols):
+            count("macro calls, includes and elements")
             try:
                 yield str(expansion.readable(filename, "include"))
             except (ValueError, MechanismFileError) as exc:
@@ -177,9 +187,7 @@ def _patched(expansion: Expansion) -> Iterator[Any]:
 
     def handle_macro_call(node: Any, macros: Any, symbols: Any) -> Any:
         if node.tagName.startswith("xacro:"):
-            expansion.calls += 1
-            if expansion.calls > MAX_MACRO_CALLS:
-                raise xacro.XacroException(f"over {MAX_MACRO_CALLS} macro calls: the expansion is refused")
+            count("macro calls, includes and elements")
         return saved["handle_macro_call"](node, macros, symbols)
 
     def parse(inp: Any, filename: str | None = None) -> Any:
@@ -200,6 +208,7 @@ def _patched(expansion: Expansion) -> Iterator[Any]:
         "get_include_files": get_include_files,
         "handle_macro_call": handle_macro_call,
         "parse": parse,
+        "eval_all": eval_all,
     }
     with _LOCK:
         for k, v in replacements.items():

@@ -34,7 +34,8 @@ ATTACKS = {
     "eval extension": "<link name=\"$(eval __import__('os').system('touch {marker}'))\"/>",
     "power": '<link name="${9**9**9}"/>',
     "string": '<xacro:property name="s" value="${\'ab\' * 10**8}"/><link name="${s}"/>',
-    "factorial": '<link name="${factorial(10**8)}"/>',  # hours of arithmetic, no large value until the end
+    "factorial": '<link name="${factorial(10**8)}"/>',
+    "namespace item": "<link name=\"${xacro['load_yaml']}\"/>",  # a function of xacro's namespace, as a value  # hours of arithmetic, no large value until the end
     "nested list": '<link name="${[[0] * 100000] * 100000}"/>',  # each list bounded, their product not
     # properties the library joins from pieces: 2^40 characters from 40 lines
     "joined": '<xacro:property name="p0" value="aaaaaaaaaa"/>'
@@ -53,6 +54,7 @@ SAID = {
     "power": "an exponent over 1000",
     "string": "a result over 100000 items",
     "factorial": "factorial",
+    "namespace item": "is not a value",
     "nested list": "over 100000 items (nested)",
     "joined": "a result of",
 }

@@ -239,9 +239,12 @@ class Evaluator:
             if not isinstance(container, dict | list | tuple | str) or not isinstance(key, int | str):
                 raise self.refuse("an index into something that is not a dict, list or string")
             try:
-                return container[key]  # type: ignore[index]  # a str key into a list: the TypeError below
+                value = container[key]  # type: ignore[index]  # a str key into a list: the TypeError below
             except (KeyError, IndexError, TypeError) as exc:
                 raise self.refuse(f"no item {key!r} ({type(exc).__name__})") from None
+            if not isinstance(value, VALUES) and not _is_namespace(value):  # xacro's namespaces hold its functions
+                raise self.refuse(f"item {key!r} is not a value")
+            return value
         raise self.refuse(f"{type(node).__name__}")  # _check refused it already
 
     def attribute(self, node: ast.Attribute) -> Any:

@@ -19,7 +19,8 @@ import pytest
 
 import pinmob
 from pinmob.exceptions import ConfigurationError, PinmobError
-from pinmob.model.compiled_kinematics import FrameKinematics, frame_kinematics, numba_installed
+from pinmob.model.compiled_kinematics import FrameKinematics, frame_kinematics
+from pinmob.model.compiled_kinematics import numba_available as numba_installed
 
 DATA = Path(__file__).parent / "data"
 FILES = sorted(p for ext in ("toml", "xml", "yaml") for p in DATA.rglob(f"*.{ext}"))

@@ -12,7 +12,7 @@ from pinmob.model.closure import (
     make_coupling,
     make_tendon_coupling,
 )
-from pinmob.model.compiled_kinematics import FrameKinematics, frame_kinematics
+from pinmob.model.compiled_kinematics import FrameKinematics, frame_kinematics, numba_available
 from pinmob.model.constraint_models import ConstraintModelError, PinocchioExportWarning
 from pinmob.model.data_pool import acquire, borrowed, release_with
 from pinmob.model.geometry import Geometry
@@ -35,6 +35,7 @@ from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
 from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration, tendon_rows
 
 __all__ = [
+    "numba_available",
     "CLOSURE_ROWS",
     "CLOSURE_TOL",
     "CLOSURE_TYPES",

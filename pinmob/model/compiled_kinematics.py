@@ -46,8 +46,8 @@ class UnsupportedJoint(Exception):
     """A joint type the compiled engine does not write (Pinocchio computes that model)."""
 
 
-def numba_installed() -> bool:
-    """Whether numba (the ``fast`` extra) can be imported."""
+def numba_available() -> bool:
+    """Numba can be imported (the ``fast`` extra): the kinematics, the batch analysis, the predictor compile."""
     try:
         import numba  # noqa: F401
     except ImportError:
@@ -224,7 +224,7 @@ def frame_kinematics(model: pin.Model, frames: Sequence[int], engine: str | None
         raise ConfigurationError(f"unknown kinematics engine {engine!r}; valid: {', '.join(ENGINES)}")
     if engine == "pinocchio":
         return FrameKinematics(model, frames, "pinocchio", "asked for")
-    reason = "" if numba_installed() else "numba is not installed (pip install 'pinmob[fast]')"
+    reason = "" if numba_available() else "numba is not installed (pip install 'pinmob[fast]')"
     if not reason:
         try:
             for j in range(1, model.njoints):

@@ -38,7 +38,7 @@ from pinmob.analysis.mobility import platform_mobility
 from pinmob.analysis.singularity.classification import require_platform, singularity_from_twists
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
-from pinmob.model import Mechanism
+from pinmob.model import Mechanism, numba_available
 from pinmob.screw import RTOL, Array, label, motion_type_of_orthonormal
 
 #: The engines of :func:`analyze_batch`.
@@ -62,15 +62,6 @@ def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) ->
         full.append(jacobian(model, data, q))  # data.J
         origin.append(placement(model, data, pid).translation)
     return np.array(full).reshape(-1, 6, model.nv), np.array(origin).reshape(-1, 3)
-
-
-def numba_available() -> bool:
-    """Numba can be imported (the ``fast`` extra): :func:`analyze_batch` then uses its compiled loop."""
-    try:
-        import numba  # noqa: F401
-    except ImportError:
-        return False
-    return True
 
 
 @one_blas_thread

@@ -94,6 +94,7 @@ GRIDS = {
     "6-UPS": ("6-UPS", "home", [("x", -0.05, 0.05), ("y", -0.05, 0.05)]),
     "3-RPS": ("3-RPS", "home", [("roll", -0.2, 0.2), ("pitch", -0.2, 0.2)]),
     "3-PUU wide": ("3-PUU", "generic", [("x", -0.3, 0.3), ("y", -0.3, 0.3)]),
+    "3-PUU motors": ("3-PUU", "generic", [("A_slider", -0.2, 0.2), ("B_slider", -0.2, 0.2)]),
 }
 #: Solver iterations per sample of the naive loop, and its damping (of J J^T, dimensionless).
 MAX_ITER, DAMPING, TOL = 40, 1e-10, 1e-6
@@ -139,18 +140,15 @@ def plain_scan(
     coordinates that follow, ``-Jlog6 @ Ad(m^-1)`` times the target's own local twist per unit coordinate),
     the normal equations solved until the largest dimensionless error is below 1e-12 (``PLAIN_MAX_ITER``
     iterations at most); closed iff each tip is within ``CLOSURE_TOL`` (position / L, rotation [rad]). Then
-    each limb's wrenches from an SVD of its scaled platform Jacobian (its joints' columns), the platform's DoF
-    from an SVD of the stacked wrenches; with ``motion_types`` (for the comparison of verdicts, not timed: the
-    loop the issue times stops at the DoF) the motion type of the free twists
-    (:func:`pinmob.screw.motion_label.motion_type_of_orthonormal`, the label of a span; "" otherwise).
+    :func:`platform_analysis`, with ``motion_types`` (for the comparison of verdicts, not timed: the loop the
+    issue times stops at the DoF) the motion type too.
     """
     model, data, nv, length = mech.model, mech.model.createData(), mech.model.nv, mech.length_scale
     assert not mech.closures, "limbs only"
     tips = [limb.tip_id for limb in mech.limbs]
-    columns = [limb.screw_v_indices for limb in mech.limbs]
     free = [POSE_COORDS.index(c) for c in spec.following]
     scale = np.tile(twist_scaling(length), len(tips))
-    st = twist_scaling(length)[:, None]
+    analysis = platform_analysis(mech)
     shape = tuple(a[3] for a in spec.axes)
     grids = [np.linspace(lo, hi, n) for _, lo, hi, n in spec.axes]
     base = pose_vector(pinmob.scan.platform_pose(mech, spec.q_ref))
@@ -164,8 +162,8 @@ def plain_scan(
     q, p = spec.q_ref.copy(), base.copy()
     for k in serpentine(shape):
         t = p.copy()
-        for a, g, i in zip(axes, grids, np.unravel_index(k, shape)):
-            t[a] = g[i]
+        for a, g, ix in zip(axes, grids, np.unravel_index(k, shape)):
+            t[a] = g[ix]
         qk = q
         target = pose_from_vector(t)
         for it in range(PLAIN_MAX_ITER + 1):
@@ -194,10 +192,85 @@ def plain_scan(
         if np.max(np.linalg.norm(parts, axis=2)) > CLOSURE_TOL:
             continue
         q, p, closed[k] = qk, t, qk
+        verdicts[k] = analysis(data, motion_types)
+    return verdicts, iters, closed
+
+
+def joint_scan(
+    mech: pinmob.Mechanism, spec: ScanSpec, motion_types: bool = False
+) -> tuple[list[tuple[bool, int, str]], list[int], list[np.ndarray]]:
+    """:func:`plain_scan`'s loop for a grid over joints (the motors): forward kinematics by the closures.
+
+    The gridded and held joints (one-degree joints) set in q; the samples in serpentine order, each
+    warm-started from the last closed one; damped Gauss-Newton on the limb tips' errors relative to the first
+    limb's tip, ``log6(oM_0^-1 oM_i)``, rows ``Jlog6 @ (J_i - Ad(m^-1) J_0)`` of the LOCAL frame Jacobians with the
+    gridded and held joints' columns removed, the normal equations solved until the largest dimensionless error
+    is below 1e-12 (``PLAIN_MAX_ITER`` iterations at most); closed iff each tip is within ``CLOSURE_TOL`` of the
+    first's (position / L, rotation [rad]); then :func:`platform_analysis`.
+    """
+    model, data, nv, length = mech.model, mech.model.createData(), mech.model.nv, mech.length_scale
+    assert not mech.closures and not spec.pose_grid, "limbs only, joints only"
+    tips = [limb.tip_id for limb in mech.limbs]
+    joints = [model.joints[model.getJointId(c)] for c in (*(a[0] for a in spec.axes), *(c for c, _ in spec.held))]
+    assert all(j.nq == 1 and j.nv == 1 for j in joints), "one-degree joints"
+    fixed = [j.idx_v for j in joints]
+    unknown = [v for v in range(nv) if v not in fixed]
+    scale = np.tile(twist_scaling(length), len(tips) - 1)
+    analysis = platform_analysis(mech)
+    shape = tuple(a[3] for a in spec.axes)
+    grids = [np.linspace(lo, hi, n) for _, lo, hi, n in spec.axes]
+    slots = [j.idx_q for j in joints[: len(shape)]]
+    q = spec.q_ref.copy()
+    for j, (_, v) in zip(joints[len(shape) :], spec.held):
+        q[j.idx_q] = v
+    rows = 6 * (len(tips) - 1)
+    e, jac, dq = np.empty(rows), np.empty((rows, len(unknown))), np.zeros(nv)
+    verdicts: list[tuple[bool, int, str]] = [(False, -1, "")] * spec.size
+    iters, closed = [0] * spec.size, [spec.q_ref] * spec.size
+    for k in serpentine(shape):
+        qk = q.copy()
+        for slot, g, ix in zip(slots, grids, np.unravel_index(k, shape)):
+            qk[slot] = g[ix]
+        for it in range(PLAIN_MAX_ITER + 1):
+            pin.computeJointJacobians(model, data, qk)
+            pin.updateFramePlacements(model, data)
+            first = data.oMf[tips[0]]
+            j0 = pin.getFrameJacobian(model, data, tips[0], pin.LOCAL)[:, unknown]
+            for i, tip in enumerate(tips[1:]):
+                m = first.actInv(data.oMf[tip])
+                e[6 * i : 6 * i + 6] = pin.log6(m).vector
+                ji = pin.getFrameJacobian(model, data, tip, pin.LOCAL)[:, unknown]
+                jac[6 * i : 6 * i + 6] = pin.Jlog6(m) @ (ji - m.inverse().action @ j0)
+            es = e * scale
+            if np.max(np.abs(es)) < 1e-12 or it == PLAIN_MAX_ITER:
+                break
+            js = jac * scale[:, None]
+            dq[unknown] = np.linalg.solve(js.T @ js + PLAIN_DAMPING * np.eye(len(unknown)), -js.T @ es)
+            qk = pin.integrate(model, qk, dq)
+        iters[k] = it
+        if np.max(np.linalg.norm(es.reshape(-1, 2, 3), axis=2)) > CLOSURE_TOL:
+            continue
+        q, closed[k] = qk, qk
+        verdicts[k] = analysis(data, motion_types)
+    return verdicts, iters, closed
+
+
+def platform_analysis(mech: pinmob.Mechanism) -> Callable[[pin.Data, bool], tuple[bool, int, str]]:
+    """The plain loops' analysis of a closed configuration whose kinematics ``data`` holds
+    (``computeJointJacobians`` + ``updateFramePlacements`` done): ``(True, DoF, motion type)`` of the platform,
+    each limb's wrenches from an SVD of its scaled platform Jacobian (its joints' columns), the platform's DoF
+    from an SVD of the stacked wrenches; with its second argument, the motion type of the free twists
+    (:func:`pinmob.screw.motion_label.motion_type_of_orthonormal`, the label of a span; "" otherwise). The
+    limbs' tips, columns and scaling are taken once, before the loop."""
+    model, length = mech.model, mech.length_scale
+    st = twist_scaling(length)[:, None]
+    limbs = [(limb.tip_id, limb.screw_v_indices) for limb in mech.limbs]
+
+    def verdict(data: pin.Data, motion_types: bool) -> tuple[bool, int, str]:
         wrenches = []
-        for tip, cols_v in zip(tips, columns):
-            limb = st * pin.getFrameJacobian(model, data, tip, pin.LOCAL_WORLD_ALIGNED)[:, cols_v]
-            u, s, _ = np.linalg.svd(limb)
+        for tip, cols_v in limbs:
+            jac = st * pin.getFrameJacobian(model, data, tip, pin.LOCAL_WORLD_ALIGNED)[:, cols_v]
+            u, s, _ = np.linalg.svd(jac)
             wrenches.append(u[:, int(np.sum(s > RTOL * s[0])) :].T)
         stacked = np.vstack(wrenches)
         if stacked.shape[0]:
@@ -205,8 +278,9 @@ def plain_scan(
             rank = int(np.sum(s > RTOL * s[0])) if s[0] > 0 else 0
         else:
             rank, vt = 0, np.eye(6)
-        verdicts[k] = (True, 6 - rank, motion_type_of_orthonormal(vt[rank:].T, length) if motion_types else "")
-    return verdicts, iters, closed
+        return True, 6 - rank, motion_type_of_orthonormal(vt[rank:].T, length) if motion_types else ""
+
+    return verdict
 
 
 def compiled_floor(mech: pinmob.Mechanism, qs: list[np.ndarray], calls: list[int]) -> tuple[float, str]:
@@ -420,25 +494,29 @@ def bench_grid(label: str, count: int, folder: Path) -> dict[str, Any]:
     json_bytes = (folder / "scan.json").stat().st_size
     t_start = cli_seconds(robot, small_args, folder)  # a fresh process, 4 samples: the start-up
     samples = [r for r in rows if not r["refined"]]
-    t_plain, (_, iters, closed) = timed(lambda: plain_scan(mech, spec), repeats=REPEATS)
-    verdicts = plain_scan(mech, spec, motion_types=True)[0]
+    plain_loop = plain_scan if spec.pose_grid else joint_scan
+    t_plain, (_, iters, closed) = timed(lambda: plain_loop(mech, spec), repeats=REPEATS)
+    verdicts = plain_loop(mech, spec, motion_types=True)[0]
     ours = [(bool(r["reachable"]), int(r["dof"]) if r["reachable"] else -1, r["motion_type"] if r["reachable"] else "")
             for r in samples]  # fmt: skip
     agree = sum(a == b for a, b in zip(ours, verdicts))
     differ = [(k, a, b) for k, (a, b) in enumerate(zip(ours, verdicts)) if a != b][:3]
-    t_old, (old_verdicts, _, _) = timed(lambda: naive_scan(mech, spec), repeats=REPEATS)
-    old_agree = sum(a[:2] == b for a, b in zip(ours, old_verdicts))
+    t_old, old_agree = None, None  # the old general loop scans pose grids only
+    if spec.pose_grid:
+        t_old, (old_verdicts, _, _) = timed(lambda: naive_scan(mech, spec), repeats=REPEATS)
+        old_agree = sum(a[:2] == b for a, b in zip(ours, old_verdicts))
     calls = [it + 1 for it in iters]  # the last one (the closure checked) serves the analysis too
     t_floor, _ = timed(lambda: floor_loop(mech, closed, calls), repeats=REPEATS)
     t_compiled, engine = compiled_floor(mech, closed, calls)
     split = profile_split(mech, spec)
     us = 1e6 / n
     calls_pinmob = kinematics_calls(lambda: list(scan_in_process(mech, spec)))
-    calls_plain = kinematics_calls(lambda: plain_scan(mech, spec))
+    calls_plain = kinematics_calls(lambda: plain_loop(mech, spec))
     return {
         "grid": " ".join(grid_args[1:-2]),
         "at": at,
         "following": list(spec.following),
+        "held_joints": [c for c, _ in spec.held if c not in POSE_COORDS],
         "samples": n,
         "reachable": int(sum(v[0] for v in verdicts)),
         "pinmob_reachable": int(sum(v[0] for v in ours)),
@@ -451,7 +529,7 @@ def bench_grid(label: str, count: int, folder: Path) -> dict[str, Any]:
         "cli_start_s": t_start,
         "json_bytes": json_bytes,
         "plain_us": t_plain * us,
-        "old_us": t_old * us,
+        "old_us": None if t_old is None else t_old * us,
         "floor_us": t_floor * us,
         "compiled_floor_us": t_compiled * us,
         "compiled_engine": engine,
@@ -503,6 +581,7 @@ def main() -> None:
             r = out[name] = bench_grid(name, count, Path(folder))
             robot = GRIDS[name][0]
             follow = f", {' '.join(r['following'])} following" if r["following"] else ""
+            follow += f", {' '.join(r['held_joints'])} held" if r["held_joints"] else ""
             plain = r["plain_us"]
             print(f"{robot} --grid {r['grid']} --at {r['at']}{follow}: {r['pinmob_reachable']}/{r['samples']} reachable "
                   f"(plain loop {r['reachable']}), {r['refined']} refined points; verdicts (reachable, DoF, motion "
@@ -512,9 +591,10 @@ def main() -> None:
             print(f"  pinmob CLI --json {r['cli_us']:6.0f} ({r['cli_us'] / plain:.2f}x, {r['json_bytes'] / 1e6:.2f} MB)"
                   f"   in process {r['pinmob_us']:6.0f} ({r['pinmob_us'] / plain:.2f}x)   a fresh process's "
                   f"start-up {r['cli_start_s']:.2f} s (a 2 x 2 grid, CPU)")  # fmt: skip
-            print(f"  plain loop {plain:6.0f} ({r['plain_iterations']:.1f} iterations)   old general loop "
-                  f"{r['old_us']:6.0f} ({r['old_us'] / plain:.2f}x; its verdicts (reachable, DoF) agree on "
-                  f"{r['old_agree']}/{r['samples']})")  # fmt: skip
+            old = (f"old general loop {r['old_us']:6.0f} ({r['old_us'] / plain:.2f}x; its verdicts (reachable, DoF) "
+                   f"agree on {r['old_agree']}/{r['samples']})" if r["old_agree"] is not None
+                   else "old general loop: pose grids only")  # fmt: skip
+            print(f"  plain loop {plain:6.0f} ({r['plain_iterations']:.1f} iterations)   {old}")
             kin = r["kinematics_per_sample"]
             print(f"  Pinocchio floor {r['floor_us']:5.1f} ({kin['floor']:.1f} x computeJointJacobians + "
                   f"updateFramePlacements)   compiled floor {r['compiled_floor_us']:5.2f} (the same kinematics, "

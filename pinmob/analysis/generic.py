@@ -134,6 +134,24 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
     return list(mech.memo(("configurations", samples, seed), compute))
 
 
+def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Configuration]:
+    """The :class:`Configuration` at each of :func:`generic_configurations` (closure checked at ``CLOSURE_TOL``).
+
+    Cached per mechanism, so that the generic ranks and a grid's held coordinates
+    (:func:`pinmob.scan.coordinates.constant_coordinates`) share their kinematics and what each one caches.
+
+    Raises:
+        PinmobError: no closed configuration could be built, or one does not close within ``CLOSURE_TOL``.
+    """
+
+    def compute() -> tuple[Configuration, ...]:
+        return tuple(
+            Configuration.from_checked(mech, q, CLOSURE_TOL) for q in generic_configurations(mech, samples, seed)
+        )
+
+    return list(mech.memo(("configuration states", samples, seed), compute))
+
+
 def _closed_in_lockstep(mech: Mechanism, starts: list[Array]) -> list[Array | None]:
     """Per start, its configuration closed by the batched solver in lockstep, or None (left to the single solver).
 
@@ -179,8 +197,7 @@ def generic_set_ranks(
         sets.append(tuple(range(k)))
         loose = float(np.sqrt(rtol))
         counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
-        for q in generic_configurations(mech, samples, seed):
-            conf = Configuration.from_checked(mech, q, CLOSURE_TOL)
+        for conf in generic_states(mech, samples, seed):
             blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
             for s in counts:
                 counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1

@@ -181,7 +181,8 @@ def generic_set_ranks(
 ) -> dict[tuple[int, ...], int]:
     """Generic rank of the stacked wrenches of limb sets: every set of 2 to ``MAX_SET`` limbs, and all limbs.
 
-    The most frequent rank (ties: the larger) over :func:`generic_configurations`,
+    The most frequent rank (ties: the larger) over :func:`generic_configurations` (ranking stops once the
+    configurations left could not change it for any set: the same mode as over all of them),
     decided with the looser tolerance ``sqrt(rtol)``: a mechanism whose whole
     workspace is singular (3-PUU-flat) closes a hair's breadth off its singular
     manifold (closure holds to second order there), and the tight tolerance
@@ -197,13 +198,22 @@ def generic_set_ranks(
         sets.append(tuple(range(k)))
         loose = float(np.sqrt(rtol))
         counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
-        for conf in generic_states(mech, samples, seed):
+        states = generic_states(mech, samples, seed)
+        for i, conf in enumerate(states):
             blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
             for s in counts:
                 counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
+            if all(_decided(c, len(states) - 1 - i) for c in counts.values()):
+                break
         return {s: _mode(c) for s, c in counts.items()}
 
     return dict(mech.memo(("sets", rtol, samples, seed), compute))
+
+
+def _decided(counts: Counter[int], left: int) -> bool:
+    """True when ``left`` more ranks cannot change :func:`_mode`: its rank's count exceeds any other's plus ``left``."""
+    top, *rest = sorted(counts.values(), reverse=True)
+    return top > (rest[0] if rest else 0) + left
 
 
 def _mode(counts: Counter[int]) -> int:

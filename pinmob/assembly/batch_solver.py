@@ -108,10 +108,12 @@ class PoseProblem:
     def __init__(self, mech: Mechanism, free: tuple[int, ...] = ()) -> None:
         model = self.model = mech.model
         self.length, self.free = mech.length_scale, tuple(free)
-        # what depends only on the mechanism, the free coordinates and the kinematics engine asked for: computed
+        # what depends only on the mechanism and the kinematics engine asked for: computed
         # once per mechanism (a scan makes one problem for its seeding walk and one per group of chunks)
-        shape = mech.memo(("pose problem", self.free, os.environ.get(ENGINE_VARIABLE)), lambda: _Shape(mech, free))
-        self.frames, self.mask, self.col, self.free_array = shape.frames, shape.mask, shape.col, shape.free_array
+        shape = mech.memo(("pose problem", os.environ.get(ENGINE_VARIABLE)), lambda: _Shape(mech))
+        self.frames, self.mask = shape.frames, shape.mask
+        self.col = np.concatenate([shape.col_q, [self.length if f < 3 else 1.0 for f in self.free]])
+        self.free_array = np.array(self.free, np.int64)
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
         self.vector_space = shape.vector_space
         self.data = model.createData()
@@ -203,10 +205,10 @@ class PoseProblem:
 
 
 class _Shape:
-    """The parts of a :class:`PoseProblem` that depend only on the mechanism and the free coordinates (read only)."""
+    """The parts of a :class:`PoseProblem` that depend only on the mechanism (read only)."""
 
-    def __init__(self, mech: Mechanism, free: tuple[int, ...]) -> None:
-        model, length = mech.model, mech.length_scale
+    def __init__(self, mech: Mechanism) -> None:
+        model = mech.model
         joints = [model.joints[j] for j in range(model.njoints)]  # Pinocchio's wrappers, made once
         pid = mech.platform_id
         body = model.frames[pid].parentJoint
@@ -215,9 +217,7 @@ class _Shape:
         for i, frame in enumerate(self.frames):
             for j in list(model.supports[model.frames[frame].parentJoint])[1:]:
                 self.mask[i, 0, joints[j].idx_v : joints[j].idx_v + joints[j].nv] = 1.0
-        col_q = np.where(linear_velocity_mask(model), length, 1.0)
-        self.col = np.concatenate([col_q, [length if f < 3 else 1.0 for f in free]])
-        self.free_array = np.array(free, np.int64)
+        self.col_q = np.where(linear_velocity_mask(model), mech.length_scale, 1.0)
         self.vector_space = all(joint.shortname() in VECTOR_JOINTS for joint in joints[1:])
         self.fast = frame_kinematics(model, self.frames)
         self.angles = np.flatnonzero(angle_mask(model))

@@ -137,7 +137,7 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
 def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Configuration]:
     """The :class:`Configuration` at each of :func:`generic_configurations` (closure checked at ``CLOSURE_TOL``).
 
-    Cached per mechanism, so that the generic ranks and a grid's held coordinates
+    Cached per mechanism (not pickled with it), so that the generic ranks and a grid's held coordinates
     (:func:`pinmob.scan.coordinates.constant_coordinates`) share their kinematics and what each one caches.
 
     Raises:
@@ -149,7 +149,7 @@ def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Con
             Configuration.from_checked(mech, q, CLOSURE_TOL) for q in generic_configurations(mech, samples, seed)
         )
 
-    return list(mech.memo(("configuration states", samples, seed), compute))
+    return list(mech.memo(("configuration states", samples, seed), compute, transient=True))
 
 
 def _closed_in_lockstep(mech: Mechanism, starts: list[Array]) -> list[Array | None]:
@@ -158,12 +158,13 @@ def _closed_in_lockstep(mech: Mechanism, starts: list[Array]) -> list[Array | No
     Where every closure is a limb tip on the platform (no other loops): the platform pose is free (all six
     coordinates follow, from each start's own), so the steps close the limbs on it as
     :func:`pinmob.assembly.assemble.assemble_joints` with no joint held does, on a stack
-    (:func:`pinmob.assembly.batch_solver.solve_poses`); a start it does not close to ``1e-12`` (dimensionless) is
+    (:func:`pinmob.assembly.batch_solver.solve_poses`, its numpy steps and Pinocchio's kinematics: the same
+    configurations with or without numba, and an analysis does not import it); a start it does not close to ``1e-12`` (dimensionless) is
     None. Every start is None for a mechanism with other loops or without a platform.
     """
     if not starts or not mech.has_platform or not mech.limbs or mech.closures or any(b.closures for b in mech.limbs):
         return [None] * len(starts)
-    problem = PoseProblem(mech, tuple(range(6)))
+    problem = PoseProblem(mech, tuple(range(6)), compiled=False)  # numpy: an analysis does not load numba
     qs = np.array(starts, float)
     _, frames = problem.kinematics(qs)
     poses = np.array([pose_vector(pin.SE3(h)) for h in frames[:, 0]])  # frames[0]: the platform's

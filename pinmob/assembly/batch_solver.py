@@ -103,24 +103,34 @@ def compiled_kernel() -> ModuleType | None:
 
 
 class PoseProblem:
-    """The frames of a platform-pose assembly and their supporting columns (see the module docstring)."""
+    """The frames of a platform-pose assembly and their supporting columns (see the module docstring).
 
-    def __init__(self, mech: Mechanism, free: tuple[int, ...] = ()) -> None:
+    ``compiled=False``: numpy steps and Pinocchio's kinematics, whether numba is installed or not (numba is not
+    imported: the same iterates to round-off, whatever the installation).
+    """
+
+    def __init__(self, mech: Mechanism, free: tuple[int, ...] = (), compiled: bool = True) -> None:
         model = self.model = mech.model
         self.length, self.free = mech.length_scale, tuple(free)
         # what depends only on the mechanism and the kinematics engine asked for: computed
         # once per mechanism (a scan makes one problem for its seeding walk and one per group of chunks)
-        shape = mech.memo(("pose problem", os.environ.get(ENGINE_VARIABLE)), lambda: _Shape(mech))
+        shape = mech.memo("pose problem", lambda: _Shape(mech), transient=True)
         self.frames, self.mask = shape.frames, shape.mask
         self.col = np.concatenate([shape.col_q, [self.length if f < 3 else 1.0 for f in self.free]])
         self.free_array = np.array(self.free, np.int64)
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
         self.vector_space = shape.vector_space
         self.data = model.createData()
-        #: The frames' kinematics for a stack: compiled (numba) when it can be, else Pinocchio's calls (each problem
-        #: its own then: they use a ``pin.Data``; the compiled one is shared, it keeps no state between calls).
-        self.fast = shape.fast if shape.fast.engine == "compiled" else frame_kinematics(model, self.frames)
-        self.kernel = compiled_kernel()
+        #: The frames' kinematics for a stack: compiled (numba) when it can be and ``compiled``, else Pinocchio's
+        #: calls (each problem its own then: they use a ``pin.Data``; the compiled one is shared per mechanism and
+        #: engine asked for, it keeps no state between calls).
+        self.fast = frame_kinematics(model, self.frames, "pinocchio")
+        self.kernel = None
+        if compiled:
+            engine = os.environ.get(ENGINE_VARIABLE)
+            fast = mech.memo(("pose problem kinematics", engine), lambda: frame_kinematics(model, self.frames), True)
+            self.fast = fast if fast.engine == "compiled" else self.fast
+            self.kernel = compiled_kernel()
         self.angles, self.angle_rates = shape.angles, shape.angle_rates
         self.limits, self.limited = shape.limits, shape.limited
 
@@ -219,7 +229,6 @@ class _Shape:
                 self.mask[i, 0, joints[j].idx_v : joints[j].idx_v + joints[j].nv] = 1.0
         self.col_q = np.where(linear_velocity_mask(model), mech.length_scale, 1.0)
         self.vector_space = all(joint.shortname() in VECTOR_JOINTS for joint in joints[1:])
-        self.fast = frame_kinematics(model, self.frames)
         self.angles = np.flatnonzero(angle_mask(model))
         #: The revolute angles' velocity indices (a joint with an angle has one coordinate per velocity).
         rate = {j.idx_q + i: j.idx_v + i for j in joints[1:] for i in range(j.nq)}

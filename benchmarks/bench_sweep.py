@@ -3,7 +3,8 @@
 Runs the example sweep's family (3-PUU) on a small design set (``--designs``, default 16) with the example's
 per-design scan (9 x 9 samples), and prints:
 
-* designs/s in this process, on a LocalCluster of 1 worker and of 2 workers (cluster start-up excluded);
+* designs/s in this process, on a LocalCluster of 1 worker and of 2 workers (cluster start-up excluded), beside
+  the figure recorded before the speed-up of issue 33, item 4 (:data:`BEFORE_MS`) and the ratio to it;
 * per design: building and loading the mechanism, the analysis at the reference (with the generic rank),
   the scan (assembly and analysis of every sample), and the scheduling overhead per design (time on 1 Dask
   worker minus time in process, per design);
@@ -22,6 +23,11 @@ import time
 from pathlib import Path
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "3puu_sweep.toml"
+
+#: Milliseconds per design before the speed-up of issue 33, item 4 (commit 38fc101, 2026-12-06, on the 2-core
+#: development machine, unloaded): this benchmark's 16 designs in process (the lead's measurement: 32.9 ms), and
+#: on a LocalCluster of 2 workers (this benchmark run on 38fc101's tree the same day, load about 1).
+BEFORE_MS = {"in process": 32.9, "2 Dask worker(s)": 24.9}
 
 
 def _timed(run) -> tuple[float, list]:
@@ -86,7 +92,13 @@ def main() -> None:
                 overhead = (elapsed - serial) / n
     print(f"{n} designs of {spec.source.name} with a {samples}-sample scan each ({spec.scan.describe()})")
     for where, rate in rates.items():
-        print(f"  {where:18s} {rate:6.2f} designs/s")
+        line = f"  {where:18s} {rate:6.2f} designs/s ({1e3 / rate:5.1f} ms per design)"
+        before = BEFORE_MS.get(where)
+        if before:
+            line += (
+                f"   before (38fc101): {1e3 / before:6.2f} designs/s ({before:.1f} ms), now x{rate * before / 1e3:.2f}"
+            )
+        print(line)
     per = serial / n
     print(f"per design {per * 1e3:.0f} ms in process: mechanism built and loaded {build / n * 1e3:.1f} ms, "
           f"reference analysis + generic rank {analysis / n * 1e3:.1f} ms, scan {scanning / n * 1e3:.1f} ms "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import shutil
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -334,6 +335,27 @@ def test_generic_ranks_are_cached_per_tolerance():
     assert generic_constraint_rank(mech) == 3
     assert generic_constraint_rank(mech, rtol=0.1) == 5
     assert generic_constraint_rank(mech) == 3
+
+
+def test_generic_ranks_stop_only_where_the_rest_cannot_change_the_mode():
+    """generic_set_ranks stops ranking once the configurations left cannot change the most frequent rank (ties: the
+    larger): over every sequence of up to 6 ranks from 2 to 4, the mode where it stops is the whole sequence's."""
+    from itertools import product
+
+    from pinmob.analysis.generic import _decided, _mode
+
+    stopped_early = 0
+    for n in range(1, 7):
+        for ranks in product((2, 3, 4), repeat=n):
+            counts: Counter[int] = Counter()
+            for i, r in enumerate(ranks):
+                counts[r] += 1
+                if _decided(counts, n - 1 - i):
+                    stopped_early += i < n - 1
+                    break
+            whole = Counter(ranks)
+            assert _mode(counts) == max(whole, key=lambda r: (whole[r], r)), ranks
+    assert stopped_early > 0
 
 
 def test_mechanisms_without_platform_are_refused_clearly():

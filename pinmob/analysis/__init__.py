@@ -36,7 +36,12 @@ from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.entry_point import analyze, asked_configuration
 from pinmob.analysis.finite.higher_order import ORDER, ORDERS, check_order
 from pinmob.analysis.fixed_closures import FixCheck, check_fixed, chosen_proposal, fix_closures, minimal_closures
-from pinmob.analysis.generic import generic_configurations, generic_constraint_rank, generic_twist_ranks
+from pinmob.analysis.generic import (
+    generic_configurations,
+    generic_constraint_rank,
+    generic_states,
+    generic_twist_ranks,
+)
 from pinmob.analysis.limbs import LimbMobility, limbwise_obstacle
 from pinmob.analysis.minimal import MinimalClosure, MinimalClosures
 from pinmob.analysis.minimal.proposal import FIX_HINT, describe
@@ -127,6 +132,7 @@ __all__ = [
     "frame_mobility",
     "frame_rows",
     "generic_configurations",
+    "generic_states",
     "generic_constraint_rank",
     "generic_locked_dof",
     "generic_twist_ranks",

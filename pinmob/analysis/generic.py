@@ -27,7 +27,16 @@ import pinocchio as pin
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, rate_scale, wrench_blocks
-from pinmob.assembly import CLOSURE_TOL, assemble_joints, closed_configuration, project, random_configuration
+from pinmob.assembly import (
+    CLOSURE_TOL,
+    PoseProblem,
+    assemble_joints,
+    closed_configuration,
+    pose_vector,
+    project,
+    random_configuration,
+    solve_poses,
+)
 from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model import Mechanism
 from pinmob.progress import step
@@ -82,7 +91,9 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
     """Random closed configurations near the first ``MAX_NAMED`` named configurations that close (cached per mechanism).
 
     Joints perturbed by ``N(0, 0.05)`` [rad, or L x 0.05 m for prismatic
-    joints] and closed again by :func:`pinmob.assembly.assemble.assemble_joints`.
+    joints] and closed again: all in lockstep by the batched solver where every closure is a limb tip
+    (:func:`_closed_in_lockstep`), each start it does not close (and every start elsewhere) by
+    :func:`pinmob.assembly.assemble.assemble_joints`.
 
     Raises:
         PinmobError: no closed configuration could be built.
@@ -92,7 +103,7 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
         rng = np.random.default_rng(seed)
         model = mech.model
         unit = rate_scale(mech)  # steps of 0.05 L on prismatic joints, 0.05 rad on the others
-        closed, used = [], 0
+        closed, used, starts = [], 0, list[Array]()
         total = min(MAX_NAMED, len(mech.configurations))
         with step(f"closing random configurations of {mech.name} (generic ranks)", total) as bar:
             for name in mech.configurations:
@@ -104,12 +115,15 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
                     continue
                 used += 1
                 bar.update()
-                for _ in range(samples):
-                    q = pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit)
-                    try:
-                        closed.append(assemble_joints(mech, {}, q))
-                    except PinmobError:
-                        continue
+                starts.extend(pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit) for _ in range(samples))
+            for q, done in zip(starts, _closed_in_lockstep(mech, starts)):
+                if done is not None:
+                    closed.append(done)
+                    continue
+                try:
+                    closed.append(assemble_joints(mech, {}, q))
+                except PinmobError:
+                    continue
         if not closed:
             raise PinmobError(
                 f"cannot estimate the generic constraint rank of {mech.name!r}: no named configuration closes; "
@@ -120,12 +134,56 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
     return list(mech.memo(("configurations", samples, seed), compute))
 
 
+def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Configuration]:
+    """The :class:`Configuration` at each of :func:`generic_configurations` (closure checked at ``CLOSURE_TOL``).
+
+    Cached per mechanism (not pickled with it), so that the generic ranks and a grid's held coordinates
+    (:func:`pinmob.scan.coordinates.constant_coordinates`) share their kinematics and what each one caches.
+
+    Raises:
+        PinmobError: no closed configuration could be built, or one does not close within ``CLOSURE_TOL``.
+    """
+
+    def compute() -> tuple[Configuration, ...]:
+        return tuple(
+            Configuration.from_checked(mech, q, CLOSURE_TOL) for q in generic_configurations(mech, samples, seed)
+        )
+
+    return list(mech.memo(("configuration states", samples, seed), compute, transient=True))
+
+
+def _closed_in_lockstep(mech: Mechanism, starts: list[Array]) -> list[Array | None]:
+    """Per start, its configuration closed by the batched solver in lockstep, or None (left to the single solver).
+
+    Where every closure is a limb tip on the platform (no other loops): the platform pose is free (all six
+    coordinates follow, from each start's own), so the steps close the limbs on it as
+    :func:`pinmob.assembly.assemble.assemble_joints` with no joint held does, on a stack
+    (:func:`pinmob.assembly.batch_solver.solve_poses`, its numpy steps and Pinocchio's kinematics: the same
+    configurations with or without numba, and an analysis does not import it); a start it does not close to ``1e-12`` (dimensionless) is
+    None. Every start is None for a mechanism with other loops or without a platform.
+    """
+    if not starts or not mech.has_platform or not mech.limbs or mech.closures or any(b.closures for b in mech.limbs):
+        return [None] * len(starts)
+    problem = PoseProblem(mech, tuple(range(6)), compiled=False)  # numpy: an analysis does not load numba
+    qs = np.array(starts, float)
+    _, frames = problem.kinematics(qs)
+    poses = np.array([pose_vector(pin.SE3(h)) for h in frames[:, 0]])  # frames[0]: the platform's
+    sol = solve_poses(problem, qs, poses)
+    out: list[Array | None] = [None] * len(starts)
+    if sol.converged.any():
+        done = problem.finish(mech, sol.q[sol.converged], "pose")
+        for i, q in zip(np.flatnonzero(sol.converged), done):
+            out[int(i)] = q
+    return out
+
+
 def generic_set_ranks(
     mech: Mechanism, rtol: float = RTOL, samples: int = 4, seed: int = 0
 ) -> dict[tuple[int, ...], int]:
     """Generic rank of the stacked wrenches of limb sets: every set of 2 to ``MAX_SET`` limbs, and all limbs.
 
-    The most frequent rank (ties: the larger) over :func:`generic_configurations`,
+    The most frequent rank (ties: the larger) over :func:`generic_configurations` (ranking stops once the
+    configurations left could not change it for any set: the same mode as over all of them),
     decided with the looser tolerance ``sqrt(rtol)``: a mechanism whose whole
     workspace is singular (3-PUU-flat) closes a hair's breadth off its singular
     manifold (closure holds to second order there), and the tight tolerance
@@ -141,14 +199,22 @@ def generic_set_ranks(
         sets.append(tuple(range(k)))
         loose = float(np.sqrt(rtol))
         counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
-        for q in generic_configurations(mech, samples, seed):
-            conf = Configuration.from_checked(mech, q, CLOSURE_TOL)
+        states = generic_states(mech, samples, seed)
+        for i, conf in enumerate(states):
             blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
             for s in counts:
                 counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
+            if all(_decided(c, len(states) - 1 - i) for c in counts.values()):
+                break
         return {s: _mode(c) for s, c in counts.items()}
 
     return dict(mech.memo(("sets", rtol, samples, seed), compute))
+
+
+def _decided(counts: Counter[int], left: int) -> bool:
+    """True when ``left`` more ranks cannot change :func:`_mode`: its rank's count exceeds any other's plus ``left``."""
+    top, *rest = sorted(counts.values(), reverse=True)
+    return top > (rest[0] if rest else 0) + left
 
 
 def _mode(counts: Counter[int]) -> int:

@@ -39,6 +39,7 @@ gives every sample the predictor did not converge to the single-sample solver.
 
 from __future__ import annotations
 
+import os
 from dataclasses import dataclass
 from types import ModuleType
 
@@ -51,7 +52,14 @@ from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.assembly.rotation_stacks import log3_stack, rpy_matrices, rpy_rates, skew_stack
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
-from pinmob.model import Mechanism, angle_mask, frame_kinematics, linear_velocity_mask, wrap_angles
+from pinmob.model import (
+    ENGINE_VARIABLE,
+    Mechanism,
+    angle_mask,
+    frame_kinematics,
+    linear_velocity_mask,
+    wrap_angles,
+)
 from pinmob.screw import Array, Mask
 
 #: Pinocchio joints whose ``integrate`` is ``q + v`` (one coordinate per velocity, no rotation group).
@@ -95,34 +103,36 @@ def compiled_kernel() -> ModuleType | None:
 
 
 class PoseProblem:
-    """The frames of a platform-pose assembly and their supporting columns (see the module docstring)."""
+    """The frames of a platform-pose assembly and their supporting columns (see the module docstring).
 
-    def __init__(self, mech: Mechanism, free: tuple[int, ...] = ()) -> None:
+    ``compiled=False``: numpy steps and Pinocchio's kinematics, whether numba is installed or not (numba is not
+    imported: the same iterates to round-off, whatever the installation).
+    """
+
+    def __init__(self, mech: Mechanism, free: tuple[int, ...] = (), compiled: bool = True) -> None:
         model = self.model = mech.model
         self.length, self.free = mech.length_scale, tuple(free)
-        joints = [model.joints[j] for j in range(model.njoints)]  # Pinocchio's wrappers, made once
-        pid = mech.platform_id
-        body = model.frames[pid].parentJoint
-        self.frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
-        self.mask = np.zeros((len(self.frames), 1, model.nv))  # (F, 1, nv): the joints supporting each frame
-        for i, frame in enumerate(self.frames):
-            for j in list(model.supports[model.frames[frame].parentJoint])[1:]:
-                self.mask[i, 0, joints[j].idx_v : joints[j].idx_v + joints[j].nv] = 1.0
-        col_q = np.where(linear_velocity_mask(model), self.length, 1.0)
-        self.col = np.concatenate([col_q, [self.length if f < 3 else 1.0 for f in self.free]])
+        # what depends only on the mechanism and the kinematics engine asked for: computed
+        # once per mechanism (a scan makes one problem for its seeding walk and one per group of chunks)
+        shape = mech.memo("pose problem", lambda: _Shape(mech), transient=True)
+        self.frames, self.mask = shape.frames, shape.mask
+        self.col = np.concatenate([shape.col_q, [self.length if f < 3 else 1.0 for f in self.free]])
         self.free_array = np.array(self.free, np.int64)
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
-        self.vector_space = all(joint.shortname() in VECTOR_JOINTS for joint in joints[1:])
+        self.vector_space = shape.vector_space
         self.data = model.createData()
-        #: The frames' kinematics for a stack: compiled (numba) when it can be, else Pinocchio's calls.
-        self.fast = frame_kinematics(model, self.frames)
-        self.kernel = compiled_kernel()
-        self.angles = np.flatnonzero(angle_mask(model))
-        #: The revolute angles' velocity indices (a joint with an angle has one coordinate per velocity).
-        rate = {j.idx_q + i: j.idx_v + i for j in joints[1:] for i in range(j.nq)}
-        self.angle_rates = np.array([rate[int(i)] for i in self.angles], np.int64)
-        self.limits = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
-        self.limited = self.limits[0] < self.limits[1]  # lower >= upper: no limits (wrap_angles' rule)
+        #: The frames' kinematics for a stack: compiled (numba) when it can be and ``compiled``, else Pinocchio's
+        #: calls (each problem its own then: they use a ``pin.Data``; the compiled one is shared per mechanism and
+        #: engine asked for, it keeps no state between calls).
+        self.fast = frame_kinematics(model, self.frames, "pinocchio")
+        self.kernel = None
+        if compiled:
+            engine = os.environ.get(ENGINE_VARIABLE)
+            fast = mech.memo(("pose problem kinematics", engine), lambda: frame_kinematics(model, self.frames), True)
+            self.fast = fast if fast.engine == "compiled" else self.fast
+            self.kernel = compiled_kernel()
+        self.angles, self.angle_rates = shape.angles, shape.angle_rates
+        self.limits, self.limited = shape.limits, shape.limited
 
     def finish(self, mech: Mechanism, qs: Array, kind: str) -> Array:
         """(N, nq) configurations the predictor closed, as the single-sample assembly returns each.
@@ -202,6 +212,29 @@ class PoseProblem:
         moved = poses.copy()
         moved[:, list(self.free)] += dq[:, nv:]
         return out, moved
+
+
+class _Shape:
+    """The parts of a :class:`PoseProblem` that depend only on the mechanism (read only)."""
+
+    def __init__(self, mech: Mechanism) -> None:
+        model = mech.model
+        joints = [model.joints[j] for j in range(model.njoints)]  # Pinocchio's wrappers, made once
+        pid = mech.platform_id
+        body = model.frames[pid].parentJoint
+        self.frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
+        self.mask = np.zeros((len(self.frames), 1, model.nv))  # (F, 1, nv): the joints supporting each frame
+        for i, frame in enumerate(self.frames):
+            for j in list(model.supports[model.frames[frame].parentJoint])[1:]:
+                self.mask[i, 0, joints[j].idx_v : joints[j].idx_v + joints[j].nv] = 1.0
+        self.col_q = np.where(linear_velocity_mask(model), mech.length_scale, 1.0)
+        self.vector_space = all(joint.shortname() in VECTOR_JOINTS for joint in joints[1:])
+        self.angles = np.flatnonzero(angle_mask(model))
+        #: The revolute angles' velocity indices (a joint with an angle has one coordinate per velocity).
+        rate = {j.idx_q + i: j.idx_v + i for j in joints[1:] for i in range(j.nq)}
+        self.angle_rates = np.array([rate[int(i)] for i in self.angles], np.int64)
+        self.limits = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+        self.limited = self.limits[0] < self.limits[1]  # lower >= upper: no limits (wrap_angles' rule)
 
 
 def _wrap_and_check(

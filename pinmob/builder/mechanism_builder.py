@@ -234,12 +234,14 @@ class MechanismBuilder:
         urdf: str,
         configurations: Mapping[str, Mapping[str, Any]] | None = None,
         length_scale: float | None = None,
+        urdf_text: str | None = None,
     ) -> str:
         """Pinmob mechanism file text referring to ``urdf`` (a path relative to the file).
 
         Revolute angles of the configurations' ``joints`` and ``seed`` tables are written in (-pi, pi]
         (:func:`pinmob.builder.closed_joints.canonical_joints`), so the same configuration gives the same
-        text whichever multiple of 2 pi it was computed with.
+        text whichever multiple of 2 pi it was computed with. ``urdf_text``: :meth:`urdf`'s text when the caller
+        has it already (the angles are read from its model; default: built again).
         """
         out = [f"# {MARKER}; edit the builder, not this file", f"name = {toml_value(self.name)}"]
         if self.description:
@@ -264,18 +266,18 @@ class MechanismBuilder:
             out += ["", f"[configurations.{toml_key(cname)}]"]
             for k, v in conf.items():
                 if k in ("joints", "seed") and isinstance(v, Mapping):
-                    model = model if model is not None else self._model()
+                    model = model if model is not None else self._model(urdf_text)
                     v = canonical_joints(model, v)
                 out.append(f"{toml_key(k)} = {toml_value(v)}")
         return "\n".join(out) + "\n"
 
     # ------------------------------------------------------------------ mechanism
 
-    def _model(self) -> pin.Model:
-        """The Pinocchio model of :meth:`urdf` (kinematics only)."""
+    def _model(self, text: str | None = None) -> pin.Model:
+        """The Pinocchio model of :meth:`urdf` (kinematics only), or of its ``text`` when given."""
         import pinocchio as pin
 
-        return pin.buildModelFromXML(self.urdf())
+        return pin.buildModelFromXML(self.urdf() if text is None else text)
 
     def mechanism(self) -> Mechanism:
         """The mechanism as it would load from the written files (kinematics only, no files).

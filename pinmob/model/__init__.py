@@ -12,7 +12,7 @@ from pinmob.model.closure import (
     make_coupling,
     make_tendon_coupling,
 )
-from pinmob.model.compiled_kinematics import FrameKinematics, frame_kinematics, numba_available
+from pinmob.model.compiled_kinematics import ENGINE_VARIABLE, FrameKinematics, frame_kinematics, numba_available
 from pinmob.model.constraint_models import ConstraintModelError, PinocchioExportWarning
 from pinmob.model.data_pool import acquire, borrowed, release_with
 from pinmob.model.geometry import Geometry
@@ -43,6 +43,7 @@ __all__ = [
     "ClosureGroups",
     "ClosureType",
     "ConstraintModelError",
+    "ENGINE_VARIABLE",
     "Expectation",
     "FixedTendon",
     "FrameKinematics",

@@ -264,22 +264,34 @@ class Mechanism:
         """True when a platform frame is named."""
         return bool(self.platform)
 
-    def memo(self, key: Hashable, compute: Callable[[], T]) -> T:
+    def memo(self, key: Hashable, compute: Callable[[], T], transient: bool = False) -> T:
         """The value cached under ``key``, computed once by ``compute()`` (per mechanism object).
 
         What depends only on the mechanism (index arrays, generic ranks, ...)
         is computed once this way; :func:`dataclasses.replace` makes a new
-        mechanism with an empty cache.
+        mechanism with an empty cache. A ``transient`` value (objects of this process: configurations with
+        their kinematics, solver set-ups) is not pickled with the mechanism: a copy computes its own.
         """
+        cache = self._transient if transient else self._memo
         try:
-            return self._memo[key]
+            return cache[key]
         except KeyError:
-            value = self._memo[key] = compute()
+            value = cache[key] = compute()
             return value
 
     @cached_property
     def _memo(self) -> dict[Hashable, Any]:
         return {}
+
+    @cached_property
+    def _transient(self) -> dict[Hashable, Any]:
+        return {}
+
+    def __getstate__(self) -> dict[str, Any]:
+        """The mechanism's state for pickling, without its transient cache (:meth:`memo`)."""
+        state = dict(self.__dict__)
+        state.pop("_transient", None)
+        return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
         """An unpickled copy (a Dask worker's): its cached arrays made read-only again, as they were."""

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.analysis import Configuration, closed_chain, frame_rows, generic_configurations
+from pinmob.analysis import Configuration, closed_chain, frame_rows, generic_states
 from pinmob.assembly import POSE_COORDS, pose_coordinate_jacobian, pose_vector
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.model import Mechanism, joint_value, linear_velocity_mask
@@ -152,13 +152,13 @@ def constant_coordinates(mech: Mechanism, conf: Configuration, names: list[str],
     """The coordinates among ``names`` that no motion of the closed chain changes, here and at generic configurations.
 
     Their rate rows (:func:`coordinate_rates`) have norm at most ``rtol`` at ``conf`` and at every configuration of
-    :func:`pinmob.analysis.generic.generic_configurations`. E.g. the rotations of a translational platform (3-PUU, Delta): held at their values, a grid over its
+    :func:`pinmob.analysis.generic.generic_configurations` (:func:`~pinmob.analysis.generic.generic_states`). E.g. the rotations of a translational platform (3-PUU, Delta): held at their values, a grid over its
     position is a plain pose grid. None when no generic configuration can be built.
     """
     if not names:
         return []
     try:
-        confs = [conf] + [Configuration(mech, q) for q in generic_configurations(mech)]
+        confs = [conf, *generic_states(mech)]
     except PinmobError:
         return []
     still = np.ones(len(names), bool)

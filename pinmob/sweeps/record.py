@@ -53,6 +53,11 @@ def evaluate_design(job: DesignJob, item: tuple[int, dict[str, float]]) -> dict[
         return failed(record, f"internal error {type(exc).__name__}: {exc}")
 
 
+def evaluate_designs(job: DesignJob, items: list[tuple[int, dict[str, float]]]) -> list[dict[str, Any]]:
+    """The records of several designs (one Dask task, :class:`pinmob.sweeps.sweep_run.SweepRun`), in order."""
+    return [evaluate_design(job, item) for item in items]
+
+
 def _evaluate(job: DesignJob, record: dict[str, Any], values: dict[str, float], folder: Path) -> dict[str, Any]:
     mech = job.source.mechanism(values, folder)
     scan = job.scan.spec(mech)

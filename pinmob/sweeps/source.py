@@ -58,7 +58,8 @@ class Source:
         """
         if self.family:
             builder, confs, length = family(self.family).build(values)
-            return {DESIGN_TOML: builder.toml(DESIGN_URDF, confs, length), DESIGN_URDF: builder.urdf()}
+            urdf = builder.urdf()
+            return {DESIGN_TOML: builder.toml(DESIGN_URDF, confs, length, urdf), DESIGN_URDF: urdf}
         return {fname: fill(text, values, fname) for fname, text in self.texts}
 
     def mechanism(self, values: dict[str, float], folder: Path) -> Mechanism:

@@ -68,7 +68,27 @@ def assert_matches(model: pin.Model, engine: str | None = "compiled", count: int
     rot, pos = kin.placements(qs[0])  # one configuration: no stack dimension
     np.testing.assert_allclose(rot, t_rot[0], rtol=0, atol=1e-12)
     np.testing.assert_allclose(pos, t_pos[0], rtol=0, atol=1e-12 * max(1.0, np.abs(t_pos).max()))
+    if kin.engine == "compiled":
+        assert_integrates(model, kin, qs)
     return kin
+
+
+def assert_integrates(model: pin.Model, kin: FrameKinematics, qs: np.ndarray) -> None:
+    """The compiled ``integrate`` of an integrable model is Pinocchio's; a free-flyer or planar joint makes it not."""
+    kinds = {j.shortname() for j in model.joints[1:]}
+    assert kin.integrable == (not kinds & {"JointModelFreeFlyer", "JointModelPlanar"}), kinds
+    if not kin.integrable:
+        return
+    from pinmob.model import integrate_kernel
+
+    rng = np.random.default_rng(0)
+    _, kind, _, iq, iv = kin.tables[:5]
+    for q in qs:
+        for size in (1e-6, 0.3, 2.0):  # the series of a small rotation, and large steps
+            v = rng.normal(0.0, size, model.nv)
+            out = np.empty(model.nq)
+            integrate_kernel(q, v, kind, iq, iv, out)
+            np.testing.assert_allclose(out, pin.integrate(model, q, v), rtol=0, atol=1e-14)
 
 
 def load_quietly(path: Path) -> pinmob.Mechanism:
@@ -295,3 +315,35 @@ def test_scan_rows_both_ways(monkeypatch, robot, at, axes):
                 assert a[key] == pytest.approx(b[key], rel=1e-9, abs=1e-9, nan_ok=True), key
             else:
                 assert a[key] == b[key], key
+
+
+@needs_numba
+@pytest.mark.parametrize(
+    "robot, moved, free", [("3-PUU", [0, 1, 2], ()), ("6-UPS", [0, 1, 2, 3, 4, 5], ()), ("3-RPS", [2, 3, 4], (0, 1, 5))]
+)
+def test_whole_newton_loop_compiled(robot, moved, free):
+    """The batched solver's loop in one compiled call (kinematics, steps, Pinocchio's integrate compiled) lands on
+    the configurations of the loop that calls the kernels once per iteration, to the last bit."""
+    from pinmob.assembly import PoseProblem, closed_configuration, pose_vector, solve_poses
+    from pinmob.scan import platform_pose
+
+    mech = pinmob.load(robot)
+    q0 = closed_configuration(mech, "home" if robot != "3-PUU" else "generic")
+    rng = np.random.default_rng(3)
+    target = pose_vector(platform_pose(mech, q0))
+    poses = np.repeat(target[None], 12, axis=0)  # the pose coordinates the platform can move, moved
+    scale = np.array([0.02 * mech.length_scale] * 3 + [0.05] * 3)[moved]
+    poses[:, moved] += rng.normal(0.0, 1.0, (12, len(moved))) * scale
+    seeds = np.repeat(q0[None], 12, axis=0)
+    problem = PoseProblem(mech, free)  # the 3-RPS's x, y and yaw follow: unknowns
+    assert problem.fast.integrable and problem.kernel is not None
+    fused = solve_poses(problem, seeds, poses)
+    problem.fast.integrable = False  # the loop of one compiled call per iteration
+    try:
+        loop = solve_poses(problem, seeds, poses)
+    finally:
+        problem.fast.integrable = True
+    np.testing.assert_array_equal(fused.q, loop.q)
+    np.testing.assert_array_equal(fused.converged, loop.converged)
+    np.testing.assert_array_equal(fused.jacobians, loop.jacobians)
+    assert fused.converged.sum() >= 6  # most of them close: the comparison is of real solves

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from pinmob.assembly.batch_stopping import advance as plain_advance
 from pinmob.jit_cache import njit
+from pinmob.model import frames_kernel, integrate_kernel
 from pinmob.screw import Array, Mask
 
 #: :func:`pinmob.assembly.batch_stopping.advance`, compiled.
@@ -116,7 +117,11 @@ def damped_steps(
 
     ``full`` (B, 6, nv) world Jacobians, ``frames`` (B, F, 4, 4), ``poses`` (B, 6), ``e`` (B, 6F) their errors;
     ``mask`` (F, nv) the joints supporting each frame, ``col`` (nv + free,) the dimensionless column scaling,
-    ``free`` the pose coordinates (0-5) that are unknowns.
+    ``free`` the pose coordinates (0-5) that are unknowns. The zeros the structure gives are skipped, not
+    summed: a frame's rows in the columns that do not support it (``mask``), and each row of the elimination
+    past its last non-zero column (the limbs' blocks of a mechanism without free coordinates), so the arithmetic
+    on the other entries, and the steps, are those of the dense loops to the last bit, at a fraction of their
+    cost (the 6-UPS: six 6 x 6 blocks of a 36 x 36 system).
     """
     nf, nv, nfree = frames.shape[1], full.shape[2], free.size
     m = nv + nfree
@@ -124,6 +129,7 @@ def damped_steps(
     jac = np.empty((6 * nf, m))
     a = np.empty((m, m))
     g = np.empty(m)
+    last = np.empty(m, np.int64)
     for s in range(which.size):
         b = which[s]
         jac[:] = 0.0
@@ -151,21 +157,33 @@ def damped_steps(
                 else:  # per yaw rate: (0, 0, 1)
                     jac[r + 5, nv + c] = -1.0
         trace = 0.0
-        for i in range(m):
+        for i in range(m):  # a frame's rows are zero in the columns that do not support it: skipped (exactly)
             gi = 0.0
-            for r in range(6 * nf):
-                gi += jac[r, i] * e[b, r]
+            for f in range(nf):
+                if i < nv and mask[f, i] == 0.0:
+                    continue
+                for r in range(6 * f, 6 * f + 6):
+                    gi += jac[r, i] * e[b, r]
             g[i] = -gi
             for j in range(i, m):
                 acc = 0.0
-                for r in range(6 * nf):
-                    acc += jac[r, i] * jac[r, j]
+                for f in range(nf):
+                    if (i < nv and mask[f, i] == 0.0) or (j < nv and mask[f, j] == 0.0):
+                        continue
+                    for r in range(6 * f, 6 * f + 6):
+                        acc += jac[r, i] * jac[r, j]
                 a[i, j] = acc
                 a[j, i] = acc
             trace += a[i, i]
         mu = damping / m * trace
         for i in range(m):
             a[i, i] += mu
+        for i in range(m):  # each row's last non-zero column: the elimination and the substitution stop there
+            last[i] = i
+            for j in range(m - 1, i, -1):
+                if a[i, j] != 0.0:
+                    last[i] = j
+                    break
         for k in range(m):  # Gaussian elimination with partial pivoting on [a | g]
             p = k
             for i in range(k + 1, m):
@@ -175,17 +193,19 @@ def damped_steps(
                 for j in range(k, m):
                     a[k, j], a[p, j] = a[p, j], a[k, j]
                 g[k], g[p] = g[p], g[k]
+                last[k], last[p] = last[p], last[k]
             pivot = a[k, k]
             for i in range(k + 1, m):
                 factor = a[i, k] / pivot
                 if factor != 0.0:
-                    for j in range(k + 1, m):
+                    for j in range(k + 1, last[k] + 1):
                         a[i, j] -= factor * a[k, j]
                     g[i] -= factor * g[k]
+                    last[i] = max(last[i], last[k])
         biggest = 0.0
         for i in range(m - 1, -1, -1):
             acc = g[i]
-            for j in range(i + 1, m):
+            for j in range(i + 1, last[i] + 1):
                 acc -= a[i, j] * out[s, j]
             out[s, i] = acc / a[i, i]
             biggest = max(biggest, abs(out[s, i]))
@@ -249,6 +269,87 @@ def iterate(
             for c in range(free.size):
                 p[b, free[c]] += steps[s, nv + c] * col[nv + c]
     return going, steps
+
+
+@njit
+def solve_stack(
+    q: Array,
+    p: Array,
+    parent: Array,
+    kind: Array,
+    axis: Array,
+    iq: Array,
+    iv: Array,
+    rot0: Array,
+    pos0: Array,
+    f_parent: Array,
+    f_rot: Array,
+    f_pos: Array,
+    mask: Array,
+    col: Array,
+    free: Array,
+    length: float,
+    numbers: Array,
+    stall_window: int,
+    max_iter: int,
+    vector_space: bool,
+    best: Array,
+    best_q: Array,
+    best_p: Array,
+    history: Array,
+    best_full: Array,
+    best_frames: Array,
+) -> None:
+    """Every iteration of :func:`pinmob.assembly.batch_solver.solve_poses` in one compiled call, in place.
+
+    Per iteration, as the Python loop around :func:`iterate` does: the kinematics of the samples still going
+    (:func:`pinmob.model.frames_kernel` on the model's tables, ``parent`` ... ``f_pos``: the world joint
+    Jacobians and the frames' placements), :func:`iterate`, the kinematics of each sample's best iterate kept
+    (``best_full``, ``best_frames``) and, off a vector space, the steps applied by
+    :func:`pinmob.model.integrate_kernel` (Pinocchio's ``integrate``). The tables' joint kinds must all be
+    integrable there (:attr:`pinmob.model.FrameKinematics.integrable`).
+    """
+    n, nq, nf, nv = q.shape[0], q.shape[1], f_parent.shape[0], best_full.shape[2]
+    active = np.arange(n)
+    no_jacobians = np.empty((0, 0, 6, nv))
+    moved = np.empty(nq)
+    dq = np.empty(nv)
+    for it in range(max_iter + 1):
+        m = active.size
+        qa = np.empty((m, nq))
+        before = np.empty(m)
+        for s in range(m):
+            qa[s] = q[active[s]]
+            before[s] = best[active[s]]
+        full, rot, pos = np.empty((m, 6, nv)), np.empty((m, nf, 3, 3)), np.empty((m, nf, 3))
+        frames_kernel(qa, parent, kind, axis, iq, iv, rot0, pos0, f_parent, f_rot, f_pos, 0, False, rot, pos,
+                      no_jacobians, full)  # fmt: skip
+        frames = np.zeros((m, nf, 4, 4))
+        for s in range(m):
+            for f in range(nf):
+                for i in range(3):
+                    for j in range(3):
+                        frames[s, f, i, j] = rot[s, f, i, j]
+                    frames[s, f, i, 3] = pos[s, f, i]
+                frames[s, f, 3, 3] = 1.0
+        going, steps = iterate(full, frames, q, p, active, it, best, best_q, best_p, history, mask, col, free, length,
+                               numbers, stall_window, it == max_iter, vector_space)  # fmt: skip
+        for s in range(m):
+            if best[active[s]] < before[s]:  # the kernel's rule (batch_stopping.advance): strictly smaller
+                best_full[active[s]] = full[s]
+                best_frames[active[s]] = frames[s]
+        if going.size == 0:
+            break
+        if not vector_space:
+            for s in range(going.size):
+                b = going[s]
+                for j in range(nv):
+                    dq[j] = steps[s, j] * col[j]
+                integrate_kernel(q[b], dq, kind, iq, iv, moved)
+                q[b] = moved
+                for c in range(free.size):
+                    p[b, free[c]] += steps[s, nv + c] * col[nv + c]
+        active = going
 
 
 @njit

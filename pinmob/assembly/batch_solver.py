@@ -287,7 +287,12 @@ def _solve_compiled(
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     best_full, best_frames = problem.empty_kinematics(n)
     numbers = np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
-    active, mask = np.arange(n), problem.mask[:, 0]
+    active, mask = np.arange(n), np.ascontiguousarray(problem.mask[:, 0])
+    if problem.fast.integrable:  # the whole loop in one compiled call (no Python per iteration)
+        kernel.solve_stack(q, p, *problem.fast.tables, mask, problem.col, problem.free_array, problem.length,
+                           numbers, stall_window, max_iter, problem.vector_space, best, best_q, best_p, history,
+                           best_full, best_frames)  # fmt: skip
+        return BatchSolution(best_q, best, best <= tol, best_full, best_frames)
     for it in range(max_iter + 1):
         full, placements = problem.kinematics(q[active])
         before = best[active]

@@ -1,5 +1,8 @@
 """The mechanism as plain data: a Pinocchio tree, its limbs, loop closures, platform and actuation."""
 
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from pinmob.model.actuated_joints import with_actuated
 from pinmob.model.closure import (
     CLOSURE_ROWS,
@@ -34,7 +37,24 @@ from pinmob.model.limb import Limb
 from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
 from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration, tendon_rows
 
+if TYPE_CHECKING:
+    from pinmob.model.kinematics_kernel import frames_kernel, integrate_kernel
+
+#: the compiled kernels load (and import numba) when first read: ``import pinmob`` imports no numba
+#: (tests/test_fast_paths.py)
+_LAZY = {"frames_kernel": "pinmob.model.kinematics_kernel", "integrate_kernel": "pinmob.model.kinematics_kernel"}
+
+
+def __getattr__(name: str) -> Any:
+    """A name of :data:`_LAZY`, its module imported now (PEP 562)."""
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
 __all__ = [
+    "frames_kernel",
+    "integrate_kernel",
     "numba_available",
     "CLOSURE_ROWS",
     "CLOSURE_TOL",

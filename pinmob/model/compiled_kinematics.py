@@ -34,6 +34,7 @@ REFERENCES = {pin.LOCAL: 0, pin.LOCAL_WORLD_ALIGNED: 1, pin.WORLD: 2}
 
 # elementary joint kinds: the codes of pinmob.model.kinematics_kernel (not imported here: it imports numba)
 _REVOLUTE, _PRISMATIC, _UNBOUNDED, _SPHERICAL, _FREE, _PLANAR, _TRANSLATION = range(7)
+_INTEGRABLE = (_REVOLUTE, _PRISMATIC, _UNBOUNDED, _SPHERICAL, _TRANSLATION)  # kinematics_kernel.INTEGRABLE
 _AXES = {"X": (1.0, 0.0, 0.0), "Y": (0.0, 1.0, 0.0), "Z": (0.0, 0.0, 1.0)}
 _SIMPLE = {"JointModelSpherical": _SPHERICAL, "JointModelFreeFlyer": _FREE, "JointModelPlanar": _PLANAR,
            "JointModelTranslation": _TRANSLATION}  # fmt: skip
@@ -94,8 +95,12 @@ class FrameKinematics:
     def __init__(self, model: pin.Model, frames: Sequence[int], engine: str, reason: str = "") -> None:
         self.model, self.frames, self.engine, self.reason = model, tuple(int(f) for f in frames), engine, reason
         self._data = model.createData()
-        if engine == "compiled":
-            self._tables = self._build_tables()
+        #: The compiled engine's tables (:func:`pinmob.model.kinematics_kernel.frames_kernel`'s arguments after the
+        #: configurations); empty for Pinocchio's engine.
+        self.tables: tuple[Array, ...] = self._build_tables() if engine == "compiled" else ()
+        #: Every joint's ``pin.integrate`` is compiled too (:func:`pinmob.model.kinematics_kernel.integrate_kernel`:
+        #: no free-flyer or planar joint), so a compiled loop can move its configurations itself.
+        self.integrable = bool(self.tables) and set(self.tables[1].tolist()) <= set(_INTEGRABLE)
 
     def _build_tables(self) -> tuple[Array, ...]:
         model = self.model
@@ -156,7 +161,7 @@ class FrameKinematics:
         if self.engine == "compiled":
             from pinmob.model.kinematics_kernel import frames_kernel
 
-            frames_kernel(q, *self._tables, 0, False, rot, pos, np.empty((0, 0, 6, nv)), full)
+            frames_kernel(q, *self.tables, 0, False, rot, pos, np.empty((0, 0, 6, nv)), full)
             return full, rot, pos
         model, data = self.model, self._data
         for k in range(b):
@@ -189,7 +194,7 @@ class FrameKinematics:
 
             out_j = jac if jac is not None else np.empty((0, 0, 6, nv))
             code = REFERENCES[reference] if reference is not None else 0
-            frames_kernel(q, *self._tables, code, jac is not None, rot, pos, out_j, np.empty((0, 6, nv)))
+            frames_kernel(q, *self.tables, code, jac is not None, rot, pos, out_j, np.empty((0, 6, nv)))
         else:
             model, data = self.model, self._data
             for k in range(b):

@@ -214,3 +214,47 @@ def frames_kernel(
                         out_j[b, f, 0, c], out_j[b, f, 1, c], out_j[b, f, 2, c] = u0, u1, u2
                         out_j[b, f, 3, c], out_j[b, f, 4, c], out_j[b, f, 5, c] = w0, w1, w2
                 e = parent[e]
+
+
+#: The kinds :func:`integrate_kernel` moves (a free-flyer or planar joint: Pinocchio's ``integrate``).
+INTEGRABLE = (REVOLUTE, PRISMATIC, REVOLUTE_UNBOUNDED, SPHERICAL, TRANSLATION)
+
+
+@njit
+def integrate_kernel(q: Array, dv: Array, kind: Array, iq: Array, iv: Array, out: Array) -> None:
+    """``pin.integrate(model, q, dv)`` into ``out`` (nq,) for the elementary joints of :data:`INTEGRABLE` kinds.
+
+    Revolute, prismatic and translation coordinates add their rates; an unbounded revolute's (cos, sin) pair
+    and a spherical joint's unit quaternion (x, y, z, w) turn by the rate's rotation (``q * exp3(v)``, in the
+    joint's own frame), then are renormalised to first order (``(3 - |x|^2) / 2``), as Pinocchio's do.
+    """
+    for i in range(q.shape[0]):
+        out[i] = q[i]
+    for e in range(kind.shape[0]):
+        k, a, v = kind[e], iq[e], iv[e]
+        if k == REVOLUTE or k == PRISMATIC:
+            out[a] = q[a] + dv[v]
+        elif k == TRANSLATION:
+            for i in range(3):
+                out[a + i] = q[a + i] + dv[v + i]
+        elif k == REVOLUTE_UNBOUNDED:
+            c, s, cv, sv = q[a], q[a + 1], np.cos(dv[v]), np.sin(dv[v])
+            r0, r1 = c * cv - s * sv, s * cv + c * sv
+            alpha = (3.0 - (r0 * r0 + r1 * r1)) / 2.0
+            out[a], out[a + 1] = alpha * r0, alpha * r1
+        elif k == SPHERICAL:
+            w0, w1, w2 = dv[v], dv[v + 1], dv[v + 2]
+            t2 = w0 * w0 + w1 * w1 + w2 * w2
+            t = np.sqrt(t2)
+            if t < 1e-4:  # sin(t / 2) / t and cos(t / 2) by their series, to round-off
+                h, ew = 0.5 - t2 / 48.0, 1.0 - t2 / 8.0
+            else:
+                h, ew = np.sin(0.5 * t) / t, np.cos(0.5 * t)
+            ex, ey, ez = h * w0, h * w1, h * w2
+            x, y, z, w = q[a], q[a + 1], q[a + 2], q[a + 3]
+            rx = w * ex + x * ew + y * ez - z * ey
+            ry = w * ey - x * ez + y * ew + z * ex
+            rz = w * ez + x * ey - y * ex + z * ew
+            rw = w * ew - x * ex - y * ey - z * ez
+            alpha = (3.0 - (rx * rx + ry * ry + rz * rz + rw * rw)) / 2.0
+            out[a], out[a + 1], out[a + 2], out[a + 3] = alpha * rx, alpha * ry, alpha * rz, alpha * rw

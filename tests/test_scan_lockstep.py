@@ -82,12 +82,23 @@ def test_the_params_of_many_samples_are_each_samples_params():
     assert path.params_of([0, 3, 6, 2.5]) == [path.params(t) for t in (0, 3, 6, 2.5)]
 
 
-def test_targets_with_joint_values_are_not_vectors():
-    """A joint grid's targets are joint values: pose_targets refuses them (the predictor does not run there)."""
+def test_targets_with_joint_values_as_vectors():
+    """A joint grid's targets: no pose coordinate (NaN), its joints' values by hand (lo + (hi - lo) i / (n - 1),
+    the held one at its value); a joint path's targets give no pose coordinate at all (refused)."""
     puu = pinmob.load("3-PUU")
-    spec = grid_spec(puu, "generic", [("A_slider", -0.01, 0.01, 3)])
+    spec = grid_spec(puu, "generic", [("A_slider", -0.01, 0.01, 3), ("B_slider", 0.0, 0.04, 5)])
+    assert spec.target_joints == ("A_slider", "B_slider", "C_slider")
+    assert np.isnan(spec.pose_targets([0, 7])).all()
+    held = dict(spec.held)["C_slider"]
+    np.testing.assert_allclose(spec.joint_targets([0, 7, 14]), [[-0.01, 0.0, held], [0.0, 0.02, held],
+                                                                [0.01, 0.04, held]], rtol=0, atol=1e-15)  # fmt: skip
+    for k in (0, 7, 14):  # the targets' own joint values, the same floats
+        _, (pose, joints) = spec.target(k)
+        assert not pose and list(spec.joint_targets([k])[0]) == [joints[n] for n in spec.target_joints]
+    joint_path = path_spec(puu, "generic", "A_slider=0.01", 3)
+    assert joint_path.target_joints == ()
     with pytest.raises(ValueError, match="joint values"):
-        spec.pose_targets([0, 1])
+        joint_path.pose_targets([0, 1])
 
 
 @pytest.mark.parametrize("vector_space", [True, False])

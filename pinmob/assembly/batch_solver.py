@@ -109,7 +109,9 @@ class PoseProblem:
     imported: the same iterates to round-off, whatever the installation).
     """
 
-    def __init__(self, mech: Mechanism, free: tuple[int, ...] = (), compiled: bool = True) -> None:
+    def __init__(
+        self, mech: Mechanism, free: tuple[int, ...] = (), compiled: bool = True, fixed: tuple[int, ...] = ()
+    ) -> None:
         model = self.model = mech.model
         self.length, self.free = mech.length_scale, tuple(free)
         # what depends only on the mechanism and the kinematics engine asked for: computed
@@ -118,6 +120,10 @@ class PoseProblem:
         self.frames, self.mask = shape.frames, shape.mask
         self.col = np.concatenate([shape.col_q, [self.length if f < 3 else 1.0 for f in self.free]])
         self.free_array = np.array(self.free, np.int64)
+        #: The columns of the steps: ``col`` with the joints ``fixed`` (velocity indices: a target's joint values,
+        #: held at their values in the starts) at zero, so no step moves them.
+        self.step_col = self.col.copy()
+        self.step_col[list(fixed)] = 0.0
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
         self.vector_space = shape.vector_space
         self.data = model.createData()
@@ -200,11 +206,11 @@ class PoseProblem:
                 else:
                     extra[:, :, 3:, c] = -rates[:, None, :, f - 3]
             rows = np.concatenate([rows, extra], 3)
-        return errors.reshape(n, 6 * nf), rows.reshape(n, 6 * nf, -1) * self.col
+        return errors.reshape(n, 6 * nf), rows.reshape(n, 6 * nf, -1) * self.step_col
 
     def integrate(self, qs: Array, poses: Array, steps: Array) -> tuple[Array, Array]:
         """Configurations and poses moved by (B, nv + free) dimensionless steps."""
-        nv, dq = self.model.nv, steps * self.col
+        nv, dq = self.model.nv, steps * self.step_col
         if self.vector_space:
             out = qs + dq[:, :nv]
         else:
@@ -289,7 +295,7 @@ def _solve_compiled(
     numbers = np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
     active, mask = np.arange(n), np.ascontiguousarray(problem.mask[:, 0])
     if problem.fast.integrable:  # the whole loop in one compiled call (no Python per iteration)
-        kernel.solve_stack(q, p, *problem.fast.tables, mask, problem.col, problem.free_array, problem.length,
+        kernel.solve_stack(q, p, *problem.fast.tables, mask, problem.step_col, problem.free_array, problem.length,
                            numbers, stall_window, max_iter, problem.vector_space, best, best_q, best_p, history,
                            best_full, best_frames)  # fmt: skip
         return BatchSolution(best_q, best, best <= tol, best_full, best_frames)
@@ -297,7 +303,7 @@ def _solve_compiled(
         full, placements = problem.kinematics(q[active])
         before = best[active]
         going, dz = kernel.iterate(full, placements, q, p, active, it, best, best_q, best_p, history, mask,
-                                   problem.col, problem.free_array, problem.length, numbers, stall_window,
+                                   problem.step_col, problem.free_array, problem.length, numbers, stall_window,
                                    it == max_iter, problem.vector_space)  # fmt: skip
         better = best[active] < before  # the kernel's rule (batch_stopping.advance): strictly smaller
         best_full[active[better]], best_frames[active[better]] = full[better], placements[better]

@@ -13,15 +13,19 @@ reach, a stall, a step that diverged) goes to the single-sample solver
 the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
 its samples: their targets are rows of pose-coordinate vectors built for the whole group at once
 (:meth:`pinmob.scan.scan_spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
-(:func:`secant_stack`, :func:`off_secants`). Joint targets (forward kinematics), targets that hold
-joints, mechanisms without a platform or with closures besides the limb tips are
-assembled by that solver alone.
+(:func:`secant_stack`, :func:`off_secants`). A grid or coordinate path that gives joint values (the
+designer's motors) runs on the predictor too: those joints are held at their values in each start and no
+step moves them, the pose coordinates not given are unknowns (:class:`~pinmob.scan.predictor.Predictor`). A
+joint path's targets, joints with more than one coordinate, mechanisms without a platform or with closures
+besides the limb tips are assembled by the single-sample solver alone.
 
 The group's samples are then analysed in one batch (:mod:`pinmob.scan.batch_rows`);
 a predicted sample the batch does not decide (singular or close to it) is polished
 again by the single-sample solver from the predictor's configuration (its
 Gauss-Newton steps end ~1e-8 from a singular solution, a double root, where the
-predictor's damped steps stop earlier) and analysed on its own. Each chunk refines
+predictor's damped steps stop earlier; where the targets give joint values, from the sample's seed, as on the
+single-sample path: where the actuators leave a motion uncontrolled, the configuration is one of a continuum)
+and analysed on its own. Each chunk refines
 and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`, the refinements
 on the single-sample path). With ``spec.engine == "single"``
 the chunks run one after the other, each sample on its own.
@@ -74,7 +78,10 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
     for c, chunk in enumerate(chunks):
         for (k, sample), decided in zip(list(pending[c].items()), mine[c]):
             if decided is None and (c, k) in group.predicted and sample.q is not None:  # singular or close to it:
-                again = chunk.assemble(k, sample.q)  # the single-sample solver's polish (~1e-8 from a double root)
+                # the single-sample solver's polish (~1e-8 from a double root); where the targets give joint values,
+                # from the sample's seed, as the single-sample path: with motions the actuators do not control, the
+                # configuration is one of a continuum, and the solver's own choice is the row's
+                again = chunk.assemble(k, group.seeds[c, k] if group.joints is not None else sample.q)
                 pending[c][k] = again if again.q is not None else sample
     columns = iter(values_and_limits(mech, spec.values, [s for p in pending for s in p.values()]))  # at once
     rows: list[dict[str, Any]] = []
@@ -96,8 +103,11 @@ class _Lockstep:
         self.params = dict(zip(samples, spec.params_of(samples)))
         self.row = {k: i for i, k in enumerate(self.params)}
         self.poses = spec.pose_targets(list(self.params), list(self.params.values()))
+        #: the joint values the targets give (:attr:`Predictor.joints`), a row per sample as ``poses``
+        self.joints = spec.joint_targets(list(self.params), list(self.params.values())) if predictor.joints else None
         self.pending: list[dict[int, _Sample]] = [{} for _ in chunks]
         self.predicted: set[tuple[int, int]] = set()  # (chunk, sample) closed by the predictor
+        self.seeds: dict[tuple[int, int], Array] = {}  # (chunk, sample): its warm start, where the predictor closed it
         self.lost: set[int] = set()  # chunks whose last sample did not assemble
         self.last = list(seeds)  # each chunk's last closed configuration (its seed at first)
         self.before: list[Array | None] = [None] * len(chunks)  # the closed sample before the last, when it closed
@@ -117,26 +127,30 @@ class _Lockstep:
         found: list[tuple[Array, Array, Array] | None] = [None] * len(work)
         if tried:
             seeds = np.array([work[i][2] for i in tried], float)
-            poses = self.poses[[self.row[work[i][1]] for i in tried]]  # NaN where following: close seeds them
+            rows = [self.row[work[i][1]] for i in tried]
+            poses = self.poses[rows]  # NaN where following: close seeds them
+            joints = None if self.joints is None else self.joints[rows]
             behind = [self.before[work[i][0]] for i in tried] if secant else []
             has = np.array([b is not None for b in behind], bool)
             if has.any():
                 starts, step = _secant(problem, np.array([seeds[j] if b is None else b for j, b in enumerate(behind)]),
                                        has, seeds)  # fmt: skip
-                closed = predictor.close(poses, seeds, kind, starts)
+                closed = predictor.close(poses, seeds, kind, starts, joints)
                 again = np.flatnonzero(closed.converged & off_secants(problem, seeds, starts, closed.q, step))
                 if again.size:  # a secant start that needed a correction longer than its step: from the seed instead
-                    redone = predictor.close(poses[again], seeds[again], kind)
+                    redone = predictor.close(poses[again], seeds[again], kind, None,
+                                             None if joints is None else joints[again])  # fmt: skip
                     for part, new in zip(closed, redone):
                         part[again] = new
             else:
-                closed = predictor.close(poses, seeds, kind)
+                closed = predictor.close(poses, seeds, kind, None, joints)
             for j in np.flatnonzero(closed.converged):
                 found[tried[j]] = (closed.q[j], closed.jacobians[j], closed.platform[j])
         for (c, k, seed), got in zip(work, found):
             chunk, pending = self.chunks[c], self.pending[c]
-            if got is not None:
-                sample = chunk.assemble(k, got[0], closed=got[0], params=self.params[k])
+            if got is not None:  # the target built where it gives joint values: the sample's known values
+                target = chunk.spec.target(k, self.params[k]) if self.joints is not None else None
+                sample = chunk.assemble(k, got[0], closed=got[0], target=target, params=self.params[k])
                 if predictor.mech is chunk.mech:  # not on a model with CAD gaps held (spec.cad)
                     sample.kinematics = got[1:]
             else:
@@ -150,6 +164,7 @@ class _Lockstep:
             self.last[c] = _seed(sample, seed)
             if got is not None:
                 self.predicted.add((c, k))
+                self.seeds[c, k] = seed
             if sample.q is None:
                 self.lost.add(c)
             else:

@@ -3,7 +3,9 @@
 :class:`Predictor` wraps :func:`pinmob.assembly.batch_solver.solve_poses` for one scan: the targets as pose
 coordinates (NaN where a coordinate follows: it starts where the seed has it), each sample stopped within
 ``PREDICT_TOL``, the converged ones finished as the single-sample assembly returns them, with the kinematics the
-solver computed at them (:class:`Closed`). :mod:`pinmob.scan.lockstep` runs a group's chunks on it, and the
+solver computed at them (:class:`Closed`). Where the targets give joint values (a grid over the motors), those
+joints start at the target's values and no step moves them (the problem's ``fixed`` columns), and every pose
+coordinate not given is an unknown: the frames meet where the joints put them. :mod:`pinmob.scan.lockstep` runs a group's chunks on it, and the
 seeding walk (:func:`pinmob.scan.scan_run.chunk_seeds`) its even steps.
 """
 
@@ -41,18 +43,35 @@ class Predictor:
 
     def __init__(self, mech: Mechanism, spec: ScanSpec) -> None:
         self.mech, self.spec = mech, spec
-        self.free = tuple(POSE_COORDS.index(c) for c in spec.following)
-        self.problem = PoseProblem(mech, self.free)
+        #: The joints the targets give (:attr:`ScanSpec.target_joints`) and their configuration indices: each
+        #: start holds them at the target's values and no step moves them.
+        self.joints = spec.target_joints
+        model = mech.model
+        self.joint_q = [model.joints[model.getJointId(n)].idx_q for n in self.joints]
+        fixed = tuple(model.joints[model.getJointId(n)].idx_v for n in self.joints)
+        # the pose coordinates that are unknowns: the following ones; with joints given, every one not given
+        given = {*spec.varied, *(c for c, _ in spec.held)}
+        names = [c for c in POSE_COORDS if c not in given] if self.joints else spec.following
+        self.free = tuple(POSE_COORDS.index(c) for c in names)
+        self.problem = PoseProblem(mech, self.free, fixed=fixed)
 
     @staticmethod
     def applies(mech: Mechanism, spec: ScanSpec) -> bool:
-        """A platform-pose scan of a mechanism whose closures are its limb tips (module docstring)."""
+        """A scan the predictor runs (module docstring).
+
+        A platform-pose scan of a mechanism whose closures are its limb tips, or a grid or coordinate path that
+        gives values of one-coordinate joints.
+        """
         if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs:
             return False
         if mech.closures or any(limb.closures for limb in mech.limbs):  # loops besides the limb tips
             return False
-        kind, value = spec.target(0)
-        return kind == "pose" or (kind == "coords" and not value[1])
+        kind, _ = spec.target(0)
+        if kind == "pose":
+            return True
+        model = mech.model
+        joints = [model.joints[model.getJointId(n)] for n in spec.target_joints]
+        return kind == "coords" and all(j.nq == 1 and j.nv == 1 for j in joints)
 
     def closed(
         self, targets: list[tuple[str, Any]], seeds: list[Array], starts: list[Array] | None = None
@@ -65,25 +84,41 @@ class Predictor:
         if not targets:
             return []
         poses = np.full((len(targets), 6), np.nan)
+        joints = np.empty((len(targets), len(self.joints)))
         for i, (kind, value) in enumerate(targets):
             if kind == "pose":
                 poses[i] = pose_vector(value)
             else:
                 poses[i, [POSE_COORDS.index(c) for c in value[0]]] = list(value[0].values())
+                joints[i] = [value[1][n] for n in self.joints]
         seed_stack = np.array(seeds, float)
         kinds = [kind for kind, _ in targets]
-        q, ok, _, _ = self.close(poses, seed_stack, kinds, seed_stack if starts is None else np.array(starts, float))
+        q, ok, _, _ = self.close(poses, seed_stack, kinds, seed_stack if starts is None else np.array(starts, float),
+                                 joints)  # fmt: skip
         return [q[i] if ok[i] else None for i in range(len(targets))]
 
-    def close(self, poses: Array, seeds: Array, kinds: str | list[str], starts: Array | None = None) -> Closed:
+    def close(
+        self,
+        poses: Array,
+        seeds: Array,
+        kinds: str | list[str],
+        starts: Array | None = None,
+        joints: Array | None = None,
+    ) -> Closed:
         """:meth:`closed` on stacks: (B, 6) target pose coordinates (NaN: following), (B, nq) seeds.
 
         Returns the closed configurations (finished, :meth:`closed`), which converged, and the kinematics there
         (:class:`Closed`). ``kinds``: the targets' kind (``pose`` or ``coords``), one for all or one each. The
-        following coordinates start where each seed has them.
+        following coordinates start where each seed has them. ``joints``: (B, J) the values of :attr:`joints`
+        (the starts hold them; none: the targets give no joint).
         """
         poses = self.seed_poses(poses, seeds)
-        sol = solve_poses(self.problem, seeds if starts is None else starts, poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
+        starts = seeds if starts is None else starts
+        if self.joints:
+            assert joints is not None, "the targets give joint values"
+            starts = np.array(starts, float)
+            starts[:, self.joint_q] = joints
+        sol = solve_poses(self.problem, starts, poses, tol=PREDICT_TOL, floor=PREDICT_TOL)
         q = sol.q
         for kind in {kinds} if isinstance(kinds, str) else set(kinds):
             which = sol.converged if isinstance(kinds, str) else sol.converged & (np.array(kinds) == kind)

@@ -234,29 +234,54 @@ class ScanSpec:
         return "pose", ma * pin.exp6(s * pin.log6(ma.actInv(mb)))
 
     def pose_targets(self, ts: Sequence[float], params: Sequence[dict[str, float]] | None = None) -> Array:
-        """(B, 6) pose coordinates :data:`POSE_COORDS` the targets at samples ``ts`` give (NaN: following).
+        """(B, 6) pose coordinates :data:`POSE_COORDS` the targets at samples ``ts`` give (NaN: not given).
 
         The vectors of :meth:`target` without its poses and dicts: a ``pose`` target's coordinates (a pose path's
-        through :func:`~pinmob.assembly.reach.pose_vector`), a ``coords`` target's given pose coordinates. For
-        targets that give no joint value (a joint path's, or a grid's holding a joint: ``ValueError``).
+        through :func:`~pinmob.assembly.reach.pose_vector`), a ``coords`` target's given pose coordinates (its
+        joint values: :meth:`joint_targets`). A joint path's targets give no pose coordinate (``ValueError``).
         ``params``: :meth:`params` at each t, already computed (None: computed here).
         """
-        if self.kind == "joints" or any(c not in POSE_COORDS for c in (*self.varied, *(c for c, _ in self.held))):
-            raise ValueError(f"a {self.kind} scan's targets give joint values, not only pose coordinates")
+        if self.kind == "joints":
+            raise ValueError("a joints scan's targets give joint values, not pose coordinates")
         params = self.params_of(ts) if params is None else params
         if self.kind == "pose":
             return np.array([pose_vector(self.target(t, p)[1]) for t, p in zip(ts, params)])
         out = np.full((len(ts), 6), np.nan)
         for c, v in self.held:
-            out[:, POSE_COORDS.index(c)] = v
-        varied = self.varied
-        cols = [POSE_COORDS.index(c) for c in varied]
+            if c in POSE_COORDS:
+                out[:, POSE_COORDS.index(c)] = v
+        varied = [i for i, c in enumerate(self.varied) if c in POSE_COORDS]
+        cols = [POSE_COORDS.index(self.varied[i]) for i in varied]
+        if not cols:
+            return out
         if self.kind == "grid":
-            names = ["grid_" + c for c in varied]
+            names = ["grid_" + self.varied[i] for i in varied]
             out[:, cols] = [[p[name] for name in names] for p in params]
         else:  # a coordinate path: c(s) = (1 - s) c_A + s c_B, as target's
             s = np.array([p["s"] for p in params])
-            out[:, cols] = (1 - s)[:, None] * np.asarray(self.a) + s[:, None] * np.asarray(self.b)
+            out[:, cols] = (1 - s)[:, None] * np.asarray(self.a)[varied] + s[:, None] * np.asarray(self.b)[varied]
+        return out
+
+    @property
+    def target_joints(self) -> tuple[str, ...]:
+        """The joints whose values a grid's or a coordinate path's targets give (varied, then held); else none."""
+        if self.kind not in ("grid", "coords"):
+            return ()
+        return tuple(c for c in (*self.varied, *(c for c, _ in self.held)) if c not in POSE_COORDS)
+
+    def joint_targets(self, ts: Sequence[float], params: Sequence[dict[str, float]] | None = None) -> Array:
+        """(B, J) the values of :attr:`target_joints` the targets at samples ``ts`` give (as :meth:`target`'s)."""
+        params = self.params_of(ts) if params is None else params
+        held = dict(self.held)
+        out = np.empty((len(ts), len(self.target_joints)))
+        for i, c in enumerate(self.target_joints):
+            if c in held:
+                out[:, i] = held[c]
+            elif self.kind == "grid":
+                out[:, i] = [p["grid_" + c] for p in params]
+            else:  # a coordinate path, element by element as target's
+                j, s = self.varied.index(c), np.array([p["s"] for p in params])
+                out[:, i] = (1 - s) * np.asarray(self.a)[j] + s * np.asarray(self.b)[j]
         return out
 
     def coordinates_target(self, gridded: dict[str, float]) -> tuple[str, Any]:

@@ -76,6 +76,7 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "batch_newton_kernel.log3",
         "batch_newton_kernel.pose_errors",
         "batch_newton_kernel.rpy_matrix",
+        "batch_newton_kernel.solve_stack",  # the whole Newton loop in one call, the kernels above inside it
         "batch_newton_kernel.wrap_and_check",
         "batch_stopping.advance",
         "jacobi.column_rank",  # the kernels' Jacobi SVDs
@@ -88,23 +89,25 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "kinematics_kernel._quaternion",
         "kinematics_kernel._unit_columns",
         "kinematics_kernel.frames_kernel",
+        "kinematics_kernel.integrate_kernel",  # pin.integrate, compiled into solve_stack
     ]
 
 
 PREDICTOR = """
 import numpy as np
 import pinmob
-from pinmob.assembly.batch_newton_kernel import iterate
+from pinmob.assembly.batch_newton_kernel import solve_stack
 from pinmob.scan import path_spec, scan
 
 mech = pinmob.load("3-PUU")
 rows = list(scan(mech, path_spec(mech, "generic", "offset", 3)))
-print(sum(iterate.stats.cache_hits.values()), len(rows))
+print(sum(solve_stack.stats.cache_hits.values()), len(rows))
 """
 
 
 def test_an_edit_of_a_function_a_compiled_loop_calls_recompiles_the_loop(package, tmp_path):
-    """The predictor's compiled iteration calls ``batch_stopping.advance`` (another file), compiled into it.
+    """The predictor's compiled loop (``solve_stack``, through ``iterate``) calls ``batch_stopping.advance`` (another
+    file), compiled into it.
 
     numba stamps a cached function with its own file: after an edit of batch_stopping.py alone, the next process
     loaded the old iteration from the cache (a reviewer's run: the numpy path took the edited stopping rule, the

@@ -9,6 +9,7 @@ made by hand (the rows of whole scans: tests/test_scan_batch.py).
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import pinmob
@@ -176,3 +177,42 @@ def test_the_predictors_kinematics_are_pinocchios_at_the_closed_configurations(n
                 assert value == pytest.approx(b[0][key], abs=1e-12, nan_ok=True), key
             else:
                 assert value == b[0][key], key
+
+
+@pytest.mark.parametrize(
+    ("name", "at", "axes"),
+    [
+        ("6-UPS", "home", [("x", -0.05, 0.05, 41), ("y", -0.05, 0.05, 41)]),
+        ("3-PUU", "generic", [("A_slider", -0.2, 0.2, 41), ("B_slider", -0.2, 0.2, 41)]),
+    ],  # fmt: skip
+)
+def test_the_walks_turns_are_closed_across_the_lines(monkeypatch, name, at, axes):
+    """Lines of two chunks: the walk turns at every line; from the third line on, the predictor closes the turns.
+
+    The seeds are the single-sample walk's (``engine="single"``: every waypoint by the single-sample solver from
+    the one before), on the same branch, and the batched walk calls that solver at most on the approach's first
+    two waypoints and on the first two lines' (five each; along the 3-PUU's A_slider = -0.2 m edge the predictor
+    closes none of them from their secant), 83 times before the turns were closed across the lines.
+    """
+    from dataclasses import replace
+
+    import pinmob.scan.scan_run as scan_run
+
+    mech = pinmob.load(name)
+    spec = grid_spec(mech, at, axes)
+    solves = []
+    solve = scan_run.chunk.assemble_target
+
+    def counted(*args, **kwargs):
+        solves.append(args[1])
+        return solve(*args, **kwargs)
+
+    reference = list(scan_run.chunk_seeds(mech, replace(spec, engine="single")))
+    monkeypatch.setattr(scan_run.chunk, "assemble_target", counted)
+    walked = list(scan_run.chunk_seeds(mech, spec))
+    assert [(a, b) for a, b, _ in walked] == [(a, b) for a, b, _ in reference]
+    assert len(walked) == 2 * 41
+    assert len(solves) <= 2 + 2 * 5, len(solves)
+    col = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
+    for (_, _, q), (_, _, want) in zip(walked, reference):
+        assert np.max(np.abs(pin.difference(mech.model, want, q) / col)) < 1e-6

@@ -78,7 +78,7 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
 
     ``known``: those already computed (the predictor's, :mod:`pinmob.scan.lockstep`), read instead.
     """
-    model, pid = mech.model, mech.platform_id
+    model, pid, rpy = mech.model, mech.platform_id, pin.rpy.matrixToRpy
     data = model.createData()
     full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
     for i, q in enumerate(qs):
@@ -86,8 +86,8 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
         if given is None:
             full[i] = pin.computeJointJacobians(model, data, q)
             poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
-        else:
-            full[i], poses[i] = given[0], pose_vector(pin.SE3(given[1]))
+        else:  # pose_vector's numbers, read off the placement matrix
+            full[i], poses[i, :3], poses[i, 3:] = given[0], given[1][:3, 3], rpy(given[1][:3, :3])
     return full, poses
 
 

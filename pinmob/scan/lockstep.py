@@ -208,7 +208,16 @@ def secant_stack(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -
 
 def _secant(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -> tuple[Array, Array]:
     """:func:`secant_stack`'s starts, and the length of each one's step from its seed (:func:`off_secants`; 0: none)."""
-    move = short_moves(problem, before, seeds)
+    return moved_stack(problem, before, seeds, has, seeds)
+
+
+def moved_stack(problem: PoseProblem, a: Array, b: Array, has: Mask, seeds: Array) -> tuple[Array, Array]:
+    """Each row of the (B, nq) ``seeds`` moved on by ``b - a`` where ``has``, and the moves' lengths (0: not moved).
+
+    The moves are :func:`short_moves`, their lengths in the joint metric (:func:`_lengths`): a secant's starts
+    when ``b`` is ``seeds`` (:func:`_secant`).
+    """
+    move = short_moves(problem, a, b)
     if problem.vector_space:
         starts = np.where(has[:, None], seeds + move, seeds)
     else:

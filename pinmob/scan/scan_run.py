@@ -16,7 +16,9 @@ batched engine (``spec.engine``, the default) its chunks' samples are assembled 
 (:mod:`pinmob.scan.lockstep`, :mod:`pinmob.scan.batch_rows`), the single-sample analysis
 (:func:`pinmob.analysis.singularity.classification.singularity`, one kinematics computation per
 sample) only where the batch cannot decide; with ``single``, each sample on its own. Both give
-the same rows (``tests/test_scan_batch.py``).
+the same rows (``tests/test_scan_batch.py``), where the walk's continuation is unique: at a turn of the walk
+across a singular region the single-sample solver may close a waypoint on another assembly branch than the
+predictor (:func:`chunk_seeds`).
 
 Refinement (:mod:`pinmob.scan.refine`): a singularity between samples is looked for
 where, along a line, a distance to singularity has a local minimum above
@@ -52,12 +54,12 @@ from pinmob.output_files import check_target
 from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain_scan import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
-from pinmob.scan.lockstep import GROUP, Job, off_secant, run_group, secant_starts
+from pinmob.scan.lockstep import GROUP, Job, moved_stack, off_secant, run_group
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.results.output import RowWriter
 from pinmob.scan.results.scan_report import ScanReport, Summary, describe, scan_meta
 from pinmob.scan.results.table import ScanTable
-from pinmob.scan.scan_spec import POSE_COORDS, ScanSpec
+from pinmob.scan.scan_spec import CHUNK, POSE_COORDS, ScanSpec
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw import Array
 
@@ -79,8 +81,12 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     sample), both closed, is closed by the batched predictor from their secant
     (:func:`~pinmob.scan.lockstep.secant_starts`), as the chunks' samples are, and kept only when its Newton
     correction was at most ``WALK_SECANT`` of the secant's step (:func:`~pinmob.scan.lockstep.off_secant`).
-    Every other waypoint (the first, a line's turn, one the predictor did not close or closed off the secant)
-    is closed by the single-sample solver from the waypoint before: the walk's steps can be long, and the
+    At a turn of the walk (the first waypoints of a line), where the two before are not in line with it, the
+    predictor starts from the last waypoint's configuration moved as the same two samples moved on the line
+    before (or after, on a three-coordinate grid's serpentine; :func:`_across_waypoint`), when both were walked
+    and closed and the target moves by as much between them, with the same check of the correction against
+    that move. Every other waypoint (the first, the turns of the first two lines, one the predictor did not
+    close or closed off the secant) is closed by the single-sample solver from the waypoint before: the walk's steps can be long, and the
     predictor from a plain warm start could close them on other joint values (U joints turned by pi: the
     3-UPU-wrist over yaw and pitch) and so seed the chunks on another assembly branch. The walk advances only
     as far as the chunks asked for so far need (chunks are produced lazily).
@@ -97,14 +103,22 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
         _target_values(spec.coordinates_target(dict(spec.start))) if predictor and spec.start else None,
     )
     behind: list[tuple[Walked, Array | None]] = [((None, None), None), (here, q)]
+    n = spec.line_size if spec.kind == "grid" else 0
+    walked: dict[int, tuple[Walked, Array | None]] = {}  # the lines' waypoints so far, by sample index
     for target, k in spec.waypoints():
         here = (k, _target_values(target) if predictor else None)  # the moves compared only for the predictor
         closed = _secant_waypoint(predictor, target, here, behind)
+        if closed is None and predictor is not None and n and k is not None and behind[1][0][0] is not None:
+            closed = _across_waypoint(predictor, target, here, behind[1], walked, n)
         if closed is None:
             try:
                 closed = chunk.assemble_target(solver, target, q, tol=spec.closure_tol)
             except PinmobError:
                 pass
+        if k is not None and n:
+            walked[k] = ((None, here[1]), closed)
+            if len(walked) > 8 * CHUNK:  # only the lines next to the walk's are read
+                walked = {i: w for i, w in walked.items() if abs(i - k) <= 2 * n}
         if closed is not None:
             q = closed
         behind = [behind[1], (here, closed)]
@@ -140,10 +154,17 @@ def _even(here: Walked, mid: Walked, back: Walked) -> bool:
     (k, v), (k2, v2), (k1, v1) = here, mid, back
     if k is not None and k1 is not None and k2 is not None and k - k2 == k2 - k1:
         return True
-    if v is None or v1 is None or v2 is None or v.shape != v1.shape or v.shape != v2.shape:
+    return _same_move((v2, v), (v1, v2))
+
+
+def _same_move(one: tuple[Array | None, Array | None], other: tuple[Array | None, Array | None]) -> bool:
+    """True when the target's values move as much from ``one[0]`` to ``one[1]`` as from ``other[0]`` to ``other[1]``."""
+    values = [v for v in (*one, *other) if v is not None]
+    if len(values) < 4 or any(v.shape != values[0].shape for v in values):
         return False
-    step = float(np.linalg.norm(v2 - v1))
-    return step > 0.0 and float(np.linalg.norm((v - v2) - (v2 - v1))) <= 1e-9 * step
+    a0, a1, b0, b1 = values
+    step = float(np.linalg.norm(b1 - b0))
+    return step > 0.0 and float(np.linalg.norm((a1 - a0) - (b1 - b0))) <= 1e-9 * step
 
 
 def _secant_waypoint(
@@ -153,9 +174,44 @@ def _secant_waypoint(
     (back, q1), (mid, q2) = behind
     if predictor is None or q1 is None or q2 is None or not _even(here, mid, back):
         return None
-    start = secant_starts(predictor.problem, [q1], [q2])[0]
-    (closed,) = predictor.closed([target], [q2], [start])
-    return None if closed is None or off_secant(predictor.problem, q2, start, closed, WALK_SECANT) else closed
+    return _moved_waypoint(predictor, target, q2, q1, q2)
+
+
+def _across_waypoint(
+    predictor: Predictor,
+    target: tuple[str, Any],
+    here: Walked,
+    last: tuple[Walked, Array | None],
+    walked: dict[int, tuple[Walked, Array | None]],
+    n: int,
+) -> Array | None:
+    """A grid's waypoint closed by the predictor from the walk's last one, moved as on a line next to them, or None.
+
+    ``last``: the walk's last waypoint (index and values) and its configuration; ``walked``: the grid's waypoints
+    so far by sample index; ``n``: the line size. When the same two samples one line before (or after) were
+    walked and closed, and the target moves by as much between them (compared by their values), the start is the
+    last configuration moved by their move (:func:`chunk_seeds`).
+    """
+    (k, v), ((kq, vq), q) = here, last
+    if q is None or k is None or kq is None:
+        return None
+    for side in (-n, n):
+        (_, v0), q0 = walked.get(kq + side, ((None, None), None))
+        (_, v1), q1 = walked.get(k + side, ((None, None), None))
+        if q0 is not None and q1 is not None and _same_move((vq, v), (v0, v1)):
+            return _moved_waypoint(predictor, target, q, q0, q1)
+    return None
+
+
+def _moved_waypoint(predictor: Predictor, target: tuple[str, Any], seed: Array, a: Array, b: Array) -> Array | None:
+    """``target`` closed by the predictor from ``seed`` moved by ``b - a``, else None.
+
+    None where it did not close or its correction was longer than ``WALK_SECANT`` times that move
+    (:func:`~pinmob.scan.lockstep.off_secant`).
+    """
+    start = moved_stack(predictor.problem, a[None], b[None], np.ones(1, bool), seed[None])[0][0]
+    (closed,) = predictor.closed([target], [seed], [start])
+    return None if closed is None or off_secant(predictor.problem, seed, start, closed, WALK_SECANT) else closed
 
 
 def chunk_groups(mech: Mechanism, spec: ScanSpec, first_alone: bool = True) -> Iterator[list[Job]]:

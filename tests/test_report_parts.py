@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 from collections.abc import Iterator
+from pathlib import Path
 
 import pytest
 
@@ -19,6 +20,8 @@ from pinmob.analysis.report import Report
 from pinmob.analysis.report_parts import REPORT_PARTS, PartOption, ReportPart, register_part, unregister_part
 from pinmob.cli import main
 from pinmob.cli.parser import build_parser
+
+DATA = Path(__file__).resolve().parent / "data"
 
 
 def joint_tally(report: Report) -> dict[str, int] | None:
@@ -144,8 +147,48 @@ def test_a_part_s_entries_go_where_it_says(toy: ReportPart) -> None:
     assert keys.index("paper_view") == keys.index("singularity") - 1 and keys[-1] == "tally"
 
 
+def test_a_part_s_section_and_null_entry_go_where_it_says() -> None:
+    """``text_before`` puts a section before the one it names; ``json_null`` keeps the key, null, where it is None."""
+    register_part(
+        ReportPart(
+            "legs",
+            "legs",
+            lambda report: len(report.state.mechanism.limbs) or None,
+            text=lambda report, n: f"legs: {n}",
+            terms=("limb",),
+            json_null=True,
+            text_before="mechanism",
+        )
+    )
+    try:
+        limbs, chain = pinmob.analyze("3-PRS", "home"), pinmob.analyze(pinmob.load(DATA / "fourbar.toml"))
+        titles = [s.title for s in limbs.sections()]
+        assert titles[titles.index("mechanism") - 1] == "legs" and "legs: 3\n\n" in str(limbs)  # by hand: A, B, C
+        assert limbs.to_dict()["legs"] == 3 and chain.part("legs") is None and chain.to_dict()["legs"] is None
+        assert "legs" not in [s.title for s in chain.sections()]
+    finally:
+        unregister_part("legs")
+
+
+def test_the_minimal_closures_are_a_registered_part() -> None:
+    """Before the rank notes and the other parts, ``null`` in the JSON where no closure equation is redundant."""
+    planar = pinmob.analyze("3-RRR-planar", "generic", actuator_search=3)  # 12 closure rows of rank 6 (planar)
+    assert planar.minimal_closures is planar.part("minimal_closures") and planar.minimal_closures is not None
+    titles, keys = [s.title for s in planar.sections()], list(planar.to_dict())
+    assert titles.index("minimal closures") < titles.index("actuator sets")
+    assert keys.index("minimal_closures") == keys.index("rank_tolerance_note") - 1
+    assert planar.to_dict()["minimal_closures"] == planar.minimal_closures.to_dict()
+    # a CAD gap of 1 um (tests/test_cad_gaps.py): 2 of 6 closure equations redundant, the rank tolerance raised
+    noted = pinmob.analyze(pinmob.load(DATA / "cad_gaps" / "spherical_3rrr" / "robot.urdf"), closure_tol=1e-4)
+    titles = [s.title for s in noted.sections()]
+    assert titles.index("minimal closures") == titles.index("rank notes") - 1
+    prs = pinmob.analyze("3-PRS", "home")  # 3 limbs of 3 wrenches each, rank 3 + 3 by hand: nothing redundant
+    assert prs.minimal_closures is None and prs.to_dict()["minimal_closures"] is None
+    assert "minimal closures" not in [s.title for s in prs.sections()]
+
+
 def test_the_built_in_parts_are_registered_in_their_order() -> None:
-    assert list(REPORT_PARTS)[:3] == ["actuator_sets", "paper", "finite"]
+    assert list(REPORT_PARTS)[:4] == ["minimal_closures", "actuator_sets", "paper", "finite"]
     report = pinmob.analyze("3-PRS", "home")
     assert (report.paper, report.actuator_sets, report.finite) == (None, None, None)
     with pytest.raises(pinmob.ArgumentError, match=r"no report part 'papr' \(did you mean 'paper'"):

@@ -10,14 +10,13 @@ computed at once; the other parts when first used (``to_dict`` and ``str`` use t
   its generic constraint rank, from random closed configurations, unless the file declares it);
 * the registered parts (:mod:`pinmob.analysis.report_parts`), each its section, its JSON entries, its
   keywords of :func:`analyze` and its options of ``pinmob analyze`` from one registration
-  (:func:`~pinmob.analysis.report_parts.register_part`), read as ``report.part(name)``: ``actuator_sets``,
-  every valid set of K actuated joints, only when asked (``actuator_search=K``); ``paper``, the seed paper's
-  view, only when asked (``paper=True``); ``finite``, finite versus instantaneous mobility, only when asked
-  (``finite=True``; :mod:`pinmob.analysis.finite`). Each of these three is also an attribute
+  (:func:`~pinmob.analysis.report_parts.register_part`), read as ``report.part(name)``: ``minimal_closures``,
+  per closure, the closure with exactly its independent equations, only where some closure equation is redundant
+  (:mod:`pinmob.analysis.minimal`; shown before the rank notes, and ``null`` in the JSON otherwise);
+  ``actuator_sets``, every valid set of K actuated joints, only when asked (``actuator_search=K``); ``paper``, the
+  seed paper's view, only when asked (``paper=True``); ``finite``, finite versus instantaneous mobility, only when
+  asked (``finite=True``; :mod:`pinmob.analysis.finite`). Each of these four is also an attribute
   (``report.paper``).
-* ``minimal_closures``: per closure, the closure with exactly its independent equations, only where some closure
-  equation is redundant (:mod:`pinmob.analysis.minimal`; shown before the registered parts, and ``null`` in the
-  JSON otherwise).
 """
 
 from __future__ import annotations
@@ -32,7 +31,6 @@ from pinmob.analysis.chain.mechanism_mobility import mechanism_mobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.expectation import ExpectationCheck, expectation_check
 from pinmob.analysis.generic import generic_constraint_rank
-from pinmob.analysis.minimal import MinimalClosures, minimal_closures
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.report_html import Section, joined, report_html
 from pinmob.analysis.report_parts import REPORT_PARTS, Options
@@ -44,6 +42,7 @@ from pinmob.name_matching import choices, did_you_mean
 
 if TYPE_CHECKING:
     from pinmob.analysis.finite.finite_mobility import FiniteMobility
+    from pinmob.analysis.minimal import MinimalClosures
 
 
 @dataclass(frozen=True, eq=False)
@@ -131,15 +130,13 @@ class Report:
         """Finite versus instantaneous mobility (only when asked for with ``finite=True``)."""
         return self.part("finite")
 
-    @cached_property
+    @property
     def minimal_closures(self) -> MinimalClosures | None:
         """Per closure, the closure with exactly its independent equations; None where none is redundant.
 
         Computed only where ``mechanism_mobility.redundant_constraints > 0`` (:mod:`pinmob.analysis.minimal`).
         """
-        if not self.mechanism_mobility.redundant_constraints:
-            return None
-        return minimal_closures(self.state, self.rtol)
+        return self.part("minimal_closures")
 
     @property
     def platform_frame(self) -> FrameMobility | None:
@@ -212,13 +209,11 @@ class Report:
         mech = self.state.mechanism
         layout = mech.memo("joint layout", lambda: joint_layout(mech.model))
         out["joint_values"] = values_by_name(mech.model, self.state.q, mech.quaternion_wxyz, layout)
-        minimal = self.minimal_closures
-        out["minimal_closures"] = None if minimal is None else minimal.to_dict()
         out["rank_tolerance_note"] = self._raised()
         out["ambiguous_ranks"] = [a.to_dict() for a in self.ambiguous_ranks]
         for name, part in REPORT_PARTS.items():  # the registered parts' entries, in their order
-            if (value := self.part(name)) is not None:
-                out = inserted(out, part.document(self, value), part.json_before)
+            if entries := part.document(self, self.part(name)):
+                out = inserted(out, entries, part.json_before)
         return out
 
     def __str__(self) -> str:
@@ -238,13 +233,11 @@ class Report:
             out = [Section("platform", str(mob)), Section("singularity", unseen if sing is None else str(sing))]
             out += [Section("expected", str(expected))] if expected is not None else []
             out.append(Section("mechanism", str(self.mechanism_mobility), gap=True))
-        if (minimal := self.minimal_closures) is not None:
-            out.append(Section("minimal closures", str(minimal)))
         if lines := self._rank_lines():
             out.append(Section("rank notes", "\n".join(lines)))
         for name, part in REPORT_PARTS.items():  # the registered parts' sections, in their order
             if (value := self.part(name)) is not None and (text := part.text(self, value)) is not None:
-                out.append(Section(part.title, text, gap=part.gap))
+                out = placed(out, Section(part.title, text, gap=part.gap), part.text_before)
         return out
 
     def _repr_pretty_(self, p: Any, cycle: bool) -> None:  # IPython's text display: str(report), not the dataclass repr
@@ -291,6 +284,12 @@ def inserted(document: dict[str, Any], entries: dict[str, Any], before: str | No
             out.update(entries)
         out[key] = value
     return out
+
+
+def placed(sections: list[Section], section: Section, before: str | None) -> list[Section]:
+    """``sections`` with ``section`` added before the first titled ``before`` (at the end when None or absent)."""
+    at = next((i for i, s in enumerate(sections) if before is not None and s.title == before), len(sections))
+    return [*sections[:at], section, *sections[at:]]
 
 
 #: keys of the whole-mechanism document added to the JSON of a limb-and-platform analysis

@@ -38,7 +38,7 @@ from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
-from pinmob.model import CLOSURE_TYPES, Mechanism, make_closure
+from pinmob.model import CLOSURE_TYPES, Mechanism, make_closure, with_joints
 from pinmob.name_matching import choices
 
 JOINT_TYPES = ("SPHERICAL", "CARDAN", "FIXED") + tuple(f"UJOINT_{a}{b}" for a in "XYZ" for b in "XYZ" if a != b)
@@ -59,31 +59,13 @@ def _joint_model(kind: str) -> pin.JointModel:
 def replace_joints(model: pin.Model, replacements: Mapping[str, str]) -> pin.Model:
     """A copy of ``model`` with the named joints rebuilt as :data:`JOINT_TYPES` (same names, frames and inertias).
 
-    Joint placements, frames and inertias are kept; position limits of the
-    unchanged joints are copied. ``FIXED`` joints are removed with
-    ``pin.buildReducedModel`` at 0.
+    Joint placements, frames and inertias are kept (:func:`~pinmob.model.joints.with_joints`); position limits
+    of the unchanged joints are copied. ``FIXED`` joints are removed with ``pin.buildReducedModel`` at 0.
     """
-    new = pin.Model()
-    new.name = model.name
-    locked = []
-    for j in range(1, model.njoints):
-        name = model.names[j]
-        kind = replacements.get(name)
-        jm = model.joints[j] if kind in (None, "FIXED") else _joint_model(kind)
-        jid = new.addJoint(int(model.parents[j]), jm, model.jointPlacements[j], name)
-        new.appendBodyToJoint(jid, model.inertias[j], pin.SE3.Identity())
-        if kind is None or kind == "FIXED":
-            src, dst = model.joints[j], new.joints[jid]
-            new.lowerPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.lowerPositionLimit[
-                src.idx_q : src.idx_q + src.nq
-            ]
-            new.upperPositionLimit[dst.idx_q : dst.idx_q + dst.nq] = model.upperPositionLimit[
-                src.idx_q : src.idx_q + src.nq
-            ]
-        if kind == "FIXED":
-            locked.append(jid)
-    for f in list(model.frames)[1:]:
-        new.addFrame(pin.Frame(f.name, f.parentJoint, f.parentFrame, f.placement, f.type, f.inertia), False)
+    kinds = {j: replacements[model.names[j]] for j in range(1, model.njoints) if model.names[j] in replacements}
+    rebuilt = {j: _joint_model(kind) for j, kind in kinds.items() if kind != "FIXED"}
+    new = with_joints(model, rebuilt, ("lowerPositionLimit", "upperPositionLimit"))
+    locked = [j for j, kind in kinds.items() if kind == "FIXED"]
     if locked:
         new = pin.buildReducedModel(new, locked, pin.neutral(new))
     return new

@@ -16,6 +16,7 @@ A URDF ``<constraint>`` element (the loop closures proposed in ros/urdfdom#264) 
 from __future__ import annotations
 
 import warnings
+from functools import partial
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -23,8 +24,8 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.bounds import bound
-from pinmob.io.sdf import LOOP_CLOSURES, parse_pose
-from pinmob.model import Closure, make_closure
+from pinmob.io.sdf import LOOP_CLOSURES, loop_closure, parse_pose
+from pinmob.model import Closure
 
 
 def _axis(el: ElementTree.Element, joint: str, tag: str, joint_world: pin.SE3) -> np.ndarray:
@@ -72,13 +73,8 @@ def urdf_loop_joints(model: pin.Model, text: str) -> tuple[list[Closure], list[s
         if relative:
             raise ValueError(f"<gazebo> joint {name!r}: a pose relative to {relative!r} is not read (only its child)")
         at = data.oMf[links[1]] * pose
-        for frame, suffix in zip(links, "ab", strict=True):
-            parent = model.frames[frame].parentJoint
-            placement = data.oMi[parent].actInv(at)
-            model.addFrame(pin.Frame(f"{name}#{suffix}", parent, placement, pin.FrameType.OP_FRAME), False)
-        axis = _axis(el, name, "axis", at) if kind not in ("ball", "fixed") else None
-        axis_b = _axis(el, name, "axis2", at) if kind == "universal" else None
-        closures.append(make_closure(model, name, f"{name}#a", f"{name}#b", LOOP_CLOSURES[kind], axis, axis_b))
+        ends = [(j, data.oMi[j]) for j in (model.frames[frame].parentJoint for frame in links)]
+        closures.append(loop_closure(model, name, kind, at, ends, partial(_axis, el, name, joint_world=at)))
     return closures, ignored
 
 

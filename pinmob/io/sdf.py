@@ -41,7 +41,9 @@ from __future__ import annotations
 
 import re
 import warnings
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from functools import partial
 from pathlib import Path
 from xml.etree import ElementTree
 
@@ -209,6 +211,28 @@ def joint_limits(el: ElementTree.Element) -> tuple[float, float] | None:
     return (lo, hi) if np.isfinite([lo, hi]).all() and lo <= hi else None
 
 
+def loop_closure(
+    model: pin.Model,
+    name: str,
+    kind: str,
+    at: pin.SE3,
+    ends: Sequence[tuple[int, pin.SE3]],
+    axis_of: Callable[[str], Array],
+) -> Closure:
+    """The closure loop joint ``name`` of type ``kind`` (a key of :data:`LOOP_CLOSURES`) becomes; its frames added.
+
+    The joint frame, at world pose ``at``, is fixed once in the parent's and once in the child's Pinocchio joint
+    (``ends``: each its joint id and that joint's world pose, parent first), as frames ``<name>#a`` and
+    ``<name>#b``; the closure joins them, about or along ``axis_of("axis")`` (and ``axis_of("axis2")`` for a
+    universal joint), a unit axis in the joint frame, read only for the types that have it.
+    """
+    for (joint, joint_world), suffix in zip(ends, "ab", strict=True):
+        model.addFrame(pin.Frame(f"{name}#{suffix}", joint, joint_world.actInv(at), pin.FrameType.OP_FRAME), False)
+    axis = axis_of("axis") if kind not in ("ball", "fixed") else None
+    axis_b = axis_of("axis2") if kind == "universal" else None
+    return make_closure(model, name, f"{name}#a", f"{name}#b", LOOP_CLOSURES[kind], axis, axis_b)
+
+
 def _add_joint(model: pin.Model, sdf: Sdf, name: str, kind: str, carrier: int, at: pin.SE3) -> int:
     """Add tree joint ``name`` (its Pinocchio joints) on ``carrier`` at placement ``at``; the last joint's id."""
     el = sdf.joints[name]
@@ -363,14 +387,9 @@ def build(sdf: Sdf) -> tuple[pin.Model, list[Closure], list[str]]:
     for name in loops:
         at = world_pose(sdf, name)
         ends = [carrier[link_of(sdf, joint_end(sdf, name, t))] for t in ("parent", "child")]
-        for end, suffix in zip(ends, "ab", strict=True):
-            model.addFrame(
-                pin.Frame(f"{name}#{suffix}", end, joint_world[end].actInv(at), pin.FrameType.OP_FRAME), False
-            )
         kind = sdf.joints[name].get("type", "")
-        axis = joint_axis(sdf, name) if kind not in ("ball", "fixed") else None
-        axis_b = joint_axis(sdf, name, "axis2") if kind == "universal" else None
-        closures.append(make_closure(model, name, f"{name}#a", f"{name}#b", LOOP_CLOSURES[kind], axis, axis_b))
+        placed = [(end, joint_world[end]) for end in ends]
+        closures.append(loop_closure(model, name, kind, at, placed, partial(joint_axis, sdf, name)))
     apart = []
     for name in sdf.joints:  # a <frame> named as the parent, away from the joint: the file may mean it as the joint
         parent = joint_end(sdf, name, "parent")

@@ -30,6 +30,7 @@ from pinmob.model.joints import (
     outside_limits,
     short_difference,
     velocity_spans,
+    with_joints,
     wrap_angles,
 )
 from pinmob.model.length_scale import NO_LENGTH, SHORTEST
@@ -101,5 +102,6 @@ __all__ = [
     "values_by_name",
     "velocity_spans",
     "with_actuated",
+    "with_joints",
     "wrap_angles",
 ]

@@ -2,13 +2,13 @@
 
 Plain functions of a ``pin.Model`` (no mechanism): what every layer above needs
 to tell lengths from angles, find a joint or a frame by name, and check a
-configuration vector.
+configuration vector; and a copy of a model with some joints rebuilt (:func:`with_joints`).
 """
 
 from __future__ import annotations
 
 import functools
-from collections.abc import Iterable
+from collections.abc import Iterable, Mapping, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -20,6 +20,42 @@ from pinmob.screw import Array, Mask
 
 #: Integer index array.
 IndexArray = NDArray[np.intp]
+#: The limit vectors of a ``pin.Model`` :func:`with_joints` copies: per coordinate (position) and per velocity
+#: (effort, velocity); Pinocchio 4's others (lower effort and velocity, friction, damping, margin) are not copied.
+LIMITS = ("lowerPositionLimit", "upperPositionLimit", "effortLimit", "velocityLimit")
+
+
+def with_joints(
+    model: pin.Model, joint_models: Mapping[int, pin.JointModel], limits: Sequence[str] = LIMITS
+) -> pin.Model:
+    """A copy of ``model`` with joint ``j`` rebuilt as ``joint_models[j]`` (same name, parent, placement and body).
+
+    Joint and frame indices are kept, every frame is copied as it is, and so are the name and the gravity. The
+    joints kept keep their ``limits`` (names of :data:`LIMITS`, all by default); the limits not copied, and all
+    those of a rebuilt joint, are the ones ``pin.Model.addJoint`` gives (those of :data:`LIMITS`: the largest
+    float, either sign).
+    """
+    out = pin.Model()
+    out.name = model.name
+    out.gravity = model.gravity
+    for j in range(1, model.njoints):
+        kept = j not in joint_models
+        added = out.addJoint(
+            int(model.parents[j]),
+            model.joints[j] if kept else joint_models[j],
+            model.jointPlacements[j],
+            model.names[j],
+        )
+        out.appendBodyToJoint(added, model.inertias[j], pin.SE3.Identity())
+        if kept:
+            src, dst = model.joints[j], out.joints[added]
+            for name in limits:
+                q = name.endswith("PositionLimit")
+                start, size, at = (src.idx_q, src.nq, dst.idx_q) if q else (src.idx_v, src.nv, dst.idx_v)
+                getattr(out, name)[at : at + size] = getattr(model, name)[start : start + size]
+    for f in list(model.frames)[1:]:
+        out.addFrame(pin.Frame(f), False)
+    return out
 
 
 def frame_id(model: pin.Model, name: str) -> int:

@@ -1,6 +1,9 @@
 """pinmob's own report parts, registered in the order of their sections (:mod:`~pinmob.analysis.report_parts.report_part`).
 
-The actuator sets, the seed paper's view, the finite mobility. Each computes only when asked for; the paper's view and the finite analysis import their modules then.
+The minimal closures, the actuator sets, the seed paper's view, the finite mobility. The minimal closures are
+computed for every report, where some closure equation is redundant (their section before the rank notes, their
+key ``null`` in the JSON otherwise); the others only when asked for, and the paper's view and the finite analysis
+import their modules then.
 """
 
 from __future__ import annotations
@@ -9,11 +12,18 @@ from typing import TYPE_CHECKING
 
 from pinmob.analysis.chain.actuation import actuator_sets, default_end_frames
 from pinmob.analysis.finite.higher_order import ORDER, ORDERS
+from pinmob.analysis.minimal import MinimalClosures, minimal_closures
 from pinmob.analysis.report_parts.report_part import PartOption, ReportLike, ReportPart, register_part
 
 if TYPE_CHECKING:
     from pinmob.analysis.finite.finite_mobility import FiniteMobility
     from pinmob.analysis.mobility import Mobility
+
+
+def _minimal_closures(report: ReportLike) -> MinimalClosures | None:
+    if not report.mechanism_mobility.redundant_constraints:
+        return None
+    return minimal_closures(report.state, report.rtol)
 
 
 def _actuator_sets(report: ReportLike) -> tuple[tuple[str, ...], ...] | None:
@@ -65,6 +75,18 @@ def _finite(report: ReportLike) -> FiniteMobility | None:
     return finite_mobility(report.state, report.rtol, order, motions=motions, locked_motions=locked)
 
 
+register_part(
+    ReportPart(
+        "minimal_closures",
+        "minimal closures",
+        _minimal_closures,
+        terms=("minimal closures",),
+        json_before="rank_tolerance_note",
+        json_null=True,
+        text_before="rank notes",
+        gap=False,
+    )
+)
 register_part(
     ReportPart(
         "actuator_sets",

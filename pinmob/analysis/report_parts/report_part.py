@@ -14,7 +14,7 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any, Protocol
 
-from pinmob.analysis.chain import FrameMobility
+from pinmob.analysis.chain import FrameMobility, MechanismMobility
 from pinmob.analysis.configuration import Configuration
 from pinmob.analysis.mobility import Mobility
 from pinmob.analysis.singularity import Singularity
@@ -66,6 +66,10 @@ class ReportLike(Protocol):
     @property
     def has_limbs(self) -> bool:
         """The mechanism has limbs."""
+
+    @property
+    def mechanism_mobility(self) -> MechanismMobility:
+        """The whole closed chain's mobility (closure rank, redundancy, actuation)."""
 
     @property
     def platform_frame(self) -> FrameMobility | None:
@@ -132,6 +136,11 @@ class ReportPart:
         terms: the glossary terms its text uses (``pinmob glossary TERM`` finds each; tests check).
         json_before: the key of ``to_dict()`` its entries go before (None: at the end; the seed paper's view is
             before ``singularity``, as the document had it before the protocol).
+        json_null: ``to_dict()`` has its name as ``null`` when the part is None (the minimal closures' key, which
+            the document always has); False: no entry then.
+        text_before: the title of the section of ``str(report)`` its section goes before when the report has that
+            section (None, or no such section: after the sections before it; the minimal closures go before
+            ``rank notes``).
         glossary: its own glossary entries (Markdown list items, ``- **term**: ...``) when its words are not in
             ``docs/glossary.md``: ``pinmob glossary`` shows them under "Registered report parts".
         gap: a blank line before its section.
@@ -146,11 +155,18 @@ class ReportPart:
     brief: Callable[[ReportLike, Any], str] | None = None
     terms: tuple[str, ...] = ()
     json_before: str | None = None
+    json_null: bool = False
+    text_before: str | None = None
     glossary: str = ""
     gap: bool = True
 
     def document(self, report: ReportLike, value: Any) -> dict[str, Any]:
-        """The entries ``value`` (this part of ``report``) adds to ``report.to_dict()``."""
+        """The entries ``value`` (this part of ``report``) adds to ``report.to_dict()``; None: ``{name: None}`` or none.
+
+        None is a part not asked for or not applicable: its name as ``null`` with :attr:`json_null`, else no entry.
+        """
+        if value is None:
+            return {self.name: None} if self.json_null else {}
         if self.entries is not None:
             return self.entries(report, value)
         return {self.name: value.to_dict() if hasattr(value, "to_dict") else value}

@@ -14,6 +14,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.model.constraint_models.constraint_errors import ConstraintModelError
+from pinmob.model.joints import with_joints
 
 
 @dataclass(frozen=True)
@@ -55,45 +56,23 @@ def _aligned(axis: np.ndarray, x: type, y: type, z: type, unaligned: type) -> pi
 def unmimic(model: pin.Model) -> tuple[pin.Model, tuple[MimicCoupling, ...]]:
     """``model`` with each mimic joint made a joint of its own, and the couplings that hold them (a new model).
 
-    Joint and frame indices are kept; each joint gets a ``JOINT`` frame named after it where it had none
-    (a ``joint`` closure names its joints' frames).
+    Joint and frame indices are kept (:func:`~pinmob.model.joints.with_joints`), and the other joints' limits; a
+    mimic joint made a joint has no limits (infinite). Each joint gets a ``JOINT`` frame named after it where it
+    had none (a ``joint`` closure names its joints' frames).
     """
     mimics = dict(zip((int(j) for j in model.mimicking_joints), (int(j) for j in model.mimicked_joints)))
     if not mimics:
         return model, ()
-    out = pin.Model()
-    out.name = model.name
-    out.gravity = model.gravity
-    limits: list[list[np.ndarray]] = [[], [], [], []]  # lower, upper position; effort, velocity
+    out = with_joints(model, {j: _axis_joint(model, j) for j in sorted(mimics)})
     couplings = []
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        if j in mimics:
-            mimic = joint.extract()
-            joint_model = _axis_joint(model, j)
-            couplings.append(
-                MimicCoupling(model.names[j], model.names[mimics[j]], float(mimic.scaling), float(mimic.offset))
-            )
-            for k, value in enumerate((-np.inf, np.inf, np.inf, np.inf)):
-                limits[k].append(np.array([value]))
-        else:
-            joint_model = joint
-            q, v = slice(joint.idx_q, joint.idx_q + joint.nq), slice(joint.idx_v, joint.idx_v + joint.nv)
-            for k, (vector, rows) in enumerate(
-                (
-                    (model.lowerPositionLimit, q),
-                    (model.upperPositionLimit, q),
-                    (model.effortLimit, v),
-                    (model.velocityLimit, v),
-                )
-            ):
-                limits[k].append(np.asarray(vector[rows]))
-        added = out.addJoint(model.parents[j], joint_model, model.jointPlacements[j], model.names[j])
-        out.appendBodyToJoint(added, model.inertias[j], pin.SE3.Identity())
-    for f in list(model.frames)[1:]:
-        out.addFrame(pin.Frame(f), False)
-    lower, upper, effort, velocity = (np.concatenate(x) if x else np.zeros(0) for x in limits)
-    out.lowerPositionLimit, out.upperPositionLimit, out.effortLimit, out.velocityLimit = lower, upper, effort, velocity
+    for j in sorted(mimics):
+        mimic = model.joints[j].extract()
+        couplings.append(
+            MimicCoupling(model.names[j], model.names[mimics[j]], float(mimic.scaling), float(mimic.offset))
+        )
+        q, v = out.joints[j].idx_q, out.joints[j].idx_v  # a one-degree joint: no limits of its own
+        out.lowerPositionLimit[q], out.upperPositionLimit[q] = -np.inf, np.inf
+        out.effortLimit[v], out.velocityLimit[v] = np.inf, np.inf
     for j in range(1, out.njoints):
         if not any(f.parentJoint == j and f.type == pin.FrameType.JOINT for f in out.frames):
             out.addFrame(pin.Frame(out.names[j], j, 0, pin.SE3.Identity(), pin.FrameType.JOINT), False)

@@ -10,13 +10,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.exceptions import ConfigurationError
+from pinmob.io import toml_key
 from pinmob.model import NO_LENGTH, SHORTEST
 from pinmob.name_matching import choices
 
 from .chain_builder import ChainBuilder, ClosureSpec, LimbBuilder
 from .closed_joints import canonical_joints, closed_joints, write_files
 from .layout import check_rotation, point
-from .text import MARKER, check_name, toml_key, toml_value, xml_attribute
+from .text import MARKER, check_name, toml_value, xml_attribute
 from .urdf_limb import UrdfLimb
 
 if TYPE_CHECKING:

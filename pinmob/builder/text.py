@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.exceptions import ConfigurationError
+from pinmob.io import toml_key, toml_string
 
 #: relative tolerance below which a number is written as 0 (see the module docstring)
 ZERO_RTOL = 1e-12
@@ -93,17 +94,12 @@ def toml_value(value: Any) -> str:
         x = 0.0 if abs(x) <= ZERO_RTOL else x
         return number(x) if x != int(x) or abs(x) > 1e15 else f"{x:.1f}"
     if isinstance(value, str):
-        return '"' + value.replace("\\", "\\\\").replace('"', '\\"').replace("\n", "\\n") + '"'
+        return toml_string(value)
     if isinstance(value, Mapping):
         return "{ " + ", ".join(f"{toml_key(k)} = {toml_value(v)}" for k, v in value.items()) + " }"
     if isinstance(value, (list, tuple, np.ndarray)):
         return "[" + ", ".join(toml_value(v) for v in value) + "]"
     raise ConfigurationError(f"cannot write a {type(value).__name__} ({value!r}) as a TOML value")
-
-
-def toml_key(k: str) -> str:
-    """A bare TOML key when ``k`` allows it, else a quoted one."""
-    return k if k and k.replace("_", "").replace("-", "").isalnum() else toml_value(k)
 
 
 def is_generated(path: Path) -> bool:

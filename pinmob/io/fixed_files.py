@@ -16,7 +16,6 @@ Plain data in (the input file and the mechanism to write), text out; the caller 
 
 from __future__ import annotations
 
-import json
 import os
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -25,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.exceptions import MechanismFileError
-from pinmob.io.schema import file_error
+from pinmob.io.schema import file_error, toml_key, toml_string
 from pinmob.model import Closure, Mechanism
 
 
@@ -47,18 +46,14 @@ def _toml_value(value: Any) -> str:
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, str):
-        return json.dumps(value, ensure_ascii=False)
+        return toml_string(value)
     if isinstance(value, (int, float)):
         return repr(value)
     if isinstance(value, list):
         return "[" + ", ".join(_toml_value(v) for v in value) + "]"
     if isinstance(value, Mapping):
-        return "{ " + ", ".join(f"{_key(k)} = {_toml_value(v)}" for k, v in value.items()) + " }"
+        return "{ " + ", ".join(f"{toml_key(k)} = {_toml_value(v)}" for k, v in value.items()) + " }"
     raise TypeError(f"no TOML for {value!r}")
-
-
-def _key(key: str) -> str:
-    return key if key.replace("_", "").replace("-", "").isalnum() and key.isascii() else json.dumps(key)
 
 
 def toml_document(doc: Mapping[str, Any]) -> str:
@@ -68,16 +63,18 @@ def toml_document(doc: Mapping[str, Any]) -> str:
     arrays = {k: v for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(x, Mapping) for x in v)}
     for k, v in doc.items():
         if k not in tables and k not in arrays:
-            lines.append(f"{_key(k)} = {_toml_value(v)}")
+            lines.append(f"{toml_key(k)} = {_toml_value(v)}")
     for k, items in arrays.items():
         for item in items:
-            lines += ["", f"[[{_key(k)}]]"] + [f"{_key(a)} = {_toml_value(b)}" for a, b in item.items()]
+            lines += ["", f"[[{toml_key(k)}]]"] + [f"{toml_key(a)} = {_toml_value(b)}" for a, b in item.items()]
     for k, table in tables.items():
         for name, sub in table.items():
             if isinstance(sub, Mapping):
-                lines += ["", f"[{_key(k)}.{_key(name)}]"] + [f"{_key(a)} = {_toml_value(b)}" for a, b in sub.items()]
+                lines += ["", f"[{toml_key(k)}.{toml_key(name)}]"] + [
+                    f"{toml_key(a)} = {_toml_value(b)}" for a, b in sub.items()
+                ]
             else:
-                lines += ["", f"[{_key(k)}]", f"{_key(name)} = {_toml_value(sub)}"]
+                lines += ["", f"[{toml_key(k)}]", f"{toml_key(name)} = {_toml_value(sub)}"]
     return "\n".join(lines) + "\n"
 
 

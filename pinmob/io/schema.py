@@ -4,11 +4,15 @@ Every table of the file has a spec ``{key: Kind}``; :func:`check_table` rejects
 unknown keys and values of the wrong type with a :class:`MechanismFileError`
 naming the file, the key path (e.g. ``limbs[0].tip``), the value and the valid keys.
 TOML booleans are not numbers here (``dof = true`` is an error).
+
+:func:`toml_string` and :func:`toml_key` write a string and a key as TOML 1.0 reads them back (the
+builder's files and ``pinmob fix`` write through them).
 """
 
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Callable, Iterator, Mapping
 from contextlib import contextmanager
 from enum import Enum
@@ -109,6 +113,30 @@ def _toml_type(value: object) -> str:
         if isinstance(value, types):
             return name
     return "table" if isinstance(value, Mapping) else type(value).__name__.replace("datetime", "date-time")
+
+
+#: a bare TOML key (TOML 1.0): ASCII letters, digits, ``_`` and ``-``; any other key is quoted
+BARE_KEY = re.compile(r"[A-Za-z0-9_-]+")
+#: escapes of a TOML basic string, by code point: the control characters U+0000-U+001F and U+007F as ``\uXXXX``,
+#: or by TOML's short form where it has one; the quote and the backslash
+_ESCAPES = {c: f"\\u{c:04X}" for c in [*range(0x20), 0x7F]} | {
+    ord(c): "\\" + short
+    for c, short in (("\b", "b"), ("\t", "t"), ("\n", "n"), ("\f", "f"), ("\r", "r"), ('"', '"'), ("\\", "\\"))
+}
+
+
+def toml_string(text: str) -> str:
+    r"""``text`` as a TOML basic string, which a TOML parser reads back as ``text``.
+
+    Escaped: ``"``, ``\`` and the control characters U+0000-U+001F and U+007F (``\b \t \n \f \r``, the others
+    ``\uXXXX``); every other character is written as it is (UTF-8 in the file), e.g. ``"café"``.
+    """
+    return '"' + text.translate(_ESCAPES) + '"'
+
+
+def toml_key(key: str) -> str:
+    """``key`` bare when TOML allows it (:data:`BARE_KEY`), else quoted (:func:`toml_string`): ``é`` -> ``"é"``."""
+    return key if BARE_KEY.fullmatch(key) else toml_string(key)
 
 
 def toml_text(value: object, limit: int = 80) -> str:

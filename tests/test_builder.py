@@ -8,6 +8,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
 import pinmob
@@ -181,6 +183,41 @@ def test_robot_name_is_escaped():
     b.limbs[0].tip(at=[0, 0, 0])
     model = pin.buildModelFromXML(b.urdf())
     assert model.name == 'R&D_"arm"_<2>'
+
+
+#: text a TOML basic string must escape or may hold as it is: non-ASCII letters and digits, quotes, backslashes,
+#: tab, every other control character U+0000-U+001F, DEL
+AWKWARD = 'café x² "quoted" back\\slash tab\there ' + "".join(map(chr, range(0x20))) + "\x7f end"
+#: configuration names that are no bare TOML key (bare: ASCII letters, digits, _ and -), and one that is
+#: (printable all: the loader refuses control characters in names)
+AWKWARD_NAMES = ["é", "x²", "Ωmega", 'say "hi"', "back\\slash", "two words", "a.b", "ok-name_1"]
+
+
+def test_names_and_descriptions_round_trip_through_tomllib(tmp_path):
+    """The written file parses with tomllib (independent of pinmob's writer) to the builder's values, and loads."""
+    b = MechanismBuilder("two", AWKWARD)
+    for name, y in (("A", 0.1), ("B", -0.1)):
+        limb = b.limb(name)
+        limb.revolute("r", at=[0, y, 0], axis=[1, 0, 0])
+        limb.tip(at=[0, 0, 0])
+    path = b.write(tmp_path, "two", {name: {"joints": {"A_r": 0.0}} for name in AWKWARD_NAMES})
+    text = path.read_text(encoding="utf-8")
+    doc = tomllib.loads(text)
+    assert doc["description"] == AWKWARD and list(doc["configurations"]) == AWKWARD_NAMES
+    assert all(doc["configurations"][name] == {"joints": {"A_r": 0.0}} for name in AWKWARD_NAMES)
+    assert "[configurations.ok-name_1]" in text  # a bare key stays bare (the built-in models' files)
+    mech = pinmob.load(path)
+    assert mech.description == AWKWARD and list(mech.configurations) == AWKWARD_NAMES
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    key=st.one_of(st.text(st.characters(max_codepoint=0x7F)), st.text()),
+    text=st.one_of(st.text(st.characters(max_codepoint=0x7F)), st.text()),
+)
+def test_any_key_and_string_round_trip_through_tomllib(key, text):
+    """Any key and string (ASCII with its control characters, or any Unicode but lone surrogates) read back equal."""
+    assert tomllib.loads(f"v = {toml_value({key: [text]})}") == {"v": {key: [text]}}
 
 
 def test_write_refuses_unclosed_configurations_and_foreign_files(tmp_path):

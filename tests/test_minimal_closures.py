@@ -16,6 +16,7 @@ from __future__ import annotations
 import dataclasses
 import os
 import shutil
+import tomllib
 import warnings
 from pathlib import Path
 
@@ -101,6 +102,36 @@ def test_fix_spherical_3rrr_toml(capsys, tmp_path):
     for name in fixed.configurations:
         chain = pinmob.analyze(fixed, name).mechanism_mobility
         assert chain.redundant_constraints == 0 and chain.mechanism_dof == 3, name
+
+
+def test_fix_toml_writes_names_and_text_as_tomllib_reads_them(capsys, tmp_path):
+    """A description with every control character, DEL, quotes, backslashes and non-ASCII letters, and configuration
+    names TOML must quote (non-ASCII letters, quotes, a backslash, a dot, a space) or may leave bare: the written
+    file parses with tomllib to the values the input parses to (tomllib reads both)."""
+    description = 'café "quoted" back\\slash ' + "".join(map(chr, range(0x20))) + "\x7f end"
+    names = ["é", "x²", 'say "hi"', "back\\slash", "a.b", "two words", "home"]
+
+    def escaped(text):  # written with \\uXXXX escapes only: the input's text does not depend on the writer under test
+        return (
+            '"'
+            + "".join(c if c.isascii() and c.isprintable() and c not in '"\\' else f"\\u{ord(c):04X}" for c in text)
+            + '"'
+        )
+
+    shutil.copy(DATA / "fourbar.urdf", tmp_path)
+    head = (DATA / "fourbar.toml").read_text(encoding="utf-8").split("[configurations.home]")[0].splitlines()
+    lines = [f"description = {escaped(description)}" if line.startswith("description = ") else line for line in head]
+    text = "\n".join(lines) + "\n"
+    text += "".join(f"[configurations.{escaped(name)}]\njoints = {{}}\n\n" for name in names)
+    source = tmp_path / "fourbar.toml"
+    source.write_text(text, encoding="utf-8")
+    given = tomllib.loads(text)
+    assert given["description"] == description and list(given["configurations"]) == names  # the input is right
+    target = tmp_path / "fixed.toml"
+    assert fix(capsys, source, "--output", target)[0] == 0
+    written = tomllib.loads(target.read_text(encoding="utf-8"))
+    assert written["description"] == description and written["configurations"] == given["configurations"]
+    assert pinmob.load(target).description == description
 
 
 def test_fix_checks_every_named_configuration():

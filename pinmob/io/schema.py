@@ -201,7 +201,8 @@ def joint_values(path: Path, where: str, table: Mapping[str, Any], joint_names: 
         if k not in joint_names:
             raise file_error(
                 path,
-                f"{where} names unknown joint {k!r}{did_you_mean(k, joint_names)}; valid joints: {choices(joint_names)}",
+                f"{where} names unknown joint {k!r}{did_you_mean(k, joint_names)}; "
+                f"valid joints: {choices(joint_names)}",
             )
         if not finite_number(v):
             raise file_error(

@@ -114,7 +114,7 @@ def _text(report: ReportLike, value: Any) -> str | None:
 
 @dataclass(frozen=True)
 class ReportPart:
-    """One optional part of a :class:`~pinmob.analysis.report.Report`: everything a new analysis adds to the report, declared once.
+    """One optional part of a :class:`~pinmob.analysis.report.Report`: all a new analysis adds to it, declared once.
 
     A part is its analysis module plus one :func:`register_part` call: the report computes it when first read
     (``report.part(name)``), prints it as a section of ``str(report)`` (so the notebook's HTML shows it), adds

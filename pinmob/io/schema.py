@@ -135,7 +135,7 @@ def toml_string(text: str) -> str:
 
 
 def toml_key(key: str) -> str:
-    """``key`` bare when TOML allows it (:data:`BARE_KEY`), else quoted (:func:`toml_string`): ``é`` -> ``"é"``."""
+    """``key`` bare when TOML allows it (ASCII letters, digits, ``_``, ``-``), else quoted: ``é`` -> ``"é"``."""
     return key if BARE_KEY.fullmatch(key) else toml_string(key)
 
 

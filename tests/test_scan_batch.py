@@ -67,11 +67,19 @@ def _joint_grid(mech: pinmob.Mechanism):
     return grid_spec(mech, at, axes)
 
 
+def _joint_path(mech: pinmob.Mechanism):
+    """A path over the first two actuated joints (the grid's steps), from the first configuration, 9 samples."""
+    grid = _joint_grid(mech)
+    end = ",".join(f"{name}={hi!r}" for name, _, hi, _ in grid.axes)
+    return path_spec(mech, next(iter(mech.configurations)), end, 9, joints=True)
+
+
 def _specs():
     for name in builtin_models():
         mech = pinmob.load(name)
         if mech.actuated and mech.configurations:
             yield pytest.param(name, "joints", id=f"{name}-joints")
+            yield pytest.param(name, "joint path", id=f"{name}-joint-path")
     for i, (name, at, axes) in enumerate(POSE_GRIDS):
         yield pytest.param(name, ("grid", at, axes), id=f"{name}-grid{i}")
     for name, start, end, n in PATHS:
@@ -108,6 +116,8 @@ def test_batch_rows_equal_single_rows(name, what):
     try:
         if what == "joints":
             spec = _joint_grid(mech)
+        elif what == "joint path":
+            spec = _joint_path(mech)
         elif what[0] == "grid":
             spec = grid_spec(mech, what[1], what[2])
         else:

@@ -85,7 +85,8 @@ def test_the_params_of_many_samples_are_each_samples_params():
 
 def test_targets_with_joint_values_as_vectors():
     """A joint grid's targets: no pose coordinate (NaN), its joints' values by hand (lo + (hi - lo) i / (n - 1),
-    the held one at its value); a joint path's targets give no pose coordinate at all (refused)."""
+    the held one at its value); a joint path's targets give no pose coordinate either, and its joints' values
+    along the path."""
     puu = pinmob.load("3-PUU")
     spec = grid_spec(puu, "generic", [("A_slider", -0.01, 0.01, 3), ("B_slider", 0.0, 0.04, 5)])
     assert spec.target_joints == ("A_slider", "B_slider", "C_slider")
@@ -96,10 +97,16 @@ def test_targets_with_joint_values_as_vectors():
     for k in (0, 7, 14):  # the targets' own joint values, the same floats
         _, (pose, joints) = spec.target(k)
         assert not pose and list(spec.joint_targets([k])[0]) == [joints[n] for n in spec.target_joints]
-    joint_path = path_spec(puu, "generic", "A_slider=0.01", 3)
-    assert joint_path.target_joints == ()
-    with pytest.raises(ValueError, match="joint values"):
-        joint_path.pose_targets([0, 1])
+    joint_path = path_spec(puu, "generic", "A_slider=0.01", 3)  # from generic's A_slider to 0.01, the others held
+    names = joint_path.target_joints
+    assert "A_slider" in names and names == tuple(joint_path.joints)
+    assert np.isnan(joint_path.pose_targets([0, 1, 2])).all()
+    a = pinmob.model.joint_values.joint_value(puu.model, pinmob.closed_configuration(puu, "generic"), "A_slider")
+    values = joint_path.joint_targets([0, 1, 2])
+    np.testing.assert_allclose(values[:, names.index("A_slider")], [a, 0.5 * (a + 0.01), 0.01], rtol=0, atol=1e-15)
+    for k in (0, 1, 2):  # the targets' own joint values, the same floats
+        kind, joints = joint_path.target(k)
+        assert kind == "joints" and list(values[k]) == [joints[n] for n in names]
 
 
 @pytest.mark.parametrize("vector_space", [True, False])

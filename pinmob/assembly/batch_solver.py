@@ -146,8 +146,9 @@ class PoseProblem:
         Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`, the same arithmetic over the whole
         stack; that function itself for a row with an angle whose wrapped value is outside its limits) and the
         warning for joints outside their limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind``
-        ``pose``) or of :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``), checked where
-        any coordinate is outside its limits.
+        ``pose``), of :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``) or of
+        :func:`~pinmob.assembly.assemble.solve_actuated` (``joints``), checked where any coordinate is outside its
+        limits.
         """
         out, (lower, upper) = np.array(qs, float).reshape(-1, self.model.nq), self.limits
         check = _wrap_and_check if self.kernel is None else self.kernel.wrap_and_check
@@ -155,7 +156,9 @@ class PoseProblem:
         for i in np.flatnonzero(special):
             out[i] = wrap_angles(self.model, qs[i])
             outside[i] = bool((self.limited & ((out[i] < lower - 1e-9) | (out[i] > upper + 1e-9))).any())
-        what = "assembly at a platform pose" if kind == "pose" else "assembly at platform pose coordinates"
+        what = {"pose": "assembly at a platform pose", "joints": "forward kinematics (actuated joint values)"}.get(
+            kind, "assembly at platform pose coordinates"
+        )
         for i in np.flatnonzero(outside):
             warn_outside_limits(mech, out[i], what)
         return out

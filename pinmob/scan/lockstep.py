@@ -13,11 +13,11 @@ reach, a stall, a step that diverged) goes to the single-sample solver
 the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
 its samples: their targets are rows of pose-coordinate vectors built for the whole group at once
 (:meth:`pinmob.scan.scan_spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
-(:func:`secant_stack`, :func:`off_secants`). A grid or coordinate path that gives joint values (the
-designer's motors) runs on the predictor too: those joints are held at their values in each start and no
-step moves them, the pose coordinates not given are unknowns (:class:`~pinmob.scan.predictor.Predictor`). A
-joint path's targets, joints with more than one coordinate, mechanisms without a platform or with closures
-besides the limb tips are assembled by the single-sample solver alone.
+(:func:`secant_stack`, :func:`off_secants`). A grid or a path that gives joint values (the designer's
+motors) runs on the predictor too: those joints are held at their values in each start and no step moves them,
+the pose coordinates not given are unknowns (:class:`~pinmob.scan.predictor.Predictor`). Joints with more than
+one coordinate, mechanisms without a platform or with closures besides the limb tips are assembled by the
+single-sample solver alone.
 
 The group's samples are then analysed in one batch (:mod:`pinmob.scan.batch_rows`);
 a predicted sample the batch does not decide (singular or close to it) is polished
@@ -71,18 +71,25 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
         group.step([(c, plan[j], group.last[c]) for c, plan in enumerate(plans) if j < len(plan)], secant=True)
     if neighbours:  # each chunk's left neighbour, warm-started from its first sample
         group.lost = {c for c in neighbours if group.pending[c][jobs[c][0]].q is None}
+        for c in neighbours:
+            group.last_k[c] = jobs[c][0] if group.pending[c][jobs[c][0]].q is not None else None
         group.step([(c, jobs[c][0] - 1, _seed(group.pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])
     pending = group.pending
     analysed = iter(chunks[0].analysed([s for p in pending for s in p.values()]))
     mine = [[next(analysed) for _ in p] for p in pending]
+    again_q: dict[tuple[int, int | None], Array] = {}  # (chunk, sample): its configuration solved again
     for c, chunk in enumerate(chunks):
-        for (k, sample), decided in zip(list(pending[c].items()), mine[c]):
+        for (k, sample), decided in zip(list(pending[c].items()), mine[c]):  # in the order they were assembled
             if decided is None and (c, k) in group.predicted and sample.q is not None:  # singular or close to it:
                 # the single-sample solver's polish (~1e-8 from a double root); where the targets give joint values,
                 # from the sample's seed, as the single-sample path: with motions the actuators do not control, the
-                # configuration is one of a continuum, and the solver's own choice is the row's
-                again = chunk.assemble(k, group.seeds[c, k] if group.joints is not None else sample.q)
+                # configuration is one of a continuum, and the solver's own choice is the row's (its seed: the
+                # sample before, as solved again when it was, as on the single-sample path)
+                seed = again_q.get((c, group.origin[c, k]), group.seeds[c, k]) if group.joints is not None else sample.q
+                again = chunk.assemble(k, seed)
                 pending[c][k] = again if again.q is not None else sample
+                if again.q is not None:
+                    again_q[c, k] = again.q
     columns = iter(values_and_limits(mech, spec.values, [s for p in pending for s in p.values()]))  # at once
     rows: list[dict[str, Any]] = []
     for c, (start, stop, _) in enumerate(jobs):
@@ -108,6 +115,9 @@ class _Lockstep:
         self.pending: list[dict[int, _Sample]] = [{} for _ in chunks]
         self.predicted: set[tuple[int, int]] = set()  # (chunk, sample) closed by the predictor
         self.seeds: dict[tuple[int, int], Array] = {}  # (chunk, sample): its warm start, where the predictor closed it
+        #: (chunk, sample): the sample whose configuration was its warm start (None: the chunk's seed)
+        self.origin: dict[tuple[int, int], int | None] = {}
+        self.last_k: list[int | None] = [None] * len(chunks)  # the sample that gave each chunk's ``last``
         self.lost: set[int] = set()  # chunks whose last sample did not assemble
         self.last = list(seeds)  # each chunk's last closed configuration (its seed at first)
         self.before: list[Array | None] = [None] * len(chunks)  # the closed sample before the last, when it closed
@@ -164,7 +174,9 @@ class _Lockstep:
             self.last[c] = _seed(sample, seed)
             if got is not None:
                 self.predicted.add((c, k))
-                self.seeds[c, k] = seed
+                self.seeds[c, k], self.origin[c, k] = seed, self.last_k[c]
+            if sample.q is not None:
+                self.last_k[c] = k
             if sample.q is None:
                 self.lost.add(c)
             else:

@@ -3,10 +3,11 @@
 :class:`Predictor` wraps :func:`pinmob.assembly.batch_solver.solve_poses` for one scan: the targets as pose
 coordinates (NaN where a coordinate follows: it starts where the seed has it), each sample stopped within
 ``PREDICT_TOL``, the converged ones finished as the single-sample assembly returns them, with the kinematics the
-solver computed at them (:class:`Closed`). Where the targets give joint values (a grid over the motors), those
-joints start at the target's values and no step moves them (the problem's ``fixed`` columns), and every pose
-coordinate not given is an unknown: the frames meet where the joints put them. :mod:`pinmob.scan.lockstep` runs a group's chunks on it, and the
-seeding walk (:func:`pinmob.scan.scan_run.chunk_seeds`) its even steps.
+solver computed at them (:class:`Closed`). Where the targets give joint values (a grid or a path over the
+motors), those joints start at the target's values and no step moves them (the problem's ``fixed`` columns),
+and every pose coordinate not given is an unknown: the frames meet where the joints put them.
+:mod:`pinmob.scan.lockstep` runs a group's chunks on it, and the seeding walk
+(:func:`pinmob.scan.scan_run.chunk_seeds`) its even steps.
 """
 
 from __future__ import annotations
@@ -59,8 +60,8 @@ class Predictor:
     def applies(mech: Mechanism, spec: ScanSpec) -> bool:
         """A scan the predictor runs (module docstring).
 
-        A platform-pose scan of a mechanism whose closures are its limb tips, or a grid or coordinate path that
-        gives values of one-coordinate joints.
+        A platform-pose scan of a mechanism whose closures are its limb tips, or a grid or a path that gives
+        values of one-coordinate joints.
         """
         if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs:
             return False
@@ -71,7 +72,7 @@ class Predictor:
             return True
         model = mech.model
         joints = [model.joints[model.getJointId(n)] for n in spec.target_joints]
-        return kind == "coords" and all(j.nq == 1 and j.nv == 1 for j in joints)
+        return kind in ("coords", "joints") and all(j.nq == 1 and j.nv == 1 for j in joints)
 
     def closed(
         self, targets: list[tuple[str, Any]], seeds: list[Array], starts: list[Array] | None = None
@@ -88,6 +89,8 @@ class Predictor:
         for i, (kind, value) in enumerate(targets):
             if kind == "pose":
                 poses[i] = pose_vector(value)
+            elif kind == "joints":
+                joints[i] = [value[n] for n in self.joints]
             else:
                 poses[i, [POSE_COORDS.index(c) for c in value[0]]] = list(value[0].values())
                 joints[i] = [value[1][n] for n in self.joints]
@@ -108,8 +111,8 @@ class Predictor:
         """:meth:`closed` on stacks: (B, 6) target pose coordinates (NaN: following), (B, nq) seeds.
 
         Returns the closed configurations (finished, :meth:`closed`), which converged, and the kinematics there
-        (:class:`Closed`). ``kinds``: the targets' kind (``pose`` or ``coords``), one for all or one each. The
-        following coordinates start where each seed has them. ``joints``: (B, J) the values of :attr:`joints`
+        (:class:`Closed`). ``kinds``: the targets' kind (``pose``, ``coords`` or ``joints``), one for all or one
+        each. The following coordinates start where each seed has them. ``joints``: (B, J) the values of :attr:`joints`
         (the starts hold them; none: the targets give no joint).
         """
         poses = self.seed_poses(poses, seeds)
@@ -124,6 +127,8 @@ class Predictor:
             which = sol.converged if isinstance(kinds, str) else sol.converged & (np.array(kinds) == kind)
             if which.any():
                 q[which] = self.problem.finish(self.mech, q[which], kind)  # angles wrapped: the same kinematics
+        if joints is not None and self.joints:  # the given joints exactly at their values (an angle may be wrapped)
+            q[np.ix_(sol.converged, self.joint_q)] = joints[sol.converged]
         return Closed(q, sol.converged, sol.jacobians, sol.frames[:, 0])  # frames[0]: the platform's
 
     def seed_poses(self, poses: Array, seeds: Array) -> Array:

@@ -239,11 +239,11 @@ class ScanSpec:
 
         The vectors of :meth:`target` without its poses and dicts: a ``pose`` target's coordinates (a pose path's
         through :func:`~pinmob.assembly.reach.pose_vector`), a ``coords`` target's given pose coordinates (its
-        joint values: :meth:`joint_targets`). A joint path's targets give no pose coordinate (``ValueError``).
+        joint values: :meth:`joint_targets`); a joint path's targets give none (every row NaN).
         ``params``: :meth:`params` at each t, already computed (None: computed here).
         """
         if self.kind == "joints":
-            raise ValueError("a joints scan's targets give joint values, not pose coordinates")
+            return np.full((len(ts), 6), np.nan)
         params = self.params_of(ts) if params is None else params
         if self.kind == "pose":
             return np.array([pose_vector(self.target(t, p)[1]) for t, p in zip(ts, params)])
@@ -265,7 +265,9 @@ class ScanSpec:
 
     @property
     def target_joints(self) -> tuple[str, ...]:
-        """The joints whose values a grid's or a coordinate path's targets give (varied, then held); else none."""
+        """The joints whose values a grid's or a path's targets give (a grid's varied, then held); a pose path none."""
+        if self.kind == "joints":
+            return tuple(self.joints)
         if self.kind not in ("grid", "coords"):
             return ()
         return tuple(c for c in (*self.varied, *(c for c, _ in self.held)) if c not in POSE_COORDS)
@@ -280,8 +282,9 @@ class ScanSpec:
                 out[:, i] = held[c]
             elif self.kind == "grid":
                 out[:, i] = [p["grid_" + c] for p in params]
-            else:  # a coordinate path, element by element as target's
-                j, s = self.varied.index(c), np.array([p["s"] for p in params])
+            else:  # a path, element by element as target's
+                j = i if self.kind == "joints" else self.varied.index(c)
+                s = np.array([p["s"] for p in params])
                 out[:, i] = (1 - s) * np.asarray(self.a)[j] + s * np.asarray(self.b)[j]
         return out
 

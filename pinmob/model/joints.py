@@ -95,7 +95,7 @@ def _columns(model: pin.Model) -> list[tuple[int, int, Array]]:
 @functools.lru_cache(maxsize=16)
 def _cached_columns(model: pin.Model, njoints: int, nq: int, nv: int) -> list[tuple[int, int, Array]]:
     """:func:`_columns`, cached per model object and size (a model only grows by adding joints)."""
-    data = model.createData()
+    data = pin.Data(model)  # as model.createData(), without its copy
     pin.forwardKinematics(model, data, pin.neutral(model))
     out = []
     for j in range(1, model.njoints):
@@ -130,12 +130,17 @@ def angle_mask(model: pin.Model) -> Mask:
 def _masks(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[Mask, Mask]:
     """:func:`linear_velocity_mask` and :func:`angle_mask`, cached per model object and size."""
     linear, angle = np.zeros(nv, bool), np.zeros(nq, bool)
-    for iq, iv, sub in _columns(model):
-        linear[iv : iv + sub.shape[1]] = np.linalg.norm(sub[3:], axis=0) < 1e-12
-        if iq >= 0:
-            angle[iq : iq + sub.shape[1]] = (np.linalg.norm(sub[:3], axis=0) < 1e-12) & (
-                np.linalg.norm(sub[3:], axis=0) > 0
-            )
+    columns = _columns(model)
+    if columns:  # the norms of every joint's columns at once: a joint's are those of its slice
+        stacked = np.hstack([sub for _, _, sub in columns])
+        lin, ang = np.linalg.norm(stacked[:3], axis=0), np.linalg.norm(stacked[3:], axis=0)
+        start = 0
+        for iq, iv, sub in columns:
+            k = sub.shape[1]
+            linear[iv : iv + k] = ang[start : start + k] < 1e-12
+            if iq >= 0:
+                angle[iq : iq + k] = (lin[start : start + k] < 1e-12) & (ang[start : start + k] > 0)
+            start += k
     linear.flags.writeable = angle.flags.writeable = False
     return linear, angle
 

@@ -20,7 +20,7 @@ from pinmob.screw import Array
 
 def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pin.SE3:
     """World pose of the platform frame at q."""
-    data = mech.model.createData() if data is None else data
+    data = pin.Data(mech.model) if data is None else data
     pin.framesForwardKinematics(mech.model, data, q)
     return pin.SE3(data.oMf[mech.platform_id])
 

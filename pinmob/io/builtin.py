@@ -23,15 +23,20 @@ def builtin_dir() -> Path:
 
 
 def builtin_models() -> dict[str, Path]:
-    """Built-in mechanism names and their files.
+    """Built-in mechanism names and their files (:func:`models_in` the built-in folder)."""
+    return models_in(builtin_dir())
 
-    Each file's name is read again only when the file changed (its path, size and modification time are the key of
-    the names cached in this process): every ``pinmob.load`` asks for them.
+
+def models_in(folder: Path) -> dict[str, Path]:
+    """The mechanism names of the ``*.toml`` files of ``folder`` (:func:`model_name`), in file name order.
+
+    Each file's name is read again only when the file changed (its name, size and modification time are the key
+    of the names cached in this process): every ``pinmob.load`` asks for the built-in ones.
     """
-    folder, stamps = builtin_dir(), []
+    stamps = []
     try:
         listed = sorted(os.scandir(folder), key=lambda e: e.name)  # as sorted(folder.glob("*.toml"))
-    except OSError:  # no such folder: no built-in model
+    except OSError:  # no such folder: no model
         listed = []
     for entry in listed:
         if not entry.name.endswith(".toml"):

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import functools
 from collections.abc import Callable, Sequence
 from typing import NoReturn
 
@@ -128,6 +129,22 @@ def build_parser(command: str | None = None) -> argparse.ArgumentParser:
         if command is None or command == name or command not in COMMAND_HELP:
             _ARGUMENTS[name](p)
     return parser
+
+
+def parser_for(argv: Sequence[str]) -> argparse.ArgumentParser:
+    """The parser of a command line: :func:`build_parser` of the command it names (:func:`parsed_command`).
+
+    Built once per command and set of registered report parts in this process: parsing a command line leaves a
+    parser as it was.
+    """
+    command = parsed_command(argv)
+    return _built(command if command in COMMAND_HELP else None, tuple(REPORT_PARTS.values()))
+
+
+@functools.lru_cache(maxsize=16)
+def _built(command: str | None, parts: tuple[object, ...]) -> argparse.ArgumentParser:
+    """:func:`build_parser` (``parts``: the report parts registered, whose options ``analyze`` takes)."""
+    return build_parser(command)
 
 
 def parsed_command(argv: Sequence[str]) -> str | None:

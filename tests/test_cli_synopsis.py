@@ -86,3 +86,21 @@ def test_the_rule_reads_options_not_numbers():
         "--joints",
         "--steps",
     ]
+
+
+@pytest.mark.parametrize("command", sorted(c for c in parsers() if c), ids=str)
+def test_a_parser_of_one_command_parses_and_helps_as_the_whole(command):
+    """``build_parser(command)`` (what ``pinmob COMMAND ...`` builds) gives that command's help, its options and the
+    top-level help of the parser of every command; the other commands are listed, without their options."""
+    from pinmob.cli.parser import parsed_command
+
+    assert parsed_command([command, "--help"]) == command
+    assert parsed_command(["--version", command, "x"]) == command
+    assert parsed_command(["--", command]) is None and parsed_command(["--help"]) is None
+    whole = build_parser()
+    one = build_parser(command)
+    sub = next(a for a in one._actions if isinstance(a, argparse._SubParsersAction))
+    assert one.format_help() == whole.format_help()
+    assert sub.choices[command].format_help() == parsers()[command].format_help()
+    assert options(sub.choices[command]) == options(parsers()[command])
+    assert all(not options(p) for c, p in sub.choices.items() if c != command)

@@ -273,6 +273,85 @@ def test_builtin_names_read_from_their_name_line(tmp_path):
         assert model_name(tmp_path / file) == str(tomllib.loads(text).get("name", Path(file).stem))
 
 
+def test_builtin_names_are_read_again_when_a_file_changes(tmp_path):
+    """The names are cached per file name, size and modification time: a changed or new file is read again."""
+    import os
+
+    from pinmob.io.builtin import models_in
+
+    first = tmp_path / "a.toml"
+    first.write_text('name = "one"\n')
+    (tmp_path / "notes.txt").write_text('name = "no model"\n')
+    assert models_in(tmp_path) == {"one": first}
+    first.write_text('name = "three"\n')  # another size
+    assert models_in(tmp_path) == {"three": first}
+    stat = first.stat()
+    first.write_text('name = "seven"\n')  # the same size, a later time (set: the clock may not have moved)
+    os.utime(first, ns=(stat.st_atime_ns, stat.st_mtime_ns + 1))
+    assert models_in(tmp_path) == {"seven": first}
+    second = tmp_path / "0.toml"
+    second.write_text('name = "zero"\n')
+    assert list(models_in(tmp_path).items()) == [("zero", second), ("seven", first)]
+    assert models_in(tmp_path / "absent") == {}
+
+
+def test_joint_masks_are_each_joints_own_columns():
+    """linear_velocity_mask and angle_mask (one norm over all columns) from each joint's own motion subspace."""
+    from pinmob.model import angle_mask, linear_velocity_mask
+
+    for name in pinmob.builtin_models():
+        model = pinmob.load(name).model
+        linear, angle = np.zeros(model.nv, bool), np.zeros(model.nq, bool)
+        q = pin.neutral(model)
+        for j in range(1, model.njoints):
+            joint = model.joints[j]
+            if not joint.nv:
+                continue
+            data = joint.createData()
+            joint.calc(data, q)
+            s = np.asarray(data.S).reshape(6, -1)
+            linear[joint.idx_v : joint.idx_v + joint.nv] = np.linalg.norm(s[3:], axis=0) < 1e-12
+            if joint.nq == joint.nv:
+                angle[joint.idx_q : joint.idx_q + joint.nq] = (np.linalg.norm(s[:3], axis=0) < 1e-12) & (
+                    np.linalg.norm(s[3:], axis=0) > 0
+                )
+        assert np.array_equal(linear_velocity_mask(model), linear), name
+        assert np.array_equal(angle_mask(model), angle), name
+
+
+def test_printable_fast_path_is_the_category_test():
+    """printable() (str.isprintable first) refuses exactly the names with a Cc or Cf character."""
+    import sys
+    import unicodedata
+
+    from pinmob.model.names import printable
+
+    for c in map(chr, range(sys.maxunicode + 1)):
+        ref = unicodedata.category(c) not in ("Cc", "Cf")
+        assert printable(c) == ref and printable(f"a{c}b") == ref, hex(ord(c))
+
+
+def test_loading_a_builtin_model_loads_no_other_reader():
+    """``import pinmob`` and loading a built-in model (TOML + URDF) leave the other formats' readers unloaded;
+    their names in pinmob.io load them when read."""
+    import subprocess
+    import sys
+
+    readers = ("pinmob.io.extended_urdf", "pinmob.io.mjcf", "pinmob.io.xacro_file", "pinmob.io.fixed_files")
+    code = (
+        "import sys, pinmob\n"
+        f"readers = {readers!r}\n"
+        "pinmob.load('3-PUU')\n"
+        "print(sorted(m for m in readers if m in sys.modules))\n"
+        "import pinmob.io\n"
+        "[getattr(pinmob.io, n) for n in pinmob.io.__all__]\n"
+        "print(sorted(m for m in readers if m in sys.modules))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split("\n")
+    assert out[0] == "[]", out[0]
+    assert out[1] == str(sorted(readers)), out[1]
+
+
 def test_meshes_are_loaded_only_when_drawn():
     """Loading and analysing the 3-UR5 (what pinmob analyze does) loads no mesh; its visual model does, once."""
     import pickle

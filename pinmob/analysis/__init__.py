@@ -36,6 +36,7 @@ from pinmob.analysis.configuration import Configuration, as_configuration
 from pinmob.analysis.entry_point import analyze, asked_configuration
 from pinmob.analysis.finite.higher_order import ORDER, ORDERS, check_order
 from pinmob.analysis.fixed_closures import FixCheck, check_fixed, chosen_proposal, fix_closures, minimal_closures
+from pinmob.analysis.follow import STEPS as FOLLOW_STEPS
 from pinmob.analysis.generic import (
     generic_configurations,
     generic_constraint_rank,
@@ -84,6 +85,7 @@ def __getattr__(name: str) -> Any:
 
 __all__ = [
     "FIX_HINT",
+    "FOLLOW_STEPS",
     "Actuation",
     "ClosureRank",
     "Configuration",

@@ -19,7 +19,7 @@ from collections.abc import Callable, Iterator, Sequence
 from typing import TextIO
 
 from pinmob.cli.flags import worded_for_cli
-from pinmob.cli.parser import build_parser
+from pinmob.cli.parser import build_parser, parser_for
 from pinmob.cli.progress_bar import terminal_bars
 from pinmob.exceptions import PinmobError
 from pinmob.progress import reporting
@@ -92,8 +92,9 @@ def _show_warning(
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``pinmob`` console script; returns the exit status."""
+    words = sys.argv[1:] if argv is None else list(argv)
     with _stderr_or_null():
-        args = build_parser().parse_args(argv)
+        args = parser_for(words).parse_args(words)  # the named command's arguments only, built once
         with warnings.catch_warnings():
             warnings.simplefilter("ignore" if getattr(args, "json", False) else "default")
             warnings.filterwarnings("ignore", category=ResourceWarning)  # Dask's sockets: not the user's business

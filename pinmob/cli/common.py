@@ -32,10 +32,14 @@ def joint_values_of(args: argparse.Namespace) -> dict[str, float] | None:
 
 def load_for(args: argparse.Namespace) -> Mechanism:
     """The mechanism of ``args.mechanism``, with ``--actuated`` applied."""
-    from pinmob.io import load, parse_xacro_args
+    from pinmob.io import load
     from pinmob.model import with_actuated
 
-    xacro_args = parse_xacro_args(getattr(args, "xacro_arg", None) or [])
+    xacro_args: dict[str, str] = {}
+    if getattr(args, "xacro_arg", None):  # the xacro reader loads for xacro arguments (or a xacro file) only
+        from pinmob.io import parse_xacro_args
+
+        xacro_args = parse_xacro_args(args.xacro_arg)
     mech = load(args.mechanism, xacro_args=xacro_args, package_dirs=getattr(args, "package_path", None) or [])
     given = Path(str(args.mechanism)).expanduser()
     if given.suffix.lower() == ".urdf" and mech.source is not None and mech.source.suffix.lower() in (".yaml", ".yml"):

@@ -3,11 +3,12 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Sequence
+import functools
+from collections.abc import Callable, Sequence
 from typing import NoReturn
 
 from pinmob import __version__
-from pinmob.analysis import ORDER, ORDERS, REPORT_PARTS
+from pinmob.analysis import FOLLOW_STEPS, ORDER, ORDERS, REPORT_PARTS
 from pinmob.assembly import CLOSURE_TOL, CLOSURE_TOL_MAX, RESTARTS
 from pinmob.screw import RTOL
 
@@ -98,18 +99,72 @@ def add_part_options(p: argparse.ArgumentParser) -> None:
                 )
 
 
-def build_parser() -> argparse.ArgumentParser:
-    """The ``pinmob`` argument parser with its seven commands."""
+#: Each command's one-line help (``pinmob --help`` lists them in this order).
+COMMAND_HELP = {
+    "models": "list the built-in mechanisms",
+    "analyze": "mobility of the platform at a configuration",
+    "show": "show the mechanism and its free motions, animated, in meshcat",
+    "scan": "mobility and singularities along a path or over a workspace slice",
+    "sweep": "a design-space sweep: per design its mobility and a workspace scan",
+    "glossary": "the terms the reports use, explained",
+    "fix": "write the mechanism file with minimal closures (no redundant closure equation), in its own format",
+}
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The ``pinmob`` argument parser with its seven commands.
+
+    Args:
+        command: a command whose arguments alone are added (:func:`parsed_command` of the command line): the
+            others are listed (``pinmob --help``, the choices of a usage error) without their arguments, which
+            parsing a command line that names ``command`` never reads. None (or not a command): every command's.
+    """
     parser = Parser(
         prog="pinmob", description="Platform mobility of parallel and closed-chain robots.", epilog=GLOSSARY
     )
     parser.add_argument("--version", action="version", version=f"pinmob {__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
+    for name, help_text in COMMAND_HELP.items():
+        p = sub.add_parser(name, help=help_text, epilog=GLOSSARY)
+        if command is None or command == name or command not in COMMAND_HELP:
+            _ARGUMENTS[name](p)
+    return parser
 
-    p = sub.add_parser("models", help="list the built-in mechanisms", epilog=GLOSSARY)
+
+def parser_for(argv: Sequence[str]) -> argparse.ArgumentParser:
+    """The parser of a command line: :func:`build_parser` of the command it names (:func:`parsed_command`).
+
+    Built once per command and set of registered report parts in this process: parsing a command line leaves a
+    parser as it was.
+    """
+    command = parsed_command(argv)
+    return _built(command if command in COMMAND_HELP else None, tuple(REPORT_PARTS.values()))
+
+
+@functools.lru_cache(maxsize=16)
+def _built(command: str | None, parts: tuple[object, ...]) -> argparse.ArgumentParser:
+    """:func:`build_parser` (``parts``: the report parts registered, whose options ``analyze`` takes)."""
+    return build_parser(command)
+
+
+def parsed_command(argv: Sequence[str]) -> str | None:
+    """The command a command line names: its first word that is not an option (None when there is none).
+
+    The top-level options (``--help``, ``--version``) take no value, so the first other word is the command.
+    """
+    for word in argv:
+        if word == "--":
+            return None
+        if not word.startswith("-"):
+            return word
+    return None
+
+
+def _models(p: argparse.ArgumentParser) -> None:
     p.add_argument("--json", action="store_true", help="print JSON")
 
-    p = sub.add_parser("analyze", help="mobility of the platform at a configuration", epilog=GLOSSARY)
+
+def _analyze(p: argparse.ArgumentParser) -> None:
     p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
     form = p.add_mutually_exclusive_group()
@@ -148,7 +203,8 @@ def build_parser() -> argparse.ArgumentParser:
     add_part_options(p)
     add_model_options(p)
 
-    p = sub.add_parser("show", help="show the mechanism and its free motions, animated, in meshcat", epilog=GLOSSARY)
+
+def _show(p: argparse.ArgumentParser) -> None:
     p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument("--config", "-c", help="named configuration (default: the first one in the file)")
     p.add_argument("--html", metavar="FILE", help="write a self-contained HTML file instead of using a server")
@@ -168,11 +224,13 @@ def build_parser() -> argparse.ArgumentParser:
         help="distance of each motion: m for translations, rad for rotations/screws "
         "(default: 0.2 L for translations, L the mechanism's length scale; 0.35 rad for rotations and screws)",
     )
-    p.add_argument("--steps", type=int, default=12, help="continuation steps per direction (default 12)")
-    add_model_options(p)
-    p = sub.add_parser(
-        "scan", help="mobility and singularities along a path or over a workspace slice", epilog=GLOSSARY
+    p.add_argument(
+        "--steps", type=int, default=FOLLOW_STEPS, help="continuation steps per direction (default %(default)s)"
     )
+    add_model_options(p)
+
+
+def _scan(p: argparse.ArgumentParser) -> None:
     p.add_argument("mechanism", help="built-in model name (any case) or path to a mechanism file")
     p.add_argument(
         "--from",
@@ -249,9 +307,9 @@ def build_parser() -> argparse.ArgumentParser:
         "tens to hundreds of ms each: see 'pinmob glossary finite')",
     )
     add_model_options(p, joints=False)
-    p = sub.add_parser(
-        "sweep", help="a design-space sweep: per design its mobility and a workspace scan", epilog=GLOSSARY
-    )
+
+
+def _sweep(p: argparse.ArgumentParser) -> None:
     p.add_argument("spec", help="sweep spec file (TOML): a family or template, the designs, the scan of each")
     p.add_argument("--out", metavar="FILE.parquet", help="write the records here (streamed; re-running resumes)")
     p.add_argument("--csv", metavar="FILE.csv", help="also write the records as CSV (at the end of a complete run)")
@@ -263,16 +321,14 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--force", action="store_true", help="overwrite --csv and plot files, or an --out of another sweep")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
-    p = sub.add_parser("glossary", help="the terms the reports use, explained", epilog=GLOSSARY)
+
+def _glossary(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "term", nargs="?", help="print only the entries of the terms containing this (any case); default: all"
     )
 
-    p = sub.add_parser(
-        "fix",
-        help="write the mechanism file with minimal closures (no redundant closure equation), in its own format",
-        epilog=GLOSSARY,
-    )
+
+def _fix(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "mechanism", help="built-in model name (any case) or path to a TOML, Extended URDF (.yaml) or MJCF file"
     )
@@ -281,7 +337,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--config", "-c", help="configuration where the proposal is computed (default: the first named one)")
     p.set_defaults(actuated=None)  # the file's actuators are kept as they are
     p.add_argument("--closure-tol", type=float, default=None, help="largest closure residual accepted (default 1e-6)")
-    return parser
+
+
+#: Per command, the function that adds its arguments to its parser.
+_ARGUMENTS: dict[str, Callable[[argparse.ArgumentParser], None]] = {
+    "models": _models,
+    "analyze": _analyze,
+    "show": _show,
+    "scan": _scan,
+    "sweep": _sweep,
+    "glossary": _glossary,
+    "fix": _fix,
+}
 
 
 def _finite_options(p: argparse.ArgumentParser, what: str) -> None:

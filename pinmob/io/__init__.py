@@ -1,16 +1,46 @@
 """Reading mechanisms: pinmob's TOML + URDF, Extended URDF (YAML sidecar), MJCF, and the built-in models.
 
 Writing them again with other closures (``pinmob fix``), and TOML strings and keys as a parser reads them back.
+
+``pinmob.load`` of a built-in model or a TOML file needs only the TOML reader: the other formats' readers and
+writers (Extended URDF, MJCF, xacro, the fixed files of ``pinmob fix``) load when one of their names is first
+read (:data:`_LAZY`), as :func:`pinmob.io.loader.load` imports them for a file of their format.
 """
 
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
 from pinmob.io.builtin import builtin_dir, builtin_models
-from pinmob.io.extended_urdf import sidecar_urdf
-from pinmob.io.fixed_files import fixed_mjcf, fixed_sidecar, fixed_toml
 from pinmob.io.loader import LOADERS, load
-from pinmob.io.mjcf import compile_mjcf
 from pinmob.io.schema import toml_key, toml_string
 from pinmob.io.toml_file import load_toml, read_toml
-from pinmob.io.xacro_file import parse_xacro_args
+
+if TYPE_CHECKING:  # the other formats' modules load when first used (see _LAZY)
+    from pinmob.io.extended_urdf import sidecar_urdf
+    from pinmob.io.fixed_files import fixed_mjcf, fixed_sidecar, fixed_toml
+    from pinmob.io.mjcf import compile_mjcf
+    from pinmob.io.xacro_file import parse_xacro_args
+
+#: the names whose modules load when first read: every reader but the TOML one's is left out of ``import pinmob``
+#: and of loading a built-in model
+_LAZY = {
+    "sidecar_urdf": "pinmob.io.extended_urdf",
+    "fixed_mjcf": "pinmob.io.fixed_files",
+    "fixed_sidecar": "pinmob.io.fixed_files",
+    "fixed_toml": "pinmob.io.fixed_files",
+    "compile_mjcf": "pinmob.io.mjcf",
+    "parse_xacro_args": "pinmob.io.xacro_file",
+}
+
+
+def __getattr__(name: str) -> Any:
+    """A name of :data:`_LAZY`, its module imported now (PEP 562)."""
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
 
 __all__ = [
     "LOADERS",

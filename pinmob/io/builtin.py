@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import functools
 import importlib.util
+import os
 import re
 from pathlib import Path
 
@@ -21,8 +23,37 @@ def builtin_dir() -> Path:
 
 
 def builtin_models() -> dict[str, Path]:
-    """Built-in mechanism names and their files."""
-    return {model_name(path): path for path in sorted(builtin_dir().glob("*.toml"))}
+    """Built-in mechanism names and their files (:func:`models_in` the built-in folder)."""
+    return models_in(builtin_dir())
+
+
+def models_in(folder: Path) -> dict[str, Path]:
+    """The mechanism names of the ``*.toml`` files of ``folder`` (:func:`model_name`), in file name order.
+
+    Each file's name is read again only when the file changed (its name, size and modification time are the key
+    of the names cached in this process): every ``pinmob.load`` asks for the built-in ones.
+    """
+    stamps = []
+    try:
+        listed = sorted(os.scandir(folder), key=lambda e: e.name)  # as sorted(folder.glob("*.toml"))
+    except OSError:  # no such folder: no model
+        listed = []
+    for entry in listed:
+        if not entry.name.endswith(".toml"):
+            continue
+        try:
+            stat = entry.stat()
+        except OSError:  # removed since the listing: as the listing without it
+            continue
+        stamps.append((entry.name, stat.st_size, stat.st_mtime_ns))
+    return dict(_names(folder, tuple(stamps)))
+
+
+@functools.lru_cache(maxsize=4)
+def _names(folder: Path, stamps: tuple[tuple[str, int, int], ...]) -> tuple[tuple[str, Path], ...]:
+    """(name, file) of each built-in file of ``stamps`` (file name in ``folder``, size, modification time)."""
+    paths = [folder / file for file, _, _ in stamps]
+    return tuple((model_name(path), path) for path in paths)
 
 
 def model_name(path: Path) -> str:

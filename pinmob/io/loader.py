@@ -41,10 +41,11 @@ def load_urdf(path: Path) -> Mechanism:
     """
     from pinmob.io.extended_urdf import sidecar
 
-    if sidecar(path) is not None:
+    found = sidecar(path)
+    if found is not None:
         from pinmob.io.extended_urdf import load_extended_urdf
 
-        return load_extended_urdf(path)
+        return load_extended_urdf(found)  # the sidecar found, not the URDF: it would look for it (read it) again
     from pinmob.io.closing_frames import load_closing_urdf
 
     return load_closing_urdf(path)

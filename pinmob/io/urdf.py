@@ -23,7 +23,7 @@ from pinmob.bounds import check_bound
 from pinmob.exceptions import MechanismFileError
 from pinmob.io.mesh_files import confine, mesh_roots
 from pinmob.io.text_file import check_regular
-from pinmob.model import Geometry
+from pinmob.model import Geometry, motion_subspaces
 
 
 def package_dirs(urdf: Path) -> list[str]:
@@ -112,20 +112,21 @@ def read_urdf(urdf: Path, text: str | None = None) -> pin.Model:
 def check_axes(model: pin.Model, label: str) -> None:
     """Refuse a joint whose axis is zero or not finite (a prismatic ``<axis xyz="0 0 0"/>`` moves nothing).
 
-    Each joint's motion subspace S at the neutral configuration (Pinocchio's, per joint) must have
-    finite columns of non-zero length.
+    Each joint's motion subspace S at the neutral configuration (Pinocchio's, :func:`pinmob.model.motion_subspaces`,
+    which the masks of lengths and angles read afterwards) must have finite columns of non-zero length.
 
     Raises:
-        MechanismFileError: naming the file and the joint.
+        MechanismFileError: naming the file and the joint (the first in the model's order).
     """
     import numpy as np
 
-    q = pin.neutral(model)
-    for j in range(1, model.njoints):
-        joint = model.joints[j]
-        data = joint.createData()
-        joint.calc(data, q)
-        s = np.asarray(data.S).reshape(6, -1)
+    subspaces = motion_subspaces(model)
+    if not subspaces:
+        return
+    stacked = np.hstack([s for _, s in subspaces])
+    if np.isfinite(stacked).all() and (np.linalg.norm(stacked, axis=0) >= 1e-9).all():
+        return
+    for j, s in subspaces:
         if not np.isfinite(s).all() or (np.linalg.norm(s, axis=0) < 1e-9).any():
             raise MechanismFileError(
                 f"{label}: joint {model.names[j]!r} has a zero or non-finite axis; give its <axis xyz=...> a "

@@ -94,7 +94,7 @@ class FrameKinematics:
 
     def __init__(self, model: pin.Model, frames: Sequence[int], engine: str, reason: str = "") -> None:
         self.model, self.frames, self.engine, self.reason = model, tuple(int(f) for f in frames), engine, reason
-        self._data = model.createData()
+        self._data = pin.Data(model)  # as model.createData(), without its copy
         #: The compiled engine's tables (:func:`pinmob.model.kinematics_kernel.frames_kernel`'s arguments after the
         #: configurations); empty for Pinocchio's engine.
         self.tables: tuple[Array, ...] = self._build_tables() if engine == "compiled" else ()

@@ -123,23 +123,35 @@ def one_degree_indices(model: pin.Model, names: Iterable[str], owner: str) -> Ar
     return np.array(out, int)
 
 
-def _columns(model: pin.Model) -> list[tuple[int, int, Array]]:
-    """(idx_q, idx_v, motion subspace S (6, nv_j)) of every joint with a velocity, at the neutral configuration."""
-    return _cached_columns(model, model.njoints, model.nq, model.nv)
+def motion_subspaces(model: pin.Model) -> tuple[tuple[int, Array], ...]:
+    """(joint index, motion subspace S (6, nv_j), read-only) of every joint with a velocity, at the neutral configuration.
+
+    Pinocchio's own ``S`` of each joint (``forwardKinematics`` at ``pin.neutral``), cached per model object and
+    size (a model only grows by adding joints): the file readers check the axes with it
+    (:func:`pinmob.io.urdf.check_axes`), the masks below read it.
+    """
+    return _subspaces(model, model.njoints, model.nq, model.nv)
 
 
 @functools.lru_cache(maxsize=16)
-def _cached_columns(model: pin.Model, njoints: int, nq: int, nv: int) -> list[tuple[int, int, Array]]:
-    """:func:`_columns`, cached per model object and size (a model only grows by adding joints)."""
-    data = model.createData()
+def _subspaces(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[tuple[int, Array], ...]:
+    data = pin.Data(model)  # as model.createData(), without its copy
     pin.forwardKinematics(model, data, pin.neutral(model))
     out = []
     for j in range(1, model.njoints):
+        if model.joints[j].nv:
+            sub = np.array(data.joints[j].S).reshape(6, -1)
+            sub.flags.writeable = False
+            out.append((j, sub))
+    return tuple(out)
+
+
+def _columns(model: pin.Model) -> list[tuple[int, int, Array]]:
+    """(idx_q, idx_v, motion subspace S (6, nv_j)) of every joint with a velocity, at the neutral configuration."""
+    out = []
+    for j, sub in motion_subspaces(model):
         joint = model.joints[j]
-        if joint.nv:
-            out.append(
-                (joint.idx_q if joint.nq == joint.nv else -1, joint.idx_v, np.asarray(data.joints[j].S).reshape(6, -1))
-            )
+        out.append((joint.idx_q if joint.nq == joint.nv else -1, joint.idx_v, sub))
     return out
 
 
@@ -166,12 +178,17 @@ def angle_mask(model: pin.Model) -> Mask:
 def _masks(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[Mask, Mask]:
     """:func:`linear_velocity_mask` and :func:`angle_mask`, cached per model object and size."""
     linear, angle = np.zeros(nv, bool), np.zeros(nq, bool)
-    for iq, iv, sub in _columns(model):
-        linear[iv : iv + sub.shape[1]] = np.linalg.norm(sub[3:], axis=0) < 1e-12
-        if iq >= 0:
-            angle[iq : iq + sub.shape[1]] = (np.linalg.norm(sub[:3], axis=0) < 1e-12) & (
-                np.linalg.norm(sub[3:], axis=0) > 0
-            )
+    columns = _columns(model)
+    if columns:  # the norms of every joint's columns at once: a joint's are those of its slice
+        stacked = np.hstack([sub for _, _, sub in columns])
+        lin, ang = np.linalg.norm(stacked[:3], axis=0), np.linalg.norm(stacked[3:], axis=0)
+        start = 0
+        for iq, iv, sub in columns:
+            k = sub.shape[1]
+            linear[iv : iv + k] = ang[start : start + k] < 1e-12
+            if iq >= 0:
+                angle[iq : iq + k] = (lin[start : start + k] < 1e-12) & (ang[start : start + k] > 0)
+            start += k
     linear.flags.writeable = angle.flags.writeable = False
     return linear, angle
 

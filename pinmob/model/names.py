@@ -19,6 +19,8 @@ from pinmob.exceptions import ConfigurationError
 
 def printable(name: str) -> bool:
     """No control or format character in ``name`` (Unicode categories Cc, Cf)."""
+    if name.isprintable():  # no character of Cc, Cf (nor other non-printable ones): the usual name, at C speed
+        return True
     return not any(unicodedata.category(c) in ("Cc", "Cf") for c in name)
 
 

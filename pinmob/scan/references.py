@@ -13,14 +13,16 @@ import pinocchio as pin
 
 from pinmob.assembly import Gaps, assemble_pose, closed_configuration, frame_gaps, gaps_closed, pose_from_vector
 from pinmob.exceptions import ConfigurationError, PinmobError
-from pinmob.model import CLOSURE_TOL, Mechanism
+from pinmob.model import CLOSURE_TOL, Mechanism, borrowed
 from pinmob.name_matching import choices
 from pinmob.screw import Array
 
 
 def platform_pose(mech: Mechanism, q: Array, data: pin.Data | None = None) -> pin.SE3:
-    """World pose of the platform frame at q."""
-    data = mech.model.createData() if data is None else data
+    """World pose of the platform frame at q (in ``data``, else in a pooled ``pin.Data``: a new one costs more)."""
+    if data is None:
+        with borrowed(mech.model) as pooled:
+            return platform_pose(mech, q, pooled)
     pin.framesForwardKinematics(mech.model, data, q)
     return pin.SE3(data.oMf[mech.platform_id])
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 from dataclasses import dataclass, fields
 from typing import Any
 
+from pinmob.analysis import FOLLOW_STEPS
 from pinmob.exceptions import ArgumentError
 from pinmob.name_matching import choices, did_you_mean
 
@@ -31,7 +32,7 @@ class ViewOptions:
     motion: str | None = None
     wrenches: bool = False
     amplitude: float | None = None
-    steps: int = 12
+    steps: int = FOLLOW_STEPS
     animate: bool = True
     finite: bool = True
 

@@ -25,7 +25,7 @@ from numpy.typing import NDArray
 
 from pinmob.analysis.configuration import Configuration
 from pinmob.model import Mechanism
-from pinmob.screw import Array
+from pinmob.screw import Array, cross_columns
 
 #: ``sin^2`` of the angle below which two axes are parallel (no single meeting point).
 PARALLEL = 1e-6
@@ -63,14 +63,14 @@ def centre_offsets(mech: Mechanism) -> tuple[NDArray[np.intp], Array]:
             j = int(model.parents[k])
             if j not in is_revolute:
                 continue
-            cross = np.cross(axis[j], axis[k])
+            cross = cross_columns(axis[j], axis[k])
             if cross @ cross <= PARALLEL:
                 continue
             d = origin[k] - origin[j]
             if abs(d @ cross) / np.sqrt(cross @ cross) > tol:
                 continue  # skew: no meeting point
             # the point of j's axis nearest k's axis: t_j = (d x u_k) . (u_j x u_k) / |u_j x u_k|^2
-            point = origin[j] + axis[j] * (np.cross(d, axis[k]) @ cross) / (cross @ cross)
+            point = origin[j] + axis[j] * (cross_columns(d, axis[k]) @ cross) / (cross @ cross)
             meets[j].append((k, point))
             meets[k].append((j, point))
 

@@ -48,6 +48,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.follow import STEPS
 from pinmob.analysis.follow.displacement import Displacement, measure_displacement
 from pinmob.analysis.follow.path_follower import MAX_HALVINGS, MIN_PROGRESS, MIN_SHARE, Follower, RateFollower
 from pinmob.analysis.motion import Motion
@@ -141,7 +142,7 @@ def follow_motion(
     motion: Motion,
     *,
     amplitude: float | None = None,
-    steps: int = 12,
+    steps: int = STEPS,
     rtol: float = RTOL,
     closure_tol: float = CLOSURE_TOL,
     max_deviation: float = MAX_DEVIATION,

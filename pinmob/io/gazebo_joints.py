@@ -24,7 +24,6 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.bounds import bound
-from pinmob.io.sdf import LOOP_CLOSURES, loop_closure, parse_pose
 from pinmob.model import Closure
 
 
@@ -56,6 +55,8 @@ def urdf_loop_joints(model: pin.Model, text: str) -> tuple[list[Closure], list[s
     joints = [j for g in root.findall("gazebo") if not g.get("reference") for j in g.findall("joint")]
     if not joints:
         return [], ignored
+    from pinmob.io.sdf import LOOP_CLOSURES, loop_closure, parse_pose  # the SDFormat reader, when there are some
+
     data = model.createData()
     pin.framesForwardKinematics(model, data, pin.neutral(model))
     closures = []

@@ -107,7 +107,14 @@ def main() -> None:
     big = (build + analysis) / n + scanning / n / samples * args.estimate_samples
     total = args.estimate_designs * (big + max(overhead, 0.0)) / args.estimate_workers
     print(f"estimate: {args.estimate_designs} designs x {args.estimate_samples} samples on {args.estimate_workers} "
-          f"workers of this speed: {big:.2f} s per design, {total / 3600:.1f} h")  # fmt: skip
+          f"workers of this speed: {big * 1e3:.0f} ms per design, {_duration(total)}")  # fmt: skip
+
+
+def _duration(seconds: float) -> str:
+    """A duration in the unit that shows it: hours from one hour, else minutes from one minute, else seconds."""
+    if seconds >= 3600:
+        return f"{seconds / 3600:.1f} h"
+    return f"{seconds / 60:.1f} min" if seconds >= 60 else f"{seconds:.0f} s"
 
 
 if __name__ == "__main__":

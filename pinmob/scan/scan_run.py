@@ -86,10 +86,10 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     before (or after, on a three-coordinate grid's serpentine; :func:`_across_waypoint`), when both were walked
     and closed and the target moves by as much between them, with the same check of the correction against
     that move. Every other waypoint (the first, the turns of the first two lines, one the predictor did not
-    close or closed off the secant) is closed by the single-sample solver from the waypoint before: the walk's steps can be long, and the
-    predictor from a plain warm start could close them on other joint values (U joints turned by pi: the
-    3-UPU-wrist over yaw and pitch) and so seed the chunks on another assembly branch. The walk advances only
-    as far as the chunks asked for so far need (chunks are produced lazily).
+    close or closed off the secant) is closed by the single-sample solver from the waypoint before: the walk's
+    steps can be long, and the predictor from a plain warm start could close them on other joint values (U
+    joints turned by pi: the 3-UPU-wrist over yaw and pitch) and so seed the chunks on another assembly branch.
+    The walk advances only as far as the chunks asked for so far need (chunks are produced lazily).
     """
     stops = dict(spec.chunks())
     order = list(stops)

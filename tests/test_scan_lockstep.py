@@ -203,20 +203,20 @@ def test_the_walks_turns_are_closed_across_the_lines(monkeypatch, name, at, axes
     """
     from dataclasses import replace
 
-    import pinmob.scan.scan_run as scan_run
+    import pinmob.scan.seeding_walk as walk
 
     mech = pinmob.load(name)
     spec = grid_spec(mech, at, axes)
     solves = []
-    solve = scan_run.chunk.assemble_target
+    solve = walk.chunk.assemble_target
 
     def counted(*args, **kwargs):
         solves.append(args[1])
         return solve(*args, **kwargs)
 
-    reference = list(scan_run.chunk_seeds(mech, replace(spec, engine="single")))
-    monkeypatch.setattr(scan_run.chunk, "assemble_target", counted)
-    walked = list(scan_run.chunk_seeds(mech, spec))
+    reference = list(walk.chunk_seeds(mech, replace(spec, engine="single")))
+    monkeypatch.setattr(walk.chunk, "assemble_target", counted)
+    walked = list(walk.chunk_seeds(mech, spec))
     assert [(a, b) for a, b, _ in walked] == [(a, b) for a, b, _ in reference]
     assert len(walked) == 2 * 41
     assert len(solves) <= 2 + 2 * 5, len(solves)

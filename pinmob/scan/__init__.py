@@ -18,7 +18,7 @@ from pinmob.scan.coordinates import check_coordinates, coordinate_unit
 from pinmob.scan.results.scan_report import ScanReport, describe
 from pinmob.scan.results.table import ScanTable
 from pinmob.scan.sample import evaluate
-from pinmob.scan.scan_run import ScanRun, chunk_seeds, columns, scan, scan_table, scan_tables
+from pinmob.scan.scan_run import ScanRun, columns, scan, scan_table, scan_tables
 from pinmob.scan.scan_spec import (
     CHUNK,
     KINDS,
@@ -33,6 +33,7 @@ from pinmob.scan.scan_spec import (
     resolve_pose,
     with_finite,
 )
+from pinmob.scan.seeding_walk import chunk_seeds
 
 __all__ = [
     "CHUNK",

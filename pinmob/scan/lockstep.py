@@ -52,7 +52,7 @@ from pinmob.screw import Array, Mask
 #: 42 with 16 (about a tenth of the 3-PUU's time).
 GROUP = 32
 
-#: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.scan_run.chunk_seeds`).
+#: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.seeding_walk.chunk_seeds`).
 Job = tuple[int, int, Array]
 
 

@@ -7,7 +7,7 @@ solver computed at them (:class:`Closed`). Where the targets give joint values (
 motors), those joints start at the target's values and no step moves them (the problem's ``fixed`` columns),
 and every pose coordinate not given is an unknown: the frames meet where the joints put them.
 :mod:`pinmob.scan.lockstep` runs a group's chunks on it, and the seeding walk
-(:func:`pinmob.scan.scan_run.chunk_seeds`) its even steps.
+(:func:`pinmob.scan.seeding_walk.chunk_seeds`) its even steps.
 """
 
 from __future__ import annotations

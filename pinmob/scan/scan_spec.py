@@ -85,7 +85,7 @@ class ScanSpec:
         values: the joints whose values the rows give (:func:`pinmob.scan.chain_scan.value_joints`).
         engine: ``batch`` (a chunk's samples analysed together, :mod:`pinmob.scan.batch_rows`) or ``single``
             (each sample on its own); the same rows, the figures to round-off, where the seeding walk's
-            continuation is unique (:func:`pinmob.scan.scan_run.chunk_seeds`).
+            continuation is unique (:func:`pinmob.scan.seeding_walk.chunk_seeds`).
         gaps: with a ``closure_tol`` above the default (:attr:`cad`), the frame placements that hold the
             reference configuration's CAD gaps (:mod:`pinmob.assembly.cad_gaps`): the samples are assembled on
             the mechanism so corrected (:meth:`assembly_mechanism`), and analysed on the file's.

@@ -22,6 +22,7 @@ LAYERS = [
         "pinmob.progress",
         "pinmob.bounds",
         "pinmob.glossary",
+        "pinmob.lazy_names",
     },
     {"pinmob.screw"},
     {"pinmob.model"},

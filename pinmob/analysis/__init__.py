@@ -18,8 +18,7 @@ its function), :mod:`pinmob.analysis.finite` (finite versus instantaneous mobili
 configurations at once).
 """
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from pinmob.analysis.batch.batch_analysis import analyze_jacobians, motion_types
 from pinmob.analysis.chain.actuation import Actuation, actuator_sets
@@ -54,6 +53,7 @@ from pinmob.analysis.report_parts import REPORT_PARTS, part_keywords
 from pinmob.analysis.shortcuts import analyze_mechanism, analyze_singularity, paper_view
 from pinmob.analysis.singularity.classification import require_platform
 from pinmob.analysis.singularity.result import NEAR_FACTOR, Singularity, distance_of, generic_locked_dof, padded, ratio
+from pinmob.lazy_names import lazy_getattr
 
 if TYPE_CHECKING:  # the finite analysis and motion following load when first used (see _LAZY)
     from pinmob.analysis.finite.branches import branch_point_name
@@ -76,11 +76,8 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """A name of :data:`_LAZY`, its module imported now (PEP 562)."""
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+#: A name of :data:`_LAZY`, its module imported when it is first read (PEP 562).
+__getattr__ = lazy_getattr(__name__, _LAZY)
 
 
 __all__ = [

@@ -9,13 +9,13 @@ read (:data:`_LAZY`), as :func:`pinmob.io.loader.load` imports them for a file o
 
 from __future__ import annotations
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 from pinmob.io.builtin import builtin_dir, builtin_models
 from pinmob.io.loader import LOADERS, load
 from pinmob.io.schema import toml_key, toml_string
 from pinmob.io.toml_file import load_toml, read_toml
+from pinmob.lazy_names import lazy_getattr
 
 if TYPE_CHECKING:  # the other formats' modules load when first used (see _LAZY)
     from pinmob.io.extended_urdf import sidecar_urdf
@@ -35,11 +35,8 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str) -> Any:
-    """A name of :data:`_LAZY`, its module imported now (PEP 562)."""
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+#: A name of :data:`_LAZY`, its module imported when it is first read (PEP 562).
+__getattr__ = lazy_getattr(__name__, _LAZY)
 
 
 __all__ = [

@@ -1,8 +1,8 @@
 """The mechanism as plain data: a Pinocchio tree, its limbs, loop closures, platform and actuation."""
 
-import importlib
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
+from pinmob.lazy_names import lazy_getattr
 from pinmob.model.actuated_joints import with_actuated
 from pinmob.model.closure import (
     CLOSURE_ROWS,
@@ -47,11 +47,8 @@ if TYPE_CHECKING:
 _LAZY = {"frames_kernel": "pinmob.model.kinematics_kernel", "integrate_kernel": "pinmob.model.kinematics_kernel"}
 
 
-def __getattr__(name: str) -> Any:
-    """A name of :data:`_LAZY`, its module imported now (PEP 562)."""
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+#: A name of :data:`_LAZY`, its module imported when it is first read (PEP 562).
+__getattr__ = lazy_getattr(__name__, _LAZY)
 
 
 __all__ = [

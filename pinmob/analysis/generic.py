@@ -162,7 +162,7 @@ def _closed_in_lockstep(mech: Mechanism, starts: list[Array]) -> list[Array | No
     configurations with or without numba, and an analysis does not import it); a start it does not close to ``1e-12`` (dimensionless) is
     None. Every start is None for a mechanism with other loops or without a platform.
     """
-    if not starts or not mech.has_platform or not mech.limbs or mech.closures or any(b.closures for b in mech.limbs):
+    if not starts or not PoseProblem.covers(mech):
         return [None] * len(starts)
     problem = PoseProblem(mech, tuple(range(6)), compiled=False)  # numpy: an analysis does not load numba
     qs = np.array(starts, float)

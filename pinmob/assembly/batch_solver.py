@@ -140,6 +140,13 @@ class PoseProblem:
         self.angles, self.angle_rates = shape.angles, shape.angle_rates
         self.limits, self.limited = shape.limits, shape.limited
 
+    @staticmethod
+    def covers(mech: Mechanism) -> bool:
+        """The problem closes ``mech``'s loops: a platform and limbs, and no closure besides the limb tips."""
+        return bool(
+            mech.has_platform and mech.limbs and not mech.closures and not any(limb.closures for limb in mech.limbs)
+        )
+
     def finish(self, mech: Mechanism, qs: Array, kind: str) -> Array:
         """(N, nq) configurations the predictor closed, as the single-sample assembly returns each.
 

@@ -63,9 +63,7 @@ class Predictor:
         A platform-pose scan of a mechanism whose closures are its limb tips, or a grid or a path that gives
         values of one-coordinate joints.
         """
-        if spec.engine != "batch" or not spec.platform or not mech.has_platform or not mech.limbs:
-            return False
-        if mech.closures or any(limb.closures for limb in mech.limbs):  # loops besides the limb tips
+        if spec.engine != "batch" or not spec.platform or not PoseProblem.covers(mech):
             return False
         kind, _ = spec.target(0)
         if kind == "pose":

@@ -276,6 +276,7 @@ class ScanSpec:
         """(B, J) the values of :attr:`target_joints` the targets at samples ``ts`` give (as :meth:`target`'s)."""
         params = self.params_of(ts) if params is None else params
         held = dict(self.held)
+        s = np.array([p.get("s", 0.0) for p in params])  # a path's parameter (a grid has none: unused)
         out = np.empty((len(ts), len(self.target_joints)))
         for i, c in enumerate(self.target_joints):
             if c in held:
@@ -284,7 +285,6 @@ class ScanSpec:
                 out[:, i] = [p["grid_" + c] for p in params]
             else:  # a path, element by element as target's
                 j = i if self.kind == "joints" else self.varied.index(c)
-                s = np.array([p["s"] for p in params])
                 out[:, i] = (1 - s) * np.asarray(self.a)[j] + s * np.asarray(self.b)[j]
         return out
 

@@ -54,7 +54,8 @@ def reference_json(cols: list[str], meta: dict[str, Any], rows: list[dict[str, A
 
 def engine_rows(mech: pinmob.Mechanism, spec: pinmob.scan.ScanSpec) -> list[dict[str, Any]]:
     """The engine's row dicts, group after group (no table involved)."""
-    return [row for group in chunk_groups(mech, spec, first_alone=False) for row in run_group(mech, spec, group)]
+    groups = chunk_groups(mech, spec, first_alone=False)
+    return [row for group in groups for row in run_group(mech, spec, group).dicts()]
 
 
 def same(a: Any, b: Any) -> bool:
@@ -99,6 +100,44 @@ def test_files_are_the_row_writers_files(tmp_path: Path, case: int) -> None:
         expected = {c: None if rows[k].get(c) == "" and column_type(c) != "text" else rows[k].get(c) for c in cols}
         assert all(same(row[c], expected[c]) for c in cols), (name, k)
     assert all(all(same(a[c], b[c]) for c in b) and a.keys() == b.keys() for a, b in zip(report, rows))
+
+
+def same_table(a: ScanTable, b: ScanTable) -> bool:
+    """The same columns, array types, values (NaN equal to NaN; objects of the same type), null and absent masks."""
+    if a.names != b.names or a.null.keys() != b.null.keys() or a.absent.keys() != b.absent.keys():
+        return False
+    for n in a.names:
+        x, y = a.data[n], b.data[n]
+        if x.dtype != y.dtype or len(x) != len(y):
+            return False
+        if x.dtype == object and not all(same(u, v) for u, v in zip(x.tolist(), y.tolist())):
+            return False
+        if x.dtype != object and not np.array_equal(x, y, equal_nan=x.dtype.kind == "f"):
+            return False
+    return all(np.array_equal(a.null[n], b.null[n]) for n in a.null) and all(
+        np.array_equal(a.absent[n], b.absent[n]) for n in a.absent
+    )
+
+
+@pytest.mark.parametrize("robot, at, axes, mixed", [
+    ("3-PUU", "generic", [("x", -0.3, 0.3, 9), ("y", -0.3, 0.3, 7)], True),  # decided, unreachable, refined rows
+    ("3-PUU", "generic", [("A_slider", -0.2, 0.2, 9), ("B_slider", -0.2, 0.2, 9)], True),  # limb singularities
+    ("3-RPS", "home", [("roll", -0.3, 0.3, 7), ("pitch", -0.3, 0.3, 7)], False),  # following coordinates
+    ("6-UPS", "home", [("x", -0.05, 0.05, 5), ("yaw", -0.2, 0.2, 5)], False),
+])  # fmt: skip
+def test_a_group_table_is_the_table_of_its_row_dicts(robot: str, at: str, axes: list[Any], mixed: bool) -> None:
+    """The table a group makes with the batch's rows kept as its columns (:meth:`GroupRows.table`) is the table of
+    its row dicts (:meth:`ScanTable.from_rows` of :meth:`GroupRows.dicts`): the same arrays, types and masks."""
+    from pinmob.scan.row_columns import BatchRow
+
+    mech = pinmob.load(robot)
+    spec = grid_spec(mech, at, axes)
+    kinds = set()
+    for group in chunk_groups(mech, spec, first_alone=False):
+        rows = run_group(mech, spec, group)
+        kinds |= {isinstance(e, BatchRow) for e in rows.entries}
+        assert same_table(rows.table(columns(spec)), ScanTable.from_rows(columns(spec), rows.dicts()))
+    assert kinds == ({True, False} if mixed else {True})  # with both kinds of row: merged
 
 
 def test_a_table_writes_every_kind_of_value_as_the_csv_module_does(tmp_path: Path) -> None:

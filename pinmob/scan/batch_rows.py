@@ -26,6 +26,8 @@ rows are those of the single-sample path, the figures to round-off
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -43,7 +45,7 @@ from pinmob.analysis import (
 from pinmob.assembly import POSE_COORDS, pose_vector
 from pinmob.model import Mechanism
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
-from pinmob.screw import Array
+from pinmob.screw import Array, Mask
 
 #: A sample is decided by the batch when each of its distances is at least this many near-singular bands.
 DECIDED_FACTOR = 2.0
@@ -91,6 +93,42 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
     return full, poses
 
 
+@dataclass(frozen=True)
+class BatchRows:
+    """The batch's analysis of a stack of N closed configurations, column by column (:func:`analyse_stack`).
+
+    Attributes:
+        decided: (N,) the batch decides the sample (module docstring); the other entries of the columns are fill.
+        columns: per column of ``ROW_KEYS``, its (N,) array: float64, int64, bool, or object (text), the types the
+            scan table gives those values (:meth:`pinmob.scan.results.table.ScanTable.from_rows`).
+        questions: the names of the distances to singularity (each limb's, the constraint's, the actuation's).
+        distances: (N, len(questions)) those distances.
+    """
+
+    decided: Mask
+    columns: dict[str, np.ndarray]
+    questions: tuple[str, ...]
+    distances: Array
+
+    def row(self, i: int) -> dict[str, Any]:
+        """Sample i's row (a decided one), as Python values in ``ROW_KEYS``' order."""
+        return {key: self.columns[key][i].item() if key not in _TEXT else self.columns[key][i] for key in ROW_KEYS}
+
+    def distances_of(self, i: int) -> dict[str, float]:
+        """Sample i's distance of each question."""
+        return dict(zip(self.questions, self.distances[i].tolist(), strict=True))
+
+    def analysed(self, where: Sequence[int | None] | None = None) -> list[Analysed | None]:
+        """Per entry of ``where`` (default: per sample, its own where decided), its row and distances, or None."""
+        if where is None:
+            where = [i if d else None for i, d in enumerate(self.decided.tolist())]
+        return [None if i is None else (self.row(i), self.distances_of(i)) for i in where]
+
+
+#: The text columns of ``ROW_KEYS`` (object arrays, read as they are).
+_TEXT = frozenset({"motion_type", "singularity", "closest", "singular_limbs", "dependent_limbs", "uncontrolled"})
+
+
 def analyse(
     mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int, known: Kinematics | None = None
 ) -> list[Analysed | None]:
@@ -98,8 +136,16 @@ def analyse(
 
     ``known``: per configuration, its kinematics when already computed (:func:`platform_kinematics`).
     """
+    batch = analyse_stack(mech, qs, rtol, generic_rank, known)
+    return [None] * len(qs) if batch is None else batch.analysed()
+
+
+def analyse_stack(
+    mech: Mechanism, qs: list[Array], rtol: float, generic_rank: int, known: Kinematics | None = None
+) -> BatchRows | None:
+    """:func:`analyse`'s rows and distances as columns (None: no configuration, or a mechanism the batch leaves)."""
     if not qs or not batchable(mech):
-        return [None] * len(qs)
+        return None
     full, poses = platform_kinematics(mech, np.asarray(qs, float), known)
     res = analyze_jacobians(mech, full, poses[:, :3], rtol=rtol, singular_values=True, twists=True)
     assert res.free_twists is not None  # asked for
@@ -125,12 +171,12 @@ def analyse(
     )
     closest = np.argmax(distances <= (distance * (1 + 1e-6) + 1e-15)[:, None], axis=1)  # closest_all[0]
     which = np.flatnonzero(decided)
-    labels = motion_types(res.free_twists[which], res.dof[which], mech.length_scale, rtol, res.engine)
-    pose_list, sv_list, asv_list, d_list = poses.tolist(), sv.tolist(), asv.tolist(), distances.tolist()
-    dof_list, distance_list, closest_list = res.dof.tolist(), distance.tolist(), closest.tolist()
-    out: list[Analysed | None] = [None] * len(qs)
-    for i, motion in zip(which.tolist(), labels):
-        values = [*pose_list[i], True, dof_list[i], motion, g, 0, "none", False, names[closest_list[i]], "", "", ""]
-        values += [distance_list[i], *sv_list[i], *asv_list[i]]
-        out[i] = (dict(zip(ROW_KEYS, values, strict=True)), dict(zip(names, d_list[i], strict=True)))
-    return out
+    n = len(qs)
+    motion, closest_name = np.full(n, "", object), np.array(names, object)[closest]
+    motion[which] = motion_types(res.free_twists[which], res.dof[which], mech.length_scale, rtol, res.engine)
+    values: list[np.ndarray] = [*poses.T, np.ones(n, bool), res.dof.astype(np.int64), motion,
+                                np.full(n, g, np.int64), np.zeros(n, np.int64), np.full(n, "none", object),
+                                np.zeros(n, bool), closest_name, *(np.full(n, "", object) for _ in range(3)), distance,
+                                *sv.T, *asv.T]  # fmt: skip
+    out = dict(zip(ROW_KEYS, (np.ascontiguousarray(v) for v in values), strict=True))
+    return BatchRows(decided, out, tuple(names), distances)

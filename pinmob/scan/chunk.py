@@ -11,6 +11,7 @@ adds its finite DoF (``FINITE_COLUMNS``).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -19,10 +20,10 @@ from pinmob.assembly import STALL_WINDOW as SOLVER_STALL
 from pinmob.assembly import check_closed, format_worst
 from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model import Mechanism, outside_limits
-from pinmob.scan.batch_rows import Analysed, analyse
+from pinmob.scan.batch_rows import Analysed, BatchRows, analyse_stack
 from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.refine import minimise, vertex_below
-from pinmob.scan.row_columns import values_and_limits
+from pinmob.scan.row_columns import BatchRow, values_and_limits
 from pinmob.scan.sample import MAX_ITER, _evaluate
 from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
 from pinmob.scan.sample import assemble_target as assemble_target
@@ -51,10 +52,11 @@ class _Sample:
     """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances.
 
     Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave,
-    ``kinematics`` the world joint Jacobians and platform placement at q when the predictor computed them.
+    ``kinematics`` the world joint Jacobians and platform placement at q when the predictor computed them. A
+    sample the batch decided may keep its row as a :class:`~pinmob.scan.row_columns.BatchRow` (:meth:`_Chunk.complete`).
     """
 
-    row: dict[str, Any]
+    row: dict[str, Any] | BatchRow
     q: Array | None
     distances: dict[str, float]
     known: dict[str, float] | None = None
@@ -130,36 +132,54 @@ class _Chunk:
             return f"assembled with the CAD gaps of the reference held, the loops open beyond closure_tol: {worst}"
         return None
 
-    def finish(self, pending: _Sample, analysed: Analysed | None = None, values: dict[str, float] | None = None,
-               limits: tuple[str, ...] | None = None) -> _Sample:  # fmt: skip
+    def finish(self, pending: _Sample, analysed: Analysed | int | None = None, values: dict[str, float] | None = None,
+               limits: tuple[str, ...] | None = None, batch: BatchRows | None = None) -> _Sample:  # fmt: skip
         """The row of an assembled sample (:meth:`assemble`), from ``analysed`` (the batch's) or on its own.
 
         ``values``, ``limits``: its :func:`~pinmob.scan.chain_scan.joint_row` and
-        :func:`~pinmob.model.joints.outside_limits`, already computed (None: computed here).
+        :func:`~pinmob.model.joints.outside_limits`, already computed (None: computed here). ``analysed`` a
+        whole number: the sample's entry in ``batch``, which decided it; its row is then a
+        :class:`~pinmob.scan.row_columns.BatchRow` (its verdicts left in the batch's columns).
         """
         head, q, known = pending.row, pending.q, pending.known
         if q is None or known is None:
             return pending
+        assert isinstance(head, dict)  # an assembled sample's head
         values = joint_row(self.mech, self.spec.values, q, known) if values is None else values
         if not self.spec.platform:
             head.update(values)
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
             tol = self.spec.closure_tol
-            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             limits = outside_limits(self.mech.model, q) if limits is None else limits
             reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
+            if isinstance(analysed, int):
+                assert batch is not None  # the entry's batch
+                return _Sample(BatchRow(analysed, head, reason, values), q, batch.distances_of(analysed))
+            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)
 
     def analysed(self, samples: list[_Sample]) -> list[Analysed | None]:
         """The batch's rows of the assembled ``samples`` (None where it cannot decide; all None with ``single``)."""
+        batch, where = self.batch_analysis(samples)
+        return [None] * len(samples) if batch is None else batch.analysed(where)
+
+    def batch_analysis(self, samples: list[_Sample]) -> tuple[BatchRows | None, list[int | None]]:
+        """The batch's analysis of the assembled ``samples`` (None: not run) and each one's entry where it decides.
+
+        The entry of a sample the batch does not decide (or did not analyse: ``single``, ``cad``) is None.
+        """
         if self.spec.engine != "batch" or not self.spec.platform or self.spec.cad:  # cad: a tolerance per sample
-            return [None] * len(samples)
-        closed = [s for s in samples if s.q is not None]
-        batch = iter(analyse(self.mech, [s.q for s in closed if s.q is not None], self.spec.rtol,
-                             self.spec.generic_rank, [s.kinematics for s in closed]))  # fmt: skip
-        return [next(batch) if s.q is not None else None for s in samples]
+            return None, [None] * len(samples)
+        closed = [i for i, s in enumerate(samples) if s.q is not None]
+        batch = analyse_stack(self.mech, [q for q in (samples[i].q for i in closed) if q is not None], self.spec.rtol,
+                              self.spec.generic_rank, [samples[i].kinematics for i in closed])  # fmt: skip
+        where: list[int | None] = [None] * len(samples)
+        if batch is not None:
+            for at, (i, decided) in enumerate(zip(closed, batch.decided.tolist())):
+                where[i] = at if decided else None
+        return batch, where
 
     def run(self, start: int, stop: int, seed: Array) -> list[dict[str, Any]]:
         """The rows of samples ``start .. stop - 1`` (one after the other; :mod:`pinmob.scan.lockstep` runs many)."""
@@ -170,35 +190,41 @@ class _Chunk:
             q = _seed(pending[k], q)
         if self.spec.line(start)[0] < start:
             pending[start - 1] = self.assemble(start - 1, _seed(pending[start], seed))
-        return self.complete(start, stop, pending, self.analysed(list(pending.values())))
+        return [_dict(row) for row in self.complete(start, stop, pending, self.analysed(list(pending.values())))]
 
     def line_samples(self, start: int, stop: int) -> range:
         """The samples a chunk assembles in order: its own and the next one on its line (its right neighbour)."""
         return range(start, min(stop, self.spec.line(start)[1]) + 1)
 
-    def complete(self, start: int, stop: int, pending: dict[int, _Sample], analysed: list[Analysed | None],
-                 columns: list[tuple[Any, Any]] | None = None) -> list[dict[str, Any]]:  # fmt: skip
+    def complete(self, start: int, stop: int, pending: dict[int, _Sample], analysed: Sequence[Analysed | int | None],
+                 columns: list[tuple[Any, Any]] | None = None,
+                 batch: BatchRows | None = None) -> list[dict[str, Any] | BatchRow]:  # fmt: skip
         """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order.
 
         ``columns``: :func:`~pinmob.scan.row_columns.values_and_limits` of ``pending``'s samples, already computed.
+        Where ``analysed`` gives a sample's entry in ``batch`` (a whole number; not with ``spec.finite_order``,
+        whose columns are added to row dicts), its row is a :class:`~pinmob.scan.row_columns.BatchRow`.
         """
         first, last = self.spec.line(start)
         if columns is None:
             columns = values_and_limits(self.mech, self.spec.values, list(pending.values()))
-        done = {k: self.finish(s, a, *more) for (k, s), a, more in zip(pending.items(), analysed, columns)}
+        done = {k: self.finish(s, a, *more, batch) for (k, s), a, more in zip(pending.items(), analysed, columns)}
         extra: list[_Sample] = []
         for k in range(start, stop):
             extra += self.refine(k, done, first, last)
         kept = _distinct(extra)
         if self.spec.finite_order is not None:
             for sample in [done[k] for k in range(start, stop)] + kept:
+                assert isinstance(sample.row, dict)  # no batch rows with finite DoF (lockstep.run_group)
                 sample.row.update(self.finite(sample.q))
-        rows = [(float(k), done[k].row) for k in range(start, stop)]
-        rows += [(float(e.row["_t"]), e.row) for e in kept]
-        rows.sort(key=lambda r: (r[0], r[1]["refined"]))
-        for _, row in rows:
-            row.pop("_t", None)
-        return [row for _, row in rows]
+        rows: list[tuple[float, bool, dict[str, Any] | BatchRow]] = [(float(k), False, done[k].row)
+                                                                    for k in range(start, stop)]  # fmt: skip
+        rows += [(float(_dict(e.row)["_t"]), True, e.row) for e in kept]
+        rows.sort(key=lambda r: (r[0], r[1]))
+        for *_, row in rows:
+            if isinstance(row, dict):
+                row.pop("_t", None)
+        return [row for *_, row in rows]
 
     def finite(self, q: Array | None) -> dict[str, int | None]:
         """The finite DoF of a row (None: not assembled, or the analysis cannot decide)."""
@@ -273,7 +299,7 @@ class _Chunk:
 
     @staticmethod
     def _mark(s: _Sample, t: float) -> _Sample:
-        s.row.update(refined=True, _t=t)
+        _dict(s.row).update(refined=True, _t=t)
         return s
 
 
@@ -282,11 +308,17 @@ def _seed(sample: _Sample, fallback: Array) -> Array:
     return fallback if sample.q is None else sample.q
 
 
+def _dict(row: dict[str, Any] | BatchRow) -> dict[str, Any]:
+    """A row that is a dict (a trial point's; any row without a batch given to :meth:`_Chunk.complete`)."""
+    assert isinstance(row, dict), "a row dict"
+    return row
+
+
 def _distinct(points: list[_Sample]) -> list[_Sample]:
     """Refined points, one per location (within ``SAME_POINT`` sample): the one with the smallest distance."""
     out: list[_Sample] = []
     for p in sorted(points, key=lambda s: s.distance):
-        if all(abs(p.row["_t"] - o.row["_t"]) > SAME_POINT for o in out):
+        if all(abs(_dict(p.row)["_t"] - _dict(o.row)["_t"]) > SAME_POINT for o in out):
             out.append(p)
     return out
 

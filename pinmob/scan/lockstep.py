@@ -27,12 +27,14 @@ predictor's damped steps stop earlier; where the targets give joint values, from
 single-sample path: where the actuators leave a motion uncontrolled, the configuration is one of a continuum)
 and analysed on its own. Each chunk refines
 and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`, the refinements
-on the single-sample path). With ``spec.engine == "single"``
+on the single-sample path). The rows the batch decided keep their verdicts in its columns
+(:class:`~pinmob.scan.row_columns.GroupRows`) until the group's table is made: no row dict is built for them. With ``spec.engine == "single"``
 the chunks run one after the other, each sample on its own.
 """
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -41,9 +43,10 @@ import pinocchio as pin
 from pinmob.assembly import PoseProblem
 from pinmob.blas import one_blas_thread
 from pinmob.model import Mechanism
+from pinmob.scan.batch_rows import Analysed
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
 from pinmob.scan.predictor import Predictor
-from pinmob.scan.row_columns import values_and_limits
+from pinmob.scan.row_columns import BatchRow, GroupRows, values_and_limits
 from pinmob.scan.scan_spec import ScanSpec
 from pinmob.screw import Array, Mask
 
@@ -57,10 +60,13 @@ Job = tuple[int, int, Array]
 
 
 @one_blas_thread
-def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str, Any]]:
-    """The rows of the chunks ``jobs``, in order (module docstring)."""
+def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> GroupRows:
+    """The rows of the chunks ``jobs``, in order (module docstring); those the batch decided kept as its columns.
+
+    :meth:`GroupRows.table <pinmob.scan.row_columns.GroupRows.table>` makes their table.
+    """
     if not Predictor.applies(mech, spec):
-        return [row for job in jobs for row in run_chunk(mech, spec, *job)]
+        return GroupRows([row for job in jobs for row in run_chunk(mech, spec, *job)])
     predictor = Predictor(spec.assembly_mechanism(mech), spec)  # the CAD gaps held (spec.cad): closes exactly
     chunks = [_Chunk(mech, spec) for _ in jobs]
     plans = [list(chunk.line_samples(start, stop)) for chunk, (start, stop, _) in zip(chunks, jobs)]
@@ -75,8 +81,9 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
             group.last_k[c] = jobs[c][0] if group.pending[c][jobs[c][0]].q is not None else None
         group.step([(c, jobs[c][0] - 1, _seed(group.pending[c][jobs[c][0]], jobs[c][2])) for c in neighbours])
     pending = group.pending
-    analysed = iter(chunks[0].analysed([s for p in pending for s in p.values()]))
-    mine = [[next(analysed) for _ in p] for p in pending]
+    batch, where = chunks[0].batch_analysis([s for p in pending for s in p.values()])
+    entries = iter(where)  # per sample, its entry in the batch where the batch decided it
+    mine: list[list[int | None]] = [[next(entries) for _ in p] for p in pending]
     again_q: dict[tuple[int, int | None], Array] = {}  # (chunk, sample): its configuration solved again
     for c, chunk in enumerate(chunks):
         for (k, sample), decided in zip(list(pending[c].items()), mine[c]):  # in the order they were assembled
@@ -91,10 +98,13 @@ def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> list[dict[str
                 if again.q is not None:
                     again_q[c, k] = again.q
     columns = iter(values_and_limits(mech, spec.values, [s for p in pending for s in p.values()]))  # at once
-    rows: list[dict[str, Any]] = []
+    rows: list[dict[str, Any] | BatchRow] = []
+    columnar = batch is not None and spec.finite_order is None  # the finite DoF are added to row dicts
     for c, (start, stop, _) in enumerate(jobs):
-        rows += chunks[c].complete(start, stop, pending[c], mine[c], [next(columns) for _ in pending[c]])
-    return rows
+        analysed: Sequence[Analysed | int | None] = mine[c] if columnar or batch is None else batch.analysed(mine[c])
+        rows += chunks[c].complete(start, stop, pending[c], analysed, [next(columns) for _ in pending[c]],
+                                    batch if columnar else None)  # fmt: skip
+    return GroupRows(rows, batch)
 
 
 class _Lockstep:

@@ -87,7 +87,7 @@ def scan_tables(mech: Mechanism, spec: ScanSpec) -> Iterator[ScanTable]:
     """The scan's rows computed in this process, a table per group (what :func:`scan` does with one worker)."""
     names = columns(spec)
     for group in chunk_groups(mech, spec, first_alone=False):
-        yield ScanTable.from_rows(names, run_group(mech, spec, group))
+        yield run_group(mech, spec, group).table(names)
 
 
 def scan_table(mech: Mechanism, spec: ScanSpec) -> ScanTable:
@@ -103,7 +103,7 @@ def scan_in_process(mech: Mechanism, spec: ScanSpec) -> Iterator[dict[str, Any]]
 
 def _group_task(shared: tuple[Mechanism, ScanSpec], group: list[Job]) -> ScanTable:
     """One group of chunks on a worker (:meth:`pinmob.parallel.cluster.Engine.map`), as a table."""
-    return ScanTable.from_rows(columns(shared[1]), run_group(shared[0], shared[1], group))
+    return run_group(shared[0], shared[1], group).table(columns(shared[1]))
 
 
 def _samples(group: list[Job]) -> int:
@@ -148,7 +148,7 @@ class ScanRun:
             if first is None:
                 return
             t0 = time.perf_counter()
-            table = ScanTable.from_rows(names, run_group(self.mech, spec, first))
+            table = run_group(self.mech, spec, first).table(names)
             pace = (time.perf_counter() - t0) / max(1, _samples(first))
             bar.update(_samples(first))
             yield table
@@ -158,7 +158,7 @@ class ScanRun:
                 if not engine.in_process:
                     self.where = f"1 worker (this process: too small to pay for {engine.workers} workers)"
                 for group in groups:
-                    table = ScanTable.from_rows(names, run_group(self.mech, spec, group))
+                    table = run_group(self.mech, spec, group).table(names)
                     bar.update(_samples(group))
                     yield table
                 return

@@ -94,6 +94,21 @@ class ScanTable:
             table._set(name, [row.get(name, _ABSENT) for row in rows])
         return table
 
+    @classmethod
+    def from_columns(cls, names: Sequence[str], columns: Mapping[str, np.ndarray | list[Any]]) -> ScanTable:
+        """The table of ``columns`` (one per name, equally long): arrays as they are, lists typed by :meth:`from_rows`.
+
+        An array must be what :meth:`from_rows` would make of its values: int64, bool, float64, or object (text).
+        """
+        table = cls(tuple(names), {})
+        for name in table.names:
+            values = columns[name]
+            if isinstance(values, np.ndarray):
+                table.data[name] = values
+            else:
+                table._set(name, values)
+        return table
+
     def _set(self, name: str, values: list[Any]) -> None:
         kind = column_type(name)
         types = set(map(type, values))

@@ -45,6 +45,21 @@ def test_cross_is_numpys_to_the_last_bit(xs):
     assert cross([0, 1, 0], [1, 0, 0]).tolist() == [0.0, 0.0, -1.0]
 
 
+def test_toml_reads_its_angles_from_the_model_it_is_given():
+    """A revolute at 3.5 rad is written in (-pi, pi], 3.5 - 2 pi, under the builder's limits [-pi, pi]; given the
+    model of the same URDF with limits [0, 4] (which exclude 3.5 - 2 pi) it is written as 3.5, the representative
+    inside them closest to 0: the angles come from the model given, not from the text parsed again."""
+    b = MechanismBuilder("one")
+    chain = b.chain("A")
+    chain.revolute("r", at=[0, 0, 0], axis=Z)
+    chain.frame("end", at=[0.1, 0, 0])
+    conf = {"c": {"joints": {"A_r": 3.5}}}
+    urdf = b.urdf()
+    assert "A_r = -2.78318530717959" in b.toml("one.urdf", conf, urdf_text=urdf)
+    wide = b.model(urdf.replace('lower="-3.14159265358979" upper="3.14159265358979"', 'lower="0" upper="4"'))
+    assert "A_r = 3.5" in b.toml("one.urdf", conf, model=wide)
+
+
 def test_builder_sketch_and_analyze():
     """A user's sketch: a planar 2-RRR analysed without writing files. By hand: each limb's three revolutes about z
     through non-collinear points span the planar twists {T x, T y, R z}; so do both: 2T1R."""

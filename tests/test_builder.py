@@ -14,7 +14,7 @@ from numpy.testing import assert_allclose
 
 import pinmob
 from pinmob.builder import MechanismBuilder, cross, polar, radial, rotation, rpy, symmetric_angles, toml_value
-from pinmob.builder.text import vector
+from pinmob.builder.text import ZERO_RTOL, cleaned, vector
 from pinmob.catalog.arms import ur5_path
 from pinmob.exceptions import ConfigurationError
 from pinmob.testing import assert_mobility
@@ -271,6 +271,18 @@ def test_round_off_is_written_as_zero():
     assert vector([3e-13, 2.0]) == "0 2"
     assert vector([3e-12, 0.5]) == "3e-12 0.5"
     assert toml_value(-1e-17) == "0.0" and toml_value(0.25) == "0.25" and toml_value(2.0) == "2.0"
+    assert vector([2e12, 1.5, -1.9]) == "2000000000000 0 0" and vector([]) == "" and cleaned([]).size == 0
+    with pytest.raises(ConfigurationError, match=r"cannot write \[1.0, nan\]"):
+        vector([1.0, np.nan])
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3, allow_subnormal=False) | st.sampled_from([0.0, -0.0, 1e-13, -4e-13]), max_size=9))
+def test_round_off_zeroing_as_array_arithmetic(xs):
+    """The zeroing, done in Python floats, is that of the array formula of the docstring, to the last bit."""
+    a = np.array(xs, float)
+    expected = np.where(np.abs(a) <= ZERO_RTOL * max(1.0, float(np.abs(a).max(initial=0.0))), 0.0, a)
+    assert cleaned(xs).tobytes() == expected.tobytes()
 
 
 def test_angles_are_written_in_one_range():

@@ -13,8 +13,8 @@ from hypothesis import strategies as st
 from numpy.testing import assert_allclose
 
 import pinmob
-from pinmob.builder import MechanismBuilder, polar, radial, rotation, rpy, symmetric_angles, toml_value
-from pinmob.builder.text import vector
+from pinmob.builder import MechanismBuilder, cross, polar, radial, rotation, rpy, symmetric_angles, toml_value
+from pinmob.builder.text import ZERO_RTOL, cleaned, vector
 from pinmob.catalog.arms import ur5_path
 from pinmob.exceptions import ConfigurationError
 from pinmob.testing import assert_mobility
@@ -32,6 +32,32 @@ def test_layout_helpers():
     assert_allclose(rotation([0, 0, 2], np.pi / 2) @ [1, 0, 0], [0, 1, 0], atol=1e-15)
     r = rotation([0.3, -0.2, 0.9], 0.7)
     assert_allclose(pin.rpy.rpyToMatrix(np.array(rpy(r))), r, atol=1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-1e6, 1e6, allow_subnormal=False), min_size=6, max_size=6))
+def test_cross_is_numpys_to_the_last_bit(xs):
+    """The builder's cross product gives np.cross's numbers exactly (the same products and differences), so files
+    built with it are those built with np.cross; by hand, x cross y = z and y cross x = -z."""
+    a, b = np.array(xs[:3]), np.array(xs[3:])
+    assert cross(a, b).tobytes() == np.cross(a, b).tobytes()
+    assert cross([1, 0, 0], [0, 1, 0]).tolist() == [0.0, 0.0, 1.0]
+    assert cross([0, 1, 0], [1, 0, 0]).tolist() == [0.0, 0.0, -1.0]
+
+
+def test_toml_reads_its_angles_from_the_model_it_is_given():
+    """A revolute at 3.5 rad is written in (-pi, pi], 3.5 - 2 pi, under the builder's limits [-pi, pi]; given the
+    model of the same URDF with limits [0, 4] (which exclude 3.5 - 2 pi) it is written as 3.5, the representative
+    inside them closest to 0: the angles come from the model given, not from the text parsed again."""
+    b = MechanismBuilder("one")
+    chain = b.chain("A")
+    chain.revolute("r", at=[0, 0, 0], axis=Z)
+    chain.frame("end", at=[0.1, 0, 0])
+    conf = {"c": {"joints": {"A_r": 3.5}}}
+    urdf = b.urdf()
+    assert "A_r = -2.78318530717959" in b.toml("one.urdf", conf, urdf_text=urdf)
+    wide = b.model(urdf.replace('lower="-3.14159265358979" upper="3.14159265358979"', 'lower="0" upper="4"'))
+    assert "A_r = 3.5" in b.toml("one.urdf", conf, model=wide)
 
 
 def test_builder_sketch_and_analyze():
@@ -245,6 +271,18 @@ def test_round_off_is_written_as_zero():
     assert vector([3e-13, 2.0]) == "0 2"
     assert vector([3e-12, 0.5]) == "3e-12 0.5"
     assert toml_value(-1e-17) == "0.0" and toml_value(0.25) == "0.25" and toml_value(2.0) == "2.0"
+    assert vector([2e12, 1.5, -1.9]) == "2000000000000 0 0" and vector([]) == "" and cleaned([]).size == 0
+    with pytest.raises(ConfigurationError, match=r"cannot write \[1.0, nan\]"):
+        vector([1.0, np.nan])
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.floats(-1e3, 1e3, allow_subnormal=False) | st.sampled_from([0.0, -0.0, 1e-13, -4e-13]), max_size=9))
+def test_round_off_zeroing_as_array_arithmetic(xs):
+    """The zeroing, done in Python floats, is that of the array formula of the docstring, to the last bit."""
+    a = np.array(xs, float)
+    expected = np.where(np.abs(a) <= ZERO_RTOL * max(1.0, float(np.abs(a).max(initial=0.0))), 0.0, a)
+    assert cleaned(xs).tobytes() == expected.tobytes()
 
 
 def test_angles_are_written_in_one_range():

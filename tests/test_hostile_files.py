@@ -144,6 +144,9 @@ def test_a_zero_joint_axis_is_refused_naming_the_joint(joint: str, tmp_path: Pat
         pinmob.load(path)
     out, _ = run("analyze", str(path))
     one_line_error(out, f"joint '{joint}'")
+    model = pin.buildModelFromXML(with_axis(joint, "0 0 0"))  # parsed by the caller (a sweep's design): checked too
+    with pytest.raises(pinmob.MechanismFileError, match=f"joint '{joint}' has a zero or non-finite axis"):
+        pinmob.io.load_toml(path, urdf_model=model)
 
 
 def test_a_closure_axis_near_the_largest_float_is_a_direction() -> None:

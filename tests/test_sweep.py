@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
+import pickle
 import shutil
 import signal
 import subprocess
@@ -75,6 +77,26 @@ def test_a_design_record_agrees_with_pinmob_scan(tmp_path):
     assert record["singularity_free"] == sum(r["singularity"] == "none" for r in reach) / len(reach)
     assert record["min_distance"] == min(r["distance"] for r in rows if r["reachable"])
     assert record["refined_points"] == sum(r["refined"] for r in rows)
+
+
+def test_a_design_mechanism_is_the_one_its_written_files_load(tmp_path):
+    """A family design's URDF is parsed once (the model the TOML was written with is loaded): the mechanism equals
+    the one pinmob.load reads from the files written, model included (joint placements, limits, names)."""
+    spec = pinmob.load_spec(ROOT / "examples" / "3puu_sweep.toml")
+    for i in (0, 24, 48):
+        folder = tmp_path / str(i)
+        folder.mkdir()
+        mech = spec.source.mechanism(spec.values(i), folder)
+        again = pinmob.load(folder / "design.toml")
+        assert mech.model == again.model and mech.model is not again.model
+        for field in dataclasses.fields(mech):  # every field to the last bit (pickled), the model's below
+            if field.name not in ("model", "geometry"):
+                assert pickle.dumps(getattr(mech, field.name)) == pickle.dumps(getattr(again, field.name)), field.name
+        for a, b in zip(mech.model.jointPlacements, again.model.jointPlacements, strict=True):
+            assert a.homogeneous.tobytes() == b.homogeneous.tobytes()
+        assert mech.model.lowerPositionLimit.tobytes() == again.model.lowerPositionLimit.tobytes()
+        assert mech.model.upperPositionLimit.tobytes() == again.model.upperPositionLimit.tobytes()
+        assert list(mech.model.names) == list(again.model.names) and mech.source == again.source
 
 
 def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):

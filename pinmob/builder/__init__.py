@@ -36,7 +36,7 @@ from pinmob.builder.text import is_generated
 
 from .chain_builder import JOINT_TYPES, ChainBuilder, ClosureSpec, FrameSpec, JointSpec, LimbBuilder
 from .closed_joints import closed_joints, joint_values
-from .layout import azimuth, check_rotation, polar, radial, rotation, rpy, symmetric_angles
+from .layout import azimuth, check_rotation, cross, polar, radial, rotation, rpy, symmetric_angles
 from .mechanism_builder import MechanismBuilder
 from .text import ZERO_RTOL, toml_value
 from .urdf_limb import UrdfLimb
@@ -57,6 +57,7 @@ __all__ = [
     "azimuth",
     "check_rotation",
     "closed_joints",
+    "cross",
     "is_generated",
     "joint_values",
     "polar",

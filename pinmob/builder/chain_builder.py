@@ -12,6 +12,7 @@ two frames when the loops are closed.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 
@@ -20,7 +21,7 @@ from numpy.typing import ArrayLike
 
 from pinmob.exceptions import ConfigurationError
 
-from .layout import check_rotation, point, rpy, unit
+from .layout import check_rotation, cross, point, rpy, unit
 from .text import check_name, number, toml_value, vector
 
 JOINT_TYPES = ("revolute", "prismatic", "continuous")
@@ -175,7 +176,8 @@ class ChainBuilder:
     def universal(self, label: str, at: ArrayLike, axis1: ArrayLike, axis2: ArrayLike) -> tuple[str, str]:
         """Two revolutes at one point: ``{label}a`` about axis1, then ``{label}b`` about axis2 (not parallel)."""
         u1, u2 = unit(f"U joint {label!r}: axis1", axis1), unit(f"U joint {label!r}: axis2", axis2)
-        sine = float(np.linalg.norm(np.cross(u1, u2)))
+        n = cross(u1, u2)
+        sine = math.sqrt(n.dot(n))
         if sine < AXIS_INDEPENDENCE:
             raise ConfigurationError(
                 f"chain {self.name!r} U joint {label!r}: axes {u1.round(6).tolist()} and {u2.round(6).tolist()} are "

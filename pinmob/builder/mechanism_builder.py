@@ -236,13 +236,15 @@ class MechanismBuilder:
         configurations: Mapping[str, Mapping[str, Any]] | None = None,
         length_scale: float | None = None,
         urdf_text: str | None = None,
+        model: pin.Model | None = None,
     ) -> str:
         """Pinmob mechanism file text referring to ``urdf`` (a path relative to the file).
 
         Revolute angles of the configurations' ``joints`` and ``seed`` tables are written in (-pi, pi]
         (:func:`pinmob.builder.closed_joints.canonical_joints`), so the same configuration gives the same
-        text whichever multiple of 2 pi it was computed with. ``urdf_text``: :meth:`urdf`'s text when the caller
-        has it already (the angles are read from its model; default: built again).
+        text whichever multiple of 2 pi it was computed with. The angles are read from the model of :meth:`urdf`'s
+        text: ``model`` when the caller has it already (:meth:`model`; only read here), else that of ``urdf_text``
+        when given, else of the text built again.
         """
         out = [f"# {MARKER}; edit the builder, not this file", f"name = {toml_value(self.name)}"]
         if self.description:
@@ -262,20 +264,19 @@ class MechanismBuilder:
                 out.append(f"actuated = {toml_value(limb.actuated)}")
         for c in self.closures:
             out += c.toml_lines()
-        model = None
         for cname, conf in (configurations or {}).items():
             out += ["", f"[configurations.{toml_key(cname)}]"]
             for k, v in conf.items():
                 if k in ("joints", "seed") and isinstance(v, Mapping):
-                    model = model if model is not None else self._model(urdf_text)
+                    model = model if model is not None else self.model(urdf_text)
                     v = canonical_joints(model, v)
                 out.append(f"{toml_key(k)} = {toml_value(v)}")
         return "\n".join(out) + "\n"
 
     # ------------------------------------------------------------------ mechanism
 
-    def _model(self, text: str | None = None) -> pin.Model:
-        """The Pinocchio model of :meth:`urdf` (kinematics only), or of its ``text`` when given."""
+    def model(self, text: str | None = None) -> pin.Model:
+        """The Pinocchio model of :meth:`urdf` (kinematics only), or of its ``text`` when given; parsed on each call."""
         import pinocchio as pin
 
         return pin.buildModelFromXML(self.urdf() if text is None else text)
@@ -290,7 +291,7 @@ class MechanismBuilder:
         """
         from pinmob.model import Mechanism, make_closure
 
-        model = self._model()
+        model = self.model()
         closures = [make_closure(model, c.name, c.frame_a, c.frame_b, c.type, c.axis, c.axis_b) for c in self.closures]
         actuated = {limb.name: list(limb.actuated) for limb in self.limbs} | {"": self._extra_actuated()}
         tips = [(limb.name, limb.tip_name) for limb in self.limbs]

@@ -13,6 +13,7 @@ still differ between machines (solver and BLAS round-off);
 
 from __future__ import annotations
 
+import math
 import re
 from collections.abc import Mapping
 from pathlib import Path
@@ -56,7 +57,7 @@ def xml_attribute(value: str) -> str:
 def number(x: float) -> str:
     """A finite number with :data:`DIGITS` significant digits (``-0`` written as ``0``)."""
     x = float(x)
-    if not np.isfinite(x):
+    if not math.isfinite(x):
         raise ConfigurationError(f"cannot write {x!r}: values in a mechanism file must be finite")
     s = f"{x:.{DIGITS}g}"
     return "0" if s == "-0" else s
@@ -64,17 +65,21 @@ def number(x: float) -> str:
 
 def cleaned(xs: ArrayLike) -> np.ndarray:
     """Copy of ``xs`` (flattened) with round-off zeroed: ``|x| <= ZERO_RTOL * max(1, max |xs|)`` becomes 0."""
-    a = np.array(xs, float).ravel()
-    if not np.isfinite(a).all():
-        raise ConfigurationError(f"cannot write {a.tolist()}: values in a mechanism file must be finite")
-    scale = max(1.0, float(np.abs(a).max())) if a.size else 1.0
-    a[np.abs(a) <= ZERO_RTOL * scale] = 0.0
-    return a
+    return np.array(_cleaned(xs), float)
+
+
+def _cleaned(xs: ArrayLike) -> list[float]:
+    """:func:`cleaned` as a list of floats (the same comparisons, in Python floats: a vector's three are cheaper so)."""
+    values = np.array(xs, float).ravel().tolist()
+    if not all(math.isfinite(x) for x in values):
+        raise ConfigurationError(f"cannot write {values}: values in a mechanism file must be finite")
+    limit = ZERO_RTOL * max([1.0, *map(abs, values)])
+    return [0.0 if abs(x) <= limit else x for x in values]
 
 
 def vector(xs: ArrayLike) -> str:
     """Space-separated numbers for a URDF attribute, round-off zeroed (:func:`cleaned`)."""
-    return " ".join(number(x) for x in cleaned(xs))
+    return " ".join(number(x) for x in _cleaned(xs))
 
 
 def toml_value(value: Any) -> str:
@@ -89,7 +94,7 @@ def toml_value(value: Any) -> str:
         return str(int(value))
     if isinstance(value, (float, np.floating)):
         x = float(value)
-        if not np.isfinite(x):
+        if not math.isfinite(x):
             raise ConfigurationError(f"cannot write {x!r} in a mechanism file: values must be finite")
         x = 0.0 if abs(x) <= ZERO_RTOL else x
         return number(x) if x != int(x) or abs(x) > 1e15 else f"{x:.1f}"

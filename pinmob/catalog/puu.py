@@ -6,7 +6,7 @@ import numpy as np
 
 from pinmob.exceptions import ConfigurationError
 
-from ..builder import MechanismBuilder, radial
+from ..builder import MechanismBuilder, cross, radial
 from .registry import Definition, register
 from .sources import PAPER, limb_pairs
 
@@ -31,7 +31,7 @@ def three_puu(
         e, t = radial(theta)
         slider, vertex = big_r * e, small_r * e - drop * z
         link = vertex - slider
-        n = np.cross(t, link)
+        n = cross(t, link)
         limb = b.limb(limb_name)
         limb.prismatic("slider", at=slider, axis=z, lower=-stroke, upper=stroke, actuated=True)
         limb.universal("u1", at=slider, axis1=t, axis2=n)

@@ -30,7 +30,7 @@ from pinmob.io.schema import (
     vector3,
 )
 from pinmob.io.text_file import parsing, read_text
-from pinmob.io.urdf import load_geometry, read_urdf
+from pinmob.io.urdf import check_model, load_geometry, read_urdf
 from pinmob.io.urdf import package_dirs as package_dirs
 from pinmob.model import Closure, Expectation, Geometry, Mechanism, NamedConfiguration, frame_id, make_closure
 from pinmob.name_matching import choices, did_you_mean
@@ -54,15 +54,19 @@ def _joints(path: Path, where: str, joint_names: set[str], names: list[str]) -> 
     return names
 
 
-def load_urdf(path: Path, urdf: Path) -> tuple[pin.Model, Geometry, list[Closure]]:
+def load_urdf(path: Path, urdf: Path, model: pin.Model | None = None) -> tuple[pin.Model, Geometry, list[Closure]]:
     """Kinematic model of the URDF a mechanism file names (:func:`pinmob.io.urdf.read_urdf`), its geometry, its mimic couplings.
 
     The geometry's meshes are checked now and loaded when first drawn (:func:`pinmob.io.urdf.load_geometry`);
     each ``<mimic>`` joint is a ``joint`` coupling (:func:`pinmob.io.mimic.mimic_couplings`). A ``.xacro`` file is
     expanded first (:func:`pinmob.io.xacro_file.expand_xacro`, no arguments; ``$(find)`` in ``ROS_PACKAGE_PATH``),
-    and has no geometry.
+    and has no geometry. ``model``: the URDF's model parsed by the caller from the very text of the file (see
+    :func:`load_toml`), checked as a parsed file is (:func:`pinmob.io.urdf.check_model`), not parsed again.
     """
     try:
+        if model is not None:
+            check_model(model, urdf)
+            return model, load_geometry(model, urdf), mimic_couplings(urdf, model)
         if urdf.suffix.lower() == ".xacro":
             from pinmob.io.xacro_file import expand_xacro
 
@@ -88,8 +92,12 @@ def read_toml(path: Path) -> dict[str, Any]:
             raise file_error(path, f"TOML syntax error: {exc}") from None
 
 
-def load_toml(path: str | Path) -> Mechanism:
+def load_toml(path: str | Path, urdf_model: pin.Model | None = None) -> Mechanism:
     """Load a pinmob mechanism file (TOML) and the URDF it names.
+
+    ``urdf_model``: the model of that URDF when the caller has just parsed the text it wrote there (a sweep's
+    design: :meth:`pinmob.builder.MechanismBuilder.model`); it is checked as the file's would be, not parsed again,
+    and the mechanism takes it (one model per call, never shared). Default: the URDF file is read.
 
     Raises:
         MechanismFileError: the file is missing, unreadable or not TOML, or a key is
@@ -101,7 +109,7 @@ def load_toml(path: str | Path) -> Mechanism:
     for key in ("name", "urdf"):
         if not doc.get(key):
             raise file_error(path, f"required key {key!r} must be a non-empty string")
-    model, geometry, couplings = load_urdf(path, path.parent / doc["urdf"])
+    model, geometry, couplings = load_urdf(path, path.parent / doc["urdf"], urdf_model)
     joint_names = set(list(model.names)[1:])
 
     closures = unique(path, _closures(path, doc.get("closures", []), model) + couplings)

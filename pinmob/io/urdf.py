@@ -104,9 +104,18 @@ def read_urdf(urdf: Path, text: str | None = None) -> pin.Model:
     said = native_messages(printed)
     if said:
         warnings.warn(f"{urdf.name}: {said}", stacklevel=4)
+    check_model(model, urdf)
+    return model
+
+
+def check_model(model: pin.Model, urdf: Path) -> None:
+    """The checks of a URDF's model once parsed (:func:`read_urdf`'s): the joint bound, then :func:`check_axes`.
+
+    Raises:
+        MechanismFileError: too many joints, or a joint with a zero or non-finite axis (naming ``urdf``).
+    """
     check_bound("joints", model.njoints - 1, f"urdf {str(urdf)!r}")  # before anything builds its Data
     check_axes(model, str(urdf))
-    return model
 
 
 def check_axes(model: pin.Model, label: str) -> None:

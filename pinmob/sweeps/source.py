@@ -10,12 +10,16 @@ from __future__ import annotations
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from pinmob.catalog import family
 from pinmob.exceptions import ConfigurationError, MechanismFileError
 from pinmob.io import load_toml
 from pinmob.model import Mechanism
 from pinmob.sweeps.template import fill, names_used, placeholders
+
+if TYPE_CHECKING:
+    import pinocchio as pin
 
 #: File names of a family member in the scratch folder.
 DESIGN_TOML, DESIGN_URDF = "design.toml", "design.urdf"
@@ -56,20 +60,29 @@ class Source:
         Raises:
             ConfigurationError: values the family refuses, or a placeholder without a value or not computable.
         """
+        return self._design(values)[0]
+
+    def _design(self, values: dict[str, float]) -> tuple[dict[str, str], pin.Model | None]:
+        """:meth:`files`, and a family member's URDF model: parsed once, for the TOML's angles and the loading."""
         if self.family:
             builder, confs, length = family(self.family).build(values)
             urdf = builder.urdf()
-            return {DESIGN_TOML: builder.toml(DESIGN_URDF, confs, length, urdf), DESIGN_URDF: urdf}
-        return {fname: fill(text, values, fname) for fname, text in self.texts}
+            model = builder.model(urdf)
+            return {DESIGN_TOML: builder.toml(DESIGN_URDF, confs, length, model=model), DESIGN_URDF: urdf}, model
+        return {fname: fill(text, values, fname) for fname, text in self.texts}, None
 
     def mechanism(self, values: dict[str, float], folder: Path) -> Mechanism:
-        """The design's mechanism, its files written into ``folder`` (which must outlive its use)."""
-        files = self.files(values)
+        """The design's mechanism, its files written into ``folder`` (which must outlive its use).
+
+        A family member's URDF is parsed once: the model the builder wrote the TOML with is the one loaded
+        (:func:`pinmob.io.load_toml`'s ``urdf_model``; a new model per design).
+        """
+        files, model = self._design(values)
         for fname, text in files.items():
             path = folder / fname
             path.parent.mkdir(parents=True, exist_ok=True)
             path.write_text(text, encoding="utf-8")
-        return load_toml(folder / next(iter(files)))
+        return load_toml(folder / next(iter(files)), urdf_model=model)
 
     def configuration_names(self, values: dict[str, float]) -> list[str]:
         """The named configurations of the design's mechanism file (without loading it)."""

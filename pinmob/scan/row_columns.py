@@ -102,9 +102,10 @@ class GroupRows:
             return ScanTable.from_rows(names, self.dicts())
         plain = [e for e in self.entries if isinstance(e, dict)]
         columns: dict[str, Any] = {}
+        at = np.array([e.at for e in ours], np.int64)
         for name in names:
             if name in self.batch.columns:
-                columns[name] = self.batch.columns[name][[e.at for e in ours]]
+                columns[name] = self.batch.columns[name][at]
             elif name == "reason":
                 columns[name] = [e.reason for e in ours]
             elif name in ours[0].head:

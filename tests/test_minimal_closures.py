@@ -134,6 +134,28 @@ def test_fix_toml_writes_names_and_text_as_tomllib_reads_them(capsys, tmp_path):
     assert pinmob.load(target).description == description
 
 
+def test_fix_refuses_a_urdf_path_no_toml_can_hold(capsys, tmp_path):
+    """The input read through a link (UTF-8) into a folder whose name is not UTF-8 (the byte 0xff, which Python reads
+    as the lone surrogate U+DCFF): the written file would name the URDF through that folder, which no TOML (UTF-8)
+    can hold. One line naming the path and the cure, status 2, nothing written (before: a raw UnicodeEncodeError)."""
+    folder = tmp_path / os.fsdecode(b"in\xff")
+    with pytest.raises(UnicodeEncodeError):
+        folder.name.encode("utf-8")  # the truth: Python's own codec cannot write this name as UTF-8
+    folder.mkdir()
+    for name in ("fourbar.toml", "fourbar.urdf"):
+        shutil.copy(DATA / name, folder)
+    (tmp_path / "link").symlink_to(folder)
+    (tmp_path / "out").mkdir()
+    status, _, err = fix(capsys, tmp_path / "link" / "fourbar.toml", "--output", tmp_path / "out" / "fixed.toml")
+    assert status == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert err.startswith("pinmob: error: the URDF's path from the output's folder '../in\\udcff/fourbar.urdf' holds")
+    assert "rename it, or write the output in the URDF's folder" in err
+    assert list((tmp_path / "out").iterdir()) == []
+    target = folder / "fixed.toml"  # written beside the URDF, as the message says: the path is its bare name
+    assert fix(capsys, tmp_path / "link" / "fourbar.toml", "--output", tmp_path / "link" / "fixed.toml")[0] == 0
+    assert tomllib.loads(target.read_bytes().decode("utf-8"))["urdf"] == "fourbar.urdf"
+
+
 def test_fix_checks_every_named_configuration():
     mech = pinmob.load("3-RRR-planar")
     fixed = pinmob.fix_closures(mech)

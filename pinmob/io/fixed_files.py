@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.exceptions import MechanismFileError
-from pinmob.io.schema import file_error, toml_key, toml_string
+from pinmob.io.schema import file_error, toml_key, toml_string, unicode_text
 from pinmob.model import Closure, Mechanism
 
 
@@ -79,12 +79,21 @@ def toml_document(doc: Mapping[str, Any]) -> str:
 
 
 def fixed_toml(source: Path, fixed: Mechanism, target: Path) -> str:
-    """The TOML text of ``fixed``, read from ``source`` (pinmob TOML) and written at ``target``."""
+    """The TOML text of ``fixed``, read from ``source`` (pinmob TOML) and written at ``target``.
+
+    Raises:
+        ConfigurationError: text no TOML can hold (a lone surrogate, :func:`pinmob.io.schema.unicode_text`), e.g. the
+            URDF's path from ``target``'s folder through a folder whose name is not UTF-8.
+    """
     from pinmob.io.toml_file import read_toml
 
     doc: dict[str, Any] = dict(read_toml(source))
     urdf = (source.parent / doc["urdf"]).resolve()
-    doc["urdf"] = os.path.relpath(urdf, target.resolve().parent)
+    doc["urdf"] = unicode_text(  # a folder name that is not UTF-8 (bytes read as surrogates): no TOML can hold it
+        "the URDF's path from the output's folder",
+        os.path.relpath(urdf, target.resolve().parent),
+        "a folder's name is not UTF-8: rename it, or write the output in the URDF's folder",
+    )
     doc.setdefault("length_scale", float(fixed.length_scale))  # the same L (to the bit): the same rank decisions
     configurations = {k: dict(v) for k, v in doc.get("configurations", {}).items()}
     for name, conf in configurations.items():

@@ -22,10 +22,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import pinmob
 import pinmob.analysis.fixed_closures
 from pinmob.cli import main
+from pinmob.io.fixed_files import toml_document
 from pinmob.model import ClosureType
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -154,6 +157,46 @@ def test_fix_refuses_a_urdf_path_no_toml_can_hold(capsys, tmp_path):
     target = folder / "fixed.toml"  # written beside the URDF, as the message says: the path is its bare name
     assert fix(capsys, tmp_path / "link" / "fourbar.toml", "--output", tmp_path / "link" / "fixed.toml")[0] == 0
     assert tomllib.loads(target.read_bytes().decode("utf-8"))["urdf"] == "fourbar.urdf"
+
+
+@pytest.mark.parametrize(
+    "doc",
+    [
+        {"t": {"a": 1, "b": 2}},  # before: [t] declared twice, which tomllib refuses
+        {"t": {"a": 1, "s": {"c": 2.5}, "b": "x"}},  # plain values around a sub-table
+        {"t": {}, "name": "n"},  # an empty table is kept
+        {"configurations": {"home": {"joints": {"a": 0.5}}, "é x": {}}, "limbs": [{"name": "A", "tip": "t"}]},
+    ],
+)
+def test_toml_document_reads_back_as_tomllib_reads_it(doc):
+    assert tomllib.loads(toml_document(doc)) == doc
+
+
+_SCALARS = (
+    st.booleans()
+    | st.integers(-(2**63), 2**63 - 1)
+    | st.floats(allow_nan=False)
+    | st.text()  # any Unicode (hypothesis draws no lone surrogates)
+)
+_VALUES = st.recursive(
+    _SCALARS, lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(), inner, max_size=3)
+)
+_TABLES = st.dictionaries(st.text(), _VALUES, max_size=3)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    doc=st.dictionaries(
+        st.text(),
+        _VALUES
+        | st.lists(_TABLES, min_size=1, max_size=3)  # [[k]]
+        | st.dictionaries(st.text(), _VALUES | _TABLES, max_size=4),  # [k] with plain values and [k.name] tables
+        max_size=4,
+    )
+)
+def test_any_document_reads_back_as_tomllib_reads_it(doc):
+    """Top-level plain values, arrays of tables and tables holding plain values and sub-tables, keys of any text."""
+    assert tomllib.loads(toml_document(doc)) == doc
 
 
 def test_fix_checks_every_named_configuration():

@@ -57,7 +57,11 @@ def _toml_value(value: Any) -> str:
 
 
 def toml_document(doc: Mapping[str, Any]) -> str:
-    """A mechanism file's document as TOML text: scalars and lists, then ``[[limbs]]``, ``[[closures]]``, tables."""
+    """A mechanism file's document as TOML text: scalars and lists, then ``[[limbs]]``, ``[[closures]]``, tables.
+
+    A top-level table is written as ``[k]`` with its plain values, then ``[k.name]`` per sub-table (deeper tables
+    inline), so a TOML parser reads back ``doc``.
+    """
     lines = []
     tables = {k: v for k, v in doc.items() if isinstance(v, Mapping)}
     arrays = {k: v for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(x, Mapping) for x in v)}
@@ -68,13 +72,14 @@ def toml_document(doc: Mapping[str, Any]) -> str:
         for item in items:
             lines += ["", f"[[{toml_key(k)}]]"] + [f"{toml_key(a)} = {_toml_value(b)}" for a, b in item.items()]
     for k, table in tables.items():
+        plain = {a: b for a, b in table.items() if not isinstance(b, Mapping)}
+        if plain or not table:  # one [k] header for all its plain values (TOML defines a table once); [k] if empty
+            lines += ["", f"[{toml_key(k)}]"] + [f"{toml_key(a)} = {_toml_value(b)}" for a, b in plain.items()]
         for name, sub in table.items():
             if isinstance(sub, Mapping):
                 lines += ["", f"[{toml_key(k)}.{toml_key(name)}]"] + [
                     f"{toml_key(a)} = {_toml_value(b)}" for a, b in sub.items()
                 ]
-            else:
-                lines += ["", f"[{toml_key(k)}]", f"{toml_key(name)} = {_toml_value(sub)}"]
     return "\n".join(lines) + "\n"
 
 

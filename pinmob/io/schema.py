@@ -167,20 +167,22 @@ def toml_key(key: str) -> str:
 
 
 def toml_text(value: object, limit: int = 80) -> str:
-    """A parsed value written back as TOML (``true``, ``"text"``, ``[1, 2]``, ``{ a = 1 }``), cut at ``limit``."""
+    """A parsed value written back as TOML (``true``, ``"text"``, ``[1, 2]``, ``{ "é" = 1 }``), cut at ``limit``.
+
+    Strings and keys as :func:`toml_string` and :func:`toml_key` write them: a value not cut reads back
+    (``tomllib.loads("v = " + text)``) as ``value``.
+    """
     if isinstance(value, bool):
         text = "true" if value else "false"
     elif isinstance(value, str):
-        import json  # only for an error message
-
-        text = json.dumps(value, ensure_ascii=False)
+        text = toml_string(value)
     elif isinstance(value, float) and not math.isfinite(value):
         text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
     elif isinstance(value, list):
         text = "[" + ", ".join(toml_text(v, limit) for v in value) + "]"
     elif isinstance(value, Mapping):
-        text = "{ " + ", ".join(f"{k} = {toml_text(v, limit)}" for k, v in value.items()) + " }"
-    else:
+        text = "{ " + ", ".join(f"{toml_key(k)} = {toml_text(v, limit)}" for k, v in value.items()) + " }"
+    else:  # numbers; dates and times as Python prints them, which TOML reads (a space for the T)
         text = str(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
 

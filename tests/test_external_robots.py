@@ -11,6 +11,8 @@ comment beside it); docs/closed-chains.md shows the same table.
 from __future__ import annotations
 
 import hashlib
+import os
+import sys
 import warnings
 from pathlib import Path
 
@@ -187,6 +189,36 @@ def test_the_cli_says_it_read_the_sidecar(folder, capsys):
     out, err = capsys.readouterr()
     assert "pinmob: read robot.urdf with the Extended URDF sidecar beside it, robot.yaml" in err
     assert "5bar_linkage: mechanism DoF 3 (nv 6 - closure rank 3)" in out
+
+
+#: paths Python's "open" audit event saw (builtins.open, os.open, Path.read_bytes), while a test listens
+_OPENED: list[str] | None = None
+
+
+def _audit(event, args):
+    if event == "open" and _OPENED is not None and isinstance(args[0], (str, bytes, os.PathLike)):
+        _OPENED.append(os.fsdecode(args[0]))
+
+
+sys.addaudithook(_audit)  # an audit hook cannot be removed: it records only while _OPENED is a list
+
+
+@pytest.mark.parametrize("given", ["robot.urdf", "robot.yaml"])
+def test_the_sidecar_is_read_once(tmp_path, given):
+    """Loading robot.urdf (the sidecar found beside it) or robot.yaml opens robot.yaml once, as Python's own audit
+    events count the opens (before: twice from robot.urdf, once to find the sidecar and once to parse it)."""
+    global _OPENED
+    for name in ("robot.urdf", "robot.yaml"):
+        (tmp_path / name).write_bytes((FOLDER / "5bar_linkage" / name).read_bytes())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # missing meshes
+        _OPENED = []
+        try:
+            mech = pinmob.load(tmp_path / given)
+        finally:
+            opened, _OPENED = _OPENED, None
+    assert mech.source == tmp_path / "robot.yaml" and len(mech.closures) == 1
+    assert opened.count(str(tmp_path / "robot.yaml")) == 1, opened
 
 
 def test_a_yaml_without_closed_loop_is_no_sidecar(tmp_path):

@@ -92,8 +92,10 @@ def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
     return value
 
 
-def sidecar(urdf: Path) -> Path | None:
-    """The Extended URDF sidecar of ``urdf``: a same-named ``.yaml`` (or ``.yml``) beside it with a ``closed_loop`` key.
+def sidecar(urdf: Path) -> tuple[Path, dict[str, Any]] | None:
+    """The Extended URDF sidecar of ``urdf`` (a same-named ``.yaml`` or ``.yml`` with ``closed_loop``) and its document.
+
+    The file is read once: its document goes to :func:`load_extended_urdf` with it.
 
     A same-named YAML file without that key (another tool's configuration) is no sidecar: None, as for none.
     One that does not parse is no sidecar either, unless its text names ``closed_loop``: then it was meant as
@@ -113,7 +115,7 @@ def sidecar(urdf: Path) -> Path | None:
                         raise
                 continue
             if "closed_loop" in doc:
-                return candidate
+                return candidate, doc
     return None
 
 
@@ -137,19 +139,20 @@ def sidecar_urdf(path: Path, doc: Mapping[str, Any] | None = None) -> Path:
     return path.parent / str(doc["urdf"]) if "urdf" in doc else find_urdf(path)
 
 
-def load_extended_urdf(path: str | Path) -> Mechanism:
+def load_extended_urdf(path: str | Path, doc: Mapping[str, Any] | None = None) -> Mechanism:
     """Load an Extended URDF robot from its YAML sidecar (the URDF beside it), or from the URDF beside its sidecar.
 
     Given a ``.urdf`` file, its sidecar is the same-named YAML file (:func:`sidecar`); the mechanism's
-    description names both files either way.
+    description names both files either way. ``doc``: the sidecar's document when the caller has read it
+    (:func:`sidecar`'s), so that the file is read once.
     """
     path = Path(path)
     if path.suffix.lower() == ".urdf":
         found = sidecar(path)
         if found is None:
             raise file_error(path, "no Extended URDF sidecar beside it (a same-named .yaml file with 'closed_loop')")
-        path = found
-    doc = _read_yaml(path)
+        path, doc = found
+    doc = _read_yaml(path) if doc is None else doc
     if "closed_loop" not in doc:
         raise file_error(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")
     loops = doc.get("closed_loop") or []

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 
@@ -253,6 +256,33 @@ def test_a_lone_surrogate_is_refused_by_name_before_anything_is_written(tmp_path
     path = _two_limbs(edges, edges).write(tmp_path, "two", {edges: {"joints": {"A_r": 0.0}}})
     doc = tomllib.loads(path.read_text(encoding="utf-8"))
     assert doc["name"] == doc["description"] == edges and list(doc["configurations"]) == [edges]
+
+
+_WRITE_IN_ASCII_LOCALE = """
+import locale, sys, tomllib
+from pathlib import Path
+from pinmob.builder import MechanismBuilder
+assert locale.getpreferredencoding(False) != "UTF-8"  # the locale's encoding is ASCII here
+b = MechanismBuilder("two", "caf\\u00e9")
+for name, y in (("A", 0.1), ("B", -0.1)):
+    limb = b.limb(name)
+    limb.revolute("r", at=[0, y, 0], axis=[1, 0, 0])
+    limb.tip(at=[0, 0, 0])
+path = b.write(Path(sys.argv[1]), "two", {"\\u00e9": {"joints": {"A_r": 0.0}}})
+doc = tomllib.loads(path.read_bytes().decode("utf-8"))
+print(ascii(doc["description"]), ascii(list(doc["configurations"])))
+"""
+
+
+def test_the_builder_writes_utf8_whatever_the_locale(tmp_path):
+    """In an ASCII locale (C, without Python's UTF-8 mode or locale coercion) a description and a configuration
+    name with é are written as UTF-8, which tomllib reads back (before: a raw UnicodeEncodeError, 'ascii' codec)."""
+    env = dict(os.environ, LC_ALL="C", LANG="C", PYTHONUTF8="0", PYTHONCOERCECLOCALE="0")
+    out = subprocess.run(
+        [sys.executable, "-c", _WRITE_IN_ASCII_LOCALE, str(tmp_path)], env=env, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["'caf\\xe9'", "['\\xe9']"]
 
 
 def test_toml_string_and_key_refuse_a_lone_surrogate():

@@ -32,10 +32,10 @@ from typing import Any
 
 import pinocchio as pin
 
-from pinmob.exceptions import MechanismFileError
+from pinmob.exceptions import ConfigurationError, MechanismFileError
 from pinmob.io.gazebo_joints import unread_elements
 from pinmob.io.mimic import mimic_couplings, unique
-from pinmob.io.schema import errors_at, file_error
+from pinmob.io.schema import errors_at, file_error, unicode_text
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.model import CLOSURE_TYPES, Mechanism, make_closure, with_joints
@@ -82,7 +82,30 @@ def _read_yaml(path: Path) -> dict[str, Any]:
             raise file_error(path, f"YAML syntax error: {' '.join(str(exc).split())[:300]}") from None
     if not isinstance(doc, Mapping):
         raise file_error(path, f"must be a mapping with keys {choices(YAML_KEYS)}")
+    try:  # PyYAML reads "\ud800" (and each half of a pair) as a lone surrogate, which Pinocchio's names cannot hold
+        _texts([doc[k] for k in YAML_KEYS if k in doc])  # the keys pinmob reads (others are another tool's)
+    except ConfigurationError as exc:
+        raise file_error(path, str(exc)) from None
     return dict(doc)
+
+
+def _texts(value: object) -> None:
+    """Every string of a YAML value, keys too, is text that UTF-8 holds (:func:`unicode_text`).
+
+    Each list or mapping is visited once: YAML aliases share them (an alias bomb's 9^10 strings are 100 objects),
+    and may make cycles.
+    """
+    seen: set[int] = set()
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            unicode_text(
+                "YAML text", item, "write the character itself, not \\uD800-\\uDFFF escapes (PyYAML joins no pair)"
+            )
+        elif isinstance(item, (Mapping, list)) and id(item) not in seen:
+            seen.add(id(item))
+            stack.extend([*item.keys(), *item.values()] if isinstance(item, Mapping) else item)
 
 
 def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
 import tomllib
@@ -427,3 +428,17 @@ def test_relaxing_that_cannot_close_says_what_it_relaxed(tmp_path: Path, capsys)
     assert "nor 20 random restarts; best attempt's residuals B: 2." in err and "0 random restarts" not in err.replace(
         "20 random", ""
     )
+
+
+def test_a_frame_name_no_model_can_hold_is_no_frame(capsys: pytest.CaptureFixture[str]) -> None:
+    """A frame name with a lone surrogate (how Python reads the command-line byte 0xff, os.fsdecode below) names no
+    frame: the FrameError of any unknown frame, with the close names (before: Pinocchio's raw UnicodeEncodeError)."""
+    name = os.fsdecode(b"plat\xffform")
+    with pytest.raises(UnicodeEncodeError):
+        name.encode("utf-8")  # the truth: no UTF-8 name (Pinocchio's) is this one
+    mech = pinmob.load("Delta")
+    with pytest.raises(pinmob.FrameError, match=r"no frame 'plat\\udcffform' in model .*did you mean 'platform'"):
+        pinmob.model.frame_id(mech.model, name)
+    assert main(["analyze", "Delta", "--frame", name]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pinmob: error: no frame 'plat\\udcffform'") and len(err.strip().splitlines()) == 1

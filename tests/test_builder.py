@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import subprocess
+import sys
 import tomllib
 from pathlib import Path
 
@@ -244,6 +247,80 @@ def test_names_and_descriptions_round_trip_through_tomllib(tmp_path):
 def test_any_key_and_string_round_trip_through_tomllib(key, text):
     """Any key and string (ASCII with its control characters, or any Unicode but lone surrogates) read back equal."""
     assert tomllib.loads(f"v = {toml_value({key: [text]})}") == {"v": {key: [text]}}
+
+
+#: a lone surrogate: a Python str holds it, UTF-8 cannot (Python's own codec refuses it, checked below)
+LONE = "joint\ud800x"
+
+
+def _two_limbs(name="two", description=""):
+    b = MechanismBuilder(name, description)
+    for limb_name, y in (("A", 0.1), ("B", -0.1)):
+        limb = b.limb(limb_name)
+        limb.revolute("r", at=[0, y, 0], axis=[1, 0, 0])
+        limb.tip(at=[0, 0, 0])
+    return b
+
+
+def test_a_lone_surrogate_is_refused_by_name_before_anything_is_written(tmp_path):
+    """A mechanism name, description or configuration name holding a lone surrogate: one ConfigurationError naming
+    the text and the surrogate (before: a raw UnicodeEncodeError when the file was written, or none at the
+    constructor), and no file written. Text on either side of the surrogates (U+D7FF, U+E000) still reads back."""
+    with pytest.raises(UnicodeEncodeError):
+        LONE.encode("utf-8")  # the truth: no UTF-8 file can hold it
+    with pytest.raises(ConfigurationError, match=r"mechanism name 'joint\\ud800x' holds the lone surrogate"):
+        MechanismBuilder(LONE)
+    with pytest.raises(ConfigurationError, match=r"description 'joint\\ud800x' holds the lone surrogate"):
+        MechanismBuilder("two", LONE)
+    b = _two_limbs()
+    with pytest.raises(ConfigurationError, match=r"configuration name 'joint\\ud800x' holds the lone surrogate"):
+        b.write(tmp_path, "two", {LONE: {"joints": {"A_r": 0.0}}})
+    with pytest.raises(ConfigurationError, match=r"'joint\\ud800x' holds the lone surrogate '\\ud800' \(character 6\)"):
+        b.write(tmp_path, "two", {"home": {"joints": {LONE: 0.0}}})  # a key in a configuration's table
+    assert list(tmp_path.iterdir()) == []
+    edges = "\ud7ff \ue000"
+    path = _two_limbs(edges, edges).write(tmp_path, "two", {edges: {"joints": {"A_r": 0.0}}})
+    doc = tomllib.loads(path.read_text(encoding="utf-8"))
+    assert doc["name"] == doc["description"] == edges and list(doc["configurations"]) == [edges]
+
+
+_WRITE_IN_ASCII_LOCALE = """
+import locale, sys, tomllib
+from pathlib import Path
+from pinmob.builder import MechanismBuilder
+assert locale.getpreferredencoding(False) != "UTF-8"  # the locale's encoding is ASCII here
+b = MechanismBuilder("two", "caf\\u00e9")
+for name, y in (("A", 0.1), ("B", -0.1)):
+    limb = b.limb(name)
+    limb.revolute("r", at=[0, y, 0], axis=[1, 0, 0])
+    limb.tip(at=[0, 0, 0])
+path = b.write(Path(sys.argv[1]), "two", {"\\u00e9": {"joints": {"A_r": 0.0}}})
+doc = tomllib.loads(path.read_bytes().decode("utf-8"))
+print(ascii(doc["description"]), ascii(list(doc["configurations"])))
+"""
+
+
+def test_the_builder_writes_utf8_whatever_the_locale(tmp_path):
+    """In an ASCII locale (C, without Python's UTF-8 mode or locale coercion) a description and a configuration
+    name with é are written as UTF-8, which tomllib reads back (before: a raw UnicodeEncodeError, 'ascii' codec)."""
+    env = dict(os.environ, LC_ALL="C", LANG="C", PYTHONUTF8="0", PYTHONCOERCECLOCALE="0")
+    out = subprocess.run(
+        [sys.executable, "-c", _WRITE_IN_ASCII_LOCALE, str(tmp_path)], env=env, capture_output=True, text=True
+    )
+    assert out.returncode == 0, out.stderr
+    assert out.stdout.split() == ["'caf\\xe9'", "['\\xe9']"]
+
+
+def test_toml_string_and_key_refuse_a_lone_surrogate():
+    """pinmob.io.toml_string and toml_key (the builder's and pinmob fix's writers): a ConfigurationError, not a str
+    that fails when written; each surrogate U+D800..U+DFFF alike, its neighbours written as tomllib reads them."""
+    for code in (0xD800, 0xDBFF, 0xDC00, 0xDFFF):
+        for write in (pinmob.io.toml_string, pinmob.io.toml_key):
+            with pytest.raises(ConfigurationError, match="lone surrogate"):
+                write(f"a{chr(code)}")
+    for code in (0xD7FF, 0xE000):
+        text = f"a{chr(code)}"
+        assert tomllib.loads(f"{pinmob.io.toml_key(text)} = {pinmob.io.toml_string(text)}") == {text: text}
 
 
 def test_write_refuses_unclosed_configurations_and_foreign_files(tmp_path):

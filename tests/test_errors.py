@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
+import tomllib
 from collections.abc import Callable
 from pathlib import Path
 
@@ -112,6 +114,32 @@ def test_wrong_types_name_the_key_and_the_file(tmp_path: Path, edit: Callable[[s
     path = write_mechanism(tmp_path, edit(GOOD))
     with pytest.raises(pinmob.MechanismFileError, match="mech.toml: " + message):
         pinmob.load(path)
+
+
+@pytest.mark.parametrize(
+    "value",
+    [
+        r'"caf\u00E9 \"q\" back\\slash tab\t del\u007F nul\u0000"',  # DEL: JSON left it raw, not TOML
+        r'{ "\u00E9" = 1, "two words" = "x", "a.b" = [true, 1.5], ok = { "\u00E9" = "\u007F" } }',  # keys
+        "1979-05-27T07:32:00.5Z",
+        "1979-05-27T07:32:00",
+        "1979-05-27",
+        "07:32:00",
+        "[nan, inf, -inf, -0.0, 1e300]",
+    ],
+)
+def test_a_wrong_value_is_shown_as_toml_that_reads_back(tmp_path: Path, value: str) -> None:
+    """The value a message quotes is TOML: tomllib reads it back as it read the file's (the file is ASCII, its
+    text escaped, so the truth does not depend on pinmob's writer). Before: JSON strings (a raw DEL, which TOML
+    refuses in a string) and bare keys (é, two words, a.b: not TOML); dates and times were TOML already."""
+    name = {True: "generic_rank", False: "description"}[value.startswith('"')]  # a string is wrong for an integer
+    path = write_mechanism(tmp_path, f"{name} = {value}\n" + GOOD)
+    given = tomllib.loads(f"v = {value}")["v"]
+    with pytest.raises(pinmob.MechanismFileError, match=f"{name} must be") as info:
+        pinmob.load(path)
+    shown = str(info.value).split(", got ", 1)[1].split(" ", 1)[1]  # "<TOML type> <value>"
+    read = tomllib.loads(f"v = {shown}")["v"]
+    assert read == given or (repr(read) == repr(given))  # nan: equal as written
 
 
 @pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
@@ -400,3 +428,17 @@ def test_relaxing_that_cannot_close_says_what_it_relaxed(tmp_path: Path, capsys)
     assert "nor 20 random restarts; best attempt's residuals B: 2." in err and "0 random restarts" not in err.replace(
         "20 random", ""
     )
+
+
+def test_a_frame_name_no_model_can_hold_is_no_frame(capsys: pytest.CaptureFixture[str]) -> None:
+    """A frame name with a lone surrogate (how Python reads the command-line byte 0xff, os.fsdecode below) names no
+    frame: the FrameError of any unknown frame, with the close names (before: Pinocchio's raw UnicodeEncodeError)."""
+    name = os.fsdecode(b"plat\xffform")
+    with pytest.raises(UnicodeEncodeError):
+        name.encode("utf-8")  # the truth: no UTF-8 name (Pinocchio's) is this one
+    mech = pinmob.load("Delta")
+    with pytest.raises(pinmob.FrameError, match=r"no frame 'plat\\udcffform' in model .*did you mean 'platform'"):
+        pinmob.model.frame_id(mech.model, name)
+    assert main(["analyze", "Delta", "--frame", name]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("pinmob: error: no frame 'plat\\udcffform'") and len(err.strip().splitlines()) == 1

@@ -11,6 +11,8 @@ comment beside it); docs/closed-chains.md shows the same table.
 from __future__ import annotations
 
 import hashlib
+import os
+import sys
 import warnings
 from pathlib import Path
 
@@ -189,6 +191,36 @@ def test_the_cli_says_it_read_the_sidecar(folder, capsys):
     assert "5bar_linkage: mechanism DoF 3 (nv 6 - closure rank 3)" in out
 
 
+#: paths Python's "open" audit event saw (builtins.open, os.open, Path.read_bytes), while a test listens
+_OPENED: list[str] | None = None
+
+
+def _audit(event, args):
+    if event == "open" and _OPENED is not None and isinstance(args[0], (str, bytes, os.PathLike)):
+        _OPENED.append(os.fsdecode(args[0]))
+
+
+sys.addaudithook(_audit)  # an audit hook cannot be removed: it records only while _OPENED is a list
+
+
+@pytest.mark.parametrize("given", ["robot.urdf", "robot.yaml"])
+def test_the_sidecar_is_read_once(tmp_path, given):
+    """Loading robot.urdf (the sidecar found beside it) or robot.yaml opens robot.yaml once, as Python's own audit
+    events count the opens (before: twice from robot.urdf, once to find the sidecar and once to parse it)."""
+    global _OPENED
+    for name in ("robot.urdf", "robot.yaml"):
+        (tmp_path / name).write_bytes((FOLDER / "5bar_linkage" / name).read_bytes())
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # missing meshes
+        _OPENED = []
+        try:
+            mech = pinmob.load(tmp_path / given)
+        finally:
+            opened, _OPENED = _OPENED, None
+    assert mech.source == tmp_path / "robot.yaml" and len(mech.closures) == 1
+    assert opened.count(str(tmp_path / "robot.yaml")) == 1, opened
+
+
 def test_a_yaml_without_closed_loop_is_no_sidecar(tmp_path):
     """A same-named YAML file of another tool (no ``closed_loop``) leaves the URDF a plain URDF."""
     urdf = tmp_path / "robot.urdf"
@@ -198,6 +230,49 @@ def test_a_yaml_without_closed_loop_is_no_sidecar(tmp_path):
         warnings.simplefilter("ignore")
         with pytest.raises(pinmob.MechanismFileError, match="a plain URDF without a <mimic> joint"):
             pinmob.load(urdf)
+
+
+def _strings(value):
+    """Every string of a YAML document, keys too."""
+    if isinstance(value, str):
+        yield value
+    elif isinstance(value, dict):
+        for k, v in value.items():
+            yield from _strings(k)
+            yield from _strings(v)
+    elif isinstance(value, list):
+        for v in value:
+            yield from _strings(v)
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        'closed_loop: [["closedloop1_A\\ud800", "closedloop1_B"]]',  # a frame name
+        'closed_loop: [["closedloop1_A", "closedloop1_B"]]\nname_mot: ["mot\\udfff1"]',  # an actuated joint
+        'closed_loop: [["closedloop1_A", "closedloop1_B\\ud83d\\ude00"]]',  # a pair: PyYAML does not join it
+    ],
+)
+def test_a_lone_surrogate_in_the_sidecar_is_its_error(tmp_path, capsys, text):
+    """YAML's \\uD800-\\uDFFF escapes give lone surrogates (PyYAML, as yaml.safe_load shows below), which reached
+    Pinocchio's name lookups as a raw UnicodeEncodeError: now one line naming the file, status 2."""
+    (tmp_path / "robot.urdf").write_bytes((FOLDER / "5bar_linkage" / "robot.urdf").read_bytes())
+    (tmp_path / "robot.yaml").write_text(text + "\n", encoding="ascii")
+    assert any(0xD800 <= ord(c) <= 0xDFFF for word in _strings(yaml.safe_load(text)) for c in word)
+    with pytest.raises(pinmob.MechanismFileError, match=r"robot.yaml: YAML text .* holds the lone surrogate"):
+        pinmob.load(tmp_path / "robot.urdf")
+    assert main(["analyze", str(tmp_path / "robot.yaml")]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and len(err.strip().splitlines()) == 1 and "write the character itself" in err
+
+
+def test_a_lone_surrogate_in_a_key_pinmob_does_not_read_is_left(tmp_path):
+    """Another tool's key of the sidecar, with a lone surrogate, is not pinmob's business: the robot loads."""
+    (tmp_path / "robot.urdf").write_bytes((FOLDER / "5bar_linkage" / "robot.urdf").read_bytes())
+    (tmp_path / "robot.yaml").write_bytes((FOLDER / "5bar_linkage" / "robot.yaml").read_bytes() + b'\n"x\\ud800": 1\n')
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # missing meshes
+        assert len(pinmob.load(tmp_path / "robot.urdf").closures) == 1
 
 
 def test_a_sidecar_that_does_not_parse_is_its_error(tmp_path):

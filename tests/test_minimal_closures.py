@@ -22,10 +22,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import pinmob
 import pinmob.analysis.fixed_closures
 from pinmob.cli import main
+from pinmob.io.fixed_files import toml_document
 from pinmob.model import ClosureType
 
 DATA = Path(__file__).resolve().parent / "data"
@@ -132,6 +135,68 @@ def test_fix_toml_writes_names_and_text_as_tomllib_reads_them(capsys, tmp_path):
     written = tomllib.loads(target.read_text(encoding="utf-8"))
     assert written["description"] == description and written["configurations"] == given["configurations"]
     assert pinmob.load(target).description == description
+
+
+def test_fix_refuses_a_urdf_path_no_toml_can_hold(capsys, tmp_path):
+    """The input read through a link (UTF-8) into a folder whose name is not UTF-8 (the byte 0xff, which Python reads
+    as the lone surrogate U+DCFF): the written file would name the URDF through that folder, which no TOML (UTF-8)
+    can hold. One line naming the path and the cure, status 2, nothing written (before: a raw UnicodeEncodeError)."""
+    folder = tmp_path / os.fsdecode(b"in\xff")
+    with pytest.raises(UnicodeEncodeError):
+        folder.name.encode("utf-8")  # the truth: Python's own codec cannot write this name as UTF-8
+    folder.mkdir()
+    for name in ("fourbar.toml", "fourbar.urdf"):
+        shutil.copy(DATA / name, folder)
+    (tmp_path / "link").symlink_to(folder)
+    (tmp_path / "out").mkdir()
+    status, _, err = fix(capsys, tmp_path / "link" / "fourbar.toml", "--output", tmp_path / "out" / "fixed.toml")
+    assert status == 2 and "Traceback" not in err and len(err.strip().splitlines()) == 1
+    assert err.startswith("pinmob: error: the URDF's path from the output's folder '../in\\udcff/fourbar.urdf' holds")
+    assert "rename it, or write the output in the URDF's folder" in err
+    assert list((tmp_path / "out").iterdir()) == []
+    target = folder / "fixed.toml"  # written beside the URDF, as the message says: the path is its bare name
+    assert fix(capsys, tmp_path / "link" / "fourbar.toml", "--output", tmp_path / "link" / "fixed.toml")[0] == 0
+    assert tomllib.loads(target.read_bytes().decode("utf-8"))["urdf"] == "fourbar.urdf"
+
+
+@pytest.mark.parametrize(
+    "doc",
+    [
+        {"t": {"a": 1, "b": 2}},  # before: [t] declared twice, which tomllib refuses
+        {"t": {"a": 1, "s": {"c": 2.5}, "b": "x"}},  # plain values around a sub-table
+        {"t": {}, "name": "n"},  # an empty table is kept
+        {"configurations": {"home": {"joints": {"a": 0.5}}, "é x": {}}, "limbs": [{"name": "A", "tip": "t"}]},
+    ],
+)
+def test_toml_document_reads_back_as_tomllib_reads_it(doc):
+    assert tomllib.loads(toml_document(doc)) == doc
+
+
+_SCALARS = (
+    st.booleans()
+    | st.integers(-(2**63), 2**63 - 1)
+    | st.floats(allow_nan=False)
+    | st.text()  # any Unicode (hypothesis draws no lone surrogates)
+)
+_VALUES = st.recursive(
+    _SCALARS, lambda inner: st.lists(inner, max_size=3) | st.dictionaries(st.text(), inner, max_size=3)
+)
+_TABLES = st.dictionaries(st.text(), _VALUES, max_size=3)
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    doc=st.dictionaries(
+        st.text(),
+        _VALUES
+        | st.lists(_TABLES, min_size=1, max_size=3)  # [[k]]
+        | st.dictionaries(st.text(), _VALUES | _TABLES, max_size=4),  # [k] with plain values and [k.name] tables
+        max_size=4,
+    )
+)
+def test_any_document_reads_back_as_tomllib_reads_it(doc):
+    """Top-level plain values, arrays of tables and tables holding plain values and sub-tables, keys of any text."""
+    assert tomllib.loads(toml_document(doc)) == doc
 
 
 def test_fix_checks_every_named_configuration():

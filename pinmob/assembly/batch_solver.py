@@ -126,7 +126,7 @@ class PoseProblem:
         self.step_col[list(fixed)] = 0.0
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
         self.vector_space = shape.vector_space
-        self.data = model.createData()
+        self.data = pin.Data(model)  # as model.createData(), without its copy
         #: The frames' kinematics for a stack: compiled (numba) when it can be and ``compiled``, else Pinocchio's
         #: calls (each problem its own then: they use a ``pin.Data``; the compiled one is shared per mechanism and
         #: engine asked for, it keeps no state between calls).

@@ -135,7 +135,7 @@ def write_files(name: str, directory: Path, texts: Mapping[str, str], toml: str,
     if check:
         with tempfile.TemporaryDirectory() as tmp:
             for fname, text in texts.items():
-                (Path(tmp) / fname).write_text(text)
+                (Path(tmp) / fname).write_text(text, encoding="utf-8")
             mech = load_toml(Path(tmp) / toml)
             for cname in mech.configurations:
                 try:
@@ -144,5 +144,5 @@ def write_files(name: str, directory: Path, texts: Mapping[str, str], toml: str,
                     raise ConfigurationError(f"{name!r}, configuration {cname!r}: {exc}") from None
     directory.mkdir(parents=True, exist_ok=True)
     for fname, text in texts.items():
-        (directory / fname).write_text(text)
+        (directory / fname).write_text(text, encoding="utf-8")  # TOML is UTF-8 whatever the locale
     return directory / toml

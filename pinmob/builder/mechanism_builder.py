@@ -10,7 +10,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from pinmob.exceptions import ConfigurationError
-from pinmob.io import toml_key
+from pinmob.io import toml_key, unicode_text
 from pinmob.model import NO_LENGTH, SHORTEST
 from pinmob.name_matching import choices
 
@@ -47,8 +47,8 @@ class MechanismBuilder:
     def __init__(self, name: str, description: str = "", platform: str = "platform"):
         if not isinstance(name, str) or not name.strip():
             raise ConfigurationError(f"mechanism name must be a non-empty string, got {name!r}")
-        self.name = name
-        self.description = description
+        self.name = unicode_text("mechanism name", name)  # the URDF's and the TOML file's: UTF-8 text
+        self.description = unicode_text("description", description) if isinstance(description, str) else description
         self.platform = check_name("platform frame", platform)
         self.limbs: list[LimbBuilder | UrdfLimb] = []
         self.chains: list[ChainBuilder] = []
@@ -265,9 +265,12 @@ class MechanismBuilder:
         for c in self.closures:
             out += c.toml_lines()
         for cname, conf in (configurations or {}).items():
-            out += ["", f"[configurations.{toml_key(cname)}]"]
+            out += ["", f"[configurations.{toml_key(unicode_text('configuration name', cname))}]"]
             for k, v in conf.items():
                 if k in ("joints", "seed") and isinstance(v, Mapping):
+                    for joint in v:  # before Pinocchio looks them up (it takes UTF-8 text only)
+                        if isinstance(joint, str):
+                            unicode_text(f"configuration {cname!r}: joint name", joint)
                     model = model if model is not None else self.model(urdf_text)
                     v = canonical_joints(model, v)
                 out.append(f"{toml_key(k)} = {toml_value(v)}")

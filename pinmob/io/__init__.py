@@ -1,6 +1,7 @@
 """Reading mechanisms: pinmob's TOML + URDF, Extended URDF (YAML sidecar), MJCF, and the built-in models.
 
-Writing them again with other closures (``pinmob fix``), and TOML strings and keys as a parser reads them back.
+Writing them again with other closures (``pinmob fix``), and TOML strings and keys as a parser reads them back
+(:func:`unicode_text` refuses a str that no UTF-8 file can hold).
 
 ``pinmob.load`` of a built-in model or a TOML file needs only the TOML reader: the other formats' readers and
 writers (Extended URDF, MJCF, xacro, the fixed files of ``pinmob fix``) load when one of their names is first
@@ -13,7 +14,7 @@ from typing import TYPE_CHECKING
 
 from pinmob.io.builtin import builtin_dir, builtin_models
 from pinmob.io.loader import LOADERS, load
-from pinmob.io.schema import toml_key, toml_string
+from pinmob.io.schema import toml_key, toml_string, unicode_text
 from pinmob.io.toml_file import load_toml, read_toml
 from pinmob.lazy_names import lazy_getattr
 
@@ -54,4 +55,5 @@ __all__ = [
     "sidecar_urdf",
     "toml_key",
     "toml_string",
+    "unicode_text",
 ]

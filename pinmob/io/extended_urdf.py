@@ -32,10 +32,10 @@ from typing import Any
 
 import pinocchio as pin
 
-from pinmob.exceptions import MechanismFileError
+from pinmob.exceptions import ConfigurationError, MechanismFileError
 from pinmob.io.gazebo_joints import unread_elements
 from pinmob.io.mimic import mimic_couplings, unique
-from pinmob.io.schema import errors_at, file_error
+from pinmob.io.schema import errors_at, file_error, unicode_text
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
 from pinmob.model import CLOSURE_TYPES, Mechanism, make_closure, with_joints
@@ -82,7 +82,30 @@ def _read_yaml(path: Path) -> dict[str, Any]:
             raise file_error(path, f"YAML syntax error: {' '.join(str(exc).split())[:300]}") from None
     if not isinstance(doc, Mapping):
         raise file_error(path, f"must be a mapping with keys {choices(YAML_KEYS)}")
+    try:  # PyYAML reads "\ud800" (and each half of a pair) as a lone surrogate, which Pinocchio's names cannot hold
+        _texts([doc[k] for k in YAML_KEYS if k in doc])  # the keys pinmob reads (others are another tool's)
+    except ConfigurationError as exc:
+        raise file_error(path, str(exc)) from None
     return dict(doc)
+
+
+def _texts(value: object) -> None:
+    """Every string of a YAML value, keys too, is text that UTF-8 holds (:func:`unicode_text`).
+
+    Each list or mapping is visited once: YAML aliases share them (an alias bomb's 9^10 strings are 100 objects),
+    and may make cycles.
+    """
+    seen: set[int] = set()
+    stack = [value]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, str):
+            unicode_text(
+                "YAML text", item, "write the character itself, not \\uD800-\\uDFFF escapes (PyYAML joins no pair)"
+            )
+        elif isinstance(item, (Mapping, list)) and id(item) not in seen:
+            seen.add(id(item))
+            stack.extend([*item.keys(), *item.values()] if isinstance(item, Mapping) else item)
 
 
 def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
@@ -92,8 +115,10 @@ def _names(path: Path, doc: Mapping[str, Any], key: str) -> list[str]:
     return value
 
 
-def sidecar(urdf: Path) -> Path | None:
-    """The Extended URDF sidecar of ``urdf``: a same-named ``.yaml`` (or ``.yml``) beside it with a ``closed_loop`` key.
+def sidecar(urdf: Path) -> tuple[Path, dict[str, Any]] | None:
+    """The Extended URDF sidecar of ``urdf`` (a same-named ``.yaml`` or ``.yml`` with ``closed_loop``) and its document.
+
+    The file is read once: its document goes to :func:`load_extended_urdf` with it.
 
     A same-named YAML file without that key (another tool's configuration) is no sidecar: None, as for none.
     One that does not parse is no sidecar either, unless its text names ``closed_loop``: then it was meant as
@@ -113,7 +138,7 @@ def sidecar(urdf: Path) -> Path | None:
                         raise
                 continue
             if "closed_loop" in doc:
-                return candidate
+                return candidate, doc
     return None
 
 
@@ -137,19 +162,20 @@ def sidecar_urdf(path: Path, doc: Mapping[str, Any] | None = None) -> Path:
     return path.parent / str(doc["urdf"]) if "urdf" in doc else find_urdf(path)
 
 
-def load_extended_urdf(path: str | Path) -> Mechanism:
+def load_extended_urdf(path: str | Path, doc: Mapping[str, Any] | None = None) -> Mechanism:
     """Load an Extended URDF robot from its YAML sidecar (the URDF beside it), or from the URDF beside its sidecar.
 
     Given a ``.urdf`` file, its sidecar is the same-named YAML file (:func:`sidecar`); the mechanism's
-    description names both files either way.
+    description names both files either way. ``doc``: the sidecar's document when the caller has read it
+    (:func:`sidecar`'s), so that the file is read once.
     """
     path = Path(path)
     if path.suffix.lower() == ".urdf":
         found = sidecar(path)
         if found is None:
             raise file_error(path, "no Extended URDF sidecar beside it (a same-named .yaml file with 'closed_loop')")
-        path = found
-    doc = _read_yaml(path)
+        path, doc = found
+    doc = _read_yaml(path) if doc is None else doc
     if "closed_loop" not in doc:
         raise file_error(path, f"no 'closed_loop' key: not an Extended URDF sidecar (keys {choices(YAML_KEYS)})")
     loops = doc.get("closed_loop") or []

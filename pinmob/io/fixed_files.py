@@ -24,7 +24,7 @@ from typing import Any
 import numpy as np
 
 from pinmob.exceptions import MechanismFileError
-from pinmob.io.schema import file_error, toml_key, toml_string
+from pinmob.io.schema import file_error, toml_key, toml_string, unicode_text
 from pinmob.model import Closure, Mechanism
 
 
@@ -57,7 +57,11 @@ def _toml_value(value: Any) -> str:
 
 
 def toml_document(doc: Mapping[str, Any]) -> str:
-    """A mechanism file's document as TOML text: scalars and lists, then ``[[limbs]]``, ``[[closures]]``, tables."""
+    """A mechanism file's document as TOML text: scalars and lists, then ``[[limbs]]``, ``[[closures]]``, tables.
+
+    A top-level table is written as ``[k]`` with its plain values, then ``[k.name]`` per sub-table (deeper tables
+    inline), so a TOML parser reads back ``doc``.
+    """
     lines = []
     tables = {k: v for k, v in doc.items() if isinstance(v, Mapping)}
     arrays = {k: v for k, v in doc.items() if isinstance(v, list) and v and all(isinstance(x, Mapping) for x in v)}
@@ -68,23 +72,33 @@ def toml_document(doc: Mapping[str, Any]) -> str:
         for item in items:
             lines += ["", f"[[{toml_key(k)}]]"] + [f"{toml_key(a)} = {_toml_value(b)}" for a, b in item.items()]
     for k, table in tables.items():
+        plain = {a: b for a, b in table.items() if not isinstance(b, Mapping)}
+        if plain or not table:  # one [k] header for all its plain values (TOML defines a table once); [k] if empty
+            lines += ["", f"[{toml_key(k)}]"] + [f"{toml_key(a)} = {_toml_value(b)}" for a, b in plain.items()]
         for name, sub in table.items():
             if isinstance(sub, Mapping):
                 lines += ["", f"[{toml_key(k)}.{toml_key(name)}]"] + [
                     f"{toml_key(a)} = {_toml_value(b)}" for a, b in sub.items()
                 ]
-            else:
-                lines += ["", f"[{toml_key(k)}]", f"{toml_key(name)} = {_toml_value(sub)}"]
     return "\n".join(lines) + "\n"
 
 
 def fixed_toml(source: Path, fixed: Mechanism, target: Path) -> str:
-    """The TOML text of ``fixed``, read from ``source`` (pinmob TOML) and written at ``target``."""
+    """The TOML text of ``fixed``, read from ``source`` (pinmob TOML) and written at ``target``.
+
+    Raises:
+        ConfigurationError: text no TOML can hold (a lone surrogate, :func:`pinmob.io.schema.unicode_text`), e.g. the
+            URDF's path from ``target``'s folder through a folder whose name is not UTF-8.
+    """
     from pinmob.io.toml_file import read_toml
 
     doc: dict[str, Any] = dict(read_toml(source))
     urdf = (source.parent / doc["urdf"]).resolve()
-    doc["urdf"] = os.path.relpath(urdf, target.resolve().parent)
+    doc["urdf"] = unicode_text(  # a folder name that is not UTF-8 (bytes read as surrogates): no TOML can hold it
+        "the URDF's path from the output's folder",
+        os.path.relpath(urdf, target.resolve().parent),
+        "a folder's name is not UTF-8: rename it, or write the output in the URDF's folder",
+    )
     doc.setdefault("length_scale", float(fixed.length_scale))  # the same L (to the bit): the same rank decisions
     configurations = {k: dict(v) for k, v in doc.get("configurations", {}).items()}
     for name, conf in configurations.items():

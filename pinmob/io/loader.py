@@ -45,7 +45,7 @@ def load_urdf(path: Path) -> Mechanism:
     if found is not None:
         from pinmob.io.extended_urdf import load_extended_urdf
 
-        return load_extended_urdf(found)  # the sidecar found, not the URDF: it would look for it (read it) again
+        return load_extended_urdf(*found)  # the sidecar found and its document: the file is read once
     from pinmob.io.closing_frames import load_closing_urdf
 
     return load_closing_urdf(path)

@@ -6,7 +6,8 @@ naming the file, the key path (e.g. ``limbs[0].tip``), the value and the valid k
 TOML booleans are not numbers here (``dof = true`` is an error).
 
 :func:`toml_string` and :func:`toml_key` write a string and a key as TOML 1.0 reads them back (the
-builder's files and ``pinmob fix`` write through them).
+builder's files and ``pinmob fix`` write through them); :func:`unicode_text` refuses a str that no UTF-8 file
+can hold (a lone surrogate); both refuse such text through it.
 """
 
 from __future__ import annotations
@@ -21,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from pinmob.exceptions import MechanismFileError, PinmobError
+from pinmob.exceptions import ConfigurationError, MechanismFileError, PinmobError
 from pinmob.name_matching import choices, did_you_mean
 
 
@@ -125,35 +126,63 @@ _ESCAPES = {c: f"\\u{c:04X}" for c in [*range(0x20), 0x7F]} | {
 }
 
 
+#: a lone surrogate, U+D800-U+DFFF: a Python str can hold one (``chr(0xD800)``, a file name decoded with
+#: ``surrogateescape``), Unicode text and UTF-8 cannot
+_SURROGATE = re.compile("[\ud800-\udfff]")
+
+
+def unicode_text(what: str, text: str, hint: str = "give text without U+D800-U+DFFF") -> str:
+    """``text`` if UTF-8 can hold it; a lone surrogate in it is a :class:`ConfigurationError` naming ``what``.
+
+    ``what`` says which text it is (``configuration name``); the message gives the surrogate, its place and ``hint``.
+    """
+    bad = _SURROGATE.search(text)
+    if bad is not None:
+        raise ConfigurationError(
+            f"{what} {text!r} holds the lone surrogate {bad.group()!r} (character {bad.start() + 1}), which is no "
+            "Unicode character: a file (UTF-8) cannot hold it; " + hint
+        )
+    return text
+
+
 def toml_string(text: str) -> str:
     r"""``text`` as a TOML basic string, which a TOML parser reads back as ``text``.
 
     Escaped: ``"``, ``\`` and the control characters U+0000-U+001F and U+007F (``\b \t \n \f \r``, the others
     ``\uXXXX``); every other character is written as it is (UTF-8 in the file), e.g. ``"café"``.
+
+    Raises:
+        ConfigurationError: ``text`` holds a lone surrogate (:func:`unicode_text`), which TOML cannot hold.
     """
-    return '"' + text.translate(_ESCAPES) + '"'
+    return '"' + unicode_text("TOML string", text).translate(_ESCAPES) + '"'
 
 
 def toml_key(key: str) -> str:
-    """``key`` bare when TOML allows it (ASCII letters, digits, ``_``, ``-``), else quoted: ``é`` -> ``"é"``."""
+    """``key`` bare when TOML allows it (ASCII letters, digits, ``_``, ``-``), else quoted: ``é`` -> ``"é"``.
+
+    Raises:
+        ConfigurationError: ``key`` holds a lone surrogate (:func:`toml_string`).
+    """
     return key if BARE_KEY.fullmatch(key) else toml_string(key)
 
 
 def toml_text(value: object, limit: int = 80) -> str:
-    """A parsed value written back as TOML (``true``, ``"text"``, ``[1, 2]``, ``{ a = 1 }``), cut at ``limit``."""
+    """A parsed value written back as TOML (``true``, ``"text"``, ``[1, 2]``, ``{ "é" = 1 }``), cut at ``limit``.
+
+    Strings and keys as :func:`toml_string` and :func:`toml_key` write them: a value not cut reads back
+    (``tomllib.loads("v = " + text)``) as ``value``.
+    """
     if isinstance(value, bool):
         text = "true" if value else "false"
     elif isinstance(value, str):
-        import json  # only for an error message
-
-        text = json.dumps(value, ensure_ascii=False)
+        text = toml_string(value)
     elif isinstance(value, float) and not math.isfinite(value):
         text = "nan" if math.isnan(value) else ("inf" if value > 0 else "-inf")
     elif isinstance(value, list):
         text = "[" + ", ".join(toml_text(v, limit) for v in value) + "]"
     elif isinstance(value, Mapping):
-        text = "{ " + ", ".join(f"{k} = {toml_text(v, limit)}" for k, v in value.items()) + " }"
-    else:
+        text = "{ " + ", ".join(f"{toml_key(k)} = {toml_text(v, limit)}" for k, v in value.items()) + " }"
+    else:  # numbers; dates and times as Python prints them, which TOML reads (a space for the T)
         text = str(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
 

@@ -58,12 +58,20 @@ def with_joints(
     return out
 
 
+def _exists(model: pin.Model, name: str) -> bool:
+    """``model.existFrame(name)``; False for a str no frame is named (a lone surrogate, which Pinocchio cannot take)."""
+    try:
+        return bool(model.existFrame(name))
+    except UnicodeEncodeError:  # e.g. "\udcff", a command-line byte that is not UTF-8
+        return False
+
+
 def frame_id(model: pin.Model, name: str) -> int:
     """Index of frame ``name`` (exactly); a :class:`FrameError` suggesting close names and listing the frames otherwise.
 
     Several frames may share a name (a URDF link and a joint called alike): the BODY frame (the link) is meant.
     """
-    if not model.existFrame(name):
+    if not _exists(model, name):
         names = [f.name for f in model.frames]
         raise FrameError(
             f"no frame {name!r} in model {model.name!r}{did_you_mean(name, names)}; valid frames: {choices(names)}"
@@ -82,7 +90,7 @@ def frame_name(model: pin.Model, name: str) -> str:
         FrameError: no such frame (the message suggests close names and lists the frames).
     """
     same = [f.name for f in model.frames if f.name.casefold() == name.casefold()]
-    if model.existFrame(name) or len(same) != 1:
+    if _exists(model, name) or len(same) != 1:
         frame_id(model, name)  # the name itself, or the error
         return name
     return same[0]

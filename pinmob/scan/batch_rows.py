@@ -81,7 +81,7 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
     ``known``: those already computed (the predictor's, :mod:`pinmob.scan.lockstep`), read instead.
     """
     model, pid, rpy = mech.model, mech.platform_id, pin.rpy.matrixToRpy
-    data = model.createData()
+    data = pin.Data(model)  # as model.createData(), without its copy
     full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
     for i, q in enumerate(qs):
         given = known[i] if known is not None else None

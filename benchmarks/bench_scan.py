@@ -463,7 +463,7 @@ def floor_loop(mech: pinmob.Mechanism, qs: list[np.ndarray], calls: list[int]) -
 PARTS = {
     "batched predictor": "solve_poses",
     "single-sample solver": "assemble_target",
-    "batch analysis": "analyse",
+    "batch analysis": "analyse_stack",
     "single-sample analysis": "_evaluate",
 }
 

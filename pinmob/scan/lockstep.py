@@ -28,8 +28,8 @@ single-sample path: where the actuators leave a motion uncontrolled, the configu
 and analysed on its own. Each chunk refines
 and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`, the refinements
 on the single-sample path). The rows the batch decided keep their verdicts in its columns
-(:class:`~pinmob.scan.row_columns.GroupRows`) until the group's table is made: no row dict is built for them. With ``spec.engine == "single"``
-the chunks run one after the other, each sample on its own.
+(:class:`~pinmob.scan.row_columns.GroupRows`) until the group's table is made: no row dict is built for them.
+With ``spec.engine == "single"`` the chunks run one after the other, each sample on its own.
 """
 
 from __future__ import annotations

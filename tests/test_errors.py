@@ -442,3 +442,41 @@ def test_a_frame_name_no_model_can_hold_is_no_frame(capsys: pytest.CaptureFixtur
     assert main(["analyze", "Delta", "--frame", name]) == 2
     err = capsys.readouterr().err
     assert err.startswith("pinmob: error: no frame 'plat\\udcffform'") and len(err.strip().splitlines()) == 1
+
+
+def test_a_joint_name_no_model_can_hold_is_no_joint(capsys: pytest.CaptureFixture[str]) -> None:
+    """A joint name with a lone surrogate (how Python reads the command-line byte 0xff, os.fsdecode below) names no
+    joint: every joint lookup gives the FrameError of any unknown joint, with the close names and the valid ones
+    (before: Pinocchio's raw UnicodeEncodeError from existJointName or getJointId, which take UTF-8 only)."""
+    name = os.fsdecode(b"A_slid\xffer")
+    with pytest.raises(UnicodeEncodeError):
+        name.encode("utf-8")  # the truth: no UTF-8 name (Pinocchio's) is this one
+    mech = pinmob.load("3-PRRR")
+    model = mech.model
+    close = r"'A_slid\\udcffer'.*did you mean 'A_slider'.*; valid: 'A_r1'"
+    assert not pinmob.model.has_joint(model, name) and not pinmob.model.has_joint(model, "\ud800")
+    assert pinmob.model.has_joint(model, "A_slider") and not pinmob.model.has_joint(model, "universe")
+    with pytest.raises(pinmob.FrameError, match="unknown joint " + close):
+        pinmob.model.joint_id(model, name)
+    with pytest.raises(pinmob.FrameError, match="unknown joint " + close):
+        pinmob.model.q_from_values(model, {name: 0.1}, np.zeros(model.nq), "3-PRRR")
+    with pytest.raises(pinmob.FrameError, match="unknown joint " + close):
+        pinmob.model.joint_value(model, np.zeros(model.nq), name)
+    with pytest.raises(pinmob.FrameError, match="unknown joint " + close):
+        pinmob.model.one_degree_indices(model, [name], "3-PRRR")
+    with pytest.raises(pinmob.FrameError, match=r"unknown joint 'A_slid\\udcffer' in 't'.*did you mean 'A_slider'"):
+        pinmob.model.FixedTendon("t", (name,), (1.0,)).row(model)
+    with pytest.raises(pinmob.FrameError, match=r"closure 'c': no joint 'A_slid\\udcffer'"):
+        pinmob.model.make_coupling(model, "c", (name, "B_slider"), (0.0, 1.0), (0.0, 0.0))
+    with pytest.raises(pinmob.FrameError, match=r"unknown joint 'A_slid\\udcffer' in '3-PRRR'"):
+        pinmob.analyze(mech, joints={name: 0.1})
+    for argv in (
+        ["analyze", "3-PRRR", "--joints", f"{name}=0.1"],
+        ["analyze", "3-PRRR", "--actuated", f"{name},B_slider,C_slider"],
+        ["scan", "3-PRRR", "--from", f"{name}=0.1", "--to", f"{name}=0.2", "-n", "3"],
+        ["scan", "3-PRRR", "--grid", f"{name}:0:0.1:3"],
+    ):
+        assert main(argv) == 2, argv
+        err = capsys.readouterr().err
+        assert err.startswith("pinmob: error: ") and "A_slid\\udcffer" in err, (argv, err)
+        assert len(err.strip().splitlines()) == 1 and "Traceback" not in err, (argv, err)

@@ -24,7 +24,7 @@ from pinmob.analysis.motion import View
 from pinmob.assembly import closed_configuration
 from pinmob.blas import one_blas_thread
 from pinmob.exceptions import ConfigurationError
-from pinmob.model import Mechanism, joint_names
+from pinmob.model import Mechanism, has_joint, joint_names
 from pinmob.name_matching import choices, did_you_mean
 from pinmob.screw import Array, reciprocal_wrenches, wrench_scaling
 
@@ -38,7 +38,7 @@ def _direction(mech: Mechanism, approach: Array | Mapping[str, float]) -> Array:
     if isinstance(approach, Mapping):
         dv = np.zeros(model.nv)
         for name, value in approach.items():
-            if not model.existJointName(name) or name == "universe":
+            if not has_joint(model, name):
                 raise ConfigurationError(
                     f"approach names unknown joint {name!r}{did_you_mean(name, joint_names(model))}; "
                     f"valid: {choices(joint_names(model))}"

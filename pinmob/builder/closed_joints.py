@@ -62,12 +62,12 @@ def canonical_joints(model: pin.Model, values: Mapping[str, Any]) -> dict[str, A
     unknown names and values that are not numbers are left as they are (loading the file reports those).
     So a configuration is written the same way whatever branch of ``atan2`` round-off picked.
     """
-    from pinmob.model import angle_mask, wrap_angles
+    from pinmob.model import angle_mask, has_joint, wrap_angles
 
     mask = angle_mask(model)
     out = dict(values)
     for name, value in values.items():
-        if not model.existJointName(name) or isinstance(value, bool) or not isinstance(value, Real):
+        if not has_joint(model, name) or isinstance(value, bool) or not isinstance(value, Real):
             continue
         joint, x = model.joints[model.getJointId(name)], float(value)
         if joint.nv != 1 or not np.isfinite(x):

@@ -38,7 +38,7 @@ from pinmob.io.mimic import mimic_couplings, unique
 from pinmob.io.schema import errors_at, file_error, unicode_text
 from pinmob.io.text_file import parsing, read_text, shown
 from pinmob.io.urdf import load_geometry, read_urdf
-from pinmob.model import CLOSURE_TYPES, Mechanism, make_closure, with_joints
+from pinmob.model import CLOSURE_TYPES, Mechanism, has_joint, make_closure, with_joints
 from pinmob.name_matching import choices
 
 JOINT_TYPES = ("SPHERICAL", "CARDAN", "FIXED") + tuple(f"UJOINT_{a}{b}" for a in "XYZ" for b in "XYZ" if a != b)
@@ -201,7 +201,7 @@ def load_extended_urdf(path: str | Path, doc: Mapping[str, Any] | None = None) -
     except MechanismFileError as exc:
         raise file_error(path, str(exc)) from None
     for jname, jtype in zip(joint_names, joint_types):
-        if not model.existJointName(jname):
+        if not has_joint(model, jname):
             raise file_error(
                 path, f"joint_name {jname!r} is not a joint of {urdf.name}; valid: {choices(list(model.names)[1:])}"
             )

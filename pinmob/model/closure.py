@@ -10,7 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError, FrameError
-from pinmob.model.joints import frame_id
+from pinmob.model.joints import frame_id, has_joint
 from pinmob.model.tendon import Tendon
 from pinmob.name_matching import choices
 from pinmob.screw import Array
@@ -271,7 +271,7 @@ def make_coupling(
     """
     frames = []
     for j in joints:
-        if not model.existJointName(j) or j == "universe":
+        if not has_joint(model, j):
             raise FrameError(f"closure {name!r}: no joint {j!r}; valid: {choices(list(model.names)[1:])}")
         jid = model.getJointId(j)
         if model.joints[jid].nq != 1 or model.joints[jid].nv != 1:

@@ -7,9 +7,8 @@ from collections.abc import Mapping
 import numpy as np
 import pinocchio as pin
 
-from pinmob.exceptions import ConfigurationError, FrameError
-from pinmob.model.joints import joint_names
-from pinmob.name_matching import choices, did_you_mean
+from pinmob.exceptions import ConfigurationError
+from pinmob.model.joints import joint_id
 from pinmob.screw import Array
 
 
@@ -24,18 +23,14 @@ def q_from_values(model: pin.Model, values: Mapping[str, float], base: Array, ow
     """
     q = np.array(base, float)
     for jname, value in values.items():
-        if not model.existJointName(jname):
-            raise FrameError(
-                f"unknown joint {jname!r} in {owner!r}{did_you_mean(jname, joint_names(model))}; "
-                f"valid: {choices(joint_names(model))}"
-            )
+        jid = joint_id(model, jname, owner)
         try:
             x = float(value)
         except (TypeError, ValueError):
             raise ConfigurationError(f"joint {jname!r}: value {value!r} is not a number") from None
         if not np.isfinite(x):
             raise ConfigurationError(f"joint {jname!r}: value {value!r} is not finite")
-        joint = model.joints[model.getJointId(jname)]
+        joint = model.joints[jid]
         if joint.nq == 1:
             q[joint.idx_q] = x
         elif joint.nq == 2 and joint.nv == 1:  # continuous (unbounded revolute): (cos, sin)
@@ -83,11 +78,7 @@ def joint_value(model: pin.Model, q: Array, name: str, near: float | None = None
         FrameError: no such joint (the message lists them).
         ConfigurationError: a joint of several degrees (spherical, free, planar).
     """
-    if not model.existJointName(name):
-        raise FrameError(
-            f"unknown joint {name!r}{did_you_mean(name, joint_names(model))}; valid: {choices(joint_names(model))}"
-        )
-    joint = model.joints[model.getJointId(name)]
+    joint = model.joints[joint_id(model, name)]
     kind = _kind(joint)
     if kind not in ("value", "angle"):
         raise ConfigurationError(f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees: no single value")

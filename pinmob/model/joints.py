@@ -101,6 +101,30 @@ def joint_names(model: pin.Model) -> list[str]:
     return list(model.names)[1:]
 
 
+def has_joint(model: pin.Model, name: str) -> bool:
+    """True when ``name`` is one of the model's :func:`joint_names` (``universe``, Pinocchio's joint 0, is not).
+
+    ``model.existJointName`` for any str: one Pinocchio cannot take (UTF-8 only), e.g. with a lone surrogate
+    (``chr(0xD800)``, or ``chr(0xDCFF)`` for a command-line byte that is not UTF-8), names no joint.
+    """
+    try:
+        return name != "universe" and bool(model.existJointName(name))
+    except UnicodeEncodeError:
+        return False
+
+
+def joint_id(model: pin.Model, name: str, owner: str = "") -> int:
+    """Index of joint ``name`` (:func:`has_joint`); ``owner`` names what asks, in the message.
+
+    Raises:
+        FrameError: no such joint (the message suggests close names and lists the joints).
+    """
+    if not has_joint(model, name):
+        where, names = f" in {owner!r}" if owner else "", joint_names(model)
+        raise FrameError(f"unknown joint {name!r}{where}{did_you_mean(name, names)}; valid: {choices(names)}")
+    return int(model.getJointId(name))
+
+
 def velocity_indices(model: pin.Model, joint_ids: Iterable[int]) -> Array:
     """Velocity indices of the given joints (by index), in the given order."""
     parts = [np.arange(model.joints[j].idx_v, model.joints[j].idx_v + model.joints[j].nv) for j in joint_ids]
@@ -116,12 +140,7 @@ def one_degree_indices(model: pin.Model, names: Iterable[str], owner: str) -> Ar
     """
     out = []
     for name in names:
-        if not model.existJointName(name) or name == "universe":
-            raise FrameError(
-                f"unknown joint {name!r} in {owner!r}{did_you_mean(name, joint_names(model))}; "
-                f"valid: {choices(joint_names(model))}"
-            )
-        joint = model.joints[model.getJointId(name)]
+        joint = model.joints[joint_id(model, name, owner)]
         if joint.nv != 1:
             raise ConfigurationError(
                 f"joint {name!r} ({joint.shortname()}) has {joint.nv} degrees of freedom; only one-degree joints "

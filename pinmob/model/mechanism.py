@@ -23,7 +23,7 @@ from pinmob.model.closure import Closure, ClosureType, group_closures
 from pinmob.model.constraint_models import mechanism_parts, write_constraint_models
 from pinmob.model.geometry import Geometry
 from pinmob.model.joint_values import q_from_values
-from pinmob.model.joints import check_q, frame_id, joint_names, velocity_indices
+from pinmob.model.joints import check_q, frame_id, has_joint, joint_names, velocity_indices
 from pinmob.model.length_scale import characteristic_length, check_length_scale
 from pinmob.model.limb import Limb
 from pinmob.model.named import Expectation, NamedConfiguration
@@ -130,7 +130,7 @@ class Mechanism:
         actuated = dict(actuated or {})
         extra = tuple(actuated.pop("", ()))
         for a in extra:
-            if not model.existJointName(a) or a == "universe":
+            if not has_joint(model, a):
                 raise FrameError(
                     f"actuated joint {a!r} does not exist in {name!r}{did_you_mean(a, joint_names(model))}; "
                     f"valid: {choices(joint_names(model))}"

@@ -22,6 +22,7 @@ from typing import ClassVar
 import numpy as np
 import pinocchio as pin
 
+from pinmob.model.joints import joint_id
 from pinmob.screw import Array
 
 
@@ -98,18 +99,18 @@ class FixedTendon(Tendon):
         """(nv,) ``c_j`` at each joint's velocity index."""
         row = np.zeros(model.nv)
         for joint, c in zip(self.joints, self.coefficients):
-            row[model.joints[model.getJointId(joint)].idx_v] += c
+            row[model.joints[joint_id(model, joint, self.name)].idx_v] += c
         return row
 
     def length(self, model: pin.Model, data: pin.Data) -> tuple[float, Array]:
         """``sum_j c_j q_j`` from the joint values of the last kinematics, and :meth:`row`."""
-        ids = [model.getJointId(j) for j in self.joints]
+        ids = [joint_id(model, j, self.name) for j in self.joints]
         value = sum(c * float(data.joints[j].joint_q[0]) for j, c in zip(ids, self.coefficients))
         return float(value), self.row(model)
 
     def joint_ids(self, model: pin.Model) -> frozenset[int]:
         """The tendon's joints."""
-        return frozenset(model.getJointId(j) for j in self.joints)
+        return frozenset(joint_id(model, j, self.name) for j in self.joints)
 
 
 @dataclass(frozen=True)
@@ -140,7 +141,7 @@ class TendonActuator(Transmission):
 
     def driven_tendon(self, model: pin.Model) -> Tendon | None:
         """Its fixed tendon (a length in metres when a slide is among its joints)."""
-        linear = any("Prismatic" in model.joints[model.getJointId(j)].shortname() for j in self.joints)
+        linear = any("Prismatic" in model.joints[joint_id(model, j, self.name)].shortname() for j in self.joints)
         return FixedTendon(self.tendon, self.joints, self.coefficients, linear)
 
 

@@ -51,7 +51,7 @@ from pinmob.analysis import (
 )
 from pinmob.assembly import close_joint_values, closed_configuration, named_vector
 from pinmob.exceptions import ClosureError, ConfigurationError, PinmobError
-from pinmob.model import CLOSURE_TOL, Mechanism, joint_value, parse_joint_values
+from pinmob.model import CLOSURE_TOL, Mechanism, has_joint, joint_value, parse_joint_values
 from pinmob.name_matching import choices
 from pinmob.screw import RTOL, Array
 
@@ -104,7 +104,7 @@ def joint_coordinates(
     """
     columns, out = tuple(value_columns(joints)), []
     for name in joints:
-        if not model.existJointName(name) or model.joints[model.getJointId(name)].nq != 1:
+        if not has_joint(model, name) or model.joints[model.getJointId(name)].nq != 1:
             return columns, None
         out.append(int(model.joints[model.getJointId(name)].idx_q))
     return columns, tuple(out)

@@ -29,7 +29,7 @@ from pinmob.model.constraint_models.anchors import Anchor
 from pinmob.model.constraint_models.constraint_errors import ConstraintModelError
 from pinmob.model.constraint_models.constraint_frames import constraint_frame, same_placement
 from pinmob.model.constraint_models.mimic_joints import unmimic
-from pinmob.model.joints import frame_id
+from pinmob.model.joints import frame_id, has_joint
 
 #: Two anchor points closer than this (relative to the model's size) are one point, not a hinge axis.
 _SAME_POINT = 1e-9
@@ -267,6 +267,6 @@ def mechanism_parts(
 
 def _supports(model: pin.Model, tip: str, joint: str) -> bool:
     """True when ``joint`` is in the chain supporting frame ``tip``."""
-    if not model.existJointName(joint):
+    if not has_joint(model, joint):
         return False
     return model.getJointId(joint) in model.supports[model.frames[frame_id(model, tip)].parentJoint]

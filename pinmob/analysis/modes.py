@@ -48,7 +48,7 @@ class ModeSignature:
 def mode_signature(mech: Mechanism, q: Array, frames: Sequence[str], held: Sequence[str] = ()) -> ModeSignature:
     """The :class:`ModeSignature` at q for the end ``frames`` and the ``held`` joints."""
     model = mech.model
-    data = model.createData()
+    data = pin.Data(model)
     pin.framesForwardKinematics(model, data, q)
     ids = [frame_id(model, f) for f in frames]
     points = [data.oMi[j].translation for j in range(1, model.njoints)]

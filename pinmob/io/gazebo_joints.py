@@ -57,7 +57,7 @@ def urdf_loop_joints(model: pin.Model, text: str) -> tuple[list[Closure], list[s
         return [], ignored
     from pinmob.io.sdf import LOOP_CLOSURES, loop_closure, parse_pose  # the SDFormat reader, when there are some
 
-    data = model.createData()
+    data = pin.Data(model)
     pin.framesForwardKinematics(model, data, pin.neutral(model))
     closures = []
     for el in joints:

@@ -188,7 +188,7 @@ def build(vis: Any, prep: Prepared, *, workspace: Workspace | None = None) -> Sc
     visible = prep.motion or (labels[0] if labels else None)
     geometry, generated = visual_geometry(mech, q)
     model = mech.model
-    data, gdata = model.createData(), pin.GeometryData(geometry)
+    data, gdata = pin.Data(model), pin.GeometryData(geometry)
 
     vis[ROOT].delete()
     vis["/Background"].set_property("top_color", [0.97, 0.97, 0.98])

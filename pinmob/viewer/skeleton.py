@@ -63,7 +63,7 @@ def _object(name: str, joint: int, placement: pin.SE3, shape: coal.ShapeBase, co
 
 def _joint_axes(model: pin.Model, q: Array) -> dict[int, Array]:
     """Motion subspace (6, nv_j) of every joint in its own frame at q."""
-    data = model.createData()
+    data = pin.Data(model)
     pin.forwardKinematics(model, data, q)
     return {j: np.array(data.joints[j].S).reshape(6, -1) for j in range(1, model.njoints)}
 
@@ -142,7 +142,7 @@ def skeleton_geometry(mech: Mechanism, q: Array) -> pin.GeometryModel:
                 geom.addGeometryObject(_segment(f"base/bar{k}", 0, a, b, 0.6 * link_r, BASE_COLOR))
 
     # platform disc reaching the limbs' last joints
-    data = model.createData()
+    data = pin.Data(model)
     pin.framesForwardKinematics(model, data, q)
     pid = mech.platform_id
     frame = model.frames[pid]

@@ -55,7 +55,7 @@ def world_jacobians(mech: Mechanism, qs: Array, data: pin.Data | None = None) ->
         (N, 6, nv) world Jacobians and (N, 3) world positions of the platform frame [m].
     """
     model = mech.model
-    data = model.createData() if data is None else data
+    data = pin.Data(model) if data is None else data
     jacobian, placement, pid = pin.computeJointJacobians, pin.updateFramePlacement, mech.platform_id
     full, origin = [], []
     for q in np.atleast_2d(np.asarray(qs, float)):

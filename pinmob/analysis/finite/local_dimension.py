@@ -174,7 +174,7 @@ def local_dimension(
     project = ClosedProjector(conf, held)
     m = kernel.shape[1]
     count = min(32, 2 * m + 6) if tries is None else tries
-    data = model.createData()
+    data = pin.Data(model)
     start = conf.frame_placement(mech.platform_id) if mech.has_platform else None
     w = twist_scaling(length)
     moves: list[list[Array]] = [[] for _ in branches]

@@ -11,6 +11,7 @@ farthest distance reached either way (0: it could not move at all), which
 from __future__ import annotations
 
 import numpy as np
+import pinocchio as pin
 
 from pinmob.analysis.chain.closed_chain import frame_rows
 from pinmob.analysis.configuration import Configuration
@@ -67,7 +68,7 @@ def trace_rates(
     if twist is None or reached == 0.0:
         return reached
     sign, end = (1.0, path.forward[-1]) if path.reached[0] >= path.reached[1] else (-1.0, path.backward[-1])
-    data = mech.model.createData()
+    data = pin.Data(mech.model)
     compute_kinematics(mech.model, data, end)
     moved = twist_scaling(mech.length_scale) * displacement(
         conf.frame_placement(mech.platform_id), data.oMf[mech.platform_id]

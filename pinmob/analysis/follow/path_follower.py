@@ -69,7 +69,7 @@ class Follower:
     ):
         self.mech, self.motion, self.rtol, self.tol, self.max_deviation = mech, motion, rtol, tol, max_deviation
         self.halvings = halvings
-        self.model, self.data = mech.model, mech.model.createData()
+        self.model, self.data = mech.model, pin.Data(mech.model)
         self.w = twist_scaling(mech.length_scale)
         self.pid = mech.platform_id if mech.has_platform else 0
 

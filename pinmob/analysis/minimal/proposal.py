@@ -303,7 +303,7 @@ def _wrench_rows(conf: Configuration, c: Closure) -> Array:
     fa = model.addFrame(pin.Frame("a", 0, 0, pin.SE3(oma), pin.FrameType.OP_FRAME))
     joint = model.addJoint(0, pin.JointModelFreeFlyer(), pin.SE3(omb), "b")
     fb = model.addFrame(pin.Frame("b", joint, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
-    data = model.createData()
+    data = pin.Data(model)
     compute_kinematics(model, data, pin.neutral(model))
     _, jac, lin = closure_error(model, data, replace(c, frame_a_id=fa, frame_b_id=fb))
     return np.where(lin, 1.0 / conf.mechanism.length_scale, 1.0)[:, None] * jac

@@ -30,7 +30,7 @@ class MimicCoupling:
 def _axis_joint(model: pin.Model, joint: int) -> pin.JointModel:
     """The one-degree joint a mimic joint moves as: its motion subspace divided by its scaling."""
     mimic = model.joints[joint].extract()
-    data = model.createData()
+    data = pin.Data(model)
     pin.forwardKinematics(model, data, pin.neutral(model))
     s = np.asarray(data.joints[joint].S).reshape(6) / mimic.scaling
     v, w = s[:3], s[3:]

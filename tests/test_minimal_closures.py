@@ -16,6 +16,9 @@ from __future__ import annotations
 import dataclasses
 import os
 import shutil
+import subprocess
+import sys
+import textwrap
 import tomllib
 import warnings
 from pathlib import Path
@@ -429,3 +432,48 @@ def test_redundant_couplings_are_kept_and_said(capsys, tmp_path):
     assert status == 0 and not (tmp_path / "sc.xml").exists()
     assert "a_down: joint (1 equation): keep (1 implied by the rest; a coupling is not changed)" in out
     assert "nothing to fix" in out
+
+
+#: counts the times a process opens one file (an audit hook on ``open``: what the interpreter does, nothing replaced)
+OPENS = textwrap.dedent("""
+    import contextlib, io, os, sys
+    from pathlib import Path
+
+    source, output = Path(sys.argv[1]).resolve(), sys.argv[2]
+    opened = []
+    sys.addaudithook(
+        lambda event, args: opened.append(1)
+        if event == "open" and isinstance(args[0], (str, os.PathLike)) and Path(args[0]).resolve() == source
+        else None
+    )
+    import pinmob
+    from pinmob.cli import main
+
+    pinmob.load(source)
+    loading = len(opened)
+    with contextlib.redirect_stdout(io.StringIO()), contextlib.redirect_stderr(io.StringIO()):
+        status = main(["fix", str(source), "--output", output])
+    print(status, loading, len(opened) - loading, Path(output).exists())
+""")
+
+
+@pytest.mark.parametrize(
+    "files",
+    [("models", "3prrr.toml", "3prrr.urdf"), ("example-parallel-robots/5bar_linkage", "robot.yaml", "robot.urdf")],
+)
+def test_fix_reads_its_input_once_more_than_loading_it(tmp_path, files):
+    """``pinmob fix`` reads the pinmob TOML or the Extended URDF sidecar it fixes once more than loading the
+    mechanism does: once for the output's checks (the URDF it names) and the writer together. Before, the TOML was
+    read twice more (the URDF's path, then fixed_toml), the sidecar three times (sidecar_urdf twice, fixed_sidecar)."""
+    folder, name, urdf = files
+    src = (Path(pinmob.io.builtin_dir()) if folder == "models" else DATA / folder) / name
+    for f in (name, urdf):
+        shutil.copy(src.parent / f, tmp_path / f)
+    out = tmp_path / ("fixed" + src.suffix)
+    done = subprocess.run(
+        [sys.executable, "-c", OPENS, str(tmp_path / name), str(out)], capture_output=True, text=True, timeout=300
+    )
+    assert done.returncode == 0, done.stderr
+    status, loading, fixing, written = done.stdout.split()
+    assert (status, written) == ("0", "True")  # a file with redundant closures: the writer ran
+    assert int(loading) == 1 and int(fixing) == int(loading) + 1, done.stdout

@@ -16,6 +16,7 @@ import os
 import re
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -43,11 +44,11 @@ def _format(mech: Mechanism) -> str:
     )
 
 
-def _check_output(mech: Mechanism, kind: str, output: str, force: bool) -> Path:
+def _check_output(mech: Mechanism, kind: str, doc: dict[str, Any] | None, output: str, force: bool) -> Path:
     target = Path(output).expanduser()
     inputs = [mech.source] if mech.source is not None else []
-    if kind == "toml" or kind == "sidecar":
-        inputs += [p for p in _urdf_of(mech, kind) if p is not None]
+    if doc is not None:
+        inputs.append(_urdf_of(mech, kind, doc))
     for p in inputs:
         if target.absolute() == Path(p).absolute() or (target.exists() and os.path.samefile(target, p)):
             raise ConfigurationError(
@@ -62,23 +63,38 @@ def _check_output(mech: Mechanism, kind: str, output: str, force: bool) -> Path:
     return check_target("--output", target, force)
 
 
-def _urdf_of(mech: Mechanism, kind: str) -> list[Path | None]:
-    if mech.source is None:
-        return []
+def _document(mech: Mechanism, kind: str) -> dict[str, Any] | None:
+    """The input's document, read once for the output's checks and the writer.
+
+    A pinmob TOML file's or an Extended URDF sidecar's; None for MJCF (its writer reads the XML) or no file.
+    """
+    if mech.source is None or kind == "mjcf":
+        return None
     if kind == "toml":
         from pinmob.io import read_toml
 
-        return [mech.source.parent / str(read_toml(mech.source).get("urdf", ""))]
+        return read_toml(mech.source)
+    from pinmob.io import read_sidecar
+
+    return read_sidecar(mech.source)
+
+
+def _urdf_of(mech: Mechanism, kind: str, doc: dict[str, Any]) -> Path:
+    """The URDF the input (:func:`_document`'s ``doc``, read from ``mech.source``) names."""
+    assert mech.source is not None  # a document is read from a file
+    if kind == "toml":
+        return mech.source.parent / str(doc.get("urdf", ""))
     from pinmob.io import sidecar_urdf
 
-    return [sidecar_urdf(mech.source)]
+    return sidecar_urdf(mech.source, doc)
 
 
 def run(args: argparse.Namespace) -> int:
     """``pinmob fix``: write the corrected file and say what changed and what was checked; 0, or 2 on an error."""
     mech = load_for(args)
     kind = _format(mech)
-    target = _check_output(mech, kind, args.output, args.force)
+    doc = _document(mech, kind)
+    target = _check_output(mech, kind, doc, args.output, args.force)
     tol = CLOSURE_TOL if args.closure_tol is None else args.closure_tol
     with with_elsewhere(mech):
         if args.config is None:  # the most generic named configuration (chosen_proposal)
@@ -113,12 +129,11 @@ def run(args: argparse.Namespace) -> int:
     if kind == "toml":
         from pinmob.io import fixed_toml
 
-        text = fixed_toml(mech.source, fixed, target)  # type: ignore[arg-type]
+        text = fixed_toml(mech.source, doc, fixed, target)  # type: ignore[arg-type]
     else:
         from pinmob.io import fixed_sidecar
 
-        urdf = _urdf_of(mech, kind)[0]
-        text = fixed_sidecar(mech.source, fixed, urdf, target)  # type: ignore[arg-type]
+        text = fixed_sidecar(doc, fixed, _urdf_of(mech, kind, doc), target)  # type: ignore[arg-type]
     _write(target, text)
     _report_written(mech, target, check.configurations, tol)
     if kind == "sidecar" and any(str(c.type) not in ("6d", "3d") for c in fixed.closures):

@@ -19,7 +19,7 @@ from pinmob.io.toml_file import load_toml, read_toml
 from pinmob.lazy_names import lazy_getattr
 
 if TYPE_CHECKING:  # the other formats' modules load when first used (see _LAZY)
-    from pinmob.io.extended_urdf import sidecar_urdf
+    from pinmob.io.extended_urdf import read_sidecar, sidecar_urdf
     from pinmob.io.fixed_files import fixed_mjcf, fixed_sidecar, fixed_toml
     from pinmob.io.mjcf import compile_mjcf
     from pinmob.io.xacro_file import parse_xacro_args
@@ -27,6 +27,7 @@ if TYPE_CHECKING:  # the other formats' modules load when first used (see _LAZY)
 #: the names whose modules load when first read: every reader but the TOML one's is left out of ``import pinmob``
 #: and of loading a built-in model
 _LAZY = {
+    "read_sidecar": "pinmob.io.extended_urdf",
     "sidecar_urdf": "pinmob.io.extended_urdf",
     "fixed_mjcf": "pinmob.io.fixed_files",
     "fixed_sidecar": "pinmob.io.fixed_files",
@@ -51,6 +52,7 @@ __all__ = [
     "load",
     "load_toml",
     "parse_xacro_args",
+    "read_sidecar",
     "read_toml",
     "sidecar_urdf",
     "toml_key",

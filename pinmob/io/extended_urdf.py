@@ -71,6 +71,16 @@ def replace_joints(model: pin.Model, replacements: Mapping[str, str]) -> pin.Mod
     return new
 
 
+def read_sidecar(path: Path) -> dict[str, Any]:
+    """The document of a YAML sidecar (a mapping; the text pinmob reads checked), read once for its readers.
+
+    Raises:
+        MechanismFileError: a missing or unreadable file, a YAML syntax error, not a mapping, or a lone surrogate
+            in the keys pinmob reads.
+    """
+    return _read_yaml(path)
+
+
 def _read_yaml(path: Path) -> dict[str, Any]:
     import yaml
 

@@ -1,7 +1,8 @@
 """Writing a mechanism file again with other closures, in its own format (``pinmob fix``).
 
-Plain data in (the input file and the mechanism to write), text out; the caller checks the target
-(:func:`pinmob.output_files.check_target`) and writes it through :class:`pinmob.output_files.Replacing`.
+Plain data in (the input's document as the caller read it, or the MJCF file, and the mechanism to write), text
+out; the caller checks the target (:func:`pinmob.output_files.check_target`) and writes it through
+:class:`pinmob.output_files.Replacing`.
 
 - pinmob TOML: the input's document with ``[[limbs]]``, ``[[closures]]`` and ``actuated`` taken from the
   mechanism, ``urdf`` made relative to the output's folder and ``length_scale`` the input's L (other frames
@@ -83,16 +84,17 @@ def toml_document(doc: Mapping[str, Any]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def fixed_toml(source: Path, fixed: Mechanism, target: Path) -> str:
+def fixed_toml(source: Path, document: Mapping[str, Any], fixed: Mechanism, target: Path) -> str:
     """The TOML text of ``fixed``, read from ``source`` (pinmob TOML) and written at ``target``.
+
+    ``document``: ``source``'s, as :func:`pinmob.io.read_toml` reads it (the caller reads the file once; it is not
+    changed).
 
     Raises:
         ConfigurationError: text no TOML can hold (a lone surrogate, :func:`pinmob.io.schema.unicode_text`), e.g. the
             URDF's path from ``target``'s folder through a folder whose name is not UTF-8.
     """
-    from pinmob.io.toml_file import read_toml
-
-    doc: dict[str, Any] = dict(read_toml(source))
+    doc: dict[str, Any] = dict(document)
     urdf = (source.parent / doc["urdf"]).resolve()
     doc["urdf"] = unicode_text(  # a folder name that is not UTF-8 (bytes read as surrogates): no TOML can hold it
         "the URDF's path from the output's folder",
@@ -126,15 +128,16 @@ def fixed_toml(source: Path, fixed: Mechanism, target: Path) -> str:
     return toml_document(out)
 
 
-def fixed_sidecar(source: Path, fixed: Mechanism, urdf: Path, target: Path) -> str:
-    """The YAML sidecar of ``fixed``, read from ``source`` (an Extended URDF sidecar) and written at ``target``.
+def fixed_sidecar(document: Mapping[str, Any], fixed: Mechanism, urdf: Path, target: Path) -> str:
+    """The YAML sidecar of ``fixed``, read from an Extended URDF sidecar whose URDF is ``urdf``, written at ``target``.
 
-    Each loop keeps its pair of frames (closures named ``a=b``, as read); a loop whose closure went is dropped.
+    ``document``: the sidecar's, as :func:`pinmob.io.read_sidecar` reads it (the caller reads the file once; it is
+    not changed). Each loop keeps its pair of frames (closures named ``a=b``, as read); a loop whose closure went
+    is dropped.
     """
     import yaml
 
-    with open(source, encoding="utf-8") as f:
-        doc = dict(yaml.safe_load(f) or {})
+    doc = dict(document)
     by_frames = {(c.frame_a, c.frame_b): c for c in fixed.closures}
     loops, types, axes, axes_b = [], [], [], []
     for a, b in doc.get("closed_loop") or []:

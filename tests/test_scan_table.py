@@ -128,7 +128,7 @@ def same_table(a: ScanTable, b: ScanTable) -> bool:
 def test_a_group_table_is_the_table_of_its_row_dicts(robot: str, at: str, axes: list[Any], mixed: bool) -> None:
     """The table a group makes with the batch's rows kept as its columns (:meth:`GroupRows.table`) is the table of
     its row dicts (:meth:`ScanTable.from_rows` of :meth:`GroupRows.dicts`): the same arrays, types and masks."""
-    from pinmob.scan.row_columns import BatchRow
+    from pinmob.scan.group_rows import BatchRow
 
     mech = pinmob.load(robot)
     spec = grid_spec(mech, at, axes)

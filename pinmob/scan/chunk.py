@@ -15,6 +15,8 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
+import numpy as np
+
 from pinmob.analysis import NEAR_FACTOR, Configuration, finite_mobility
 from pinmob.assembly import STALL_WINDOW as SOLVER_STALL
 from pinmob.assembly import check_closed, format_worst
@@ -22,8 +24,9 @@ from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model import Mechanism, outside_limits
 from pinmob.scan.batch_rows import Analysed, BatchRows, analyse_stack
 from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain, value_columns
+from pinmob.scan.group_rows import BatchRow
 from pinmob.scan.refine import minimise, vertex_below
-from pinmob.scan.row_columns import BatchRow, values_and_limits
+from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.sample import MAX_ITER, _evaluate
 from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
 from pinmob.scan.sample import assemble_target as assemble_target
@@ -53,7 +56,7 @@ class _Sample:
 
     Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave,
     ``kinematics`` the world joint Jacobians and platform placement at q when the predictor computed them. A
-    sample the batch decided may keep its row as a :class:`~pinmob.scan.row_columns.BatchRow` (:meth:`_Chunk.complete`).
+    sample the batch decided may keep its row as a :class:`~pinmob.scan.group_rows.BatchRow` (:meth:`_Chunk.complete`).
     """
 
     row: dict[str, Any] | BatchRow
@@ -139,7 +142,7 @@ class _Chunk:
         ``values``, ``limits``: its :func:`~pinmob.scan.chain_scan.joint_row` and
         :func:`~pinmob.model.joints.outside_limits`, already computed (None: computed here). ``analysed`` a
         whole number: the sample's entry in ``batch``, which decided it; its row is then a
-        :class:`~pinmob.scan.row_columns.BatchRow` (its verdicts left in the batch's columns).
+        :class:`~pinmob.scan.group_rows.BatchRow` (its verdicts left in the batch's columns).
         """
         head, q, known = pending.row, pending.q, pending.known
         if q is None or known is None:
@@ -153,9 +156,9 @@ class _Chunk:
             tol = self.spec.closure_tol
             limits = outside_limits(self.mech.model, q) if limits is None else limits
             reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
-            if isinstance(analysed, int):
+            if isinstance(analysed, (int, np.integer)):
                 assert batch is not None  # the entry's batch
-                return _Sample(BatchRow(analysed, head, reason, values), q, batch.distances_of(analysed))
+                return _Sample(BatchRow(int(analysed), head, reason, values), q, batch.distances_of(int(analysed)))
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)
@@ -203,7 +206,7 @@ class _Chunk:
 
         ``columns``: :func:`~pinmob.scan.row_columns.values_and_limits` of ``pending``'s samples, already computed.
         Where ``analysed`` gives a sample's entry in ``batch`` (a whole number; not with ``spec.finite_order``,
-        whose columns are added to row dicts), its row is a :class:`~pinmob.scan.row_columns.BatchRow`.
+        whose columns are added to row dicts), its row is a :class:`~pinmob.scan.group_rows.BatchRow`.
         """
         first, last = self.spec.line(start)
         if columns is None:

@@ -28,7 +28,7 @@ single-sample path: where the actuators leave a motion uncontrolled, the configu
 and analysed on its own. Each chunk refines
 and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`, the refinements
 on the single-sample path). The rows the batch decided keep their verdicts in its columns
-(:class:`~pinmob.scan.row_columns.GroupRows`) until the group's table is made: no row dict is built for them.
+(:class:`~pinmob.scan.group_rows.GroupRows`) until the group's table is made: no row dict is built for them.
 With ``spec.engine == "single"`` the chunks run one after the other, each sample on its own.
 """
 
@@ -45,8 +45,9 @@ from pinmob.blas import one_blas_thread
 from pinmob.model import Mechanism
 from pinmob.scan.batch_rows import Analysed
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.group_rows import BatchRow, GroupRows
 from pinmob.scan.predictor import Predictor
-from pinmob.scan.row_columns import BatchRow, GroupRows, values_and_limits
+from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.scan_spec import ScanSpec
 from pinmob.screw import Array, Mask
 
@@ -63,7 +64,7 @@ Job = tuple[int, int, Array]
 def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> GroupRows:
     """The rows of the chunks ``jobs``, in order (module docstring); those the batch decided kept as its columns.
 
-    :meth:`GroupRows.table <pinmob.scan.row_columns.GroupRows.table>` makes their table.
+    :meth:`GroupRows.table <pinmob.scan.group_rows.GroupRows.table>` makes their table.
     """
     if not Predictor.applies(mech, spec):
         return GroupRows([row for job in jobs for row in run_chunk(mech, spec, *job)])

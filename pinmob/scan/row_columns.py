@@ -1,4 +1,4 @@
-"""A scan's rows column-wise: joint values and limits of many samples at once, a group's rows with the batch's columns.
+"""A scan's rows column-wise: the joint values and the joints outside their limits of many samples at once.
 
 What :func:`pinmob.scan.chain_scan.joint_row` and :func:`pinmob.model.joints.outside_limits` give per configuration, for
 the samples a batch assembled (:meth:`pinmob.scan.chunk._Chunk.complete`), with numpy over the whole stack: the same
@@ -10,16 +10,13 @@ dicts, :meth:`GroupRows.dicts`, without making them).
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
 from pinmob.model import Mechanism, outside_limits
-from pinmob.scan.batch_rows import BatchRows
 from pinmob.scan.chain_scan import joint_coordinates, joint_row
-from pinmob.scan.results.table import ScanTable
 from pinmob.screw import Array
 
 
@@ -60,70 +57,3 @@ def values_and_limits(mech: Mechanism, joints: tuple[str, ...], samples: list[An
     """
     qs = [s.q if s.known is not None else None for s in samples]
     return list(zip(joint_rows(mech, joints, qs, [s.known for s in samples]), limits_of(mech.model, qs)))
-
-
-@dataclass
-class BatchRow:
-    """A row the batch decided: its head, reason and joint values, and its entry ``at`` in the batch's columns.
-
-    The head: ``index``, the line parameters, ``refined``; the reason: the joints outside their limits, or empty;
-    the verdicts are the batch's columns' entries.
-    """
-
-    at: int
-    head: dict[str, Any]
-    reason: str
-    values: dict[str, float]
-
-
-@dataclass
-class GroupRows:
-    """A group's rows in order: row dicts, and :class:`BatchRow` entries of ``batch`` for the rows it decided."""
-
-    entries: list[dict[str, Any] | BatchRow]
-    batch: BatchRows | None = None
-
-    def dicts(self) -> list[dict[str, Any]]:
-        """The rows as dicts (a batch row: its head, the batch's verdicts, the reason, the joint values)."""
-        batch = self.batch
-        return [
-            e if isinstance(e, dict) else {**e.head, **_row(batch, e.at), "reason": e.reason, **e.values}
-            for e in self.entries
-        ]
-
-    def table(self, names: list[str]) -> ScanTable:
-        """:meth:`ScanTable.from_rows` of :meth:`dicts` (the same arrays and masks), without the batch's row dicts.
-
-        The table of the row dicts and the table of the batch's rows (their verdicts the batch's arrays), merged in
-        order.
-        """
-        ours = [e for e in self.entries if isinstance(e, BatchRow)]
-        if not ours or self.batch is None:
-            return ScanTable.from_rows(names, self.dicts())
-        plain = [e for e in self.entries if isinstance(e, dict)]
-        columns: dict[str, Any] = {}
-        at = np.array([e.at for e in ours], np.int64)
-        for name in names:
-            if name in self.batch.columns:
-                columns[name] = self.batch.columns[name][at]
-            elif name == "reason":
-                columns[name] = [e.reason for e in ours]
-            elif name in ours[0].head:
-                columns[name] = [e.head[name] for e in ours]
-            elif name in ours[0].values:
-                columns[name] = [e.values[name] for e in ours]
-            else:  # a column the batch's rows do not have (none does today): the dicts' table, absent masks and all
-                return ScanTable.from_rows(names, self.dicts())
-        table = ScanTable.from_columns(names, columns)
-        if not plain:
-            return table
-        both = ScanTable.concat([ScanTable.from_rows(names, plain), table])
-        mine = np.array([isinstance(e, BatchRow) for e in self.entries])
-        order = np.empty(len(mine), np.int64)
-        order[~mine], order[mine] = np.arange(len(plain)), len(plain) + np.arange(len(ours))
-        return both.take(order)
-
-
-def _row(batch: BatchRows | None, at: int) -> dict[str, Any]:
-    assert batch is not None, "a batch row without its batch"
-    return batch.row(at)

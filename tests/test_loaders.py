@@ -225,3 +225,24 @@ def test_analyze_refuses_what_is_no_mechanism():
         pinmob.analyze("3-PUX")
     with pytest.raises(pinmob.ArgumentError, match="a built-in model's name or a file's path, got int"):
         pinmob.analyze(3)  # type: ignore[arg-type]
+
+
+def test_a_folder_name_that_is_not_utf8_is_named_as_the_problem(tmp_path: Path) -> None:
+    """A mechanism in a folder whose name holds a byte of another encoding (0xff: what Latin-1 writes for y with
+    diaeresis) is refused because of its path, which Pinocchio cannot open, not as a URDF that "does not parse";
+    the command line says so in one line and exits 2."""
+    import os
+
+    folder = tmp_path / os.fsdecode(b"bad\xffdir")
+    models = Path(pinmob.__file__).resolve().parent.parent / "models"
+    shutil.copytree(models, folder, ignore=shutil.ignore_patterns("*.py", "README.md"))
+    with pytest.raises(PinmobError, match="not UTF-8") as err:
+        pinmob.load(folder / "3puu.toml")
+    assert "does not parse" not in str(err.value)
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-m", "pinmob", "analyze", os.fsencode(folder / "3puu.toml")],
+                         capture_output=True, text=True, errors="backslashreplace")  # fmt: skip
+    assert run.returncode == 2 and "not UTF-8" in run.stderr and "Traceback" not in run.stderr
+    assert len(run.stderr.strip().splitlines()) == 1

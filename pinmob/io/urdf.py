@@ -87,11 +87,18 @@ def read_urdf(urdf: Path, text: str | None = None) -> pin.Model:
     warning when the file parses, never straight to the terminal.
 
     Raises:
-        MechanismFileError: the file is missing, a folder, not a regular file, over the file bound, or does not
-            parse (with the parser's messages).
+        MechanismFileError: the file is missing, a folder, not a regular file, over the file bound, its path is
+            not UTF-8, or it does not parse (with the parser's messages).
     """
     if text is None:
         check_regular(urdf, f"urdf file {str(urdf)!r}", "URDF")  # a pipe would block Pinocchio's reader
+        try:
+            str(urdf).encode()
+        except UnicodeEncodeError:  # bytes of another encoding in a name (os.fsdecode's surrogates)
+            raise MechanismFileError(
+                f"urdf {str(urdf)!r}: its path holds bytes that are not UTF-8, and Pinocchio opens UTF-8 paths "
+                "only; rename the file or the folders that hold it"
+            ) from None
     try:
         with native_stderr() as printed:
             model = pin.buildModelFromUrdf(str(urdf)) if text is None else pin.buildModelFromXML(text)

@@ -234,7 +234,7 @@ def test_a_folder_name_that_is_not_utf8_is_named_as_the_problem(tmp_path: Path) 
     import os
 
     folder = tmp_path / os.fsdecode(b"bad\xffdir")
-    models = Path(pinmob.__file__).resolve().parent.parent / "models"
+    models = Path(pinmob.io.builtin_dir())
     shutil.copytree(models, folder, ignore=shutil.ignore_patterns("*.py", "README.md"))
     with pytest.raises(PinmobError, match="not UTF-8") as err:
         pinmob.load(folder / "3puu.toml")

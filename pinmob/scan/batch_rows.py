@@ -112,7 +112,8 @@ class BatchRows:
 
     def row(self, i: int) -> dict[str, Any]:
         """Sample i's row (a decided one), as Python values in ``ROW_KEYS``' order."""
-        return {key: self.columns[key][i].item() if key not in _TEXT else self.columns[key][i] for key in ROW_KEYS}
+        columns = self.columns  # text columns hold Python str (object arrays); the others numpy scalars
+        return {key: columns[key][i] if columns[key].dtype == object else columns[key][i].item() for key in ROW_KEYS}
 
     def distances_of(self, i: int) -> dict[str, float]:
         """Sample i's distance of each question."""
@@ -123,10 +124,6 @@ class BatchRows:
         if where is None:
             where = [i if d else None for i, d in enumerate(self.decided.tolist())]
         return [None if i is None else (self.row(i), self.distances_of(i)) for i in where]
-
-
-#: The text columns of ``ROW_KEYS`` (object arrays, read as they are).
-_TEXT = frozenset({"motion_type", "singularity", "closest", "singular_limbs", "dependent_limbs", "uncontrolled"})
 
 
 def analyse(

@@ -197,18 +197,25 @@ def generic_set_ranks(
         k = len(mech.limbs)
         sets = [s for size in range(2, min(k, MAX_SET) + 1) for s in combinations(range(k), size)]
         sets.append(tuple(range(k)))
-        loose = float(np.sqrt(rtol))
-        counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
-        states = generic_states(mech, samples, seed)
-        for i, conf in enumerate(states):
-            blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
-            for s in counts:
-                counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
-            if all(_decided(c, len(states) - 1 - i) for c in counts.values()):
-                break
-        return {s: _mode(c) for s, c in counts.items()}
+        return _set_ranks(mech, sets, rtol, samples, seed)
 
     return dict(mech.memo(("sets", rtol, samples, seed), compute))
+
+
+def _set_ranks(
+    mech: Mechanism, sets: list[tuple[int, ...]], rtol: float, samples: int, seed: int
+) -> dict[tuple[int, ...], int]:
+    """:func:`generic_set_ranks` of the limb sets ``sets`` only: each set's mode does not depend on the others."""
+    loose = float(np.sqrt(rtol))
+    counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
+    states = generic_states(mech, samples, seed)
+    for i, conf in enumerate(states):
+        blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
+        for s in counts:
+            counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
+        if all(_decided(c, len(states) - 1 - i) for c in counts.values()):
+            break
+    return {s: _mode(c) for s, c in counts.items()}
 
 
 def _decided(counts: Counter[int], left: int) -> bool:
@@ -226,14 +233,15 @@ def generic_constraint_rank(mech: Mechanism, samples: int = 4, seed: int = 0, rt
     """The mechanism's constraint rank at generic configurations.
 
     The declared ``generic_rank`` when the mechanism file has one; otherwise the
-    rank of all limbs' stacked wrenches in :func:`generic_set_ranks`.
+    rank of all limbs' stacked wrenches in :func:`generic_set_ranks`, computed for that set alone (cached).
 
     Raises:
         PinmobError: no closed configuration could be built.
     """
     if mech.generic_rank is not None:
         return mech.generic_rank
-    return generic_set_ranks(mech, rtol, samples, seed)[tuple(range(len(mech.limbs)))]
+    every = tuple(range(len(mech.limbs)))  # that set alone: the other sets' ranks only where a singularity needs them
+    return mech.memo(("all limbs", rtol, samples, seed), lambda: _set_ranks(mech, [every], rtol, samples, seed)[every])
 
 
 def dependent_limbs(

@@ -223,11 +223,30 @@ class ScanTable:
         return "%s", text
 
     def json_lines(self) -> bytes:
-        """The rows as JSON objects (orjson), one a line, separated by a comma and a line break."""
+        """The rows as JSON objects (orjson), one a line, separated by a comma and a line break.
+
+        The rows' list in one ``orjson.dumps`` call (the call costs as much as a row), each row's object then put on
+        a line of its own at the ``},{`` between objects: where no key and no text value holds ``},{`` (the rows are
+        flat: anywhere else in the text that sequence is such a boundary), else row by row.
+        """
         import orjson
 
         option = orjson.OPT_SERIALIZE_NUMPY
-        return b",\n".join(orjson.dumps(row, default=_plain, option=option) for row in self.rows())
+        rows = list(self.rows())
+        if not self._plain_text():
+            return b",\n".join(orjson.dumps(row, default=_plain, option=option) for row in rows)
+        return orjson.dumps(rows, default=_plain, option=option)[1:-1].replace(b"},{", b"},\n{")
+
+    def _plain_text(self) -> bool:
+        """No column name and no text value holds ``},{``; every object column holds text, numbers or None."""
+        if any("},{" in name for name in self.names):
+            return False
+        for array in self.data.values():
+            if array.dtype == object:
+                values = set(array.tolist())
+                if any(not isinstance(v, (str, int, float, type(None))) or "},{" in str(v) for v in values):
+                    return False
+        return True
 
 
 def _plain(value: Any) -> Any:

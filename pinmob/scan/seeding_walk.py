@@ -19,7 +19,7 @@ import pinmob.scan.chunk as chunk
 from pinmob.assembly import pose_vector
 from pinmob.exceptions import PinmobError
 from pinmob.model import Mechanism
-from pinmob.scan.lockstep import moved_stack, off_secant
+from pinmob.scan.lockstep import moved_stack, off_secants
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.scan_spec import CHUNK, ScanSpec
 from pinmob.screw import Array
@@ -160,8 +160,10 @@ def _moved_waypoint(predictor: Predictor, target: tuple[str, Any], seed: Array, 
     """``target`` closed by the predictor from ``seed`` moved by ``b - a``, else None.
 
     None where it did not close or its correction was longer than ``WALK_SECANT`` times that move
-    (:func:`~pinmob.scan.lockstep.off_secant`).
+    (:func:`~pinmob.scan.lockstep.off_secants`, with the move's length as the step).
     """
-    start = moved_stack(predictor.problem, a[None], b[None], np.ones(1, bool), seed[None])[0][0]
-    (closed,) = predictor.closed([target], [seed], [start])
-    return None if closed is None or off_secant(predictor.problem, seed, start, closed, WALK_SECANT) else closed
+    starts, step = moved_stack(predictor.problem, a[None], b[None], np.ones(1, bool), seed[None])
+    (closed,) = predictor.closed([target], [seed], [starts[0]])
+    if closed is None or off_secants(predictor.problem, seed[None], starts, closed[None], step, WALK_SECANT)[0]:
+        return None
+    return closed

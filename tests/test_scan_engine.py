@@ -225,7 +225,9 @@ def test_an_interrupted_scan_leaves_the_old_files_and_no_temporary(tmp_path, sig
     file, no traceback from a worker, and no worker process left."""
     old = tmp_path / "s.csv"
     old.write_text("index,s\nmine\n")
-    args = ["scan", "6-UPS", "--grid", "x:-0.1:0.1:100", "y:-0.1:0.1:100", "--csv", str(old)]
+    # big enough that, at the first chunk's pace, the rest would take more than CLUSTER_MIN_SECONDS in process
+    # (250,000 samples: over 10 s at 40 us a sample), so the workers start; the scan is interrupted long before its end
+    args = ["scan", "6-UPS", "--grid", "x:-0.1:0.1:500", "y:-0.1:0.1:500", "--csv", str(old)]
     args += ["--json", str(tmp_path / "s.json"), "--force", "--no-progress", "--workers", str(workers)]
     proc = subprocess.Popen([*PINMOB, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                             start_new_session=True)  # fmt: skip
@@ -239,7 +241,7 @@ def test_an_interrupted_scan_leaves_the_old_files_and_no_temporary(tmp_path, sig
     send(proc.pid, signal.SIGSTOP)
     try:
         (partial,) = tmp_path.glob(".s.csv.*")  # the CSV being written; a stopped process has not ended
-        assert proc.poll() is None and len(partial.read_text().splitlines()) < 10_000 - 1000
+        assert proc.poll() is None and len(partial.read_text().splitlines()) < 250_000 - 1000
         send(proc.pid, getattr(signal, sig))
     finally:
         send(proc.pid, signal.SIGCONT)

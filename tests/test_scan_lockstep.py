@@ -194,7 +194,8 @@ def test_the_predictors_kinematics_are_pinocchios_at_the_closed_configurations(n
     ],  # fmt: skip
 )
 def test_the_walks_turns_are_closed_across_the_lines(monkeypatch, name, at, axes):
-    """Lines of two chunks: the walk turns at every line; from the third line on, the predictor closes the turns.
+    """Lines of two chunks (a grid line's chunks cut to 32 samples): the walk turns at every line; from the third
+    line on, the predictor closes the turns.
 
     The seeds are the single-sample walk's (``engine="single"``: every waypoint by the single-sample solver from
     the one before), on the same branch, and the batched walk calls that solver at most on the approach's first
@@ -203,8 +204,10 @@ def test_the_walks_turns_are_closed_across_the_lines(monkeypatch, name, at, axes
     """
     from dataclasses import replace
 
+    import pinmob.scan.scan_spec as scan_spec
     import pinmob.scan.seeding_walk as walk
 
+    monkeypatch.setattr(scan_spec, "LINE_CHUNK", 32)  # 41-sample lines in two chunks (one chunk each by default)
     mech = pinmob.load(name)
     spec = grid_spec(mech, at, axes)
     solves = []

@@ -22,6 +22,7 @@ from pinmob.scan.scan_run import ScanRun, columns, scan, scan_table, scan_tables
 from pinmob.scan.scan_spec import (
     CHUNK,
     KINDS,
+    LINE_CHUNK,
     POSE_COORDS,
     STRIDE,
     ScanSpec,
@@ -37,6 +38,7 @@ from pinmob.scan.seeding_walk import chunk_seeds
 
 __all__ = [
     "CHUNK",
+    "LINE_CHUNK",
     "KINDS",
     "POSE_COORDS",
     "STRIDE",

@@ -5,7 +5,7 @@ target is assembled warm-started (the previous sample's configuration seeds
 the closure solver of the next). One coarse walk (:func:`~pinmob.scan.seeding_walk.chunk_seeds`, in this
 process) goes from the reference configuration through every ``STRIDE``-th
 sample of a path, or of a grid's lines up to their last chunk's first sample (a
-grid row by row, in a serpentine; a line of at most ``CHUNK`` samples at its
+grid row by row, in a serpentine; a line of at most ``LINE_CHUNK`` samples, one chunk, at its
 first sample only), and gives each chunk its seed; every chunk then runs from
 its seed, in this process or on a Dask worker (:mod:`pinmob.parallel`), so
 ``workers=N`` gives the rows of ``workers=1``, and each sample costs at most

@@ -18,9 +18,9 @@
 
 Samples are numbered ``k = 0 .. size - 1`` along the scan lines; a fractional
 ``t`` lies between samples of a line (:meth:`ScanSpec.target`). A line is cut
-into chunks of at most ``CHUNK`` samples; the coarse walk that seeds them
-(:meth:`ScanSpec.waypoints`) visits every ``STRIDE``-th sample (of a grid's
-line, up to its last chunk's first sample). Running a
+into chunks of at most ``CHUNK`` samples (a path), or ``LINE_CHUNK`` (a grid's line: most grids' lines are one
+chunk each); the coarse walk that seeds them (:meth:`ScanSpec.waypoints`) visits every ``STRIDE``-th sample (of a
+grid's line, up to its last chunk's first sample). Running a
 spec is :mod:`pinmob.scan`'s business.
 """
 
@@ -56,8 +56,12 @@ from pinmob.screw import RTOL, Array, check_rtol
 
 KINDS = ("pose", "joints", "coords", "grid")
 
-#: Samples per chunk of a line, and coarse step (in samples) of the walk that seeds the chunks.
+#: Samples per chunk of a path, and coarse step (in samples) of the walk that seeds the chunks.
 CHUNK, STRIDE = 32, 8
+#: Samples per chunk of a grid's line: a line of up to this many samples is one chunk, seeded at its first sample
+#: alone (a chunk of 32 cut a 41-sample line in two, and the walk visited five of its samples: a fifth of the time
+#: of a 41 x 41 scan); a group of :data:`pinmob.scan.lockstep.GROUP` chunks then holds as many lines.
+LINE_CHUNK = 128
 
 
 @dataclass(frozen=True)
@@ -297,10 +301,15 @@ class ScanSpec:
             return "pose", pose_from_vector(np.array([pose[c] for c in POSE_COORDS]))
         return "coords", (pose, joints)
 
+    @property
+    def chunk_size(self) -> int:
+        """Samples per chunk of a line at most: ``LINE_CHUNK`` on a grid, ``CHUNK`` on a path."""
+        return LINE_CHUNK if self.kind == "grid" else CHUNK
+
     def chunks(self) -> list[tuple[int, int]]:
-        """(start, stop) sample ranges: runs of at most CHUNK samples of a line."""
-        n = self.line_size
-        return [(first + s, first + min(s + CHUNK, n)) for first in range(0, self.size, n) for s in range(0, n, CHUNK)]
+        """(start, stop) sample ranges: runs of at most :attr:`chunk_size` samples of a line."""
+        n, m = self.line_size, self.chunk_size
+        return [(first + s, first + min(s + m, n)) for first in range(0, self.size, n) for s in range(0, n, m)]
 
     def waypoints(self) -> Iterator[tuple[tuple[str, Any], int | None]]:
         """The coarse walk seeding the chunks: ``(target, sample index or None)``.
@@ -308,7 +317,7 @@ class ScanSpec:
         A path: every STRIDE-th sample. A grid: straight from the reference
         (``--at``) to the first sample (steps of at most two spacings), then, on
         each line, the chunks' first samples and every STRIDE-th sample between
-        them (the first sample alone on a line of at most CHUNK samples), lines
+        them (the first sample alone on a line of at most LINE_CHUNK samples), lines
         alternately forwards and backwards (each move is at most STRIDE
         spacings), a three-coordinate grid's lines in a serpentine (:meth:`line_order`).
         """
@@ -317,8 +326,8 @@ class ScanSpec:
                 yield self.target(k), k
             return
         yield from ((target, None) for target in self.approach())
-        n = self.line_size
-        cols = sorted({*range(0, (n - 1) // CHUNK * CHUNK + 1, STRIDE), *range(0, n, CHUNK)})
+        n, m = self.line_size, self.chunk_size
+        cols = sorted({*range(0, (n - 1) // m * m + 1, STRIDE), *range(0, n, m)})
         for turn, r in enumerate(self.line_order()):
             for c in cols if turn % 2 == 0 else cols[::-1]:
                 yield self.target(r * n + c), r * n + c

@@ -36,7 +36,8 @@ def _norm(rows: list[dict]) -> list[dict]:
 
 def test_scan_on_a_cluster_gives_the_serial_rows(dask_cluster):
     """A 6-UPS path over three chunks crossing the Type II pose between samples, and a one-row 3-PUU grid running
-    off the workspace on both sides: the chunks computed on two Dask workers give the rows of this process."""
+    off the workspace on both sides, its line of 200 samples in two chunks (``LINE_CHUNK``): the chunks computed on
+    two Dask workers give the rows of this process."""
     mech = pinmob.load("6-UPS")
     spec = path_spec(mech, "home", "0,0,0.4,0,0,2.0944", 70)
     serial = list(scan(mech, spec, progress=False))
@@ -44,7 +45,8 @@ def test_scan_on_a_cluster_gives_the_serial_rows(dask_cluster):
     assert _norm(list(run)) == _norm(serial) and "Dask cluster at" in run.where
     assert sum(r["refined"] for r in serial) == 1
     puu = pinmob.load("3-PUU")
-    grid = grid_spec(puu, "generic", [("x", 0.0, 0.0, 1), ("y", -0.115, 0.115, 66)])
+    grid = grid_spec(puu, "generic", [("x", 0.0, 0.0, 1), ("y", -0.115, 0.115, 200)])
+    assert len(grid.chunks()) == 2  # the second one on a worker, from its seed and with its left neighbour
     serial = list(scan(puu, grid, progress=False))
     assert _norm(list(scan(puu, grid, progress=False, scheduler=dask_cluster.scheduler_address))) == _norm(serial)
     assert any(not r["reachable"] for r in serial) and sum(r["refined"] for r in serial) == 2
@@ -225,8 +227,9 @@ def test_an_interrupted_scan_leaves_the_old_files_and_no_temporary(tmp_path, sig
     file, no traceback from a worker, and no worker process left."""
     old = tmp_path / "s.csv"
     old.write_text("index,s\nmine\n")
-    # big enough that, at the first chunk's pace, the rest would take more than CLUSTER_MIN_SECONDS in process
-    # (250,000 samples: over 10 s at 40 us a sample), so the workers start; the scan is interrupted long before its end
+    # big enough that, at the first chunk's pace (100 to 400 us a sample), the rest would take far more than
+    # CLUSTER_MIN_SECONDS in process, so the workers start (100 x 100, a 128-sample first chunk, could stay in
+    # process on a fast machine); the scan is interrupted long before its end
     args = ["scan", "6-UPS", "--grid", "x:-0.1:0.1:500", "y:-0.1:0.1:500", "--csv", str(old)]
     args += ["--json", str(tmp_path / "s.json"), "--force", "--no-progress", "--workers", str(workers)]
     proc = subprocess.Popen([*PINMOB, *args], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,

@@ -208,15 +208,16 @@ def test_rows_reach_the_files_as_they_come(monkeypatch: pytest.MonkeyPatch, tmp_
     assert len((tmp_path / "p.csv").read_text().splitlines()) == 1 + sum(int(e[6:]) for e in events if e[0] == "w")
 
 
-@pytest.mark.parametrize("reason", ["limb A open, by 2e-3 m", 'a},{"b": 1},{c', "}"])
-def test_json_rows_are_one_object_a_line_whatever_their_text(reason: str) -> None:
+@pytest.mark.parametrize("reason", ["limb A open, by 2e-3 m", 'a},{"b": 1},{c', "}", [{"a": 1}, {"b": [2]}]])
+def test_json_rows_are_one_object_a_line_whatever_their_text(reason: Any) -> None:
     """:meth:`ScanTable.json_lines`: each row's object on a line of its own, equal as data to :mod:`json`'s of the
-    row, also where a text value holds the ``},{`` that separates two objects (then written row by row)."""
+    row, also where a text value holds the ``},{`` that separates two objects, or a value is a list of objects
+    (then written row by row)."""
     cols = ["index", "x", "reason", "dof"]
     rows: list[dict[str, Any]] = [
         dict(index=0, x=0.5, reason="", dof=3),
         dict(index=1, x=float("nan"), reason=reason, dof=None),
-        dict(index=2, x=-1e-300, reason=reason + "{", dof=2),
+        dict(index=2, x=-1e-300, reason=reason * 2, dof=2),
     ]
     lines = ScanTable.from_rows(cols, rows).json_lines().split(b",\n")  # a JSON text holds no raw line break
     assert [json.loads(line) for line in lines] == reference_json(cols, {}, rows)["samples"]

@@ -226,27 +226,17 @@ class ScanTable:
         """The rows as JSON objects (orjson), one a line, separated by a comma and a line break.
 
         The rows' list in one ``orjson.dumps`` call (the call costs as much as a row), each row's object then put on
-        a line of its own at the ``},{`` between objects: where no key and no text value holds ``},{`` (the rows are
-        flat: anywhere else in the text that sequence is such a boundary), else row by row.
+        a line of its own at the ``},{`` between objects: where the text holds that sequence nowhere else (one less
+        than the rows: every boundary adds one, a text or nested value may add more), else row by row.
         """
         import orjson
 
         option = orjson.OPT_SERIALIZE_NUMPY
         rows = list(self.rows())
-        if not self._plain_text():
-            return b",\n".join(orjson.dumps(row, default=_plain, option=option) for row in rows)
-        return orjson.dumps(rows, default=_plain, option=option)[1:-1].replace(b"},{", b"},\n{")
-
-    def _plain_text(self) -> bool:
-        """No column name and no text value holds ``},{``; every object column holds text, numbers or None."""
-        if any("},{" in name for name in self.names):
-            return False
-        for array in self.data.values():
-            if array.dtype == object:
-                values = set(array.tolist())
-                if any(not isinstance(v, (str, int, float, type(None))) or "},{" in str(v) for v in values):
-                    return False
-        return True
+        text = orjson.dumps(rows, default=_plain, option=option)[1:-1]
+        if text.count(b"},{") == len(rows) - 1 or not rows:
+            return text.replace(b"},{", b"},\n{")
+        return b",\n".join(orjson.dumps(row, default=_plain, option=option) for row in rows)
 
 
 def _plain(value: Any) -> Any:

@@ -194,6 +194,7 @@ def test_the_predictors_rotation_error_is_right_up_to_a_half_turn():
     np.testing.assert_allclose(_log3(rotations), [axis * t for t in angles], atol=1e-6)
 
 
+@pytest.mark.needs_numba
 def test_the_compiled_rotation_error_is_right_up_to_a_half_turn():
     """The compiled predictor's ``log3`` (by the unit quaternion) against the vectors the rotations were made from,
     to round-off: its first form (the angle from ``acos`` of the trace) was 2e-8 off at pi - 1e-12."""
@@ -213,6 +214,7 @@ def test_the_compiled_rotation_error_is_right_up_to_a_half_turn():
         np.testing.assert_allclose(out, axis * t, atol=5e-15 * max(1.0, t))
 
 
+@pytest.mark.needs_numba
 def test_the_compiled_steps_are_numpys_steps():
     """The compiled errors and damped steps (``batch_newton_kernel``) equal the numpy path's (``residual_of``, the
     normal equations solved by LAPACK) to round-off, at configurations off closure, with and without free coordinates (where they are determined)."""
@@ -287,6 +289,7 @@ def test_the_motion_type_from_the_counts_is_classify_twists_label():
     assert {"rigid", "3T", "3R", "2T1R", "3T1R", "3T3R", "1T1H"} <= set(labels)
 
 
+@pytest.mark.needs_numba
 def test_the_batchs_motion_types_are_classify_twists_labels_compiled_and_not():
     """motion_types (the batch's labels of orthonormal dimensionless spans, as analyze_jacobians gives them): the
     compiled counts (motion_kernel, numba) and the numpy path against motion_type(classify_twists(...)) of the same

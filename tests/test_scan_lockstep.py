@@ -18,7 +18,7 @@ from pinmob.assembly.partial_pose import pose_from_vector
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.scan import grid_spec, path_spec
-from pinmob.scan.lockstep import off_secant, off_secants, secant_stack, secant_starts
+from pinmob.scan.lockstep import off_secants, secant_stack, secant_starts
 
 
 def _pose_targets_match(spec, ks):
@@ -112,10 +112,10 @@ def test_targets_with_joint_values_as_vectors():
 @pytest.mark.parametrize("vector_space", [True, False])
 def test_the_secant_starts_and_their_check_over_a_stack_follow_moves_made_by_hand(vector_space):
     """Per row: the start is the seed moved on by (seed - before), the short way round across the wrap at +-pi;
-    off_secant is True exactly where the correction (start to q) is longer than that step (joint metric, slides
+    off_secants is True exactly where the correction (start to q) is longer than that step (joint metric, slides
     per L), False where it is shorter or where there was no secant (start = seed). The stack's answers are the
-    rows' (secant_starts, off_secant). On q + move and on Pinocchio's difference / integrate path. Fails on the
-    old code: no secant_stack, no off_secants."""
+    rows' (secant_starts, off_secants of one row). On q + move and on Pinocchio's difference / integrate path.
+    Fails on the old code: no secant_stack, no off_secants."""
     mech = pinmob.load("3-PUU")
     problem = PoseProblem(mech)
     problem.vector_space = vector_space
@@ -142,7 +142,9 @@ def test_the_secant_starts_and_their_check_over_a_stack_follow_moves_made_by_han
     qs[:, slide] += np.where(longer, 0.06, 0.04) * mech.length_scale
     expected = longer & has  # no secant (row 4): never off it
     assert off_secants(problem, seeds, starts, qs).tolist() == expected.tolist()
-    assert [off_secant(problem, s, t, q) for s, t, q in zip(seeds, starts, qs)] == expected.tolist()
+    assert [
+        off_secants(problem, s[None], t[None], q[None])[0] for s, t, q in zip(seeds, starts, qs)
+    ] == expected.tolist()
 
 
 @pytest.mark.parametrize(("name", "at", "axes"), [

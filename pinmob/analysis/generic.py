@@ -195,9 +195,10 @@ def generic_set_ranks(
 
     def compute() -> dict[tuple[int, ...], int]:
         k = len(mech.limbs)
-        sets = [s for size in range(2, min(k, MAX_SET) + 1) for s in combinations(range(k), size)]
-        sets.append(tuple(range(k)))
-        return _set_ranks(mech, sets, rtol, samples, seed)
+        sets = [s for size in range(2, min(k, MAX_SET) + 1) for s in combinations(range(k), size) if size < k]
+        ranks = _set_ranks(mech, sets, rtol, samples, seed) if sets else {}
+        ranks[tuple(range(k))] = _all_limbs_rank(mech, rtol, samples, seed)  # shared with generic_constraint_rank
+        return ranks
 
     return dict(mech.memo(("sets", rtol, samples, seed), compute))
 
@@ -240,7 +241,12 @@ def generic_constraint_rank(mech: Mechanism, samples: int = 4, seed: int = 0, rt
     """
     if mech.generic_rank is not None:
         return mech.generic_rank
-    every = tuple(range(len(mech.limbs)))  # that set alone: the other sets' ranks only where a singularity needs them
+    return _all_limbs_rank(mech, rtol, samples, seed)  # the other sets' ranks only where a singularity needs them
+
+
+def _all_limbs_rank(mech: Mechanism, rtol: float, samples: int, seed: int) -> int:
+    """The generic rank of all limbs' stacked wrenches (:func:`_set_ranks` of that set alone; cached)."""
+    every = tuple(range(len(mech.limbs)))
     return mech.memo(("all limbs", rtol, samples, seed), lambda: _set_ranks(mech, [every], rtol, samples, seed)[every])
 
 

@@ -140,7 +140,7 @@ class _Lockstep:
         of reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before. With
         ``secant`` (the forward pass along the chunks' lines), the predictor starts a chunk whose last two samples
         closed from their secant, extrapolated one sample on (:func:`secant_starts`; from the seed again where the
-        steps went off it, :func:`off_secant`), and ``before`` is kept up to date. A sample the predictor did not
+        steps went off it, :func:`off_secants`), and ``before`` is kept up to date. A sample the predictor did not
         close gets its target (:meth:`ScanSpec.target`) for the single-sample solver.
         """
         predictor, problem, kind = self.predictor, self.predictor.problem, self.kind
@@ -212,7 +212,7 @@ def secant_starts(problem: PoseProblem, before: list[Array | None], seeds: list[
 
     ``before``: the closed sample before the one that gave ``seed`` on the same line (None: start at ``seed``).
     The move is :func:`short_moves` (the closed samples' angles are wrapped into (-pi, pi]). A start only: the
-    sample's verdict and branch are the Newton steps' from it (checked by :func:`off_secant`), and a sample the
+    sample's verdict and branch are the Newton steps' from it (checked by :func:`off_secants`), and a sample the
     predictor does not close goes to the single-sample solver from ``seed``, as before.
     """
     if not seeds:
@@ -256,20 +256,16 @@ def _lengths(problem: PoseProblem, moves: Array) -> Array:
     return np.sqrt(np.einsum("ij,ij->i", x, x))
 
 
-def off_secant(problem: PoseProblem, seed: Array, start: Array, q: Array, ratio: float = 1.0) -> bool:
-    """True when the Newton steps from a secant ``start`` went further than ``ratio`` x the secant's step (joint metric).
-
-    Along a smooth line the correction is of second order in the step; a longer one means the steps left the
-    continuation (on a coarse grid, the 3-UPU-wrist's U joints closed turned by pi), so the sample is closed again
-    from ``seed``, as the single-sample engine's continuation does.
-    """
-    return bool(off_secants(problem, np.asarray(seed)[None], np.asarray(start)[None], np.asarray(q)[None], None,
-                            ratio)[0])  # fmt: skip
-
-
 def off_secants(
     problem: PoseProblem, seeds: Array, starts: Array, qs: Array, step: Array | None = None, ratio: float = 1.0
 ) -> Mask:
-    """:func:`off_secant` of each row of (B, nq) stacks; ``step``: the secant steps' lengths, when known (:func:`_secant`)."""
+    """Per row of (B, nq) stacks: the Newton steps from a secant start went further than ``ratio`` x its step.
+
+    The step (joint metric) is ``step`` (the secant steps' lengths, when known: :func:`_secant`), else the move from
+    the seed to the start. Along a smooth line the correction is of second order in the step; a longer one means the
+    steps left the continuation (on a coarse grid, the 3-UPU-wrist's U joints closed turned by pi), so the sample is
+    closed again from its seed, as the single-sample engine's continuation does. False where the step is 0 (no
+    secant).
+    """
     step = _lengths(problem, short_moves(problem, seeds, starts)) if step is None else step
     return (step > 0.0) & (ratio * step < _lengths(problem, short_moves(problem, starts, qs)))  # 0: start at seed

@@ -33,7 +33,7 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     target's coordinates: the approach from the reference, a grid's first column, a path's every ``STRIDE``-th
     sample), both closed, is closed by the batched predictor from their secant
     (:func:`~pinmob.scan.lockstep.secant_starts`), as the chunks' samples are, and kept only when its Newton
-    correction was at most ``WALK_SECANT`` of the secant's step (:func:`~pinmob.scan.lockstep.off_secant`).
+    correction was at most ``WALK_SECANT`` of the secant's step (:func:`~pinmob.scan.lockstep.off_secants`).
     At a turn of the walk (the first waypoints of a line), where the two before are not in line with it, the
     predictor starts from the last waypoint's configuration moved as the same two samples moved on the line
     before (or after, on a three-coordinate grid's serpentine; :func:`_across_waypoint`), when both were walked

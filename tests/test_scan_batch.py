@@ -400,3 +400,27 @@ def test_the_rows_joint_values_and_limits_column_wise_are_the_per_sample_ones():
         want_rows = [None if q is None else joint_row(mech, joints, q, t) for q, t in zip(qs, targets)]
         assert joint_rows(mech, joints, qs, targets) == want_rows
     assert limits_of(mech.model, [None]) == [None] and joint_rows(mech, joints, [None], [None]) == [None]
+
+
+@pytest.mark.parametrize(("axes", "share"), [([("A_slider", -0.2, 0.2, 15), ("B_slider", -0.2, 0.2, 15)], 0.5),
+                                             ([("x", -0.3, 0.3, 15), ("y", -0.3, 0.3, 15)], 1.0)])  # fmt: skip
+def test_the_refinement_screen_leaves_only_samples_the_refinement_would_leave(monkeypatch, axes, share):
+    """:func:`pinmob.scan.chunk._to_refine` screens, with numpy over the batch's distances, the samples whose
+    refinement would give nothing: the rows equal those of refining around every sample (a grid crossing limb
+    singularities, refined between samples; a grid mostly out of reach, refined at the edges), while most samples
+    are screened out."""
+    import pinmob.scan.chunk as chunk
+    from pinmob.scan.scan_run import scan_table
+
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", axes)
+    looked: list[int] = []
+    refine = chunk._Chunk.refine
+    monkeypatch.setattr(chunk._Chunk, "refine", lambda self, k, *a: looked.append(k) or refine(self, k, *a))
+    screened = scan_table(mech, spec)
+    screened_looks = len(looked)
+    monkeypatch.setattr(chunk, "_to_refine", lambda start, stop, *a: list(range(start, stop)))
+    every = scan_table(mech, spec)
+    assert screened.json_lines() == every.json_lines()
+    assert int(screened["refined"].sum()) > 0
+    assert len(looked) - screened_looks == spec.size and screened_looks < share * spec.size

@@ -26,7 +26,7 @@ rows are those of the single-sample path, the figures to round-off
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -83,13 +83,16 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
     model, pid, rpy = mech.model, mech.platform_id, pin.rpy.matrixToRpy
     data = pin.Data(model)  # as model.createData(), without its copy
     full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
-    for i, q in enumerate(qs):
-        given = known[i] if known is not None else None
-        if given is None:
-            full[i] = pin.computeJointJacobians(model, data, q)
-            poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
-        else:  # pose_vector's numbers, read off the placement matrix
-            full[i], poses[i, :3], poses[i, 3:] = given[0], given[1][:3, 3], rpy(given[1][:3, :3])
+    pairs = [(i, k) for i, k in enumerate(known or []) if k is not None]
+    given = [i for i, _ in pairs]
+    if given:  # pose_vector's numbers, read off the placement matrices
+        full[given] = np.array([k[0] for _, k in pairs])
+        frames = np.array([k[1] for _, k in pairs])
+        poses[given, :3] = frames[:, :3, 3]
+        poses[given, 3:] = np.array([rpy(h[:3, :3]) for h in frames]).reshape(len(given), 3)
+    for i in sorted(set(range(len(qs))) - set(given)):
+        full[i] = pin.computeJointJacobians(model, data, qs[i])
+        poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
     return full, poses
 
 
@@ -119,11 +122,43 @@ class BatchRows:
         """Sample i's distance of each question."""
         return dict(zip(self.questions, self.distances[i].tolist(), strict=True))
 
+    def distances_view(self, i: int) -> SampleDistances:
+        """Sample i's distances as :meth:`distances_of` gives them, read from the array when first asked."""
+        return SampleDistances(self, i)
+
     def analysed(self, where: Sequence[int | None] | None = None) -> list[Analysed | None]:
         """Per entry of ``where`` (default: per sample, its own where decided), its row and distances, or None."""
         if where is None:
             where = [i if d else None for i, d in enumerate(self.decided.tolist())]
         return [None if i is None else (self.row(i), self.distances_of(i)) for i in where]
+
+
+class SampleDistances(Mapping[str, float]):
+    """A batch sample's distance of each question (:meth:`BatchRows.distances_of`), made when first read.
+
+    Most decided samples' distances are never read one by one (:meth:`pinmob.scan.chunk._Chunk.complete` screens
+    them on the batch's array), so no dict is made for them.
+    """
+
+    __slots__ = ("_batch", "_at", "_dict")
+
+    def __init__(self, batch: BatchRows, at: int) -> None:
+        self._batch, self._at = batch, at
+        self._dict: dict[str, float] | None = None
+
+    def _values(self) -> dict[str, float]:
+        if self._dict is None:
+            self._dict = self._batch.distances_of(self._at)
+        return self._dict
+
+    def __getitem__(self, key: str) -> float:
+        return self._values()[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self._batch.questions)
+
+    def __len__(self) -> int:
+        return len(self._batch.questions)
 
 
 def analyse(

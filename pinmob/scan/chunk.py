@@ -11,7 +11,7 @@ adds its finite DoF (``FINITE_COLUMNS``).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -61,7 +61,7 @@ class _Sample:
 
     row: dict[str, Any] | BatchRow
     q: Array | None
-    distances: dict[str, float]
+    distances: Mapping[str, float]
     known: dict[str, float] | None = None
     kinematics: tuple[Array, Array] | None = None
 
@@ -158,7 +158,7 @@ class _Chunk:
             reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
             if isinstance(analysed, (int, np.integer)):
                 assert batch is not None  # the entry's batch
-                return _Sample(BatchRow(int(analysed), head, reason, values), q, batch.distances_of(int(analysed)))
+                return _Sample(BatchRow(int(analysed), head, reason, values), q, batch.distances_view(int(analysed)))
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)
@@ -213,7 +213,7 @@ class _Chunk:
             columns = values_and_limits(self.mech, self.spec.values, list(pending.values()))
         done = {k: self.finish(s, a, *more, batch) for (k, s), a, more in zip(pending.items(), analysed, columns)}
         extra: list[_Sample] = []
-        for k in range(start, stop):
+        for k in _to_refine(start, stop, done, first, last, batch, self.rtol):
             extra += self.refine(k, done, first, last)
         kept = _distinct(extra)
         if self.spec.finite_order is not None:
@@ -304,6 +304,31 @@ class _Chunk:
     def _mark(s: _Sample, t: float) -> _Sample:
         _dict(s.row).update(refined=True, _t=t)
         return s
+
+
+def _to_refine(start: int, stop: int, done: dict[int, _Sample], first: int, last: int, batch: BatchRows | None,
+               rtol: float) -> list[int]:  # fmt: skip
+    """The samples of ``start .. stop - 1`` that :meth:`_Chunk.refine` may refine: all but those it would leave.
+
+    Left (screened with numpy over the batch's distances): a sample the batch decided whose neighbours on the line
+    were decided too (assembled: no edge of the reachable set next to it), where no question's distance (above
+    ``rtol``, as every decided one is) has a local minimum; :meth:`_Chunk.refine` gives no point there.
+    """
+    ks = range(start, stop)
+    if batch is None:
+        return list(ks)
+    lo = max(start - 1, first)  # done holds the samples lo .. min(stop, last) (each chunk sample's neighbours)
+    at = np.array([r.at if isinstance(r := done[j].row, BatchRow) else -1 for j in range(lo, min(stop, last) + 1)])
+    k = np.arange(start, stop)
+    has_left, has_right = k > first, k < last
+    here = at[k - lo]
+    left = np.where(has_left, at[np.maximum(k - 1 - lo, 0)], 0)
+    right = np.where(has_right, at[np.minimum(k + 1 - lo, len(at) - 1)], 0)
+    quiet = (here >= 0) & (left >= 0) & (right >= 0)  # decided, and each neighbour decided or off the line
+    both = quiet & has_left & has_right
+    d, dl, dr = (batch.distances[np.where(both, i, 0)] for i in (here, left, right))
+    minimum = ((d > rtol) & (np.minimum(dl, dr) >= d) & (np.maximum(dl, dr) > d)).any(axis=1)
+    return (k[~quiet | (both & minimum)]).tolist()
 
 
 def _seed(sample: _Sample, fallback: Array) -> Array:

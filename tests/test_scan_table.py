@@ -221,3 +221,25 @@ def test_json_rows_are_one_object_a_line_whatever_their_text(reason: Any) -> Non
     ]
     lines = ScanTable.from_rows(cols, rows).json_lines().split(b",\n")  # a JSON text holds no raw line break
     assert [json.loads(line) for line in lines] == reference_json(cols, {}, rows)["samples"]
+
+
+@pytest.mark.parametrize("reason", ['a","b', "x,y", "", None, 3, True, 2.5, [1, {"c": 2}]])
+@pytest.mark.parametrize("leave_out", [False, True])
+def test_json_rows_written_by_columns_are_each_row_dumped_by_orjson(reason: Any, leave_out: bool) -> None:
+    """:meth:`ScanTable.json_lines` writes column by column (text holding commas and quotes, missing numbers,
+    non-finite floats, -0.0, a text column holding other values, a column named with %) the bytes orjson gives
+    each row, joined by a comma and a line break; and, where a row leaves a key out, row by row."""
+    import orjson
+
+    cols = ["index", "x", "reachable", "reason", "dof", "motion_type", "joint_%s%"]  # a joint's name holds a %
+    rows: list[dict[str, Any]] = [
+        dict(index=0, x=0.5, reachable=True, reason="", dof=3, motion_type="3T"),
+        dict(index=1, x=float("nan"), reachable=False, reason=reason, dof=None, motion_type=None),
+        dict(index=2, x=-0.0, reachable=True, reason=reason, dof=2, motion_type='"1T,2R"'),
+        dict(index=3, x=float("inf"), reachable=True, reason="}", dof=-1, motion_type="1T,2R"),
+    ]
+    for i, row in enumerate(rows):
+        row["joint_%s%"] = 0.1 * i
+    if leave_out:
+        del rows[2]["dof"]
+    assert ScanTable.from_rows(cols, rows).json_lines() == b",\n".join(orjson.dumps(row) for row in rows)

@@ -225,18 +225,33 @@ class ScanTable:
     def json_lines(self) -> bytes:
         """The rows as JSON objects (orjson), one a line, separated by a comma and a line break.
 
-        The rows' list in one ``orjson.dumps`` call (the call costs as much as a row), each row's object then put on
-        a line of its own at the ``},{`` between objects: where the text holds that sequence nowhere else (one less
-        than the rows: every boundary adds one, a text or nested value may add more), else row by row.
+        Column by column: each column's values encoded at once (numbers, booleans and null: the column's list in one
+        ``orjson.dumps`` call, split at its commas; text: each distinct value once), then each row's object by one
+        ``%`` format of its columns' pieces: the same bytes as ``orjson.dumps`` of the row (:meth:`rows`). A table
+        with absent keys (a row leaves them out) is written row by row.
         """
         import orjson
 
-        option = orjson.OPT_SERIALIZE_NUMPY
-        rows = list(self.rows())
-        text = orjson.dumps(rows, default=_plain, option=option)[1:-1]
-        if text.count(b"},{") == len(rows) - 1 or not rows:
-            return text.replace(b"},{", b"},\n{")
-        return b",\n".join(orjson.dumps(row, default=_plain, option=option) for row in rows)
+        if not len(self):
+            return b""
+        if self.absent:
+            option = orjson.OPT_SERIALIZE_NUMPY
+            return b",\n".join(orjson.dumps(row, default=_plain, option=option) for row in self.rows())
+        keys = (orjson.dumps(name).replace(b"%", b"%%") for name in self.names)  # a row: one % format
+        row = b"{" + b",".join(key + b":%b" for key in keys) + b"}"
+        return b",\n".join(map(row.__mod__, zip(*map(self._json_column, self.names))))
+
+    def _json_column(self, name: str) -> list[bytes]:
+        """Each row's value of column ``name`` as JSON (orjson; None, NaN and infinities as null)."""
+        import orjson
+
+        values = self.column(name)
+        if self.data[name].dtype != object:  # numbers, booleans and null: no comma inside a value
+            return orjson.dumps(values)[1:-1].split(b",")
+        if set(map(type, values)) <= {str, type(None)}:  # text: a few distinct values
+            text = {v: orjson.dumps(v) for v in set(values)}
+            return [text[v] for v in values]
+        return [orjson.dumps(v, default=_plain, option=orjson.OPT_SERIALIZE_NUMPY) for v in values]
 
 
 def _plain(value: Any) -> Any:

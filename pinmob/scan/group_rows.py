@@ -9,6 +9,7 @@ making them).
 from __future__ import annotations
 
 from dataclasses import dataclass
+from operator import itemgetter
 from typing import Any
 
 import numpy as np
@@ -56,18 +57,15 @@ class GroupRows:
         if not ours or self.batch is None:
             return ScanTable.from_rows(names, self.dicts())
         plain = [e for e in self.entries if isinstance(e, dict)]
-        columns: dict[str, Any] = {}
         at = np.array([e.at for e in ours], np.int64)
+        columns: dict[str, Any] = {"reason": [e.reason for e in ours]}
+        for dicts in ([e.head for e in ours], [e.values for e in ours]):  # every row's has the same keys
+            keys = [n for n in names if n in dicts[0] and n not in self.batch.columns and n not in columns]
+            columns.update(_transposed(dicts, keys))
         for name in names:
             if name in self.batch.columns:
                 columns[name] = self.batch.columns[name][at]
-            elif name == "reason":
-                columns[name] = [e.reason for e in ours]
-            elif name in ours[0].head:
-                columns[name] = [e.head[name] for e in ours]
-            elif name in ours[0].values:
-                columns[name] = [e.values[name] for e in ours]
-            else:  # a column the batch's rows do not have (none does today): the dicts' table, absent masks and all
+            elif name not in columns:  # a column the batch's rows do not have (none does today): the dicts' table
                 return ScanTable.from_rows(names, self.dicts())
         table = ScanTable.from_columns(names, columns)
         if not plain:
@@ -82,3 +80,10 @@ class GroupRows:
 def _row(batch: BatchRows | None, at: int) -> dict[str, Any]:
     assert batch is not None, "a batch row without its batch"
     return batch.row(at)
+
+
+def _transposed(dicts: list[dict[str, Any]], keys: list[str]) -> dict[str, list[Any]]:
+    """The values of ``keys`` in ``dicts`` (each has them all), column by column, read in one pass."""
+    if len(keys) < 2:
+        return {key: [d[key] for d in dicts] for key in keys}
+    return dict(zip(keys, map(list, zip(*map(itemgetter(*keys), dicts)))))

@@ -243,3 +243,16 @@ def test_json_rows_written_by_columns_are_each_row_dumped_by_orjson(reason: Any,
     if leave_out:
         del rows[2]["dof"]
     assert ScanTable.from_rows(cols, rows).json_lines() == b",\n".join(orjson.dumps(row) for row in rows)
+
+
+def test_json_rows_of_columns_of_any_array_type_are_each_row_dumped_by_orjson() -> None:
+    """:meth:`ScanTable.from_columns` keeps arrays as they are: a numpy string column (commas in its text) and a 2-D
+    column are written value by value, as orjson writes each row (only 1-D numbers and booleans are split at
+    commas)."""
+    import orjson
+
+    table = ScanTable.from_columns(["reason", "x", "pair"], {"reason": np.array(["a,b", 'c","d']),
+                                                              "x": np.array([1.0, 2.0]),
+                                                              "pair": np.array([[1.0, 2.0], [3.0, 4.0]])})  # fmt: skip
+    rows = [{"reason": "a,b", "x": 1.0, "pair": [1.0, 2.0]}, {"reason": 'c","d', "x": 2.0, "pair": [3.0, 4.0]}]
+    assert table.json_lines() == b",\n".join(orjson.dumps(row) for row in rows)

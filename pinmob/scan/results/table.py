@@ -245,8 +245,8 @@ class ScanTable:
         """Each row's value of column ``name`` as JSON (orjson; None, NaN and infinities as null)."""
         import orjson
 
-        values = self.column(name)
-        if self.data[name].dtype != object:  # numbers, booleans and null: no comma inside a value
+        values, array = self.column(name), self.data[name]
+        if array.dtype.kind in "biuf" and array.ndim == 1:  # numbers, booleans and null: no comma inside a value
             return orjson.dumps(values)[1:-1].split(b",")
         if set(map(type, values)) <= {str, type(None)}:  # text: a few distinct values
             text = {v: orjson.dumps(v) for v in set(values)}

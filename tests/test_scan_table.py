@@ -256,3 +256,11 @@ def test_json_rows_of_columns_of_any_array_type_are_each_row_dumped_by_orjson() 
                                                               "pair": np.array([[1.0, 2.0], [3.0, 4.0]])})  # fmt: skip
     rows = [{"reason": "a,b", "x": 1.0, "pair": [1.0, 2.0]}, {"reason": 'c","d', "x": 2.0, "pair": [3.0, 4.0]}]
     assert table.json_lines() == b",\n".join(orjson.dumps(row) for row in rows)
+
+
+@pytest.mark.parametrize("names", [["x", "x"], ["x", 1]])
+def test_a_table_refuses_repeated_or_non_text_column_names(names: list[Any]) -> None:
+    """A table's columns are distinct names: a repeated one or one that is not text (which a JSON object's key
+    must be) is refused, naming the columns."""
+    with pytest.raises(ValueError, match="distinct names"):
+        ScanTable.from_columns(names, {n: np.zeros(2) for n in names})

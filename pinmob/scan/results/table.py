@@ -73,6 +73,10 @@ class ScanTable:
     null: dict[str, np.ndarray] = field(default_factory=dict)
     absent: dict[str, np.ndarray] = field(default_factory=dict)
 
+    def __post_init__(self) -> None:
+        if not all(isinstance(n, str) for n in self.names) or len(set(self.names)) != len(self.names):
+            raise ValueError(f"a table's columns are distinct names (text): {list(self.names)}")
+
     @classmethod
     def from_rows(cls, names: Sequence[str], rows: Sequence[Mapping[str, Any]]) -> ScanTable:
         """The table of ``rows`` (dicts keyed by column; a key outside ``names`` is an error, as for a CSV row).

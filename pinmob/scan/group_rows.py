@@ -59,7 +59,7 @@ class GroupRows:
         plain = [e for e in self.entries if isinstance(e, dict)]
         at = np.array([e.at for e in ours], np.int64)
         columns: dict[str, Any] = {"reason": [e.reason for e in ours]}
-        for dicts in ([e.head for e in ours], [e.values for e in ours]):  # every row's has the same keys
+        for dicts in ([e.head for e in ours], [e.values for e in ours]):  # the same keys in every row
             keys = [n for n in names if n in dicts[0] and n not in self.batch.columns and n not in columns]
             columns.update(_transposed(dicts, keys))
         for name in names:

@@ -231,8 +231,8 @@ class ScanTable:
 
         Column by column: each column's values encoded at once (numbers, booleans and null: the column's list in one
         ``orjson.dumps`` call, split at its commas; text: each distinct value once), then each row's object by one
-        ``%`` format of its columns' pieces: the same bytes as ``orjson.dumps`` of the row (:meth:`rows`). A table
-        with absent keys (a row leaves them out) is written row by row.
+        ``%`` format of its columns' pieces: the same bytes as ``orjson.dumps`` of the row (:meth:`rows`; numpy scalars
+        in an object column as Python values). A table with absent keys (a row leaves them out) is written row by row.
         """
         import orjson
 

@@ -38,7 +38,9 @@ Per robot and grid (microseconds per sample):
   the single-sample solver, the batch analysis, the single-sample analysis and the rest (rows: joint values,
   limits, targets), with Pinocchio's kinematics alone (the floor's cost per call at pinmob's count of calls).
 
-First, the compiled kinematics' first call in a fresh process with an empty numba cache (a temporary
+First, the versions the figures depend on (Python, numpy, Pinocchio, numba, orjson, numpy's BLAS: the plain loop's
+many small calls cost 2-3x more on some stacks than on others), then the compiled kinematics' first call in a
+fresh process with an empty numba cache (a temporary
 ``NUMBA_CACHE_DIR``: what a new installation pays once) and in a second process with the cache it wrote.
 
 Robots: the 3-PUU over x x y (a full-pose grid: its rotations cannot change), the 6-UPS over x x y, the
@@ -574,6 +576,23 @@ def bench_sweep(designs: int) -> dict[str, float]:
     return {"designs": spec.count, "in_process_s": serial / spec.count, "dask2_s": elapsed / spec.count}
 
 
+def versions() -> dict[str, str]:
+    """The versions the figures depend on (the plain loop's small numpy and Pinocchio calls cost 2-3x more on some
+    stacks than on others): Python, numpy, Pinocchio, numba (or absent), orjson, and numpy's BLAS."""
+    import importlib.metadata as metadata
+    import platform
+
+    out = {"Python": platform.python_version(), "numpy": np.__version__, "Pinocchio": pin.__version__}
+    for name in ("numba", "orjson"):
+        try:
+            out[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            out[name] = "absent"
+    blas = np.show_config(mode="dicts").get("Build Dependencies", {}).get("blas", {})
+    out["BLAS"] = f"{blas.get('name', '?')} {blas.get('version', '?')}"
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--quick", action="store_true", help="9 x 9 grids (the same as --count 9)")
@@ -582,6 +601,8 @@ def main() -> None:
     args = parser.parse_args()
     count = 9 if args.quick else args.count
     out: dict[str, Any] = {}
+    out["versions"] = versions()
+    print("versions: " + ", ".join(f"{k} {v}" for k, v in out["versions"].items()))
     cold, warm = out["first_compile_s"] = first_compile()
     print(f"compiled kinematics, first call in a fresh process: {cold:.1f} s with an empty numba cache (compiling), "
           f"{warm:.2f} s with the cache it wrote")  # fmt: skip

@@ -223,18 +223,21 @@ def assemble_pose(
     body = model.frames[pid].parentJoint
     frames = [pid] + [b.tip_id for b in mech.limbs if model.frames[b.tip_id].parentJoint != body]
     q0 = mech.neutral() if seed is None else mech.check_q(seed)
+    size = 6 * len(frames)  # the tips' rows (the closures' follow)
     with borrowed(model) as data:
         rows = scale[:, None]
 
         def residual(q: Array) -> tuple[Array, Array]:
             compute_kinematics(model, data, q)
-            blocks = [pose_error(model, data, f, pose) for f in frames]
-            errors, jacobians = [scale * e for e, _ in blocks], [rows * j for _, j in blocks]
+            errors, jacobians = np.empty(size), np.empty((size, model.nv))
+            for i, f in enumerate(frames):
+                e, j = pose_error(model, data, f, pose)
+                np.multiply(scale, e, out=errors[6 * i : 6 * i + 6])
+                np.multiply(rows, j, out=jacobians[6 * i : 6 * i + 6])
             if mech.closures:
                 e1, j1 = stacked_error(mech, model, data, mech.closures)
-                errors.append(e1)
-                jacobians.append(j1)
-            return np.concatenate(errors), np.vstack(jacobians)
+                return np.concatenate([errors, e1]), np.vstack([jacobians, j1])
+            return errors, jacobians
 
         result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale,
                        stall_window=stall_window)  # fmt: skip

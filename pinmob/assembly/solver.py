@@ -91,44 +91,51 @@ class SolverResult:
 
 
 def _max(e: Array) -> float:
-    return float(np.max(np.abs(e))) if e.size else 0.0
+    return float(np.abs(e).max()) if e.size else 0.0
 
 
 @dataclass
 class _State:
-    """The solver's current point: configuration, residual, Jacobian and cost ``|e|^2``."""
+    """The solver's current point: configuration, residual, Jacobian, cost ``|e|^2`` and ``max |e|``."""
 
     q: Array
     e: Array
     jac: Array
     cost: float
+    worst: float
 
 
 class _Problem:
     """A residual with its column scaling and free columns: trial points and minimum-norm steps."""
 
     def __init__(self, model: pin.Model, residual: ResidualFn, col: Array, cols: IndexArray, max_step: float) -> None:
-        self.model, self.residual, self.col, self.cols, self.max_step = model, residual, col, cols, max_step
+        self.model, self.residual, self.cols, self.max_step = model, residual, cols, max_step
+        self.every = cols.size == model.nv  # every column free: no column picked out (the same numbers)
+        self.col = col if self.every else col[cols]  # the free columns' scales
 
     def at(self, q: Array) -> _State:
         e, jac = self.residual(q)
-        return _State(q, e, jac, float(e @ e))
+        return _State(q, e, jac, float(e @ e), _max(e))
 
     def svd(self, x: _State) -> tuple[Array, Array, Array, Array]:
         """Scaled Jacobian J' (m, k) on the free columns, and U^T e, s, V^T of its SVD (s < RCOND s_1 zeroed)."""
-        js = x.jac[:, self.cols] * self.col[self.cols]
+        # in Fortran order, as the free columns picked out are (numpy's): the products below (J' dz) keep their round-off
+        js = np.multiply(x.jac, self.col, order="F") if self.every else x.jac[:, self.cols] * self.col
         u, s, vt = svd(js, full_matrices=False)
         return js, u.T @ x.e, np.where(s > RCOND * s[0], s, 0.0), vt
 
     def cap(self, dz: Array) -> Array:
         """Dz scaled down to the trust region ``|dz|_inf <= max_step``."""
-        big = float(np.max(np.abs(dz)))
+        big = float(np.abs(dz).max())
         return dz * (self.max_step / big) if big > self.max_step else dz
 
     def step(self, x: _State, dz: Array) -> _State:
         """The point ``integrate(q, D dz)`` (scaled step dz on the free columns)."""
-        dq = np.zeros(self.model.nv)
-        dq[self.cols] = dz * self.col[self.cols]
+        if self.every:
+            dq = dz * self.col
+        else:
+            dq = np.zeros(self.model.nv)
+            dq[self.cols] = dz * self.col
         return self.at(pin.integrate(self.model, x.q, dq))
 
 
@@ -137,7 +144,7 @@ def _damped(
 ) -> tuple[_State, int]:
     """Levenberg-Marquardt iterations until ``max |e| <= tol``, a stall (over ``window`` iterations), or ``max_iter``."""
     history, lam, it = [x.cost], -1.0, 0
-    while _max(x.e) > tol and it < max_iter:
+    while x.worst > tol and it < max_iter:
         if len(history) > window and x.cost > (1 - STALL_GAIN) * history[-window - 1]:
             break
         it += 1
@@ -167,7 +174,7 @@ def _damped(
 def _gauss_newton(p: _Problem, x: _State, floor: float) -> tuple[_State, int]:
     """Gauss-Newton steps (pseudo-inverse, backtracking 1, 1/2, 1/4) until ``max |e| <= floor`` or a weak gain."""
     steps = 0
-    while steps < POLISH_STEPS and _max(x.e) > floor:
+    while steps < POLISH_STEPS and x.worst > floor:
         _, g, s, vt = p.svd(x)
         if s[0] == 0:
             break
@@ -227,12 +234,12 @@ def solve(
     it = newton = 0
     if cols.size and x.e.size:
         x, it = _damped(p, x, max(tol, NEWTON_SWITCH), max_iter, damping, stall_window)
-        if _max(x.e) <= NEWTON_SWITCH:
+        if x.worst <= NEWTON_SWITCH:
             x, newton = _gauss_newton(p, x, floor)
-        if tol < _max(x.e) <= NEWTON_SWITCH:  # Gauss-Newton stalled above tol: damped steps finish
+        if tol < x.worst <= NEWTON_SWITCH:  # Gauss-Newton stalled above tol: damped steps finish
             x, k = _damped(p, x, tol, max_iter, damping, stall_window)
             it += k
-            if _max(x.e) <= tol:
+            if x.worst <= tol:
                 x, k = _gauss_newton(p, x, floor)
                 newton += k
     q, e = x.q, x.e

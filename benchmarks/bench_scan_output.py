@@ -12,7 +12,8 @@ them):
 * ``table``: building the tables from the engine's row dicts (:meth:`ScanTable.from_rows`, what the scan adds
   before writing; paid once for all three files).
 
-The files are compared: the CSV byte for byte, the JSON and the Parquet as data (``same``).
+The files are compared: the CSV byte for byte, the JSON and the Parquet as data (``same``). The versions the figures
+depend on are printed first (``bench_scan.versions``).
 
 Usage: ``python benchmarks/bench_scan_output.py [--quick] [--repeat N]``.
 """
@@ -30,6 +31,7 @@ from typing import Any
 
 import pyarrow as pa
 import pyarrow.parquet as pq
+from bench_scan import versions  # this folder's: the versions the figures depend on
 
 import pinmob
 from pinmob.blas import one_blas_thread
@@ -163,6 +165,7 @@ def main() -> None:
     parser.add_argument("--repeat", type=int, default=5, help="timed runs of each writer (the best is printed)")
     args = parser.parse_args()
     grids = [(GRIDS[0][0], GRIDS[0][1], [(c, lo, hi, 21) for c, lo, hi, _ in GRIDS[0][2]])] if args.quick else GRIDS
+    print("versions: " + ", ".join(f"{k} {v}" for k, v in versions().items()))
     print("microseconds per row (best of", args.repeat, "runs); before: one dict a row; after: a table a group")
     head = ("grid", "rows", "json before", "after", "csv before", "after", "parquet before", "after", "table",
             "files equal")  # fmt: skip

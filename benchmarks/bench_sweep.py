@@ -3,6 +3,8 @@
 Runs the example sweep's family (3-PUU) on a small design set (``--designs``, default 16) with the example's
 per-design scan (9 x 9 samples), and prints:
 
+* first, the versions the figures depend on (``bench_scan.versions``: Python, numpy, Pinocchio, numba, orjson,
+  numpy's BLAS);
 * designs/s in this process, on a LocalCluster of 1 worker and of 2 workers (cluster start-up excluded), beside
   the figure recorded before the speed-up of issue 33, item 4 (:data:`BEFORE_MS`) and the ratio to it;
 * per design: building and loading the mechanism, the analysis at the reference (with the generic rank),
@@ -47,6 +49,7 @@ def main() -> None:
     from dataclasses import replace
 
     import numpy as np
+    from bench_scan import versions  # this folder's
     from dask.distributed import Client, LocalCluster
 
     import pinmob
@@ -90,6 +93,7 @@ def main() -> None:
             rates[f"{workers} Dask worker(s)"] = n / elapsed
             if workers == 1:
                 overhead = (elapsed - serial) / n
+    print("versions: " + ", ".join(f"{k} {v}" for k, v in versions().items()))
     print(f"{n} designs of {spec.source.name} with a {samples}-sample scan each ({spec.scan.describe()})")
     for where, rate in rates.items():
         line = f"  {where:18s} {rate:6.2f} designs/s ({1e3 / rate:5.1f} ms per design)"

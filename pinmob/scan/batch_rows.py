@@ -90,7 +90,7 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
         frames = np.array([k[1] for _, k in pairs])
         poses[given, :3] = frames[:, :3, 3]
         poses[given, 3:] = np.array([rpy(h[:3, :3]) for h in frames]).reshape(len(given), 3)
-    for i in sorted(set(range(len(qs))) - set(given)):
+    for i in [i for i in range(len(qs)) if known is None or known[i] is None]:  # the others: computed here
         full[i] = pin.computeJointJacobians(model, data, qs[i])
         poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
     return full, poses
@@ -121,10 +121,6 @@ class BatchRows:
     def distances_of(self, i: int) -> dict[str, float]:
         """Sample i's distance of each question."""
         return dict(zip(self.questions, self.distances[i].tolist(), strict=True))
-
-    def distances_view(self, i: int) -> SampleDistances:
-        """Sample i's distances as :meth:`distances_of` gives them, read from the array when first asked."""
-        return SampleDistances(self, i)
 
     def analysed(self, where: Sequence[int | None] | None = None) -> list[Analysed | None]:
         """Per entry of ``where`` (default: per sample, its own where decided), its row and distances, or None."""

@@ -22,7 +22,7 @@ from pinmob.assembly import STALL_WINDOW as SOLVER_STALL
 from pinmob.assembly import check_closed, format_worst
 from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model import Mechanism, outside_limits
-from pinmob.scan.batch_rows import Analysed, BatchRows, analyse_stack
+from pinmob.scan.batch_rows import Analysed, BatchRows, SampleDistances, analyse_stack
 from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.group_rows import BatchRow
 from pinmob.scan.refine import minimise, vertex_below
@@ -158,7 +158,7 @@ class _Chunk:
             reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
             if isinstance(analysed, (int, np.integer)):
                 assert batch is not None  # the entry's batch
-                return _Sample(BatchRow(int(analysed), head, reason, values), q, batch.distances_view(int(analysed)))
+                return _Sample(BatchRow(int(analysed), head, reason, values), q, SampleDistances(batch, int(analysed)))
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
             return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)

@@ -421,3 +421,16 @@ def test_a_distance_at_a_singularity_prints_as_at_most_the_tolerance():
     text = str(report)
     assert "singularity: actuation (distance <= 1e-06, closest: actuation;" in text
     assert ", actuation <= 1e-06" in text and "e-15" not in text and "e-16" not in text
+
+
+def test_tests_singular_together_tie_whatever_their_round_off():
+    """At the 3-UPU's constraint singularity the constraint and the actuation are both singular: their distances
+    are round-off (~1e-15, in an order round-off decides), so both are closest and a scan row names the first,
+    ``constraint``; a distance 1e-12 or 1e-5 of itself above the smallest does not tie."""
+    from pinmob.analysis import tied
+
+    mech = pinmob.load("3-UPU")
+    sing = pinmob.analyze_singularity(mech, pinmob.closed_configuration(mech, "constraint-singular"))
+    assert sing.closest_all == ("constraint", "actuation")
+    assert tied(2.9e-15, 1.3e-15) and tied(1.3e-15, 2.9e-15) and tied(0.1 * (1 + 5e-7), 0.1)
+    assert not tied(1e-12, 0.0) and not tied(0.1 * (1 + 1e-5), 0.1)

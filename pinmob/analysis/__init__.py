@@ -52,7 +52,15 @@ from pinmob.analysis.report import Report
 from pinmob.analysis.report_parts import REPORT_PARTS, part_keywords
 from pinmob.analysis.shortcuts import analyze_mechanism, analyze_singularity, paper_view
 from pinmob.analysis.singularity.classification import require_platform
-from pinmob.analysis.singularity.result import NEAR_FACTOR, Singularity, distance_of, generic_locked_dof, padded, ratio
+from pinmob.analysis.singularity.result import (
+    NEAR_FACTOR,
+    Singularity,
+    distance_of,
+    generic_locked_dof,
+    padded,
+    ratio,
+    tied,
+)
 from pinmob.lazy_names import lazy_getattr
 
 if TYPE_CHECKING:  # the finite analysis and motion following load when first used (see _LAZY)
@@ -144,6 +152,7 @@ __all__ = [
     "part_keywords",
     "platform_mobility",
     "ratio",
+    "tied",
     "require_platform",
     "vector",
 ]

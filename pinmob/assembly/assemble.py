@@ -26,6 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint
+from pinmob.assembly.compiled_pose_solve import compiled_pose_solver
 from pinmob.assembly.continuation import continuation, held_coordinates
 from pinmob.assembly.reach import reach_note
 from pinmob.assembly.residual import (
@@ -198,6 +199,7 @@ def assemble_pose(
     tol: float = CLOSURE_TOL,
     max_iter: int = 200,
     stall_window: int = STALL_WINDOW,
+    compiled: bool = False,
 ) -> Array:
     """Closed configuration whose platform frame has ``pose`` (inverse kinematics of every limb).
 
@@ -205,7 +207,9 @@ def assemble_pose(
     tip against ``pose`` (``log6(pose^-1 oM_f)``: each limb is solved for the
     target on its own, so a symmetric seed of a symmetric mechanism gives a
     symmetric solution), then the closures that are not limb tips. ``stall_window``: the solver's
-    (:func:`~pinmob.assembly.solver.solve`).
+    (:func:`~pinmob.assembly.solver.solve`). ``compiled``: its iterations in one compiled call where the mechanism
+    allows it (:func:`~pinmob.assembly.compiled_pose_solve.compiled_pose_solver`: no closure besides the limb tips,
+    numba installed; the same iterations, round-off aside), as a scan's samples are.
 
     Raises:
         ConfigurationError: ``mech`` has no platform, or ``pose`` is not finite.
@@ -239,8 +243,12 @@ def assemble_pose(
                 return np.concatenate([errors, e1]), np.vstack([jacobians, j1])
             return errors, jacobians
 
-        result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale,
-                       stall_window=stall_window)  # fmt: skip
+        fast = compiled_pose_solver(mech, frames) if compiled else None
+        if fast is not None:
+            result = fast.solve(pose, residual, q0, _solver_tol(tol), max_iter, stall_window=stall_window)
+        else:
+            result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale,
+                           stall_window=stall_window)  # fmt: skip
         compute_kinematics(model, data, result.q)
         e_pose = pin.log6(pose.actInv(data.oMf[pid])).vector
         res_pose = (float(np.linalg.norm(e_pose[:3])), float(np.linalg.norm(e_pose[3:])))

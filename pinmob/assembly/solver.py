@@ -119,7 +119,7 @@ class _Problem:
 
     def svd(self, x: _State) -> tuple[Array, Array, Array, Array]:
         """Scaled Jacobian J' (m, k) on the free columns, and U^T e, s, V^T of its SVD (s < RCOND s_1 zeroed)."""
-        # in Fortran order, as the free columns picked out are (numpy's): the products below (J' dz) keep their round-off
+        # in Fortran order, as numpy's pick of the free columns gives: the products (J' dz) keep their round-off
         js = np.multiply(x.jac, self.col, order="F") if self.every else x.jac[:, self.cols] * self.col
         u, s, vt = svd(js, full_matrices=False)
         return js, u.T @ x.e, np.where(s > RCOND * s[0], s, 0.0), vt

@@ -41,6 +41,7 @@ from pinmob.analysis import (
     limbwise_obstacle,
     motion_types,
     ratio,
+    tied,
 )
 from pinmob.assembly import POSE_COORDS, pose_vector
 from pinmob.model import Mechanism
@@ -197,7 +198,7 @@ def analyse_stack(
         & np.isfinite(distances).all(axis=1)
         & (distance >= DECIDED_FACTOR * NEAR_FACTOR * rtol)
     )
-    closest = np.argmax(distances <= (distance * (1 + 1e-6) + 1e-15)[:, None], axis=1)  # closest_all[0]
+    closest = np.argmax(tied(distances, distance[:, None]), axis=1)  # Singularity.closest_all[0]
     which = np.flatnonzero(decided)
     n = len(qs)
     motion, closest_name = np.full(n, "", object), np.array(names, object)[closest]

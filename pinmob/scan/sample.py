@@ -43,7 +43,7 @@ def assemble_target(
     kind, value = target
     window = STALL_WINDOW if stall_window is None else stall_window
     if kind == "pose":
-        return assemble_pose(mech, value, seed, tol, max_iter=max_iter, stall_window=window)
+        return assemble_pose(mech, value, seed, tol, max_iter=max_iter, stall_window=window, compiled=True)
     if kind == "coords":
         return assemble_coordinates(mech, value[0], value[1], seed, tol, max_iter=max_iter, stall_window=window)
     return assemble_joints(mech, value, seed, tol, max_iter=max_iter)

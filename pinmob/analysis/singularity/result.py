@@ -51,6 +51,14 @@ from pinmob.screw import RTOL, Array
 
 #: Near-singular band: no class present but ``distance < NEAR_FACTOR * rtol``.
 NEAR_FACTOR = 1e3
+#: A distance ties the smallest within this fraction of it plus this much: the round-off of the dimensionless
+#: singular values (two tests both singular at a configuration give ~1e-15 each, in an order round-off decides).
+TIE_RTOL, TIE_ATOL = 1e-6, 1e-13
+
+
+def tied(distances: Any, smallest: Any) -> Any:
+    """Where ``distances`` tie ``smallest`` within round-off (:data:`TIE_RTOL`, :data:`TIE_ATOL`); numbers or arrays."""
+    return distances <= smallest * (1 + TIE_RTOL) + TIE_ATOL
 
 
 @dataclass(frozen=True)
@@ -126,7 +134,7 @@ class Singularity(ReadOnlyArrays):
     @property
     def closest_all(self) -> tuple[str, ...]:
         """Every question whose distance ties the smallest (within round-off): the text's ``closest:``."""
-        return tuple(k for k, v in self.distances.items() if v <= self.distance * (1 + 1e-6) + 1e-15)
+        return tuple(k for k, v in self.distances.items() if tied(v, self.distance))
 
     @property
     def near_band(self) -> float:

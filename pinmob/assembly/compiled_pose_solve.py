@@ -1,0 +1,82 @@
+"""The single-sample solver at a platform pose in one compiled call, where the mechanism allows it.
+
+:func:`compiled_pose_solver` gives a :class:`CompiledPoseSolve` for a mechanism whose loops are its limb tips on
+the platform (no other closure) and whose joints the compiled kinematics computes and integrates
+(:func:`pinmob.model.compiled_kinematics.frame_kinematics`: numba installed, and ``PINMOB_KINEMATICS`` not
+``pinocchio``); else None, and :func:`pinmob.assembly.assemble.assemble_pose` iterates in Python with Pinocchio's
+calls. Both run :func:`pinmob.assembly.solver.solve`'s iterations on the same residual
+(:mod:`pinmob.assembly.pose_solve_kernel`); the last configuration's angles are wrapped as ``solve`` does.
+"""
+
+from __future__ import annotations
+
+import os
+
+import numpy as np
+import pinocchio as pin
+
+from pinmob.assembly.solver import (
+    MAX_STEP,
+    MAX_TRIALS,
+    NEWTON_SWITCH,
+    POLISH_FLOOR,
+    POLISH_GAIN,
+    POLISH_STEPS,
+    RCOND,
+    STALL_GAIN,
+    STALL_WINDOW,
+    ResidualFn,
+    SolverResult,
+)
+from pinmob.model import ENGINE_VARIABLE, Mechanism, frame_kinematics, linear_velocity_mask, wrap_angles
+from pinmob.screw import Array, twist_scaling
+
+
+class CompiledPoseSolve:
+    """:func:`~pinmob.assembly.solver.solve` on a platform-pose residual of ``frames``, in one compiled call."""
+
+    def __init__(self, mech: Mechanism, tables: tuple[Array, ...]) -> None:
+        from pinmob.assembly import pose_solve_kernel  # imports numba: only where the compiled engine runs
+
+        self.model, self.tables, self.kernel = mech.model, tables, pose_solve_kernel
+        self.scale = twist_scaling(mech.length_scale)
+        self.col = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
+
+    def solve(
+        self,
+        pose: pin.SE3,
+        residual: ResidualFn,
+        q0: Array,
+        tol: float,
+        max_iter: int,
+        damping: float = 1e-3,
+        stall_window: int = STALL_WINDOW,
+    ) -> SolverResult:
+        """``solve(model, residual, q0, tol, max_iter, damping, length=L, stall_window=...)``'s result, compiled.
+
+        ``residual``: the same residual in Python (Pinocchio's calls), for the wrapped configuration's residual.
+        """
+        settings = np.array([tol, max_iter, damping, MAX_STEP, POLISH_FLOOR, stall_window, NEWTON_SWITCH,
+                             STALL_GAIN, RCOND, MAX_TRIALS, POLISH_STEPS, POLISH_GAIN], float)  # fmt: skip
+        rt, pt = np.ascontiguousarray(pose.rotation), np.ascontiguousarray(pose.translation)
+        q, worst, it, newton = self.kernel.solve_pose(
+            np.array(q0, float), self.tables, rt, pt, self.scale, self.col, settings
+        )
+        wrapped = wrap_angles(self.model, q)
+        if not np.array_equal(wrapped, q):
+            e = residual(wrapped)[0]
+            q, worst = wrapped, float(np.abs(e).max()) if e.size else 0.0
+        return SolverResult(q, float(worst), int(it + newton), bool(worst <= tol), int(newton))
+
+
+def compiled_pose_solver(mech: Mechanism, frames: list[int]) -> CompiledPoseSolve | None:
+    """The compiled solve of ``mech`` at a pose of ``frames`` (module docstring), or None where it cannot run."""
+    if mech.closures:
+        return None
+    engine = os.environ.get(ENGINE_VARIABLE)
+
+    def build() -> CompiledPoseSolve | None:
+        fast = frame_kinematics(mech.model, frames)
+        return CompiledPoseSolve(mech, fast.tables) if fast.engine == "compiled" and fast.integrable else None
+
+    return mech.memo(("compiled pose solve", tuple(frames), engine), build, transient=True)

@@ -90,10 +90,12 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "kinematics_kernel._unit_columns",
         "kinematics_kernel.frames_kernel",
         "kinematics_kernel.integrate_kernel",  # pin.integrate, compiled into solve_stack
-        "pose_solve_kernel._keep",  # the scan's single-sample solver at a platform pose (its seeding walk)
-        "pose_solve_kernel._project",
+        "pose_solve_kernel._add_half_skew",  # the scan's single-sample solver at a platform pose (its seeding walk)
+        "pose_solve_kernel._keep",
         "pose_solve_kernel._residual",
+        "pose_solve_kernel._scaled_svd",
         "pose_solve_kernel._step_direction",
+        "pose_solve_kernel._trial",
         "pose_solve_kernel.log6_jlog6",
         "pose_solve_kernel.solve_pose",
     ]

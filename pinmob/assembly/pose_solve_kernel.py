@@ -66,24 +66,25 @@ def log6_jlog6(r: Array, p: Array, e: Array, jlog: Array) -> None:
             cm[i, j] = v3 * w[j] + b * w[i] * p[j]
         j3[i, i] += a
         cm[i, i] += wp * b
-    j3[0, 1] -= 0.5 * w[2]
-    j3[0, 2] += 0.5 * w[1]
-    j3[1, 0] += 0.5 * w[2]
-    j3[1, 2] -= 0.5 * w[0]
-    j3[2, 0] -= 0.5 * w[1]
-    j3[2, 1] += 0.5 * w[0]
-    cm[0, 1] -= 0.5 * p[2]
-    cm[0, 2] += 0.5 * p[1]
-    cm[1, 0] += 0.5 * p[2]
-    cm[1, 2] -= 0.5 * p[0]
-    cm[2, 0] -= 0.5 * p[1]
-    cm[2, 1] += 0.5 * p[0]
+    _add_half_skew(w, j3)
+    _add_half_skew(p, cm)
     for i in range(3):
         for j in range(3):
             jlog[i, j] = j3[i, j]
             jlog[3 + i, 3 + j] = j3[i, j]
             jlog[3 + i, j] = 0.0
             jlog[i, 3 + j] = cm[i, 0] * j3[0, j] + cm[i, 1] * j3[1, j] + cm[i, 2] * j3[2, j]
+
+
+@njit
+def _add_half_skew(v: Array, out: Array) -> None:
+    """``out += [v]x / 2`` (the cross-product matrix of ``v``, halved)."""
+    out[0, 1] -= 0.5 * v[2]
+    out[0, 2] += 0.5 * v[1]
+    out[1, 0] += 0.5 * v[2]
+    out[1, 2] -= 0.5 * v[0]
+    out[2, 0] -= 0.5 * v[1]
+    out[2, 1] += 0.5 * v[0]
 
 
 @njit
@@ -141,7 +142,6 @@ def solve_pose(
     m = 6 * nf
     work = (np.empty((1, nf, 3, 3)), np.empty((1, nf, 3)), np.empty((1, nf, 6, nv)), np.empty((0, 6, nv)),
             np.empty((3, 3)), np.empty(3), np.empty(6), np.empty((6, 6)))  # fmt: skip
-    kind, iq, iv = tables[1], tables[3], tables[4]
     q, e, jac = q0.copy(), np.empty(m), np.empty((m, nv))
     tq, te, tj = np.empty(nq), np.empty(m), np.empty((m, nv))  # a trial point
     bq, be, bj = np.empty(nq), np.empty(m), np.empty((m, nv))  # the polish's best trial
@@ -167,17 +167,13 @@ def solve_pose(
                 if kept > window and cost > (1.0 - gain) * history[kept - window - 1]:
                     break
                 it += 1
-                for i in range(m):
-                    for c in range(nv):
-                        js[i, c] = jac[i, c] * col[c]
-                u, s, vt = np.linalg.svd(js, full_matrices=False)
+                s, vt = _scaled_svd(jac, col, e, js, g)
                 if s[0] == 0.0:
                     break
                 s0 = s[0]
                 for k in range(s.shape[0]):
                     if not s[k] > rcond * s0:
                         s[k] = 0.0
-                _project(u, e, g)
                 lam = damping * s0**2 if lam < 0 else lam
                 nu = 2.0
                 accepted = False
@@ -185,10 +181,7 @@ def solve_pose(
                     for k in range(s.shape[0]):
                         y[k] = s[k] / (s[k] ** 2 + lam) * g[k] if s[k] > 0 else 0.0
                     _step_direction(vt, y, s.shape[0], max_step, dz)
-                    for c in range(nv):
-                        dq[c] = dz[c] * col[c]
-                    integrate_kernel(q, dq, kind, iq, iv, tq)
-                    tcost, tworst = _residual(tq, tables, rt, pt, scale, te, tj, work)
+                    tcost, tworst = _trial(q, dz, 1.0, col, dq, tq, te, tj, tables, rt, pt, scale, work)
                     if tcost < cost:
                         predicted = cost
                         for i in range(m):  # the linear model's residual after the step
@@ -212,23 +205,16 @@ def solve_pose(
         else:  # Gauss-Newton steps, backtracking 1, 1/2, 1/4, while a step lowers the cost by 1 - polish_gain
             steps = 0
             while steps < polish_steps and worst > floor:
-                for i in range(m):
-                    for c in range(nv):
-                        js[i, c] = jac[i, c] * col[c]
-                u, s, vt = np.linalg.svd(js, full_matrices=False)
+                s, vt = _scaled_svd(jac, col, e, js, g)
                 if s[0] == 0.0:
                     break
                 s0 = s[0]
-                _project(u, e, g)
                 for k in range(s.shape[0]):
                     y[k] = g[k] / s[k] if s[k] > rcond * s0 else 0.0
                 _step_direction(vt, y, s.shape[0], max_step, dz)
                 best_cost, best_worst, found = cost, worst, False
                 for frac in (1.0, 0.5, 0.25):
-                    for c in range(nv):
-                        dq[c] = frac * dz[c] * col[c]
-                    integrate_kernel(q, dq, kind, iq, iv, tq)
-                    tcost, tworst = _residual(tq, tables, rt, pt, scale, te, tj, work)
+                    tcost, tworst = _trial(q, dz, frac, col, dq, tq, te, tj, tables, rt, pt, scale, work)
                     if tcost < best_cost:
                         _keep(tq, te, tj, bq, be, bj)
                         best_cost, best_worst, found = tcost, tworst, True
@@ -270,10 +256,27 @@ def _keep(q: Array, e: Array, jac: Array, to_q: Array, to_e: Array, to_jac: Arra
 
 
 @njit
-def _project(u: Array, e: Array, g: Array) -> None:
-    """``g = U^T e`` (k,) for U (m, k)."""
+def _scaled_svd(jac: Array, col: Array, e: Array, js: Array, g: Array) -> tuple[Array, Array]:
+    """The scaled Jacobian ``J D`` into ``js``, its singular values and ``V^T``, and ``U^T e`` into ``g``."""
+    for i in range(jac.shape[0]):
+        for c in range(jac.shape[1]):
+            js[i, c] = jac[i, c] * col[c]
+    u, s, vt = np.linalg.svd(js, full_matrices=False)
     for k in range(u.shape[1]):
         acc = 0.0
         for i in range(u.shape[0]):
             acc += u[i, k] * e[i]
         g[k] = acc
+    return s, vt
+
+
+@njit
+def _trial(
+    q: Array, dz: Array, frac: float, col: Array, dq: Array, tq: Array, te: Array, tj: Array, tables: tuple,
+    rt: Array, pt: Array, scale: Array, work: tuple,
+) -> tuple[float, float]:  # fmt: skip
+    """The point ``integrate(q, D (frac dz))`` into ``tq`` with its residual (``te``, ``tj``), cost and ``max |e|``."""
+    for c in range(dz.shape[0]):
+        dq[c] = frac * dz[c] * col[c]
+    integrate_kernel(q, dq, tables[1], tables[3], tables[4], tq)
+    return _residual(tq, tables, rt, pt, scale, te, tj, work)

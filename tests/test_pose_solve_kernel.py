@@ -1,4 +1,4 @@
-"""The single-sample solver at a platform pose compiled (pinmob.assembly.pose_solve_kernel) against the Python loop.
+"""The single-sample solver at a platform pose compiled (``pinmob.assembly.compiled_solve``) against the Python loop.
 
 The truths: Pinocchio's own ``log6`` and ``Jlog6`` (the kernel writes their formulas anew, the coefficients by their
 series at small angles), and :func:`pinmob.assembly.solver.solve` iterating on Pinocchio's calls from the same start
@@ -18,7 +18,7 @@ import pytest
 
 import pinmob
 from pinmob.assembly import assemble_joints, assemble_pose
-from pinmob.assembly.compiled_pose_solve import compiled_pose_solver
+from pinmob.assembly.compiled_solve import compiled_pose_solver
 from pinmob.exceptions import ClosureError
 from pinmob.model import joint_value, linear_velocity_mask
 from pinmob.scan import platform_pose
@@ -43,7 +43,7 @@ def test_log6_and_jlog6_are_pinocchios(angle):
     kernel's series do not, so it is compared to Pinocchio's to 1e-6 there and to 1e-10 elsewhere, and to the
     differences to 1e-7 everywhere.
     """
-    from pinmob.assembly.pose_solve_kernel import log6_jlog6
+    from pinmob.assembly.compiled_solve.pose_solve_kernel import log6_jlog6
 
     rng = np.random.default_rng(int(angle * 1e6) + 7)
     h = 1e-6
@@ -130,7 +130,7 @@ WITHOUT_NUMBA = """
 import sys; sys.modules['numba'] = None
 import pinmob
 from pinmob.assembly import assemble_joints, assemble_pose
-from pinmob.assembly.compiled_pose_solve import compiled_pose_solver
+from pinmob.assembly.compiled_solve import compiled_pose_solver
 from pinmob.scan import platform_pose
 mech = pinmob.load("3-PUU")
 q = pinmob.closed_configuration(mech, "generic")
@@ -176,7 +176,7 @@ def test_a_scan_out_of_reach_gives_the_same_rows_both_ways(monkeypatch):
 
 def test_the_kernels_reference_code_is_the_kinematics_kernels():
     """The kernel names Pinocchio's LOCAL by the kinematics kernel's code (it cannot import that module's face)."""
-    from pinmob.assembly.pose_solve_kernel import LOCAL
+    from pinmob.assembly.compiled_solve.pose_solve_kernel import LOCAL
     from pinmob.model.kinematics_kernel import LOCAL as KERNEL_LOCAL
 
     assert LOCAL == KERNEL_LOCAL

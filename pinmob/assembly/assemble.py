@@ -26,7 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from pinmob.assembly.closure_miss import format_worst, tolerance_hint
-from pinmob.assembly.compiled_pose_solve import compiled_pose_solver
+from pinmob.assembly.compiled_solve import compiled_pose_solver
 from pinmob.assembly.continuation import continuation, held_coordinates
 from pinmob.assembly.reach import reach_note
 from pinmob.assembly.residual import (
@@ -208,7 +208,7 @@ def assemble_pose(
     target on its own, so a symmetric seed of a symmetric mechanism gives a
     symmetric solution), then the closures that are not limb tips. ``stall_window``: the solver's
     (:func:`~pinmob.assembly.solver.solve`). ``compiled``: its iterations in one compiled call where the mechanism
-    allows it (:func:`~pinmob.assembly.compiled_pose_solve.compiled_pose_solver`: no closure besides the limb tips,
+    allows it (:func:`~pinmob.assembly.compiled_solve.compiled_pose_solver`: no closure besides the limb tips,
     numba installed; the same iterations, round-off aside), as a scan's samples are.
 
     Raises:

@@ -5,7 +5,8 @@ the platform (no other closure) and whose joints the compiled kinematics compute
 (:func:`pinmob.model.compiled_kinematics.frame_kinematics`: numba installed, and ``PINMOB_KINEMATICS`` not
 ``pinocchio``); else None, and :func:`pinmob.assembly.assemble.assemble_pose` iterates in Python with Pinocchio's
 calls. Both run :func:`pinmob.assembly.solver.solve`'s iterations on the same residual
-(:mod:`pinmob.assembly.pose_solve_kernel`); the last configuration's angles are wrapped as ``solve`` does.
+(:mod:`pinmob.assembly.compiled_solve.pose_solve_kernel`); the last configuration's angles are wrapped as
+``solve`` does.
 """
 
 from __future__ import annotations
@@ -36,9 +37,9 @@ class CompiledPoseSolve:
     """:func:`~pinmob.assembly.solver.solve` on a platform-pose residual of ``frames``, in one compiled call."""
 
     def __init__(self, mech: Mechanism, tables: tuple[Array, ...]) -> None:
-        from pinmob.assembly import pose_solve_kernel  # imports numba: only where the compiled engine runs
+        from pinmob.assembly.compiled_solve.pose_solve_kernel import solve_pose  # imports numba: only where it runs
 
-        self.model, self.tables, self.kernel = mech.model, tables, pose_solve_kernel
+        self.model, self.tables, self.kernel = mech.model, tables, solve_pose
         self.scale = twist_scaling(mech.length_scale)
         self.col = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
 
@@ -59,9 +60,7 @@ class CompiledPoseSolve:
         settings = np.array([tol, max_iter, damping, MAX_STEP, POLISH_FLOOR, stall_window, NEWTON_SWITCH,
                              STALL_GAIN, RCOND, MAX_TRIALS, POLISH_STEPS, POLISH_GAIN], float)  # fmt: skip
         rt, pt = np.ascontiguousarray(pose.rotation), np.ascontiguousarray(pose.translation)
-        q, worst, it, newton = self.kernel.solve_pose(
-            np.array(q0, float), self.tables, rt, pt, self.scale, self.col, settings
-        )
+        q, worst, it, newton = self.kernel(np.array(q0, float), self.tables, rt, pt, self.scale, self.col, settings)
         wrapped = wrap_angles(self.model, q)
         if not np.array_equal(wrapped, q):
             e = residual(wrapped)[0]

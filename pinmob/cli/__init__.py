@@ -102,6 +102,18 @@ def main(argv: Sequence[str] | None = None) -> int:
             return _run(args)
 
 
+def _interrupted() -> int:
+    """Say so and give status 130, as Ctrl-C, SIGTERM and SIGHUP do.
+
+    CPython marks the process as ended by Ctrl-C when an interrupt went through the evaluation of a string (``exec``
+    or ``eval``: a dataclass made during a lazy import), caught or not, and ends it by SIGINT after this status
+    (-2, not 130: 1 of 32 interrupts at different times of a scan). Evaluating a string clears that mark.
+    """
+    print("pinmob: interrupted", file=sys.stderr)
+    exec("")  # the mark's reset (run_eval_code_obj)
+    return 130
+
+
 @contextlib.contextmanager
 def _stderr_or_null() -> Iterator[None]:
     """Within the block, ``sys.stderr`` is a stream, /dev/null when the process was started with it closed.
@@ -138,8 +150,11 @@ def _run(args: argparse.Namespace) -> int:
             pass
         return 128 + 13
     except KeyboardInterrupt:
-        print("pinmob: interrupted", file=sys.stderr)
-        return 130
+        return _interrupted()
+    except SystemError as exc:  # an interrupt inside a library's C code, which went on (numba loading a kernel)
+        if isinstance(exc.__cause__ or exc.__context__, KeyboardInterrupt):
+            return _interrupted()
+        raise
     except OSError as exc:  # the machine said no (a full disk, a file that cannot be written): one line
         where = f": {exc.filename}" if exc.filename else ""
         print(f"pinmob: error: {exc.strerror or exc}{where}", file=sys.stderr)

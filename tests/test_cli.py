@@ -299,3 +299,48 @@ def test_cli_closed_pipe_is_quiet() -> None:
         os.close(write)
     assert proc.stderr == ""
     assert proc.returncode == 128 + 13  # as a process killed by SIGPIPE reports itself to a shell
+
+
+PROBE = """
+import sys
+from pinmob.cli import _interrupted
+try:
+    exec("raise KeyboardInterrupt")  # an interrupt through a string's evaluation, as in a dataclass made lazily
+except KeyboardInterrupt:
+    raise SystemExit({exit})
+"""
+
+
+def test_an_interrupt_through_an_evaluated_string_still_exits_130(tmp_path: Path) -> None:
+    """CPython marks a process ended by Ctrl-C when a KeyboardInterrupt went through ``exec`` or ``eval`` of a
+    string, caught or not, and kills it by SIGINT after its status (-2 seen by the parent, not 130). The CLI's
+    interrupt exit clears the mark: 130 and its one line. The control, the same exit without it, shows the mark."""
+    for name, exit_with in (("probe", "_interrupted()"), ("control", "130")):
+        (tmp_path / f"{name}.py").write_text(PROBE.format(exit=exit_with))
+    run = [subprocess.run([sys.executable, "-m", name], cwd=tmp_path, capture_output=True, text=True)
+           for name in ("probe", "control")]  # fmt: skip
+    assert (run[0].returncode, run[0].stderr) == (130, "pinmob: interrupted\n")
+    assert run[1].returncode == -2, run[1].stderr
+
+
+@pytest.mark.parametrize("cause", [KeyboardInterrupt, ValueError])
+def test_a_system_error_caused_by_an_interrupt_is_the_interrupt(
+    monkeypatch: pytest.MonkeyPatch, capsys: pytest.CaptureFixture[str], cause: type[BaseException]
+) -> None:
+    """An interrupt inside a library's C code that went on (numba's dispatcher loading a kernel) comes out as a
+    SystemError caused by the KeyboardInterrupt: status 130 and one line. Any other SystemError is not hidden."""
+    from pinmob.cli import COMMANDS
+
+    def interrupted_inside(args: object) -> int:
+        try:
+            raise cause()
+        except BaseException as exc:
+            raise SystemError("<built-in function> returned a result with an exception set") from exc
+
+    monkeypatch.setitem(COMMANDS, "models", interrupted_inside)
+    if cause is KeyboardInterrupt:
+        assert main(["models"]) == 130
+        assert capsys.readouterr().err == "pinmob: interrupted\n"
+    else:
+        with pytest.raises(SystemError):
+            main(["models"])

@@ -37,6 +37,12 @@ Gauss-Newton steps halve the distance at each step and polishing brings it to
 
 Angles. Revolute angles are finally wrapped into (-pi, pi] where the joint
 limits allow it (:func:`pinmob.model.joints.wrap_angles`).
+
+Written twice. The scans' solve at a platform pose runs these iterations in
+compiled code (:func:`pinmob.assembly.compiled_solve.pose_solve_kernel.solve_pose`,
+which cannot call this loop): a change to the rules above is made in both. The
+kernel reads this module's constants; ``tests/test_pose_solve_kernel.py``
+compares the two loops from the same starts.
 """
 
 from __future__ import annotations

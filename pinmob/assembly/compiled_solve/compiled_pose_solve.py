@@ -42,6 +42,9 @@ class CompiledPoseSolve:
         self.model, self.tables, self.kernel = mech.model, tables, solve_pose
         self.scale = twist_scaling(mech.length_scale)
         self.col = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
+        # the kernel's settings: tol, max_iter, damping and the stall window are set per call
+        self.settings = np.array([0.0, 0.0, 0.0, MAX_STEP, POLISH_FLOOR, 0.0, NEWTON_SWITCH, STALL_GAIN, RCOND,
+                                  MAX_TRIALS, POLISH_STEPS, POLISH_GAIN], float)  # fmt: skip
 
     def solve(
         self,
@@ -57,8 +60,8 @@ class CompiledPoseSolve:
 
         ``residual``: the same residual in Python (Pinocchio's calls), for the wrapped configuration's residual.
         """
-        settings = np.array([tol, max_iter, damping, MAX_STEP, POLISH_FLOOR, stall_window, NEWTON_SWITCH,
-                             STALL_GAIN, RCOND, MAX_TRIALS, POLISH_STEPS, POLISH_GAIN], float)  # fmt: skip
+        settings = self.settings.copy()
+        settings[0], settings[1], settings[2], settings[5] = tol, max_iter, damping, stall_window
         rt, pt = np.ascontiguousarray(pose.rotation), np.ascontiguousarray(pose.translation)
         q, worst, it, newton = self.kernel(np.array(q0, float), self.tables, rt, pt, self.scale, self.col, settings)
         wrapped = wrap_angles(self.model, q)

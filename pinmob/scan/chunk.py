@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -27,7 +27,7 @@ from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain,
 from pinmob.scan.group_rows import BatchRow
 from pinmob.scan.refine import minimise, vertex_below
 from pinmob.scan.row_columns import values_and_limits
-from pinmob.scan.sample import MAX_ITER, _evaluate
+from pinmob.scan.sample import MAX_ITER, Examined, _evaluate, examine
 from pinmob.scan.sample import STALL_WINDOW as STALL_WINDOW  # re-exported: defined here before sample.py
 from pinmob.scan.sample import assemble_target as assemble_target
 from pinmob.scan.sample import evaluate as evaluate
@@ -57,6 +57,7 @@ class _Sample:
     Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave,
     ``kinematics`` the world joint Jacobians and platform placement at q when the predictor computed them. A
     sample the batch decided may keep its row as a :class:`~pinmob.scan.group_rows.BatchRow` (:meth:`_Chunk.complete`).
+    A refinement's trial point (:meth:`_Chunk.trial`) has its distances and ``examined``, not its row yet.
     """
 
     row: dict[str, Any] | BatchRow
@@ -64,6 +65,7 @@ class _Sample:
     distances: Mapping[str, float]
     known: dict[str, float] | None = None
     kinematics: tuple[Array, Array] | None = None
+    examined: Examined | None = None
 
     @property
     def distance(self) -> float:
@@ -79,9 +81,16 @@ class _Chunk:
         self.rtol = spec.reference_rtol(mech)  # spec.rtol; with spec.cad, raised for the gaps (refinement's)
         self.band = NEAR_FACTOR * self.rtol
 
-    def sample(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None) -> _Sample:
-        """Sample t assembled from ``seed`` and analysed on its own."""
-        return self.finish(self.assemble(t, seed, max_iter, stall_window))
+    def trial(self, t: float, seed: Array) -> _Sample:
+        """A refinement's trial point t, assembled from ``seed``: its distances only, on the platform's scans.
+
+        Its row (:meth:`finish`, which reuses what the distances computed) is made for the point a search keeps.
+        """
+        pending = self.assemble(t, seed, REFINE_ITER, SOLVER_STALL)
+        if pending.q is None or not self.spec.platform:
+            return self.finish(pending)
+        examined = examine(self.mech, pending.q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
+        return replace(pending, distances=examined[2].distances, examined=examined)
 
     def assemble(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None,
                  closed: Array | None = None, target: tuple[str, Any] | None = None,
@@ -159,7 +168,8 @@ class _Chunk:
             if isinstance(analysed, (int, np.integer)):
                 assert batch is not None  # the entry's batch
                 return _Sample(BatchRow(int(analysed), head, reason, values), q, SampleDistances(batch, int(analysed)))
-            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol)
+            row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol,
+                                                   pending.examined)  # fmt: skip
             return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)
 
@@ -273,9 +283,7 @@ class _Chunk:
 
         def f(t: float) -> float:
             near = min(assembled, key=lambda u: abs(u - t))
-            trial = trials[t] = self.sample(
-                t, assembled[near], REFINE_ITER, SOLVER_STALL
-            )  # warm-started at the nearest
+            trial = trials[t] = self.trial(t, assembled[near])  # warm-started at the nearest
             if trial.q is not None:
                 assembled[t] = trial.q
             return value(trial)
@@ -298,7 +306,7 @@ class _Chunk:
                             stop=0.1 * self.rtol, xtol=REFINE_XTOL, max_eval=REFINE_EVALS)  # fmt: skip
         if best.t == k:
             return _Sample({}, None, {})
-        return self._mark(trials[best.t], best.t)
+        return self._mark(self.finish(trials[best.t]), best.t)  # a trial point's row (a sample's: finished)
 
     @staticmethod
     def _mark(s: _Sample, t: float) -> _Sample:

@@ -9,7 +9,7 @@ from __future__ import annotations
 from typing import Any
 
 from pinmob.analysis import Configuration, generic_constraint_rank, platform_mobility
-from pinmob.analysis.singularity import singularity  # its subpackage's face: pinmob.analysis cannot export it
+from pinmob.analysis.singularity import Singularity, singularity  # its face: pinmob.analysis cannot export it
 from pinmob.assembly import assemble_coordinates, assemble_joints, assemble_pose, pose_vector
 from pinmob.model import CLOSURE_TOL, Mechanism
 from pinmob.scan.scan_spec import POSE_COORDS
@@ -61,15 +61,40 @@ def evaluate(
     return _evaluate(mech, q, rtol, generic_rank, closure_tol)[0]
 
 
-def _evaluate(
+#: A configuration examined for its distances (:func:`examine`): its state, the rank tolerance there, its singularity.
+Examined = tuple[Configuration, float, Singularity]
+
+
+def examine(
     mech: Mechanism, q: Array, rtol: float, generic_rank: int | None, closure_tol: float = CLOSURE_TOL
-) -> tuple[dict[str, Any], dict[str, float]]:
-    """The row and the distance of each question, from one :class:`Configuration` (one kinematics computation)."""
+) -> Examined:
+    """The :class:`Configuration` at q, the rank tolerance used there and its singularity (with the distances).
+
+    A refinement's trial point needs its distances only; the row of the one kept reuses all three
+    (:func:`_evaluate` with ``examined``), the quantities the singularity computed cached on the configuration.
+    """
     g = generic_constraint_rank(mech, rtol=rtol) if generic_rank is None else generic_rank
     conf = Configuration(mech, q, closure_tol=closure_tol)
     cad = closure_tol > CLOSURE_TOL  # loops closed to CAD accuracy: analyze's rank tolerance at this residual
     rtol = conf.rank_rtol(rtol) if cad else rtol
-    mob, sing = platform_mobility(conf, rtol), singularity(conf, rtol, g)
+    return conf, rtol, singularity(conf, rtol, g)
+
+
+def _evaluate(
+    mech: Mechanism,
+    q: Array,
+    rtol: float,
+    generic_rank: int | None,
+    closure_tol: float = CLOSURE_TOL,
+    examined: Examined | None = None,
+) -> tuple[dict[str, Any], dict[str, float]]:
+    """The row and the distance of each question, from one :class:`Configuration` (one kinematics computation).
+
+    ``examined``: :func:`examine`'s at q, already computed (None: computed here).
+    """
+    conf, rtol, sing = examine(mech, q, rtol, generic_rank, closure_tol) if examined is None else examined
+    cad = closure_tol > CLOSURE_TOL
+    mob = platform_mobility(conf, rtol)
     row: dict[str, Any] = dict(zip(POSE_COORDS, pose_vector(conf.frame_placement(mech.platform_id)).tolist()))
     verdict = dict(
         reachable=True,

@@ -31,7 +31,7 @@ def test_orthogonalised_columns_are_lapacks_svd_and_their_complement_is_orthonor
     columns are added to ones orthogonalised before (the kernel's locked screws, then the actuated ones); the
     complement is orthonormal and orthogonal to every column; the complement of full-rank columns taken as they
     are (the certified path) too."""
-    from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize
+    from pinmob.screw.jacobi import column_rank, complete, orthogonalize
 
     rng = np.random.default_rng(12)
     rtol = 1e-9
@@ -102,7 +102,7 @@ def test_the_kernels_free_twists_span_the_numpy_engines():
 def test_the_round_robin_sweeps_every_pair_once_in_rounds_of_disjoint_pairs():
     """The order of orthogonalize's rotations: every pair j < k of n columns exactly once, consecutive pairs of a
     round sharing no column (the table of up to six columns is the function's)."""
-    from pinmob.analysis.batch.jacobi import PAIRS, round_robin
+    from pinmob.screw.jacobi import PAIRS, round_robin
 
     for n in range(10):
         first, second = round_robin(n)
@@ -121,7 +121,7 @@ def test_more_than_six_stacked_wrenches_are_reduced_to_six_columns_with_their_sv
     locked wrenches) the six rows of R of their QR factorisation: LAPACK's singular values of all the rows, and a
     complement orthogonal to every row."""
     from pinmob.analysis.batch.batch_kernel import stack_columns
-    from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize
+    from pinmob.screw.jacobi import column_rank, complete, orthogonalize
 
     rng = np.random.default_rng(14)
     for _ in range(200):

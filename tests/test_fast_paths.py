@@ -439,9 +439,10 @@ def test_batch_engines_agree():
 
 
 def test_jacobi_svd_is_lapacks():
-    """The compiled loop's one-sided Jacobi SVD (span): LAPACK's singular values, the rank, a null space orthogonal to the rows."""
+    """The compiled loop's one-sided Jacobi SVD (span): LAPACK's singular values, the rank, a null space orthogonal to
+    the rows, and the rotated matrix ``a V = U diag(sv)``, its columns sorted with the values."""
     pytest.importorskip("numba")
-    from pinmob.analysis.batch.jacobi import span
+    from pinmob.screw.jacobi import span
 
     rng = np.random.default_rng(10)
     for _ in range(300):
@@ -459,6 +460,8 @@ def test_jacobi_svd_is_lapacks():
         true_rank = int(np.sum(ref > 1e-10 * scale))
         assert rank == true_rank
         assert np.abs(a @ v[:, true_rank:]).max(initial=0.0) <= 1e-12 * scale
+        assert_allclose(g[:rows], a @ v, atol=1e-12 * scale)
+        assert_allclose(np.linalg.norm(g[:rows], axis=0), sv, atol=1e-13 * scale)
 
 
 def test_batch_without_numba():

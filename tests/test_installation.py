@@ -79,25 +79,28 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "batch_newton_kernel.solve_stack",  # the whole Newton loop in one call, the kernels above inside it
         "batch_newton_kernel.wrap_and_check",
         "batch_stopping.advance",
+        "block_svd.block_svd",  # the single-sample solve's SVD, a block a limb
         "jacobi.column_rank",  # the kernels' Jacobi SVDs
         "jacobi.complete",
         "jacobi.orthogonalize",
         "jacobi.rotation",
         "jacobi.round_robin",
+        "jacobi.span",
         "kinematics_kernel._axis_rotation",  # the predictor's compiled frame kinematics (model/compiled_kinematics)
         "kinematics_kernel._column",
         "kinematics_kernel._quaternion",
         "kinematics_kernel._unit_columns",
         "kinematics_kernel.frames_kernel",
         "kinematics_kernel.integrate_kernel",  # pin.integrate, compiled into solve_stack
-        "pose_solve_kernel._add_half_skew",  # the scan's single-sample solver at a platform pose (its seeding walk)
-        "pose_solve_kernel._keep",
+        "pose_solve_kernel._keep",  # the scan's single-sample solver at a platform pose (its seeding walk)
         "pose_solve_kernel._residual",
         "pose_solve_kernel._scaled_svd",
         "pose_solve_kernel._step_direction",
         "pose_solve_kernel._trial",
-        "pose_solve_kernel.log6_jlog6",
+        "pose_solve_kernel._work",
         "pose_solve_kernel.solve_pose",
+        "se3_log._add_half_skew",
+        "se3_log.log6_jlog6",
     ]
 
 

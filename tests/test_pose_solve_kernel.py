@@ -43,7 +43,7 @@ def test_log6_and_jlog6_are_pinocchios(angle):
     kernel's series do not, so it is compared to Pinocchio's to 1e-6 there and to 1e-10 elsewhere, and to the
     differences to 1e-7 everywhere.
     """
-    from pinmob.assembly.compiled_solve.pose_solve_kernel import log6_jlog6
+    from pinmob.assembly.compiled_solve.se3_log import log6_jlog6
 
     rng = np.random.default_rng(int(angle * 1e6) + 7)
     h = 1e-6
@@ -113,6 +113,62 @@ def test_the_compiled_solve_gives_the_python_loops_verdicts_configurations_and_r
             closed += 1
     # both verdicts met; the 6-UPS closes at every far target (its legs then leave their limits: the warning)
     assert closed >= 12 and (failed >= 1 or robot == "6-UPS")
+
+
+@pytest.mark.parametrize("robot", ["3-PUU", "6-UPS", "3-RPS", "3-UPU"])
+def test_the_solves_jacobian_factorises_by_limbs(robot):
+    """At a platform pose the stacked Jacobian is block-diagonal, a block a limb (its tip's rows, its joints'
+    columns): Pinocchio's frame Jacobians are zero off the blocks at random configurations, and the SVD block by
+    block (one-sided Jacobi) gives numpy's singular values, ``U^T e`` and the damped and pseudo-inverse steps."""
+    from pinmob.assembly.compiled_solve.block_svd import block_svd, frame_blocks
+
+    mech = pinmob.load(robot)
+    model, frames = mech.model, _frames(mech)
+    blocks = frame_blocks(model, frames)
+    rows, rows_at, cols, cols_at = blocks
+    assert len(rows_at) - 1 == len(mech.limbs) and sorted(rows) == list(range(6 * len(frames)))
+    limb_columns = sorted(sorted(model.joints[model.getJointId(j)].idx_v for j in limb.joints) for limb in mech.limbs)
+    assert sorted(cols[a:b].tolist() for a, b in zip(cols_at, cols_at[1:])) == limb_columns  # one-dof joints
+    on = np.zeros((6 * len(frames), model.nv), bool)
+    for b in range(len(rows_at) - 1):
+        on[np.ix_(rows[rows_at[b] : rows_at[b + 1]], cols[cols_at[b] : cols_at[b + 1]])] = True
+    rng = np.random.default_rng(3)
+    data = model.createData()
+    for _ in range(5):
+        q = pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq))
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        jac = np.vstack([pin.getFrameJacobian(model, data, f, pin.LOCAL) for f in frames])
+        assert np.abs(jac[~on]).max() == 0.0
+        jac *= rng.uniform(0.1, 10.0, model.nv)  # column scales
+        e = rng.normal(size=jac.shape[0])
+        s, vt, g = np.empty(len(cols)), np.empty((len(cols), model.nv)), np.empty(len(cols))
+        top = block_svd(jac, e, blocks, s, vt, g)
+        u_ref, s_ref, vt_ref = np.linalg.svd(jac, full_matrices=False)
+        np.testing.assert_allclose(np.sort(s)[::-1], s_ref[: len(s)], rtol=0, atol=1e-13 * s_ref[0])
+        assert top == s.max()
+        lam = 1e-3 * top**2
+        damped = vt.T @ (s / (s**2 + lam) * g)
+        np.testing.assert_allclose(damped, vt_ref.T @ (s_ref / (s_ref**2 + lam) * (u_ref.T @ e)), atol=1e-12)
+        kept = s > 1e-9 * top
+        pinv = vt[kept].T @ (g[kept] / s[kept])
+        np.testing.assert_allclose(pinv, np.linalg.pinv(jac, rcond=1e-9) @ e, atol=1e-11 * np.abs(pinv).max())
+
+
+def test_frames_that_share_joints_are_one_block():
+    """A humanoid's hands and feet share its free-flyer root: one block, factorised whole (LAPACK's). Its base
+    fixed, the feet are two blocks, the hands (both below the chest's joints) still one; two frames on one chain, one."""
+    from pinmob.assembly.compiled_solve.block_svd import frame_blocks
+
+    human = pin.buildSampleModelHumanoid()
+    ends = ["larm_effector_body", "rarm_effector_body", "lleg_effector_body", "rleg_effector_body"]
+    assert frame_blocks(human, [human.getFrameId(name) for name in ends])[1].tolist() == [0]
+    fixed = pin.buildReducedModel(human, [human.getJointId("root_joint")], pin.neutral(human))
+    rows, rows_at, cols, cols_at = frame_blocks(fixed, [fixed.getFrameId(name) for name in ends[2:]])
+    assert rows_at.tolist() == [0, 6, 12] and cols_at.tolist() == [0, 6, 12] and len(set(cols)) == 12
+    assert frame_blocks(fixed, [fixed.getFrameId(name) for name in ends[:2]])[1].tolist() == [0]
+    arm = pin.buildSampleModelManipulator()
+    assert frame_blocks(arm, [arm.getFrameId("wrist1_joint"), arm.getFrameId("effector_body")])[1].tolist() == [0]
 
 
 def test_where_the_compiled_solve_does_not_run(monkeypatch):

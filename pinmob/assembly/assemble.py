@@ -245,7 +245,7 @@ def assemble_pose(
 
         fast = compiled_pose_solver(mech, frames) if compiled else None
         if fast is not None:
-            result = fast.solve(pose, residual, q0, _solver_tol(tol), max_iter, stall_window=stall_window)
+            result = fast.solve(pose, q0, _solver_tol(tol), max_iter, stall_window=stall_window)
         else:
             result = solve(model, residual, q0, tol=_solver_tol(tol), max_iter=max_iter, length=mech.length_scale,
                            stall_window=stall_window)  # fmt: skip

@@ -1,12 +1,17 @@
 """Screw algebra: twists, wrenches, reciprocity, the one rank decision rule, classification.
 
-Pure numpy (LAPACK through numpy's own gufuncs); no pinocchio, no SciPy.
+Pure numpy (LAPACK through numpy's own gufuncs; numba for :mod:`~pinmob.screw.jacobi` only); no pinocchio, no SciPy.
 Submodules: :mod:`~pinmob.screw.algebra` (conventions, shifts, unit scaling),
 :mod:`~pinmob.screw.rank` (:func:`decide_rank`, reciprocal bases, ``rtol`` checks),
 :mod:`~pinmob.screw.bases` (canonical directions, labels, subspace gaps),
-:mod:`~pinmob.screw.classify` (translations, rotations and screws; couples, forces and wrenches).
+:mod:`~pinmob.screw.classify` (translations, rotations and screws; couples, forces and wrenches),
+:mod:`~pinmob.screw.jacobi` (one-sided Jacobi SVDs of small matrices, compiled: its names import numba when
+first read, so that ``import pinmob`` imports no numba).
 """
 
+from typing import TYPE_CHECKING
+
+from pinmob.lazy_names import lazy_getattr
 from pinmob.screw.algebra import (
     Array,
     Mask,
@@ -51,6 +56,14 @@ from pinmob.screw.rank import (
 )
 from pinmob.screw.subgroup import MotionSubgroup, motion_subgroup
 
+if TYPE_CHECKING:
+    from pinmob.screw.jacobi import column_rank, complete, orthogonalize, rotation, span
+
+_LAZY = dict.fromkeys(("column_rank", "complete", "orthogonalize", "rotation", "span"), "pinmob.screw.jacobi")
+
+#: A name of :data:`_LAZY`, its module imported when it is first read (PEP 562).
+__getattr__ = lazy_getattr(__name__, _LAZY)
+
 __all__ = [
     "AMBIGUOUS_MARGIN",
     "AXIS_NAMES",
@@ -72,6 +85,8 @@ __all__ = [
     "classify_twists",
     "classify_wrenches",
     "clean",
+    "column_rank",
+    "complete",
     "cross_columns",
     "decide_rank",
     "decide_ranks",
@@ -80,6 +95,7 @@ __all__ = [
     "motion_subgroup",
     "motion_type",
     "motion_type_of_orthonormal",
+    "orthogonalize",
     "principal_screws",
     "rank_rule",
     "rank_rule_rows",
@@ -87,9 +103,11 @@ __all__ = [
     "reciprocal_twists",
     "reciprocal_wrenches",
     "rotate",
+    "rotation",
     "shift_twists",
     "shift_wrenches",
     "singular_values",
+    "span",
     "subspace_gap",
     "svd",
     "twist_from_paper",

@@ -4,7 +4,7 @@
 :mod:`~pinmob.analysis.batch.batch_kernel` (the numba kernel), :mod:`~pinmob.analysis.batch.batch_numpy`
 (the same in numpy), :mod:`~pinmob.analysis.batch.batch_result` (:class:`BatchResult`),
 :mod:`~pinmob.analysis.batch.motion_kernel` (the motion types, numba) and the compiled linear algebra they share
-(:mod:`~pinmob.analysis.batch.jacobi`, :mod:`~pinmob.analysis.batch.small_matrices`).
+(:mod:`~pinmob.screw.jacobi`, :mod:`~pinmob.analysis.batch.small_matrices`).
 """
 
 from pinmob.analysis.batch.batch_analysis import analyze_batch, analyze_jacobians

@@ -3,12 +3,12 @@
 Per configuration, the same matrices and the same rank rule as
 :func:`pinmob.analyze` (:func:`pinmob.screw.rank.rank_rule`: singular values above
 ``rtol`` times the largest count), with the singular values from one-sided Jacobi
-rotations instead of LAPACK's SVD (:mod:`pinmob.analysis.batch.jacobi`): the
+rotations instead of LAPACK's SVD (:mod:`pinmob.screw.jacobi`): the
 same numbers to round-off (the tests compare them with the numpy path, which calls
 LAPACK). A limb's screws and the stacked wrenches (at most six) are orthogonalised
-as columns (:func:`~pinmob.analysis.batch.jacobi.orthogonalize`, 6 long), the
+as columns (:func:`~pinmob.screw.jacobi.orthogonalize`, 6 long), the
 wrenches reciprocal to them (the complement of their span) by Householder reflections
-(:func:`~pinmob.analysis.batch.jacobi.complete`); more than six stacked wrenches are
+(:func:`~pinmob.screw.jacobi.complete`); more than six stacked wrenches are
 first reduced to six (the R of their QR factorisation:
 :func:`stack_columns`). Per limb, of the eleven
 SVDs a 3-PUU sample took before, only the one of the unit columns is left where it
@@ -24,9 +24,8 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.batch.jacobi import column_rank, complete, orthogonalize
 from pinmob.jit_cache import njit
-from pinmob.screw import Array
+from pinmob.screw import Array, column_rank, complete, orthogonalize
 
 #: Integer array (ranks, DoF).
 Ints = NDArray[np.int64]

@@ -6,7 +6,7 @@ the steps of :func:`pinmob.screw.screw_groups.screw_groups`: the free translatio
 component along them, the principal pitches grouped) and counts them as translations, rotations and screws.
 The same matrices, the same rank rule (singular values above ``tol * max(1, sigma_1)``, the same tolerances)
 and the same pitch grouping; each SVD is the one-sided Jacobi SVD of the batch kernel
-(:func:`pinmob.analysis.batch.jacobi.span`: LAPACK's singular values and singular vectors to
+(:func:`pinmob.screw.jacobi.span`: LAPACK's singular values and singular vectors to
 round-off, no Gram matrix, so no squared condition number), the generalised eigenproblem of the pitches the
 numpy path's reduction (Cholesky, then a cyclic Jacobi eigensolver for the symmetric ``L^-1 a L^-T``, at most
 3 x 3). The labels are the numpy path's (``tests/test_scan_batch.py`` compares them with
@@ -18,10 +18,9 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.analysis.batch.jacobi import span
 from pinmob.analysis.batch.small_matrices import EPS, cholesky, cols, mm, solve, symmetric_eig, tr
 from pinmob.jit_cache import njit
-from pinmob.screw import Array
+from pinmob.screw import Array, span
 
 #: The orthonormality test of :func:`pinmob.screw.classify._orthonormal_span` (``m^T m = c I`` to this).
 GRAM_TOL = 1e-12

@@ -9,9 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.analysis.batch.jacobi import rotation
 from pinmob.jit_cache import njit
-from pinmob.screw import Array
+from pinmob.screw import Array, rotation
 
 #: The unit round-off of a double (an off-diagonal entry below it times both diagonals cannot change them).
 EPS = 2.0**-52

@@ -3,7 +3,8 @@
 - :mod:`~pinmob.assembly.compiled_solve.compiled_pose_solve`: :func:`compiled_pose_solver`, where the mechanism
   allows it (numba installed, no closure besides the limb tips), and :class:`CompiledPoseSolve`;
 - :mod:`~pinmob.assembly.compiled_solve.pose_solve_kernel`: the compiled loop (importing it imports numba: loaded
-  by :class:`CompiledPoseSolve` only).
+  by :class:`CompiledPoseSolve` only), on :mod:`~pinmob.assembly.compiled_solve.se3_log` (``log6`` and ``Jlog6``)
+  and :mod:`~pinmob.assembly.compiled_solve.block_svd` (the Jacobian's SVD a block a limb).
 """
 
 from pinmob.assembly.compiled_solve.compiled_pose_solve import CompiledPoseSolve, compiled_pose_solver

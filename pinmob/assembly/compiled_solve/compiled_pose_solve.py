@@ -26,7 +26,6 @@ from pinmob.assembly.solver import (
     RCOND,
     STALL_GAIN,
     STALL_WINDOW,
-    ResidualFn,
     SolverResult,
 )
 from pinmob.model import ENGINE_VARIABLE, Mechanism, frame_kinematics, linear_velocity_mask, wrap_angles
@@ -36,10 +35,12 @@ from pinmob.screw import Array, twist_scaling
 class CompiledPoseSolve:
     """:func:`~pinmob.assembly.solver.solve` on a platform-pose residual of ``frames``, in one compiled call."""
 
-    def __init__(self, mech: Mechanism, tables: tuple[Array, ...]) -> None:
-        from pinmob.assembly.compiled_solve.pose_solve_kernel import solve_pose  # imports numba: only where it runs
+    def __init__(self, mech: Mechanism, tables: tuple[Array, ...], frames: list[int]) -> None:
+        from pinmob.assembly.compiled_solve.block_svd import frame_blocks  # imports numba: only where it runs
+        from pinmob.assembly.compiled_solve.pose_solve_kernel import solve_pose, worst_at
 
-        self.model, self.tables, self.kernel = mech.model, tables, solve_pose
+        self.model, self.tables, self.kernel, self.worst_at = mech.model, tables, solve_pose, worst_at
+        self.blocks = frame_blocks(mech.model, frames)  # the Jacobian's diagonal blocks: its SVD by blocks
         self.scale = twist_scaling(mech.length_scale)
         self.col = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
         # the kernel's settings: tol, max_iter, damping and the stall window are set per call
@@ -49,7 +50,6 @@ class CompiledPoseSolve:
     def solve(
         self,
         pose: pin.SE3,
-        residual: ResidualFn,
         q0: Array,
         tol: float,
         max_iter: int,
@@ -58,16 +58,17 @@ class CompiledPoseSolve:
     ) -> SolverResult:
         """``solve(model, residual, q0, tol, max_iter, damping, length=L, stall_window=...)``'s result, compiled.
 
-        ``residual``: the same residual in Python (Pinocchio's calls), for the wrapped configuration's residual.
+        The residual is :func:`~pinmob.assembly.assemble.assemble_pose`'s at ``pose``; the wrapped configuration's
+        ``max |e|`` is the kernel's too.
         """
         settings = self.settings.copy()
         settings[0], settings[1], settings[2], settings[5] = tol, max_iter, damping, stall_window
         rt, pt = np.ascontiguousarray(pose.rotation), np.ascontiguousarray(pose.translation)
-        q, worst, it, newton = self.kernel(np.array(q0, float), self.tables, rt, pt, self.scale, self.col, settings)
+        q, worst, it, newton = self.kernel(np.array(q0, float), self.tables, rt, pt, self.scale, self.col, settings,
+                                           self.blocks)  # fmt: skip
         wrapped = wrap_angles(self.model, q)
         if not np.array_equal(wrapped, q):
-            e = residual(wrapped)[0]
-            q, worst = wrapped, float(np.abs(e).max()) if e.size else 0.0
+            q, worst = wrapped, self.worst_at(wrapped, self.tables, rt, pt, self.scale, self.col.shape[0])
         return SolverResult(q, float(worst), int(it + newton), bool(worst <= tol), int(newton))
 
 
@@ -79,6 +80,6 @@ def compiled_pose_solver(mech: Mechanism, frames: list[int]) -> CompiledPoseSolv
 
     def build() -> CompiledPoseSolve | None:
         fast = frame_kinematics(mech.model, frames)
-        return CompiledPoseSolve(mech, fast.tables) if fast.engine == "compiled" and fast.integrable else None
+        return CompiledPoseSolve(mech, fast.tables, frames) if fast.engine == "compiled" and fast.integrable else None
 
     return mech.memo(("compiled pose solve", tuple(frames), engine), build, transient=True)

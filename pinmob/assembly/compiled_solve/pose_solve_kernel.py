@@ -7,10 +7,11 @@ Gauss-Newton polish with its backtracking, and damped steps again where it stall
 ``f`` (the platform's and the tips on other bodies), ``log6(target^-1 oM_f)`` and ``Jlog6 J_f`` (the frame Jacobian
 in its LOCAL axes), position rows divided by L. The kinematics are
 :func:`~pinmob.model.kinematics_kernel.frames_kernel`'s, the moves
-:func:`~pinmob.model.kinematics_kernel.integrate_kernel`'s (Pinocchio's ``integrate``), the rotation
-vector :func:`~pinmob.assembly.batch_newton_kernel.log3`'s; ``log6`` and ``Jlog6`` are Pinocchio's formulas
-(:func:`log6_jlog6`), their coefficients by their series below 0.1 rad. Round-off differs from the Python loop's
-(Pinocchio's calls, numpy's LAPACK and BLAS), not the iterates' limits (``tests/test_pose_solve_kernel.py``).
+:func:`~pinmob.model.kinematics_kernel.integrate_kernel`'s (Pinocchio's ``integrate``), ``log6`` and
+``Jlog6`` :func:`~pinmob.assembly.compiled_solve.se3_log.log6_jlog6`'s (Pinocchio's formulas), the SVD by
+blocks where the Jacobian has them (:mod:`~pinmob.assembly.compiled_solve.block_svd`). Round-off differs from
+the Python loop's (Pinocchio's calls, numpy's LAPACK and BLAS), not the iterates' limits
+(``tests/test_pose_solve_kernel.py``).
 Importing this module imports numba.
 """
 
@@ -18,73 +19,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.assembly.batch_newton_kernel import log3
+from pinmob.assembly.compiled_solve.block_svd import block_svd
+from pinmob.assembly.compiled_solve.se3_log import log6_jlog6
 from pinmob.jit_cache import njit
 from pinmob.model import frames_kernel, integrate_kernel
 from pinmob.screw import Array
 
-#: Below this angle [rad] the coefficients of log6 and Jlog6 are their series (the closed forms lose digits).
-SERIES_BELOW = 0.1
 #: The frame Jacobians' reference: Pinocchio's LOCAL (the code of :data:`pinmob.model.kinematics_kernel.LOCAL`).
 LOCAL = 0
-
-
-@njit
-def log6_jlog6(r: Array, p: Array, e: Array, jlog: Array) -> None:
-    """``log6`` of the placement (r, p) into ``e`` (6,) ([v; w]) and its ``Jlog6`` into ``jlog`` (6, 6).
-
-    With w the rotation vector (angle t) and ``a = (t/2) cot(t/2)``, ``b = (1 - a) / t^2``,
-    ``c = b'(t) / t``: ``v = a p - w x p / 2 + b (w.p) w``; ``Jlog6 = [J3, (C J3); 0, J3]`` with
-    ``J3 = b w w^T + a I + [w]x / 2`` and ``C = (c (w.p) w - (t^2 c + 2 b) p) w^T + b w p^T + b (w.p) I + [p]x / 2``.
-    """
-    w = np.empty(3)
-    log3(r, w)
-    t2 = w[0] * w[0] + w[1] * w[1] + w[2] * w[2]
-    t = np.sqrt(t2)
-    if t < SERIES_BELOW:  # b = 1/12 + t^2/720 + t^4/30240 + t^6/1209600 + ..., c = b' / t
-        b = 1.0 / 12.0 + t2 * (1.0 / 720.0 + t2 * (1.0 / 30240.0 + t2 * (1.0 / 1209600.0 + t2 / 47900160.0)))
-        c = 1.0 / 360.0 + t2 * (1.0 / 7560.0 + t2 * (1.0 / 201600.0 + t2 / 5987520.0))
-    else:
-        half = 0.5 * t
-        sh = np.sin(half)
-        b = 1.0 / t2 - np.cos(half) / (2.0 * t * sh)
-        c = -2.0 / (t2 * t2) + (1.0 + np.sin(t) / t) / (t2 * 4.0 * sh * sh)
-    a = 1.0 - t2 * b
-    wp = w[0] * p[0] + w[1] * p[1] + w[2] * p[2]
-    cross = np.empty(3)  # w x p
-    cross[0], cross[1], cross[2] = w[1] * p[2] - w[2] * p[1], w[2] * p[0] - w[0] * p[2], w[0] * p[1] - w[1] * p[0]
-    for i in range(3):
-        e[i] = a * p[i] - 0.5 * cross[i] + b * wp * w[i]
-        e[3 + i] = w[i]
-    j3 = np.empty((3, 3))
-    cm = np.empty((3, 3))
-    k1, k2 = c * wp, t2 * c + 2.0 * b
-    for i in range(3):
-        v3 = k1 * w[i] - k2 * p[i]
-        for j in range(3):
-            j3[i, j] = b * w[i] * w[j]
-            cm[i, j] = v3 * w[j] + b * w[i] * p[j]
-        j3[i, i] += a
-        cm[i, i] += wp * b
-    _add_half_skew(w, j3)
-    _add_half_skew(p, cm)
-    for i in range(3):
-        for j in range(3):
-            jlog[i, j] = j3[i, j]
-            jlog[3 + i, 3 + j] = j3[i, j]
-            jlog[3 + i, j] = 0.0
-            jlog[i, 3 + j] = cm[i, 0] * j3[0, j] + cm[i, 1] * j3[1, j] + cm[i, 2] * j3[2, j]
-
-
-@njit
-def _add_half_skew(v: Array, out: Array) -> None:
-    """``out += [v]x / 2`` (the cross-product matrix of ``v``, halved)."""
-    out[0, 1] -= 0.5 * v[2]
-    out[0, 2] += 0.5 * v[1]
-    out[1, 0] += 0.5 * v[2]
-    out[1, 2] -= 0.5 * v[0]
-    out[2, 0] -= 0.5 * v[1]
-    out[2, 1] += 0.5 * v[0]
 
 
 @njit
@@ -127,6 +69,7 @@ def solve_pose(
     scale: Array,
     col: Array,
     settings: Array,
+    blocks: tuple,
 ) -> tuple[Array, float, int, int]:
     """The solver's last configuration from ``q0``, its ``max |e|``, its damped and its Gauss-Newton iterations.
 
@@ -134,20 +77,23 @@ def solve_pose(
     joint integrable); the target's rotation ``rt`` and position ``pt``; ``scale`` (6,) of each frame's rows;
     ``col`` (nv,) the column scales D. ``settings``: tol, max_iter, damping, max_step, floor (the polish's),
     stall window, and the solver's constants NEWTON_SWITCH, STALL_GAIN, RCOND, MAX_TRIALS, POLISH_STEPS, POLISH_GAIN.
+    ``blocks``: :func:`~pinmob.assembly.compiled_solve.block_svd.frame_blocks`'s of the frames (the SVD by blocks;
+    none: LAPACK's of the whole).
     """
     tol, max_iter, damping, max_step, floor = settings[0], int(settings[1]), settings[2], settings[3], settings[4]
     window, switch, gain, rcond = int(settings[5]), settings[6], settings[7], settings[8]
     trials, polish_steps, polish_gain = int(settings[9]), int(settings[10]), settings[11]
     nf, nv, nq = tables[7].shape[0], col.shape[0], q0.shape[0]
     m = 6 * nf
-    work = (np.empty((1, nf, 3, 3)), np.empty((1, nf, 3)), np.empty((1, nf, 6, nv)), np.empty((0, 6, nv)),
-            np.empty((3, 3)), np.empty(3), np.empty(6), np.empty((6, 6)))  # fmt: skip
+    work = _work(nf, nv)
     q, e, jac = q0.copy(), np.empty(m), np.empty((m, nv))
     tq, te, tj = np.empty(nq), np.empty(m), np.empty((m, nv))  # a trial point
     bq, be, bj = np.empty(nq), np.empty(m), np.empty((m, nv))  # the polish's best trial
     cost, worst = _residual(q, tables, rt, pt, scale, e, jac, work)
     js = np.empty((m, nv))
-    dz, dq, y, g = np.empty(nv), np.empty(nv), np.empty(nv), np.empty(nv)
+    dz, dq, y = np.empty(nv), np.empty(nv), np.empty(nv)
+    count = blocks[2].shape[0] if blocks[1].shape[0] > 1 else min(m, nv)  # singular values
+    s, vt, g = np.empty(count), np.empty((count, nv)), np.empty(count)
     history = np.empty(max_iter + 1)
     iterations, newton = 0, 0
     if m == 0 or nv == 0:
@@ -167,10 +113,9 @@ def solve_pose(
                 if kept > window and cost > (1.0 - gain) * history[kept - window - 1]:
                     break
                 it += 1
-                s, vt = _scaled_svd(jac, col, e, js, g)
-                if s[0] == 0.0:
+                s0 = _scaled_svd(jac, col, e, js, blocks, s, vt, g)
+                if s0 == 0.0:
                     break
-                s0 = s[0]
                 for k in range(s.shape[0]):
                     if not s[k] > rcond * s0:
                         s[k] = 0.0
@@ -205,10 +150,9 @@ def solve_pose(
         else:  # Gauss-Newton steps, backtracking 1, 1/2, 1/4, while a step lowers the cost by 1 - polish_gain
             steps = 0
             while steps < polish_steps and worst > floor:
-                s, vt = _scaled_svd(jac, col, e, js, g)
-                if s[0] == 0.0:
+                s0 = _scaled_svd(jac, col, e, js, blocks, s, vt, g)
+                if s0 == 0.0:
                     break
-                s0 = s[0]
                 for k in range(s.shape[0]):
                     y[k] = g[k] / s[k] if s[k] > rcond * s0 else 0.0
                 _step_direction(vt, y, s.shape[0], max_step, dz)
@@ -230,6 +174,20 @@ def solve_pose(
                     break
             newton += steps
     return q, worst, iterations, newton
+
+
+@njit
+def _work(nf: int, nv: int) -> tuple:
+    """:func:`_residual`'s work arrays for ``nf`` frames and ``nv`` velocities."""
+    return (np.empty((1, nf, 3, 3)), np.empty((1, nf, 3)), np.empty((1, nf, 6, nv)), np.empty((0, 6, nv)),
+            np.empty((3, 3)), np.empty(3), np.empty(6), np.empty((6, 6)))  # fmt: skip
+
+
+@njit
+def worst_at(q: Array, tables: tuple, rt: Array, pt: Array, scale: Array, nv: int) -> float:
+    """``max |e|`` of :func:`solve_pose`'s residual at q (the solve's last configuration, its angles wrapped)."""
+    nf = tables[7].shape[0]
+    return _residual(q, tables, rt, pt, scale, np.empty(6 * nf), np.empty((6 * nf, nv)), _work(nf, nv))[1]
 
 
 @njit
@@ -256,18 +214,26 @@ def _keep(q: Array, e: Array, jac: Array, to_q: Array, to_e: Array, to_jac: Arra
 
 
 @njit
-def _scaled_svd(jac: Array, col: Array, e: Array, js: Array, g: Array) -> tuple[Array, Array]:
-    """The scaled Jacobian ``J D`` into ``js``, its singular values and ``V^T``, and ``U^T e`` into ``g``."""
+def _scaled_svd(jac: Array, col: Array, e: Array, js: Array, blocks: tuple, s: Array, vt: Array, g: Array) -> float:
+    """The scaled Jacobian ``J D`` into ``js`` and its SVD; returns the largest singular value.
+
+    The singular values into ``s``, ``V^T`` into ``vt`` and ``U^T e`` into ``g``: by blocks where there are
+    (:func:`~pinmob.assembly.compiled_solve.block_svd.block_svd`, the values in block order), else LAPACK's.
+    """
     for i in range(jac.shape[0]):
         for c in range(jac.shape[1]):
             js[i, c] = jac[i, c] * col[c]
-    u, s, vt = np.linalg.svd(js, full_matrices=False)
+    if blocks[1].shape[0] > 1:
+        return block_svd(js, e, blocks, s, vt, g)
+    u, sl, vl = np.linalg.svd(js, full_matrices=False)
+    s[:] = sl
+    vt[:, :] = vl
     for k in range(u.shape[1]):
         acc = 0.0
         for i in range(u.shape[0]):
             acc += u[i, k] * e[i]
         g[k] = acc
-    return s, vt
+    return s[0]
 
 
 @njit

@@ -17,7 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from pinmob.jit_cache import njit
-from pinmob.screw import Array
+from pinmob.screw.algebra import Array
 
 #: Integer array (column orders).
 Ints = NDArray[np.int64]
@@ -51,7 +51,8 @@ def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
     orthogonal to round-off: ``g V = U diag(sv)``; ``sv`` sorted descending, the
     columns of ``v`` (the right singular vectors) sorted alike: the first ``rank``
     span the row space, the others its complement. Columns shorter than
-    round-off of the whole matrix are zero and left alone. ``g`` is overwritten.
+    round-off of the whole matrix are zero and left alone. ``g[:rows]`` is overwritten
+    by ``U diag(sv)`` (its columns sorted alike: ``g[:, j] / sv[j]`` is the j-th left singular vector).
     The rank is :func:`pinmob.screw.rank.rank_rule`'s: the singular values above
     ``rtol`` times the largest (0 when they are all zero).
     """
@@ -94,12 +95,14 @@ def span(g: Array, rows: int, rtol: float, sv: Array, v: Array) -> int:
         for i in range(rows):
             norm += g[i, j] * g[i, j]
         sv[j] = np.sqrt(norm)
-    for j in range(1, p):  # insertion sort, descending, columns of v alike
+    for j in range(1, p):  # insertion sort, descending, columns of v and g alike
         k = j
         while k > 0 and sv[k - 1] < sv[k]:
             sv[k - 1], sv[k] = sv[k], sv[k - 1]
             for i in range(p):
                 v[i, k - 1], v[i, k] = v[i, k], v[i, k - 1]
+            for i in range(rows):
+                g[i, k - 1], g[i, k] = g[i, k], g[i, k - 1]
             k -= 1
     if rows == 0 or sv[0] <= 0.0:
         return 0

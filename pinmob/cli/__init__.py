@@ -114,6 +114,23 @@ def _interrupted() -> int:
     return 130
 
 
+def _caused_by_interrupt(exc: BaseException) -> bool:
+    """True when a KeyboardInterrupt is among the causes of ``exc`` (its ``__cause__`` or ``__context__``, theirs...).
+
+    numba's compiled code interrupted while it calls back into Python (unpickling a kernel's constants on its
+    first call) carries on, and the interrupt comes out wrapped in a SystemError a level: six deep in a scan
+    sent SIGTERM while its batch analysis loaded.
+    """
+    seen: set[int] = set()
+    cause: BaseException | None = exc
+    while cause is not None and id(cause) not in seen:
+        if isinstance(cause, KeyboardInterrupt):
+            return True
+        seen.add(id(cause))
+        cause = cause.__cause__ or cause.__context__
+    return False
+
+
 @contextlib.contextmanager
 def _stderr_or_null() -> Iterator[None]:
     """Within the block, ``sys.stderr`` is a stream, /dev/null when the process was started with it closed.
@@ -152,7 +169,7 @@ def _run(args: argparse.Namespace) -> int:
     except KeyboardInterrupt:
         return _interrupted()
     except SystemError as exc:  # an interrupt inside a library's C code, which went on (numba loading a kernel)
-        if isinstance(exc.__cause__ or exc.__context__, KeyboardInterrupt):
+        if _caused_by_interrupt(exc):
             return _interrupted()
         raise
     except OSError as exc:  # the machine said no (a full disk, a file that cannot be written): one line

@@ -281,11 +281,21 @@ class _Chunk:
         def value(s: _Sample) -> float:
             return (s.distances.get(key, math.inf) if key else s.distance) if s.q is not None else math.inf
 
+        lowest: list[float] = []  # the trial point with the lowest value so far, the one that keeps what it examined
+
         def f(t: float) -> float:
             near = min(assembled, key=lambda u: abs(u - t))
             trial = trials[t] = self.trial(t, assembled[near])  # warm-started at the nearest
             if trial.q is not None:
                 assembled[t] = trial.q
+            if trial.examined is not None:  # one Configuration (and its pin.Data) held per search, not one a trial
+                low = trials[lowest[0]] if lowest else None
+                if low is None or value(trial) < value(low):
+                    if low is not None:
+                        trials[lowest.pop()] = replace(low, examined=None)  # its row, if kept, computed again
+                    lowest.append(t)
+                else:
+                    trials[t] = replace(trial, examined=None)
             return value(trial)
 
         if towards:  # the edge first, by bisection on whether the mechanism assembles: the distance need not

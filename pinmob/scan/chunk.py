@@ -48,6 +48,10 @@ FINITE_COLUMNS = ("finite_dof", "finite_mechanism_dof")
 
 #: Iterations per assembly while refining (the solver converges slowly next to a singularity).
 REFINE_ITER = 100
+#: Trial points of a search that keep what they examined (the lowest): the point kept is nearly always one of
+#: them; its row reuses it (another's is computed again, the same numbers). A Configuration holds a pin.Data
+#: (megabytes for a large model), and a search makes up to ``REFINE_EVALS`` trial points.
+HELD = 8
 
 
 @dataclass
@@ -281,21 +285,19 @@ class _Chunk:
         def value(s: _Sample) -> float:
             return (s.distances.get(key, math.inf) if key else s.distance) if s.q is not None else math.inf
 
-        lowest: list[float] = []  # the trial point with the lowest value so far, the one that keeps what it examined
+        held: list[float] = []  # the trial points that keep what they examined: the HELD lowest
 
         def f(t: float) -> float:
             near = min(assembled, key=lambda u: abs(u - t))
             trial = trials[t] = self.trial(t, assembled[near])  # warm-started at the nearest
             if trial.q is not None:
                 assembled[t] = trial.q
-            if trial.examined is not None:  # one Configuration (and its pin.Data) held per search, not one a trial
-                low = trials[lowest[0]] if lowest else None
-                if low is None or value(trial) < value(low):
-                    if low is not None:
-                        trials[lowest.pop()] = replace(low, examined=None)  # its row, if kept, computed again
-                    lowest.append(t)
-                else:
-                    trials[t] = replace(trial, examined=None)
+            if trial.examined is not None:  # a few Configurations (each holds a pin.Data) per search, not one a trial
+                held.append(t)
+                if len(held) > HELD:
+                    high = max(held, key=lambda u: value(trials[u]))
+                    held.remove(high)
+                    trials[high] = replace(trials[high], examined=None)  # its row, if kept, computed again
             return value(trial)
 
         if towards:  # the edge first, by bisection on whether the mechanism assembles: the distance need not

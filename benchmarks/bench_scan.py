@@ -461,12 +461,13 @@ def floor_loop(mech: pinmob.Mechanism, qs: list[np.ndarray], calls: list[int]) -
 # --- pinmob -----------------------------------------------------------------------------------------------------
 
 
-#: The parts of the engine's time, by the functions cProfile charges (cumulative; the last entry takes the rest).
+#: The parts of the engine's time, by the functions cProfile charges (cumulative: a part's first function
+#: whole, each later one from callers outside the part, a refinement's trial points examined before their row).
 PARTS = {
-    "batched predictor": "solve_poses",
-    "single-sample solver": "assemble_target",
-    "batch analysis": "analyse_stack",
-    "single-sample analysis": "_evaluate",
+    "batched predictor": ("solve_poses",),
+    "single-sample solver": ("assemble_target",),
+    "batch analysis": ("analyse_stack",),
+    "single-sample analysis": ("_evaluate", "examine"),
 }
 
 
@@ -483,10 +484,14 @@ def profile_split(mech: pinmob.Mechanism, spec: ScanSpec) -> dict[str, float]:
     stats = pstats.Stats(prof).stats  # type: ignore[attr-defined]
     total = sum(tt for (_, _, _), (_, _, tt, _, _) in stats.items())
     cum: dict[str, float] = {}
-    for (path, _, name), (_, _, _, ct, _) in stats.items():
-        if name in PARTS.values() and "pinmob" in path:
-            cum[name] = cum.get(name, 0.0) + ct
-    out = {part: cum.get(fn, 0.0) / total for part, fn in PARTS.items()}
+    for (path, _, name), (_, _, _, ct, callers) in stats.items():
+        for part, names in PARTS.items():
+            if name not in names or "pinmob" not in path:
+                continue
+            if name != names[0]:  # its calls from outside the part's functions only (no time counted twice)
+                ct = sum(c[3] for (_, _, caller), c in callers.items() if caller not in names)
+            cum[part] = cum.get(part, 0.0) + ct
+    out = {part: cum.get(part, 0.0) / total for part in PARTS}
     out["rest"] = max(0.0, 1.0 - sum(out.values()))
     return out
 

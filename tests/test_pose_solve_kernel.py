@@ -155,6 +155,34 @@ def test_the_solves_jacobian_factorises_by_limbs(robot):
         np.testing.assert_allclose(pinv, np.linalg.pinv(jac, rcond=1e-9) @ e, atol=1e-11 * np.abs(pinv).max())
 
 
+def test_the_solve_by_blocks_and_by_lapack_agree():
+    """The kernel's two factorisations (the SVD a block a limb, LAPACK's of the whole Jacobian where the frames
+    make one block), from the same starts of the 3-PUU: the same verdicts, configurations and last residuals."""
+    from pinmob.assembly.compiled_solve.block_svd import frame_blocks
+
+    mech = pinmob.load("3-PUU")
+    q = pinmob.closed_configuration(mech, "generic")
+    solver = compiled_pose_solver(mech, _frames(mech))
+    assert solver is not None and len(solver.blocks[1]) == 4  # three blocks
+    whole = pin.buildSampleModelManipulator()
+    one = frame_blocks(whole, [whole.getFrameId("wrist1_joint"), whole.getFrameId("effector_body")])
+    closed = 0
+    for pose in _near_targets(mech, q, 6, seed=5) + _far_targets(mech, q, 6, seed=5):
+        by_blocks = solver.solve(pose, q, 1e-12, 40, stall_window=5)
+        solver.blocks, blocks = one, solver.blocks
+        try:
+            by_lapack = solver.solve(pose, q, 1e-12, 40, stall_window=5)
+        finally:
+            solver.blocks = blocks
+        assert by_blocks.converged == by_lapack.converged
+        if by_blocks.converged:
+            np.testing.assert_allclose(by_blocks.q, by_lapack.q, rtol=0, atol=1e-9)
+            closed += 1
+        else:
+            np.testing.assert_allclose(by_blocks.residual, by_lapack.residual, rtol=1e-6)
+    assert closed >= 6
+
+
 def test_frames_that_share_joints_are_one_block():
     """A humanoid's hands and feet share its free-flyer root: one block, factorised whole (LAPACK's). Its base
     fixed, the feet are two blocks, the hands (both below the chest's joints) still one; two frames on one chain, one."""

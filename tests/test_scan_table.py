@@ -24,7 +24,7 @@ import pytest
 import pinmob
 from pinmob.cli import main
 from pinmob.scan import CHUNK, ScanReport, ScanTable, columns, grid_spec, path_spec, scan, with_finite
-from pinmob.scan.lockstep import run_group
+from pinmob.scan.lockstep import GROUP, LOCAL_GROUP, run_group
 from pinmob.scan.results.output import RowWriter
 from pinmob.scan.results.table import column_type
 from pinmob.scan.scan_run import chunk_groups
@@ -138,6 +138,23 @@ def test_a_group_table_is_the_table_of_its_row_dicts(robot: str, at: str, axes: 
         kinds |= {isinstance(e, BatchRow) for e in rows.entries}
         assert same_table(rows.table(columns(spec)), ScanTable.from_rows(columns(spec), rows.dicts()))
     assert kinds == ({True, False} if mixed else {True})  # with both kinds of row: merged
+
+
+def test_the_rows_do_not_depend_on_the_groups() -> None:
+    """A 3-PUU grid of 40 lines running off the workspace: in groups of ``GROUP`` (a Dask worker's: 32 lines and 8),
+    of ``LOCAL_GROUP`` (this process's: all 40 in one) and of 7, the same table (unreachable and refined rows too)."""
+    assert GROUP < 40 <= LOCAL_GROUP
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", [("x", -0.16, 0.16, 40), ("y", -0.05, 0.05, 4)])
+    names = columns(spec)
+    tables = {}
+    for size in (GROUP, LOCAL_GROUP, 7):
+        groups = list(chunk_groups(mech, spec, first_alone=False, size=size))
+        assert [len(g) for g in groups][:2] == {GROUP: [32, 8], LOCAL_GROUP: [40], 7: [7, 7]}[size]
+        tables[size] = ScanTable.concat([run_group(mech, spec, g).table(names) for g in groups], names)
+    rows = list(tables[GROUP].rows())
+    assert any(not r["reachable"] for r in rows) and any(r["refined"] for r in rows) and len(rows) > 160
+    assert same_table(tables[GROUP], tables[LOCAL_GROUP]) and same_table(tables[GROUP], tables[7])
 
 
 def test_a_table_writes_every_kind_of_value_as_the_csv_module_does(tmp_path: Path) -> None:

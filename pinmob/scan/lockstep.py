@@ -51,10 +51,16 @@ from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.scan_spec import ScanSpec
 from pinmob.screw import Array, Mask
 
-#: Chunks per group (samples assembled in lockstep: up to GROUP per step), the unit of work sent to a Dask worker.
+#: Chunks per group sent to a Dask worker (samples assembled in lockstep: up to GROUP per step), its unit of work.
 #: Each step has a cost of its own (its Python and compiled calls): a 21 x 21 grid in process runs 21 steps with 32,
 #: 42 with 16 (about a tenth of the 3-PUU's time).
 GROUP = 32
+
+#: Chunks per group in the process that runs the scan (:func:`pinmob.scan.scan_run.chunk_groups`): more lines per step
+#: than a worker's group, where no other worker waits for the groups. A 41 x 41 grid runs 41 steps in one group,
+#: not 82 in a group of 32 lines and one of 9 (the 3-PUU's, in process: about a tenth less time). A group holds its
+#: samples until its table is made: up to 64 lines of at most 128 samples.
+LOCAL_GROUP = 64
 
 #: A chunk to run: (start, stop, seed) (:func:`pinmob.scan.seeding_walk.chunk_seeds`).
 Job = tuple[int, int, Array]

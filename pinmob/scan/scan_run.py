@@ -10,8 +10,9 @@ first sample only), and gives each chunk its seed; every chunk then runs from
 its seed, in this process or on a Dask worker (:mod:`pinmob.parallel`), so
 ``workers=N`` gives the rows of ``workers=1``, and each sample costs at most
 ``1 + 1/STRIDE`` assemblies plus two per chunk (its neighbours on the line, for
-the refinement). The chunks run in groups (:func:`chunk_groups`: up to ``GROUP``; the first
-chunk alone when its pace decides where the others run), each group as one job: with the
+the refinement). The chunks run in groups (:func:`chunk_groups`: up to ``GROUP`` on a Dask worker,
+``LOCAL_GROUP`` in this process; the first chunk alone when its pace decides where the others run), each group as
+one job: with the
 batched engine (``spec.engine``, the default) its chunks' samples are assembled in lockstep and analysed in one batch
 (:mod:`pinmob.scan.lockstep`, :mod:`pinmob.scan.batch_rows`), the single-sample analysis
 (:func:`pinmob.analysis.singularity.classification.singularity`, one kinematics computation per
@@ -50,7 +51,7 @@ from pinmob.output_files import check_target
 from pinmob.parallel import Engine, Lost
 from pinmob.scan.chain_scan import CHAIN_COLUMNS, value_columns
 from pinmob.scan.chunk import FINITE_COLUMNS
-from pinmob.scan.lockstep import GROUP, Job, run_group
+from pinmob.scan.lockstep import GROUP, LOCAL_GROUP, Job, run_group
 from pinmob.scan.results.output import RowWriter
 from pinmob.scan.results.scan_report import ScanReport, Summary, describe, scan_meta
 from pinmob.scan.results.table import ScanTable
@@ -67,16 +68,17 @@ CAD_COLUMNS = ("residual", "rank_rtol")
 CLUSTER_MIN_SECONDS = 10.0
 
 
-def chunk_groups(mech: Mechanism, spec: ScanSpec, first_alone: bool = True) -> Iterator[list[Job]]:
-    """The chunks of :func:`~pinmob.scan.seeding_walk.chunk_seeds` in groups of up to ``GROUP``, each run as one job (:func:`run_group`).
+def chunk_groups(mech: Mechanism, spec: ScanSpec, first_alone: bool = True, size: int = GROUP) -> Iterator[list[Job]]:
+    """The chunks of :func:`~pinmob.scan.seeding_walk.chunk_seeds` in groups of up to ``size``, each run as one job (:func:`run_group`).
 
     With ``first_alone``, the first chunk is a group of its own (:class:`ScanRun` times it to decide where the
-    others run). The rows do not depend on the groups.
+    others run). ``size``: ``GROUP`` for Dask workers, ``LOCAL_GROUP`` in this process. The rows do not depend on
+    the groups.
     """
     group: list[Job] = []
     for job in chunk_seeds(mech, spec):
         group.append(job)
-        if len(group) == GROUP or (first_alone and job[0] == 0):
+        if len(group) == size or (first_alone and job[0] == 0):
             yield group
             group = []
     if group:
@@ -86,7 +88,7 @@ def chunk_groups(mech: Mechanism, spec: ScanSpec, first_alone: bool = True) -> I
 def scan_tables(mech: Mechanism, spec: ScanSpec) -> Iterator[ScanTable]:
     """The scan's rows computed in this process, a table per group (what :func:`scan` does with one worker)."""
     names = columns(spec)
-    for group in chunk_groups(mech, spec, first_alone=False):
+    for group in chunk_groups(mech, spec, first_alone=False, size=LOCAL_GROUP):
         yield run_group(mech, spec, group).table(names)
 
 
@@ -142,7 +144,8 @@ class ScanRun:
         names = columns(spec)
         disable = (None if spec.size >= 50 else True) if self.progress is None else not self.progress
         bar = tqdm(total=spec.size, disable=disable, unit="sample", desc=f"scan {self.mech.name}", leave=False)
-        groups = chunk_groups(self.mech, spec, first_alone=not self.engine.in_process)  # in process: no pace needed
+        local = self.engine.in_process  # in process: no pace needed, and the larger groups
+        groups = chunk_groups(self.mech, spec, first_alone=not local, size=LOCAL_GROUP if local else GROUP)
         try:
             first = next(groups, None)
             if first is None:

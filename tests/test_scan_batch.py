@@ -16,6 +16,7 @@ import math
 import subprocess
 import sys
 from dataclasses import replace
+from types import SimpleNamespace
 
 import pytest
 
@@ -382,7 +383,7 @@ def test_the_rows_joint_values_and_limits_column_wise_are_the_per_sample_ones():
 
     from pinmob.model.joints import outside_limits
     from pinmob.scan.chain_scan import joint_row, value_joints
-    from pinmob.scan.row_columns import joint_rows, limits_of
+    from pinmob.scan.row_columns import joint_rows, limits_of, values_and_limits
 
     rng = np.random.default_rng(5)
     for name in ("3-PUU", "6-UPS", "Delta"):
@@ -399,6 +400,10 @@ def test_the_rows_joint_values_and_limits_column_wise_are_the_per_sample_ones():
         assert any(want_limits[1])
         want_rows = [None if q is None else joint_row(mech, joints, q, t) for q, t in zip(qs, targets)]
         assert joint_rows(mech, joints, qs, targets) == want_rows
+        samples = [SimpleNamespace(q=q, known=None if q is None else t or {}) for q, t in zip(qs, targets)]
+        got = values_and_limits(mech, joints, samples)  # the joint values as rows of one table (ValueRow)
+        assert [(None if v is None else dict(v), limits) for v, limits in got] == list(zip(want_rows, want_limits))
+        assert {type(v).__name__ for v, _ in got} == {"ValueRow", "NoneType"}
     assert limits_of(mech.model, [None]) == [None] and joint_rows(mech, joints, [None], [None]) == [None]
 
 

@@ -128,16 +128,20 @@ def same_table(a: ScanTable, b: ScanTable) -> bool:
 def test_a_group_table_is_the_table_of_its_row_dicts(robot: str, at: str, axes: list[Any], mixed: bool) -> None:
     """The table a group makes with the batch's rows kept as its columns (:meth:`GroupRows.table`) is the table of
     its row dicts (:meth:`ScanTable.from_rows` of :meth:`GroupRows.dicts`): the same arrays, types and masks."""
-    from pinmob.scan.group_rows import BatchRow
+    from pinmob.scan.group_rows import BatchRow, Head
+    from pinmob.scan.row_columns import ValueRow
 
     mech = pinmob.load(robot)
     spec = grid_spec(mech, at, axes)
-    kinds = set()
+    kinds, columnar = set(), set()
     for group in chunk_groups(mech, spec, first_alone=False):
         rows = run_group(mech, spec, group)
         kinds |= {isinstance(e, BatchRow) for e in rows.entries}
+        ours = [e for e in rows.entries if isinstance(e, BatchRow)]
+        columnar |= {isinstance(e.head, Head) and isinstance(e.values, ValueRow) for e in ours}
         assert same_table(rows.table(columns(spec)), ScanTable.from_rows(columns(spec), rows.dicts()))
     assert kinds == ({True, False} if mixed else {True})  # with both kinds of row: merged
+    assert True in columnar  # heads and joint values kept as rows of the group's arrays, read as its columns
 
 
 def test_the_rows_do_not_depend_on_the_groups() -> None:

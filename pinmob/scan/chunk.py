@@ -24,7 +24,7 @@ from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model import Mechanism, outside_limits
 from pinmob.scan.batch_rows import Analysed, BatchRows, SampleDistances, analyse_stack
 from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain, value_columns
-from pinmob.scan.group_rows import BatchRow
+from pinmob.scan.group_rows import BatchRow, Head, head_dict
 from pinmob.scan.refine import minimise, vertex_below
 from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.sample import MAX_ITER, Examined, _evaluate, examine
@@ -64,7 +64,7 @@ class _Sample:
     A refinement's trial point (:meth:`_Chunk.trial`) has its distances and ``examined``, not its row yet.
     """
 
-    row: dict[str, Any] | BatchRow
+    row: dict[str, Any] | BatchRow | Head
     q: Array | None
     distances: Mapping[str, float]
     known: dict[str, float] | None = None
@@ -98,17 +98,22 @@ class _Chunk:
 
     def assemble(self, t: float, seed: Array, max_iter: int = MAX_ITER, stall_window: int | None = None,
                  closed: Array | None = None, target: tuple[str, Any] | None = None,
-                 params: dict[str, float] | None = None) -> _Sample:  # fmt: skip
+                 params: dict[str, float] | Head | None = None) -> _Sample:  # fmt: skip
         """Sample t assembled from ``seed``: a finished row when it does not assemble, else its head and q.
 
         ``closed``: its closed configuration, already found (:mod:`pinmob.scan.lockstep`'s predictor, whose
         targets give no joint value: without ``target`` and ``spec.cad``, the target is not built);
-        ``target``, ``params``: ``spec.target(t)`` and ``spec.params(t)``, already computed (None: computed here).
+        ``target``, ``params``: ``spec.target(t)`` and ``spec.params(t)``, already computed (None: computed here;
+        a :class:`~pinmob.scan.group_rows.Head`: sample t's head, kept as the row of an assembled sample of a
+        platform scan until :meth:`finish`).
         """
-        params = self.spec.params(t) if params is None else params
-        head = {"index": int(math.floor(t + 1e-9)), **params, "refined": False}
         if closed is not None and target is None and self.spec.platform and not self.spec.cad:
+            head = params if isinstance(params, Head) else self._head(t, params)
             return _Sample(head, closed, {}, {})  # nothing to check (opened) nor to report
+        kept = params if isinstance(params, Head) and self.spec.platform else None  # an assembled sample's head
+        params = params.line_params() if isinstance(params, Head) else params
+        params = self.spec.params(t) if params is None else params
+        head = self._head(t, params)
         target = self.spec.target(t, params) if target is None else target
         known = target[1] if target[0] == "joints" else target[1][1] if target[0] == "coords" else {}
 
@@ -129,10 +134,17 @@ class _Chunk:
         except PinmobError as exc:
             reason = str(exc) if not self.spec.platform else unreachable_reason(exc, self.mech, self.spec.closure_tol)
         if reason is None:
-            return _Sample(head, q, {}, dict(known))
+            return _Sample(head if kept is None else kept, q, {}, dict(known))
         if not self.spec.platform:
             return _Sample(head | unreachable_chain(reason), None, {})
         return _Sample(head | unreachable_row(target, reason) | values(), None, {})
+
+    def _head(self, t: float, params: dict[str, float] | Head | None) -> dict[str, Any]:
+        """Sample t's head as a dict: ``index``, its line parameters (``params``, or computed here), ``refined``."""
+        if isinstance(params, Head):
+            return params.dict()
+        params = self.spec.params(t) if params is None else params
+        return {"index": int(math.floor(t + 1e-9)), **params, "refined": False}
 
     def opened(self, q: Array) -> str | None:
         """Why q is refused, or None: assembled with CAD gaps held (``spec.cad``), the file's loops open too far.
@@ -157,12 +169,14 @@ class _Chunk:
         whole number: the sample's entry in ``batch``, which decided it; its row is then a
         :class:`~pinmob.scan.group_rows.BatchRow` (its verdicts left in the batch's columns).
         """
-        head, q, known = pending.row, pending.q, pending.known
+        q, known = pending.q, pending.known
         if q is None or known is None:
             return pending
-        assert isinstance(head, dict)  # an assembled sample's head
+        assert not isinstance(pending.row, BatchRow)  # an assembled sample's head
+        head = pending.row
         values = joint_row(self.mech, self.spec.values, q, known) if values is None else values
         if not self.spec.platform:
+            head = head_dict(head)
             head.update(values)
             row, distances = evaluate_chain(self.mech, q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
         else:
@@ -174,7 +188,7 @@ class _Chunk:
                 return _Sample(BatchRow(int(analysed), head, reason, values), q, SampleDistances(batch, int(analysed)))
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol,
                                                    pending.examined)  # fmt: skip
-            return _Sample({**head, **row, "reason": reason, **values}, q, distances)  # one dict built
+            return _Sample({**head_dict(head), **row, "reason": reason, **values}, q, distances)  # one dict built
         return _Sample(head | row, q, distances)
 
     def analysed(self, samples: list[_Sample]) -> list[Analysed | None]:
@@ -234,9 +248,9 @@ class _Chunk:
             for sample in [done[k] for k in range(start, stop)] + kept:
                 assert isinstance(sample.row, dict)  # no batch rows with finite DoF (lockstep.run_group)
                 sample.row.update(self.finite(sample.q))
-        rows: list[tuple[float, bool, dict[str, Any] | BatchRow]] = [(float(k), False, done[k].row)
+        rows: list[tuple[float, bool, dict[str, Any] | BatchRow]] = [(float(k), False, _finished(done[k].row))
                                                                     for k in range(start, stop)]  # fmt: skip
-        rows += [(float(_dict(e.row)["_t"]), True, e.row) for e in kept]
+        rows += [(float(_dict(e.row)["_t"]), True, _dict(e.row)) for e in kept]
         rows.sort(key=lambda r: (r[0], r[1]))
         for *_, row in rows:
             if isinstance(row, dict):
@@ -356,9 +370,15 @@ def _seed(sample: _Sample, fallback: Array) -> Array:
     return fallback if sample.q is None else sample.q
 
 
-def _dict(row: dict[str, Any] | BatchRow) -> dict[str, Any]:
+def _dict(row: dict[str, Any] | BatchRow | Head) -> dict[str, Any]:
     """A row that is a dict (a trial point's; any row without a batch given to :meth:`_Chunk.complete`)."""
     assert isinstance(row, dict), "a row dict"
+    return row
+
+
+def _finished(row: dict[str, Any] | BatchRow | Head) -> dict[str, Any] | BatchRow:
+    """A finished row (:meth:`_Chunk.finish`): a dict or a batch's row, not a head alone."""
+    assert not isinstance(row, Head), "a finished row"
     return row
 
 

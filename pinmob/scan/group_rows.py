@@ -16,20 +16,51 @@ import numpy as np
 
 from pinmob.scan.batch_rows import BatchRows
 from pinmob.scan.results.table import ScanTable
+from pinmob.scan.row_columns import ValueRow
+from pinmob.screw import Array
+
+
+@dataclass(frozen=True, slots=True)
+class Head:
+    """A sample's head (``index``, the line parameters, ``refined`` False) kept as its row of the group's columns.
+
+    ``params``: the names of the line parameters and their (B, A) values (:meth:`ScanSpec.param_columns
+    <pinmob.scan.scan_spec.ScanSpec.param_columns>` of the group's samples), the sample's at row ``at``.
+    :meth:`GroupRows.table` reads the heads of the batch's rows as those columns; :meth:`dict` makes one.
+    """
+
+    index: int
+    params: tuple[list[str], Array]
+    at: int
+
+    def line_params(self) -> dict[str, float]:
+        """The sample's line parameters (:meth:`ScanSpec.params_of <pinmob.scan.scan_spec.ScanSpec.params_of>`'s)."""
+        names, values = self.params
+        return dict(zip(names, values[self.at].tolist()))
+
+    def dict(self) -> dict[str, Any]:
+        """The head as the row dict's first keys."""
+        return {"index": self.index, **self.line_params(), "refined": False}
+
+
+def head_dict(head: dict[str, Any] | Head) -> dict[str, Any]:
+    """A head as a dict (a :class:`Head` made into one)."""
+    return head.dict() if isinstance(head, Head) else head
 
 
 @dataclass
 class BatchRow:
     """A row the batch decided: its head, reason and joint values, and its entry ``at`` in the batch's columns.
 
-    The head: ``index``, the line parameters, ``refined``; the reason: the joints outside their limits, or empty;
-    the verdicts are the batch's columns' entries.
+    The head: ``index``, the line parameters, ``refined`` (a dict, or a :class:`Head`); the reason: the joints
+    outside their limits, or empty; the joint values: a dict or a :class:`~pinmob.scan.row_columns.ValueRow`; the
+    verdicts are the batch's columns' entries.
     """
 
     at: int
-    head: dict[str, Any]
+    head: dict[str, Any] | Head
     reason: str
-    values: dict[str, float]
+    values: dict[str, float] | ValueRow
 
 
 @dataclass
@@ -43,7 +74,7 @@ class GroupRows:
         """The rows as dicts (a batch row: its head, the batch's verdicts, the reason, the joint values)."""
         batch = self.batch
         return [
-            e if isinstance(e, dict) else {**e.head, **_row(batch, e.at), "reason": e.reason, **e.values}
+            e if isinstance(e, dict) else {**head_dict(e.head), **_row(batch, e.at), "reason": e.reason, **e.values}
             for e in self.entries
         ]
 
@@ -59,9 +90,10 @@ class GroupRows:
         plain = [e for e in self.entries if isinstance(e, dict)]
         at = np.array([e.at for e in ours], np.int64)
         columns: dict[str, Any] = {"reason": [e.reason for e in ours]}
-        for dicts in ([e.head for e in ours], [e.values for e in ours]):  # the same keys in every row
-            keys = [n for n in names if n in dicts[0] and n not in self.batch.columns and n not in columns]
-            columns.update(_transposed(dicts, keys))
+        heads, values = [e.head for e in ours], [e.values for e in ours]
+        known = set(self.batch.columns)  # each dict's other keys, the same in every row: read in one pass
+        columns.update(_head_columns(heads) or _transposed([head_dict(h) for h in heads], names, known | set(columns)))
+        columns.update(_value_columns(values) or _transposed(values, names, known | set(columns)))
         for name in names:
             if name in self.batch.columns:
                 columns[name] = self.batch.columns[name][at]
@@ -82,8 +114,34 @@ def _row(batch: BatchRows | None, at: int) -> dict[str, Any]:
     return batch.row(at)
 
 
-def _transposed(dicts: list[dict[str, Any]], keys: list[str]) -> dict[str, list[Any]]:
-    """The values of ``keys`` in ``dicts`` (each has them all), column by column, read in one pass."""
+def _head_columns(heads: list[dict[str, Any] | Head]) -> dict[str, Any] | None:
+    """The columns of heads that are all :class:`Head` rows of one group's columns, as arrays (else None)."""
+    first = heads[0]
+    if not isinstance(first, Head) or not all(isinstance(h, Head) and h.params is first.params for h in heads):
+        return None
+    names, values = first.params
+    at = np.fromiter((h.at for h in heads), np.int64, len(heads))  # type: ignore[union-attr]
+    index = np.fromiter((h.index for h in heads), np.int64, len(heads))  # type: ignore[union-attr]
+    picked = values[at]
+    return {"index": index, **{n: picked[:, j].copy() for j, n in enumerate(names)}, "refined": np.zeros(len(at), bool)}
+
+
+def _value_columns(values: list[dict[str, float] | ValueRow]) -> dict[str, Any] | None:
+    """The columns of joint values that are all :class:`ValueRow` rows of one table, as arrays (else None)."""
+    first = values[0]
+    if not isinstance(first, ValueRow) or not all(isinstance(v, ValueRow) and v.table is first.table for v in values):
+        return None
+    names, table = first.table
+    picked = table[np.fromiter((v.at for v in values), np.int64, len(values))]  # type: ignore[union-attr]
+    return {n: picked[:, j].copy() for j, n in enumerate(names)}
+
+
+def _transposed(dicts: list[Any], names: list[str], known: set[str]) -> dict[str, list[Any]]:
+    """The values of the columns ``names`` in ``dicts`` (each has the same keys), column by column, in one pass.
+
+    The columns are those of ``names`` the first dict has and ``known`` does not (those already read).
+    """
+    keys = [n for n in names if n in dicts[0] and n not in known]
     if len(keys) < 2:
         return {key: [d[key] for d in dicts] for key in keys}
     return dict(zip(keys, map(list, zip(*map(itemgetter(*keys), dicts)))))

@@ -45,7 +45,7 @@ from pinmob.blas import one_blas_thread
 from pinmob.model import Mechanism
 from pinmob.scan.batch_rows import Analysed
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
-from pinmob.scan.group_rows import BatchRow, GroupRows
+from pinmob.scan.group_rows import BatchRow, GroupRows, Head
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.scan_spec import ScanSpec
@@ -118,17 +118,19 @@ class _Lockstep:
     """A group's chunks assembled in lockstep (:func:`run_group`): their samples so far and the state of each line.
 
     The targets of all the samples the group assembles (``samples``) are built at once, as vectors
-    (:meth:`ScanSpec.pose_targets`, with their :meth:`ScanSpec.params`).
+    (:meth:`ScanSpec.pose_targets`, with their :meth:`ScanSpec.param_columns`).
     """
 
     def __init__(self, predictor: Predictor, chunks: list[_Chunk], seeds: list[Array], samples: list[int]) -> None:
         spec = predictor.spec
         self.predictor, self.chunks, self.kind = predictor, chunks, spec.target_kind
-        self.params = dict(zip(samples, spec.params_of(samples)))
-        self.row = {k: i for i, k in enumerate(self.params)}
-        self.poses = spec.pose_targets(list(self.params), list(self.params.values()))
+        ks = list(dict.fromkeys(samples))
+        self.row = {k: i for i, k in enumerate(ks)}
+        #: the samples' line parameters, a row per sample (as ``poses``): their heads are rows of them (:class:`Head`)
+        self.params = spec.param_columns(ks)
+        self.poses = spec.pose_targets(ks, self.params)
         #: the joint values the targets give (:attr:`Predictor.joints`), a row per sample as ``poses``
-        self.joints = spec.joint_targets(list(self.params), list(self.params.values())) if predictor.joints else None
+        self.joints = spec.joint_targets(ks, self.params) if predictor.joints else None
         self.pending: list[dict[int, _Sample]] = [{} for _ in chunks]
         self.predicted: set[tuple[int, int]] = set()  # (chunk, sample) closed by the predictor
         self.seeds: dict[tuple[int, int], Array] = {}  # (chunk, sample): its warm start, where the predictor closed it
@@ -175,13 +177,14 @@ class _Lockstep:
                 found[tried[j]] = (closed.q[j], closed.jacobians[j], closed.platform[j])
         for (c, k, seed), got in zip(work, found):
             chunk, pending = self.chunks[c], self.pending[c]
+            head = Head(k, self.params, self.row[k])
             if got is not None:  # the target built where it gives joint values: the sample's known values
-                target = chunk.spec.target(k, self.params[k]) if self.joints is not None else None
-                sample = chunk.assemble(k, got[0], closed=got[0], target=target, params=self.params[k])
+                target = chunk.spec.target(k, head.line_params()) if self.joints is not None else None
+                sample = chunk.assemble(k, got[0], closed=got[0], target=target, params=head)
                 if predictor.mech is chunk.mech:  # not on a model with CAD gaps held (spec.cad)
                     sample.kinematics = got[1:]
             else:
-                sample = chunk.assemble(k, seed, params=self.params[k])
+                sample = chunk.assemble(k, seed, params=head)
             pending[k] = sample
             if secant:
                 previous = pending.get(k - 1)

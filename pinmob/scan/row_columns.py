@@ -10,6 +10,7 @@ dicts, :meth:`GroupRows.dicts`, without making them).
 
 from __future__ import annotations
 
+from collections.abc import Iterator, Mapping
 from typing import Any
 
 import numpy as np
@@ -50,10 +51,50 @@ def limits_of(model: pin.Model, qs: list[Array | None], tol: float = 1e-9) -> li
     return [None if q is None else outside_limits(model, q, tol) if next(flagged) else () for q in qs]
 
 
-def values_and_limits(mech: Mechanism, joints: tuple[str, ...], samples: list[Any]) -> list[tuple[Any, Any]]:
+class ValueRow(Mapping[str, float]):
+    """One sample's :func:`~pinmob.scan.chain_scan.joint_row`, row ``at`` of a table of many: a dict when read.
+
+    ``table``: the columns (``q_<joint>``) and their (S, J) values, a row per sample. A group's table reads the
+    batch's rows' values as its columns (:meth:`pinmob.scan.group_rows.GroupRows.table`), without a dict a row.
+    """
+
+    __slots__ = ("table", "at", "_dict")
+
+    def __init__(self, table: tuple[tuple[str, ...], Array], at: int) -> None:
+        self.table, self.at = table, at
+        self._dict: dict[str, float] | None = None
+
+    def _values(self) -> dict[str, float]:
+        if self._dict is None:
+            names, values = self.table
+            self._dict = dict(zip(names, values[self.at].tolist()))
+        return self._dict
+
+    def __getitem__(self, key: str) -> float:
+        return self._values()[key]
+
+    def __iter__(self) -> Iterator[str]:
+        return iter(self.table[0])
+
+    def __len__(self) -> int:
+        return len(self.table[0])
+
+
+def values_and_limits(
+    mech: Mechanism, joints: tuple[str, ...], samples: list[Any]
+) -> list[tuple[Mapping[str, float] | None, tuple[str, ...] | None]]:
     """Per sample (``.q``, ``.known``: :class:`pinmob.scan.chunk._Sample`), :func:`joint_rows` and :func:`limits_of`.
 
-    None and None for a sample not assembled (``known`` None: a finished row).
+    None and None for a sample not assembled (``known`` None: a finished row). Where each joint has one coordinate,
+    the joint values are :class:`ValueRow` rows of one table (the same values).
     """
     qs = [s.q if s.known is not None else None for s in samples]
-    return list(zip(joint_rows(mech, joints, qs, [s.known for s in samples]), limits_of(mech.model, qs)))
+    closed = [q for q in qs if q is not None]
+    columns, where = joint_coordinates(mech.model, tuple(joints), mech.model.nq)
+    if where is None or not closed:
+        values: list[Mapping[str, float] | None] = list(joint_rows(mech, joints, qs, [s.known for s in samples]))
+    else:
+        table = (columns, np.asarray(closed, float)[:, list(where)])
+        rows = iter(range(len(closed)))
+        values = [None if q is None else ValueRow(table, next(rows)) for q in qs]
+    return list(zip(values, limits_of(mech.model, qs)))

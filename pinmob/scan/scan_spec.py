@@ -56,6 +56,9 @@ from pinmob.screw import RTOL, Array, check_rtol
 
 KINDS = ("pose", "joints", "coords", "grid")
 
+#: A scan's line parameters at many samples (:meth:`ScanSpec.param_columns`): their names and (B, A) values.
+ParamColumns = tuple[list[str], Array]
+
 #: Samples per chunk of a path, and coarse step (in samples) of the walk that seeds the chunks.
 CHUNK, STRIDE = 32, 8
 #: Samples per chunk of a grid's line: a line of up to this many samples is one chunk, seeded at its first sample
@@ -201,9 +204,14 @@ class ScanSpec:
 
     def params_of(self, ts: Sequence[float]) -> list[dict[str, float]]:
         """:meth:`params` at each of ``ts``, the same values (the same arithmetic), computed over them at once."""
+        names, values = self.param_columns(ts)
+        return [dict(zip(names, row)) for row in values.tolist()]
+
+    def param_columns(self, ts: Sequence[float]) -> ParamColumns:
+        """:meth:`params_of` as columns: the parameters' names and their (B, A) values, a row per t."""
         t = np.asarray(ts, float)
         if self.kind != "grid":
-            return [{"s": s} for s in (t / (self.samples - 1) if self.samples > 1 else 0.0 * t).tolist()]
+            return ["s"], (t / (self.samples - 1) if self.samples > 1 else 0.0 * t)[:, None]
         counts = np.array([a[3] for a in self.axes])
         r = t // counts[-1]
         steps = np.empty((len(t), len(counts)))
@@ -215,8 +223,7 @@ class ScanSpec:
             raise ValueError(f"sample {t[np.flatnonzero(left)[0]]} is beyond the grid's {self.size} samples")
         lo, hi = np.array([a[1] for a in self.axes]), np.array([a[2] for a in self.axes])
         values = np.where(counts > 1, lo + (hi - lo) * steps / np.maximum(counts - 1, 1), lo)
-        names = ["grid_" + a[0] for a in self.axes]
-        return [dict(zip(names, row)) for row in values.tolist()]
+        return ["grid_" + a[0] for a in self.axes], values
 
     def target(self, t: float, params: dict[str, float] | None = None) -> tuple[str, Any]:
         """``("pose", SE3)``, ``("joints", {name: value})`` or ``("coords", (pose, joints))`` at sample t.
@@ -238,19 +245,19 @@ class ScanSpec:
         ma, mb = pin.SE3(np.asarray(self.a)), pin.SE3(np.asarray(self.b))
         return "pose", ma * pin.exp6(s * pin.log6(ma.actInv(mb)))
 
-    def pose_targets(self, ts: Sequence[float], params: Sequence[dict[str, float]] | None = None) -> Array:
+    def pose_targets(self, ts: Sequence[float], params: ParamColumns | None = None) -> Array:
         """(B, 6) pose coordinates :data:`POSE_COORDS` the targets at samples ``ts`` give (NaN: not given).
 
         The vectors of :meth:`target` without its poses and dicts: a ``pose`` target's coordinates (a pose path's
         through :func:`~pinmob.assembly.reach.pose_vector`), a ``coords`` target's given pose coordinates (its
         joint values: :meth:`joint_targets`); a joint path's targets give none (every row NaN).
-        ``params``: :meth:`params` at each t, already computed (None: computed here).
+        ``params``: :meth:`param_columns` at ``ts``, already computed (None: computed here).
         """
         if self.kind == "joints":
             return np.full((len(ts), 6), np.nan)
-        params = self.params_of(ts) if params is None else params
+        names, values = self.param_columns(ts) if params is None else params
         if self.kind == "pose":
-            return np.array([pose_vector(self.target(t, p)[1]) for t, p in zip(ts, params)])
+            return np.array([pose_vector(self.target(t, {"s": s})[1]) for t, s in zip(ts, values[:, 0].tolist())])
         out = np.full((len(ts), 6), np.nan)
         for c, v in self.held:
             if c in POSE_COORDS:
@@ -260,10 +267,9 @@ class ScanSpec:
         if not cols:
             return out
         if self.kind == "grid":
-            names = ["grid_" + self.varied[i] for i in varied]
-            out[:, cols] = [[p[name] for name in names] for p in params]
+            out[:, cols] = values[:, [names.index("grid_" + self.varied[i]) for i in varied]]
         else:  # a coordinate path: c(s) = (1 - s) c_A + s c_B, as target's
-            s = np.array([p["s"] for p in params])
+            s = values[:, 0]
             out[:, cols] = (1 - s)[:, None] * np.asarray(self.a)[varied] + s[:, None] * np.asarray(self.b)[varied]
         return out
 
@@ -276,19 +282,21 @@ class ScanSpec:
             return ()
         return tuple(c for c in (*self.varied, *(c for c, _ in self.held)) if c not in POSE_COORDS)
 
-    def joint_targets(self, ts: Sequence[float], params: Sequence[dict[str, float]] | None = None) -> Array:
-        """(B, J) the values of :attr:`target_joints` the targets at samples ``ts`` give (as :meth:`target`'s)."""
-        params = self.params_of(ts) if params is None else params
+    def joint_targets(self, ts: Sequence[float], params: ParamColumns | None = None) -> Array:
+        """(B, J) the values of :attr:`target_joints` the targets at samples ``ts`` give (as :meth:`target`'s).
+
+        ``params``: :meth:`param_columns` at ``ts``, already computed (None: computed here).
+        """
+        names, values = self.param_columns(ts) if params is None else params
         held = dict(self.held)
-        s = np.array([p.get("s", 0.0) for p in params])  # a path's parameter (a grid has none: unused)
         out = np.empty((len(ts), len(self.target_joints)))
         for i, c in enumerate(self.target_joints):
             if c in held:
                 out[:, i] = held[c]
             elif self.kind == "grid":
-                out[:, i] = [p["grid_" + c] for p in params]
+                out[:, i] = values[:, names.index("grid_" + c)]
             else:  # a path, element by element as target's
-                j = i if self.kind == "joints" else self.varied.index(c)
+                j, s = (i if self.kind == "joints" else self.varied.index(c)), values[:, 0]
                 out[:, i] = (1 - s) * np.asarray(self.a)[j] + s * np.asarray(self.b)[j]
         return out
 

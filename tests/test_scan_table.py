@@ -279,6 +279,22 @@ def test_json_rows_of_columns_of_any_array_type_are_each_row_dumped_by_orjson() 
     assert table.json_lines() == b",\n".join(orjson.dumps(row) for row in rows)
 
 
+def test_json_number_columns_written_from_their_arrays_are_each_row_dumped_by_orjson() -> None:
+    """A number or boolean column with a value in every row is written from its array (orjson's numpy encoder): the
+    bytes of each row's dict of Python values, for floats of every exponent and the non-finite ones, whole numbers to
+    2**62 and booleans (a column with a missing value: from its list)."""
+    import orjson
+
+    rng = np.random.default_rng(3)
+    n = 400
+    x = rng.normal(size=n) * 10.0 ** rng.integers(-300, 300, n)
+    x[:8] = [np.nan, np.inf, -np.inf, 0.0, -0.0, 5e-324, 1.7976931348623157e308, 0.1]
+    data = {"index": rng.integers(-(2**62), 2**62, n), "x": x, "reachable": rng.random(n) > 0.5}
+    table = ScanTable.from_columns(["index", "x", "reachable"], data)
+    rows = [{k: v for k, v in zip(data, values)} for values in zip(*(a.tolist() for a in data.values()))]
+    assert table.json_lines() == b",\n".join(orjson.dumps(row) for row in rows)
+
+
 @pytest.mark.parametrize("names", [["x", "x"], ["x", 1]])
 def test_a_table_refuses_repeated_or_non_text_column_names(names: list[Any]) -> None:
     """A table's columns are distinct names: a repeated one or one that is not text (which a JSON object's key

@@ -54,7 +54,7 @@ REFINE_ITER = 100
 HELD = 8
 
 
-@dataclass
+@dataclass(slots=True)
 class _Sample:
     """A sample or trial point of a chunk: its row, configuration (None: unreachable) and distances.
 

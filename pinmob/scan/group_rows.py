@@ -20,7 +20,7 @@ from pinmob.scan.row_columns import ValueRow
 from pinmob.screw import Array
 
 
-@dataclass(frozen=True, slots=True)
+@dataclass(slots=True)
 class Head:
     """A sample's head (``index``, the line parameters, ``refined`` False) kept as its row of the group's columns.
 

@@ -249,9 +249,12 @@ class ScanTable:
         """Each row's value of column ``name`` as JSON (orjson; None, NaN and infinities as null)."""
         import orjson
 
-        values, array = self.column(name), self.data[name]
+        array = self.data[name]
         if array.dtype.kind in "biuf" and array.ndim == 1:  # numbers, booleans and null: no comma inside a value
-            return orjson.dumps(values)[1:-1].split(b",")
+            if self.missing(name) is None:  # the array itself: orjson writes its numbers as those of its list
+                return orjson.dumps(np.ascontiguousarray(array), option=orjson.OPT_SERIALIZE_NUMPY)[1:-1].split(b",")
+            return orjson.dumps(self.column(name))[1:-1].split(b",")
+        values = self.column(name)
         if set(map(type, values)) <= {str, type(None)}:  # text: a few distinct values
             text = {v: orjson.dumps(v) for v in set(values)}
             return [text[v] for v in values]

@@ -117,7 +117,7 @@ class PoseProblem:
         # what depends only on the mechanism and the kinematics engine asked for: computed
         # once per mechanism (a scan makes one problem for its seeding walk and one per group of chunks)
         shape = mech.memo("pose problem", lambda: _Shape(mech), transient=True)
-        self.frames, self.mask = shape.frames, shape.mask
+        self.frames, self.mask, self.frame_mask = shape.frames, shape.mask, shape.frame_mask
         self.col = np.concatenate([shape.col_q, [self.length if f < 3 else 1.0 for f in self.free]])
         self.free_array = np.array(self.free, np.int64)
         #: The columns of the steps: ``col`` with the joints ``fixed`` (velocity indices: a target's joint values,
@@ -243,6 +243,7 @@ class _Shape:
         for i, frame in enumerate(self.frames):
             for j in list(model.supports[model.frames[frame].parentJoint])[1:]:
                 self.mask[i, 0, joints[j].idx_v : joints[j].idx_v + joints[j].nv] = 1.0
+        self.frame_mask = np.ascontiguousarray(self.mask[:, 0])  # (F, nv), as the compiled kernels take it
         self.col_q = np.where(linear_velocity_mask(model), mech.length_scale, 1.0)
         self.vector_space = all(joint.shortname() in VECTOR_JOINTS for joint in joints[1:])
         self.angles = np.flatnonzero(angle_mask(model))
@@ -303,7 +304,7 @@ def _solve_compiled(
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     best_full, best_frames = problem.empty_kinematics(n)
     numbers = np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
-    active, mask = np.arange(n), np.ascontiguousarray(problem.mask[:, 0])
+    active, mask = np.arange(n), problem.frame_mask
     if problem.fast.integrable:  # the whole loop in one compiled call (no Python per iteration)
         kernel.solve_stack(q, p, *problem.fast.tables, mask, problem.step_col, problem.free_array, problem.length,
                            numbers, stall_window, max_iter, problem.vector_space, best, best_q, best_p, history,

@@ -115,6 +115,8 @@ class Predictor:
         """
         poses = self.seed_poses(poses, seeds)
         starts = seeds if starts is None else starts
+        if not isinstance(kinds, str) and len(set(kinds)) == 1:  # one kind for all (the same rows)
+            kinds = kinds[0]
         if self.joints:
             assert joints is not None, "the targets give joint values"
             starts = np.array(starts, float)

@@ -401,9 +401,9 @@ def test_the_rows_joint_values_and_limits_column_wise_are_the_per_sample_ones():
         want_rows = [None if q is None else joint_row(mech, joints, q, t) for q, t in zip(qs, targets)]
         assert joint_rows(mech, joints, qs, targets) == want_rows
         samples = [SimpleNamespace(q=q, known=None if q is None else t or {}) for q, t in zip(qs, targets)]
-        got = values_and_limits(mech, joints, samples)  # the joint values as rows of one table (ValueRow)
+        got = values_and_limits(mech, joints, samples)  # the joint values as rows of one table (ArrayRow)
         assert [(None if v is None else dict(v), limits) for v, limits in got] == list(zip(want_rows, want_limits))
-        assert {type(v).__name__ for v, _ in got} == {"ValueRow", "NoneType"}
+        assert {type(v).__name__ for v, _ in got} == {"ArrayRow", "NoneType"}
     assert limits_of(mech.model, [None]) == [None] and joint_rows(mech, joints, [None], [None]) == [None]
 
 

@@ -129,7 +129,7 @@ def test_a_group_table_is_the_table_of_its_row_dicts(robot: str, at: str, axes: 
     """The table a group makes with the batch's rows kept as its columns (:meth:`GroupRows.table`) is the table of
     its row dicts (:meth:`ScanTable.from_rows` of :meth:`GroupRows.dicts`): the same arrays, types and masks."""
     from pinmob.scan.group_rows import BatchRow, Head
-    from pinmob.scan.row_columns import ValueRow
+    from pinmob.scan.row_columns import ArrayRow
 
     mech = pinmob.load(robot)
     spec = grid_spec(mech, at, axes)
@@ -138,7 +138,7 @@ def test_a_group_table_is_the_table_of_its_row_dicts(robot: str, at: str, axes: 
         rows = run_group(mech, spec, group)
         kinds |= {isinstance(e, BatchRow) for e in rows.entries}
         ours = [e for e in rows.entries if isinstance(e, BatchRow)]
-        columnar |= {isinstance(e.head, Head) and isinstance(e.values, ValueRow) for e in ours}
+        columnar |= {isinstance(e.head, Head) and isinstance(e.values, ArrayRow) for e in ours}
         assert same_table(rows.table(columns(spec)), ScanTable.from_rows(columns(spec), rows.dicts()))
     assert kinds == ({True, False} if mixed else {True})  # with both kinds of row: merged
     assert True in columnar  # heads and joint values kept as rows of the group's arrays, read as its columns

@@ -26,7 +26,7 @@ rows are those of the single-sample path, the figures to round-off
 
 from __future__ import annotations
 
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -45,6 +45,7 @@ from pinmob.analysis import (
 )
 from pinmob.assembly import POSE_COORDS, pose_vector
 from pinmob.model import Mechanism
+from pinmob.scan.row_columns import ArrayRow
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw import Array, Mask
 
@@ -121,41 +122,17 @@ class BatchRows:
 
     def distances_of(self, i: int) -> dict[str, float]:
         """Sample i's distance of each question."""
-        return dict(zip(self.questions, self.distances[i].tolist(), strict=True))
+        return dict(self.distance_row(i))
+
+    def distance_row(self, i: int) -> ArrayRow:
+        """:meth:`distances_of` as a row of the batch's array, made into a dict when first read."""
+        return ArrayRow(self.questions, self.distances, i)
 
     def analysed(self, where: Sequence[int | None] | None = None) -> list[Analysed | None]:
         """Per entry of ``where`` (default: per sample, its own where decided), its row and distances, or None."""
         if where is None:
             where = [i if d else None for i, d in enumerate(self.decided.tolist())]
         return [None if i is None else (self.row(i), self.distances_of(i)) for i in where]
-
-
-class SampleDistances(Mapping[str, float]):
-    """A batch sample's distance of each question (:meth:`BatchRows.distances_of`), made when first read.
-
-    Most decided samples' distances are never read one by one (:meth:`pinmob.scan.chunk._Chunk.complete` screens
-    them on the batch's array), so no dict is made for them.
-    """
-
-    __slots__ = ("_batch", "_at", "_dict")
-
-    def __init__(self, batch: BatchRows, at: int) -> None:
-        self._batch, self._at = batch, at
-        self._dict: dict[str, float] | None = None
-
-    def _values(self) -> dict[str, float]:
-        if self._dict is None:
-            self._dict = self._batch.distances_of(self._at)
-        return self._dict
-
-    def __getitem__(self, key: str) -> float:
-        return self._values()[key]
-
-    def __iter__(self) -> Iterator[str]:
-        return iter(self._batch.questions)
-
-    def __len__(self) -> int:
-        return len(self._batch.questions)
 
 
 def analyse(

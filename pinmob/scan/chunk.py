@@ -22,7 +22,7 @@ from pinmob.assembly import STALL_WINDOW as SOLVER_STALL
 from pinmob.assembly import check_closed, format_worst
 from pinmob.exceptions import ClosureError, PinmobError
 from pinmob.model import Mechanism, outside_limits
-from pinmob.scan.batch_rows import Analysed, BatchRows, SampleDistances, analyse_stack
+from pinmob.scan.batch_rows import Analysed, BatchRows, analyse_stack
 from pinmob.scan.chain_scan import evaluate_chain, joint_row, unreachable_chain, value_columns
 from pinmob.scan.group_rows import BatchRow, Head, head_dict
 from pinmob.scan.refine import minimise, vertex_below
@@ -139,10 +139,8 @@ class _Chunk:
             return _Sample(head | unreachable_chain(reason), None, {})
         return _Sample(head | unreachable_row(target, reason) | values(), None, {})
 
-    def _head(self, t: float, params: dict[str, float] | Head | None) -> dict[str, Any]:
+    def _head(self, t: float, params: dict[str, float] | None) -> dict[str, Any]:
         """Sample t's head as a dict: ``index``, its line parameters (``params``, or computed here), ``refined``."""
-        if isinstance(params, Head):
-            return params.dict()
         params = self.spec.params(t) if params is None else params
         return {"index": int(math.floor(t + 1e-9)), **params, "refined": False}
 
@@ -185,7 +183,7 @@ class _Chunk:
             reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
             if isinstance(analysed, (int, np.integer)):
                 assert batch is not None  # the entry's batch
-                return _Sample(BatchRow(int(analysed), head, reason, values), q, SampleDistances(batch, int(analysed)))
+                return _Sample(BatchRow(int(analysed), head, reason, values), q, batch.distance_row(int(analysed)))
             row, distances = analysed or _evaluate(self.mech, q, self.spec.rtol, self.spec.generic_rank, tol,
                                                    pending.examined)  # fmt: skip
             return _Sample({**head_dict(head), **row, "reason": reason, **values}, q, distances)  # one dict built

@@ -16,7 +16,7 @@ import numpy as np
 
 from pinmob.scan.batch_rows import BatchRows
 from pinmob.scan.results.table import ScanTable
-from pinmob.scan.row_columns import ValueRow
+from pinmob.scan.row_columns import ArrayRow
 from pinmob.screw import Array
 
 
@@ -53,14 +53,14 @@ class BatchRow:
     """A row the batch decided: its head, reason and joint values, and its entry ``at`` in the batch's columns.
 
     The head: ``index``, the line parameters, ``refined`` (a dict, or a :class:`Head`); the reason: the joints
-    outside their limits, or empty; the joint values: a dict or a :class:`~pinmob.scan.row_columns.ValueRow`; the
+    outside their limits, or empty; the joint values: a dict or a :class:`~pinmob.scan.row_columns.ArrayRow`; the
     verdicts are the batch's columns' entries.
     """
 
     at: int
     head: dict[str, Any] | Head
     reason: str
-    values: dict[str, float] | ValueRow
+    values: dict[str, float] | ArrayRow
 
 
 @dataclass
@@ -91,7 +91,7 @@ class GroupRows:
         at = np.array([e.at for e in ours], np.int64)
         columns: dict[str, Any] = {"reason": [e.reason for e in ours]}
         heads, values = [e.head for e in ours], [e.values for e in ours]
-        known = set(self.batch.columns)  # each dict's other keys, the same in every row: read in one pass
+        known = set(self.batch.columns)  # the batch's own columns: not read from the heads or values
         columns.update(_head_columns(heads) or _transposed([head_dict(h) for h in heads], names, known | set(columns)))
         columns.update(_value_columns(values) or _transposed(values, names, known | set(columns)))
         for name in names:
@@ -116,24 +116,23 @@ def _row(batch: BatchRows | None, at: int) -> dict[str, Any]:
 
 def _head_columns(heads: list[dict[str, Any] | Head]) -> dict[str, Any] | None:
     """The columns of heads that are all :class:`Head` rows of one group's columns, as arrays (else None)."""
-    first = heads[0]
-    if not isinstance(first, Head) or not all(isinstance(h, Head) and h.params is first.params for h in heads):
+    ours = [h for h in heads if isinstance(h, Head) and h.params is heads[0].params]  # type: ignore[union-attr]
+    if len(ours) < len(heads):
         return None
-    names, values = first.params
-    at = np.fromiter((h.at for h in heads), np.int64, len(heads))  # type: ignore[union-attr]
-    index = np.fromiter((h.index for h in heads), np.int64, len(heads))  # type: ignore[union-attr]
+    names, values = ours[0].params
+    at = np.array([h.at for h in ours], np.int64)
     picked = values[at]
-    return {"index": index, **{n: picked[:, j].copy() for j, n in enumerate(names)}, "refined": np.zeros(len(at), bool)}
+    return {"index": np.array([h.index for h in ours], np.int64),
+            **{n: picked[:, j].copy() for j, n in enumerate(names)}, "refined": np.zeros(len(at), bool)}  # fmt: skip
 
 
-def _value_columns(values: list[dict[str, float] | ValueRow]) -> dict[str, Any] | None:
-    """The columns of joint values that are all :class:`ValueRow` rows of one table, as arrays (else None)."""
-    first = values[0]
-    if not isinstance(first, ValueRow) or not all(isinstance(v, ValueRow) and v.table is first.table for v in values):
+def _value_columns(values: list[dict[str, float] | ArrayRow]) -> dict[str, Any] | None:
+    """The columns of joint values that are all :class:`ArrayRow` rows of one table, as arrays (else None)."""
+    ours = [v for v in values if isinstance(v, ArrayRow) and v.table is values[0].table]  # type: ignore[union-attr]
+    if len(ours) < len(values):
         return None
-    names, table = first.table
-    picked = table[np.fromiter((v.at for v in values), np.int64, len(values))]  # type: ignore[union-attr]
-    return {n: picked[:, j].copy() for j, n in enumerate(names)}
+    picked = ours[0].table[np.array([v.at for v in ours], np.int64)]
+    return {n: picked[:, j].copy() for j, n in enumerate(ours[0].names)}
 
 
 def _transposed(dicts: list[Any], names: list[str], known: set[str]) -> dict[str, list[Any]]:

@@ -51,33 +51,34 @@ def limits_of(model: pin.Model, qs: list[Array | None], tol: float = 1e-9) -> li
     return [None if q is None else outside_limits(model, q, tol) if next(flagged) else () for q in qs]
 
 
-class ValueRow(Mapping[str, float]):
-    """One sample's :func:`~pinmob.scan.chain_scan.joint_row`, row ``at`` of a table of many: a dict when read.
+class ArrayRow(Mapping[str, float]):
+    """Row ``at`` of a table of named columns (``names``, (N, K) ``table``) as a mapping: a dict when first read.
 
-    ``table``: the columns (``q_<joint>``) and their (S, J) values, a row per sample. A group's table reads the
-    batch's rows' values as its columns (:meth:`pinmob.scan.group_rows.GroupRows.table`), without a dict a row.
+    A sample's joint values (:func:`values_and_limits`) or its distances to singularity
+    (:meth:`pinmob.scan.batch_rows.BatchRows.distances_of`) without a dict a row: a group's table reads the joint
+    values of the batch's rows as columns (:meth:`pinmob.scan.group_rows.GroupRows.table`), and most samples'
+    distances are only screened on the batch's array (:func:`pinmob.scan.chunk._to_refine`).
     """
 
-    __slots__ = ("table", "at", "_dict")
+    __slots__ = ("names", "table", "at", "_dict")
 
-    def __init__(self, table: tuple[tuple[str, ...], Array], at: int) -> None:
-        self.table, self.at = table, at
+    def __init__(self, names: tuple[str, ...], table: Array, at: int) -> None:
+        self.names, self.table, self.at = names, table, at
         self._dict: dict[str, float] | None = None
 
-    def _values(self) -> dict[str, float]:
+    def _read(self) -> dict[str, float]:
         if self._dict is None:
-            names, values = self.table
-            self._dict = dict(zip(names, values[self.at].tolist()))
+            self._dict = dict(zip(self.names, self.table[self.at].tolist(), strict=True))
         return self._dict
 
     def __getitem__(self, key: str) -> float:
-        return self._values()[key]
+        return self._read()[key]
 
     def __iter__(self) -> Iterator[str]:
-        return iter(self.table[0])
+        return iter(self.names)
 
     def __len__(self) -> int:
-        return len(self.table[0])
+        return len(self.names)
 
 
 def values_and_limits(
@@ -86,7 +87,7 @@ def values_and_limits(
     """Per sample (``.q``, ``.known``: :class:`pinmob.scan.chunk._Sample`), :func:`joint_rows` and :func:`limits_of`.
 
     None and None for a sample not assembled (``known`` None: a finished row). Where each joint has one coordinate,
-    the joint values are :class:`ValueRow` rows of one table (the same values).
+    the joint values are :class:`ArrayRow` rows of one table (the same values).
     """
     qs = [s.q if s.known is not None else None for s in samples]
     closed = [q for q in qs if q is not None]
@@ -94,7 +95,7 @@ def values_and_limits(
     if where is None or not closed:
         values: list[Mapping[str, float] | None] = list(joint_rows(mech, joints, qs, [s.known for s in samples]))
     else:
-        table = (columns, np.asarray(closed, float)[:, list(where)])
+        table = np.asarray(closed, float)[:, list(where)]
         rows = iter(range(len(closed)))
-        values = [None if q is None else ValueRow(table, next(rows)) for q in qs]
+        values = [None if q is None else ArrayRow(columns, table, next(rows)) for q in qs]
     return list(zip(values, limits_of(mech.model, qs)))

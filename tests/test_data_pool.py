@@ -1,4 +1,5 @@
-"""The pool of ``pin.Data``: a finalizer that gives a Data back while the pool is busy in the same thread."""
+"""The pool of ``pin.Data``: a finalizer that gives a Data back while the pool is busy in the same thread, and a
+configuration that gives its Data back early (parked) and reads its kinematics again."""
 
 from __future__ import annotations
 
@@ -6,7 +7,15 @@ import ast
 import subprocess
 import sys
 import textwrap
+import threading
 from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+
+import pinmob
+from pinmob.analysis import Configuration, closed_chain, generic_constraint_rank, generic_states
+from pinmob.scan import grid_spec
 
 PACKAGE = Path(__file__).resolve().parent.parent / "pinmob"
 
@@ -52,3 +61,61 @@ def test_a_fresh_data_is_made_as_pin_data():
                 if name == "model" and not node.args:
                     found.append(f"{path.relative_to(PACKAGE.parent)}:{node.lineno}")
     assert not found, f"model.createData() (a copy of a new Data) where pin.Data(model) will do: {found}"
+
+
+def _kinematics(model: pin.Model, q: np.ndarray) -> pin.Data:
+    """Pinocchio's own kinematics at q in a new Data: the joint Jacobians and the frame placements."""
+    data = pin.Data(model)
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    return data
+
+
+def _same_kinematics(data: pin.Data, truth: pin.Data) -> bool:
+    frames = all(np.array_equal(a.homogeneous, b.homogeneous) for a, b in zip(data.oMf, truth.oMf))
+    return frames and np.array_equal(np.array(data.J), np.array(truth.J))
+
+
+def test_a_parked_configuration_reads_its_kinematics_again():
+    """Parked, a configuration's Data goes back to the pool; the next configuration made takes that very Data and
+    overwrites it; read again, the parked one's kinematics are Pinocchio's at its q (computed here in a Data of
+    their own), bit for bit, and what it cached is the same object. A copy (``with_name``) reads its original's
+    Data, and parking the copy parks the original."""
+    mech = pinmob.load("6-UPS")
+    model = mech.model
+    conf = Configuration(mech, "home")
+    truth = _kinematics(model, conf.q)
+    chain = closed_chain(conf, 1e-9)
+    lent = conf.data
+    conf.park()
+    other = Configuration.unchecked(mech, pin.randomConfiguration(model, -np.ones(model.nq), np.ones(model.nq)))
+    assert other.data is lent  # the parked Data, now holding another configuration's kinematics
+    assert not _same_kinematics(lent, truth)
+    assert _same_kinematics(conf.data, truth)
+    assert closed_chain(conf, 1e-9) is chain
+    copy = conf.with_name("copy")
+    assert copy.data is conf.data
+    copy.park()
+    Configuration.unchecked(mech, other.q)  # takes the Data the copy's original gave back
+    assert _same_kinematics(copy.data, truth) and copy.data is conf.data
+
+
+def test_the_generic_states_hold_no_data_once_used():
+    """The 3-PUU's generic states (eight configurations, each with a ``pin.Data`` held for the life of the mechanism
+    before: a 6-UPS's twelve weighed about 3 MB each) give their Data back once the generic rank and a grid's held
+    coordinates (its rotations: the same at every generic state) have read them; another thread has states of its
+    own (its parking cannot take the kinematics from under this one's), at the same configurations."""
+    mech = pinmob.load("3-PUU")
+    assert generic_constraint_rank(mech) == 3  # three constraint moments: a translational platform
+    spec = grid_spec(mech, "generic", [("x", -0.05, 0.05, 3), ("y", -0.05, 0.05, 3)])
+    assert [name for name, _ in spec.held] == ["z", "roll", "pitch", "yaw"]  # the rotations: constant coordinates
+    states = generic_states(mech)
+    assert len(states) == 8
+    assert all(s.__dict__["_data"] is None for s in states)  # parked (the Data is the pool's again)
+    theirs: list[Configuration] = []
+    worker = threading.Thread(target=lambda: theirs.extend(generic_states(mech)))
+    worker.start()
+    worker.join()
+    assert not {id(s) for s in states} & {id(s) for s in theirs}
+    assert all(np.array_equal(a.q, b.q) for a, b in zip(states, theirs))
+    assert generic_states(mech)[0] is states[0]  # this thread's are cached

@@ -31,7 +31,7 @@ from pinmob.analysis.chain.mechanism_mobility import (
     frame_mobility,
     mechanism_mobility,
 )
-from pinmob.analysis.configuration import Configuration, as_configuration
+from pinmob.analysis.configuration import Configuration, as_configuration, parked
 from pinmob.analysis.entry_point import analyze, asked_configuration
 from pinmob.analysis.finite.higher_order import ORDER, ORDERS, check_order
 from pinmob.analysis.fixed_closures import FixCheck, check_fixed, chosen_proposal, fix_closures, minimal_closures
@@ -148,6 +148,7 @@ __all__ = [
     "minimal_closures",
     "motion_types",
     "padded",
+    "parked",
     "paper_view",
     "part_keywords",
     "platform_mobility",

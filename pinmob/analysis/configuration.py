@@ -9,12 +9,15 @@ its null space, ...) through :meth:`Configuration.memo`. Every analysis takes a
 
 The ``pin.Data`` objects come from a small pool per model
 (:mod:`pinmob.model.data_pool`): a ``Configuration`` takes a spare one and gives
-it back when it is collected.
+it back when it is collected, or earlier by :meth:`Configuration.park` (a
+configuration kept with many others, as the generic states are: a 6-UPS's
+``pin.Data`` weighs about 3 MB and takes about 1 ms to make), and takes one again
+when its kinematics are next read.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Iterable, Iterator
 from typing import Any, TypeVar
 
 import numpy as np
@@ -126,17 +129,37 @@ class Configuration:
             vec = mechanism.check_q(q)
         self._set(mechanism, vec, tol, name, source or "given")
         what = f"configuration {name!r}" if name else "configuration"
-        self._residuals = check_closed(mechanism, vec, tol, what, data=self._data)
+        self._residuals = check_closed(mechanism, vec, tol, what, data=self.data)
 
     def _set(self, mechanism: Mechanism, vec: Array, tol: float, name: str | None, source: str) -> None:
         """Every constructor's state: q read-only, an empty memo, the kinematics at q in a pooled ``pin.Data``."""
         vec.flags.writeable = False
         self._mechanism, self._q, self._name, self._tol, self._source = mechanism, vec, name, tol, source
         self._memo: dict[Any, Any] = {}
-        model = mechanism.model
-        self._data = acquire(model)
-        release_with(self, model, self._data)
-        compute_kinematics(model, self._data, vec)
+        self._data: pin.Data | None = None
+        self._kinematics()
+
+    def _kinematics(self) -> pin.Data:
+        """A pooled ``pin.Data`` taken, with the kinematics at q computed in it (at construction, and after park)."""
+        model = self._mechanism.model
+        data = self._data = acquire(model)
+        self._give_back = release_with(self, model, data)
+        compute_kinematics(model, data, self._q)
+        return data
+
+    def park(self) -> None:
+        """Give the ``pin.Data`` back to the pool now; the kinematics are computed again when next read.
+
+        What the configuration cached (:meth:`memo`) stays, and the kinematics computed again are the same
+        numbers. For a configuration kept with many others whose analyses are cached, such as the generic states
+        (:func:`pinmob.analysis.generic.generic_states`). Park only a configuration that no other thread is
+        reading: a ``pin`` object read from :attr:`data` before (an SE3 of :meth:`frame_placement`, a Jacobian
+        of ``data.J``) is another configuration's once the pool lends the ``pin.Data`` again.
+        """
+        owner = self.__dict__.get("_parent", self)  # a copy (with_name) reads its original's
+        if owner._data is not None:
+            owner._data = None
+            owner._give_back()
 
     # ------------------------------------------------------------------ state
 
@@ -186,16 +209,18 @@ class Configuration:
     @property
     def data(self) -> pin.Data:
         """Pinocchio data with the kinematics at q (joint Jacobians, frame placements); do not modify."""
-        return self._data
+        owner = self.__dict__.get("_parent", self)  # a copy (with_name) reads its original's
+        data = owner._data
+        return owner._kinematics() if data is None else data
 
     @property
     def world_jacobian(self) -> Array:
         """(6, nv) every joint screw ``[v; w]`` at the world origin, world axes (``data.J``; (6, 1) when nv = 1)."""
-        return self.memo("world_jacobian", lambda: np.array(self._data.J).reshape(6, self._mechanism.model.nv))
+        return self.memo("world_jacobian", lambda: np.array(self.data.J).reshape(6, self._mechanism.model.nv))
 
     def frame_placement(self, frame: int) -> pin.SE3:
         """World placement of frame index ``frame``."""
-        return self._data.oMf[frame]
+        return self.data.oMf[frame]
 
     @property
     def platform_origin(self) -> Array:
@@ -203,13 +228,13 @@ class Configuration:
         mech = self._mechanism
         if not mech.has_platform:
             return np.zeros(3)
-        return np.array(self._data.oMf[mech.platform_id].translation)
+        return np.array(self.data.oMf[mech.platform_id].translation)
 
     def frame_jacobian(self, frame: int, reference: pin.ReferenceFrame = pin.LOCAL_WORLD_ALIGNED) -> Array:
         """(6, nv) Jacobian of frame index ``frame`` (cached per frame and reference)."""
         return self.memo(
             ("frame_jacobian", frame, reference),
-            lambda: frame_jacobian(self._mechanism.model, self._data, frame, reference),
+            lambda: frame_jacobian(self._mechanism.model, self.data, frame, reference),
         )
 
     def memo(self, key: Any, compute: Callable[[], T]) -> T:
@@ -227,7 +252,9 @@ class Configuration:
         other = object.__new__(Configuration)
         other.__dict__.update(self.__dict__)
         other._name = name
-        other.__dict__["_parent"] = self  # the original owns the pooled Data: keep it alive as long as the copy
+        for own in ("_data", "_give_back"):  # the original owns the pooled Data; the copy reads it through _parent
+            other.__dict__.pop(own, None)
+        other.__dict__["_parent"] = self.__dict__.get("_parent", self)  # kept alive as long as the copy
         return other
 
     def __getstate__(self) -> dict[str, Any]:
@@ -251,6 +278,15 @@ class Configuration:
     def __repr__(self) -> str:
         where = f" {self._name!r}" if self._name else ""
         return f"Configuration({self._mechanism.name!r}{where}, residual {self.residual:.1e}, {self._source})"
+
+
+def parked(states: Iterable[Configuration]) -> Iterator[Configuration]:
+    """Each configuration of ``states``, parked (:meth:`Configuration.park`) once the loop moves on from it or stops."""
+    for conf in states:
+        try:
+            yield conf
+        finally:
+            conf.park()
 
 
 def as_configuration(

@@ -18,6 +18,7 @@ length nor the units of the joint rates matter.
 
 from __future__ import annotations
 
+import threading
 from collections import Counter
 from dataclasses import replace
 from itertools import combinations
@@ -25,7 +26,7 @@ from itertools import combinations
 import numpy as np
 import pinocchio as pin
 
-from pinmob.analysis.configuration import Configuration
+from pinmob.analysis.configuration import Configuration, parked
 from pinmob.analysis.limbs import limb_decisions, limb_screws, limb_twists, rate_scale, wrench_blocks
 from pinmob.assembly import (
     CLOSURE_TOL,
@@ -137,8 +138,11 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
 def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Configuration]:
     """The :class:`Configuration` at each of :func:`generic_configurations` (closure checked at ``CLOSURE_TOL``).
 
-    Cached per mechanism (not pickled with it), so that the generic ranks and a grid's held coordinates
-    (:func:`pinmob.scan.coordinates.constant_coordinates`) share their kinematics and what each one caches.
+    Cached per mechanism and thread (not pickled with it), so that the generic ranks and a grid's held
+    coordinates (:func:`pinmob.scan.coordinates.constant_coordinates`) share their kinematics and what each one
+    caches. Each state gives its ``pin.Data`` back to the pool once closed, and its users after each use
+    (:func:`parked`): a 6-UPS's twelve states held 3 MB and took 1 ms to make each. So that one thread's
+    parking never takes the kinematics from under another's analysis, each thread has states of its own.
 
     Raises:
         PinmobError: no closed configuration could be built, or one does not close within ``CLOSURE_TOL``.
@@ -146,10 +150,13 @@ def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Con
 
     def compute() -> tuple[Configuration, ...]:
         return tuple(
-            Configuration.from_checked(mech, q, CLOSURE_TOL) for q in generic_configurations(mech, samples, seed)
+            parked(
+                Configuration.from_checked(mech, q, CLOSURE_TOL) for q in generic_configurations(mech, samples, seed)
+            )
         )
 
-    return list(mech.memo(("configuration states", samples, seed), compute, transient=True))
+    key = ("configuration states", samples, seed, threading.get_ident())
+    return list(mech.memo(key, compute, transient=True))
 
 
 def _closed_in_lockstep(mech: Mechanism, starts: list[Array]) -> list[Array | None]:
@@ -210,7 +217,7 @@ def _set_ranks(
     loose = float(np.sqrt(rtol))
     counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
     states = generic_states(mech, samples, seed)
-    for i, conf in enumerate(states):
+    for i, conf in enumerate(parked(states)):
         blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
         for s in counts:
             counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1

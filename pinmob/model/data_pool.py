@@ -51,9 +51,12 @@ def release(model_ref: weakref.ref[pin.Model], data: pin.Data) -> None:
         _LOCK.release()
 
 
-def release_with(owner: object, model: pin.Model, data: pin.Data) -> None:
-    """Give ``data`` back to the pool when ``owner`` (an object that uses it) is collected."""
-    weakref.finalize(owner, release, weakref.ref(model), data)
+def release_with(owner: object, model: pin.Model, data: pin.Data) -> weakref.finalize:
+    """Give ``data`` back to the pool when ``owner`` (an object that uses it) is collected.
+
+    Returns the finalizer: calling it gives ``data`` back at once (and not again when ``owner`` is collected).
+    """
+    return weakref.finalize(owner, release, weakref.ref(model), data)
 
 
 @contextmanager

@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.analysis import Configuration, closed_chain, frame_rows, generic_states
+from pinmob.analysis import Configuration, closed_chain, frame_rows, generic_states, parked
 from pinmob.assembly import POSE_COORDS, pose_coordinate_jacobian, pose_vector
 from pinmob.exceptions import ConfigurationError, PinmobError
 from pinmob.model import Mechanism, joint_value, linear_velocity_mask
@@ -158,11 +158,11 @@ def constant_coordinates(mech: Mechanism, conf: Configuration, names: list[str],
     if not names:
         return []
     try:
-        confs = [conf, *generic_states(mech)]
+        states = generic_states(mech)
     except PinmobError:
         return []
-    still = np.ones(len(names), bool)
-    for c in confs:
+    still = np.linalg.norm(coordinate_rates(conf, names, rtol), axis=1) <= rtol
+    for c in parked(states):
         still &= np.linalg.norm(coordinate_rates(c, names, rtol), axis=1) <= rtol
     return [n for n, s in zip(names, still) if s]
 

@@ -74,6 +74,29 @@ def test_import_pinmob_loads_no_optional_package():
     assert out[1] == "[]", out[1]
 
 
+def test_a_scan_loads_the_viewer_only_to_draw(tmp_path):
+    """``pinmob scan`` without ``--show`` or ``--html`` does not import the viewer (20 ms of a fresh process); with
+    ``--html`` it does, and writes the page."""
+    import subprocess
+    import sys
+
+    page = tmp_path / "scan.html"
+    code = (
+        "import contextlib, io, sys\n"
+        "from pinmob.cli import main\n"
+        "grid = ['scan', '3-PUU', '--grid', 'x:-0.01:0.01:2', 'y:-0.01:0.01:2', '--at', 'generic', '--no-progress']\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        "    status = main(grid)\n"
+        "print(status, 'pinmob.viewer' in sys.modules)\n"
+        "with contextlib.redirect_stdout(io.StringIO()):\n"
+        f"    status = main(grid + ['--html', {str(page)!r}])\n"
+        "print(status, 'pinmob.viewer' in sys.modules)\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split("\n")
+    assert out[:2] == ["0 False", "0 True"], out
+    assert page.read_text(encoding="utf-8").lstrip().lower().startswith("<!doctype html")
+
+
 def test_the_finite_analysis_loads_when_asked_for():
     """Its modules (branches, tangent cone, path follower, ...) are not part of ``import pinmob`` nor of an analysis
     without ``finite=True``; with it they load and the report has the finite part."""

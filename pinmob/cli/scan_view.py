@@ -1,4 +1,7 @@
-"""``pinmob scan --show`` and ``--html FILE``: the scan's reachable set in 3D, beside the mechanism at one sample."""
+"""``pinmob scan --show`` and ``--html FILE``: the scan's reachable set in 3D, beside the mechanism at one sample.
+
+The viewer is imported when a view is drawn: a scan without one does not load it (20 ms of a fresh process).
+"""
 
 from __future__ import annotations
 
@@ -6,12 +9,10 @@ import argparse
 import warnings
 from typing import Any
 
-from pinmob import viewer
 from pinmob.analysis import Configuration
 from pinmob.exceptions import ConfigurationError
 from pinmob.model import Mechanism
 from pinmob.scan import ScanSpec, coordinate_unit
-from pinmob.viewer import sample_configuration, workspace_cloud
 
 
 def check_view_options(args: argparse.Namespace, mech: Mechanism) -> None:
@@ -40,12 +41,16 @@ def view(
     args: argparse.Namespace, mech: Mechanism, spec: ScanSpec, rows: list[dict[str, Any]], what: str, reference: str
 ) -> None:
     """Draw the scan's reachable set beside the mechanism (at ``--sample K``, else at ``reference``)."""
+    from pinmob import viewer  # here: a scan without a view does not load the viewer
+
     state: Any = reference
     if spec.cad:  # closed within the scan's closure tolerance only (CAD gaps)
         state = Configuration(mech, spec.q_ref, closure_tol=spec.closure_tol, name=reference)
     if args.sample is not None:
-        state = sample_configuration(mech, rows, args.sample, spec.q_ref, spec.closure_tol)
-    ws = workspace_cloud(rows, spec.reference_rtol(mech), args.sample, f"{mech.name}: {what}", axes_words(mech, spec))
+        state = viewer.sample_configuration(mech, rows, args.sample, spec.q_ref, spec.closure_tol)
+    ws = viewer.workspace_cloud(
+        rows, spec.reference_rtol(mech), args.sample, f"{mech.name}: {what}", axes_words(mech, spec)
+    )
     at = f"sample #{args.sample}" if args.sample is not None else repr(reference)
     warnings.filterwarnings("ignore", category=ResourceWarning)  # meshcat's client leaves a socket to the GC
     if args.html:

@@ -126,6 +126,32 @@ def test_cli_sweep_survives_a_killed_worker(tmp_path, dask_cluster):
     assert pq.read_table(tmp_path / "dask.parquet").equals(pq.read_table(tmp_path / "serial.parquet"))
 
 
+def test_a_worker_lost_after_the_last_look_is_counted(tmp_path, dask_cluster, monkeypatch):
+    """A sweep's count of lost workers includes the map's last look, taken once every design is in. With the
+    periodic looks pushed beyond the run (``POLL``), the worker killed on the first design is seen by that look
+    only: the count read as each result came in missed it (``lost and replaced`` absent from the summary of
+    :func:`test_cli_sweep_survives_a_killed_worker` once, on a loaded machine)."""
+    import cloudpickle
+    from dask.distributed import Client
+
+    import pinmob.parallel.tasks as tasks
+
+    cloudpickle.register_pickle_by_value(worker_plugins)  # the workers cannot import the tests
+    monkeypatch.setattr(tasks, "POLL", 1e6)
+    spec = pinmob.load_spec(_spec(tmp_path, n=2, m=5))
+    flag = tmp_path / "killed"
+    with Client(dask_cluster.scheduler_address) as client:
+        client.register_plugin(KillOnFirstChunk(str(flag), int(signal.SIGKILL)), name=KillOnFirstChunk.name)
+        try:
+            run = pinmob.sweep(spec, scheduler=dask_cluster.scheduler_address)
+            records = list(run)
+        finally:
+            client.unregister_worker_plugin(KillOnFirstChunk.name)
+    assert flag.exists(), "no design ever ran on the cluster"
+    assert [r["design"] for r in records] == [0, 1, 2, 3]
+    assert run.lost_workers == 1
+
+
 @pytest.fixture(scope="module")
 def uninterrupted(tmp_path_factory) -> Path:
     folder = tmp_path_factory.mktemp("whole")

@@ -106,6 +106,8 @@ class SweepRun:
                     for record in records:
                         bar.update(1)
                         yield record
+                # the map's last look, once every design is in (a worker lost since the look before counts too)
+                self.lost_workers = self.engine.lost_workers
         finally:
             bar.close()
 

@@ -17,7 +17,7 @@ when its kinematics are next read.
 
 from __future__ import annotations
 
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Generator, Iterable
 from typing import Any, TypeVar
 
 import numpy as np
@@ -280,7 +280,7 @@ class Configuration:
         return f"Configuration({self._mechanism.name!r}{where}, residual {self.residual:.1e}, {self._source})"
 
 
-def parked(states: Iterable[Configuration]) -> Iterator[Configuration]:
+def parked(states: Iterable[Configuration]) -> Generator[Configuration, None, None]:
     """Each configuration of ``states``, parked (:meth:`Configuration.park`) once the loop moves on from it or stops."""
     for conf in states:
         try:

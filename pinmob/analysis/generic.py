@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import threading
 from collections import Counter
+from contextlib import closing
 from dataclasses import replace
 from itertools import combinations
 
@@ -141,8 +142,11 @@ def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Con
     Cached per mechanism and thread (not pickled with it), so that the generic ranks and a grid's held
     coordinates (:func:`pinmob.scan.coordinates.constant_coordinates`) share their kinematics and what each one
     caches. Each state gives its ``pin.Data`` back to the pool once closed, and its users after each use
-    (:func:`parked`): a 6-UPS's twelve states held 3 MB and took 1 ms to make each. So that one thread's
-    parking never takes the kinematics from under another's analysis, each thread has states of its own.
+    (:func:`~pinmob.analysis.configuration.parked`): a 6-UPS's twelve states held 3 MB and took 1 ms to make
+    each. So that one thread's parking never takes the kinematics from under another's analysis, each thread has
+    states of its own. A ``pin`` object read from a state's :attr:`~Configuration.data` (an SE3 of
+    ``frame_placement``, ``data.J``) is another configuration's once the state is parked, in this thread too:
+    copy what is kept (``np.array``), or read it again.
 
     Raises:
         PinmobError: no closed configuration could be built, or one does not close within ``CLOSURE_TOL``.
@@ -217,12 +221,13 @@ def _set_ranks(
     loose = float(np.sqrt(rtol))
     counts: dict[tuple[int, ...], Counter[int]] = {s: Counter() for s in sets}
     states = generic_states(mech, samples, seed)
-    for i, conf in enumerate(parked(states)):
-        blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
-        for s in counts:
-            counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
-        if all(_decided(c, len(states) - 1 - i) for c in counts.values()):
-            break
+    with closing(parked(states)) as each:  # the state the loop stops at parked too
+        for i, conf in enumerate(each):
+            blocks = wrench_blocks(limb_decisions(mech, limb_twists(conf, RTOL), loose))
+            for s in counts:
+                counts[s][stacked_rank([blocks[i] for i in s], loose)] += 1
+            if all(_decided(c, len(states) - 1 - i) for c in counts.values()):
+                break
     return {s: _mode(c) for s, c in counts.items()}
 
 

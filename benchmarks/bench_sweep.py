@@ -30,6 +30,7 @@ import tarfile
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 ROOT = Path(__file__).resolve().parent.parent
 EXAMPLE = ROOT / "examples" / "3puu_sweep.toml"
@@ -56,6 +57,17 @@ def sweep_seconds(designs: int, runs: int) -> list[float]:
     The ``pinmob`` imported (this tree's, or another's on ``PYTHONPATH``) is the one timed; a first sweep of one
     design, not timed, loads or compiles its numba kernels.
     """
+    import numpy as np
+
+    import pinmob
+
+    spec = example_spec(designs)
+    list(pinmob.sweep(spec, skip=np.arange(spec.count) > 0))
+    return [_timed(pinmob.sweep(spec))[0] for _ in range(runs)]
+
+
+def example_spec(designs: int) -> Any:
+    """The example sweep's family and scan on a grid of at least ``designs`` designs (its side rounded up)."""
     from dataclasses import replace
 
     import numpy as np
@@ -63,11 +75,9 @@ def sweep_seconds(designs: int, runs: int) -> list[float]:
     import pinmob
     from pinmob.sweeps.designs import DesignSet
 
-    spec = pinmob.load_spec(EXAMPLE)
     side = int(np.ceil(np.sqrt(designs)))
-    spec = replace(spec, designs=DesignSet("grid", ("link", "big_r"), ((0.26, 0.35, side), (0.2, 0.3, side))))
-    list(pinmob.sweep(spec, skip=np.arange(spec.count) > 0))
-    return [_timed(pinmob.sweep(spec))[0] for _ in range(runs)]
+    spec = pinmob.load_spec(EXAMPLE)
+    return replace(spec, designs=DesignSet("grid", ("link", "big_r"), ((0.26, 0.35, side), (0.2, 0.3, side))))
 
 
 def _tree(commit: str, folder: Path) -> Path | None:
@@ -120,8 +130,6 @@ def main() -> None:
     parser.add_argument("--estimate-workers", type=int, default=64)
     args = parser.parse_args()
 
-    from dataclasses import replace
-
     import numpy as np
     from bench_scan import versions  # this folder's
     from dask.distributed import Client, LocalCluster
@@ -130,11 +138,8 @@ def main() -> None:
     from pinmob.analysis.entry_point import analyze
     from pinmob.parallel.cluster import WORKER_SETUP
     from pinmob.scan.scan_run import scan_in_process
-    from pinmob.sweeps.designs import DesignSet
 
-    spec = pinmob.load_spec(EXAMPLE)
-    side = int(np.ceil(np.sqrt(args.designs)))
-    spec = replace(spec, designs=DesignSet("grid", ("link", "big_r"), ((0.26, 0.35, side), (0.2, 0.3, side))))
+    spec = example_spec(args.designs)
     samples = spec.scan.axes[0][3] * spec.scan.axes[1][3]
     list(pinmob.sweep(spec, skip=np.arange(spec.count) > 0))  # warm-up (numba cache, imports)
 

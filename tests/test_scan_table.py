@@ -119,6 +119,29 @@ def same_table(a: ScanTable, b: ScanTable) -> bool:
     )
 
 
+def test_rows_kept_in_arrays_are_read_as_columns_only_when_all_are():
+    """A group's heads and joint values are read as columns of its arrays only when every one is a row of the same
+    array; a dict among them, first or after, sends the group to its dicts (the rows of a sample assembled on its
+    own are dicts). A dict first raised AttributeError (its ``params``, ``table`` read) before."""
+    from pinmob.scan.group_rows import Head, _head_columns, _value_columns
+    from pinmob.scan.row_columns import ArrayRow
+
+    params = (["x"], np.array([[0.1], [0.2]]))
+    head = {"index": 7, "x": 0.3, "refined": False}
+    got = _head_columns([Head(3, params, 1), Head(5, params, 0)])
+    assert got is not None
+    assert got["index"].tolist() == [3, 5] and got["x"].tolist() == [0.2, 0.1] and got["refined"].tolist() == [0, 0]
+    other = (["x"], params[1].copy())  # the same numbers in another array: not one group's columns
+    for heads in ([head, Head(3, params, 1)], [Head(3, params, 1), head], [Head(3, params, 1), Head(5, other, 0)]):
+        assert _head_columns(heads) is None
+    table = np.array([[1.0, 2.0], [3.0, 4.0]])
+    got = _value_columns([ArrayRow(("q_a", "q_b"), table, 1), ArrayRow(("q_a", "q_b"), table, 0)])
+    assert got is not None and got["q_a"].tolist() == [3.0, 1.0] and got["q_b"].tolist() == [4.0, 2.0]
+    values = {"q_a": 5.0, "q_b": 6.0}
+    for rows in ([values, ArrayRow(("q_a", "q_b"), table, 0)], [ArrayRow(("q_a", "q_b"), table, 0), values]):
+        assert _value_columns(rows) is None
+
+
 @pytest.mark.parametrize("robot, at, axes, mixed", [
     ("3-PUU", "generic", [("x", -0.3, 0.3, 9), ("y", -0.3, 0.3, 7)], True),  # decided, unreachable, refined rows
     ("3-PUU", "generic", [("A_slider", -0.2, 0.2, 9), ("B_slider", -0.2, 0.2, 9)], True),  # limb singularities

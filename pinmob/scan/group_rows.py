@@ -116,8 +116,8 @@ def _row(batch: BatchRows | None, at: int) -> dict[str, Any]:
 
 def _head_columns(heads: list[dict[str, Any] | Head]) -> dict[str, Any] | None:
     """The columns of heads that are all :class:`Head` rows of one group's columns, as arrays (else None)."""
-    ours = [h for h in heads if isinstance(h, Head) and h.params is heads[0].params]  # type: ignore[union-attr]
-    if len(ours) < len(heads):
+    ours = [h for h in heads if isinstance(h, Head)]
+    if len(ours) < len(heads) or any(h.params is not ours[0].params for h in ours):
         return None
     names, values = ours[0].params
     at = np.array([h.at for h in ours], np.int64)
@@ -128,8 +128,8 @@ def _head_columns(heads: list[dict[str, Any] | Head]) -> dict[str, Any] | None:
 
 def _value_columns(values: list[dict[str, float] | ArrayRow]) -> dict[str, Any] | None:
     """The columns of joint values that are all :class:`ArrayRow` rows of one table, as arrays (else None)."""
-    ours = [v for v in values if isinstance(v, ArrayRow) and v.table is values[0].table]  # type: ignore[union-attr]
-    if len(ours) < len(values):
+    ours = [v for v in values if isinstance(v, ArrayRow)]
+    if len(ours) < len(values) or any(v.table is not ours[0].table for v in ours):
         return None
     picked = ours[0].table[np.array([v.at for v in ours], np.int64)]
     return {n: picked[:, j].copy() for j, n in enumerate(ours[0].names)}

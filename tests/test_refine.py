@@ -61,3 +61,54 @@ def test_minimise_gives_up_on_a_dip_that_is_not_a_zero():
     g = lambda t: 0.3 + (t - 0.61) ** 2  # noqa: E731
     best = minimise(g, 0.0, 0.5, 1.0, g(0.0), g(0.5), g(1.0), stop=1e-7, xtol=1e-12, max_eval=60)
     assert best.evaluations == STALL and 0.3 <= best.value < g(0.5) and abs(best.t - 0.61) < 0.1
+
+
+def test_an_edge_search_examines_only_the_last_point_its_bisections_assembled(monkeypatch):
+    """Towards a neighbour that does not assemble, a search bisects on whether the mechanism assembles, then
+    minimises the distance from the last point that did: the bisections' other points are assembled, never
+    analysed. Counted on the 3-PUU's wide grid (its edges of the reachable set): the analyses
+    (:func:`pinmob.scan.sample.examine`) of the searches are at most the points the minimisations assembled plus
+    one per edge search, while the bisections assembled more than one point per edge search."""
+    import pinmob
+    import pinmob.scan.chunk as chunk
+    from pinmob.scan import grid_spec
+    from pinmob.scan.scan_run import scan_in_process
+
+    counts = {"examined": 0, "edges": 0, "minimised": 0, "bisected": 0}
+    inside = [False]  # in a minimisation's evaluation
+    examine, search, minimised, assemble = chunk.examine, chunk._Chunk._search, chunk.minimise, chunk._Chunk.assemble
+
+    def counted_examine(*args, **kwargs):
+        counts["examined"] += 1
+        return examine(*args, **kwargs)
+
+    def counted_search(self, k, done, key, towards=0):
+        counts["edges"] += bool(towards)
+        return search(self, k, done, key, towards)
+
+    def counted_minimise(f, *args, **kwargs):
+        def g(t):
+            inside[0] = True
+            try:
+                return f(t)
+            finally:
+                inside[0] = False
+
+        return minimised(g, *args, **kwargs)
+
+    def counted_assemble(self, t, seed, max_iter=chunk.MAX_ITER, stall_window=None, **kwargs):
+        sample = assemble(self, t, seed, max_iter, stall_window, **kwargs)
+        if max_iter == chunk.REFINE_ITER and sample.q is not None:  # a search's trial point that assembled
+            counts["minimised" if inside[0] else "bisected"] += 1
+        return sample
+
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", [("x", -0.3, 0.3, 9), ("y", -0.3, 0.3, 9)])
+    monkeypatch.setattr(chunk, "examine", counted_examine)
+    monkeypatch.setattr(chunk._Chunk, "_search", counted_search)
+    monkeypatch.setattr(chunk, "minimise", counted_minimise)
+    monkeypatch.setattr(chunk._Chunk, "assemble", counted_assemble)
+    rows = list(scan_in_process(mech, spec))
+    assert any(r["refined"] for r in rows) and counts["edges"] > 0
+    assert counts["bisected"] > counts["edges"], counts  # more than the one a search examines
+    assert counts["examined"] <= counts["minimised"] + counts["edges"], counts

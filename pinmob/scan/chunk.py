@@ -85,12 +85,17 @@ class _Chunk:
         self.rtol = spec.reference_rtol(mech)  # spec.rtol; with spec.cad, raised for the gaps (refinement's)
         self.band = NEAR_FACTOR * self.rtol
 
-    def trial(self, t: float, seed: Array) -> _Sample:
+    def trial(self, t: float, seed: Array, examined: bool = True) -> _Sample:
         """A refinement's trial point t, assembled from ``seed``: its distances only, on the platform's scans.
 
         Its row (:meth:`finish`, which reuses what the distances computed) is made for the point a search keeps.
+        ``examined`` False: assembled only (:meth:`examined` gives its distances when they are asked for).
         """
         pending = self.assemble(t, seed, REFINE_ITER, SOLVER_STALL)
+        return self.examined(pending) if examined else pending
+
+    def examined(self, pending: _Sample) -> _Sample:
+        """A trial point assembled by :meth:`trial` with its distances (on a closed chain's scan, its row)."""
         if pending.q is None or not self.spec.platform:
             return self.finish(pending)
         examined = examine(self.mech, pending.q, self.spec.rtol, self.spec.generic_rank, self.spec.closure_tol)
@@ -299,11 +304,8 @@ class _Chunk:
 
         held: list[float] = []  # the trial points that keep what they examined: the HELD lowest
 
-        def f(t: float) -> float:
-            near = min(assembled, key=lambda u: abs(u - t))
-            trial = trials[t] = self.trial(t, assembled[near])  # warm-started at the nearest
-            if trial.q is not None:
-                assembled[t] = trial.q
+        def keep(t: float, trial: _Sample) -> float:
+            trials[t] = trial
             if trial.examined is not None:  # a few Configurations (each holds a pin.Data) per search, not one a trial
                 held.append(t)
                 if len(held) > HELD:
@@ -312,13 +314,25 @@ class _Chunk:
                     trials[high] = replace(trials[high], examined=None)  # its row, if kept, computed again
             return value(trial)
 
+        def assembles(t: float, examined: bool = True) -> _Sample:
+            near = min(assembled, key=lambda u: abs(u - t))
+            trial = self.trial(t, assembled[near], examined)  # warm-started at the nearest
+            if trial.q is not None:
+                assembled[t] = trial.q
+            return trial
+
+        def f(t: float) -> float:
+            return keep(t, assembles(t))
+
         if towards:  # the edge first, by bisection on whether the mechanism assembles: the distance need not
-            # fall all the way from sample k to the edge (it may rise first), but it falls to 0 right at a fold
-            near, far, f_near = float(k), float(k + towards), value(done[k])
+            # fall all the way from sample k to the edge (it may rise first), but it falls to 0 right at a fold;
+            # only the last point that assembled is examined (the minimisation starts there)
+            near, far = float(k), float(k + towards)
             for _ in range(EDGE_STEPS):
                 mid = 0.5 * (near + far)
-                f_mid = f(mid)
-                near, far, f_near = (near, mid, f_near) if math.isinf(f_mid) else (mid, far, f_mid)
+                trials[mid] = assembles(mid, examined=False)
+                near, far = (near, mid) if trials[mid].q is None else (mid, far)
+            f_near = value(done[k]) if near == k else keep(near, self.examined(trials[near]))
             a, c = (near, far) if towards > 0 else (far, near)
             fa, fc = (f_near, math.inf) if towards > 0 else (math.inf, f_near)
             best = minimise(f, a, near, c, fa, f_near, fc,

@@ -119,6 +119,34 @@ def test_full_mobility_grid_holds_the_four_other_pose_coordinates():
                                    [ref.translation[2], *pin.rpy.matrixToRpy(ref.rotation)], atol=1e-12)  # fmt: skip
 
 
+def test_constant_coordinates_reads_the_generic_states_only_while_a_coordinate_may_be_constant(monkeypatch):
+    """The 3-PUU's rotations (a translational platform) move at no configuration: constant, found at the reference
+    and at every generic state. The 3-RPS's x, y and yaw follow its roll and pitch (parasitic motions): at the
+    symmetric 'home' they are stationary to first order (their rates vanish), at the first generic state they
+    move, so none of the eleven other states is read (each costs a closed chain's null space)."""
+    import pinmob.scan.coordinates as coordinates
+    from pinmob.analysis import Configuration, generic_states
+
+    rates = coordinates.coordinate_rates
+    read: list[Configuration] = []
+
+    def counted(conf, names, rtol=coordinates.RTOL):
+        read.append(conf)
+        return rates(conf, names, rtol)
+
+    monkeypatch.setattr(coordinates, "coordinate_rates", counted)
+    puu = pinmob.load("3-PUU")
+    conf = Configuration(puu, closed_configuration(puu, "generic"))
+    assert coordinates.constant_coordinates(puu, conf, ["roll", "pitch", "yaw"]) == ["roll", "pitch", "yaw"]
+    assert len(read) == 1 + len(generic_states(puu))
+    read.clear()
+    rps = pinmob.load("3-RPS")
+    conf = Configuration(rps, closed_configuration(rps, "home"))
+    assert coordinates.constant_coordinates(rps, conf, ["x", "y", "yaw"]) == []
+    assert np.linalg.norm(rates(conf, ["x", "y", "yaw"]), axis=1).max() < 1e-12  # stationary at 'home'
+    assert read == [conf, generic_states(rps)[0]] and len(generic_states(rps)) == 12
+
+
 def test_a_grid_over_coordinates_the_platform_cannot_move_says_which_are_free():
     mech = pinmob.load("3-RPS")
     with pytest.raises(ConfigurationError) as err:

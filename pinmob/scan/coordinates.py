@@ -35,6 +35,8 @@ gridded over roll and pitch holds z, and x, y and yaw follow.
 
 from __future__ import annotations
 
+from contextlib import closing
+
 import numpy as np
 
 from pinmob.analysis import Configuration, closed_chain, frame_rows, generic_states, parked
@@ -153,17 +155,23 @@ def constant_coordinates(mech: Mechanism, conf: Configuration, names: list[str],
 
     Their rate rows (:func:`coordinate_rates`) have norm at most ``rtol`` at ``conf`` and at every configuration of
     :func:`pinmob.analysis.generic.generic_configurations` (:func:`~pinmob.analysis.generic.generic_states`). E.g. the rotations of a translational platform (3-PUU, Delta): held at their values, a grid over its
-    position is a plain pose grid. None when no generic configuration can be built.
+    position is a plain pose grid. None when no generic configuration can be built. The generic states are read
+    only while a coordinate may still be constant (the 3-RPS's parasitic x, y, yaw move at the first one).
     """
     if not names:
+        return []
+    still = np.linalg.norm(coordinate_rates(conf, names, rtol), axis=1) <= rtol
+    if not still.any():
         return []
     try:
         states = generic_states(mech)
     except PinmobError:
         return []
-    still = np.linalg.norm(coordinate_rates(conf, names, rtol), axis=1) <= rtol
-    for c in parked(states):
-        still &= np.linalg.norm(coordinate_rates(c, names, rtol), axis=1) <= rtol
+    with closing(parked(states)) as each:  # the state the loop stops at parked too
+        for c in each:
+            still &= np.linalg.norm(coordinate_rates(c, names, rtol), axis=1) <= rtol
+            if not still.any():  # each coordinate left moves at some configuration: none is constant
+                break
     return [n for n, s in zip(names, still) if s]
 
 

@@ -71,6 +71,7 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
     assert sorted(p.name.split("-")[0] for p in (cache / "pinmob" / "numba").rglob("*.nbi")) == [
         "batch_kernel.ranks",
         "batch_kernel.stack_columns",
+        "batch_newton_kernel._structure",  # the damped steps' sparsity
         "batch_newton_kernel.damped_steps",  # the scan's batched predictor (a pose path of the 3-PUU)
         "batch_newton_kernel.iterate",
         "batch_newton_kernel.log3",

@@ -18,6 +18,9 @@ from pinmob.jit_cache import njit
 from pinmob.model import frames_kernel, integrate_kernel
 from pinmob.screw import Array, Mask
 
+#: Integer arrays (frame and column indices, counts).
+Ints = NDArray[np.int64]
+
 #: :func:`pinmob.assembly.batch_stopping.advance`, compiled.
 advance = njit(plain_advance)
 
@@ -118,7 +121,8 @@ def damped_steps(
     ``full`` (B, 6, nv) world Jacobians, ``frames`` (B, F, 4, 4), ``poses`` (B, 6), ``e`` (B, 6F) their errors;
     ``mask`` (F, nv) the joints supporting each frame, ``col`` (nv + free,) the dimensionless column scaling,
     ``free`` the pose coordinates (0-5) that are unknowns. The zeros the structure gives are skipped, not
-    summed: a frame's rows in the columns that do not support it (``mask``), and each row of the elimination
+    summed: a frame's rows in the columns that do not support it (``mask``), the pairs of columns no frame has
+    both of (:func:`_structure`), the rows whose entry below a pivot is zero, and each row of the elimination
     past its last non-zero column (the limbs' blocks of a mechanism without free coordinates), so the arithmetic
     on the other entries, and the steps, are those of the dense loops to the last bit, at a fraction of their
     cost (the 6-UPS: six 6 x 6 blocks of a 36 x 36 system).
@@ -130,6 +134,7 @@ def damped_steps(
     a = np.empty((m, m))
     g = np.empty(m)
     last = np.empty(m, np.int64)
+    held, held_count, pairs, pair_count = _structure(mask, nv, nfree)
     for s in range(which.size):
         b = which[s]
         jac[:] = 0.0
@@ -157,18 +162,20 @@ def damped_steps(
                 else:  # per yaw rate: (0, 0, 1)
                     jac[r + 5, nv + c] = -1.0
         trace = 0.0
+        a[:, :] = 0.0  # the pairs of columns no frame has both of: exact zeros
         for i in range(m):  # a frame's rows are zero in the columns that do not support it: skipped (exactly)
             gi = 0.0
-            for f in range(nf):
-                if i < nv and mask[f, i] == 0.0:
-                    continue
+            for t in range(held_count[i]):
+                f = held[i, t]
                 for r in range(6 * f, 6 * f + 6):
                     gi += jac[r, i] * e[b, r]
             g[i] = -gi
-            for j in range(i, m):
+            for u in range(pair_count[i]):
+                j = pairs[i, u]
                 acc = 0.0
-                for f in range(nf):
-                    if (i < nv and mask[f, i] == 0.0) or (j < nv and mask[f, j] == 0.0):
+                for t in range(held_count[i]):  # the frames of both columns, in order
+                    f = held[i, t]
+                    if j < nv and mask[f, j] == 0.0:
                         continue
                     for r in range(6 * f, 6 * f + 6):
                         acc += jac[r, i] * jac[r, j]
@@ -196,6 +203,8 @@ def damped_steps(
                 last[k], last[p] = last[p], last[k]
             pivot = a[k, k]
             for i in range(k + 1, m):
+                if a[i, k] == 0.0:  # a factor of zero (the other blocks' rows): nothing to subtract
+                    continue
                 factor = a[i, k] / pivot
                 if factor != 0.0:
                     for j in range(k + 1, last[k] + 1):
@@ -213,6 +222,32 @@ def damped_steps(
         for i in range(m):
             out[s, i] *= scale
     return out
+
+
+@njit
+def _structure(mask: Array, nv: int, nfree: int) -> tuple[Ints, Ints, Ints, Ints]:
+    """:func:`damped_steps`' sparsity, the same for every sample: each column's frames and partner columns.
+
+    Column i's frames are those whose rows it has; its partners, the columns ``j >= i`` that share one. ``mask`` (F, nv): the joints supporting each frame; a free pose coordinate's column (``nv ..``) is in every
+    frame's rows. Returns ``held`` (m, F) and ``held_count`` (m,): column i's frames ``held[i, :held_count[i]]``,
+    in order; ``pairs`` (m, m) and ``pair_count`` (m,): its partners ``pairs[i, :pair_count[i]]``, in order.
+    """
+    nf, m = mask.shape[0], nv + nfree
+    held, held_count = np.empty((m, nf), np.int64), np.zeros(m, np.int64)
+    for i in range(m):
+        for f in range(nf):
+            if i >= nv or mask[f, i] != 0.0:
+                held[i, held_count[i]] = f
+                held_count[i] += 1
+    pairs, pair_count = np.empty((m, m), np.int64), np.zeros(m, np.int64)
+    for i in range(m):
+        for j in range(i, m):
+            for t in range(held_count[i]):
+                if j >= nv or mask[held[i, t], j] != 0.0:
+                    pairs[i, pair_count[i]] = j
+                    pair_count[i] += 1
+                    break
+    return held, held_count, pairs, pair_count
 
 
 @njit

@@ -2,7 +2,7 @@
 
 Per robot and grid (microseconds per sample):
 
-* ``cli_us``: ``pinmob scan <robot> --grid ... --at ... --json FILE`` by the console script's function
+* ``cli_us``: ``pinmob scan <robot> --grid ... --at ... --json FILE`` by the command line's function
   (:func:`pinmob.cli.main`) in this process: the model loaded, the scan, its summary and the JSON file
   (``json_bytes``); and ``cli_start_s``: a fresh process's CPU time (user + system of the child) for a 2 x 2
   grid, what a run pays once on top (interpreter, imports, model);
@@ -344,7 +344,7 @@ def cli_seconds(robot: str, grid_args: list[str], folder: Path) -> float:
 
 
 def cli_in_process(robot: str, grid_args: list[str], folder: Path) -> None:
-    """``pinmob scan ... --json FILE`` by the console script's own function (:func:`pinmob.cli.main`), in this
+    """``pinmob scan ... --json FILE`` by the command line's function (:func:`pinmob.cli.main`), in this
     process: the model loaded, the scan, its summary (to a string) and the JSON file written."""
     with contextlib.redirect_stdout(io.StringIO()):
         status = cli_main(["scan", robot, *grid_args, "--json", str(folder / "scan.json"), "--force", "--no-progress"])

@@ -1,5 +1,5 @@
-"""``python -m pinmob``: the command line (:func:`pinmob.cli.main`)."""
+"""``python -m pinmob``: the command line (:func:`pinmob.cli.console`)."""
 
-from pinmob.cli import main
+from pinmob.cli import console
 
-raise SystemExit(main())
+raise SystemExit(console())

@@ -351,3 +351,31 @@ def test_a_system_error_caused_by_an_interrupt_is_the_interrupt(
     else:
         with pytest.raises(SystemError):
             main(["models"])
+
+
+FROZEN = """
+import gc, sys
+from pinmob.cli import console, main
+status = main(["glossary", "DoF"])
+print("status", status, gc.get_freeze_count(), file=sys.stderr)
+sys.argv = ["pinmob", "glossary", "DoF"]
+status = console()
+print("status", status, gc.get_freeze_count(), file=sys.stderr)
+"""
+
+
+def test_the_console_script_freezes_its_imports_and_main_does_not() -> None:
+    """``pinmob`` and ``python -m pinmob`` (:func:`pinmob.cli.console`) move the objects of their imports out of
+    the collector's full passes (``gc.freeze``); :func:`pinmob.cli.main`, which tests and scripts call in their own
+    process, leaves the collector alone. Both give the command's status, and the installed script is console's."""
+    out = subprocess.run([sys.executable, "-c", FROZEN], capture_output=True, text=True, check=True, timeout=120)
+    (status, frozen_before), (status2, frozen) = (
+        ln.split()[1:] for ln in out.stderr.splitlines() if ln.startswith("status")
+    )
+    assert (status, frozen_before, status2) == ("0", "0", "0")
+    assert int(frozen) > 10_000  # the interpreter's, numpy's, Pinocchio's and pinmob's objects
+    assert cli("glossary", "DoF").returncode == 0
+    import tomllib
+
+    project = tomllib.loads((Path(__file__).resolve().parent.parent / "pyproject.toml").read_text())
+    assert project["project"]["scripts"] == {"pinmob": "pinmob.cli:console"}

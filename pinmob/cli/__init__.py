@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import gc
 import os
 import sys
 import warnings
@@ -90,8 +91,20 @@ def _show_warning(
     print(f"pinmob: warning: {message}", file=sys.stderr if file is None else file)
 
 
+def console() -> int:
+    """The ``pinmob`` console script and ``python -m pinmob``: :func:`main` on ``sys.argv``, its imports frozen.
+
+    ``gc.freeze()`` moves every object alive after the imports (modules, functions, Pinocchio's bindings: about
+    120,000) out of the collector's reach, so that its full passes during the command walk only what the
+    command makes: a 21 x 21 ``pinmob scan`` spent 74-111 ms in the collector, 41-44 ms with them frozen. A
+    process that calls :func:`main` itself (a test, a script) keeps its own collector settings.
+    """
+    gc.freeze()
+    return main()
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    """Entry point of the ``pinmob`` console script; returns the exit status."""
+    """Entry point of the command line on ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
     words = sys.argv[1:] if argv is None else list(argv)
     with _stderr_or_null():
         args = parser_for(words).parse_args(words)  # the named command's arguments only, built once

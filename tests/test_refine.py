@@ -63,23 +63,32 @@ def test_minimise_gives_up_on_a_dip_that_is_not_a_zero():
     assert best.evaluations == STALL and 0.3 <= best.value < g(0.5) and abs(best.t - 0.61) < 0.1
 
 
-def test_an_edge_search_examines_only_the_last_point_its_bisections_assembled(monkeypatch):
+def _analysing_every_trial(monkeypatch, chunk):
+    """``_Chunk.trial`` analysing every point, the edge searches' bisections' too (as before they were not)."""
+    trial = chunk._Chunk.trial
+    monkeypatch.setattr(chunk._Chunk, "trial", lambda self, t, seed, analysed=True: trial(self, t, seed))
+
+
+def test_an_edge_search_analyses_only_the_last_point_its_bisections_assembled(monkeypatch):
     """Towards a neighbour that does not assemble, a search bisects on whether the mechanism assembles, then
     minimises the distance from the last point that did: the bisections' other points are assembled, never
-    analysed. Counted on the 3-PUU's wide grid (its edges of the reachable set): the analyses
-    (:func:`pinmob.scan.sample.examine`) of the searches are at most the points the minimisations assembled plus
-    one per edge search, while the bisections assembled more than one point per edge search."""
+    analysed. Counted on the 3-PUU's wide grid (its edges of the reachable set): every point the minimisations
+    assemble is analysed (:func:`pinmob.scan.sample.examine`), and at most one per edge search besides, while the
+    bisections assembled more than one point per edge search. The rows are those of a scan whose every trial
+    point is analysed."""
     import pinmob
     import pinmob.scan.chunk as chunk
     from pinmob.scan import grid_spec
     from pinmob.scan.scan_run import scan_in_process
 
-    counts = {"examined": 0, "edges": 0, "minimised": 0, "bisected": 0}
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", [("x", -0.3, 0.3, 9), ("y", -0.3, 0.3, 9)])
+    counts = {"edges": 0, "minimised": 0, "bisected": 0, "analysed in": 0, "analysed out": 0}
     inside = [False]  # in a minimisation's evaluation
     examine, search, minimised, assemble = chunk.examine, chunk._Chunk._search, chunk.minimise, chunk._Chunk.assemble
 
     def counted_examine(*args, **kwargs):
-        counts["examined"] += 1
+        counts["analysed in" if inside[0] else "analysed out"] += 1
         return examine(*args, **kwargs)
 
     def counted_search(self, k, done, key, towards=0):
@@ -102,13 +111,15 @@ def test_an_edge_search_examines_only_the_last_point_its_bisections_assembled(mo
             counts["minimised" if inside[0] else "bisected"] += 1
         return sample
 
-    mech = pinmob.load("3-PUU")
-    spec = grid_spec(mech, "generic", [("x", -0.3, 0.3, 9), ("y", -0.3, 0.3, 9)])
-    monkeypatch.setattr(chunk, "examine", counted_examine)
-    monkeypatch.setattr(chunk._Chunk, "_search", counted_search)
-    monkeypatch.setattr(chunk, "minimise", counted_minimise)
-    monkeypatch.setattr(chunk._Chunk, "assemble", counted_assemble)
-    rows = list(scan_in_process(mech, spec))
+    with monkeypatch.context() as patched:
+        patched.setattr(chunk, "examine", counted_examine)
+        patched.setattr(chunk._Chunk, "_search", counted_search)
+        patched.setattr(chunk, "minimise", counted_minimise)
+        patched.setattr(chunk._Chunk, "assemble", counted_assemble)
+        rows = list(scan_in_process(mech, spec))
     assert any(r["refined"] for r in rows) and counts["edges"] > 0
-    assert counts["bisected"] > counts["edges"], counts  # more than the one a search examines
-    assert counts["examined"] <= counts["minimised"] + counts["edges"], counts
+    assert counts["bisected"] > counts["edges"], counts  # more than the one a search analyses
+    assert counts["analysed in"] == counts["minimised"], counts
+    assert counts["analysed out"] <= counts["edges"], counts
+    _analysing_every_trial(monkeypatch, chunk)
+    assert [repr(list(r.items())) for r in scan_in_process(mech, spec)] == [repr(list(r.items())) for r in rows]

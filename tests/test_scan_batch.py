@@ -249,8 +249,9 @@ def test_the_compiled_steps_are_numpys_steps():
 
 def _dense_steps(full, frames, poses, e, which, mask, col, free, length, damping, max_step):
     """The damped steps of ``batch_newton_kernel.damped_steps`` by the textbook loops in Python: the Jacobian
-    (the kernel's expressions, a frame's rows zero in the joints that do not carry it), every product of the
-    normal equations summed, zeros included, and Gaussian elimination with partial pivoting on the whole matrix."""
+    (the kernel's expressions, a frame's rows zero in the joints that do not carry it; ``math``'s cosines and sines,
+    the C library's, as the compiled code's), every product of the normal equations summed, zeros included, and
+    Gaussian elimination with partial pivoting on the whole matrix."""
     import numpy as np
 
     nf, nv = frames.shape[1], full.shape[2]
@@ -258,7 +259,7 @@ def _dense_steps(full, frames, poses, e, which, mask, col, free, length, damping
     out = np.empty((len(which), m))
     for s, b in enumerate(which):
         jac = np.zeros((6 * nf, m))
-        cy, sy, cp, sp = np.cos(poses[b, 5]), np.sin(poses[b, 5]), np.cos(poses[b, 4]), np.sin(poses[b, 4])
+        cy, sy, cp, sp = math.cos(poses[b, 5]), math.sin(poses[b, 5]), math.cos(poses[b, 4]), math.sin(poses[b, 4])
         for f in range(nf):
             px, py, pz, r = frames[b, f, 0, 3], frames[b, f, 1, 3], frames[b, f, 2, 3], 6 * f
             for j in range(nv):
@@ -310,10 +311,12 @@ def _dense_steps(full, frames, poses, e, which, mask, col, free, length, damping
 
 
 @pytest.mark.needs_numba
-def test_the_compiled_steps_are_the_textbook_loops_to_the_last_bit():
+def test_the_compiled_steps_are_the_textbook_loops_exactly():
     """The kernel skips the zeros of the block structure (a limb's joints move its own tip only: the 6-UPS's 36
     x 36 system is six 6 x 6 blocks), never a non-zero: its steps equal the textbook loops' (every product summed,
-    elimination on the whole matrix; :func:`_dense_steps`) exactly, with and without free coordinates."""
+    elimination on the whole matrix; :func:`_dense_steps`) exactly (``np.array_equal``: a zero's sign aside, which
+    a summed product of zeros may turn), without free coordinates, with the 3-RPS's x, y, yaw and the 6-UPS's
+    roll, pitch, yaw and x free, and on random stacks whose frames share joints."""
     import numpy as np
     import pinocchio as pin
 
@@ -321,7 +324,13 @@ def test_the_compiled_steps_are_the_textbook_loops_to_the_last_bit():
     from pinmob.assembly.batch_solver import DAMPING, MAX_STEP, PoseProblem
 
     rng = np.random.default_rng(7)
-    for name, at, free in (("3-PUU", "generic", ()), ("3-RPS", "home", (0, 1, 5)), ("6-UPS", "home", ())):
+    cases = (
+        ("3-PUU", "generic", ()),
+        ("3-RPS", "home", (0, 1, 5)),
+        ("6-UPS", "home", ()),
+        ("6-UPS", "home", (3, 4, 5, 0)),
+    )
+    for name, at, free in cases:
         mech = pinmob.load(name)
         q0 = pinmob.closed_configuration(mech, at)
         problem = PoseProblem(mech, free)
@@ -329,11 +338,19 @@ def test_the_compiled_steps_are_the_textbook_loops_to_the_last_bit():
         poses = 0.05 * rng.normal(size=(4, 6))
         full, frames = problem.kinematics(qs)
         e, _ = kernel.pose_errors(frames, poses, problem.length)
-        which, mask = np.array([0, 1, 3]), problem.mask[:, 0]
+        which, mask = np.array([0, 1, 3]), problem.frame_mask
         assert (mask == 0.0).any()  # a structure to skip
         args = (full, frames, poses, e, which, mask, problem.col, problem.free_array, problem.length, DAMPING)
-        steps = kernel.damped_steps(*args, MAX_STEP)
-        assert np.array_equal(steps, _dense_steps(*args, MAX_STEP)), name
+        assert np.array_equal(kernel.damped_steps(*args, MAX_STEP), _dense_steps(*args, MAX_STEP)), (name, free)
+    for _ in range(40):  # random stacks: 1 to 4 frames whose supports overlap, 0 to 3 free coordinates
+        nf, nv = int(rng.integers(1, 5)), int(rng.integers(2, 9))
+        mask = (rng.random((nf, nv)) < 0.5).astype(float)
+        free = rng.permutation(6)[: int(rng.integers(0, 4))].astype(np.int64)
+        frames = np.tile(np.eye(4), (3, nf, 1, 1))
+        frames[:, :, :3, 3] = rng.normal(size=(3, nf, 3))
+        args = (rng.normal(size=(3, 6, nv)), frames, rng.normal(size=(3, 6)), rng.normal(size=(3, 6 * nf)),
+                np.arange(3), mask, rng.uniform(0.5, 2.0, nv + free.size), free, 0.3, DAMPING)  # fmt: skip
+        assert np.array_equal(kernel.damped_steps(*args, MAX_STEP), _dense_steps(*args, MAX_STEP)), (mask, free)
 
 
 def _rps_free_twists():

@@ -145,6 +145,25 @@ def test_bare_urdf_path_through_the_edge_refines_both_folds(files, capsys):
     assert all(r["singularity"] == "actuation" and r["locked_dof"] == 1 for r in refined)
 
 
+def test_the_edge_searches_rows_do_not_depend_on_analysing_the_bisections(files, monkeypatch):
+    """The closed chain's edge searches (the path above, through both folds) analyse only the last point their
+    bisections assembled (:meth:`pinmob.scan.chunk._Chunk._search`); analysing every one gives the same rows."""
+    import pinmob.scan.chunk as chunk
+
+    b2 = np.array([D + L1 * math.cos(math.pi - 0.9), L1 * math.sin(math.pi - 0.9)])
+    rel = b2 - np.array([-D, 0.0])
+    dist, phi = float(np.linalg.norm(rel)), math.atan2(rel[1], rel[0])
+    alpha = math.acos((L1**2 + dist**2 - 4 * L2**2) / (2 * L1 * dist))
+    start, end, a2 = phi + alpha - 0.2, phi - alpha + 0.2 + 2 * math.pi, math.pi - 0.9
+    mech = with_actuated(pinmob.load(files / "fivebar.urdf"), ["a1", "a2"])
+    spec = path_spec(mech, f"a1={start!r},a2={a2!r}", f"a1={end!r},a2={a2!r}", 41)
+    rows = list(scan(mech, spec, progress=False))
+    assert sum(r["refined"] for r in rows) == 2 and not all(r["reachable"] for r in rows)
+    trial = chunk._Chunk.trial
+    monkeypatch.setattr(chunk._Chunk, "trial", lambda self, t, seed, analysed=True: trial(self, t, seed))
+    assert [repr(list(r.items())) for r in scan(mech, spec, progress=False)] == [repr(list(r.items())) for r in rows]
+
+
 def test_cli_scan_of_mjcf_and_bare_urdf(files, capsys):
     """The CLI: summary lines, the singular sample listed, CSV/JSON/plot written; --actuated for the URDF."""
     out_csv, out_json, png = files / "s.csv", files / "s.json", files / "s.png"

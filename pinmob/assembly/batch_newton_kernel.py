@@ -203,7 +203,7 @@ def damped_steps(
                 last[k], last[p] = last[p], last[k]
             pivot = a[k, k]
             for i in range(k + 1, m):
-                if a[i, k] == 0.0:  # a factor of zero (the other blocks' rows): nothing to subtract
+                if a[i, k] == 0.0 and pivot == pivot:  # a factor of zero (the other blocks' rows; not a NaN pivot's)
                     continue
                 factor = a[i, k] / pivot
                 if factor != 0.0:
@@ -228,9 +228,10 @@ def damped_steps(
 def _structure(mask: Array, nv: int, nfree: int) -> tuple[Ints, Ints, Ints, Ints]:
     """:func:`damped_steps`' sparsity, the same for every sample: each column's frames and partner columns.
 
-    Column i's frames are those whose rows it has; its partners, the columns ``j >= i`` that share one. ``mask`` (F, nv): the joints supporting each frame; a free pose coordinate's column (``nv ..``) is in every
-    frame's rows. Returns ``held`` (m, F) and ``held_count`` (m,): column i's frames ``held[i, :held_count[i]]``,
-    in order; ``pairs`` (m, m) and ``pair_count`` (m,): its partners ``pairs[i, :pair_count[i]]``, in order.
+    Column i's frames are those whose rows it has; its partners, the columns ``j >= i`` that share one. ``mask``
+    (F, nv): the joints supporting each frame; a free pose coordinate's column (``nv ..``) is in every frame's rows.
+    Returns ``held`` (m, F) and ``held_count`` (m,): column i's frames ``held[i, :held_count[i]]``, in order;
+    ``pairs`` (m, m) and ``pair_count`` (m,): its partners ``pairs[i, :pair_count[i]]``, in order.
     """
     nf, m = mask.shape[0], nv + nfree
     held, held_count = np.empty((m, nf), np.int64), np.zeros(m, np.int64)

@@ -61,7 +61,9 @@ class _Sample:
     Assembled and not analysed yet (:meth:`_Chunk.assemble`): ``known`` holds the joint values its target gave,
     ``kinematics`` the world joint Jacobians and platform placement at q when the predictor computed them. A
     sample the batch decided may keep its row as a :class:`~pinmob.scan.group_rows.BatchRow` (:meth:`_Chunk.complete`).
-    A refinement's trial point (:meth:`_Chunk.trial`) has its distances and ``examined``, not its row yet.
+    A refinement's trial point (:meth:`_Chunk.trial`) has its distances and ``examined``, not its row yet (on a
+    closed chain's scan, its row); an edge search's bisection points are assembled only (:meth:`_Chunk._search`
+    keeps them apart and analyses the last one that assembled).
     """
 
     row: dict[str, Any] | BatchRow | Head
@@ -85,16 +87,16 @@ class _Chunk:
         self.rtol = spec.reference_rtol(mech)  # spec.rtol; with spec.cad, raised for the gaps (refinement's)
         self.band = NEAR_FACTOR * self.rtol
 
-    def trial(self, t: float, seed: Array, examined: bool = True) -> _Sample:
+    def trial(self, t: float, seed: Array, analysed: bool = True) -> _Sample:
         """A refinement's trial point t, assembled from ``seed``: its distances only, on the platform's scans.
 
         Its row (:meth:`finish`, which reuses what the distances computed) is made for the point a search keeps.
-        ``examined`` False: assembled only (:meth:`examined` gives its distances when they are asked for).
+        ``analysed`` False: assembled only (:meth:`with_distances` gives its distances when they are asked for).
         """
         pending = self.assemble(t, seed, REFINE_ITER, SOLVER_STALL)
-        return self.examined(pending) if examined else pending
+        return self.with_distances(pending) if analysed else pending
 
-    def examined(self, pending: _Sample) -> _Sample:
+    def with_distances(self, pending: _Sample) -> _Sample:
         """A trial point assembled by :meth:`trial` with its distances (on a closed chain's scan, its row)."""
         if pending.q is None or not self.spec.platform:
             return self.finish(pending)
@@ -314,9 +316,9 @@ class _Chunk:
                     trials[high] = replace(trials[high], examined=None)  # its row, if kept, computed again
             return value(trial)
 
-        def assembles(t: float, examined: bool = True) -> _Sample:
+        def assembles(t: float, analysed: bool = True) -> _Sample:
             near = min(assembled, key=lambda u: abs(u - t))
-            trial = self.trial(t, assembled[near], examined)  # warm-started at the nearest
+            trial = self.trial(t, assembled[near], analysed)  # warm-started at the nearest
             if trial.q is not None:
                 assembled[t] = trial.q
             return trial
@@ -326,13 +328,14 @@ class _Chunk:
 
         if towards:  # the edge first, by bisection on whether the mechanism assembles: the distance need not
             # fall all the way from sample k to the edge (it may rise first), but it falls to 0 right at a fold;
-            # only the last point that assembled is examined (the minimisation starts there)
-            near, far = float(k), float(k + towards)
+            # only the last point that assembled is analysed (the minimisation starts there): the others are kept
+            # apart from ``trials``, whose points all have their distances
+            near, far, bisected = float(k), float(k + towards), dict[float, _Sample]()
             for _ in range(EDGE_STEPS):
                 mid = 0.5 * (near + far)
-                trials[mid] = assembles(mid, examined=False)
-                near, far = (near, mid) if trials[mid].q is None else (mid, far)
-            f_near = value(done[k]) if near == k else keep(near, self.examined(trials[near]))
+                bisected[mid] = assembles(mid, analysed=False)
+                near, far = (near, mid) if bisected[mid].q is None else (mid, far)
+            f_near = value(done[k]) if near == k else keep(near, self.with_distances(bisected[near]))
             a, c = (near, far) if towards > 0 else (far, near)
             fa, fc = (f_near, math.inf) if towards > 0 else (math.inf, f_near)
             best = minimise(f, a, near, c, fa, f_near, fc,

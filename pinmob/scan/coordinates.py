@@ -154,9 +154,10 @@ def constant_coordinates(mech: Mechanism, conf: Configuration, names: list[str],
     """The coordinates among ``names`` that no motion of the closed chain changes, here and at generic configurations.
 
     Their rate rows (:func:`coordinate_rates`) have norm at most ``rtol`` at ``conf`` and at every configuration of
-    :func:`pinmob.analysis.generic.generic_configurations` (:func:`~pinmob.analysis.generic.generic_states`). E.g. the rotations of a translational platform (3-PUU, Delta): held at their values, a grid over its
-    position is a plain pose grid. None when no generic configuration can be built. The generic states are read
-    only while a coordinate may still be constant (the 3-RPS's parasitic x, y, yaw move at the first one).
+    :func:`pinmob.analysis.generic.generic_configurations` (:func:`~pinmob.analysis.generic.generic_states`). E.g.
+    the rotations of a translational platform (3-PUU, Delta): held at their values, a grid over its position is a
+    plain pose grid. None (``[]``) when no generic configuration can be built. The generic states are read only while
+    a coordinate may still be constant (the 3-RPS's parasitic x, y, yaw move at the first one).
     """
     if not names:
         return []

@@ -215,24 +215,35 @@ def test_the_compiled_rotation_error_is_right_up_to_a_half_turn():
         np.testing.assert_allclose(out, axis * t, atol=5e-15 * max(1.0, t))
 
 
+def _off_closure(name, at, free, rng, count):
+    """A ``PoseProblem`` of model ``name`` (pose coordinates ``free`` unknowns) and ``count`` configurations
+    perturbed off its closed configuration ``at``, with their kinematics and random target poses near the origin."""
+    import numpy as np
+    import pinocchio as pin
+
+    from pinmob.assembly.batch_solver import PoseProblem
+
+    mech = pinmob.load(name)
+    q0 = pinmob.closed_configuration(mech, at)
+    problem = PoseProblem(mech, free)
+    qs = np.array([pin.integrate(mech.model, q0, 0.05 * rng.normal(size=mech.model.nv)) for _ in range(count)])
+    poses = 0.05 * rng.normal(size=(count, 6))
+    full, frames = problem.kinematics(qs)
+    return problem, full, frames, poses
+
+
 @pytest.mark.needs_numba
 def test_the_compiled_steps_are_numpys_steps():
     """The compiled errors and damped steps (``batch_newton_kernel``) equal the numpy path's (``residual_of``, the
     normal equations solved by LAPACK) to round-off, at configurations off closure, with and without free coordinates (where they are determined)."""
     import numpy as np
-    import pinocchio as pin
 
     from pinmob.assembly import batch_newton_kernel as kernel
-    from pinmob.assembly.batch_solver import DAMPING, MAX_STEP, PoseProblem
+    from pinmob.assembly.batch_solver import DAMPING, MAX_STEP
 
     rng = np.random.default_rng(4)
     for name, at, free in (("3-PUU", "generic", ()), ("3-RPS", "home", (0, 1, 5)), ("6-UPS", "home", ())):
-        mech = pinmob.load(name)
-        q0 = pinmob.closed_configuration(mech, at)
-        problem = PoseProblem(mech, free)
-        qs = np.array([pin.integrate(mech.model, q0, 0.05 * rng.normal(size=mech.model.nv)) for _ in range(6)])
-        poses = 0.05 * rng.normal(size=(6, 6))
-        full, frames = problem.kinematics(qs)
+        problem, full, frames, poses = _off_closure(name, at, free, rng, 6)
         e, jac = problem.residual_of(full, frames, poses)
         jtj = jac.transpose(0, 2, 1) @ jac
         jtj += (DAMPING / jtj.shape[1]) * np.einsum("bii->b", jtj)[:, None, None] * np.eye(jtj.shape[1])
@@ -318,10 +329,9 @@ def test_the_compiled_steps_are_the_textbook_loops_exactly():
     a summed product of zeros may turn), without free coordinates, with the 3-RPS's x, y, yaw and the 6-UPS's
     roll, pitch, yaw and x free, and on random stacks whose frames share joints."""
     import numpy as np
-    import pinocchio as pin
 
     from pinmob.assembly import batch_newton_kernel as kernel
-    from pinmob.assembly.batch_solver import DAMPING, MAX_STEP, PoseProblem
+    from pinmob.assembly.batch_solver import DAMPING, MAX_STEP
 
     rng = np.random.default_rng(7)
     cases = (
@@ -331,12 +341,7 @@ def test_the_compiled_steps_are_the_textbook_loops_exactly():
         ("6-UPS", "home", (3, 4, 5, 0)),
     )
     for name, at, free in cases:
-        mech = pinmob.load(name)
-        q0 = pinmob.closed_configuration(mech, at)
-        problem = PoseProblem(mech, free)
-        qs = np.array([pin.integrate(mech.model, q0, 0.05 * rng.normal(size=mech.model.nv)) for _ in range(4)])
-        poses = 0.05 * rng.normal(size=(4, 6))
-        full, frames = problem.kinematics(qs)
+        problem, full, frames, poses = _off_closure(name, at, free, rng, 4)
         e, _ = kernel.pose_errors(frames, poses, problem.length)
         which, mask = np.array([0, 1, 3]), problem.frame_mask
         assert (mask == 0.0).any()  # a structure to skip

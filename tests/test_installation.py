@@ -71,13 +71,13 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
     assert sorted(p.name.split("-")[0] for p in (cache / "pinmob" / "numba").rglob("*.nbi")) == [
         "batch_kernel.ranks",
         "batch_kernel.stack_columns",
-        "batch_newton_kernel._structure",  # the damped steps' sparsity
         "batch_newton_kernel.damped_steps",  # the scan's batched predictor (a pose path of the 3-PUU)
         "batch_newton_kernel.iterate",
         "batch_newton_kernel.log3",
         "batch_newton_kernel.pose_errors",
         "batch_newton_kernel.rpy_matrix",
         "batch_newton_kernel.solve_stack",  # the whole Newton loop in one call, the kernels above inside it
+        "batch_newton_kernel.step_structure",  # the damped steps' sparsity, once per solve
         "batch_newton_kernel.wrap_and_check",
         "batch_stopping.advance",
         "block_svd.block_svd",  # the single-sample solve's SVD, a block a limb

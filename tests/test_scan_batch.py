@@ -253,8 +253,10 @@ def test_the_compiled_steps_are_numpys_steps():
         np.testing.assert_allclose(e2, e, atol=1e-14)
         np.testing.assert_allclose(worst, np.linalg.norm(e.reshape(6, -1, 3), axis=2).max(axis=1), rtol=1e-14)
         which = np.array([0, 2, 5])
-        steps = kernel.damped_steps(full, frames, poses, e2, which, problem.mask[:, 0], problem.col,
-                                    problem.free_array, problem.length, DAMPING, MAX_STEP)  # fmt: skip
+        mask = problem.mask[:, 0]
+        structure = kernel.step_structure(mask, mask.shape[1], len(free))
+        steps = kernel.damped_steps(full, frames, poses, e2, which, mask, problem.col, problem.free_array,
+                                    problem.length, DAMPING, MAX_STEP, structure)  # fmt: skip
         np.testing.assert_allclose(steps, dz[which], atol=1e-12)
 
 
@@ -333,6 +335,9 @@ def test_the_compiled_steps_are_the_textbook_loops_exactly():
     from pinmob.assembly import batch_newton_kernel as kernel
     from pinmob.assembly.batch_solver import DAMPING, MAX_STEP
 
+    def structure(mask, free):
+        return kernel.step_structure(mask, mask.shape[1], len(free))
+
     rng = np.random.default_rng(7)
     cases = (
         ("3-PUU", "generic", ()),
@@ -346,7 +351,8 @@ def test_the_compiled_steps_are_the_textbook_loops_exactly():
         which, mask = np.array([0, 1, 3]), problem.frame_mask
         assert (mask == 0.0).any()  # a structure to skip
         args = (full, frames, poses, e, which, mask, problem.col, problem.free_array, problem.length, DAMPING)
-        assert np.array_equal(kernel.damped_steps(*args, MAX_STEP), _dense_steps(*args, MAX_STEP)), (name, free)
+        steps = kernel.damped_steps(*args, MAX_STEP, structure(mask, free))
+        assert np.array_equal(steps, _dense_steps(*args, MAX_STEP)), (name, free)
     for _ in range(40):  # random stacks: 1 to 4 frames whose supports overlap, 0 to 3 free coordinates
         nf, nv = int(rng.integers(1, 5)), int(rng.integers(2, 9))
         mask = (rng.random((nf, nv)) < 0.5).astype(float)
@@ -355,7 +361,8 @@ def test_the_compiled_steps_are_the_textbook_loops_exactly():
         frames[:, :, :3, 3] = rng.normal(size=(3, nf, 3))
         args = (rng.normal(size=(3, 6, nv)), frames, rng.normal(size=(3, 6)), rng.normal(size=(3, 6 * nf)),
                 np.arange(3), mask, rng.uniform(0.5, 2.0, nv + free.size), free, 0.3, DAMPING)  # fmt: skip
-        assert np.array_equal(kernel.damped_steps(*args, MAX_STEP), _dense_steps(*args, MAX_STEP)), (mask, free)
+        steps = kernel.damped_steps(*args, MAX_STEP, structure(mask, free))
+        assert np.array_equal(steps, _dense_steps(*args, MAX_STEP)), (mask, free)
 
 
 def _rps_free_twists():

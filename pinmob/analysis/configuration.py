@@ -156,7 +156,7 @@ class Configuration:
         reading: a ``pin`` object read from :attr:`data` before (an SE3 of :meth:`frame_placement`, a Jacobian
         of ``data.J``) is another configuration's once the pool lends the ``pin.Data`` again.
         """
-        owner = self.__dict__.get("_parent", self)  # a copy (with_name) reads its original's
+        owner = self._owner
         if owner._data is not None:
             owner._data = None
             owner._give_back()
@@ -209,9 +209,13 @@ class Configuration:
     @property
     def data(self) -> pin.Data:
         """Pinocchio data with the kinematics at q (joint Jacobians, frame placements); do not modify."""
-        owner = self.__dict__.get("_parent", self)  # a copy (with_name) reads its original's
-        data = owner._data
-        return owner._kinematics() if data is None else data
+        owner = self._owner
+        return owner._kinematics() if owner._data is None else owner._data
+
+    @property
+    def _owner(self) -> Configuration:
+        """The configuration that holds the pooled ``pin.Data``: itself, or a copy's (:meth:`with_name`) original."""
+        return self.__dict__.get("_parent", self)
 
     @property
     def world_jacobian(self) -> Array:

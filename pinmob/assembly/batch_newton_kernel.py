@@ -115,14 +115,16 @@ def damped_steps(
     length: float,
     damping: float,
     max_step: float,
+    structure: tuple,
 ) -> Array:
     """(len(which), nv + free) capped Levenberg-Marquardt steps of the samples ``which`` (module docstring).
 
     ``full`` (B, 6, nv) world Jacobians, ``frames`` (B, F, 4, 4), ``poses`` (B, 6), ``e`` (B, 6F) their errors;
     ``mask`` (F, nv) the joints supporting each frame, ``col`` (nv + free,) the dimensionless column scaling,
-    ``free`` the pose coordinates (0-5) that are unknowns. The zeros the structure gives are skipped, not
+    ``free`` the pose coordinates (0-5) that are unknowns, ``structure`` :func:`step_structure` of ``mask`` (made
+    once per solve). The zeros the structure gives are skipped, not
     summed: a frame's rows in the columns that do not support it (``mask``), the pairs of columns no frame has
-    both of (:func:`_structure`), the rows whose entry below a pivot is zero, and each row of the elimination
+    both of, the rows whose entry below a pivot is zero, and each row of the elimination
     past its last non-zero column (the limbs' blocks of a mechanism without free coordinates), so the arithmetic
     on the other entries, and the steps, are those of the dense loops to the last bit, at a fraction of their
     cost (the 6-UPS: six 6 x 6 blocks of a 36 x 36 system).
@@ -134,7 +136,7 @@ def damped_steps(
     a = np.empty((m, m))
     g = np.empty(m)
     last = np.empty(m, np.int64)
-    held, held_count, pairs, pair_count = _structure(mask, nv, nfree)
+    held, held_count, pairs, pair_count = structure
     for s in range(which.size):
         b = which[s]
         jac[:] = 0.0
@@ -225,7 +227,7 @@ def damped_steps(
 
 
 @njit
-def _structure(mask: Array, nv: int, nfree: int) -> tuple[Ints, Ints, Ints, Ints]:
+def step_structure(mask: Array, nv: int, nfree: int) -> tuple[Ints, Ints, Ints, Ints]:
     """:func:`damped_steps`' sparsity, the same for every sample: each column's frames and partner columns.
 
     Column i's frames are those whose rows it has; its partners, the columns ``j >= i`` that share one. ``mask``
@@ -271,6 +273,7 @@ def iterate(
     stall_window: int,
     last: bool,
     vector_space: bool,
+    structure: tuple,
 ) -> tuple[Array, Array]:
     """One iteration of :func:`pinmob.assembly.batch_solver.solve_poses` on the samples ``active``, in place.
 
@@ -278,7 +281,8 @@ def iterate(
     rule (:func:`advance`, which updates ``best`` and ``history``), the best iterates kept (``best_q``,
     ``best_p``) and, for the samples that go on (none when ``last``), the damped steps (:func:`damped_steps`),
     applied to ``q`` and ``p`` when ``vector_space`` (``q + dq``; else the caller integrates them). ``numbers``:
-    damping, maximum step, tol, floor, stall gain, polish gain and divergence factor.
+    damping, maximum step, tol, floor, stall gain, polish gain and divergence factor. ``structure``:
+    :func:`step_structure` of ``mask``.
 
     Returns:
         the samples that go on, and their (dimensionless) steps.
@@ -294,7 +298,7 @@ def iterate(
     which = np.flatnonzero(keep)
     if last or which.size == 0:
         return active[:0], np.zeros((0, col.size))
-    steps = damped_steps(full, frames, here, e, which, mask, col, free, length, damping, max_step)
+    steps = damped_steps(full, frames, here, e, which, mask, col, free, length, damping, max_step, structure)
     going = active[which]
     nv = full.shape[2]
     if vector_space:
@@ -350,6 +354,7 @@ def solve_stack(
     no_jacobians = np.empty((0, 0, 6, nv))
     moved = np.empty(nq)
     dq = np.empty(nv)
+    structure = step_structure(mask, nv, free.size)  # the same for every iteration
     for it in range(max_iter + 1):
         m = active.size
         qa = np.empty((m, nq))
@@ -369,7 +374,7 @@ def solve_stack(
                     frames[s, f, i, 3] = pos[s, f, i]
                 frames[s, f, 3, 3] = 1.0
         going, steps = iterate(full, frames, q, p, active, it, best, best_q, best_p, history, mask, col, free, length,
-                               numbers, stall_window, it == max_iter, vector_space)  # fmt: skip
+                               numbers, stall_window, it == max_iter, vector_space, structure)  # fmt: skip
         for s in range(m):
             if best[active[s]] < before[s]:  # the kernel's rule (batch_stopping.advance): strictly smaller
                 best_full[active[s]] = full[s]

@@ -310,12 +310,13 @@ def _solve_compiled(
                            numbers, stall_window, max_iter, problem.vector_space, best, best_q, best_p, history,
                            best_full, best_frames)  # fmt: skip
         return BatchSolution(best_q, best, best <= tol, best_full, best_frames)
+    structure = kernel.step_structure(mask, problem.model.nv, len(problem.free))  # the same for every iteration
     for it in range(max_iter + 1):
         full, placements = problem.kinematics(q[active])
         before = best[active]
         going, dz = kernel.iterate(full, placements, q, p, active, it, best, best_q, best_p, history, mask,
                                    problem.step_col, problem.free_array, problem.length, numbers, stall_window,
-                                   it == max_iter, problem.vector_space)  # fmt: skip
+                                   it == max_iter, problem.vector_space, structure)  # fmt: skip
         better = best[active] < before  # the kernel's rule (batch_stopping.advance): strictly smaller
         best_full[active[better]], best_frames[active[better]] = full[better], placements[better]
         if not going.size:

@@ -255,8 +255,9 @@ class _Chunk:
                 sample.row.update(self.finite(sample.q))
         rows: list[tuple[float, bool, dict[str, Any] | BatchRow]] = [(float(k), False, _finished(done[k].row))
                                                                     for k in range(start, stop)]  # fmt: skip
-        rows += [(float(_dict(e.row)["_t"]), True, _dict(e.row)) for e in kept]
-        rows.sort(key=lambda r: (r[0], r[1]))
+        if kept:  # the samples' rows are in order
+            rows += [(float(_dict(e.row)["_t"]), True, _dict(e.row)) for e in kept]
+            rows.sort(key=lambda r: (r[0], r[1]))
         for *_, row in rows:
             if isinstance(row, dict):
                 row.pop("_t", None)

@@ -175,10 +175,14 @@ class _Lockstep:
                 closed = predictor.close(poses, seeds, kind, None, joints)
             for j in np.flatnonzero(closed.converged):
                 found[tried[j]] = (closed.q[j], closed.jacobians[j], closed.platform[j])
+        spec = predictor.spec  # a predicted sample as _Chunk.assemble makes it where it has nothing to check (opened)
+        plain = self.joints is None and spec.platform and not spec.cad and predictor.mech is self.chunks[0].mech
         for (c, k, seed), got in zip(work, found):
             chunk, pending = self.chunks[c], self.pending[c]
             head = Head(k, self.params, self.row[k])
-            if got is not None:  # the target built where it gives joint values: the sample's known values
+            if got is not None and plain:
+                sample = _Sample(head, got[0], {}, {}, got[1:])
+            elif got is not None:  # the target built where it gives joint values: the sample's known values
                 target = chunk.spec.target(k, head.line_params()) if self.joints is not None else None
                 sample = chunk.assemble(k, got[0], closed=got[0], target=target, params=head)
                 if predictor.mech is chunk.mech:  # not on a model with CAD gaps held (spec.cad)

@@ -18,6 +18,7 @@ LAYERS = [
         "pinmob.frozen",
         "pinmob.jit_cache",
         "pinmob.blas",
+        "pinmob.collector",
         "pinmob.signals",
         "pinmob.progress",
         "pinmob.bounds",

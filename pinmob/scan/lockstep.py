@@ -42,6 +42,7 @@ import pinocchio as pin
 
 from pinmob.assembly import PoseProblem
 from pinmob.blas import one_blas_thread
+from pinmob.collector import collector_paused
 from pinmob.model import Mechanism
 from pinmob.scan.batch_rows import Analysed
 from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
@@ -67,6 +68,7 @@ Job = tuple[int, int, Array]
 
 
 @one_blas_thread
+@collector_paused  # no reference cycles among the group's objects: the collector's passes would find none
 def run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> GroupRows:
     """The rows of the chunks ``jobs``, in order (module docstring); those the batch decided kept as its columns.
 

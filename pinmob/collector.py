@@ -1,0 +1,53 @@
+"""The garbage collector's automatic passes paused while a scan's group of samples runs.
+
+A group (:func:`pinmob.scan.lockstep.run_group`) makes a dozen small objects a sample (its pending entry, head,
+row and joint values) that live until the group's table is made: tens of thousands of allocations that trigger
+the collector's passes, and its full passes walk every object of the process (Pinocchio's, numpy's, numba's and
+pinmob's modules). A 41 x 41 scan of the 3-PUU spent about 5 ms of its 52 in the collector, with no reference
+cycle to find: what a group makes is freed by reference counting.
+
+:data:`collector_paused` (a context manager and a decorator) disables the automatic passes for the duration of
+the block and enables them again when the outermost block ends, if they were enabled when it began: a collector
+the user disabled stays disabled, and nested or concurrent blocks (Dask's threads) keep it paused until the last
+one leaves. ``gc.collect()`` still runs when called. The objects are the same and so are the results; only when
+the collector runs changes.
+"""
+
+from __future__ import annotations
+
+import gc
+import threading
+from contextlib import ContextDecorator
+
+_LOCK = threading.Lock()
+
+
+class _CollectorPaused(ContextDecorator):
+    """Re-entrant, thread-safe pause of the collector's automatic passes (see the module docstring)."""
+
+    def __init__(self) -> None:
+        self._depth = 0
+        self._was_enabled = False
+
+    def __enter__(self) -> _CollectorPaused:
+        with _LOCK:
+            self._depth += 1
+            if self._depth == 1:
+                self._was_enabled = gc.isenabled()
+                gc.disable()
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        with _LOCK:
+            self._depth -= 1
+            if self._depth == 0 and self._was_enabled:
+                gc.enable()
+
+    @property
+    def active(self) -> bool:
+        """True inside a block (the automatic passes are paused)."""
+        return self._depth > 0
+
+
+#: ``with collector_paused:`` or ``@collector_paused``: no automatic garbage collection inside the block.
+collector_paused = _CollectorPaused()

@@ -1,0 +1,93 @@
+"""The garbage collector's automatic passes paused while a scan's group runs, and the user's setting kept."""
+
+from __future__ import annotations
+
+import gc
+import sys
+import threading
+
+import pytest
+
+import pinmob
+from pinmob.collector import collector_paused
+from pinmob.scan import grid_spec
+from pinmob.scan.scan_run import scan_table
+
+
+@pytest.fixture
+def enabled():
+    """The collector enabled for the test, and the process's setting restored after it."""
+    was = gc.isenabled()
+    gc.enable()
+    yield
+    if not was:
+        gc.disable()
+
+
+def test_paused_inside_restored_after(enabled):
+    with collector_paused:
+        assert not gc.isenabled() and collector_paused.active
+        with collector_paused:  # nested: still paused, and the inner exit does not enable it
+            assert not gc.isenabled()
+        assert not gc.isenabled()
+    assert gc.isenabled() and not collector_paused.active
+
+
+def test_restored_after_an_error(enabled):
+    with pytest.raises(RuntimeError), collector_paused:
+        raise RuntimeError("inside the block")
+    assert gc.isenabled()
+
+
+def test_a_collector_the_user_disabled_stays_disabled(enabled):
+    gc.disable()
+    with collector_paused:
+        assert not gc.isenabled()
+    assert not gc.isenabled()
+
+
+def test_concurrent_blocks_keep_it_paused_until_the_last_leaves(enabled):
+    inside, leave, states = threading.Event(), threading.Event(), []
+
+    def other() -> None:
+        with collector_paused:
+            inside.set()
+            leave.wait(10)
+            states.append(gc.isenabled())
+
+    thread = threading.Thread(target=other)
+    thread.start()
+    assert inside.wait(10)
+    with collector_paused:
+        pass  # this thread's block ends first: the other one's still holds the pause
+    assert not gc.isenabled()
+    leave.set()
+    thread.join(10)
+    assert states == [False] and gc.isenabled()
+
+
+def test_a_scan_group_runs_without_automatic_collections(enabled):
+    """With a tiny threshold the collector runs all the time, except while a group assembles and analyses."""
+    mech = pinmob.load("3-PUU")
+    spec = grid_spec(mech, "generic", [("x", -0.06, 0.06, 9), ("y", -0.06, 0.06, 9)])
+    during: list[bool] = []  # per collection: was a group running (run_group on the stack)?
+
+    def record(phase: str, info: dict[str, int]) -> None:
+        if phase == "start":
+            frame = sys._getframe(1)
+            while frame is not None and frame.f_code.co_name != "run_group":
+                frame = frame.f_back
+            during.append(frame is not None)
+
+    threshold = gc.get_threshold()
+    gc.callbacks.append(record)
+    gc.set_threshold(5)
+    try:
+        table = scan_table(mech, spec)
+    finally:
+        gc.set_threshold(*threshold)
+        gc.callbacks.remove(record)
+    assert len(table) >= 81 and table["reachable"].all()
+    assert during.count(False) > 10  # the walk, the tables: collected as usual
+    assert True not in during, f"{during.count(True)} collections while a group ran"
+    assert gc.isenabled()

@@ -10,7 +10,7 @@ import pytest
 
 import pinmob
 from pinmob.collector import collector_paused
-from pinmob.scan import grid_spec
+from pinmob.scan import ScanSpec, grid_spec, with_finite
 from pinmob.scan.scan_run import scan_table
 
 
@@ -66,11 +66,9 @@ def test_concurrent_blocks_keep_it_paused_until_the_last_leaves(enabled):
     assert states == [False] and gc.isenabled()
 
 
-def test_a_scan_group_runs_without_automatic_collections(enabled):
-    """With a tiny threshold the collector runs all the time, except while a group assembles and analyses."""
-    mech = pinmob.load("3-PUU")
-    spec = grid_spec(mech, "generic", [("x", -0.06, 0.06, 9), ("y", -0.06, 0.06, 9)])
-    during: list[bool] = []  # per collection: was a group running (run_group on the stack)?
+def collections_during_groups(mech: pinmob.Mechanism, spec: ScanSpec) -> list[bool]:
+    """Per automatic collection of a scan with the collector's threshold at 5: was a group running?"""
+    during: list[bool] = []  # run_group on the stack
 
     def record(phase: str, info: dict[str, int]) -> None:
         if phase == "start":
@@ -87,7 +85,46 @@ def test_a_scan_group_runs_without_automatic_collections(enabled):
     finally:
         gc.set_threshold(*threshold)
         gc.callbacks.remove(record)
-    assert len(table) >= 81 and table["reachable"].all()
+    assert len(table) >= spec.size and table["reachable"].all()
+    return during
+
+
+def test_a_scan_group_runs_without_automatic_collections(enabled):
+    """With a tiny threshold the collector runs all the time, except while a group assembles and analyses."""
+    mech = pinmob.load("3-PUU")
+    during = collections_during_groups(mech, grid_spec(mech, "generic", [("x", -0.06, 0.06, 9), ("y", -0.06, 0.06, 9)]))
     assert during.count(False) > 10  # the walk, the tables: collected as usual
     assert True not in during, f"{during.count(True)} collections while a group ran"
     assert gc.isenabled()
+
+
+def test_a_scan_with_finite_dof_keeps_collecting(enabled):
+    """Each sample's finite analysis refers back to its configuration: only the collector frees those cycles."""
+    mech = pinmob.load("3-PUU")
+    spec = with_finite(mech, grid_spec(mech, "generic", [("x", -0.06, 0.06, 5), ("y", -0.06, 0.06, 5)]))
+    assert collections_during_groups(mech, spec).count(True) > 10
+    assert gc.isenabled()
+
+
+@pytest.mark.parametrize(
+    "robot, at, axes",
+    [
+        ("3-PUU", "generic", [("x", -0.06, 0.06, 9), ("y", -0.06, 0.06, 9)]),
+        ("3-PUU", "generic", [("x", -0.3, 0.3, 9), ("y", -0.3, 0.3, 9)]),  # out of reach, refined edges
+        ("3-PUU", "generic", [("A_slider", -0.2, 0.2, 9), ("B_slider", -0.2, 0.2, 9)]),  # motors, refined
+        ("3-RPS", "home", [("roll", -0.2, 0.2, 9), ("pitch", -0.2, 0.2, 9)]),  # x, y, yaw following
+    ],
+)
+def test_paused_scans_leave_no_cycle_a_sample(enabled, robot, at, axes):
+    """What the paused groups make is freed by reference counting: a cycle a sample would pile up until they end."""
+    mech = pinmob.load(robot)
+    spec = grid_spec(mech, at, axes)
+    scan_table(mech, spec)  # the kernels, caches and generic states made once
+    gc.collect()
+    gc.disable()
+    try:
+        scan_table(mech, spec)
+    finally:
+        cyclic = gc.collect()
+        gc.enable()
+    assert cyclic < spec.size // 4, f"{cyclic} objects in reference cycles after a scan of {spec.size} samples"

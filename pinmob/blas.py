@@ -18,18 +18,16 @@ several threads of the user's may then not all get the limit (their results are 
 from __future__ import annotations
 
 import sys
-import threading
-from contextlib import ContextDecorator
 from typing import Any
 
-_LOCK = threading.Lock()
+from pinmob.held_setting import HeldSetting
 
 
-class _OneBlasThread(ContextDecorator):
+class _OneBlasThread(HeldSetting):
     """Re-entrant, thread-safe ``BLAS threads = 1`` for the duration of the block (see the module docstring)."""
 
     def __init__(self) -> None:
-        self._depth = 0
+        super().__init__()
         self._libraries: list[Any] = []
         self._modules = -1  # len(sys.modules) when the libraries were last looked for
         self._saved: list[tuple[Any, int]] = []
@@ -43,29 +41,17 @@ class _OneBlasThread(ContextDecorator):
             self._modules = len(sys.modules)
         return self._libraries
 
-    def __enter__(self) -> _OneBlasThread:
-        with _LOCK:
-            self._depth += 1
-            if self._depth == 1:
-                for lib in self._blas():
-                    threads = lib.get_num_threads()
-                    if threads is not None and threads != 1:
-                        lib.set_num_threads(1)
-                        self._saved.append((lib, threads))
-        return self
+    def _hold(self) -> None:
+        for lib in self._blas():
+            threads = lib.get_num_threads()
+            if threads is not None and threads != 1:
+                lib.set_num_threads(1)
+                self._saved.append((lib, threads))
 
-    def __exit__(self, *exc: object) -> None:
-        with _LOCK:
-            self._depth -= 1
-            if self._depth == 0:
-                for lib, threads in self._saved:
-                    lib.set_num_threads(threads)
-                self._saved.clear()
-
-    @property
-    def active(self) -> bool:
-        """True inside a block (the BLAS libraries run on one thread)."""
-        return self._depth > 0
+    def _release(self) -> None:
+        for lib, threads in self._saved:
+            lib.set_num_threads(threads)
+        self._saved.clear()
 
 
 #: ``with one_blas_thread:`` or ``@one_blas_thread``: small-matrix linear algebra on one BLAS thread.

@@ -17,37 +17,24 @@ scan with finite DoF (each sample's finite analysis refers back to its configura
 from __future__ import annotations
 
 import gc
-import threading
-from contextlib import ContextDecorator
 
-_LOCK = threading.Lock()
+from pinmob.held_setting import HeldSetting
 
 
-class _CollectorPaused(ContextDecorator):
+class _CollectorPaused(HeldSetting):
     """Re-entrant, thread-safe pause of the collector's automatic passes (see the module docstring)."""
 
     def __init__(self) -> None:
-        self._depth = 0
+        super().__init__()
         self._was_enabled = False
 
-    def __enter__(self) -> _CollectorPaused:
-        with _LOCK:
-            self._depth += 1
-            if self._depth == 1:
-                self._was_enabled = gc.isenabled()
-                gc.disable()
-        return self
+    def _hold(self) -> None:
+        self._was_enabled = gc.isenabled()
+        gc.disable()
 
-    def __exit__(self, *exc: object) -> None:
-        with _LOCK:
-            self._depth -= 1
-            if self._depth == 0 and self._was_enabled:
-                gc.enable()
-
-    @property
-    def active(self) -> bool:
-        """True inside a block (the automatic passes are paused)."""
-        return self._depth > 0
+    def _release(self) -> None:
+        if self._was_enabled:
+            gc.enable()
 
 
 #: ``with collector_paused:`` or ``@collector_paused``: no automatic garbage collection inside the block.

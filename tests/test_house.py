@@ -17,6 +17,7 @@ LAYERS = [
         "pinmob.name_matching",
         "pinmob.frozen",
         "pinmob.jit_cache",
+        "pinmob.held_setting",
         "pinmob.blas",
         "pinmob.collector",
         "pinmob.signals",

@@ -115,7 +115,7 @@ def damped_steps(
     length: float,
     damping: float,
     max_step: float,
-    structure: tuple,
+    structure: tuple[Ints, Ints, Ints, Ints],
 ) -> Array:
     """(len(which), nv + free) capped Levenberg-Marquardt steps of the samples ``which`` (module docstring).
 
@@ -273,7 +273,7 @@ def iterate(
     stall_window: int,
     last: bool,
     vector_space: bool,
-    structure: tuple,
+    structure: tuple[Ints, Ints, Ints, Ints],
 ) -> tuple[Array, Array]:
     """One iteration of :func:`pinmob.assembly.batch_solver.solve_poses` on the samples ``active``, in place.
 

@@ -86,6 +86,9 @@ class _Chunk:
         self.solver = spec.assembly_mechanism(mech)  # mech, or with the reference's CAD gaps held (spec.cad)
         self.rtol = spec.reference_rtol(mech)  # spec.rtol; with spec.cad, raised for the gaps (refinement's)
         self.band = NEAR_FACTOR * self.rtol
+        #: A configuration closed elsewhere (the lockstep's predictor) and no target to read is the sample as it is:
+        #: nothing to check (:meth:`opened`) nor to report (:meth:`assemble`).
+        self.takes_closed = spec.platform and not spec.cad
 
     def trial(self, t: float, seed: Array, analysed: bool = True) -> _Sample:
         """A refinement's trial point t, assembled from ``seed``: its distances only, on the platform's scans.
@@ -114,7 +117,7 @@ class _Chunk:
         a :class:`~pinmob.scan.group_rows.Head`: sample t's head, kept as the row of an assembled sample of a
         platform scan until :meth:`finish`).
         """
-        if closed is not None and target is None and self.spec.platform and not self.spec.cad:
+        if closed is not None and target is None and self.takes_closed:
             head = params if isinstance(params, Head) else self._head(t, params)
             return _Sample(head, closed, {}, {})  # nothing to check (opened) nor to report
         kept = params if isinstance(params, Head) and self.spec.platform else None  # an assembled sample's head

@@ -187,8 +187,8 @@ class _Lockstep:
                 closed = predictor.close(poses, seeds, kind, None, joints)
             for j in np.flatnonzero(closed.converged):
                 found[tried[j]] = (closed.q[j], closed.jacobians[j], closed.platform[j])
-        spec = predictor.spec  # a predicted sample as _Chunk.assemble makes it where it has nothing to check (opened)
-        plain = self.joints is None and spec.platform and not spec.cad and predictor.mech is self.chunks[0].mech
+        first = self.chunks[0]  # a predicted sample as _Chunk.assemble makes it, with the predictor's kinematics
+        plain = self.joints is None and first.takes_closed and predictor.mech is first.mech
         for (c, k, seed), got in zip(work, found):
             chunk, pending = self.chunks[c], self.pending[c]
             head = Head(k, self.params, self.row[k])

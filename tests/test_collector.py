@@ -116,15 +116,23 @@ def test_a_scan_with_finite_dof_keeps_collecting(enabled):
     ],
 )
 def test_paused_scans_leave_no_cycle_a_sample(enabled, robot, at, axes):
-    """What the paused groups make is freed by reference counting: a cycle a sample would pile up until they end."""
+    """What the paused groups make is freed by reference counting: a cycle a sample would pile up until they end.
+
+    The fewer of two scans' counts: what happens once in a process (an import during the scan, after which
+    ``one_blas_thread`` looks for the BLAS libraries again, and threadpoolctl's controllers hold cycles) is not the
+    scan's, and a cycle a sample is in both.
+    """
     mech = pinmob.load(robot)
     spec = grid_spec(mech, at, axes)
     scan_table(mech, spec)  # the kernels, caches and generic states made once
-    gc.collect()
-    gc.disable()
-    try:
-        scan_table(mech, spec)
-    finally:
-        cyclic = gc.collect()
-        gc.enable()
-    assert cyclic < spec.size // 4, f"{cyclic} objects in reference cycles after a scan of {spec.size} samples"
+    counts = []
+    for _ in range(2):
+        gc.collect()
+        gc.disable()
+        try:
+            scan_table(mech, spec)
+        finally:
+            counts.append(gc.collect())
+            gc.enable()
+    cyclic = min(counts)
+    assert cyclic < spec.size // 4, f"{counts} objects in reference cycles after scans of {spec.size} samples"

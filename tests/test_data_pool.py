@@ -119,3 +119,22 @@ def test_the_generic_states_hold_no_data_once_used():
     assert not {id(s) for s in states} & {id(s) for s in theirs}
     assert all(np.array_equal(a.q, b.q) for a, b in zip(states, theirs))
     assert generic_states(mech)[0] is states[0]  # this thread's are cached
+
+
+def test_a_scan_makes_hardly_a_new_data(monkeypatch):
+    """A 6-UPS ``pin.Data`` takes about 0.5 ms to make (its nv is 36), and a 21 x 21 grid's whole run used to make
+    twelve: each predictor's problem and each frame-kinematics engine made one it never used with the compiled
+    kinematics, and the batch's platform poses one per group. Now they are made where Pinocchio's kinematics need
+    them, or borrowed from the model's pool: the grid's set-up and its scan make at most three new ones, with the
+    compiled kinematics or Pinocchio's (11 before, counted here the same way)."""
+    from pinmob.scan.scan_run import scan_table
+
+    mech = pinmob.load("6-UPS")
+    made: list[int] = []
+    original = pin.Data
+    monkeypatch.setattr(pin, "Data", lambda *args: made.append(1) or original(*args))
+    spec = grid_spec(mech, "home", [("x", -0.03, 0.03, 5), ("y", -0.03, 0.03, 5)])
+    table = scan_table(mech, spec)
+    monkeypatch.undo()
+    assert len(table) == 25 and all(table.column("reachable"))
+    assert len(made) <= 3, f"{len(made)} pin.Data made by a 5 x 5 scan of the 6-UPS"

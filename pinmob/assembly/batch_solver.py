@@ -41,6 +41,7 @@ from __future__ import annotations
 
 import os
 from dataclasses import dataclass
+from functools import cached_property
 from types import ModuleType
 
 import numpy as np
@@ -55,9 +56,11 @@ from pinmob.blas import one_blas_thread
 from pinmob.model import (
     ENGINE_VARIABLE,
     Mechanism,
+    acquire,
     angle_mask,
     frame_kinematics,
     linear_velocity_mask,
+    release_with,
     wrap_angles,
 )
 from pinmob.screw import Array, Mask
@@ -126,7 +129,6 @@ class PoseProblem:
         self.step_col[list(fixed)] = 0.0
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
         self.vector_space = shape.vector_space
-        self.data = pin.Data(model)  # as model.createData(), without its copy
         #: The frames' kinematics for a stack: compiled (numba) when it can be and ``compiled``, else Pinocchio's
         #: calls (each problem its own then: they use a ``pin.Data``; the compiled one is shared per mechanism and
         #: engine asked for, it keeps no state between calls).
@@ -139,6 +141,17 @@ class PoseProblem:
             self.kernel = compiled_kernel()
         self.angles, self.angle_rates = shape.angles, shape.angle_rates
         self.limits, self.limited = shape.limits, shape.limited
+
+    @cached_property
+    def data(self) -> pin.Data:
+        """The ``pin.Data`` of Pinocchio's kinematics, taken from the model's pool when first used.
+
+        Read by :meth:`kinematics` without the compiled ones and by the predictor's following coordinates; given
+        back when the problem is collected. The compiled kinematics need none, and a 6-UPS's takes 0.5 ms to make.
+        """
+        data = acquire(self.model)
+        release_with(self, self.model, data)
+        return data
 
     @staticmethod
     def covers(mech: Mechanism) -> bool:

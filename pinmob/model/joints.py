@@ -15,6 +15,7 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from pinmob.exceptions import ConfigurationError, FrameError
+from pinmob.model.data_pool import borrowed
 from pinmob.name_matching import choices, did_you_mean
 from pinmob.screw import Array, Mask
 
@@ -162,14 +163,11 @@ def motion_subspaces(model: pin.Model) -> tuple[tuple[int, Array], ...]:
 
 @functools.lru_cache(maxsize=16)
 def _subspaces(model: pin.Model, njoints: int, nq: int, nv: int) -> tuple[tuple[int, Array], ...]:
-    data = pin.Data(model)  # as model.createData(), without its copy
-    pin.forwardKinematics(model, data, pin.neutral(model))
-    out = []
-    for j in range(1, model.njoints):
-        if model.joints[j].nv:
-            sub = np.array(data.joints[j].S).reshape(6, -1)
-            sub.flags.writeable = False
-            out.append((j, sub))
+    with borrowed(model) as data:  # pooled: the model's first configuration takes it next
+        pin.forwardKinematics(model, data, pin.neutral(model))
+        out = [(j, np.array(data.joints[j].S).reshape(6, -1)) for j in range(1, model.njoints) if model.joints[j].nv]
+    for _, sub in out:
+        sub.flags.writeable = False
     return tuple(out)
 
 

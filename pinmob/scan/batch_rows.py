@@ -44,7 +44,7 @@ from pinmob.analysis import (
     tied,
 )
 from pinmob.assembly import POSE_COORDS, pose_vector
-from pinmob.model import Mechanism
+from pinmob.model import Mechanism, borrowed
 from pinmob.scan.row_columns import ArrayRow
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
 from pinmob.screw import Array, Mask
@@ -83,7 +83,6 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
     ``known``: those already computed (the predictor's, :mod:`pinmob.scan.lockstep`), read instead.
     """
     model, pid, rpy = mech.model, mech.platform_id, pin.rpy.matrixToRpy
-    data = pin.Data(model)  # as model.createData(), without its copy
     full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
     pairs = [(i, k) for i, k in enumerate(known or []) if k is not None]
     given = [i for i, _ in pairs]
@@ -92,9 +91,12 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
         frames = np.array([k[1] for _, k in pairs])
         poses[given, :3] = frames[:, :3, 3]
         poses[given, 3:] = np.array([rpy(h[:3, :3]) for h in frames]).reshape(len(given), 3)
-    for i in [i for i in range(len(qs)) if known is None or known[i] is None]:  # the others: computed here
-        full[i] = pin.computeJointJacobians(model, data, qs[i])
-        poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
+    others = [i for i in range(len(qs)) if known is None or known[i] is None]
+    if others:  # computed here, in a pooled pin.Data
+        with borrowed(model) as data:
+            for i in others:
+                full[i] = pin.computeJointJacobians(model, data, qs[i])
+                poses[i] = pose_vector(pin.updateFramePlacement(model, data, pid))
     return full, poses
 
 

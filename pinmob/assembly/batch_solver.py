@@ -39,7 +39,6 @@ gives every sample the predictor did not converge to the single-sample solver.
 
 from __future__ import annotations
 
-import os
 from dataclasses import dataclass
 from functools import cached_property
 from types import ModuleType
@@ -54,12 +53,12 @@ from pinmob.assembly.rotation_stacks import log3_stack, rpy_matrices, rpy_rates,
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
 from pinmob.model import (
-    ENGINE_VARIABLE,
     Mechanism,
     acquire,
     angle_mask,
     frame_kinematics,
     linear_velocity_mask,
+    mechanism_kinematics,
     release_with,
     wrap_angles,
 )
@@ -131,12 +130,12 @@ class PoseProblem:
         self.vector_space = shape.vector_space
         #: The frames' kinematics for a stack: compiled (numba) when it can be and ``compiled``, else Pinocchio's
         #: calls (each problem its own then: they use a ``pin.Data``; the compiled one is shared per mechanism and
-        #: engine asked for, it keeps no state between calls).
+        #: engine asked for, with the compiled single-sample solve: :func:`~pinmob.model.mechanism_kinematics`, it
+        #: keeps no state between calls).
         self.fast = frame_kinematics(model, self.frames, "pinocchio")
         self.kernel = None
         if compiled:
-            engine = os.environ.get(ENGINE_VARIABLE)
-            fast = mech.memo(("pose problem kinematics", engine), lambda: frame_kinematics(model, self.frames), True)
+            fast = mechanism_kinematics(mech, self.frames)
             self.fast = fast if fast.engine == "compiled" else self.fast
             self.kernel = compiled_kernel()
         self.angles, self.angle_rates = shape.angles, shape.angle_rates

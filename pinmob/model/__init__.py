@@ -15,7 +15,13 @@ from pinmob.model.closure import (
     make_coupling,
     make_tendon_coupling,
 )
-from pinmob.model.compiled_kinematics import ENGINE_VARIABLE, FrameKinematics, frame_kinematics, numba_available
+from pinmob.model.compiled_kinematics import (
+    ENGINE_VARIABLE,
+    FrameKinematics,
+    frame_kinematics,
+    mechanism_kinematics,
+    numba_available,
+)
 from pinmob.model.constraint_models import ConstraintModelError, PinocchioExportWarning
 from pinmob.model.data_pool import acquire, borrowed, release_with
 from pinmob.model.geometry import Geometry
@@ -91,6 +97,7 @@ __all__ = [
     "joint_names",
     "joint_value",
     "linear_velocity_mask",
+    "mechanism_kinematics",
     "motion_subspaces",
     "make_closure",
     "make_coupling",

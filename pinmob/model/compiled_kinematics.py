@@ -19,13 +19,16 @@ from __future__ import annotations
 import os
 from collections.abc import Sequence
 from functools import cached_property
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
 
 from pinmob.exceptions import ConfigurationError
 from pinmob.screw import Array
+
+if TYPE_CHECKING:
+    from pinmob.model.mechanism import Mechanism
 
 #: The engines, and the references of a frame Jacobian by Pinocchio's name.
 ENGINES = ("compiled", "pinocchio")
@@ -247,3 +250,14 @@ def frame_kinematics(model: pin.Model, frames: Sequence[int], engine: str | None
     if reason and engine == "compiled":
         raise ConfigurationError(f"the compiled kinematics cannot run: {reason}")
     return FrameKinematics(model, frames, "pinocchio" if reason else "compiled", reason)
+
+
+def mechanism_kinematics(mech: Mechanism, frames: Sequence[int]) -> FrameKinematics:
+    """:func:`frame_kinematics` of ``mech``'s ``frames`` with the engine of the environment, made once per mechanism.
+
+    Cached per frames and ``PINMOB_KINEMATICS`` (not pickled with the mechanism): the batched predictor's problems
+    and the compiled single-sample solve of the same frames share one (a 6-UPS's tables take 0.35 ms to build).
+    """
+    engine = os.environ.get(ENGINE_VARIABLE)
+    key = ("frame kinematics", tuple(int(f) for f in frames), engine)
+    return mech.memo(key, lambda: frame_kinematics(mech.model, frames), transient=True)

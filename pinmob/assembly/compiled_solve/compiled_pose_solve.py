@@ -28,7 +28,7 @@ from pinmob.assembly.solver import (
     STALL_WINDOW,
     SolverResult,
 )
-from pinmob.model import ENGINE_VARIABLE, Mechanism, frame_kinematics, linear_velocity_mask, wrap_angles
+from pinmob.model import ENGINE_VARIABLE, Mechanism, linear_velocity_mask, mechanism_kinematics, wrap_angles
 from pinmob.screw import Array, twist_scaling
 
 
@@ -79,7 +79,7 @@ def compiled_pose_solver(mech: Mechanism, frames: list[int]) -> CompiledPoseSolv
     engine = os.environ.get(ENGINE_VARIABLE)
 
     def build() -> CompiledPoseSolve | None:
-        fast = frame_kinematics(mech.model, frames)
+        fast = mechanism_kinematics(mech, frames)  # shared with the batched predictor's problems
         return CompiledPoseSolve(mech, fast.tables, frames) if fast.engine == "compiled" and fast.integrable else None
 
     return mech.memo(("compiled pose solve", tuple(frames), engine), build, transient=True)

@@ -195,6 +195,21 @@ def test_the_predictors_rotation_error_is_right_up_to_a_half_turn():
     np.testing.assert_allclose(_log3(rotations), [axis * t for t in angles], atol=1e-6)
 
 
+def test_the_predictors_rpy_stacks_are_pinocchios():
+    """The numpy path's target rotations and rpy rates (``rotation_stacks.rpy_matrices``, ``rpy_rates``) on a stack
+    of angles, up to the gimbal lock, against Pinocchio's ``rpyToMatrix`` and ``computeRpyJacobian`` (WORLD) of
+    each."""
+    import numpy as np
+    import pinocchio as pin
+
+    from pinmob.assembly.rotation_stacks import rpy_matrices, rpy_rates
+
+    rpy = np.random.default_rng(5).uniform(-np.pi, np.pi, (12, 3))
+    rpy[0], rpy[1, 1] = 0.0, np.pi / 2
+    np.testing.assert_allclose(rpy_matrices(rpy), [pin.rpy.rpyToMatrix(a) for a in rpy], atol=1e-15)
+    np.testing.assert_allclose(rpy_rates(rpy), [pin.rpy.computeRpyJacobian(a, pin.WORLD) for a in rpy], atol=1e-15)
+
+
 @pytest.mark.needs_numba
 def test_the_compiled_rotation_error_is_right_up_to_a_half_turn():
     """The compiled predictor's ``log3`` (by the unit quaternion) against the vectors the rotations were made from,

@@ -211,24 +211,27 @@ class PoseProblem:
 
         From the kinematics at (B, nq) configurations (:meth:`kinematics`) and (B, 6) target poses.
         """
-        n, nf = len(full), len(self.frames)
+        n, nf, nv = len(full), len(self.frames), self.model.nv
         pos, rot = frames[:, :, :3, 3], frames[:, :, :3, :3]
         jac = full[:, None] * self.mask  # (B, F, 6, nv): each frame's supporting columns
         lin = jac[:, :, :3] - skew_stack(pos.reshape(-1, 3)).reshape(n, nf, 3, 3) @ jac[:, :, 3:]
         target = rpy_matrices(poses[:, 3:])
         rel = (rot @ target[:, None].transpose(0, 1, 3, 2)).reshape(-1, 3, 3)
-        errors = np.concatenate([(pos - poses[:, None, :3]) / self.length, log3_stack(rel).reshape(n, nf, 3)], 2)
-        rows = np.concatenate([lin / self.length, jac[:, :, 3:]], 2)  # (B, F, 6, nv)
+        errors = np.empty((n, nf, 6))
+        np.divide(pos - poses[:, None, :3], self.length, out=errors[:, :, :3])
+        errors[:, :, 3:] = log3_stack(rel).reshape(n, nf, 3)
+        rows = np.zeros((n, nf, 6, nv + len(self.free)))  # (B, F, 6, nv + free)
+        np.divide(lin, self.length, out=rows[:, :, :3, :nv])
+        rows[:, :, 3:, :nv] = jac[:, :, 3:]
         if self.free:
-            extra = np.zeros((n, nf, 6, len(self.free)))
             rates = rpy_rates(poses[:, 3:])
-            for c, f in enumerate(self.free):
+            for c, f in enumerate(self.free, nv):
                 if f < 3:
-                    extra[:, :, f, c] = -1.0 / self.length
+                    rows[:, :, f, c] = -1.0 / self.length
                 else:
-                    extra[:, :, 3:, c] = -rates[:, None, :, f - 3]
-            rows = np.concatenate([rows, extra], 3)
-        return errors.reshape(n, 6 * nf), rows.reshape(n, 6 * nf, -1) * self.step_col
+                    rows[:, :, 3:, c] = -rates[:, None, :, f - 3]
+        rows *= self.step_col
+        return errors.reshape(n, 6 * nf), rows.reshape(n, 6 * nf, -1)
 
     def integrate(self, qs: Array, poses: Array, steps: Array) -> tuple[Array, Array]:
         """Configurations and poses moved by (B, nv + free) dimensionless steps."""

@@ -15,17 +15,22 @@ from pinmob.screw import Array
 def rpy_matrices(rpy: Array) -> Array:
     """(B, 3, 3) ``Rz(yaw) Ry(pitch) Rx(roll)`` (Pinocchio's rpy) of (B, 3) angles."""
     (cr, cp, cy), (sr, sp, sy) = np.cos(rpy).T, np.sin(rpy).T
-    return np.stack([np.stack([cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr], -1),
-                     np.stack([sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr], -1),
-                     np.stack([-sp, cp * sr, cp * cr], -1)], -2)  # fmt: skip
+    out = np.empty((len(rpy), 3, 3))
+    out[:, 0, 0], out[:, 0, 1], out[:, 0, 2] = cy * cp, cy * sp * sr - sy * cr, cy * sp * cr + sy * sr
+    out[:, 1, 0], out[:, 1, 1], out[:, 1, 2] = sy * cp, sy * sp * sr + cy * cr, sy * sp * cr - cy * sr
+    out[:, 2, 0], out[:, 2, 1], out[:, 2, 2] = -sp, cp * sr, cp * cr
+    return out
 
 
 def rpy_rates(rpy: Array) -> Array:
     """(B, 3, 3) world angular velocity per rpy rate (Pinocchio's ``computeRpyJacobian(rpy, WORLD)``)."""
     _, cp, cy = np.cos(rpy).T
     _, sp, sy = np.sin(rpy).T
-    z, o = np.zeros_like(cp), np.ones_like(cp)
-    return np.stack([np.stack([cy * cp, -sy, z], -1), np.stack([sy * cp, cy, z], -1), np.stack([-sp, z, o], -1)], -2)
+    out = np.zeros((len(rpy), 3, 3))
+    out[:, 0, 0], out[:, 0, 1] = cy * cp, -sy
+    out[:, 1, 0], out[:, 1, 1] = sy * cp, cy
+    out[:, 2, 0], out[:, 2, 2] = -sp, 1.0
+    return out
 
 
 def log3_stack(r: Array) -> Array:

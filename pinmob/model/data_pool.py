@@ -1,8 +1,9 @@
 """Reusable ``pin.Data``: a small pool per model.
 
 Creating a ``pin.Data`` costs about as much as a whole analysis of a large
-mechanism (it grows with nv^3: 24 us at nv 15, 0.24 ms at nv 36), so the
-configurations, the closure solver and the assembly functions borrow one from
+mechanism (it grows with nv^3: 13 to 24 us at nv 15, 0.24 to 0.5 ms at nv 36), so the
+configurations, the closure solver, the assembly functions, the batched predictor's problems (where Pinocchio's
+kinematics run), a scan's platform poses and the model's motion subspaces borrow one from
 the model's pool and give it back when they are done with it. The pool holds at
 most ``POOL_SIZE`` spare ones per model and goes with the model.
 """

@@ -138,3 +138,19 @@ def test_a_scan_makes_hardly_a_new_data(monkeypatch):
     monkeypatch.undo()
     assert len(table) == 25 and all(table.column("reachable"))
     assert len(made) <= 3, f"{len(made)} pin.Data made by a 5 x 5 scan of the 6-UPS"
+
+
+def test_a_spare_made_before_the_model_grew_is_not_lent():
+    """A reader borrows a Data while it builds a model (``motion_subspaces`` checks the axes, then the URDF's loop
+    joints add frames): a spare made before is one frame short, and Pinocchio's algorithms, which do not check its
+    sizes, wrote past its end (an analysis raised ``IndexError``, a CLI run died of a segmentation fault). The pool
+    lends only a Data that fits the model as it is now."""
+    from pinmob.model import borrowed
+
+    model = pin.buildSampleModelManipulator()
+    with borrowed(model) as data:
+        assert len(data.oMf) == model.nframes
+    model.addFrame(pin.Frame("added", 1, 0, pin.SE3.Identity(), pin.FrameType.OP_FRAME))
+    with borrowed(model) as data:
+        assert len(data.oMf) == model.nframes and len(data.oMi) == model.njoints
+        pin.framesForwardKinematics(model, data, pin.neutral(model))

@@ -188,12 +188,12 @@ class PoseProblem:
         The compiled kinematics in one call (:mod:`pinmob.model.compiled_kinematics`), else Pinocchio one sample
         at a time.
         """
-        model, data = self.model, self.data
         if self.fast.engine == "compiled":
             full, rot, pos = self.fast.world_jacobians(qs)
             frames = np.zeros((len(qs), len(self.frames), 4, 4))
             frames[:, :, :3, :3], frames[:, :, :3, 3], frames[:, :, 3, 3] = rot, pos, 1.0
             return full, frames
+        model, data = self.model, self.data
         full, frames = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), len(self.frames), 4, 4))
         jacobians, placement = pin.computeJointJacobians, pin.updateFramePlacement
         for b, q in enumerate(qs):

@@ -25,12 +25,24 @@ _LOCK = threading.Lock()
 
 
 def acquire(model: pin.Model) -> pin.Data:
-    """A spare ``pin.Data`` of ``model``, or a new one; its contents are whatever the last user left."""
+    """A spare ``pin.Data`` of ``model``, or a new one; its contents are whatever the last user left.
+
+    A spare made before joints or frames were added to the model (a reader borrows one while it builds the model:
+    :func:`pinmob.model.joints.motion_subspaces`) is dropped: Pinocchio's algorithms do not check a Data's sizes
+    against its model, and one frame short they read and write past its end.
+    """
     with _LOCK:
         spare = _POOL.get(model)
-        if spare:
-            return spare.pop()
+        while spare:
+            data = spare.pop()
+            if _fits(model, data):
+                return data
     return pin.Data(model)  # as model.createData(), which returns a copy of the one it builds (twice the time)
+
+
+def _fits(model: pin.Model, data: pin.Data) -> bool:
+    """``data`` has one placement per joint and frame of ``model`` as it is now."""
+    return len(data.oMi) == model.njoints and len(data.oMf) == model.nframes
 
 
 def release(model_ref: weakref.ref[pin.Model], data: pin.Data) -> None:

@@ -128,16 +128,14 @@ class PoseProblem:
         self.step_col[list(fixed)] = 0.0
         #: Every joint's configuration space is its velocity space: ``pin.integrate`` is ``q + dq``.
         self.vector_space = shape.vector_space
-        #: The frames' kinematics for a stack: compiled (numba) when it can be and ``compiled``, else Pinocchio's
-        #: calls (each problem its own then: they use a ``pin.Data``; the compiled one is shared per mechanism and
-        #: engine asked for, with the compiled single-sample solve: :func:`~pinmob.model.mechanism_kinematics`, it
-        #: keeps no state between calls).
-        self.fast = frame_kinematics(model, self.frames, "pinocchio")
-        self.kernel = None
-        if compiled:
-            fast = mechanism_kinematics(mech, self.frames)
-            self.fast = fast if fast.engine == "compiled" else self.fast
-            self.kernel = compiled_kernel()
+        #: The frames' kinematics for a stack: compiled (numba) when it can be and ``compiled`` (shared per mechanism
+        #: and engine asked for with the compiled single-sample solve, :func:`~pinmob.model.mechanism_kinematics`: it
+        #: keeps no state between calls), else Pinocchio's calls (:meth:`kinematics`, in the problem's own
+        #: :attr:`data`).
+        self.fast = (
+            mechanism_kinematics(mech, self.frames) if compiled else frame_kinematics(model, self.frames, "pinocchio")
+        )
+        self.kernel = compiled_kernel() if compiled else None
         self.angles, self.angle_rates = shape.angles, shape.angle_rates
         self.limits, self.limited = shape.limits, shape.limited
 

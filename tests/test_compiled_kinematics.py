@@ -74,21 +74,35 @@ def assert_matches(model: pin.Model, engine: str | None = "compiled", count: int
 
 
 def assert_integrates(model: pin.Model, kin: FrameKinematics, qs: np.ndarray) -> None:
-    """The compiled ``integrate`` of an integrable model is Pinocchio's; a free-flyer or planar joint makes it not."""
+    """The compiled ``integrate`` and ``difference`` of an integrable model are Pinocchio's; a free-flyer or planar
+    joint makes it not."""
     kinds = {j.shortname() for j in model.joints[1:]}
     assert kin.integrable == (not kinds & {"JointModelFreeFlyer", "JointModelPlanar"}), kinds
     if not kin.integrable:
         return
-    from pinmob.model import integrate_kernel
+    from pinmob.model import difference_kernel, integrate_kernel
 
     rng = np.random.default_rng(0)
     _, kind, _, iq, iv = kin.tables[:5]
     for q in qs:
-        for size in (1e-6, 0.3, 2.0):  # the series of a small rotation, and large steps
+        for size in (1e-10, 1e-6, 0.3, 2.0):  # the series of a small rotation, and large steps
             v = rng.normal(0.0, size, model.nv)
             out = np.empty(model.nq)
             integrate_kernel(q, v, kind, iq, iv, out)
             np.testing.assert_allclose(out, pin.integrate(model, q, v), rtol=0, atol=1e-14)
+            # its inverse, pin.difference (a spherical joint's the shorter way: both quaternion signs)
+            moved = pin.integrate(model, q, v)
+            d = np.empty(model.nv)
+            difference_kernel(q, moved, kind, iq, iv, d)
+            np.testing.assert_allclose(d, pin.difference(model, q, moved), rtol=0, atol=1e-13)
+            for e in np.flatnonzero(kind == 3):  # SPHERICAL
+                moved[iq[e] : iq[e] + 4] *= -1.0
+            difference_kernel(q, moved, kind, iq, iv, d)
+            np.testing.assert_allclose(d, pin.difference(model, q, moved), rtol=0, atol=1e-13)
+    for q0, q1 in zip(qs, qs[::-1]):  # far apart
+        d = np.empty(model.nv)
+        difference_kernel(q0, q1, kind, iq, iv, d)
+        np.testing.assert_allclose(d, pin.difference(model, q0, q1), rtol=0, atol=1e-12)
 
 
 def load_quietly(path: Path) -> pinmob.Mechanism:

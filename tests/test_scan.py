@@ -65,9 +65,10 @@ def test_three_puu_rank_drops_at_the_workspace_boundary_only():
 
 def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
     """Count the assemblies a scan asks for (the real solvers still run): single-sample solves and the targets
-    given to the batched predictor (pinmob.scan.predictor.Predictor.close, on stacks)."""
+    given to the batched predictor (pinmob.scan.predictor.Predictor._close, on stacks: each try of
+    Predictor.close and Predictor.closed, the second from the seeds too)."""
     calls = {"n": 0}
-    real, predict = scan_module.assemble_target, Predictor.close
+    real, predict = scan_module.assemble_target, Predictor._close
 
     def counted(*args, **kwargs):
         calls["n"] += 1
@@ -78,7 +79,7 @@ def _counting(monkeypatch: pytest.MonkeyPatch) -> dict[str, int]:
         return predict(self, poses, *rest)
 
     monkeypatch.setattr(scan_module, "assemble_target", counted)
-    monkeypatch.setattr(Predictor, "close", counted_targets)  # Predictor.closed's too
+    monkeypatch.setattr(Predictor, "_close", counted_targets)
     return calls
 
 

@@ -471,14 +471,14 @@ def test_the_batchs_motion_types_are_classify_twists_labels_compiled_and_not():
 
 
 def test_the_secant_start_moves_on_along_the_line_the_short_way_round():
-    """The predictor's start on a line (``lockstep.secant_starts``): the closed sample moved on by the last
+    """The predictor's start on a line (``pinmob.assembly.secant_starts``): the closed sample moved on by the last
     step, a revolute angle's part of it the short way round across the wrap at +-pi; the start is nearer the
     next closed sample than the sample is (3-PUU, a line of x at generic). Both on the vector-space path (q + move)
     and on Pinocchio's difference / integrate path. Fails on the old code: no secant_starts."""
     import numpy as np
 
+    from pinmob.assembly import secant_starts
     from pinmob.assembly.batch_solver import PoseProblem
-    from pinmob.scan.lockstep import secant_starts
 
     mech = pinmob.load("3-PUU")
     q0 = pinmob.closed_configuration(mech, "generic")

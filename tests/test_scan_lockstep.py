@@ -13,12 +13,12 @@ import pinocchio as pin
 import pytest
 
 import pinmob
+from pinmob.assembly import off_secants, secant_stack, secant_starts
 from pinmob.assembly.batch_solver import PoseProblem
 from pinmob.assembly.partial_pose import pose_from_vector
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.joints import linear_velocity_mask
 from pinmob.scan import grid_spec, path_spec
-from pinmob.scan.lockstep import off_secants, secant_stack, secant_starts
 
 
 def _pose_targets_match(spec, ks):
@@ -228,3 +228,76 @@ def test_the_walks_turns_are_closed_across_the_lines(monkeypatch, name, at, axes
     col = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
     for (_, _, q), (_, _, want) in zip(walked, reference):
         assert np.max(np.abs(pin.difference(mech.model, want, q) / col)) < 1e-6
+
+
+def _line_stack(mech, spec, ks):
+    """Seeds (the reference, each row nudged), moves from a point behind them, and the targets of samples ks."""
+    rng = np.random.default_rng(11)
+    q0 = np.array(spec.q_ref, float)
+    seeds = np.tile(q0, (len(ks), 1))
+    unit = np.where(linear_velocity_mask(mech.model), mech.length_scale, 1.0)
+    seeds += 1e-3 * rng.normal(size=seeds.shape) * unit  # the same joints (a vector space): q and v alike
+    behind = seeds - 2e-3 * rng.normal(size=seeds.shape) * unit
+    has = np.arange(len(ks)) % 3 != 1
+    joints = spec.joint_targets(ks) if spec.target_joints else None
+    return seeds, (behind, seeds, has), spec.pose_targets(ks), joints
+
+
+@pytest.mark.needs_numba
+@pytest.mark.parametrize(("name", "at", "axes", "shifted"), [
+    ("3-PUU", "generic", [("x", -0.06, 0.06, 5), ("y", -0.06, 0.06, 5)], False),  # a pose: all six given
+    ("3-RPS", "home", [("roll", -0.2, 0.2, 5), ("pitch", -0.2, 0.2, 5)], False),  # x, y, yaw follow
+    ("3-PUU", "generic", [("A_slider", -0.2, 0.2, 5), ("B_slider", -0.2, 0.2, 5)], False),  # joints held
+    ("3-PUU", "generic", [("x", -0.06, 0.06, 5), ("y", -0.06, 0.06, 5)], True),  # angles left to wrap_angles
+])  # fmt: skip
+@pytest.mark.parametrize("vector_space", [True, False])
+def test_the_compiled_close_is_the_numpy_moves_solve_finish_and_check(monkeypatch, name, at, axes, shifted,
+                                                                     vector_space):  # fmt: skip
+    """Predictor.close with numba (pinmob.assembly.close_moved: the moves, the solve, the angles wrapped and the
+    check of each correction in one compiled call) against the same method on numpy's moves and checks around
+    the compiled solve (close_moved made to decline): the same configurations, convergence and kinematics to the
+    last bit, the same rows off their moves, closed again from their seeds (redo) or left unclosed. With the
+    targets' joints held (the motor grid), following coordinates (the 3-RPS), on Pinocchio's difference and
+    integrate path (vector_space False), and with an angle whose limits lie past pi (``shifted``: every closed row
+    is finished again by wrap_angles and its correction measured again)."""
+    import warnings
+
+    import pinmob.scan.predictor as predictor_module
+    from pinmob.scan.predictor import Predictor
+
+    mech = pinmob.load(name)
+    if shifted:  # the first angle's limits a turn up around its value: wrapped into (-pi, pi] it is outside them
+        model = mech.model
+        angle = int(PoseProblem(pinmob.load(name)).angles[0])  # (its shape is kept per mechanism)
+        value = float(pinmob.closed_configuration(mech, at)[angle])
+        lower, upper = model.lowerPositionLimit.copy(), model.upperPositionLimit.copy()
+        lower[angle], upper[angle] = value + 2 * np.pi - 1.0, value + 2 * np.pi + 1.0
+        model.lowerPositionLimit, model.upperPositionLimit = lower, upper
+    spec = grid_spec(mech, at, axes)
+    ks = list(range(1, 5)) + list(range(6, 10))
+    seeds, moves, poses, joints = _line_stack(mech, spec, ks)
+    kind = spec.target_kind
+
+    def close(ratio: float, redo: bool):
+        predictor = Predictor(mech, spec)
+        predictor.problem.vector_space = vector_space
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # joints outside their limits: the same warnings on both paths
+            return predictor.close(poses.copy(), seeds.copy(), kind, joints, moves, ratio, redo)
+
+    runs = {}
+    for path in ("compiled", "numpy"):
+        if path == "numpy":
+            monkeypatch.setattr(predictor_module, "close_moved", lambda *args: None)
+        runs[path] = [close(1.0, True), close(1e-6, True), close(1e-6, False), close(1.0, False)]
+    for compiled, plain in zip(*runs.values()):
+        assert compiled.converged.tolist() == plain.converged.tolist()
+        assert np.array_equal(compiled.q, plain.q)
+        assert np.array_equal(compiled.jacobians, plain.jacobians, equal_nan=True)
+        assert np.array_equal(compiled.platform, plain.platform, equal_nan=True)
+    moved = moves[2]
+    full, off_all, kept, _ = runs["compiled"]
+    assert full.converged.all() and off_all.converged.all()  # every row closes, from its move or from its seed
+    assert not kept.converged[moved].any() and kept.converged[~moved].all()  # every move is off at 1e-6
+    if shifted:  # wrap_angles kept the angle inside its limits, a turn up
+        assert (full.q[:, angle] > np.pi).all()

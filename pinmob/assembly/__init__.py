@@ -9,7 +9,9 @@
   :func:`assemble_pose` (inverse kinematics from a platform pose);
 - :mod:`~pinmob.assembly.seeds`: :func:`find_closed` (neutral, then seeded random restarts);
 - :mod:`~pinmob.assembly.relaxation`: over-constraining closures relaxed to ``3d``;
-- :mod:`~pinmob.assembly.named_assembly`: the named configurations of a mechanism file, closed.
+- :mod:`~pinmob.assembly.named_assembly`: the named configurations of a mechanism file, closed;
+- :mod:`~pinmob.assembly.batch_solver`: a stack of platform-pose assemblies in lockstep (:func:`solve_poses`), and
+  :mod:`~pinmob.assembly.secant`: their continuation starts (:func:`secant_stack`, :func:`off_secants`).
 """
 
 from pinmob.assembly.assemble import (
@@ -54,6 +56,15 @@ from pinmob.assembly.residual import (
     tip_residuals,
     worst_residual,
 )
+from pinmob.assembly.secant import (
+    MovedSolution,
+    close_moved,
+    moved_stack,
+    off_secants,
+    secant_stack,
+    secant_starts,
+    short_moves,
+)
 from pinmob.assembly.seeds import RESTARTS, configuration_distance, find_closed, random_configuration
 from pinmob.assembly.solver import STALL_WINDOW, ResidualFn, SolverResult, solve
 
@@ -62,6 +73,7 @@ __all__ = [
     "CLOSURE_TOL",
     "CLOSURE_TOL_MAX",
     "Gaps",
+    "MovedSolution",
     "POSE_COORDS",
     "PoseProblem",
     "RESTARTS",
@@ -76,6 +88,7 @@ __all__ = [
     "check_closed",
     "check_closure_tol",
     "close_joint_values",
+    "close_moved",
     "closed_configuration",
     "closure_error",
     "closure_residual",
@@ -92,7 +105,9 @@ __all__ = [
     "is_within",
     "joint_velocity_indices",
     "mechanism_residuals",
+    "moved_stack",
     "normal_rows",
+    "off_secants",
     "named_vector",
     "pose_coordinate_jacobian",
     "pose_error",
@@ -103,6 +118,9 @@ __all__ = [
     "relative_error",
     "relax",
     "relaxable",
+    "secant_stack",
+    "secant_starts",
+    "short_moves",
     "solve",
     "solve_actuated",
     "solve_poses",

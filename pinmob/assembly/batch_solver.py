@@ -157,7 +157,7 @@ class PoseProblem:
             mech.has_platform and mech.limbs and not mech.closures and not any(limb.closures for limb in mech.limbs)
         )
 
-    def finish(self, mech: Mechanism, qs: Array, kind: str) -> Array:
+    def finish(self, mech: Mechanism, qs: Array, kind: str, checked: tuple[Array, Mask, Mask] | None = None) -> Array:
         """(N, nq) configurations the predictor closed, as the single-sample assembly returns each.
 
         Revolute angles wrapped (:func:`~pinmob.model.joints.wrap_angles`, the same arithmetic over the whole
@@ -165,11 +165,16 @@ class PoseProblem:
         warning for joints outside their limits of :func:`~pinmob.assembly.assemble.assemble_pose` (``kind``
         ``pose``), of :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``) or of
         :func:`~pinmob.assembly.assemble.solve_actuated` (``joints``), checked where any coordinate is outside its
-        limits.
+        limits. ``checked``: the wrapped stack and its two masks of ``wrap_and_check``, already computed (the compiled
+        predictor's, :mod:`pinmob.assembly.secant_kernel`; ``qs`` then its stack before wrapping).
         """
-        out, (lower, upper) = np.array(qs, float).reshape(-1, self.model.nq), self.limits
-        check = _wrap_and_check if self.kernel is None else self.kernel.wrap_and_check
-        special, outside = check(out, self.angles, lower, upper, self.limited)
+        lower, upper = self.limits
+        if checked is None:
+            out = np.array(qs, float).reshape(-1, self.model.nq)
+            check = _wrap_and_check if self.kernel is None else self.kernel.wrap_and_check
+            special, outside = check(out, self.angles, lower, upper, self.limited)
+        else:
+            out, special, outside = checked
         for i in np.flatnonzero(special):
             out[i] = wrap_angles(self.model, qs[i])
             outside[i] = bool((self.limited & ((out[i] < lower - 1e-9) | (out[i] > upper + 1e-9))).any())
@@ -305,6 +310,11 @@ def solve_poses(
     return _solve_compiled(problem, qs, poses, tol, max_iter, stall_window, floor)
 
 
+def solver_numbers(tol: float, floor: float) -> Array:
+    """The compiled iterations' numbers: damping, maximum step, tol, floor, stall gain, polish gain, divergence factor."""
+    return np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
+
+
 def _solve_compiled(
     problem: PoseProblem, qs: Array, poses: Array, tol: float, max_iter: int, stall_window: int, floor: float
 ) -> BatchSolution:
@@ -316,7 +326,7 @@ def _solve_compiled(
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
     best_full, best_frames = problem.empty_kinematics(n)
-    numbers = np.array([DAMPING, MAX_STEP, tol, floor, STALL_GAIN, POLISH_GAIN, DIVERGED])
+    numbers = solver_numbers(tol, floor)
     active, mask = np.arange(n), problem.frame_mask
     if problem.fast.integrable:  # the whole loop in one compiled call (no Python per iteration)
         kernel.solve_stack(q, p, *problem.fast.tables, mask, problem.step_col, problem.free_array, problem.length,

@@ -48,11 +48,15 @@ from pinmob.model.mechanism import Expectation, Mechanism, NamedConfiguration
 from pinmob.model.tendon import FixedTendon, Tendon, TendonActuator, Transmission, joint_configuration, tendon_rows
 
 if TYPE_CHECKING:
-    from pinmob.model.kinematics_kernel import frames_kernel, integrate_kernel
+    from pinmob.model.kinematics_kernel import difference_kernel, frames_kernel, integrate_kernel
 
 #: the compiled kernels load (and import numba) when first read: ``import pinmob`` imports no numba
 #: (tests/test_fast_paths.py)
-_LAZY = {"frames_kernel": "pinmob.model.kinematics_kernel", "integrate_kernel": "pinmob.model.kinematics_kernel"}
+_LAZY = {
+    "difference_kernel": "pinmob.model.kinematics_kernel",
+    "frames_kernel": "pinmob.model.kinematics_kernel",
+    "integrate_kernel": "pinmob.model.kinematics_kernel",
+}
 
 
 #: A name of :data:`_LAZY`, its module imported when it is first read (PEP 562).
@@ -60,6 +64,7 @@ __getattr__ = lazy_getattr(__name__, _LAZY)
 
 
 __all__ = [
+    "difference_kernel",
     "frames_kernel",
     "integrate_kernel",
     "numba_available",

@@ -258,3 +258,36 @@ def integrate_kernel(q: Array, dv: Array, kind: Array, iq: Array, iv: Array, out
             rw = w * ew - x * ex - y * ey - z * ez
             alpha = (3.0 - (rx * rx + ry * ry + rz * rz + rw * rw)) / 2.0
             out[a], out[a + 1], out[a + 2], out[a + 3] = alpha * rx, alpha * ry, alpha * rz, alpha * rw
+
+
+@njit
+def difference_kernel(q0: Array, q1: Array, kind: Array, iq: Array, iv: Array, out: Array) -> None:
+    """``pin.difference(model, q0, q1)`` into ``out`` (nv,) for the elementary joints of :data:`INTEGRABLE` kinds.
+
+    The inverse of :func:`integrate_kernel`: revolute, prismatic and translation coordinates subtract; an
+    unbounded revolute's angle from ``q0``'s (cos, sin) to ``q1``'s, in (-pi, pi]; a spherical joint's rotation
+    vector of ``q0^-1 q1`` (unit quaternions (x, y, z, w), the shorter way: ``2 atan2(|v|, |w|)`` along
+    ``sign(w) v``, as Pinocchio's ``quaternion::log3``).
+    """
+    for e in range(kind.shape[0]):
+        k, a, v = kind[e], iq[e], iv[e]
+        if k == REVOLUTE or k == PRISMATIC:
+            out[v] = q1[a] - q0[a]
+        elif k == TRANSLATION:
+            for i in range(3):
+                out[v + i] = q1[a + i] - q0[a + i]
+        elif k == REVOLUTE_UNBOUNDED:
+            c0, s0, c1, s1 = q0[a], q0[a + 1], q1[a], q1[a + 1]
+            out[v] = np.arctan2(c0 * s1 - s0 * c1, c0 * c1 + s0 * s1)
+        elif k == SPHERICAL:
+            x, y, z, w = -q0[a], -q0[a + 1], -q0[a + 2], q0[a + 3]  # the conjugate of q0
+            bx, by, bz, bw = q1[a], q1[a + 1], q1[a + 2], q1[a + 3]
+            rx = w * bx + x * bw + y * bz - z * by
+            ry = w * by - x * bz + y * bw + z * bx
+            rz = w * bz + x * by - y * bx + z * bw
+            rw = w * bw - x * bx - y * by - z * bz
+            if rw < 0.0:  # q and -q are the same rotation: the shorter angle
+                rx, ry, rz, rw = -rx, -ry, -rz, -rw
+            n = np.sqrt(rx * rx + ry * ry + rz * rz)
+            scale = 2.0 / rw if n < 1e-8 else 2.0 * np.arctan2(n, rw) / n  # 2 atan2(n, w) / n to round-off
+            out[v], out[v + 1], out[v + 2] = scale * rx, scale * ry, scale * rz

@@ -13,7 +13,8 @@ reach, a stall, a step that diverged) goes to the single-sample solver
 the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
 its samples: their targets are rows of pose-coordinate vectors built for the whole group at once
 (:meth:`pinmob.scan.scan_spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
-(:func:`secant_stack`, :func:`off_secants`). A grid or a path that gives joint values (the designer's
+(:func:`~pinmob.assembly.secant_stack`, :func:`~pinmob.assembly.off_secants`; with numba, one compiled call with
+the solve: :func:`~pinmob.assembly.close_moved`). A grid or a path that gives joint values (the designer's
 motors) runs on the predictor too: those joints are held at their values in each start and no step moves them,
 the pose coordinates not given are unknowns (:class:`~pinmob.scan.predictor.Predictor`). Joints with more than
 one coordinate, mechanisms without a platform or with closures besides the limb tips are assembled by the
@@ -39,9 +40,7 @@ from contextlib import nullcontext
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
-from pinmob.assembly import PoseProblem
 from pinmob.blas import one_blas_thread
 from pinmob.collector import collector_paused
 from pinmob.model import Mechanism
@@ -51,7 +50,7 @@ from pinmob.scan.group_rows import BatchRow, GroupRows, Head
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.row_columns import values_and_limits
 from pinmob.scan.scan_spec import ScanSpec
-from pinmob.screw import Array, Mask
+from pinmob.screw import Array
 
 #: Chunks per group sent to a Dask worker (samples assembled in lockstep: up to GROUP per step), its unit of work.
 #: Each step has a cost of its own (its Python and compiled calls): a 21 x 21 grid in process runs 21 steps with 32,
@@ -159,11 +158,11 @@ class _Lockstep:
         A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out
         of reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before. With
         ``secant`` (the forward pass along the chunks' lines), the predictor starts a chunk whose last two samples
-        closed from their secant, extrapolated one sample on (:func:`secant_starts`; from the seed again where the
-        steps went off it, :func:`off_secants`), and ``before`` is kept up to date. A sample the predictor did not
+        closed from their secant, extrapolated one sample on (:func:`~pinmob.assembly.secant_starts`; from the seed again where
+        the steps went off it, :func:`~pinmob.assembly.off_secants`), and ``before`` is kept up to date. A sample the predictor did not
         close gets its target (:meth:`ScanSpec.target`) for the single-sample solver.
         """
-        predictor, problem, kind = self.predictor, self.predictor.problem, self.kind
+        predictor, kind = self.predictor, self.kind
         tried = [i for i, (c, _, _) in enumerate(work) if c not in self.lost]
         found: list[tuple[Array, Array, Array] | None] = [None] * len(work)
         if tried:
@@ -173,18 +172,10 @@ class _Lockstep:
             joints = None if self.joints is None else self.joints[rows]
             behind = [self.before[work[i][0]] for i in tried] if secant else []
             has = np.array([b is not None for b in behind], bool)
-            if has.any():
-                starts, step = _secant(problem, np.array([seeds[j] if b is None else b for j, b in enumerate(behind)]),
-                                       has, seeds)  # fmt: skip
-                closed = predictor.close(poses, seeds, kind, starts, joints)
-                again = np.flatnonzero(closed.converged & off_secants(problem, seeds, starts, closed.q, step))
-                if again.size:  # a secant start that needed a correction longer than its step: from the seed instead
-                    redone = predictor.close(poses[again], seeds[again], kind, None,
-                                             None if joints is None else joints[again])  # fmt: skip
-                    for part, new in zip(closed, redone):
-                        part[again] = new
-            else:
-                closed = predictor.close(poses, seeds, kind, None, joints)
+            moves = None
+            if has.any():  # a secant start that needs a correction longer than its step: from the seed instead
+                moves = (np.array([seeds[j] if b is None else b for j, b in enumerate(behind)]), seeds, has)
+            closed = predictor.close(poses, seeds, kind, joints, moves)
             for j in np.flatnonzero(closed.converged):
                 found[tried[j]] = (closed.q[j], closed.jacobians[j], closed.platform[j])
         first = self.chunks[0]  # a predicted sample as _Chunk.assemble makes it, with the predictor's kinematics
@@ -217,80 +208,3 @@ class _Lockstep:
                 self.lost.add(c)
             else:
                 self.lost.discard(c)
-
-
-def short_moves(problem: PoseProblem, a: Array, b: Array) -> Array:
-    """(B, nv) ``b - a`` of (B, nq) stacks, row by row, in the tangent space (Pinocchio's ``difference``).
-
-    Each revolute angle's part goes the short way round.
-    """
-    if problem.vector_space:
-        move = b - a
-    else:
-        move = np.array([pin.difference(problem.model, x, y) for x, y in zip(a, b)]).reshape(len(a), problem.model.nv)
-    move[:, problem.angle_rates] = np.remainder(move[:, problem.angle_rates] + np.pi, 2 * np.pi) - np.pi
-    return move
-
-
-def secant_starts(problem: PoseProblem, before: list[Array | None], seeds: list[Array]) -> list[Array]:
-    """Where the predictor starts each sample: ``seed`` moved on by ``seed - before`` (a line's secant), or ``seed``.
-
-    ``before``: the closed sample before the one that gave ``seed`` on the same line (None: start at ``seed``).
-    The move is :func:`short_moves` (the closed samples' angles are wrapped into (-pi, pi]). A start only: the
-    sample's verdict and branch are the Newton steps' from it (checked by :func:`off_secants`), and a sample the
-    predictor does not close goes to the single-sample solver from ``seed``, as before.
-    """
-    if not seeds:
-        return []
-    stack = np.array(seeds, float)
-    has = np.array([b is not None for b in before])
-    behind = np.array([q if b is None else b for b, q in zip(before, stack)], float)
-    moved = secant_stack(problem, behind, has, stack)
-    return [moved[i] if has[i] else seeds[i] for i in range(len(seeds))]
-
-
-def secant_stack(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -> Array:
-    """:func:`secant_starts` on (B, nq) stacks: the rows of ``before`` where ``has``, the others ignored."""
-    return _secant(problem, before, has, seeds)[0]
-
-
-def _secant(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -> tuple[Array, Array]:
-    """:func:`secant_stack`'s starts, and the length of each one's step from its seed (:func:`off_secants`; 0: none)."""
-    return moved_stack(problem, before, seeds, has, seeds)
-
-
-def moved_stack(problem: PoseProblem, a: Array, b: Array, has: Mask, seeds: Array) -> tuple[Array, Array]:
-    """Each row of the (B, nq) ``seeds`` moved on by ``b - a`` where ``has``, and the moves' lengths (0: not moved).
-
-    The moves are :func:`short_moves`, their lengths in the joint metric (:func:`_lengths`): a secant's starts
-    when ``b`` is ``seeds`` (:func:`_secant`).
-    """
-    move = short_moves(problem, a, b)
-    if problem.vector_space:
-        starts = np.where(has[:, None], seeds + move, seeds)
-    else:
-        starts = seeds.copy()
-        for i in np.flatnonzero(has):
-            starts[i] = pin.integrate(problem.model, seeds[i], move[i])
-    return starts, np.where(has, _lengths(problem, move), 0.0)
-
-
-def _lengths(problem: PoseProblem, moves: Array) -> Array:
-    """(B,) lengths of (B, nv) tangent moves in the joint metric: slides per L, angles in rad (any unit alike)."""
-    x = moves / problem.col[: problem.model.nv]
-    return np.sqrt(np.einsum("ij,ij->i", x, x))
-
-
-def off_secants(
-    problem: PoseProblem, seeds: Array, starts: Array, qs: Array, step: Array | None = None, ratio: float = 1.0
-) -> Mask:
-    """Per row of (B, nq) stacks: the Newton steps from a secant start went further than ``ratio`` x its step.
-
-    The step (joint metric) is ``step`` (the secant steps' lengths, when known: :func:`_secant`), else the move from
-    the seed to the start. Along a smooth line the correction is of second order in the step; a longer one means the
-    steps left the continuation (on a coarse grid, the 3-UPU-wrist's U joints closed turned by pi), so the sample is
-    closed again from its seed, as the single-sample engine's continuation does. False where the step is 0 (no
-    secant).
-    """
-    step = _lengths(problem, short_moves(problem, seeds, starts)) if step is None else step
-    return (step > 0.0) & (ratio * step < _lengths(problem, short_moves(problem, starts, qs)))  # 0: start at seed

@@ -19,7 +19,6 @@ import pinmob.scan.chunk as chunk
 from pinmob.assembly import pose_vector
 from pinmob.exceptions import PinmobError
 from pinmob.model import Mechanism
-from pinmob.scan.lockstep import moved_stack, off_secants
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.scan_spec import CHUNK, ScanSpec
 from pinmob.screw import Array
@@ -32,8 +31,8 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     last waypoint that did). A waypoint one even step on from the two before it (in sample index or in the
     target's coordinates: the approach from the reference, a grid's first column, a path's every ``STRIDE``-th
     sample), both closed, is closed by the batched predictor from their secant
-    (:func:`~pinmob.scan.lockstep.secant_starts`), as the chunks' samples are, and kept only when its Newton
-    correction was at most ``WALK_SECANT`` of the secant's step (:func:`~pinmob.scan.lockstep.off_secants`).
+    (:func:`~pinmob.assembly.secant_starts`), as the chunks' samples are, and kept only when its Newton
+    correction was at most ``WALK_SECANT`` of the secant's step (:func:`~pinmob.assembly.off_secants`).
     At a turn of the walk (the first waypoints of a line), where the two before are not in line with it, the
     predictor starts from the last waypoint's configuration moved as the same two samples moved on the line
     before (or after, on a three-coordinate grid's serpentine; :func:`_across_waypoint`), when both were walked
@@ -160,10 +159,7 @@ def _moved_waypoint(predictor: Predictor, target: tuple[str, Any], seed: Array, 
     """``target`` closed by the predictor from ``seed`` moved by ``b - a``, else None.
 
     None where it did not close or its correction was longer than ``WALK_SECANT`` times that move
-    (:func:`~pinmob.scan.lockstep.off_secants`, with the move's length as the step).
+    (:func:`~pinmob.assembly.off_secants`, with the move's length as the step).
     """
-    starts, step = moved_stack(predictor.problem, a[None], b[None], np.ones(1, bool), seed[None])
-    (closed,) = predictor.closed([target], [seed], [starts[0]])
-    if closed is None or off_secants(predictor.problem, seed[None], starts, closed[None], step, WALK_SECANT)[0]:
-        return None
+    (closed,) = predictor.closed([target], [seed], (a[None], b[None], np.ones(1, bool)), WALK_SECANT)
     return closed

@@ -18,6 +18,7 @@ length nor the units of the joint rates matter.
 
 from __future__ import annotations
 
+import sys
 import threading
 from collections import Counter
 from contextlib import closing
@@ -89,13 +90,17 @@ def stacked_rank(blocks: list[Array], rtol: float) -> int:
     return decide_rank(stacked.T, rtol, n=6).rank if stacked.shape[1] else 0
 
 
-def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Array]:
+def generic_configurations(
+    mech: Mechanism, samples: int = 4, seed: int = 0, compiled: bool | None = None
+) -> list[Array]:
     """Random closed configurations near the first ``MAX_NAMED`` named configurations that close (cached per mechanism).
 
     Joints perturbed by ``N(0, 0.05)`` [rad, or L x 0.05 m for prismatic
     joints] and closed again: all in lockstep by the batched solver where every closure is a limb tip
-    (:func:`_closed_in_lockstep`), each start it does not close (and every start elsewhere) by
-    :func:`pinmob.assembly.assemble.assemble_joints`.
+    (:func:`_closed_in_lockstep`: compiled where numba is loaded, as in a scan's process; ``compiled`` forces
+    either), each start it does not close (and every start elsewhere) by
+    :func:`pinmob.assembly.assemble.assemble_joints`. The first call for a mechanism is kept (its engine's
+    round-off): the ranks decided at them are the same either way.
 
     Raises:
         PinmobError: no closed configuration could be built.
@@ -118,7 +123,7 @@ def generic_configurations(mech: Mechanism, samples: int = 4, seed: int = 0) -> 
                 used += 1
                 bar.update()
                 starts.extend(pin.integrate(model, q0, rng.normal(0.0, 0.05, model.nv) * unit) for _ in range(samples))
-            for q, done in zip(starts, _closed_in_lockstep(mech, starts)):
+            for q, done in zip(starts, _closed_in_lockstep(mech, starts, compiled)):
                 if done is not None:
                     closed.append(done)
                     continue
@@ -163,19 +168,25 @@ def generic_states(mech: Mechanism, samples: int = 4, seed: int = 0) -> list[Con
     return list(mech.memo(key, compute, transient=True))
 
 
-def _closed_in_lockstep(mech: Mechanism, starts: list[Array]) -> list[Array | None]:
+def _closed_in_lockstep(mech: Mechanism, starts: list[Array], compiled: bool | None = None) -> list[Array | None]:
     """Per start, its configuration closed by the batched solver in lockstep, or None (left to the single solver).
 
     Where every closure is a limb tip on the platform (no other loops): the platform pose is free (all six
     coordinates follow, from each start's own), so the steps close the limbs on it as
     :func:`pinmob.assembly.assemble.assemble_joints` with no joint held does, on a stack
-    (:func:`pinmob.assembly.batch_solver.solve_poses`, its numpy steps and Pinocchio's kinematics: the same
-    configurations with or without numba, and an analysis does not import it); a start it does not close to ``1e-12`` (dimensionless) is
+    (:func:`pinmob.assembly.batch_solver.solve_poses`); a start it does not close to ``1e-12`` (dimensionless) is
     None. Every start is None for a mechanism with other loops or without a platform.
+
+    ``compiled`` (None: where numba is loaded already): the solver's compiled loop (numba; a scan's process, whose
+    spec loads it first: :func:`pinmob.scan.scan_spec.grid_spec`), else its numpy steps and Pinocchio's kinematics
+    (an analysis does not load numba). Five to seven times faster compiled; the steps differ in round-off, and so,
+    where the closures leave a continuum of configurations, may the point of it a start closes to (1e-5 apart on
+    the 3-PRRR). Only ranks are decided at them, the same from either (``tests/test_generic_configurations.py``).
     """
     if not starts or not PoseProblem.covers(mech):
         return [None] * len(starts)
-    problem = PoseProblem(mech, tuple(range(6)), compiled=False)  # numpy: an analysis does not load numba
+    compiled = sys.modules.get("numba") is not None if compiled is None else compiled
+    problem = PoseProblem(mech, tuple(range(6)), compiled=compiled)
     qs = np.array(starts, float)
     _, frames = problem.kinematics(qs)
     poses = np.array([pose_vector(pin.SE3(h)) for h in frames[:, 0]])  # frames[0]: the platform's

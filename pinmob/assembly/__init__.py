@@ -23,7 +23,7 @@ from pinmob.assembly.assemble import (
     solve_actuated,
     warn_outside_limits,
 )
-from pinmob.assembly.batch_solver import PoseProblem, solve_poses
+from pinmob.assembly.batch_solver import PoseProblem, compiled_kernel, solve_poses
 from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
 from pinmob.assembly.closure_miss import SHOWN, format_worst, tolerance_hint, worst_first
 from pinmob.assembly.named_assembly import close_joint_values, closed_configuration, named_vector
@@ -93,6 +93,7 @@ __all__ = [
     "closure_error",
     "closure_residual",
     "closure_residuals",
+    "compiled_kernel",
     "compute_kinematics",
     "configuration_distance",
     "find_closed",

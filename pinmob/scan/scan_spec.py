@@ -40,6 +40,7 @@ from pinmob.assembly import (
     assemble_coordinates,
     assemble_pose,
     check_closure_tol,
+    compiled_kernel,
     frame_gaps,
     gaps_closed,
     pose_from_vector,
@@ -398,6 +399,7 @@ def _path_spec(
     if samples < 2:
         raise ConfigurationError(f"a path needs at least 2 samples, got {samples}")
     check_bound("samples", samples, "the path (samples)", "samples")
+    compiled_kernel()  # numba loaded (when installed) before the generic configurations are closed: by it
     given = [parse_joint_values(t, "path end") if "=" in t else {} for t in (start, end)]
     if mech.has_platform and not joints and any(c in POSE_COORDS for g in given for c in g):
         return coordinate_path_spec(mech, start, end, samples, given, rtol, closure_tol)
@@ -478,6 +480,7 @@ def grid_spec(
     """
     rtol, closure_tol = check_rtol(rtol), check_closure_tol(closure_tol)
     require_platform(mech, "grid_spec")
+    compiled_kernel()  # numba loaded (when installed) before the generic configurations are closed: by it
     names = check_coordinates(mech, [a[0] for a in axes])
     out = []
     for name, lo, hi, n in axes:

@@ -59,24 +59,26 @@ def generic_twist_ranks(mech: Mechanism, samples: int = 3) -> tuple[int, ...]:
     limb's tip (with its internal loops closed: each sample is first projected
     onto them, and used as it is only where that fails), made dimensionless
     with the mechanism's length scale, ranked with :data:`~pinmob.screw.rank.RTOL`.
-    Cached per mechanism.
+    One random configuration of the whole mechanism a sample, its kinematics shared by every limb (a limb's
+    screws depend on its own joints only). Cached per mechanism.
     """
 
     def compute() -> tuple[int, ...]:
         rng = np.random.default_rng(0)
         best = [0] * len(mech.limbs)
         st = twist_scaling(mech.length_scale)[:, None]
-        for i, limb in enumerate(mech.limbs):
-            loops = tuple(c for c in mech.closures if c.name in limb.closures)
-            alone = replace(mech, limbs=(), platform="", closures=loops)
-            for _ in range(samples):
-                q = random_configuration(mech, rng, spread=1.0)
-                if loops:
+        loops = [tuple(c for c in mech.closures if c.name in limb.closures) for limb in mech.limbs]
+        for _ in range(samples):  # one random configuration a sample, shared by the limbs without loops
+            drawn = random_configuration(mech, rng, spread=1.0)
+            shared = Configuration.unchecked(mech, drawn)
+            for i, limb in enumerate(mech.limbs):
+                conf = shared
+                if loops[i]:
                     try:
-                        q = project(alone, q).q
+                        q = project(replace(mech, limbs=(), platform="", closures=loops[i]), drawn).q
                     except ClosureError:
-                        pass
-                conf = Configuration.unchecked(mech, q)
+                        q = drawn
+                    conf = Configuration.unchecked(mech, q)
                 screws = limb_screws(conf, limb, RTOL, np.array(conf.data.oMf[limb.tip_id].translation))
                 best[i] = max(best[i], decide_rank((st * screws).T, RTOL).rank)
         return tuple(best)

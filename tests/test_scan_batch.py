@@ -17,6 +17,7 @@ import subprocess
 import sys
 from dataclasses import replace
 from types import SimpleNamespace
+from typing import Any
 
 import pytest
 
@@ -208,6 +209,45 @@ def test_the_predictors_rpy_stacks_are_pinocchios():
     rpy[0], rpy[1, 1] = 0.0, np.pi / 2
     np.testing.assert_allclose(rpy_matrices(rpy), [pin.rpy.rpyToMatrix(a) for a in rpy], atol=1e-15)
     np.testing.assert_allclose(rpy_rates(rpy), [pin.rpy.computeRpyJacobian(a, pin.WORLD) for a in rpy], atol=1e-15)
+
+
+def _rotations_for_rpy() -> Any:
+    """Rotations for matrixToRpy: random ones (small to large), near the gimbal lock (pitch within 1e-12 to 1e-1 of
+    +-pi/2) and at multiples of pi/2 (the branches of Eigen's eulerAngles and of Pinocchio's range)."""
+    import numpy as np
+    import pinocchio as pin
+
+    rng = np.random.default_rng(9)
+    out = [pin.exp3(rng.normal(size=3) * s) for s in (1e-3, 0.3, 2.0, 10.0) for _ in range(500)]
+    for _ in range(500):
+        sign = rng.choice([-1.0, 1.0])
+        out.append(pin.rpy.rpyToMatrix(rng.normal(), sign * (np.pi / 2 - 10 ** rng.uniform(-12, -1)), rng.normal()))
+    special = [0.0, np.pi / 2, -np.pi / 2, np.pi, -np.pi, 1e-17]
+    out += [pin.rpy.rpyToMatrix(*rng.choice(special, size=3)) for _ in range(300)]
+    return np.array(out)
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_the_rows_angles_are_pinocchios_matrix_to_rpy_to_the_last_bit(compiled, monkeypatch):
+    """``rotation_stacks.matrices_rpy`` (a batch row's roll, pitch and yaw, read off the predictor's placements) is
+    ``pin.rpy.matrixToRpy`` of each rotation to the last bit: compiled (``rpy_kernel.matrix_rpy``: Eigen's
+    eulerAngles(2, 1, 0) and Pinocchio's pitch range, the same operations), and Pinocchio's own call without numba;
+    on (B, 3, 3) rotations and on (B, 4, 4) placements."""
+    import numpy as np
+    import pinocchio as pin
+
+    import pinmob.assembly.rotation_stacks as stacks
+
+    if compiled:
+        pytest.importorskip("numba")
+    else:
+        monkeypatch.setattr(stacks, "numba_available", lambda: False)
+    rotations = _rotations_for_rpy()
+    want = np.array([pin.rpy.matrixToRpy(r) for r in rotations])
+    assert np.array_equal(stacks.matrices_rpy(rotations), want)
+    placements = np.zeros((len(rotations), 4, 4))
+    placements[:, :3, :3], placements[:, :3, 3], placements[:, 3, 3] = rotations, 1.0, 1.0
+    assert np.array_equal(stacks.matrices_rpy(placements), want)
 
 
 @pytest.mark.needs_numba

@@ -56,6 +56,7 @@ from pinmob.assembly.residual import (
     tip_residuals,
     worst_residual,
 )
+from pinmob.assembly.rotation_stacks import matrices_rpy
 from pinmob.assembly.secant import (
     MovedSolution,
     close_moved,
@@ -104,6 +105,7 @@ __all__ = [
     "frame_jacobian",
     "gaps_closed",
     "is_within",
+    "matrices_rpy",
     "joint_velocity_indices",
     "mechanism_residuals",
     "moved_stack",

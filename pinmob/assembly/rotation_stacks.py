@@ -1,7 +1,8 @@
 """Stacks of rotations for the numpy path of :mod:`pinmob.assembly.batch_solver`: (B, 3, 3) at once.
 
-Pinocchio's rpy matrices and world angular velocity per rpy rate of (B, 3) angles, the rotation vectors of (B, 3, 3)
-rotations (``pin.log3`` of each) and the cross-product matrices of (B, 3) vectors.
+Pinocchio's rpy matrices and world angular velocity per rpy rate of (B, 3) angles, the angles of (B, 3, 3) rotations
+(``pin.rpy.matrixToRpy`` of each), their rotation vectors (``pin.log3`` of each) and the cross-product matrices of
+(B, 3) vectors.
 """
 
 from __future__ import annotations
@@ -9,6 +10,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from pinmob.model import numba_available
 from pinmob.screw import Array
 
 
@@ -30,6 +32,23 @@ def rpy_rates(rpy: Array) -> Array:
     out[:, 0, 0], out[:, 0, 1] = cy * cp, -sy
     out[:, 1, 0], out[:, 1, 1] = sy * cp, cy
     out[:, 2, 0], out[:, 2, 2] = -sp, 1.0
+    return out
+
+
+def matrices_rpy(rotations: Array) -> Array:
+    """(B, 3) ``pin.rpy.matrixToRpy`` of each rotation ``rotations[b, :3, :3]`` ((B, 3, 3), or (B, 4, 4) placements).
+
+    Compiled where numba is installed (:func:`pinmob.assembly.rpy_kernel.matrix_rpy`: the same operations, the same
+    angles to the last bit), else Pinocchio's call on each.
+    """
+    out = np.empty((len(rotations), 3))
+    if numba_available():
+        from pinmob.assembly.rpy_kernel import matrix_rpy
+
+        matrix_rpy(np.ascontiguousarray(rotations, float), out)
+    else:
+        for b, r in enumerate(rotations):
+            out[b] = pin.rpy.matrixToRpy(r[:3, :3])
     return out
 
 

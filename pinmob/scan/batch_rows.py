@@ -43,7 +43,7 @@ from pinmob.analysis import (
     ratio,
     tied,
 )
-from pinmob.assembly import POSE_COORDS, pose_vector
+from pinmob.assembly import POSE_COORDS, matrices_rpy, pose_vector
 from pinmob.model import Mechanism, borrowed
 from pinmob.scan.row_columns import ArrayRow
 from pinmob.scan.unreachable import SV_COLUMNS, VERDICT_COLUMNS
@@ -82,7 +82,7 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
 
     ``known``: those already computed (the predictor's, :mod:`pinmob.scan.lockstep`), read instead.
     """
-    model, pid, rpy = mech.model, mech.platform_id, pin.rpy.matrixToRpy
+    model, pid = mech.model, mech.platform_id
     full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
     pairs = [(i, k) for i, k in enumerate(known or []) if k is not None]
     given = [i for i, _ in pairs]
@@ -90,7 +90,7 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
         full[given] = np.array([k[0] for _, k in pairs])
         frames = np.array([k[1] for _, k in pairs])
         poses[given, :3] = frames[:, :3, 3]
-        poses[given, 3:] = np.array([rpy(h[:3, :3]) for h in frames]).reshape(len(given), 3)
+        poses[given, 3:] = matrices_rpy(frames)
     others = [i for i in range(len(qs)) if known is None or known[i] is None]
     if others:  # computed here, in a pooled pin.Data
         with borrowed(model) as data:

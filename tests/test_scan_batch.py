@@ -227,7 +227,7 @@ def _rotations_for_rpy() -> Any:
     return np.array(out)
 
 
-@pytest.mark.parametrize("compiled", [True, False])
+@pytest.mark.parametrize("compiled", [pytest.param(True, marks=pytest.mark.needs_numba), False])
 def test_the_rows_angles_are_pinocchios_matrix_to_rpy_to_the_last_bit(compiled, monkeypatch):
     """``rotation_stacks.matrices_rpy`` (a batch row's roll, pitch and yaw, read off the predictor's placements) is
     ``pin.rpy.matrixToRpy`` of each rotation to the last bit: compiled (``rpy_kernel.matrix_rpy``: Eigen's
@@ -238,9 +238,7 @@ def test_the_rows_angles_are_pinocchios_matrix_to_rpy_to_the_last_bit(compiled, 
 
     import pinmob.assembly.rotation_stacks as stacks
 
-    if compiled:
-        pytest.importorskip("numba")
-    else:
+    if not compiled:
         monkeypatch.setattr(stacks, "numba_available", lambda: False)
     rotations = _rotations_for_rpy()
     want = np.array([pin.rpy.matrixToRpy(r) for r in rotations])

@@ -11,7 +11,7 @@ adds its finite DoF (``FINITE_COLUMNS``).
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -247,11 +247,13 @@ class _Chunk:
         first, last = self.spec.line(start)
         if columns is None:
             columns = values_and_limits(self.mech, self.spec.values, list(pending.values()))
-        done = {k: self.finish(s, a, *more, batch) for (k, s), a, more in zip(pending.items(), analysed, columns)}
+        done = _Done(self, pending, analysed, columns, batch)
         extra: list[_Sample] = []
-        for k in _to_refine(start, stop, done, first, last, batch, self.rtol):
+        for k in _to_refine(start, stop, done.entries, first, last, batch, self.rtol):
             extra += self.refine(k, done, first, last)
         kept = _distinct(extra)
+        if not kept and self.spec.finite_order is None and (decided := done.batch_rows(start, stop)) is not None:
+            return list(decided)  # every sample's row the batch's, in order: none finished on its own
         if self.spec.finite_order is not None:
             for sample in [done[k] for k in range(start, stop)] + kept:
                 assert isinstance(sample.row, dict)  # no batch rows with finite DoF (lockstep.run_group)
@@ -276,7 +278,7 @@ class _Chunk:
         fm = finite_mobility(conf, conf.rank_rtol(self.spec.rtol) if self.spec.cad else self.spec.rtol, order)
         return {"finite_dof": fm.finite_dof, "finite_mechanism_dof": fm.finite_mechanism_dof}
 
-    def refine(self, k: int, done: dict[int, _Sample], first: int, last: int) -> list[_Sample]:
+    def refine(self, k: int, done: Mapping[int, _Sample], first: int, last: int) -> list[_Sample]:
         """Refined points around sample k (see the module docstring)."""
         here = done[k]
         if here.q is None or here.distance <= self.rtol:
@@ -295,7 +297,7 @@ class _Chunk:
                     out.append(self._search(k, done, key))
         return [s for s in out if s.q is not None and s.distance < self.band]
 
-    def _search(self, k: int, done: dict[int, _Sample], key: str, towards: int = 0) -> _Sample:
+    def _search(self, k: int, done: Mapping[int, _Sample], key: str, towards: int = 0) -> _Sample:
         """Minimise the distance (of question ``key``; of all questions when empty) around sample k.
 
         With ``towards`` (-1 or 1), towards that neighbour, which did not assemble: the edge of the reachable
@@ -359,19 +361,94 @@ class _Chunk:
         return s
 
 
-def _to_refine(start: int, stop: int, done: dict[int, _Sample], first: int, last: int, batch: BatchRows | None,
-               rtol: float) -> list[int]:  # fmt: skip
+class _Done(Mapping[int, _Sample]):
+    """A chunk's assembled samples by index, each finished (:meth:`_Chunk.finish`) when first read.
+
+    A refinement reads a sample and its neighbours (a search, every sample); the rows the batch decided are read
+    off its entries (:meth:`entry`, :meth:`batch_rows`) without finishing the samples.
+    """
+
+    def __init__(self, chunk: _Chunk, pending: dict[int, _Sample], analysed: Sequence[Analysed | int | None],
+                 columns: list[tuple[Any, Any]], batch: BatchRows | None) -> None:  # fmt: skip
+        self._chunk, self._pending, self._analysed, self._columns, self._batch = (
+            chunk,
+            pending,
+            analysed,
+            columns,
+            batch,
+        )
+        self._index = {k: i for i, k in enumerate(pending)}
+        self._made: dict[int, _Sample] = {}
+
+    def __getitem__(self, k: int) -> _Sample:
+        made = self._made.get(k)
+        if made is None:
+            i = self._index[k]
+            made = self._made[k] = self._chunk.finish(self._pending[k], self._analysed[i], *self._columns[i],
+                                                      self._batch)  # fmt: skip
+        return made
+
+    def __contains__(self, k: object) -> bool:
+        return k in self._index
+
+    def __iter__(self) -> Iterator[int]:
+        return iter(self._index)
+
+    def __len__(self) -> int:
+        return len(self._index)
+
+    def entries(self, lo: int, hi: int) -> list[int]:
+        """Each sample's entry in the batch (samples ``lo .. hi - 1``), else -1.
+
+        The entry where the sample's row is the batch's (a :class:`BatchRow` once finished).
+        """
+        if self._batch is None or not self._chunk.spec.platform:
+            return [-1] * (hi - lo)
+        index, analysed, pending = self._index, self._analysed, self._pending
+        out = []
+        for k in range(lo, hi):
+            a, sample = analysed[index[k]], pending[k]
+            decided = isinstance(a, (int, np.integer)) and sample.q is not None and sample.known is not None
+            out.append(int(a) if decided else -1)  # type: ignore[arg-type]
+        return out
+
+    def batch_rows(self, start: int, stop: int) -> list[BatchRow] | None:
+        """The rows of samples ``start .. stop - 1`` when the batch decided every one, else None.
+
+        :meth:`_Chunk.finish`'s :class:`BatchRow` of each, made without finishing the sample.
+        """
+        ats = self.entries(start, stop)
+        if not ats or min(ats) < 0:
+            return None
+        rows = []
+        for k, at in zip(range(start, stop), ats):
+            made = self._made.get(k)
+            if made is not None:  # finished already (a refinement read it): its row
+                assert isinstance(made.row, BatchRow)
+                rows.append(made.row)
+                continue
+            values, limits = self._columns[self._index[k]]
+            head = self._pending[k].row
+            assert not isinstance(head, BatchRow)  # an assembled sample's head
+            reason = f"joints outside their limits: {', '.join(limits)}" if limits else ""
+            rows.append(BatchRow(at, head, reason, values))
+        return rows
+
+
+def _to_refine(start: int, stop: int, entries: Callable[[int, int], list[int]], first: int, last: int,
+               batch: BatchRows | None, rtol: float) -> list[int]:  # fmt: skip
     """The samples of ``start .. stop - 1`` that :meth:`_Chunk.refine` may refine: all but those it would leave.
 
     Left (screened with numpy over the batch's distances): a sample the batch decided whose neighbours on the line
     were decided too (assembled: no edge of the reachable set next to it), where no question's distance (above
     ``rtol``, as every decided one is) has a local minimum; :meth:`_Chunk.refine` gives no point there.
+    ``entries``: the samples' entries in the batch where the batch decided them, else -1 (:meth:`_Done.entries`).
     """
     ks = range(start, stop)
     if batch is None:
         return list(ks)
-    lo = max(start - 1, first)  # done holds the samples lo .. min(stop, last) (each chunk sample's neighbours)
-    at = np.array([r.at if isinstance(r := done[j].row, BatchRow) else -1 for j in range(lo, min(stop, last) + 1)])
+    lo = max(start - 1, first)  # the chunk holds the samples lo .. min(stop, last) (each chunk sample's neighbours)
+    at = np.array(entries(lo, min(stop, last) + 1))
     k = np.arange(start, stop)
     has_left, has_right = k > first, k < last
     here = at[k - lo]

@@ -1,8 +1,8 @@
 """The generic configurations closed by the batched solver's compiled loop or by its numpy steps: the same ranks.
 
 pinmob.analysis.generic closes its random configurations near the named ones by the batched solver in lockstep:
-compiled where numba is loaded already (a scan's process: its spec loads the kernels first), with numpy's steps and
-Pinocchio's kinematics otherwise (an analysis does not load numba). The two differ in round-off (and so, where the closures leave
+compiled where that loop is loaded already (a scan's process: its spec loads the kernels first), with numpy's steps
+and Pinocchio's kinematics otherwise (an analysis does not load numba). The two differ in round-off (and so, where the closures leave
 a continuum, in which of its points a start closes to); only ranks are
 decided at those configurations. Checked here on every built-in model: each closes the same starts, and every rank
 decided at them (the limb sets' generic wrench ranks, the generic
@@ -52,12 +52,15 @@ def test_either_engine_closes_the_same_configurations_and_decides_the_same_ranks
         check_closed(mech, q, CLOSURE_TOL)
 
 
-def test_the_engine_is_the_compiled_loop_where_numba_is_loaded():
-    """With numba loaded (this process: the test above loaded it), the generic configurations of a platform whose
-    closures are its limb tips are the compiled loop's, to the last bit."""
+def test_the_engine_is_the_compiled_loop_where_it_is_loaded():
+    """With the batched solver's compiled loop loaded (a scan's process: its spec loads it first), the generic
+    configurations of a platform whose closures are its limb tips are that loop's, to the last bit."""
     import sys
 
-    assert sys.modules.get("numba") is not None
+    from pinmob.analysis.generic import KERNEL
+
+    pinmob.scan.grid_spec(pinmob.load("3-PUU"), "generic", [("x", -0.01, 0.01, 2)])
+    assert KERNEL in sys.modules
     auto, forced = pinmob.load("3-PUU"), pinmob.load("3-PUU")
     for a, b in zip(generic_configurations(auto), generic_configurations(forced, compiled=True), strict=True):
         assert np.array_equal(a, b)

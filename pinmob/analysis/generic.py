@@ -47,6 +47,8 @@ from pinmob.screw import RTOL, Array, decide_rank, twist_scaling
 
 #: Largest limb set whose generic rank is estimated (a minimal deficient set has at most 6 limbs).
 MAX_SET = 6
+#: The batched solver's compiled loop: where it is loaded already, the generic configurations are closed by it.
+KERNEL = "pinmob.assembly.batch_newton_kernel"
 #: Named configurations (the file's first that close) near which generic configurations are sampled: a file
 #: may name thousands (a recorded trajectory), and the generic ranks need a few samples, not one per name.
 MAX_NAMED = 8
@@ -99,8 +101,8 @@ def generic_configurations(
 
     Joints perturbed by ``N(0, 0.05)`` [rad, or L x 0.05 m for prismatic
     joints] and closed again: all in lockstep by the batched solver where every closure is a limb tip
-    (:func:`_closed_in_lockstep`: compiled where numba is loaded, as in a scan's process; ``compiled`` forces
-    either), each start it does not close (and every start elsewhere) by
+    (:func:`_closed_in_lockstep`: compiled where the compiled solver is loaded, as in a scan's process;
+    ``compiled`` forces either), each start it does not close (and every start elsewhere) by
     :func:`pinmob.assembly.assemble.assemble_joints`. The first call for a mechanism is kept (its engine's
     round-off): the ranks decided at them are the same either way.
 
@@ -179,15 +181,15 @@ def _closed_in_lockstep(mech: Mechanism, starts: list[Array], compiled: bool | N
     (:func:`pinmob.assembly.batch_solver.solve_poses`); a start it does not close to ``1e-12`` (dimensionless) is
     None. Every start is None for a mechanism with other loops or without a platform.
 
-    ``compiled`` (None: where numba is loaded already): the solver's compiled loop (numba; a scan's process, whose
-    spec loads it first: :func:`pinmob.scan.scan_spec.grid_spec`), else its numpy steps and Pinocchio's kinematics
-    (an analysis does not load numba). Five to seven times faster compiled; the steps differ in round-off, and so,
+    ``compiled`` (None: where the solver's compiled loop, :data:`KERNEL`, is loaded already: a scan's process, whose
+    spec loads it first, :func:`pinmob.scan.scan_spec.grid_spec`): that loop (numba), else its numpy steps and
+    Pinocchio's kinematics (an analysis does not load numba, nor compile pinmob's kernels). Five to seven times faster compiled; the steps differ in round-off, and so,
     where the closures leave a continuum of configurations, may the point of it a start closes to (1e-5 apart on
     the 3-PRRR). Only ranks are decided at them, the same from either (``tests/test_generic_configurations.py``).
     """
     if not starts or not PoseProblem.covers(mech):
         return [None] * len(starts)
-    compiled = sys.modules.get("numba") is not None if compiled is None else compiled
+    compiled = KERNEL in sys.modules if compiled is None else compiled
     problem = PoseProblem(mech, tuple(range(6)), compiled=compiled)
     qs = np.array(starts, float)
     _, frames = problem.kinematics(qs)

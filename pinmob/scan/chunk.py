@@ -408,8 +408,10 @@ class _Done(Mapping[int, _Sample]):
         out = []
         for k in range(lo, hi):
             a, sample = analysed[index[k]], pending[k]
-            decided = isinstance(a, (int, np.integer)) and sample.q is not None and sample.known is not None
-            out.append(int(a) if decided else -1)  # type: ignore[arg-type]
+            if isinstance(a, (int, np.integer)) and sample.q is not None and sample.known is not None:
+                out.append(int(a))
+            else:
+                out.append(-1)
         return out
 
     def batch_rows(self, start: int, stop: int) -> list[BatchRow] | None:

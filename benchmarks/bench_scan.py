@@ -34,7 +34,7 @@ Per robot and grid (microseconds per sample):
   placements and LOCAL Jacobians), ``GROUP`` configurations per call into reused arrays;
 * the ``computeJointJacobians`` calls per sample of pinmob and of the plain loop (counted by
   :func:`pinmob.testing.kinematics_calls` in a separate, untimed run), and the split of pinmob's time
-  (fractions of one cProfile run): the batched predictor (:func:`pinmob.assembly.batch_solver.solve_poses`),
+  (fractions of one cProfile run): the batched predictor (:func:`pinmob.assembly.batched.batch_solver.solve_poses`),
   the single-sample solver, the batch analysis, the single-sample analysis and the rest (rows: joint values,
   limits, targets), with Pinocchio's kinematics alone (the floor's cost per call at pinmob's count of calls).
 
@@ -86,7 +86,7 @@ import numpy as np
 import pinocchio as pin
 
 import pinmob
-from pinmob.assembly.batch_solver import PoseProblem
+from pinmob.assembly.batched.batch_solver import PoseProblem
 from pinmob.cli import main as cli_main
 from pinmob.model.closure import CLOSURE_TOL
 from pinmob.model.compiled_kinematics import frame_kinematics

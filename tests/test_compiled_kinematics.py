@@ -307,7 +307,7 @@ def test_engine_from_the_environment(monkeypatch):
 )
 def test_scan_rows_both_ways(monkeypatch, robot, at, axes):
     """A scan's batched predictor on the compiled kinematics and on Pinocchio's: the same rows (floats to 1e-9)."""
-    from pinmob.assembly.batch_solver import PoseProblem
+    from pinmob.assembly.batched.batch_solver import PoseProblem
     from pinmob.scan.scan_run import scan_in_process
     from pinmob.scan.scan_spec import grid_spec
     from pinmob.testing import kinematics_calls

@@ -91,6 +91,7 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "kinematics_kernel._column",
         "kinematics_kernel._quaternion",
         "kinematics_kernel._unit_columns",
+        "kinematics_kernel.difference_kernel",  # pin.difference, compiled into the secant moves
         "kinematics_kernel.frames_kernel",
         "kinematics_kernel.integrate_kernel",  # pin.integrate, compiled into solve_stack
         "pose_solve_kernel._keep",  # the scan's single-sample solver at a platform pose (its seeding walk)
@@ -100,15 +101,19 @@ def test_compiled_loop_is_cached_outside_the_package(package, tmp_path):
         "pose_solve_kernel._trial",
         "pose_solve_kernel._work",
         "pose_solve_kernel.solve_pose",
+        "rpy_kernel.matrix_rpy",  # the batch rows' angles (pin.rpy.matrixToRpy of a stack)
         "se3_log._add_half_skew",
         "se3_log.log6_jlog6",
+        "secant_kernel.close_moved",  # the predictor's moved starts, solve and check in one call
+        "secant_kernel.move_length",
+        "secant_kernel.short_move",
     ]
 
 
 PREDICTOR = """
 import numpy as np
 import pinmob
-from pinmob.assembly.batch_newton_kernel import solve_stack
+from pinmob.assembly.batched.batch_newton_kernel import solve_stack
 from pinmob.scan import path_spec, scan
 
 mech = pinmob.load("3-PUU")
@@ -141,7 +146,7 @@ def test_an_edit_of_a_function_a_compiled_loop_calls_recompiles_the_loop(package
         return int(found)
 
     assert hits() == 0 and hits() > 0  # compiled, then loaded from the cache
-    stopping = package / "assembly" / "batch_stopping.py"
+    stopping = package / "assembly" / "batched" / "batch_stopping.py"
     stopping.write_text(stopping.read_text() + "\n# edited\n")
     assert hits() == 0  # compiled again, not the old code from the cache
 

@@ -188,7 +188,7 @@ def test_the_predictors_rotation_error_is_right_up_to_a_half_turn():
     import numpy as np
     import pinocchio as pin
 
-    from pinmob.assembly.rotation_stacks import log3_stack as _log3
+    from pinmob.assembly.batched.rotation_stacks import log3_stack as _log3
 
     axis = np.array([0.3, 0.5, 0.8]) / np.linalg.norm([0.3, 0.5, 0.8])
     angles = [0.0, 1e-8, 1.0, 3.0, np.pi - 1e-7, np.pi - 1e-10]
@@ -203,7 +203,7 @@ def test_the_predictors_rpy_stacks_are_pinocchios():
     import numpy as np
     import pinocchio as pin
 
-    from pinmob.assembly.rotation_stacks import rpy_matrices, rpy_rates
+    from pinmob.assembly.batched.rotation_stacks import rpy_matrices, rpy_rates
 
     rpy = np.random.default_rng(5).uniform(-np.pi, np.pi, (12, 3))
     rpy[0], rpy[1, 1] = 0.0, np.pi / 2
@@ -236,10 +236,12 @@ def test_the_rows_angles_are_pinocchios_matrix_to_rpy_to_the_last_bit(compiled, 
     import numpy as np
     import pinocchio as pin
 
-    import pinmob.assembly.rotation_stacks as stacks
+    import pinmob.assembly.batched.rotation_stacks as stacks
 
-    if not compiled:
-        monkeypatch.setattr(stacks, "numba_available", lambda: False)
+    if compiled:
+        assert stacks._rpy_kernel() is not None
+    else:
+        monkeypatch.setattr(stacks, "_rpy_kernel", lambda: None)  # as without numba: Pinocchio's call on each
     rotations = _rotations_for_rpy()
     want = np.array([pin.rpy.matrixToRpy(r) for r in rotations])
     assert np.array_equal(stacks.matrices_rpy(rotations), want)
@@ -255,7 +257,7 @@ def test_the_compiled_rotation_error_is_right_up_to_a_half_turn():
     import numpy as np
     import pinocchio as pin
 
-    from pinmob.assembly.batch_newton_kernel import log3
+    from pinmob.assembly.batched.batch_newton_kernel import log3
 
     rng = np.random.default_rng(3)
     out = np.empty(3)
@@ -274,7 +276,7 @@ def _off_closure(name, at, free, rng, count):
     import numpy as np
     import pinocchio as pin
 
-    from pinmob.assembly.batch_solver import PoseProblem
+    from pinmob.assembly.batched.batch_solver import PoseProblem
 
     mech = pinmob.load(name)
     q0 = pinmob.closed_configuration(mech, at)
@@ -291,8 +293,8 @@ def test_the_compiled_steps_are_numpys_steps():
     normal equations solved by LAPACK) to round-off, at configurations off closure, with and without free coordinates (where they are determined)."""
     import numpy as np
 
-    from pinmob.assembly import batch_newton_kernel as kernel
-    from pinmob.assembly.batch_solver import DAMPING, MAX_STEP
+    from pinmob.assembly.batched import batch_newton_kernel as kernel
+    from pinmob.assembly.batched.batch_solver import DAMPING, MAX_STEP
 
     rng = np.random.default_rng(4)
     for name, at, free in (("3-PUU", "generic", ()), ("3-RPS", "home", (0, 1, 5)), ("6-UPS", "home", ())):
@@ -385,8 +387,8 @@ def test_the_compiled_steps_are_the_textbook_loops_exactly():
     roll, pitch, yaw and x free, and on random stacks whose frames share joints."""
     import numpy as np
 
-    from pinmob.assembly import batch_newton_kernel as kernel
-    from pinmob.assembly.batch_solver import DAMPING, MAX_STEP
+    from pinmob.assembly.batched import batch_newton_kernel as kernel
+    from pinmob.assembly.batched.batch_solver import DAMPING, MAX_STEP
 
     def structure(mask, free):
         return kernel.step_structure(mask, mask.shape[1], len(free))
@@ -509,14 +511,13 @@ def test_the_batchs_motion_types_are_classify_twists_labels_compiled_and_not():
 
 
 def test_the_secant_start_moves_on_along_the_line_the_short_way_round():
-    """The predictor's start on a line (``pinmob.assembly.secant_starts``): the closed sample moved on by the last
-    step, a revolute angle's part of it the short way round across the wrap at +-pi; the start is nearer the
-    next closed sample than the sample is (3-PUU, a line of x at generic). Both on the vector-space path (q + move)
-    and on Pinocchio's difference / integrate path. Fails on the old code: no secant_starts."""
+    """The predictor's start on a line (``pinmob.assembly.moved_stack`` from the sample before to the seed): the
+    closed sample moved on by the last step, a revolute angle's part of it the short way round across the wrap at
+    +-pi; the start is nearer the next closed sample than the sample is (3-PUU, a line of x at generic). Both on the
+    vector-space path (q + move) and on Pinocchio's difference / integrate path."""
     import numpy as np
 
-    from pinmob.assembly import secant_starts
-    from pinmob.assembly.batch_solver import PoseProblem
+    from pinmob.assembly import PoseProblem, moved_stack
 
     mech = pinmob.load("3-PUU")
     q0 = pinmob.closed_configuration(mech, "generic")
@@ -524,13 +525,14 @@ def test_the_secant_start_moves_on_along_the_line_the_short_way_round():
     for vector_space in (True, False):
         problem = PoseProblem(mech)
         problem.vector_space = vector_space
-        start = secant_starts(problem, [line[0], None], [line[1], line[1]])
-        assert np.array_equal(start[1], line[1])  # no sample before: the seed itself
+        seeds = np.array([line[1], line[1]])
+        start, step = moved_stack(problem, np.array([line[0], line[1]]), seeds, np.array([True, False]), seeds)
+        assert np.array_equal(start[1], line[1]) and step[1] == 0.0  # no sample before: the seed itself
         assert np.linalg.norm(start[0] - line[2]) < 0.1 * np.linalg.norm(line[1] - line[2])
         angle = int(problem.angles[0])
         before, seed = line[1].copy(), line[1].copy()
         before[angle], seed[angle] = np.pi - 0.02, -np.pi + 0.03  # moved +0.05 rad across the wrap
-        moved = secant_starts(problem, [before], [seed])[0]
+        moved = moved_stack(problem, before[None], seed[None], np.ones(1, bool), seed[None])[0][0]
         assert moved[angle] == pytest.approx(-np.pi + 0.08, abs=1e-12)
 
 

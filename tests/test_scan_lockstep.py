@@ -13,8 +13,8 @@ import pinocchio as pin
 import pytest
 
 import pinmob
-from pinmob.assembly import off_secants, secant_stack, secant_starts
-from pinmob.assembly.batch_solver import PoseProblem
+from pinmob.assembly import moved_stack, off_secants
+from pinmob.assembly.batched.batch_solver import PoseProblem
 from pinmob.assembly.partial_pose import pose_from_vector
 from pinmob.assembly.reach import POSE_COORDS, pose_vector
 from pinmob.model.joints import linear_velocity_mask
@@ -114,8 +114,8 @@ def test_the_secant_starts_and_their_check_over_a_stack_follow_moves_made_by_han
     """Per row: the start is the seed moved on by (seed - before), the short way round across the wrap at +-pi;
     off_secants is True exactly where the correction (start to q) is longer than that step (joint metric, slides
     per L), False where it is shorter or where there was no secant (start = seed). The stack's answers are the
-    rows' (secant_starts, off_secants of one row). On q + move and on Pinocchio's difference / integrate path.
-    Fails on the old code: no secant_stack, no off_secants."""
+    rows' (off_secants of one row); the moves' lengths are the steps off_secants measures against. On q + move and
+    on Pinocchio's difference / integrate path."""
     mech = pinmob.load("3-PUU")
     problem = PoseProblem(mech)
     problem.vector_space = vector_space
@@ -129,13 +129,12 @@ def test_the_secant_starts_and_their_check_over_a_stack_follow_moves_made_by_han
     seeds[:, angle], before[:, angle] = -np.pi + 0.01, np.pi - 0.03  # 0.04 rad on across the wrap at +-pi
     before[:, slide] -= 0.03 * mech.length_scale  # 0.03 L behind: the step's length is 0.05
     has = np.array([True, True, True, True, False, True])
-    starts = secant_stack(problem, before, has, seeds)
+    starts, step = moved_stack(problem, before, seeds, has, seeds)
     want = seeds.copy()
     want[has, angle] = -np.pi + 0.05
     want[has, slide] += 0.03 * mech.length_scale
     assert np.allclose(starts, want, atol=1e-12)
-    listed = secant_starts(problem, [b if h else None for b, h in zip(before, has)], list(seeds))
-    assert np.array_equal(np.array(listed), starts)
+    assert np.allclose(step, np.where(has, 0.05, 0.0), atol=1e-12)  # slide 0.03 and angle 0.04 (joint metric)
     # corrections from the start: 0.06 (longer than the step, 0.05) or 0.04 (shorter), along the slide
     qs = starts.copy()
     longer = np.array([True, False, True, False, True, False])
@@ -230,6 +229,60 @@ def test_the_walks_turns_are_closed_across_the_lines(monkeypatch, name, at, axes
         assert np.max(np.abs(pin.difference(mech.model, want, q) / col)) < 1e-6
 
 
+def _continuous_3rps(folder):
+    """The 3-RPS with its first limb's revolutes and one spherical revolute of each other limb unbounded
+    (URDF ``continuous``: Pinocchio's (cos, sin) joints, whose difference and integrate are not plain arithmetic)."""
+    toml = pinmob.builtin_models()["3-RPS"]
+    urdf = (toml.parent / "3rps.urdf").read_text()
+    for joint in ("A_r", "A_sa", "A_sb", "A_sc", "B_sc", "C_sb"):
+        urdf = urdf.replace(f'<joint name="{joint}" type="revolute">', f'<joint name="{joint}" type="continuous">', 1)
+    (folder / "3rps_cont.urdf").write_text(urdf)
+    text = toml.read_text().replace('"3rps.urdf"', '"3rps_cont.urdf"').replace('name = "3-RPS"', 'name = "3-RPS-cont"')
+    (folder / "3rps_cont.toml").write_text(text)
+    return pinmob.load(folder / "3rps_cont.toml")
+
+
+@pytest.mark.needs_numba
+def test_the_compiled_close_of_unbounded_joints_is_the_numpy_one_to_round_off(monkeypatch, tmp_path):
+    """Off a vector space (unbounded revolutes: the moves are Pinocchio's difference and integrate, compiled, equal
+    to 1e-13 in tests/test_compiled_kinematics.py), Predictor.close with numba against numpy's moves and checks
+    around the compiled solve: the same convergence and the same rows off their moves, configurations within
+    1e-12 (not to the last bit: the compiled difference and integrate round otherwise)."""
+    import warnings
+
+    import pinocchio as pin
+
+    import pinmob.scan.predictor as predictor_module
+    from pinmob.scan.predictor import Predictor
+
+    mech = _continuous_3rps(tmp_path)
+    spec = grid_spec(mech, "home", [("roll", -0.2, 0.2, 5), ("pitch", -0.2, 0.2, 5)])
+    assert not Predictor(mech, spec).problem.vector_space
+    ks = list(range(1, 5)) + list(range(6, 10))
+    rng = np.random.default_rng(11)
+    q0 = np.array(spec.q_ref, float)
+    seeds = np.array([pin.integrate(mech.model, q0, 1e-3 * rng.normal(size=mech.model.nv)) for _ in ks])
+    behind = np.array([pin.integrate(mech.model, q, -2e-3 * rng.normal(size=mech.model.nv)) for q in seeds])
+    moves = (behind, seeds, np.arange(len(ks)) % 3 != 1)
+    poses = spec.pose_targets(ks)
+
+    def close(ratio: float, redo: bool):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            return Predictor(mech, spec).close(poses.copy(), seeds.copy(), spec.target_kind, moves=moves,
+                                               ratio=ratio, redo=redo)  # fmt: skip
+
+    runs = {}
+    for path in ("compiled", "numpy"):
+        if path == "numpy":
+            monkeypatch.setattr(predictor_module, "close_moved", lambda *args: None)
+        runs[path] = [close(1.0, True), close(1e-6, True), close(1e-6, False)]
+    for compiled, plain in zip(*runs.values()):
+        assert compiled.converged.tolist() == plain.converged.tolist()
+        np.testing.assert_allclose(compiled.q, plain.q, rtol=0, atol=1e-12)
+    assert runs["compiled"][0].converged.all() and not runs["compiled"][2].converged[moves[2]].any()
+
+
 def _line_stack(mech, spec, ks):
     """Seeds (the reference, each row nudged), moves from a point behind them, and the targets of samples ks."""
     rng = np.random.default_rng(11)
@@ -283,7 +336,7 @@ def test_the_compiled_close_is_the_numpy_moves_solve_finish_and_check(monkeypatc
         predictor.problem.vector_space = vector_space
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # joints outside their limits: the same warnings on both paths
-            return predictor.close(poses.copy(), seeds.copy(), kind, joints, moves, ratio, redo)
+            return predictor.close(poses.copy(), seeds.copy(), kind, joints=joints, moves=moves, ratio=ratio, redo=redo)
 
     runs = {}
     for path in ("compiled", "numpy"):

@@ -48,7 +48,7 @@ from pinmob.screw import RTOL, Array, decide_rank, twist_scaling
 #: Largest limb set whose generic rank is estimated (a minimal deficient set has at most 6 limbs).
 MAX_SET = 6
 #: The batched solver's compiled loop: where it is loaded already, the generic configurations are closed by it.
-KERNEL = "pinmob.assembly.batch_newton_kernel"
+KERNEL = "pinmob.assembly.batched.batch_newton_kernel"
 #: Named configurations (the file's first that close) near which generic configurations are sampled: a file
 #: may name thousands (a recorded trajectory), and the generic ranks need a few samples, not one per name.
 MAX_NAMED = 8
@@ -70,14 +70,15 @@ def generic_twist_ranks(mech: Mechanism, samples: int = 3) -> tuple[int, ...]:
         best = [0] * len(mech.limbs)
         st = twist_scaling(mech.length_scale)[:, None]
         loops = [tuple(c for c in mech.closures if c.name in limb.closures) for limb in mech.limbs]
+        alone = [replace(mech, limbs=(), platform="", closures=own) if own else None for own in loops]
         for _ in range(samples):  # one random configuration a sample, shared by the limbs without loops
             drawn = random_configuration(mech, rng, spread=1.0)
             shared = Configuration.unchecked(mech, drawn)
             for i, limb in enumerate(mech.limbs):
-                conf = shared
-                if loops[i]:
+                conf, closed = shared, alone[i]
+                if closed is not None:  # the limb's own loops closed on the sample
                     try:
-                        q = project(replace(mech, limbs=(), platform="", closures=loops[i]), drawn).q
+                        q = project(closed, drawn).q
                     except ClosureError:
                         q = drawn
                     conf = Configuration.unchecked(mech, q)
@@ -178,7 +179,7 @@ def _closed_in_lockstep(mech: Mechanism, starts: list[Array], compiled: bool | N
     Where every closure is a limb tip on the platform (no other loops): the platform pose is free (all six
     coordinates follow, from each start's own), so the steps close the limbs on it as
     :func:`pinmob.assembly.assemble.assemble_joints` with no joint held does, on a stack
-    (:func:`pinmob.assembly.batch_solver.solve_poses`); a start it does not close to ``1e-12`` (dimensionless) is
+    (:func:`pinmob.assembly.batched.batch_solver.solve_poses`); a start it does not close to ``1e-12`` (dimensionless) is
     None. Every start is None for a mechanism with other loops or without a platform.
 
     ``compiled`` (None: where the solver's compiled loop, :data:`KERNEL`, is loaded already: a scan's process, whose

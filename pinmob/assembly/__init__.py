@@ -10,8 +10,8 @@
 - :mod:`~pinmob.assembly.seeds`: :func:`find_closed` (neutral, then seeded random restarts);
 - :mod:`~pinmob.assembly.relaxation`: over-constraining closures relaxed to ``3d``;
 - :mod:`~pinmob.assembly.named_assembly`: the named configurations of a mechanism file, closed;
-- :mod:`~pinmob.assembly.batch_solver`: a stack of platform-pose assemblies in lockstep (:func:`solve_poses`), and
-  :mod:`~pinmob.assembly.secant`: their continuation starts (:func:`secant_stack`, :func:`off_secants`).
+- :mod:`~pinmob.assembly.batched`: a stack of platform-pose assemblies in lockstep (:func:`solve_poses`) and their
+  continuation starts (:func:`moved_stack`, :func:`off_secants`, :func:`close_moved`).
 """
 
 from pinmob.assembly.assemble import (
@@ -23,7 +23,17 @@ from pinmob.assembly.assemble import (
     solve_actuated,
     warn_outside_limits,
 )
-from pinmob.assembly.batch_solver import PoseProblem, compiled_kernel, solve_poses
+from pinmob.assembly.batched import (
+    MovedSolution,
+    PoseProblem,
+    close_moved,
+    compiled_kernel,
+    matrices_rpy,
+    moved_stack,
+    off_secants,
+    short_moves,
+    solve_poses,
+)
 from pinmob.assembly.cad_gaps import Gaps, frame_gaps, gaps_closed
 from pinmob.assembly.closure_miss import SHOWN, format_worst, tolerance_hint, worst_first
 from pinmob.assembly.named_assembly import close_joint_values, closed_configuration, named_vector
@@ -55,16 +65,6 @@ from pinmob.assembly.residual import (
     stacked_error,
     tip_residuals,
     worst_residual,
-)
-from pinmob.assembly.rotation_stacks import matrices_rpy
-from pinmob.assembly.secant import (
-    MovedSolution,
-    close_moved,
-    moved_stack,
-    off_secants,
-    secant_stack,
-    secant_starts,
-    short_moves,
 )
 from pinmob.assembly.seeds import RESTARTS, configuration_distance, find_closed, random_configuration
 from pinmob.assembly.solver import STALL_WINDOW, ResidualFn, SolverResult, solve
@@ -105,13 +105,13 @@ __all__ = [
     "frame_jacobian",
     "gaps_closed",
     "is_within",
-    "matrices_rpy",
     "joint_velocity_indices",
+    "matrices_rpy",
     "mechanism_residuals",
     "moved_stack",
+    "named_vector",
     "normal_rows",
     "off_secants",
-    "named_vector",
     "pose_coordinate_jacobian",
     "pose_error",
     "pose_from_vector",
@@ -121,8 +121,6 @@ __all__ = [
     "relative_error",
     "relax",
     "relaxable",
-    "secant_stack",
-    "secant_starts",
     "short_moves",
     "solve",
     "solve_actuated",

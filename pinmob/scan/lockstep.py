@@ -4,7 +4,7 @@ A group of up to ``GROUP`` chunks (:func:`pinmob.scan.scan_run.chunk_groups`) ru
 job. Step j assembles the j-th sample of every chunk of the group, each
 warm-started from the previous sample of its own chunk (the continuation of the
 single-sample path, so the same assembly branch), by the batched predictor
-(:func:`pinmob.assembly.batch_solver.solve_poses`: damped Newton steps over all
+(:func:`pinmob.assembly.batched.batch_solver.solve_poses`: damped Newton steps over all
 those samples at once, each stopped within :data:`~pinmob.scan.predictor.PREDICT_TOL`, not polished on: a
 configuration that close to closure gives the same row to far below the 1e-7 the
 engines agree to). A sample it did not bring within that tolerance (out of
@@ -13,7 +13,7 @@ reach, a stall, a step that diverged) goes to the single-sample solver
 the single-sample path: an unreachable verdict and its reason are that solver's. A step works on the stack of
 its samples: their targets are rows of pose-coordinate vectors built for the whole group at once
 (:meth:`pinmob.scan.scan_spec.ScanSpec.pose_targets`), their secant starts and the check of them are computed over the stack
-(:func:`~pinmob.assembly.secant_stack`, :func:`~pinmob.assembly.off_secants`; with numba, one compiled call with
+(:func:`~pinmob.assembly.moved_stack`, :func:`~pinmob.assembly.off_secants`; with numba, one compiled call with
 the solve: :func:`~pinmob.assembly.close_moved`). A grid or a path that gives joint values (the designer's
 motors) runs on the predictor too: those joints are held at their values in each start and no step moves them,
 the pose coordinates not given are unknowns (:class:`~pinmob.scan.predictor.Predictor`). Joints with more than
@@ -158,7 +158,7 @@ class _Lockstep:
         A chunk whose previous sample did not assemble (its seed is then the last one that did, further away: out
         of reach, most likely, again) skips the predictor: the single-sample solver from that seed, as before. With
         ``secant`` (the forward pass along the chunks' lines), the predictor starts a chunk whose last two samples
-        closed from their secant, extrapolated one sample on (:func:`~pinmob.assembly.secant_starts`; from the seed again where
+        closed from their secant, extrapolated one sample on (:func:`~pinmob.assembly.moved_stack`; from the seed again where
         the steps went off it, :func:`~pinmob.assembly.off_secants`), and ``before`` is kept up to date. A sample the predictor did not
         close gets its target (:meth:`ScanSpec.target`) for the single-sample solver.
         """
@@ -175,7 +175,7 @@ class _Lockstep:
             moves = None
             if has.any():  # a secant start that needs a correction longer than its step: from the seed instead
                 moves = (np.array([seeds[j] if b is None else b for j, b in enumerate(behind)]), seeds, has)
-            closed = predictor.close(poses, seeds, kind, joints, moves)
+            closed = predictor.close(poses, seeds, kind, joints=joints, moves=moves)
             for j in np.flatnonzero(closed.converged):
                 found[tried[j]] = (closed.q[j], closed.jacobians[j], closed.platform[j])
         first = self.chunks[0]  # a predicted sample as _Chunk.assemble makes it, with the predictor's kinematics

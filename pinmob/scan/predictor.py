@@ -1,6 +1,6 @@
 """The batched predictor of a scan: a stack of platform-pose targets closed from their seeds in lockstep.
 
-:class:`Predictor` wraps :func:`pinmob.assembly.batch_solver.solve_poses` for one scan: the targets as pose
+:class:`Predictor` wraps :func:`pinmob.assembly.batched.batch_solver.solve_poses` for one scan: the targets as pose
 coordinates (NaN where a coordinate follows: it starts where the seed has it), each sample stopped within
 ``PREDICT_TOL``, the converged ones finished as the single-sample assembly returns them, with the kinematics the
 solver computed at them (:class:`Closed`). Where the targets give joint values (a grid or a path over the
@@ -90,7 +90,7 @@ class Predictor:
     ) -> list[Array | None]:
         """Per target (:meth:`ScanSpec.target`), the predictor's closed configuration from its seed, or None.
 
-        Closed: :meth:`~pinmob.assembly.batch_solver.PoseProblem.finish` of a sample it converged; None where it did
+        Closed: :meth:`~pinmob.assembly.batched.batch_solver.PoseProblem.finish` of a sample it converged; None where it did
         not, or where its start was moved (``moves``, :meth:`close`'s) and its correction was longer than ``ratio``
         times its move.
         """
@@ -107,7 +107,9 @@ class Predictor:
                 poses[i, [POSE_COORDS.index(c) for c in value[0]]] = list(value[0].values())
                 joints[i] = [value[1][n] for n in self.joints]
         kinds = [kind for kind, _ in targets]
-        q, ok, _, _ = self.close(poses, np.array(seeds, float), kinds, joints, moves, ratio, redo=False)
+        q, ok, _, _ = self.close(
+            poses, np.array(seeds, float), kinds, joints=joints, moves=moves, ratio=ratio, redo=False
+        )
         return [q[i] if ok[i] else None for i in range(len(targets))]
 
     def close(
@@ -115,6 +117,7 @@ class Predictor:
         poses: Array,
         seeds: Array,
         kinds: str | list[str],
+        *,
         joints: Array | None = None,
         moves: tuple[Array, Array, Mask] | None = None,
         ratio: float = 1.0,
@@ -129,7 +132,7 @@ class Predictor:
         their seed moved on by the move from ``a`` to ``b`` (:func:`~pinmob.assembly.moved_stack`: a line's secant),
         the others at their seed; a moved row whose Newton correction was longer than ``ratio`` times its move
         (:func:`~pinmob.assembly.off_secants`) is closed again from its seed (``redo``), or is not closed. With
-        numba, moves, solve, finish and check are one compiled call (:func:`~pinmob.assembly.secant.close_moved`).
+        numba, moves, solve, finish and check are one compiled call (:func:`~pinmob.assembly.batched.secant.close_moved`).
         """
         if self.free:  # no NaN otherwise: every coordinate is given
             poses = self.seed_poses(poses, seeds)

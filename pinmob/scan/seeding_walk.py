@@ -31,7 +31,7 @@ def chunk_seeds(mech: Mechanism, spec: ScanSpec) -> Iterator[tuple[int, int, Arr
     last waypoint that did). A waypoint one even step on from the two before it (in sample index or in the
     target's coordinates: the approach from the reference, a grid's first column, a path's every ``STRIDE``-th
     sample), both closed, is closed by the batched predictor from their secant
-    (:func:`~pinmob.assembly.secant_starts`), as the chunks' samples are, and kept only when its Newton
+    (:func:`~pinmob.assembly.moved_stack`), as the chunks' samples are, and kept only when its Newton
     correction was at most ``WALK_SECANT`` of the secant's step (:func:`~pinmob.assembly.off_secants`).
     At a turn of the walk (the first waypoints of a line), where the two before are not in line with it, the
     predictor starts from the last waypoint's configuration moved as the same two samples moved on the line

@@ -1,7 +1,7 @@
 """``log6`` of a placement and its Jacobian ``Jlog6``, compiled (numba): the compiled pose solve's residual.
 
 Pinocchio's formulas written anew (a compiled function cannot call Pinocchio), the rotation vector
-:func:`~pinmob.assembly.batch_newton_kernel.log3`'s; below ``SERIES_BELOW`` the coefficients are their series,
+:func:`~pinmob.assembly.batched.batch_newton_kernel.log3`'s; below ``SERIES_BELOW`` the coefficients are their series,
 where the closed forms lose digits (Pinocchio's ``Jlog6`` is 7e-7 off at 3e-4 rad: ``tests/test_pose_solve_kernel.py``).
 Importing this module imports numba.
 """
@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pinmob.assembly.batch_newton_kernel import log3
+from pinmob.assembly.batched.batch_newton_kernel import log3
 from pinmob.jit_cache import njit
 from pinmob.screw import Array
 

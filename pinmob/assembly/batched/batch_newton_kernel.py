@@ -1,4 +1,4 @@
-"""The compiled linear algebra of :mod:`pinmob.assembly.batch_solver` (numba, the optional ``fast`` extra).
+"""The compiled linear algebra of :mod:`pinmob.assembly.batched.batch_solver` (numba, the optional ``fast`` extra).
 
 The same errors, Jacobians and damped steps as that module's numpy path (its docstring), one sample at a time in
 a compiled loop over the stack: :func:`pose_errors` (each frame's position and ``log3`` rotation error, and the
@@ -13,7 +13,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.assembly.batch_stopping import advance as plain_advance
+from pinmob.assembly.batched.batch_stopping import advance as plain_advance
 from pinmob.jit_cache import njit
 from pinmob.model import frames_kernel, integrate_kernel
 from pinmob.screw import Array, Mask
@@ -21,7 +21,7 @@ from pinmob.screw import Array, Mask
 #: Integer arrays (frame and column indices, counts).
 Ints = NDArray[np.int64]
 
-#: :func:`pinmob.assembly.batch_stopping.advance`, compiled.
+#: :func:`pinmob.assembly.batched.batch_stopping.advance`, compiled.
 advance = njit(plain_advance)
 
 
@@ -275,7 +275,7 @@ def iterate(
     vector_space: bool,
     structure: tuple[Ints, Ints, Ints, Ints],
 ) -> tuple[Array, Array]:
-    """One iteration of :func:`pinmob.assembly.batch_solver.solve_poses` on the samples ``active``, in place.
+    """One iteration of :func:`pinmob.assembly.batched.batch_solver.solve_poses` on the samples ``active``, in place.
 
     From the kinematics at ``q[active]`` (``full``, ``frames``): the errors (:func:`pose_errors`), the stopping
     rule (:func:`advance`, which updates ``best`` and ``history``), the best iterates kept (``best_q``,
@@ -340,7 +340,7 @@ def solve_stack(
     best_full: Array,
     best_frames: Array,
 ) -> None:
-    """Every iteration of :func:`pinmob.assembly.batch_solver.solve_poses` in one compiled call, in place.
+    """Every iteration of :func:`pinmob.assembly.batched.batch_solver.solve_poses` in one compiled call, in place.
 
     Per iteration, as the Python loop around :func:`iterate` does: the kinematics of the samples still going
     (:func:`pinmob.model.frames_kernel` on the model's tables, ``parent`` ... ``f_pos``: the world joint
@@ -397,7 +397,7 @@ def solve_stack(
 def wrap_and_check(
     out: Array, angles: NDArray[np.intp], lower: Array, upper: Array, limited: Mask
 ) -> tuple[Mask, Mask]:
-    """:meth:`pinmob.assembly.batch_solver.PoseProblem.finish`'s arithmetic, in place on (N, nq) ``out``.
+    """:meth:`pinmob.assembly.batched.batch_solver.PoseProblem.finish`'s arithmetic, in place on (N, nq) ``out``.
 
     Each angle (indices ``angles``) moved into (-pi, pi]; per row, whether a wrapped angle is outside its limits
     (the caller wraps that row by :func:`~pinmob.model.joints.wrap_angles` instead) and whether any coordinate is

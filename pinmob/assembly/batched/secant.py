@@ -1,11 +1,11 @@
 """Continuation starts of a stack: each closed sample moved on by a secant's move, and the check of its correction.
 
 A scan's predictor (:class:`pinmob.scan.predictor.Predictor`) starts each sample of a line from the last one moved on
-by the line's secant (:func:`secant_starts`, :func:`secant_stack`), and the seeding walk its even waypoints from the
-last one moved as two before moved (:func:`moved_stack`); a start whose Newton correction is longer than its move
-left the continuation (:func:`off_secants`). Moves are taken in the tangent space, each revolute angle the short way
+by the line's secant, and the seeding walk its even waypoints from the last one moved as two before moved
+(:func:`moved_stack`); a start whose Newton correction is longer than its move left the continuation
+(:func:`off_secants`). Moves are taken in the tangent space, each revolute angle the short way
 round (:func:`short_moves`), and measured in the joint metric (:func:`move_lengths`: slides per L, angles in rad).
-:mod:`pinmob.assembly.secant_kernel` does the same, compiled, with the solve between.
+:mod:`pinmob.assembly.batched.secant_kernel` does the same, compiled, with the solve between.
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import numpy as np
 import pinocchio as pin
 from numpy.typing import NDArray
 
-from pinmob.assembly.batch_solver import MAX_ITER, STALL_WINDOW, PoseProblem, solver_numbers
+from pinmob.assembly.batched.batch_solver import MAX_ITER, STALL_WINDOW, PoseProblem, solver_numbers
 from pinmob.screw import Array, Mask
 
 
@@ -33,33 +33,13 @@ def short_moves(problem: PoseProblem, a: Array, b: Array) -> Array:
     return move
 
 
-def secant_starts(problem: PoseProblem, before: list[Array | None], seeds: list[Array]) -> list[Array]:
-    """Where the predictor starts each sample: ``seed`` moved on by ``seed - before`` (a line's secant), or ``seed``.
-
-    ``before``: the closed sample before the one that gave ``seed`` on the same line (None: start at ``seed``).
-    The move is :func:`short_moves` (the closed samples' angles are wrapped into (-pi, pi]). A start only: the
-    sample's verdict and branch are the Newton steps' from it (checked by :func:`off_secants`), and a sample the
-    predictor does not close goes to the single-sample solver from ``seed``, as before.
-    """
-    if not seeds:
-        return []
-    stack = np.array(seeds, float)
-    has = np.array([b is not None for b in before])
-    behind = np.array([q if b is None else b for b, q in zip(before, stack)], float)
-    moved = secant_stack(problem, behind, has, stack)
-    return [moved[i] if has[i] else seeds[i] for i in range(len(seeds))]
-
-
-def secant_stack(problem: PoseProblem, before: Array, has: Mask, seeds: Array) -> Array:
-    """:func:`secant_starts` on (B, nq) stacks: the rows of ``before`` where ``has``, the others ignored."""
-    return moved_stack(problem, before, seeds, has, seeds)[0]
-
-
 def moved_stack(problem: PoseProblem, a: Array, b: Array, has: Mask, seeds: Array) -> tuple[Array, Array]:
     """Each row of the (B, nq) ``seeds`` moved on by ``b - a`` where ``has``, and the moves' lengths (0: not moved).
 
-    The moves are :func:`short_moves`, their lengths in the joint metric (:func:`move_lengths`): a secant's starts
-    when ``b`` is ``seeds`` (:func:`secant_stack`).
+    The moves are :func:`short_moves`, their lengths in the joint metric (:func:`move_lengths`): a line's secant
+    starts when ``a`` is the closed sample before each seed and ``b`` the seeds (the closed samples' angles are
+    wrapped into (-pi, pi]). A start only: the sample's verdict and branch are the Newton steps' from it (checked by
+    :func:`off_secants`).
     """
     move = short_moves(problem, a, b)
     if problem.vector_space:
@@ -93,10 +73,10 @@ def off_secants(
 
 
 class MovedSolution(NamedTuple):
-    """What :func:`close_moved` found for B starts (:func:`pinmob.assembly.secant_kernel.close_moved`'s outputs)."""
+    """What :func:`close_moved` found for B starts (:func:`pinmob.assembly.batched.secant_kernel.close_moved`'s outputs)."""
 
     #: (B, nq) the closed configurations: angles wrapped where converged (the rows ``special`` left to
-    #: :meth:`PoseProblem.finish <pinmob.assembly.batch_solver.PoseProblem.finish>`), as the solver left the others
+    #: :meth:`PoseProblem.finish <pinmob.assembly.batched.batch_solver.PoseProblem.finish>`), as the solver left the others
     q: Array
     #: (B, nq) the solver's configurations (unwrapped)
     raw: Array
@@ -125,16 +105,17 @@ def close_moved(
     ratio: float,
     tol: float,
 ) -> MovedSolution | None:
-    """:func:`moved_stack`, :func:`~pinmob.assembly.batch_solver.solve_poses` and :func:`off_secants` in one compiled call.
+    """:func:`moved_stack`, :func:`~pinmob.assembly.batched.batch_solver.solve_poses` and :func:`off_secants` in one compiled call.
 
     ``moves``: ``(a, b, has)`` of :func:`moved_stack`; ``poses`` (B, 6) the targets (none following); ``joint_q``
     and ``joints`` (B, J): the targets' joint values, held in the starts; ``ratio``: :func:`off_secants`'; ``tol``:
-    the solver's tolerance and floor. None when it does not apply: without numba, or with a joint the compiled loop
-    does not integrate (a free-flyer or planar one), where the caller runs those three.
+    the solver's tolerance and floor. None when it does not apply, where the caller runs those three: without numba,
+    on Pinocchio's kinematics (``PINMOB_KINEMATICS=pinocchio``, or a joint the compiled kinematics do not model),
+    or with a joint the compiled loop does not integrate (a free-flyer or planar one).
     """
     if problem.kernel is None or not problem.fast.integrable:
         return None
-    from pinmob.assembly.secant_kernel import close_moved as kernel
+    from pinmob.assembly.batched.secant_kernel import close_moved as kernel
 
     a, b, has = moves
     lower, upper = problem.limits
@@ -161,5 +142,5 @@ def close_moved(
             problem.angles,
             (lower, upper, problem.limited),
             ratio,
-        )  # fmt: skip
+        )
     )

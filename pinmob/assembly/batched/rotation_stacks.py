@@ -1,4 +1,4 @@
-"""Stacks of rotations for the numpy path of :mod:`pinmob.assembly.batch_solver`: (B, 3, 3) at once.
+"""Stacks of rotations for the numpy path of :mod:`pinmob.assembly.batched.batch_solver`: (B, 3, 3) at once.
 
 Pinocchio's rpy matrices and world angular velocity per rpy rate of (B, 3) angles, the angles of (B, 3, 3) rotations
 (``pin.rpy.matrixToRpy`` of each), their rotation vectors (``pin.log3`` of each) and the cross-product matrices of
@@ -6,6 +6,9 @@ Pinocchio's rpy matrices and world angular velocity per rpy rate of (B, 3) angle
 """
 
 from __future__ import annotations
+
+import functools
+from collections.abc import Callable
 
 import numpy as np
 import pinocchio as pin
@@ -38,18 +41,27 @@ def rpy_rates(rpy: Array) -> Array:
 def matrices_rpy(rotations: Array) -> Array:
     """(B, 3) ``pin.rpy.matrixToRpy`` of each rotation ``rotations[b, :3, :3]`` ((B, 3, 3), or (B, 4, 4) placements).
 
-    Compiled where numba is installed (:func:`pinmob.assembly.rpy_kernel.matrix_rpy`: the same operations, the same
+    Compiled where numba is installed (:func:`pinmob.assembly.batched.rpy_kernel.matrix_rpy`: the same operations, the same
     angles to the last bit), else Pinocchio's call on each.
     """
     out = np.empty((len(rotations), 3))
-    if numba_available():
-        from pinmob.assembly.rpy_kernel import matrix_rpy
-
-        matrix_rpy(np.ascontiguousarray(rotations, float), out)
+    kernel = _rpy_kernel()
+    if kernel is not None:
+        kernel(np.ascontiguousarray(rotations, float), out)
     else:
         for b, r in enumerate(rotations):
             out[b] = pin.rpy.matrixToRpy(r[:3, :3])
     return out
+
+
+@functools.cache
+def _rpy_kernel() -> Callable[[Array, Array], None] | None:
+    """:func:`pinmob.assembly.batched.rpy_kernel.matrix_rpy` where numba is installed (looked for once), else None."""
+    if not numba_available():
+        return None
+    from pinmob.assembly.batched.rpy_kernel import matrix_rpy
+
+    return matrix_rpy
 
 
 def log3_stack(r: Array) -> Array:

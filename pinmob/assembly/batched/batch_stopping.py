@@ -1,7 +1,7 @@
-"""Which samples of :func:`pinmob.assembly.batch_solver.solve_poses` go on after an iteration: its stopping rule.
+"""Which samples of :func:`pinmob.assembly.batched.batch_solver.solve_poses` go on after an iteration: its stopping rule.
 
 Plain Python loops over the samples still running, so that numba compiles the very same function
-(:mod:`pinmob.assembly.batch_newton_kernel`'s ``advance``) and the numpy path runs it as it is: one call per
+(:mod:`pinmob.assembly.batched.batch_newton_kernel`'s ``advance``) and the numpy path runs it as it is: one call per
 iteration instead of a dozen numpy calls on a few samples each.
 """
 

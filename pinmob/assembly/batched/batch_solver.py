@@ -18,7 +18,7 @@ coordinate, ``-[e_k / L ; 0]`` (x, y, z) or ``-[0 ; E(rpy) e_k]`` (angles,
 angular velocity for the rate of ``log3`` (no ``Jlog3``): exact at a solution,
 so the steps converge quadratically near one. The errors,
 Jacobians and steps are computed by a compiled loop over the samples still
-running when numba is installed (:mod:`pinmob.assembly.batch_newton_kernel`), else
+running when numba is installed (:mod:`pinmob.assembly.batched.batch_newton_kernel`), else
 as numpy stacks (the same iterates to round-off).
 
 Step: Levenberg-Marquardt on the dimensionless columns ``J' = J D`` (D = L on a
@@ -48,8 +48,8 @@ import pinocchio as pin
 from numpy.typing import NDArray
 
 from pinmob.assembly.assemble import warn_outside_limits
-from pinmob.assembly.batch_stopping import advance as plain_advance
-from pinmob.assembly.rotation_stacks import log3_stack, rpy_matrices, rpy_rates, skew_stack
+from pinmob.assembly.batched.batch_stopping import advance as plain_advance
+from pinmob.assembly.batched.rotation_stacks import log3_stack, rpy_matrices, rpy_rates, skew_stack
 from pinmob.assembly.solver import MAX_STEP, POLISH_FLOOR, POLISH_GAIN, STALL_GAIN
 from pinmob.blas import one_blas_thread
 from pinmob.model import (
@@ -94,12 +94,12 @@ class BatchSolution:
 
 
 def compiled_kernel() -> ModuleType | None:
-    """:mod:`pinmob.assembly.batch_newton_kernel` when numba is installed (the ``fast`` extra), else None (numpy)."""
+    """:mod:`pinmob.assembly.batched.batch_newton_kernel` when numba is installed (the ``fast`` extra), else None (numpy)."""
     try:
         import numba  # noqa: F401
     except ImportError:
         return None
-    import pinmob.assembly.batch_newton_kernel as batch_newton_kernel
+    import pinmob.assembly.batched.batch_newton_kernel as batch_newton_kernel
 
     return batch_newton_kernel
 
@@ -166,7 +166,7 @@ class PoseProblem:
         ``pose``), of :func:`~pinmob.assembly.partial_pose.assemble_coordinates` (``coords``) or of
         :func:`~pinmob.assembly.assemble.solve_actuated` (``joints``), checked where any coordinate is outside its
         limits. ``checked``: the wrapped stack and its two masks of ``wrap_and_check``, already computed (the compiled
-        predictor's, :mod:`pinmob.assembly.secant_kernel`; ``qs`` then its stack before wrapping).
+        predictor's, :mod:`pinmob.assembly.batched.secant_kernel`; ``qs`` then its stack before wrapping).
         """
         lower, upper = self.limits
         if checked is None:

@@ -1,14 +1,17 @@
 """A stack of continuation starts closed in one compiled call (numba, the optional ``fast`` extra).
 
 :func:`close_moved` is what :meth:`pinmob.scan.predictor.Predictor.close` does over numpy for a stack of samples
-of a scan, in one call: each seed moved on by a secant's move (:func:`pinmob.assembly.secant.moved_stack`), the
-target's joint values held, :func:`pinmob.assembly.batch_newton_kernel.solve_stack`, the closed configurations'
-angles wrapped (:func:`~pinmob.assembly.batch_newton_kernel.wrap_and_check`, the arithmetic of
-:meth:`pinmob.assembly.batch_solver.PoseProblem.finish`) and the check of each correction against its move
-(:func:`pinmob.assembly.secant.off_secants`). The same operations on the same numbers as that Python (the
-moves, starts and configurations to the last bit; the corrections' lengths to round-off, compared with the moves'
-only). The seeding walk closes one sample at a time on it: a dozen numpy calls of a few microseconds each, per
-sample, are one call here. Importing this module imports numba.
+of a scan, in one call: each seed moved on by a secant's move (:func:`pinmob.assembly.batched.secant.moved_stack`), the
+target's joint values held, :func:`pinmob.assembly.batched.batch_newton_kernel.solve_stack`, the closed configurations'
+angles wrapped (:func:`~pinmob.assembly.batched.batch_newton_kernel.wrap_and_check`, the arithmetic of
+:meth:`pinmob.assembly.batched.batch_solver.PoseProblem.finish`) and the check of each correction against its move
+(:func:`pinmob.assembly.batched.secant.off_secants`). The same operations on the same numbers as that Python: on a
+vector space (revolute and prismatic joints) the moves, starts and configurations to the last bit, the corrections'
+lengths to round-off (compared with the moves' only); with unbounded revolute or spherical joints the moves are
+Pinocchio's ``difference`` and ``integrate`` compiled (:func:`~pinmob.model.difference_kernel`,
+:func:`~pinmob.model.integrate_kernel`, equal to 1e-13), so the starts and the closed configurations differ in
+round-off (``tests/test_scan_lockstep.py``). The seeding walk closes one sample at a time on it: a dozen numpy calls
+of a few microseconds each, per sample, are one call here. Importing this module imports numba.
 """
 
 from __future__ import annotations
@@ -16,7 +19,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from pinmob.assembly.batch_newton_kernel import solve_stack, wrap_and_check
+from pinmob.assembly.batched.batch_newton_kernel import solve_stack, wrap_and_check
 from pinmob.jit_cache import njit
 from pinmob.model import difference_kernel, integrate_kernel
 from pinmob.screw import Array, Mask
@@ -31,7 +34,7 @@ def short_move(
 ) -> None:
     """``b - a`` in the tangent space into ``out`` (nv,), each revolute angle's part the short way round.
 
-    :func:`pinmob.assembly.secant.short_moves` of one row: ``b - a`` on a vector space, else Pinocchio's
+    :func:`pinmob.assembly.batched.secant.short_moves` of one row: ``b - a`` on a vector space, else Pinocchio's
     ``difference`` (:func:`~pinmob.model.difference_kernel`); then ``remainder(x + pi, 2 pi) - pi`` at
     ``angle_rates``.
     """
@@ -46,7 +49,7 @@ def short_move(
 
 @njit
 def move_length(move: Array, col: Array) -> float:
-    """Length of a tangent move in the joint metric (slides per L, angles in rad): :func:`~pinmob.assembly.secant.move_lengths`."""
+    """Length of a tangent move in the joint metric (slides per L, angles in rad): :func:`~pinmob.assembly.batched.secant.move_lengths`."""
     total = 0.0
     for j in range(move.size):
         x = move[j] / col[j]
@@ -95,7 +98,7 @@ def close_moved(
         step_col: the steps' columns (0 on the joints the targets give).
         free: (free,) the pose coordinates that are unknowns.
         length: the length scale L [m].
-        numbers: :func:`~pinmob.assembly.batch_solver.solver_numbers`.
+        numbers: :func:`~pinmob.assembly.batched.batch_solver.solver_numbers`.
         stall_window: the solver's stall window.
         max_iter: its iterations at most.
         vector_space: every joint's configuration is its velocity (``q + v``).

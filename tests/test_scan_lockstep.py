@@ -2,8 +2,9 @@
 
 A group's samples are assembled step by step, every chunk's next sample at once; the targets are built as
 (B, 6) pose-coordinate vectors (``ScanSpec.pose_targets``), not as poses and dicts, and the secant starts and the
-off-secant check run over the whole stack. Checked here against the targets' own coordinates and against moves
-made by hand (the rows of whole scans: tests/test_scan_batch.py).
+off-secant check run over the whole stack (pinmob.assembly.batched.secant; with numba, with the solve in one
+compiled call, Predictor.close). Checked here against the targets' own coordinates, against moves made by hand and
+the compiled call against numpy's (the rows of whole scans: tests/test_scan_batch.py).
 """
 
 from __future__ import annotations

@@ -365,7 +365,7 @@ class _Done(Mapping[int, _Sample]):
     """A chunk's assembled samples by index, each finished (:meth:`_Chunk.finish`) when first read.
 
     A refinement reads a sample and its neighbours (a search, every sample); the rows the batch decided are read
-    off its entries (:meth:`entry`, :meth:`batch_rows`) without finishing the samples.
+    off its entries (:meth:`entries`, :meth:`batch_rows`) without finishing the samples.
     """
 
     def __init__(self, chunk: _Chunk, pending: dict[int, _Sample], analysed: Sequence[Analysed | int | None],

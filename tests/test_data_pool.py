@@ -39,7 +39,7 @@ def test_a_finalizer_run_while_the_pool_is_locked_does_not_hang():
         with data_pool._LOCK:
             del owner  # the last reference: the finalizer runs here, the lock held
         data_pool.release_with(Owner(), model, model.createData())  # dropped at once, the lock free: pooled
-        print(len(data_pool._POOL[model]))
+        print(len(data_pool.spares(model)))
     """)
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=60)
     assert run.returncode == 0, run.stderr

@@ -83,15 +83,22 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
     ``known``: those already computed (the predictor's, :mod:`pinmob.scan.lockstep`), read instead.
     """
     model, pid = mech.model, mech.platform_id
-    full, poses = np.empty((len(qs), 6, model.nv)), np.empty((len(qs), 6))
-    pairs = [(i, k) for i, k in enumerate(known or []) if k is not None]
-    given = [i for i, _ in pairs]
+    n = len(qs)
+    pairs = [k for k in known or [] if k is not None]
+    if pairs and len(pairs) == n:  # all of them: the stacks are the arrays
+        full, frames = np.array([k[0] for k in pairs]), np.array([k[1] for k in pairs])
+        poses = np.empty((n, 6))
+        poses[:, :3] = frames[:, :3, 3]
+        poses[:, 3:] = matrices_rpy(frames)
+        return full, poses
+    full, poses = np.empty((n, 6, model.nv)), np.empty((n, 6))
+    given = [i for i, k in enumerate(known or []) if k is not None]
     if given:  # pose_vector's numbers, read off the placement matrices
-        full[given] = np.array([k[0] for _, k in pairs])
-        frames = np.array([k[1] for _, k in pairs])
+        full[given] = np.array([k[0] for k in pairs])
+        frames = np.array([k[1] for k in pairs])
         poses[given, :3] = frames[:, :3, 3]
         poses[given, 3:] = matrices_rpy(frames)
-    others = [i for i in range(len(qs)) if known is None or known[i] is None]
+    others = [i for i in range(n) if known is None or known[i] is None]
     if others:  # computed here, in a pooled pin.Data
         with borrowed(model) as data:
             for i in others:

@@ -56,7 +56,9 @@ process and on a Dask ``LocalCluster`` of 2 workers (cluster start-up not timed)
 
 The in-process figures are CPU time of this process (``time.process_time``: the load of other jobs on a
 shared machine inflates them less than wall-clock time; it still does, through the shared caches), each the
-fastest of ``REPEATS`` runs, pinmob's and its references' alike; the sweep's are wall-clock time. Compare
+fastest of ``REPEATS`` runs, pinmob's and its references' alike, run in turns (:func:`timed_in_turns`: a round
+runs pinmob in process, the command line, the plain loop, the Pinocchio floor and the old loop once each, so
+that a drift of the machine's speed slows them alike); the sweep's are wall-clock time. Compare
 the ratios printed in one run. Issue 33's target: ``cli_us <= 0.1 plain_us`` on the first three grids and
 0.2 on the wide one.
 
@@ -131,6 +133,21 @@ def timed(fn: Callable[[], Any], clock: Callable[[], float] = time.process_time,
         out = fn()
         best = min(best, clock() - t0)
     return best, out
+
+
+def timed_in_turns(fns: dict[str, Callable[[], Any]], repeats: int = REPEATS) -> dict[str, tuple[float, Any]]:
+    """:func:`timed` of each of ``fns`` (CPU seconds, the fastest of ``repeats`` runs, and its last result), their
+    runs in turns: each round runs every one once. A machine whose speed drifts (a shared one: its load, its
+    clock) slows each of them alike, so their ratios hold; run one after the other, the plain loop of one run
+    took 246 us a sample and that of another, an hour later, 349."""
+    best = dict.fromkeys(fns, float("inf"))
+    out: dict[str, Any] = {}
+    for _ in range(repeats):
+        for name, fn in fns.items():
+            t0 = time.process_time()
+            out[name] = fn()
+            best[name] = min(best[name], time.process_time() - t0)
+    return {name: (best[name], out[name]) for name in fns}
 
 
 # --- the plain loop, as a Pinocchio user writes it ----------------------------------------------------------------
@@ -503,27 +520,37 @@ def bench_grid(label: str, count: int, folder: Path) -> dict[str, Any]:
     n = spec.size
     small = replace(spec, axes=tuple((c, lo, hi, 3) for c, lo, hi, _ in spec.axes))
     list(scan_in_process(mech, small))  # warm-up: numba's caches loaded
-    t_pinmob, rows = timed(lambda: [r for r in scan_in_process(mech, spec)], repeats=REPEATS)
     grid_args = ["--grid", *(f"{c}:{lo:g}:{hi:g}:{k}" for c, lo, hi, k in spec.axes), "--at", at]
     small_args = ["--grid", *(f"{c}:{lo:g}:{hi:g}:2" for c, lo, hi, _ in spec.axes), "--at", at]
     cli_in_process(robot, small_args, folder)  # warm-up
-    t_cli, _ = timed(lambda: cli_in_process(robot, grid_args, folder), repeats=REPEATS)
+    plain_loop = plain_scan if spec.pose_grid else joint_scan
+    _, iters, closed = plain_loop(mech, spec)  # the floors' configurations, and their calls:
+    calls = [it + 1 for it in iters]  # the last one (the closure checked) serves the analysis too
+    loops: dict[str, Callable[[], Any]] = {
+        "pinmob": lambda: [r for r in scan_in_process(mech, spec)],
+        "cli": lambda: cli_in_process(robot, grid_args, folder),
+        "plain": lambda: plain_loop(mech, spec),
+        "floor": lambda: floor_loop(mech, closed, calls),
+    }
+    if spec.pose_grid:  # the old general loop scans pose grids only
+        loops["old"] = lambda: naive_scan(mech, spec)
+    times = timed_in_turns(loops)
+    t_pinmob, rows = times["pinmob"]
+    t_cli = times["cli"][0]
+    t_plain, (_, iters, _) = times["plain"]
+    t_floor = times["floor"][0]
     json_bytes = (folder / "scan.json").stat().st_size
     t_start = cli_seconds(robot, small_args, folder)  # a fresh process, 4 samples: the start-up
     samples = [r for r in rows if not r["refined"]]
-    plain_loop = plain_scan if spec.pose_grid else joint_scan
-    t_plain, (_, iters, closed) = timed(lambda: plain_loop(mech, spec), repeats=REPEATS)
     verdicts = plain_loop(mech, spec, motion_types=True)[0]
     ours = [(bool(r["reachable"]), int(r["dof"]) if r["reachable"] else -1, r["motion_type"] if r["reachable"] else "")
             for r in samples]  # fmt: skip
     agree = sum(a == b for a, b in zip(ours, verdicts))
     differ = [(k, a, b) for k, (a, b) in enumerate(zip(ours, verdicts)) if a != b][:3]
-    t_old, old_agree = None, None  # the old general loop scans pose grids only
-    if spec.pose_grid:
-        t_old, (old_verdicts, _, _) = timed(lambda: naive_scan(mech, spec), repeats=REPEATS)
+    t_old, old_agree = None, None
+    if "old" in times:
+        t_old, (old_verdicts, _, _) = times["old"]
         old_agree = sum(a[:2] == b for a, b in zip(ours, old_verdicts))
-    calls = [it + 1 for it in iters]  # the last one (the closure checked) serves the analysis too
-    t_floor, _ = timed(lambda: floor_loop(mech, closed, calls), repeats=REPEATS)
     t_compiled, engine = compiled_floor(mech, closed, calls)
     split = profile_split(mech, spec)
     us = 1e6 / n
@@ -611,7 +638,7 @@ def main() -> None:
     cold, warm = out["first_compile_s"] = first_compile()
     print(f"compiled kinematics, first call in a fresh process: {cold:.1f} s with an empty numba cache (compiling), "
           f"{warm:.2f} s with the cache it wrote")  # fmt: skip
-    print(f"per sample [us of CPU time, fastest of {REPEATS} runs] (compare the ratios of one run)")  # fmt: skip
+    print(f"per sample [us of CPU time, fastest of {REPEATS} runs in turns] (compare the ratios of one run)")  # fmt: skip
     with tempfile.TemporaryDirectory() as folder:
         for name in GRIDS:
             r = out[name] = bench_grid(name, count, Path(folder))

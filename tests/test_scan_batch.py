@@ -583,11 +583,12 @@ def test_the_rows_joint_values_and_limits_column_wise_are_the_per_sample_ones():
 @pytest.mark.parametrize(("axes", "share"), [([("A_slider", -0.2, 0.2, 15), ("B_slider", -0.2, 0.2, 15)], 0.5),
                                              ([("x", -0.3, 0.3, 15), ("y", -0.3, 0.3, 15)], 1.0)])  # fmt: skip
 def test_the_refinement_screen_leaves_only_samples_the_refinement_would_leave(monkeypatch, axes, share):
-    """:func:`pinmob.scan.chunk._to_refine` screens, with numpy over the batch's distances, the samples whose
-    refinement would give nothing: the rows equal those of refining around every sample (a grid crossing limb
-    singularities, refined between samples; a grid mostly out of reach, refined at the edges), while most samples
-    are screened out."""
+    """:func:`pinmob.scan.chunk.to_refine` screens, with numpy over the batch's distances (a group's chunks at once),
+    the samples whose refinement would give nothing: the rows equal those of refining around every sample (a grid
+    crossing limb singularities, refined between samples; a grid mostly out of reach, refined at the edges), while
+    most samples are screened out."""
     import pinmob.scan.chunk as chunk
+    import pinmob.scan.lockstep as lockstep
     from pinmob.scan.scan_run import scan_table
 
     mech = pinmob.load("3-PUU")
@@ -597,7 +598,9 @@ def test_the_refinement_screen_leaves_only_samples_the_refinement_would_leave(mo
     monkeypatch.setattr(chunk._Chunk, "refine", lambda self, k, *a: looked.append(k) or refine(self, k, *a))
     screened = scan_table(mech, spec)
     screened_looks = len(looked)
-    monkeypatch.setattr(chunk, "_to_refine", lambda start, stop, *a: list(range(start, stop)))
+    monkeypatch.setattr(
+        lockstep, "to_refine", lambda chunks, *a: [list(range(start, stop)) for start, stop, *_ in chunks]
+    )
     every = scan_table(mech, spec)
     assert screened.json_lines() == every.json_lines()
     assert int(screened["refined"].sum()) > 0

@@ -229,27 +229,38 @@ class _Chunk:
             q = _seed(pending[k], q)
         if self.spec.line(start)[0] < start:
             pending[start - 1] = self.assemble(start - 1, _seed(pending[start], seed))
-        return [_dict(row) for row in self.complete(start, stop, pending, self.analysed(list(pending.values())))]
+        return [
+            _dict(row) for row in self.complete(start, stop, self.done(pending, self.analysed(list(pending.values()))))
+        ]
 
     def line_samples(self, start: int, stop: int) -> range:
         """The samples a chunk assembles in order: its own and the next one on its line (its right neighbour)."""
         return range(start, min(stop, self.spec.line(start)[1]) + 1)
 
-    def complete(self, start: int, stop: int, pending: dict[int, _Sample], analysed: Sequence[Analysed | int | None],
-                 columns: list[tuple[Any, Any]] | None = None,
-                 batch: BatchRows | None = None) -> list[dict[str, Any] | BatchRow]:  # fmt: skip
-        """The rows from the assembled samples (``pending``, with the batch's rows of them): refined, in order.
+    def done(self, pending: dict[int, _Sample], analysed: Sequence[Analysed | int | None],
+             columns: list[tuple[Any, Any]] | None = None, batch: BatchRows | None = None) -> _Done:  # fmt: skip
+        """The assembled samples (``pending``, with the batch's rows of them), each finished when first read.
 
         ``columns``: :func:`~pinmob.scan.row_columns.values_and_limits` of ``pending``'s samples, already computed.
         Where ``analysed`` gives a sample's entry in ``batch`` (a whole number; not with ``spec.finite_order``,
         whose columns are added to row dicts), its row is a :class:`~pinmob.scan.group_rows.BatchRow`.
         """
-        first, last = self.spec.line(start)
         if columns is None:
             columns = values_and_limits(self.mech, self.spec.values, list(pending.values()))
-        done = _Done(self, pending, analysed, columns, batch)
+        return _Done(self, pending, analysed, columns, batch)
+
+    def complete(self, start: int, stop: int, done: _Done,
+                 refine: list[int] | None = None) -> list[dict[str, Any] | BatchRow]:  # fmt: skip
+        """The rows of samples ``start .. stop - 1`` from the assembled ones (:meth:`done`): refined, in order.
+
+        ``refine``: the samples :meth:`refine` may refine, screened already for many chunks at once
+        (:func:`to_refine`); None: screened here.
+        """
+        first, last = self.spec.line(start)
+        if refine is None:
+            refine = to_refine([(start, stop, first, last, done.entries)], done.batch, self.rtol)[0]
         extra: list[_Sample] = []
-        for k in _to_refine(start, stop, done.entries, first, last, batch, self.rtol):
+        for k in refine:
             extra += self.refine(k, done, first, last)
         kept = _distinct(extra)
         if not kept and self.spec.finite_order is None and (decided := done.batch_rows(start, stop)) is not None:
@@ -380,6 +391,11 @@ class _Done(Mapping[int, _Sample]):
         self._index = {k: i for i, k in enumerate(pending)}
         self._made: dict[int, _Sample] = {}
 
+    @property
+    def batch(self) -> BatchRows | None:
+        """The batch whose entries the rows it decided keep (None: every sample finished on its own)."""
+        return self._batch
+
     def __getitem__(self, k: int) -> _Sample:
         made = self._made.get(k)
         if made is None:
@@ -437,30 +453,44 @@ class _Done(Mapping[int, _Sample]):
         return rows
 
 
-def _to_refine(start: int, stop: int, entries: Callable[[int, int], list[int]], first: int, last: int,
-               batch: BatchRows | None, rtol: float) -> list[int]:  # fmt: skip
-    """The samples of ``start .. stop - 1`` that :meth:`_Chunk.refine` may refine: all but those it would leave.
+def to_refine(chunks: Sequence[tuple[int, int, int, int, Callable[[int, int], list[int]]]], batch: BatchRows | None,
+              rtol: float) -> list[list[int]]:  # fmt: skip
+    """Per chunk ``(start, stop, first, last, entries)``, the samples :meth:`_Chunk.refine` may refine: all but those it would leave.
 
-    Left (screened with numpy over the batch's distances): a sample the batch decided whose neighbours on the line
-    were decided too (assembled: no edge of the reachable set next to it), where no question's distance (above
-    ``rtol``, as every decided one is) has a local minimum; :meth:`_Chunk.refine` gives no point there.
-    ``entries``: the samples' entries in the batch where the batch decided them, else -1 (:meth:`_Done.entries`).
+    Left (screened with numpy over the batch's distances, every chunk of a group in one pass): a sample the batch
+    decided whose neighbours on the line were decided too (assembled: no edge of the reachable set next to it), where
+    no question's distance (above ``rtol``, as every decided one is) has a local minimum; :meth:`_Chunk.refine`
+    gives no point there. ``first``, ``last``: the chunk's line's first and last samples; ``entries``: the samples'
+    entries in the batch where the batch decided them, else -1 (:meth:`_Done.entries`).
     """
-    ks = range(start, stop)
     if batch is None:
-        return list(ks)
-    lo = max(start - 1, first)  # the chunk holds the samples lo .. min(stop, last) (each chunk sample's neighbours)
-    at = np.array(entries(lo, min(stop, last) + 1))
-    k = np.arange(start, stop)
-    has_left, has_right = k > first, k < last
-    here = at[k - lo]
-    left = np.where(has_left, at[np.maximum(k - 1 - lo, 0)], 0)
-    right = np.where(has_right, at[np.minimum(k + 1 - lo, len(at) - 1)], 0)
+        return [list(range(start, stop)) for start, stop, *_ in chunks]
+    at: list[int] = []  # each chunk's entries of its samples and their neighbours, lo .. min(stop, last), in turn
+    where: list[int] = []  # where each chunk's run of entries starts, less its lo
+    for start, stop, first, last, entries in chunks:
+        lo = max(start - 1, first)
+        where.append(len(at) - lo)
+        at += entries(lo, min(stop, last) + 1)
+    counts = np.array([stop - start for start, stop, *_ in chunks])
+    chunk = np.repeat(np.arange(len(chunks)), counts)  # each sample's chunk
+    before = np.cumsum(counts) - counts
+    k = np.repeat([start for start, *_ in chunks], counts) + np.arange(counts.sum()) - np.repeat(before, counts)
+    entry = np.array(at)
+    pos = np.array(where)[chunk] + k  # each sample's entry in ``entry``
+    has_left = k > np.array([first for _, _, first, _, _ in chunks])[chunk]
+    has_right = k < np.array([last for _, _, _, last, _ in chunks])[chunk]
+    here = entry[pos]
+    left = np.where(has_left, entry[np.maximum(pos - 1, 0)], 0)
+    right = np.where(has_right, entry[np.minimum(pos + 1, len(entry) - 1)], 0)
     quiet = (here >= 0) & (left >= 0) & (right >= 0)  # decided, and each neighbour decided or off the line
     both = quiet & has_left & has_right
     d, dl, dr = (batch.distances[np.where(both, i, 0)] for i in (here, left, right))
     minimum = ((d > rtol) & (np.minimum(dl, dr) >= d) & (np.maximum(dl, dr) > d)).any(axis=1)
-    return (k[~quiet | (both & minimum)]).tolist()
+    kept = ~quiet | (both & minimum)
+    out: list[list[int]] = [[] for _ in chunks]
+    for c, sample in zip(chunk[kept].tolist(), k[kept].tolist()):
+        out[c].append(sample)
+    return out
 
 
 def _seed(sample: _Sample, fallback: Array) -> Array:

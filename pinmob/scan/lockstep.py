@@ -45,7 +45,7 @@ from pinmob.blas import one_blas_thread
 from pinmob.collector import collector_paused
 from pinmob.model import Mechanism
 from pinmob.scan.batch_rows import Analysed
-from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk
+from pinmob.scan.chunk import _Chunk, _Sample, _seed, run_chunk, to_refine
 from pinmob.scan.group_rows import BatchRow, GroupRows, Head
 from pinmob.scan.predictor import Predictor
 from pinmob.scan.row_columns import values_and_limits
@@ -118,10 +118,14 @@ def _run_group(mech: Mechanism, spec: ScanSpec, jobs: list[Job]) -> GroupRows:
     columns = iter(values_and_limits(mech, spec.values, [s for p in pending for s in p.values()]))  # at once
     rows: list[dict[str, Any] | BatchRow] = []
     columnar = batch is not None and spec.finite_order is None  # the finite DoF are added to row dicts
-    for c, (start, stop, _) in enumerate(jobs):
+    done = []
+    for c, chunk in enumerate(chunks):
         analysed: Sequence[Analysed | int | None] = mine[c] if columnar or batch is None else batch.analysed(mine[c])
-        rows += chunks[c].complete(start, stop, pending[c], analysed, [next(columns) for _ in pending[c]],
-                                    batch if columnar else None)  # fmt: skip
+        done.append(chunk.done(pending[c], analysed, [next(columns) for _ in pending[c]], batch if columnar else None))
+    refine = to_refine([(start, stop, *spec.line(start), d.entries) for (start, stop, _), d in zip(jobs, done)],
+                       batch if columnar else None, chunks[0].rtol)  # fmt: skip
+    for c, (start, stop, _) in enumerate(jobs):
+        rows += chunks[c].complete(start, stop, done[c], refine[c])
     return GroupRows(rows, batch)
 
 

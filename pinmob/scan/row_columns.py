@@ -57,7 +57,7 @@ class ArrayRow(Mapping[str, float]):
     A sample's joint values (:func:`values_and_limits`) or its distances to singularity
     (:meth:`pinmob.scan.batch_rows.BatchRows.distances_of`) without a dict a row: a group's table reads the joint
     values of the batch's rows as columns (:meth:`pinmob.scan.group_rows.GroupRows.table`), and most samples'
-    distances are only screened on the batch's array (:func:`pinmob.scan.chunk._to_refine`).
+    distances are only screened on the batch's array (:func:`pinmob.scan.chunk.to_refine`).
     """
 
     __slots__ = ("names", "table", "at", "_dict")

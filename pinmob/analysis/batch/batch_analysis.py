@@ -149,9 +149,9 @@ def analyze_jacobians(
     inside them only, and the configurations are not checked.
     """
     engine = check_engine(engine)
-    full = full * rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
-    if engine == "numba":
+    if engine == "numba":  # the compiled loop scales each column as it reads it
         return _numba(mech, full, origin, rtol, singular_values, twists)
+    full = full * rate_scale(mech)  # per dimensionless rate, as limb_twists (prismatic columns times L)
     return numpy_engine(mech, full, origin, rtol, singular_values, twists)
 
 
@@ -183,7 +183,10 @@ def motion_types(
 def _numba(
     mech: Mechanism, full: Array, origin: Array, rtol: float, singular_values: bool, twists: bool
 ) -> BatchResult:
-    """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch.batch_kernel.ranks`."""
+    """:func:`analyze_batch` by the compiled loop :func:`pinmob.analysis.batch.batch_kernel.ranks`.
+
+    ``full``: the world Jacobians as computed (per joint rate: the loop scales them).
+    """
     from pinmob.analysis.batch.batch_kernel import ranks
 
     columns = np.concatenate([np.asarray(limb.v_indices, np.int64) for limb in mech.limbs])
@@ -194,6 +197,7 @@ def _numba(
         free_offsets.append(len(free))
     limb_rank, d, locked_rank, sv, asv, ratios, free_twists = ranks(
         full,
+        rate_scale(mech),
         origin,
         float(mech.length_scale),
         columns,

@@ -39,6 +39,7 @@ CERTAIN = 1.01
 @njit
 def ranks(
     full: Array,
+    rates: Array,
     origin: Array,
     length: float,
     columns: Ints,
@@ -61,6 +62,9 @@ def ranks(
 
     Args:
         full: (N, 6, nv) world Jacobians.
+        rates: (nv,) each column's scale (:func:`pinmob.analysis.limbs.rate_scale`: L on prismatic rates, 1
+            elsewhere): the screws per dimensionless rate are ``full[:, :, j] * rates[j]``, multiplied here as
+            each column is read (the same products as ``full * rates`` over the stack, without that copy).
         origin: (N, 3) platform origins [m].
         length: length scale L [m].
         columns: (m,) velocity indices of every limb's joints, limb i's at
@@ -104,10 +108,11 @@ def ranks(
         px, py, pz = origin[s, 0], origin[s, 1], origin[s, 2]
         for c in range(m):
             j = columns[c]
-            wx, wy, wz = full[s, 3, j], full[s, 4, j], full[s, 5, j]
-            a[0, c] = (full[s, 0, j] + (wy * pz - wz * py)) / length
-            a[1, c] = (full[s, 1, j] + (wz * px - wx * pz)) / length
-            a[2, c] = (full[s, 2, j] + (wx * py - wy * px)) / length
+            sj = rates[j]
+            wx, wy, wz = full[s, 3, j] * sj, full[s, 4, j] * sj, full[s, 5, j] * sj
+            a[0, c] = (full[s, 0, j] * sj + (wy * pz - wz * py)) / length
+            a[1, c] = (full[s, 1, j] * sj + (wz * px - wx * pz)) / length
+            a[2, c] = (full[s, 2, j] * sj + (wx * py - wy * px)) / length
             a[3, c], a[4, c], a[5, c] = wx, wy, wz
         used = locked_used = 0
         for i in range(k):

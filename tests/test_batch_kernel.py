@@ -144,3 +144,37 @@ def test_more_than_six_stacked_wrenches_are_reduced_to_six_columns_with_their_sv
         null = np.zeros((6, 6))
         complete(g, order, r, null, 0, False)
         assert np.abs(rows @ null[:, : 6 - r]).max(initial=0.0) <= 1e-12 * scale
+
+
+def test_the_kernel_takes_the_jacobians_as_given_scaling_them_as_numpy_does(monkeypatch):
+    """analyze_jacobians hands the compiled loop the world Jacobians as the caller gave them, and the loop scales
+    each column (L on prismatic rates) as it reads it: the same products as the stack scaled first (the loop given
+    ``full * rate_scale`` and unit scales), so the same bits in every output; and the same for a Fortran-ordered
+    copy, a strided view and a nested list (each made contiguous float64 first, as the loop is compiled for)."""
+    from dataclasses import fields
+
+    import pinmob
+    import pinmob.analysis.batch.batch_analysis as batch_analysis
+    from pinmob.analysis.limbs import rate_scale
+
+    mech = pinmob.load("3-PUU")  # prismatic sliders: the scale is not all ones
+    scale = rate_scale(mech)
+    assert not np.all(scale == 1.0)
+    rng = np.random.default_rng(5)
+    q0 = pinmob.closed_configuration(mech, "generic")
+    qs = np.array([q0 + rng.normal(0.0, 0.01, q0.size) for _ in range(6)])
+    full, origin = batch_analysis.world_jacobians(mech, qs)
+
+    def analysed(given: object) -> list[object]:
+        res = batch_analysis.analyze_jacobians(mech, given, origin, singular_values=True, twists=True, engine="numba")
+        return [getattr(res, f.name) for f in fields(res)]
+
+    ref = analysed(full)
+    wide = np.zeros((full.shape[0], 6, 2 * full.shape[2]))
+    wide[:, :, ::2] = full
+    outputs = [analysed(given) for given in (np.asfortranarray(full), wide[:, :, ::2], full.tolist())]
+    monkeypatch.setattr(batch_analysis, "rate_scale", lambda mech: np.ones_like(scale))
+    outputs.append(analysed(full * scale))  # the stack scaled first, the loop's scales all ones
+    for out in outputs:
+        for a, b in zip(out, ref):
+            assert a == b if isinstance(a, str) or a is None else np.array_equal(a, b, equal_nan=True)

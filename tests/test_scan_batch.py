@@ -605,3 +605,43 @@ def test_the_refinement_screen_leaves_only_samples_the_refinement_would_leave(mo
     assert screened.json_lines() == every.json_lines()
     assert int(screened["refined"].sum()) > 0
     assert len(looked) - screened_looks == spec.size and screened_looks < share * spec.size
+
+
+def test_the_refinement_screen_of_a_group_is_each_chunk_screened_alone():
+    """:func:`pinmob.scan.chunk.to_refine` screens a group's chunks in one numpy pass, each sample against its
+    neighbours within its own chunk's entries. By hand, on a line of five samples with one distance 0.5, 0.4, 0.3,
+    0.4, 0.5: only sample 2 (a local minimum) is left to refine; with sample 3 undecided (entry -1), samples 2, 3 and
+    4 (next to it or it). Then, on random groups (lines of 1, 2, 3, 5 and 130 samples cut into chunks of 1 to 40,
+    so that chunks start mid-line with a left neighbour, and end at their line's end or before it; a fifth of the
+    entries undecided; distances from a few values, so with ties), the group's screen equals each chunk's alone."""
+    import numpy as np
+
+    from pinmob.scan.batch_rows import BatchRows
+    from pinmob.scan.chunk import to_refine
+
+    def batch_of(distances: list[list[float]]) -> BatchRows:
+        d = np.array(distances, float)
+        return BatchRows(np.ones(len(d), bool), {}, tuple(f"q{i}" for i in range(d.shape[1])), d)
+
+    def entries_of(at: dict[int, int]):
+        return lambda lo, hi: [at[k] for k in range(lo, hi)]
+
+    line = batch_of([[0.5], [0.4], [0.3], [0.4], [0.5]])
+    assert to_refine([(0, 5, 0, 4, entries_of(dict(enumerate(range(5)))))], line, 1e-9) == [[2]]
+    assert to_refine([(0, 5, 0, 4, entries_of({0: 0, 1: 1, 2: 2, 3: -1, 4: 4}))], line, 1e-9) == [[2, 3, 4]]
+    assert to_refine([], line, 1e-9) == [] and to_refine([(0, 2, 0, 4, entries_of({}))], None, 1e-9) == [[0, 1]]
+
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        chunks, rows, first = [], [], 0
+        for size in rng.choice([1, 2, 3, 5, 130], size=rng.integers(1, 5)):
+            at = {k: (len(rows) + i if rng.random() > 0.2 else -1) for i, k in enumerate(range(first, first + size))}
+            rows += [list(rng.choice([0.1, 0.2, 0.3, 1e-12], size=2)) for _ in range(size)]
+            start = first
+            while start < first + size:
+                stop = min(first + size, start + int(rng.integers(1, 41)))
+                chunks.append((start, stop, first, first + size - 1, entries_of(at)))
+                start = stop
+            first += size
+        batch = batch_of(rows)
+        assert to_refine(chunks, batch, 1e-9) == [to_refine([c], batch, 1e-9)[0] for c in chunks]

@@ -26,7 +26,8 @@ again by the single-sample solver from the predictor's configuration (its
 Gauss-Newton steps end ~1e-8 from a singular solution, a double root, where the
 predictor's damped steps stop earlier; where the targets give joint values, from the sample's seed, as on the
 single-sample path: where the actuators leave a motion uncontrolled, the configuration is one of a continuum)
-and analysed on its own. Each chunk refines
+and analysed on its own. The samples a refinement may refine are screened for all the group's chunks at once
+(:func:`pinmob.scan.chunk.to_refine`); each chunk refines
 and orders its rows (:meth:`pinmob.scan.chunk._Chunk.complete`, the refinements
 on the single-sample path). The rows the batch decided keep their verdicts in its columns
 (:class:`~pinmob.scan.group_rows.GroupRows`) until the group's table is made: no row dict is built for them.

@@ -1,7 +1,7 @@
 """A scan's rows column-wise: the joint values and the joints outside their limits of many samples at once.
 
 What :func:`pinmob.scan.chain_scan.joint_row` and :func:`pinmob.model.joints.outside_limits` give per configuration, for
-the samples a batch assembled (:meth:`pinmob.scan.chunk._Chunk.complete`), with numpy over the whole stack: the same
+the samples a batch assembled (:meth:`pinmob.scan.chunk._Chunk.done`), with numpy over the whole stack: the same
 values and tuples. A group of chunks (:func:`pinmob.scan.lockstep.run_group`) gives its rows as :class:`GroupRows`:
 row dicts, and the rows the batch decided as :class:`BatchRow` entries whose verdicts stay in the batch's columns
 (:class:`~pinmob.scan.batch_rows.BatchRows`) until the table is made (:meth:`GroupRows.table`: the table of the row

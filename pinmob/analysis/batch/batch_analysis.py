@@ -196,7 +196,7 @@ def _numba(
         free += [start + c for c, name in enumerate(column_joints(mech, limb)) if name not in limb.actuated]
         free_offsets.append(len(free))
     limb_rank, d, locked_rank, sv, asv, ratios, free_twists = ranks(
-        full,
+        np.ascontiguousarray(full, dtype=np.float64),  # as the loop is compiled for it (no copy when it is)
         rate_scale(mech),
         origin,
         float(mech.length_scale),

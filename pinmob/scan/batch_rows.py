@@ -85,7 +85,7 @@ def platform_kinematics(mech: Mechanism, qs: Array, known: Kinematics | None = N
     model, pid = mech.model, mech.platform_id
     n = len(qs)
     pairs = [k for k in known or [] if k is not None]
-    if pairs and len(pairs) == n:  # all of them: the stacks are the arrays
+    if pairs and len(pairs) == n:  # every configuration's given (the predictor closed them all): stacked at once
         full, frames = np.array([k[0] for k in pairs]), np.array([k[1] for k in pairs])
         poses = np.empty((n, 6))
         poses[:, :3] = frames[:, :3, 3]

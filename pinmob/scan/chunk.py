@@ -457,11 +457,11 @@ def to_refine(chunks: Sequence[tuple[int, int, int, int, Callable[[int, int], li
               rtol: float) -> list[list[int]]:  # fmt: skip
     """Per chunk ``(start, stop, first, last, entries)``, the samples :meth:`_Chunk.refine` may refine.
 
-    All but those it would leave. Left (screened with numpy over the batch's distances, every chunk of a group in one pass): a sample the batch
-    decided whose neighbours on the line were decided too (assembled: no edge of the reachable set next to it), where
-    no question's distance (above ``rtol``, as every decided one is) has a local minimum; :meth:`_Chunk.refine`
-    gives no point there. ``first``, ``last``: the chunk's line's first and last samples; ``entries``: the samples'
-    entries in the batch where the batch decided them, else -1 (:meth:`_Done.entries`).
+    All but those it would leave, screened with numpy over the batch's distances, every chunk of a group in one pass:
+    a sample the batch decided whose neighbours on the line were decided too (assembled: no edge of the reachable set
+    next to it), where no question's distance (above ``rtol``, as every decided one is) has a local minimum;
+    :meth:`_Chunk.refine` gives no point there. ``first``, ``last``: the chunk's line's first and last samples;
+    ``entries``: the samples' entries in the batch where the batch decided them, else -1 (:meth:`_Done.entries`).
     """
     if batch is None or not chunks:
         return [list(range(start, stop)) for start, stop, *_ in chunks]

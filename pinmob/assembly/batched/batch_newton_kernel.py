@@ -315,16 +315,7 @@ def iterate(
 def solve_stack(
     q: Array,
     p: Array,
-    parent: Array,
-    kind: Array,
-    axis: Array,
-    iq: Array,
-    iv: Array,
-    rot0: Array,
-    pos0: Array,
-    f_parent: Array,
-    f_rot: Array,
-    f_pos: Array,
+    tables: tuple[Ints, Ints, Array, Ints, Ints, Array, Array, Ints, Array, Array],
     mask: Array,
     col: Array,
     free: Array,
@@ -343,12 +334,13 @@ def solve_stack(
     """Every iteration of :func:`pinmob.assembly.batched.batch_solver.solve_poses` in one compiled call, in place.
 
     Per iteration, as the Python loop around :func:`iterate` does: the kinematics of the samples still going
-    (:func:`pinmob.model.frames_kernel` on the model's tables, ``parent`` ... ``f_pos``: the world joint
-    Jacobians and the frames' placements), :func:`iterate`, the kinematics of each sample's best iterate kept
+    (:func:`pinmob.model.frames_kernel` on the model's ``tables``, :attr:`pinmob.model.FrameKinematics.tables`: the
+    world joint Jacobians and the frames' placements), :func:`iterate`, the kinematics of each sample's best iterate kept
     (``best_full``, ``best_frames``) and, off a vector space, the steps applied by
     :func:`pinmob.model.integrate_kernel` (Pinocchio's ``integrate``). The tables' joint kinds must all be
     integrable there (:attr:`pinmob.model.FrameKinematics.integrable`).
     """
+    parent, kind, axis, iq, iv, rot0, pos0, f_parent, f_rot, f_pos = tables
     n, nq, nf, nv = q.shape[0], q.shape[1], f_parent.shape[0], best_full.shape[2]
     active = np.arange(n)
     no_jacobians = np.empty((0, 0, 6, nv))

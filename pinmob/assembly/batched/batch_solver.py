@@ -329,7 +329,7 @@ def _solve_compiled(
     numbers = solver_numbers(tol, floor)
     active, mask = np.arange(n), problem.frame_mask
     if problem.fast.integrable:  # the whole loop in one compiled call (no Python per iteration)
-        kernel.solve_stack(q, p, *problem.fast.tables, mask, problem.step_col, problem.free_array, problem.length,
+        kernel.solve_stack(q, p, problem.fast.tables, mask, problem.step_col, problem.free_array, problem.length,
                            numbers, stall_window, max_iter, problem.vector_space, best, best_q, best_p, history,
                            best_full, best_frames)  # fmt: skip
         return BatchSolution(best_q, best, best <= tol, best_full, best_frames)

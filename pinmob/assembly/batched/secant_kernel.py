@@ -116,7 +116,7 @@ def close_moved(
         the rows off their secants.
     """
     n, nq, nv = seeds.shape[0], seeds.shape[1], mask.shape[1]
-    parent, kind, axis, iq, iv, rot0, pos0, f_parent, f_rot, f_pos = tables
+    kind, iq, iv, frames = tables[1], tables[3], tables[4], tables[7].size  # the joints (the moves) and the frame count
     lower, upper, limited = limits
     move, moved = np.empty(nv), np.empty(nq)
     starts, step = seeds.copy(), np.zeros(n)
@@ -137,10 +137,9 @@ def close_moved(
             q[i, joint_q[c]] = joints[i, c]
     history = np.full((n, max_iter + 1), np.inf)
     best_q, best_p, best = q.copy(), p.copy(), np.full(n, np.inf)
-    best_full, best_frames = np.full((n, 6, nv), np.nan), np.full((n, f_parent.size, 4, 4), np.nan)
-    solve_stack(q, p, parent, kind, axis, iq, iv, rot0, pos0, f_parent, f_rot, f_pos, mask, step_col, free, length,
-                numbers, stall_window, max_iter, vector_space, best, best_q, best_p, history, best_full,
-                best_frames)  # fmt: skip
+    best_full, best_frames = np.full((n, 6, nv), np.nan), np.full((n, frames, 4, 4), np.nan)
+    solve_stack(q, p, tables, mask, step_col, free, length, numbers, stall_window, max_iter, vector_space, best, best_q,
+                best_p, history, best_full, best_frames)  # fmt: skip
     converged = best <= numbers[2]
     out = best_q.copy()
     special, outside, off = np.zeros(n, np.bool_), np.zeros(n, np.bool_), np.zeros(n, np.bool_)
